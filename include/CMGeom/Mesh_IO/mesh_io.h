@@ -1,0 +1,69 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Readers and writers of textured meshes (target CMGeom::Mesh_IO; no image library needed).
+//
+// Formats, chosen by file extension (case-insensitive):
+//   .obj        OBJ + MTL: v / vt / f with v, v/vt, v//vn, v/vt/vn corners, negative indices,
+//               several materials (usemtl), map_Kd, map_Bump / bump / norm (file names may contain
+//               spaces). Polygons are split into fans in file order: (c0,c1,c2), (c0,c2,c3), ...
+//   .off        OFF (own reader, so errors carry line numbers).
+//   .ply        PLY, ASCII or binary (CGAL's reader); geometry only.
+//   .gltf .glb  glTF 2.0 (tinygltf): triangle primitives of the default scene with node
+//               transforms applied, TEXCOORD_0 and the base-colour texture; positions welded by
+//               exact equality so UV seams become shared edges; v is flipped (v_obj = 1 - v_gltf).
+//
+// Every error is an IO_error whose message is one line "<file>[:<line>]: <what is wrong>".
+// Writers are atomic: everything is written to temporary files that are renamed into place only
+// when all of them are complete, so a failure never leaves a partial output.
+#ifndef CMGEOM_MESH_IO_MESH_IO_H
+#define CMGEOM_MESH_IO_MESH_IO_H
+
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/Polygon_soup.h>
+#include <CMGeom/Mesh_IO/Textured_mesh.h>
+
+#include <string>
+
+namespace CMGeom {
+namespace IO {
+
+/// Options of build_textured_mesh() and the readers.
+struct Read_options {
+  /// Non-manifold edges/vertices and inconsistent orientation are errors unless this is set;
+  /// then CGAL's `orient_polygon_soup` duplicates vertices (carrying UVs along) to repair them.
+  bool repair = false;
+  /// Zero-area faces are errors unless this is set (then they are kept as they are).
+  bool allow_degenerate_faces = false;
+  /// Faces that repeat a vertex (a, a, b) are errors unless this is set (then they are dropped).
+  bool drop_repeated_vertex_faces = false;
+  /// Vertices no face uses are kept (so that vertex order survives read -> write) unless set.
+  bool remove_unreferenced_vertices = false;
+};
+
+/// Reads any supported file into a soup; checks syntax, index ranges and finite values.
+Polygon_soup read_polygon_soup(const std::string& path);
+
+/// Validates a soup and builds the halfedge mesh: triangles only (readers triangulate),
+/// manifold, consistently oriented, finite, non-degenerate (see Read_options), UVs on all
+/// faces or on none, texture files present. Vertex order is that of the soup.
+void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out,
+                         const Read_options& options = Read_options());
+
+/// read_polygon_soup + build_textured_mesh. Texture images are not decoded here (see
+/// read_textured_mesh() in textured_mesh_io.h); their paths are checked to exist.
+void read_mesh(const std::string& path, Textured_mesh& out,
+               const Read_options& options = Read_options());
+
+/// Writes .obj (with .mtl when there are materials; texture files referenced by the
+/// materials are copied beside it), .off or .ply (binary little-endian), atomically.
+/// Coordinates are printed in the shortest form that reads back to the same double.
+void write_mesh(const std::string& path, const Textured_mesh& mesh);
+
+/// Lower-case extension of a path including the dot ("" when none).
+std::string extension(const std::string& path);
+
+}  // namespace IO
+}  // namespace CMGeom
+
+#endif  // CMGEOM_MESH_IO_MESH_IO_H

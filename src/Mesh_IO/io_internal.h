@@ -1,0 +1,46 @@
+// Internal declarations shared by the Mesh_IO translation units (not installed).
+#ifndef CMGEOM_SRC_MESH_IO_IO_INTERNAL_H
+#define CMGEOM_SRC_MESH_IO_IO_INTERNAL_H
+
+#include <CMGeom/Mesh_IO/Atomic_output.h>
+#include <CMGeom/Mesh_IO/Polygon_soup.h>
+#include <CMGeom/Mesh_IO/Textured_mesh.h>
+
+#include <functional>
+#include <string>
+
+namespace CMGeom {
+namespace IO {
+namespace internal {
+
+void read_obj(const std::string& path, Polygon_soup& soup);
+void read_off(const std::string& path, Polygon_soup& soup);
+void read_ply(const std::string& path, Polygon_soup& soup);
+void read_gltf(const std::string& path, Polygon_soup& soup);
+
+// Called once per material texture that the MTL should reference; returns the file name (relative
+// to the OBJ's directory) the texture was registered under in `out`, or "" to omit it.
+// kind is "diffuse" or "normal".
+using Texture_emitter = std::function<std::string(const Material& m, std::size_t index,
+                                                  const std::string& kind, Atomic_output& out)>;
+
+void write_obj(const std::string& path, const Textured_mesh& tm, Atomic_output& out,
+               const Texture_emitter& emit_texture);
+void write_off(const std::string& path, const Textured_mesh& tm, Atomic_output& out);
+void write_ply(const std::string& path, const Textured_mesh& tm, Atomic_output& out);
+
+// Shortest decimal text that reads back to the same double.
+void append_double(std::string& s, double x);
+
+// Reads a whole file; throws IO_error (missing, unreadable, directory).
+std::string slurp(const std::string& path);
+
+// Texture emitter that copies the source file of the texture next to the output.
+std::string copy_texture_file(const std::string& obj_path, const std::string& source,
+                              const std::string& suggested_name, Atomic_output& out);
+
+}  // namespace internal
+}  // namespace IO
+}  // namespace CMGeom
+
+#endif

@@ -1,0 +1,473 @@
+// OBJ + MTL reader and writer.
+//
+// Own parser rather than tinyobjloader: every error must carry its line number (tinyobjloader
+// reports out-of-range indices without one, or not at all), polygons must be split into fans in
+// file order, and coordinates must read back bit-exactly (std::from_chars / std::to_chars). The
+// test suite cross-checks this parser against tinyobjloader on every textured model.
+#include "io_internal.h"
+
+#include <CMGeom/Error.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unordered_map>
+
+namespace CMGeom {
+namespace IO {
+namespace internal {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IO_error(path, "file not found");
+  if (fs::is_directory(path, ec)) throw IO_error(path, "is a directory, not a mesh file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IO_error(path, std::string("cannot open: ") + std::strerror(errno));
+  std::string data;
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) throw IO_error(path, "cannot determine file size");
+  data.resize(std::size_t(size));
+  in.seekg(0, std::ios::beg);
+  in.read(data.data(), size);
+  if (!in) throw IO_error(path, "read failed");
+  return data;
+}
+
+void append_double(std::string& s, double x) {
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, x);
+  s.append(buf, r.ptr);
+}
+
+namespace {
+
+// A cursor over one line of text.
+struct Line {
+  const char* p;
+  const char* end;
+  void skip_ws() {
+    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+  }
+  bool at_end() {
+    skip_ws();
+    return p >= end;
+  }
+  std::string_view token() {
+    skip_ws();
+    const char* b = p;
+    while (p < end && *p != ' ' && *p != '\t' && *p != '\r') ++p;
+    return std::string_view(b, std::size_t(p - b));
+  }
+  std::string rest() {
+    skip_ws();
+    const char* e = end;
+    while (e > p && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r')) --e;
+    return std::string(p, e);
+  }
+};
+
+bool parse_double(std::string_view tok, double& out) {
+  if (tok.empty()) return false;
+  const char* b = tok.data();
+  const char* e = b + tok.size();
+  if (*b == '+') ++b;  // from_chars rejects a leading '+', OBJ writers emit it
+  auto r = std::from_chars(b, e, out);
+  return r.ec == std::errc() && r.ptr == e;
+}
+
+bool parse_int(std::string_view tok, long long& out) {
+  if (tok.empty()) return false;
+  const char* b = tok.data();
+  const char* e = b + tok.size();
+  if (*b == '+') ++b;
+  auto r = std::from_chars(b, e, out);
+  return r.ec == std::errc() && r.ptr == e;
+}
+
+std::string fix_slashes(std::string s) {
+  for (char& c : s)
+    if (c == '\\') c = '/';
+  return s;
+}
+
+// Texture map statement: options (-bm 1.0, -o u v w, ...) then a file name that may hold spaces.
+std::string texture_file_name(Line& l) {
+  static const std::unordered_map<std::string, int> max_args = {
+      {"-blendu", 1}, {"-blendv", 1}, {"-boost", 1}, {"-mm", 2},   {"-o", 3},     {"-s", 3},
+      {"-t", 3},      {"-texres", 1}, {"-clamp", 1}, {"-bm", 1},   {"-imfchan", 1}, {"-type", 1},
+      {"-cc", 1}};
+  for (;;) {
+    l.skip_ws();
+    const char* save = l.p;
+    std::string_view tok = l.token();
+    auto it = tok.size() > 1 && tok[0] == '-' ? max_args.find(std::string(tok)) : max_args.end();
+    if (it == max_args.end()) {
+      l.p = save;
+      break;
+    }
+    for (int i = 0; i < it->second; ++i) {  // numeric arguments, or on/off words for a few
+      const char* s2 = l.p;
+      std::string_view a = l.token();
+      double d;
+      if (!(parse_double(a, d) || a == "on" || a == "off" || (i == 0 && it->first == "-imfchan") ||
+            (i == 0 && it->first == "-type"))) {
+        l.p = s2;
+        break;
+      }
+    }
+  }
+  return fix_slashes(l.rest());
+}
+
+void read_mtl(const std::string& mtl_path, Polygon_soup& soup,
+              std::unordered_map<std::string, int>& by_name) {
+  const std::string data = slurp(mtl_path);
+  const fs::path dir = fs::path(mtl_path).parent_path();
+  int current = -1;
+  std::size_t line_no = 0;
+  const char* p = data.data();
+  const char* end = p + data.size();
+  while (p < end) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(end - p)));
+    if (!nl) nl = end;
+    ++line_no;
+    Line l{p, nl};
+    p = nl + 1;
+    std::string_view key = l.token();
+    if (key.empty() || key[0] == '#') continue;
+    if (key == "newmtl") {
+      std::string name = l.rest();
+      if (name.empty()) throw IO_error(mtl_path, line_no, "newmtl without a name");
+      auto it = by_name.find(name);
+      if (it != by_name.end()) {
+        current = it->second;
+      } else {
+        current = int(soup.materials.size());
+        soup.materials.emplace_back();
+        soup.materials.back().name = name;
+        by_name.emplace(name, current);
+      }
+      continue;
+    }
+    if (current < 0) continue;  // statements before the first newmtl have nothing to apply to
+    Material& m = soup.materials[std::size_t(current)];
+    if (key == "Kd") {
+      for (int i = 0; i < 3; ++i) {
+        double v;
+        std::string_view t = l.token();
+        if (!parse_double(t, v) || !std::isfinite(v))
+          throw IO_error(mtl_path, line_no, "Kd needs three finite numbers");
+        m.diffuse_color[std::size_t(i)] = v;
+      }
+    } else if (key == "map_Kd" || key == "map_Bump" || key == "map_bump" || key == "bump" ||
+               key == "norm" || key == "map_Kn") {
+      std::string name = texture_file_name(l);
+      if (name.empty()) throw IO_error(mtl_path, line_no, std::string(key) + " without a file name");
+      fs::path tex = fs::path(name).is_absolute() ? fs::path(name) : dir / name;
+      std::error_code ec;
+      if (!fs::is_regular_file(tex, ec))
+        throw IO_error(mtl_path, line_no, "texture image '" + name + "' not found (looked for " +
+                                              tex.string() + ")");
+      const std::string abs = fs::absolute(tex).lexically_normal().string();
+      if (key == "map_Kd") m.diffuse_texture = abs;
+      else m.normal_texture = abs;
+    }
+  }
+}
+
+}  // namespace
+
+void read_obj(const std::string& path, Polygon_soup& soup) {
+  const std::string data = slurp(path);
+  if (data.empty()) throw IO_error(path, "empty file");
+  soup = Polygon_soup();
+  soup.source = path;
+  const fs::path dir = fs::path(path).parent_path();
+
+  std::unordered_map<std::string, int> material_by_name;
+  int current_material = -1;
+  std::size_t line_no = 0;
+  std::size_t n_normals = 0;
+  std::vector<long long> cv, ct;  // corners of the current face (vertex, texcoord) as written
+  std::vector<std::string> pending_usemtl;
+
+  auto material_for = [&](const std::string& name) {
+    auto it = material_by_name.find(name);
+    if (it != material_by_name.end()) return it->second;
+    const int id = int(soup.materials.size());
+    soup.materials.emplace_back();
+    soup.materials.back().name = name;
+    material_by_name.emplace(name, id);
+    return id;
+  };
+
+  const char* p = data.data();
+  const char* end = p + data.size();
+  while (p < end) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(end - p)));
+    if (!nl) nl = end;
+    ++line_no;
+    Line l{p, nl};
+    p = nl + 1;
+    // Binary garbage is rejected early with a clear message instead of a cascade of errors.
+    for (const char* q = l.p; q < l.end; ++q)
+      if (*q == '\0') throw IO_error(path, line_no, "binary data (NUL byte) in a text OBJ file");
+    std::string_view key = l.token();
+    if (key.empty() || key[0] == '#') continue;
+    if (key == "v") {
+      std::array<double, 3> x;
+      for (int i = 0; i < 3; ++i) {
+        std::string_view t = l.token();
+        if (!parse_double(t, x[std::size_t(i)]))
+          throw IO_error(path, line_no, "vertex needs three numbers, got '" + std::string(t) + "'");
+        if (!std::isfinite(x[std::size_t(i)]))
+          throw IO_error(path, line_no, "vertex coordinate is not finite (" + std::string(t) + ")");
+      }
+      soup.positions.push_back(x);  // optional w or colour values are ignored
+    } else if (key == "vt") {
+      std::array<double, 2> t;
+      for (int i = 0; i < 2; ++i) {
+        std::string_view s = l.token();
+        if (i == 1 && s.empty()) {  // "vt u" is legal: v defaults to 0
+          t[1] = 0.0;
+          break;
+        }
+        if (!parse_double(s, t[std::size_t(i)]))
+          throw IO_error(path, line_no, "texture coordinate needs numbers, got '" + std::string(s) + "'");
+        if (!std::isfinite(t[std::size_t(i)]))
+          throw IO_error(path, line_no, "texture coordinate is not finite (" + std::string(s) + ")");
+      }
+      soup.uvs.push_back(t);
+    } else if (key == "vn") {
+      for (int i = 0; i < 3; ++i) {
+        double d;
+        std::string_view s = l.token();
+        if (!parse_double(s, d))
+          throw IO_error(path, line_no, "normal needs three numbers, got '" + std::string(s) + "'");
+      }
+      ++n_normals;  // normals are recomputed from geometry; only their count is checked
+    } else if (key == "f") {
+      cv.clear();
+      ct.clear();
+      bool any_uv = false, any_no_uv = false;
+      while (!l.at_end()) {
+        std::string_view c = l.token();
+        const std::size_t s1 = c.find('/');
+        long long vi, ti = 0, ni = 0;
+        if (!parse_int(c.substr(0, s1), vi))
+          throw IO_error(path, line_no, "bad face corner '" + std::string(c) + "'");
+        if (s1 != std::string_view::npos) {
+          std::string_view rest = c.substr(s1 + 1);
+          const std::size_t s2 = rest.find('/');
+          std::string_view tpart = rest.substr(0, s2);
+          if (!tpart.empty() && !parse_int(tpart, ti))
+            throw IO_error(path, line_no, "bad texture index in face corner '" + std::string(c) + "'");
+          if (s2 != std::string_view::npos) {
+            std::string_view npart = rest.substr(s2 + 1);
+            if (!npart.empty() && !parse_int(npart, ni))
+              throw IO_error(path, line_no, "bad normal index in face corner '" + std::string(c) + "'");
+          }
+        }
+        // 1-based indices; negative ones count back from the latest element.
+        auto resolve = [&](long long i, std::size_t count, const char* what) -> long long {
+          long long r = i > 0 ? i - 1 : (i < 0 ? (long long)count + i : -1);
+          if (i == 0 || r < 0 || r >= (long long)count)
+            throw IO_error(path, line_no, std::string(what) + " index " + std::to_string(i) +
+                                              " out of range (" + std::to_string(count) +
+                                              " defined so far)");
+          return r;
+        };
+        cv.push_back(resolve(vi, soup.positions.size(), "vertex"));
+        if (ti != 0) {
+          ct.push_back(resolve(ti, soup.uvs.size(), "texture coordinate"));
+          any_uv = true;
+        } else {
+          ct.push_back(-1);
+          any_no_uv = true;
+        }
+        if (ni != 0) resolve(ni, n_normals, "normal");
+      }
+      if (cv.size() < 3)
+        throw IO_error(path, line_no, "face with " + std::to_string(cv.size()) + " corner(s); at least 3 needed");
+      if (any_uv && any_no_uv)
+        throw IO_error(path, line_no, "face gives texture coordinates for some corners only");
+      // Polygons are kept whole here; build_textured_mesh() splits them into fans.
+      for (std::size_t k = 0; k < cv.size(); ++k) {
+        soup.corner_vertex.push_back(std::uint32_t(cv[k]));
+        soup.corner_uv.push_back(ct[k] < 0 ? Polygon_soup::no_index : std::uint32_t(ct[k]));
+      }
+      soup.face_start.push_back(std::uint32_t(soup.corner_vertex.size()));
+      soup.face_material.push_back(current_material);  // -1: before any usemtl
+      soup.face_line.push_back(line_no);
+    } else if (key == "usemtl") {
+      std::string name = l.rest();
+      if (name.empty()) throw IO_error(path, line_no, "usemtl without a material name");
+      current_material = material_for(name);
+    } else if (key == "mtllib") {
+      // The name may contain spaces; several libraries may be listed. Try the whole rest first.
+      std::string whole = fix_slashes(l.rest());
+      std::vector<std::string> names;
+      std::error_code ec;
+      if (fs::is_regular_file(dir / whole, ec)) {
+        names.push_back(whole);
+      } else {
+        std::istringstream is(whole);
+        for (std::string n; is >> n;) names.push_back(n);
+      }
+      for (const std::string& n : names) {
+        const fs::path mp = fs::path(n).is_absolute() ? fs::path(n) : dir / n;
+        if (!fs::is_regular_file(mp, ec)) {
+          soup.warnings.push_back(path + ":" + std::to_string(line_no) + ": material library '" +
+                                  n + "' not found; materials keep their names only");
+          continue;
+        }
+        read_mtl(mp.string(), soup, material_by_name);
+      }
+    } else if (key == "o" || key == "g" || key == "s" || key == "l" || key == "p" ||
+               key == "vp" || key == "cstype" || key == "deg" || key == "curv" || key == "surf" ||
+               key == "mg" || key == "lod" || key == "shadow_obj" || key == "trace_obj" ||
+               key == "usemap" || key == "maplib" || key == "bevel" || key == "c_interp" ||
+               key == "d_interp" || key == "ctech" || key == "stech" || key == "end" ||
+               key == "parm" || key == "trim" || key == "hole" || key == "scrv" || key == "sp" ||
+               key == "con" || key == "bmat" || key == "step" || key == "call" || key == "csh") {
+      // grouping, smoothing, free-form geometry: not part of the polygon mesh
+    } else {
+      throw IO_error(path, line_no, "unknown OBJ statement '" + std::string(key.substr(0, 40)) + "'");
+    }
+  }
+  if (soup.number_of_faces() == 0) throw IO_error(path, "no faces in file");
+  // Faces before any usemtl: material 0 when the file uses no material at all, otherwise a
+  // "default" material is added for them.
+  bool unassigned = false;
+  for (int& fm : soup.face_material) unassigned |= fm < 0;
+  if (unassigned) {
+    const int def = soup.materials.empty() ? 0 : material_for("default");
+    for (int& fm : soup.face_material)
+      if (fm < 0) fm = def;
+  }
+}
+
+// --------------------------------------------------------------------------------- writer
+
+std::string copy_texture_file(const std::string& obj_path, const std::string& source,
+                              const std::string& suggested_name, Atomic_output& out) {
+  std::error_code ec;
+  if (source.empty()) return std::string();
+  if (!fs::is_regular_file(source, ec)) throw IO_error(source, "texture image not found");
+  const fs::path dir = fs::path(obj_path).parent_path();
+  const std::string name = suggested_name + fs::path(source).extension().string();
+  const fs::path dest = dir / name;
+  if (fs::exists(dest, ec) && fs::equivalent(dest, source, ec)) return name;  // already there
+  const std::string tmp = out.add(dest.string());
+  if (!fs::copy_file(source, tmp, fs::copy_options::overwrite_existing, ec))
+    throw IO_error(dest.string(), "cannot copy texture: " + ec.message());
+  return name;
+}
+
+void write_obj(const std::string& path, const Textured_mesh& tm, Atomic_output& out,
+               const Texture_emitter& emit_texture) {
+  using vertex_descriptor = Surface_mesh::Vertex_index;
+  const Surface_mesh& m = tm.mesh();
+  const fs::path obj(path);
+  const std::string stem = obj.stem().string();
+  std::string s;
+  s.reserve(64 * (m.number_of_vertices() + m.number_of_faces()));
+  s += "# written by CMGeom " CMGEOM_VERSION_STR "\n";
+
+  const bool with_materials = !tm.materials().empty();
+  std::string mtl;
+  if (with_materials) {
+    const std::string mtl_name = stem + ".mtl";
+    s += "mtllib " + mtl_name + "\n";
+    for (std::size_t i = 0; i < tm.materials().size(); ++i) {
+      const Material& mat = tm.materials()[i];
+      mtl += "newmtl " + mat.name + "\nKd ";
+      for (int c = 0; c < 3; ++c) {
+        append_double(mtl, mat.diffuse_color[std::size_t(c)]);
+        mtl += c < 2 ? " " : "\n";
+      }
+      const std::string d = emit_texture(mat, i, "diffuse", out);
+      if (!d.empty()) mtl += "map_Kd " + d + "\n";
+      const std::string n = emit_texture(mat, i, "normal", out);
+      if (!n.empty()) mtl += "map_Bump " + n + "\n";
+    }
+    const std::string mtl_tmp = out.add((obj.parent_path() / mtl_name).string());
+    std::ofstream os(mtl_tmp, std::ios::binary);
+    os << mtl;
+    if (!os) throw IO_error(mtl_tmp, "write failed");
+  }
+
+  // Vertices in index order (a mesh read from a file keeps the file's order).
+  std::vector<std::uint32_t> vid(m.number_of_vertices() + m.number_of_removed_vertices(), 0);
+  std::uint32_t next = 1;
+  for (vertex_descriptor v : m.vertices()) {
+    vid[std::size_t(v)] = next++;
+    const Point_3& p = m.point(v);
+    s += "v ";
+    append_double(s, p.x());
+    s += ' ';
+    append_double(s, p.y());
+    s += ' ';
+    append_double(s, p.z());
+    s += '\n';
+  }
+  // Texture coordinates: one record per distinct (u, v) value, in face order.
+  std::vector<std::uint32_t> hid;
+  if (tm.has_uvs()) {
+    struct Key_hash {
+      std::size_t operator()(const std::pair<double, double>& k) const {
+        return std::hash<double>()(k.first) * 1000003u ^ std::hash<double>()(k.second);
+      }
+    };
+    std::unordered_map<std::pair<double, double>, std::uint32_t, Key_hash> uv_id;
+    hid.assign(m.number_of_halfedges() + m.number_of_removed_halfedges(), 0);
+    std::uint32_t next_uv = 1;
+    for (auto f : m.faces())
+      for (auto h : m.halfedges_around_face(m.halfedge(f))) {
+        const Point_2 t = tm.uv(h);
+        auto [it, inserted] = uv_id.emplace(std::make_pair(t.x(), t.y()), next_uv);
+        if (inserted) {
+          ++next_uv;
+          s += "vt ";
+          append_double(s, t.x());
+          s += ' ';
+          append_double(s, t.y());
+          s += '\n';
+        }
+        hid[std::size_t(h)] = it->second;
+      }
+  }
+  int current = -1;
+  for (auto f : m.faces()) {
+    if (with_materials && tm.material(f) != current) {
+      current = tm.material(f);
+      if (current >= 0 && std::size_t(current) < tm.materials().size())
+        s += "usemtl " + tm.materials()[std::size_t(current)].name + "\n";
+    }
+    s += 'f';
+    for (auto h : m.halfedges_around_face(m.halfedge(f))) {
+      s += ' ';
+      s += std::to_string(vid[std::size_t(m.target(h))]);
+      if (tm.has_uvs()) {
+        s += '/';
+        s += std::to_string(hid[std::size_t(h)]);
+      }
+    }
+    s += '\n';
+  }
+  const std::string tmp = out.add(path);
+  std::ofstream os(tmp, std::ios::binary);
+  os.write(s.data(), std::streamsize(s.size()));
+  os.flush();
+  if (!os) throw IO_error(path, "write failed (disk full?)");
+}
+
+}  // namespace internal
+}  // namespace IO
+}  // namespace CMGeom

@@ -1,0 +1,234 @@
+// Format dispatch, validation and construction of Textured_mesh from a soup, geometry writers.
+#include "io_internal.h"
+
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
+
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <cctype>
+#include <filesystem>
+
+namespace CMGeom {
+namespace IO {
+
+namespace fs = std::filesystem;
+
+std::string extension(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return e;
+}
+
+Polygon_soup read_polygon_soup(const std::string& path) {
+  Polygon_soup soup;
+  const std::string ext = extension(path);
+  if (ext == ".obj") internal::read_obj(path, soup);
+  else if (ext == ".off") internal::read_off(path, soup);
+  else if (ext == ".ply") internal::read_ply(path, soup);
+  else if (ext == ".gltf" || ext == ".glb") internal::read_gltf(path, soup);
+  else
+    throw IO_error(path, "unsupported file type '" + ext + "' (expected .obj, .off, .ply, .gltf or .glb)");
+  return soup;
+}
+
+namespace {
+
+// Remembers, for every vertex that orient_polygon_soup duplicates, the vertex it copies.
+struct Duplication_visitor : CGAL::Polygon_mesh_processing::Default_orientation_visitor {
+  std::vector<std::size_t>* original;
+  void duplicated_vertex(std::size_t v, std::size_t copy) {
+    if (original->size() <= copy) original->resize(copy + 1);
+    (*original)[copy] = (*original)[v];
+  }
+};
+
+std::string plural(std::size_t n, const char* word) {
+  return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+}
+
+}  // namespace
+
+void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Read_options& options) {
+  const std::string& src = soup.source.empty() ? std::string("<memory>") : soup.source;
+  const std::size_t nf = soup.number_of_faces();
+  if (nf == 0) throw IO_error(src, "mesh has no faces");
+
+  // Faces as triangles with their corner UVs; UVs on all faces or on none.
+  std::vector<std::array<std::size_t, 3>> tris;
+  std::vector<std::array<std::uint32_t, 3>> tri_uv;
+  std::vector<std::size_t> tri_face;
+  tris.reserve(nf);
+  bool uv_seen = false;
+  std::size_t first_without_uv = Polygon_soup::no_index;
+  for (std::size_t f = 0; f < nf; ++f) {
+    const std::uint32_t b = soup.face_start[f], n = std::uint32_t(soup.face_size(f));
+    if (n < 3) throw IO_error(soup.face_location(f), "face with fewer than 3 corners");
+    bool repeated = false, face_has_uv = true;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (soup.corner_vertex[b + i] >= soup.positions.size())
+        throw IO_error(soup.face_location(f), "vertex index out of range");
+      const std::uint32_t u = soup.corner_uv[b + i];
+      if (u != Polygon_soup::no_index && u >= soup.uvs.size())
+        throw IO_error(soup.face_location(f), "texture coordinate index out of range");
+      face_has_uv &= u != Polygon_soup::no_index;
+      for (std::uint32_t j = i + 1; j < n; ++j) repeated |= soup.corner_vertex[b + i] == soup.corner_vertex[b + j];
+    }
+    uv_seen |= face_has_uv;
+    if (!face_has_uv && first_without_uv == Polygon_soup::no_index) first_without_uv = f;
+    if (repeated) {
+      if (options.drop_repeated_vertex_faces) continue;
+      throw IO_error(soup.face_location(f), "face repeats a vertex (degenerate face)");
+    }
+    // Polygons are split into fans in file order: (c0, c_i, c_i+1).
+    for (std::uint32_t i = 1; i + 1 < n; ++i) {
+      std::array<std::size_t, 3> t;
+      std::array<std::uint32_t, 3> u;
+      const std::uint32_t idx[3] = {b, b + i, b + i + 1};
+      for (int k = 0; k < 3; ++k) {
+        t[std::size_t(k)] = soup.corner_vertex[idx[k]];
+        u[std::size_t(k)] = soup.corner_uv[idx[k]];
+      }
+      tris.push_back(t);
+      tri_uv.push_back(u);
+      tri_face.push_back(f);
+    }
+  }
+  if (uv_seen && first_without_uv != Polygon_soup::no_index)
+    throw IO_error(soup.face_location(first_without_uv),
+                   "face has no texture coordinates while other faces have (textured mesh)");
+  if (tris.empty()) throw IO_error(src, "mesh has no valid faces");
+  for (const auto& p : soup.positions)
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw IO_error(src, "non-finite vertex coordinate");
+
+  // Topology checks on the soup (reported with counts and the first location).
+  const Mesh_statistics st = analyze_soup(soup);
+  if (st.degenerate_faces > 0 && !options.allow_degenerate_faces) {
+    // repeated-vertex faces were handled above; what remains is zero area
+    std::size_t zero_area = 0, first = Polygon_soup::no_index;
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+      const auto& a = soup.positions[tris[i][0]];
+      const auto& b = soup.positions[tris[i][1]];
+      const auto& c = soup.positions[tris[i][2]];
+      if (CGAL::collinear(Point_3(a[0], a[1], a[2]), Point_3(b[0], b[1], b[2]), Point_3(c[0], c[1], c[2]))) {
+        if (!zero_area++) first = tri_face[i];
+      }
+    }
+    if (zero_area)
+      throw IO_error(soup.face_location(first), plural(zero_area, "zero-area face") +
+                                                    " (first here); allow them explicitly to keep them");
+  }
+  if (!options.repair) {
+    if (st.non_manifold_edges)
+      throw IO_error(soup.face_location(st.first_non_manifold_edge_face),
+                     plural(st.non_manifold_edges, "non-manifold edge") +
+                         " (edges with more than two faces; first at this face); use repair to split them");
+    if (st.non_manifold_vertices) {
+      std::size_t where = 0;
+      for (std::size_t f = 0; f < nf; ++f)
+        for (std::uint32_t c = soup.face_start[f]; c < soup.face_start[f + 1]; ++c)
+          if (soup.corner_vertex[c] == st.first_non_manifold_vertex) { where = f; f = nf; break; }
+      throw IO_error(soup.face_location(where),
+                     plural(st.non_manifold_vertices, "non-manifold vertex") + " (first: vertex " +
+                         std::to_string(st.first_non_manifold_vertex + 1) +
+                         ", used by this face); use repair to duplicate them");
+    }
+    if (st.inconsistent_edges)
+      throw IO_error(src, plural(st.inconsistent_edges, "edge") +
+                              " with inconsistently oriented faces; use repair to re-orient");
+  }
+
+  // Optional repair: CGAL orients the soup and duplicates non-manifold vertices; UVs follow
+  // their corners because every triangle keeps its three original vertices.
+  std::vector<Point_3> points;
+  points.reserve(soup.positions.size());
+  for (const auto& p : soup.positions) points.emplace_back(p[0], p[1], p[2]);
+  std::vector<std::size_t> original(points.size());
+  std::iota(original.begin(), original.end(), std::size_t(0));
+  std::vector<std::array<std::size_t, 3>> polys = tris;
+  if (options.repair && (!st.manifold || !st.oriented)) {
+    std::vector<std::vector<std::size_t>> pv;
+    pv.reserve(polys.size());
+    for (const auto& t : polys) pv.push_back({t[0], t[1], t[2]});
+    Duplication_visitor vis;
+    vis.original = &original;
+    CGAL::Polygon_mesh_processing::orient_polygon_soup(points, pv, CGAL::parameters::visitor(vis));
+    if (pv.size() != polys.size()) throw IO_error(src, "repair changed the number of faces");
+    original.resize(points.size());
+    for (std::size_t i = 0; i < pv.size(); ++i) {
+      std::array<std::size_t, 3> t{pv[i][0], pv[i][1], pv[i][2]};
+      std::array<std::uint32_t, 3> u = tri_uv[i];
+      for (int k = 0; k < 3; ++k)  // the UV of the original corner holding the same vertex
+        for (int j = 0; j < 3; ++j)
+          if (original[t[std::size_t(k)]] == tris[i][std::size_t(j)]) u[std::size_t(k)] = tri_uv[i][std::size_t(j)];
+      polys[i] = t;
+      tri_uv[i] = u;
+    }
+  }
+
+  out.clear();
+  out.set_source(soup.source);
+  Surface_mesh& m = out.mesh();
+  std::vector<bool> used(points.size(), !options.remove_unreferenced_vertices);
+  if (options.remove_unreferenced_vertices)
+    for (const auto& t : polys) used[t[0]] = used[t[1]] = used[t[2]] = true;
+  std::vector<Surface_mesh::Vertex_index> vmap(points.size());
+  m.reserve(Surface_mesh::size_type(points.size()), Surface_mesh::size_type(3 * polys.size() / 2),
+            Surface_mesh::size_type(polys.size()));
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (used[i]) vmap[i] = m.add_vertex(points[i]);
+  auto uv = out.uv_map();
+  auto mat = out.material_map();
+  for (std::size_t i = 0; i < polys.size(); ++i) {
+    const auto& t = polys[i];
+    const auto f = m.add_face(vmap[t[0]], vmap[t[1]], vmap[t[2]]);
+    if (f == Surface_mesh::null_face())
+      throw IO_error(soup.face_location(tri_face[i]),
+                     "face cannot be added to a manifold mesh (non-manifold configuration)");
+    mat[f] = soup.face_material[tri_face[i]];
+    if (uv_seen) {
+      // halfedge(f) points to the face's first corner? Not necessarily: match by target vertex.
+      for (auto h : m.halfedges_around_face(m.halfedge(f)))
+        for (int k = 0; k < 3; ++k)
+          if (m.target(h) == vmap[t[std::size_t(k)]]) {
+            const auto& q = soup.uvs[tri_uv[i][std::size_t(k)]];
+            uv[h] = Point_2(q[0], q[1]);
+          }
+    }
+  }
+  out.set_has_uvs(uv_seen);
+  out.materials() = soup.materials;
+}
+
+void read_mesh(const std::string& path, Textured_mesh& out, const Read_options& options) {
+  const Polygon_soup soup = read_polygon_soup(path);
+  build_textured_mesh(soup, out, options);
+}
+
+void write_mesh(const std::string& path, const Textured_mesh& mesh) {
+  if (mesh.mesh().number_of_faces() == 0) throw IO_error(path, "refusing to write a mesh without faces");
+  Atomic_output out;
+  const std::string ext = extension(path);
+  if (ext == ".obj") {
+    const std::string stem = fs::path(path).stem().string();
+    internal::write_obj(path, mesh, out,
+                        [&](const Material& m, std::size_t i, const std::string& kind, Atomic_output& o) {
+                          const std::string& src = kind == "diffuse" ? m.diffuse_texture : m.normal_texture;
+                          return internal::copy_texture_file(path, src, stem + "_" + std::to_string(i) + "_" + kind, o);
+                        });
+  } else if (ext == ".off") {
+    internal::write_off(path, mesh, out);
+  } else if (ext == ".ply") {
+    internal::write_ply(path, mesh, out);
+  } else {
+    throw IO_error(path, "unsupported output type '" + ext + "' (expected .obj, .off or .ply)");
+  }
+  out.commit();
+}
+
+}  // namespace IO
+}  // namespace CMGeom

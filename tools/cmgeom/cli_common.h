@@ -1,0 +1,64 @@
+// Shared plumbing of the cmgeom sub-commands: registration, errors, JSON output, progress.
+#ifndef CMGEOM_TOOLS_CLI_COMMON_H
+#define CMGEOM_TOOLS_CLI_COMMON_H
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace cmgeom_cli {
+
+// A sub-command adds its options to `app` and returns the function that runs it.
+// The function returns the process exit code; it reports user errors by throwing.
+using Runner = std::function<int()>;
+using Setup = std::function<Runner(CLI::App& app)>;
+
+struct Command_registration {
+  Command_registration(const char* name, const char* description, Setup setup);
+};
+
+struct Registered_command {
+  std::string name;
+  std::string description;
+  Setup setup;
+};
+std::vector<Registered_command>& registry();
+
+// Prints a JSON document on stdout (2-space indentation, keys in insertion order).
+void print_json(const nlohmann::ordered_json& j);
+
+// Seconds since an arbitrary origin (steady clock).
+double now_seconds();
+
+// A progress bar on stderr, drawn only when stderr is a terminal and the job is long.
+class Progress {
+public:
+  explicit Progress(std::string label);
+  ~Progress();
+  void update(double fraction);  // 0..1
+  void done();
+
+private:
+  std::string label_;
+  double start_;
+  int last_ = -1;
+  bool tty_;
+  bool finished_ = false;
+};
+
+}  // namespace cmgeom_cli
+
+// Registers a sub-command from a .cpp file: CMGEOM_CLI_COMMAND(info, "…") { return [&]{...}; }
+#define CMGEOM_CLI_CONCAT2(a, b) a##b
+#define CMGEOM_CLI_CONCAT(a, b) CMGEOM_CLI_CONCAT2(a, b)
+#define CMGEOM_CLI_COMMAND(NAME, DESCRIPTION)                                                 \
+  static cmgeom_cli::Runner CMGEOM_CLI_CONCAT(cmgeom_setup_, NAME)(CLI::App & app);            \
+  static const cmgeom_cli::Command_registration CMGEOM_CLI_CONCAT(cmgeom_reg_, NAME)(          \
+      #NAME, DESCRIPTION, &CMGEOM_CLI_CONCAT(cmgeom_setup_, NAME));                            \
+  static cmgeom_cli::Runner CMGEOM_CLI_CONCAT(cmgeom_setup_, NAME)(CLI::App & app)
+
+#endif

@@ -1,0 +1,24 @@
+// cmgeom convert <in> -o <out>: read, validate, write another format (atomically).
+#include "cli_common.h"
+
+#include <CMGeom/Mesh_IO/textured_mesh_io.h>
+
+#include <iostream>
+
+CMGEOM_CLI_COMMAND(convert, "Convert a mesh between OBJ(+MTL+textures), OFF, PLY and glTF input formats") {
+  auto input = std::make_shared<std::string>();
+  auto output = std::make_shared<std::string>();
+  auto opts = std::make_shared<CMGeom::IO::Read_options>();
+  app.add_option("input", *input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
+  app.add_option("-o,--output", *output, "Output mesh (.obj, .off, .ply)")->required();
+  app.add_flag("--repair", opts->repair, "Repair non-manifold edges/vertices and orientation (CGAL PMP)");
+  app.add_flag("--allow-degenerate", opts->allow_degenerate_faces, "Keep zero-area faces");
+  app.add_flag("--drop-repeated", opts->drop_repeated_vertex_faces, "Drop faces that repeat a vertex");
+  app.add_flag("--remove-unreferenced", opts->remove_unreferenced_vertices, "Drop vertices no face uses");
+  return [=]() -> int {
+    CMGeom::Textured_mesh tm;
+    CMGeom::IO::read_mesh(*input, tm, *opts);
+    CMGeom::IO::write_textured_mesh(*output, tm);
+    return 0;
+  };
+}

@@ -1,0 +1,83 @@
+// cmgeom info <mesh> [--json]: counts, topology and texture facts of a mesh file. Works on broken
+// meshes too (non-manifold, inconsistent orientation): that is what it is for.
+#include "cli_common.h"
+
+#include <CMGeom/Mesh_IO/image_io.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
+
+#include <iostream>
+
+CMGEOM_CLI_COMMAND(info, "Print vertices, faces, charts, topology and materials of a mesh file") {
+  auto input = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  app.add_option("mesh", *input, "Mesh file (.obj, .off, .ply, .gltf, .glb)")->required();
+  app.add_flag("--json", *json, "Print a JSON object instead of text");
+  return [input, json]() -> int {
+    const CMGeom::Polygon_soup soup = CMGeom::IO::read_polygon_soup(*input);
+    for (const std::string& w : soup.warnings) std::cerr << "cmgeom info: warning: " << w << "\n";
+    const CMGeom::Mesh_statistics st = CMGeom::analyze_soup(soup);
+    nlohmann::ordered_json j;
+    j["file"] = *input;
+    j["vertices"] = soup.positions.size();
+    j["referenced_vertices"] = st.vertices;
+    j["unreferenced_vertices"] = st.unreferenced_vertices;
+    j["faces"] = st.faces;
+    j["edges"] = st.edges;
+    j["texture_coordinates"] = soup.uvs.size();
+    j["charts"] = st.charts;
+    j["closed"] = st.closed;
+    j["manifold"] = st.manifold;
+    j["oriented"] = st.oriented;
+    j["genus"] = st.genus >= 0 ? nlohmann::ordered_json(st.genus) : nlohmann::ordered_json(nullptr);
+    j["components"] = st.components;
+    j["boundary_edges"] = st.boundary_edges;
+    j["boundary_loops"] = st.boundary_loops;
+    j["euler_characteristic"] = st.euler_characteristic;
+    j["non_manifold_edges"] = st.non_manifold_edges;
+    j["non_manifold_vertices"] = st.non_manifold_vertices;
+    j["inconsistent_edges"] = st.inconsistent_edges;
+    j["degenerate_faces"] = st.degenerate_faces;
+    nlohmann::ordered_json mats = nlohmann::ordered_json::array();
+    for (const CMGeom::Material& m : soup.materials) {
+      nlohmann::ordered_json mj;
+      mj["name"] = m.name;
+      auto texture = [](const std::string& path) {
+        nlohmann::ordered_json t;
+        t["file"] = path;
+        const auto [w, h] = CMGeom::IO::image_size(path);
+        t["width"] = w;
+        t["height"] = h;
+        return t;
+      };
+      if (!m.diffuse_texture.empty()) mj["diffuse_texture"] = texture(m.diffuse_texture);
+      else if (!m.diffuse_texture_blob.empty()) mj["diffuse_texture"] = "embedded";
+      if (!m.normal_texture.empty()) mj["normal_texture"] = texture(m.normal_texture);
+      mats.push_back(mj);
+    }
+    j["materials"] = mats;
+    if (*json) {
+      cmgeom_cli::print_json(j);
+      return 0;
+    }
+    std::cout << *input << "\n"
+              << "  vertices     " << soup.positions.size() << " (" << st.unreferenced_vertices << " unreferenced)\n"
+              << "  faces        " << st.faces << "\n"
+              << "  edges        " << st.edges << "\n"
+              << "  components   " << st.components << "\n"
+              << "  closed       " << (st.closed ? "yes" : "no") << " (" << st.boundary_edges << " boundary edges"
+              << (st.manifold ? ", " + std::to_string(st.boundary_loops) + " loops" : std::string()) << ")\n"
+              << "  manifold     " << (st.manifold ? "yes" : "no") << " (" << st.non_manifold_edges
+              << " non-manifold edges, " << st.non_manifold_vertices << " non-manifold vertices)\n"
+              << "  oriented     " << (st.oriented ? "yes" : "no") << "\n"
+              << "  genus        " << (st.genus >= 0 ? std::to_string(st.genus) : std::string("n/a")) << "\n"
+              << "  degenerate   " << st.degenerate_faces << " faces\n"
+              << "  UV charts    " << st.charts << " (" << soup.uvs.size() << " texture coordinates)\n";
+    for (const auto& mj : j["materials"]) {
+      std::cout << "  material     " << mj["name"].get<std::string>();
+      if (mj.contains("diffuse_texture") && mj["diffuse_texture"].is_object())
+        std::cout << ", texture " << mj["diffuse_texture"]["width"] << "x" << mj["diffuse_texture"]["height"];
+      std::cout << "\n";
+    }
+    return 0;
+  };
+}
