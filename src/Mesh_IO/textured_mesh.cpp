@@ -46,8 +46,8 @@ struct Duplication_visitor : CGAL::Polygon_mesh_processing::Default_orientation_
   }
 };
 
-std::string plural(std::size_t n, const char* word) {
-  return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+std::string plural(std::size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
 }  // namespace
@@ -119,27 +119,27 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
       }
     }
     if (zero_area)
-      throw IO_error(soup.face_location(first), plural(zero_area, "zero-area face") +
-                                                    " (first here); allow them explicitly to keep them");
+      throw IO_error(soup.face_location(first), plural(zero_area, "zero-area face", "zero-area faces") +
+                                                    " (first here); the option allow_degenerate_faces (--allow-degenerate) keeps them");
   }
   if (!options.repair) {
     if (st.non_manifold_edges)
       throw IO_error(soup.face_location(st.first_non_manifold_edge_face),
-                     plural(st.non_manifold_edges, "non-manifold edge") +
-                         " (edges with more than two faces; first at this face); use repair to split them");
+                     plural(st.non_manifold_edges, "non-manifold edge", "non-manifold edges") +
+                         " (edges with more than two faces; first at this face); the option repair (--repair) splits them");
     if (st.non_manifold_vertices) {
       std::size_t where = 0;
       for (std::size_t f = 0; f < nf; ++f)
         for (std::uint32_t c = soup.face_start[f]; c < soup.face_start[f + 1]; ++c)
           if (soup.corner_vertex[c] == st.first_non_manifold_vertex) { where = f; f = nf; break; }
       throw IO_error(soup.face_location(where),
-                     plural(st.non_manifold_vertices, "non-manifold vertex") + " (first: vertex " +
+                     plural(st.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") + " (first: vertex " +
                          std::to_string(st.first_non_manifold_vertex + 1) +
-                         ", used by this face); use repair to duplicate them");
+                         ", used by this face); the option repair (--repair) duplicates them");
     }
     if (st.inconsistent_edges)
-      throw IO_error(src, plural(st.inconsistent_edges, "edge") +
-                              " with inconsistently oriented faces; use repair to re-orient");
+      throw IO_error(src, plural(st.inconsistent_edges, "edge", "edges") +
+                              " with inconsistently oriented faces; the option repair (--repair) re-orients them");
   }
 
   // Optional repair: CGAL orients the soup and duplicates non-manifold vertices; UVs follow
