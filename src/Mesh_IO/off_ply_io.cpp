@@ -9,7 +9,9 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 #include <new>
+#include <sstream>
 
 namespace CMGeom {
 namespace IO {
@@ -140,26 +142,121 @@ void read_off(const std::string& path, Polygon_soup& soup) {
   if (soup.number_of_faces() == 0) throw IO_error(path, "no faces in file");
 }
 
+namespace {
+
+// CGAL's PLY reader trusts the header (a "property" before any "element" crashes it, a huge
+// count allocates before reading): the header is checked here first, with line numbers.
+void check_ply_header(const std::string& data, const std::string& path) {
+  static const char* const scalar_types[] = {"char",  "uchar",  "short",  "ushort", "int",    "uint",
+                                             "float", "double", "int8",   "uint8",  "int16",  "uint16",
+                                             "int32", "uint32", "float32", "float64"};
+  auto is_type = [](std::string_view t) {
+    for (const char* s : scalar_types) if (t == s) return true;
+    return false;
+  };
+  std::size_t pos = 0, line_no = 0;
+  bool have_element = false, have_format = false, ended = false, binary = false;
+  bool vertex_x = false, vertex_y = false, vertex_z = false, face_list = false;
+  std::string element;
+  unsigned long long vertices = 0, faces = 0;
+  while (pos < data.size() && !ended) {
+    std::size_t nl = data.find('\n', pos);
+    if (nl == std::string::npos) nl = data.size();
+    std::string line = data.substr(pos, nl - pos);
+    pos = nl + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::vector<std::string_view> tok;
+    for (std::size_t i = 0; i < line.size();) {
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+      const std::size_t b = i;
+      while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
+      if (i > b) tok.emplace_back(line.data() + b, i - b);
+    }
+    if (line_no == 1) {
+      if (tok.size() != 1 || tok[0] != "ply") throw IO_error(path, 1, "not a PLY file (no 'ply' magic)");
+      continue;
+    }
+    if (tok.empty()) continue;
+    if (tok[0] == "comment" || tok[0] == "obj_info") continue;
+    if (tok[0] == "format") {
+      if (tok.size() != 3 || (tok[1] != "ascii" && tok[1] != "binary_little_endian" && tok[1] != "binary_big_endian"))
+        throw IO_error(path, line_no, "bad PLY format line");
+      have_format = true;
+      binary = tok[1] != "ascii";
+    } else if (tok[0] == "element") {
+      unsigned long long n;
+      if (tok.size() != 3 || !number(tok[2], n)) throw IO_error(path, line_no, "bad PLY element line");
+      element = std::string(tok[1]);
+      if (element == "vertex") vertices = n;
+      if (element == "face") faces = n;
+      have_element = true;
+    } else if (tok[0] == "property") {
+      if (!have_element) throw IO_error(path, line_no, "PLY property before any element");
+      if (tok.size() == 5 && tok[1] == "list") {
+        if (!is_type(tok[2]) || !is_type(tok[3])) throw IO_error(path, line_no, "bad PLY list property type");
+        if (element == "face" && (tok[4] == "vertex_indices" || tok[4] == "vertex_index")) face_list = true;
+      } else if (tok.size() == 3 && is_type(tok[1])) {
+        if (element == "vertex") {
+          vertex_x |= tok[2] == "x";
+          vertex_y |= tok[2] == "y";
+          vertex_z |= tok[2] == "z";
+        }
+      } else {
+        throw IO_error(path, line_no, "bad PLY property line");
+      }
+    } else if (tok[0] == "end_header") {
+      ended = true;
+    } else {
+      throw IO_error(path, line_no, "unknown PLY header keyword '" + std::string(tok[0].substr(0, 40)) + "'");
+    }
+  }
+  if (!ended) throw IO_error(path, "truncated PLY header (no end_header)");
+  if (!have_format) throw IO_error(path, "PLY header without a format line");
+  if (!vertex_x || !vertex_y || !vertex_z) throw IO_error(path, "PLY file without vertex x, y, z properties");
+  if (!face_list) throw IO_error(path, "PLY file without a face element with vertex_indices");
+  // Every vertex takes at least 3 bytes (binary) or 6 characters (ASCII "0 0 0\n"), every face 4.
+  const unsigned long long body = data.size() - std::min<std::size_t>(pos, data.size());
+  const unsigned long long need = vertices * (binary ? 3ull : 6ull) + faces * 4ull;
+  if (vertices > body || faces > body || need > body)
+    throw IO_error(path, "header declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
+                             " faces, more than the file can hold (truncated or corrupt)");
+}
+
+}  // namespace
+
 void read_ply(const std::string& path, Polygon_soup& soup) {
   soup = Polygon_soup();
   soup.source = path;
   {
-    const std::string head = slurp(path).substr(0, 4);
-    if (head.empty()) throw IO_error(path, "empty file");
-    if (head.compare(0, 3, "ply") != 0) throw IO_error(path, 1, "not a PLY file (no 'ply' magic)");
+    const std::string data = slurp(path);
+    if (data.empty()) throw IO_error(path, "empty file");
+    check_ply_header(data, path);
   }
   std::ifstream in(path, std::ios::binary);
   std::vector<Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;
+  // CGAL's reader reports problems on std::cerr: capture them for our one-line error.
+  std::ostringstream cgal_messages;
+  std::streambuf* old = std::cerr.rdbuf(cgal_messages.rdbuf());
   try {
-    ok = CGAL::IO::read_PLY(in, points, polygons, CGAL::parameters::use_binary_mode(true));
+    ok = CGAL::IO::read_PLY(in, points, polygons);
   } catch (const std::bad_alloc&) {
+    std::cerr.rdbuf(old);
     throw IO_error(path, "header declares more elements than can be allocated (corrupt file)");
   } catch (const std::exception& e) {
+    std::cerr.rdbuf(old);
     throw IO_error(path, std::string("malformed PLY: ") + e.what());
   }
-  if (!ok) throw IO_error(path, "malformed or truncated PLY (CGAL's PLY reader failed)");
+  std::cerr.rdbuf(old);
+  if (!ok) {
+    std::string why = cgal_messages.str();
+    while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
+    const std::size_t last = why.rfind('\n');
+    if (last != std::string::npos) why = why.substr(last + 1);
+    throw IO_error(path, "malformed or truncated PLY" + (why.empty() ? std::string() : " (" + why + ")"));
+  }
   if (polygons.empty()) throw IO_error(path, "no faces in file");
   soup.positions.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {

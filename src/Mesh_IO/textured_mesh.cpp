@@ -5,6 +5,7 @@
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 
 #include <algorithm>
 #include <cmath>
@@ -150,7 +151,15 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   std::vector<std::size_t> original(points.size());
   std::iota(original.begin(), original.end(), std::size_t(0));
   std::vector<std::array<std::size_t, 3>> polys = tris;
-  if (options.repair && (!st.manifold || !st.oriented)) {
+  // The decision is taken on the triangles: splitting a non-convex polygon into a fan can itself
+  // create a non-manifold edge even when the polygon mesh is manifold.
+  auto is_manifold_triangle_soup = [&]() {
+    std::vector<std::vector<std::size_t>> pv;
+    pv.reserve(polys.size());
+    for (const auto& t : polys) pv.push_back({t[0], t[1], t[2]});
+    return CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(pv);
+  };
+  if (options.repair && !is_manifold_triangle_soup()) {
     std::vector<std::vector<std::size_t>> pv;
     pv.reserve(polys.size());
     for (const auto& t : polys) pv.push_back({t[0], t[1], t[2]});
@@ -158,6 +167,9 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     vis.original = &original;
     CGAL::Polygon_mesh_processing::orient_polygon_soup(points, pv, CGAL::parameters::visitor(vis));
     if (pv.size() != polys.size()) throw IO_error(src, "repair changed the number of faces");
+    if (!CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(pv))
+      throw IO_error(src, "repair could not make the mesh manifold (duplicated or otherwise "
+                          "irreparable faces around non-manifold edges)");
     original.resize(points.size());
     for (std::size_t i = 0; i < pv.size(); ++i) {
       std::array<std::size_t, 3> t{pv[i][0], pv[i][1], pv[i][2]};
@@ -188,7 +200,8 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     const auto f = m.add_face(vmap[t[0]], vmap[t[1]], vmap[t[2]]);
     if (f == Surface_mesh::null_face())
       throw IO_error(soup.face_location(tri_face[i]),
-                     "face cannot be added to a manifold mesh (non-manifold configuration)");
+                     "face cannot be added to a manifold mesh (non-manifold configuration after "
+                     "splitting polygons into triangles); the option repair (--repair) fixes it");
     mat[f] = soup.face_material[tri_face[i]];
     if (uv_seen) {
       // halfedge(f) points to the face's first corner? Not necessarily: match by target vertex.
@@ -200,6 +213,10 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
           }
     }
   }
+  // Surface_mesh's own check: CGAL::is_valid_polygon_mesh() also rejects isolated vertices,
+  // which are kept on purpose (vertex order survives read -> write).
+  if (!m.is_valid(false))
+    throw IO_error(src, "faces do not form a valid manifold mesh");
   out.set_has_uvs(uv_seen);
   out.materials() = soup.materials;
 }

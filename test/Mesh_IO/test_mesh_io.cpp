@@ -391,6 +391,13 @@ std::vector<Bad_case> bad_cases() {
   v.push_back({"range.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                             "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                             "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n", "out of range", 0});
+  // Regression (fuzzing): CGAL's PLY reader crashed on a property declared before any element.
+  v.push_back({"prop_first.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 1\nend_header\n0\n",
+               "property before any element", 3});
+  v.push_back({"huge.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
+                           "property float y\nproperty float z\nelement face 1\n"
+                           "property list uchar int vertex_indices\nend_header\n", "more than the file can hold", 0});
+  v.push_back({"no_end.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "no end_header", 0});
   v.push_back({"garbage.gltf", "{ this is not json", "", 0});
   v.push_back({"empty.glb", "", "empty file", 0});
   v.push_back({"mesh.stl", "solid x\nendsolid x\n", "unsupported file type", 0});
@@ -475,6 +482,27 @@ TEST(Mesh_IO_bad_input, RepairDuplicatesNonManifoldVertexAndKeepsUVs) {
   std::sort(us.begin(), us.end());
   ASSERT_EQ(us.size(), 24u);
   for (int i = 0; i < 24; ++i) EXPECT_NEAR(us[std::size_t(i)], i / 24.0, 1e-6);
+}
+
+TEST(Mesh_IO_bad_input, RepairMakesNonManifoldClassicModelsValid) {
+  // Regression (fuzzing): repairing beetle (47 non-manifold edges) once produced an invalid
+  // halfedge structure; suzanne's quads become non-manifold only after the fan split.
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = scratch_dir();
+  for (const char* name : {"classic/beetle.obj", "classic/teapot.obj", "classic/suzanne.obj", "classic/cow.obj",
+                           "classic/ogre.obj.gz", "textured/DamagedHelmet/DamagedHelmet.obj"}) {
+    SCOPED_TRACE(name);
+    IO::Read_options opt;
+    opt.repair = true;
+    opt.allow_degenerate_faces = true;  // ogre has four zero-area faces
+    Textured_mesh tm;
+    IO::read_mesh(cmgeom_test::shared_mesh(name, dir), tm, opt);
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(tm.mesh()));
+    EXPECT_TRUE(CGAL::is_triangle_mesh(tm.mesh()));
+    // Without repair the same files are refused with a clear error.
+    Textured_mesh plain;
+    EXPECT_THROW(IO::read_mesh(cmgeom_test::shared_mesh(name, dir), plain), IO_error);
+  }
 }
 
 TEST(Mesh_IO_atomic, FailedWritesLeaveNothingAndKeepOldFiles) {

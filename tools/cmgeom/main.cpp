@@ -5,7 +5,10 @@
 // "cmgeom <sub-command>: error: ", and the exit code is 1 (2 for command-line usage errors).
 #include "cli_common.h"
 
+#include <tbb/global_control.h>
+
 #include <algorithm>
+#include <memory>
 #include <exception>
 #include <iostream>
 #include <map>
@@ -13,7 +16,12 @@
 int main(int argc, char** argv) {
   CLI::App app{"cmgeom - simplification, approximation and deformation of large models"};
   app.require_subcommand(1);
+  app.fallthrough();  // global options (--threads) may follow the sub-command
   app.set_version_flag("--version", std::string("cmgeom 0.1.0"));
+  int threads = 0;
+  app.add_option("--threads", threads,
+                 "Worker threads for parallel stages (default: all cores); results do not depend on it")
+      ->check(CLI::NonNegativeNumber);
 
   auto& commands = cmgeom_cli::registry();
   std::sort(commands.begin(), commands.end(),
@@ -39,6 +47,10 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  std::unique_ptr<tbb::global_control> limit;
+  if (threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  std::size_t(threads));
   for (auto& [sub, named] : runners) {
     if (!sub->parsed()) continue;
     try {
