@@ -1,0 +1,375 @@
+// Speed of the Cage_deformation package on the mesh/cage pairs of the shared data (never run by
+// CTest). Prints Markdown tables:
+//   1. STREAM-style memory bandwidth (copy, triad, read-only sum) on 1 and 2 threads;
+//   2. binding throughput in (point x cage triangle)/s for mean value and Green coordinates on 1
+//      and 2 threads (wall clock, and CPU time, which is what a loaded shared machine distorts
+//      least), and the harmonic solve + lookup time;
+//   3. deformation time per frame (best frame), vertices/s and effective bandwidth for dense double, dense
+//      float and sparse weights, against the measured bandwidth.
+// Usage: bench_Cage_deformation [--quick] [data_dir]
+#include <CMGeom/Cage_deformation.h>
+
+#include "cmgeom_test_config.h"
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <thread>
+#include <string>
+#include <vector>
+
+using namespace CMGeom::Cage_deformation;
+
+namespace {
+
+double wall() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+double cpu() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+bool read_obj(const std::string& path, std::vector<Vec3>& pts,
+              std::vector<std::vector<std::size_t>>& polys) {
+  std::string file = path;
+  if (path.size() > 3 && path.substr(path.size() - 3) == ".gz") {
+    file = std::string(CMGEOM_TEST_TMP_DIR) + "/bench_cage_" +
+           std::filesystem::path(path).stem().string();
+    if (!std::filesystem::exists(file) &&
+        std::system(("gzip -dc '" + path + "' > '" + file + "'").c_str()) != 0)
+      return false;
+  }
+  std::ifstream in(file);
+  if (!in) return false;
+  pts.clear();
+  polys.clear();
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string tag;
+    ls >> tag;
+    if (tag == "v") {
+      Vec3 p;
+      ls >> p[0] >> p[1] >> p[2];
+      pts.push_back(p);
+    } else if (tag == "f") {
+      std::vector<std::size_t> f;
+      std::string c;
+      while (ls >> c) {
+        long i = std::stol(c.substr(0, c.find('/')));
+        f.push_back(i < 0 ? std::size_t(long(pts.size()) + i) : std::size_t(i - 1));
+      }
+      polys.push_back(f);
+    }
+  }
+  return !pts.empty();
+}
+
+// ------------------------------------------------------------------ STREAM-style bandwidth
+struct Bandwidth {
+  double copy = 0, triad = 0, read = 0;  // GB/s, best of the repetitions
+};
+
+Bandwidth stream(int threads, std::size_t n) {
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+  std::vector<double> a(n), b(n), c(n);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+    a[i] = 1.0;
+    b[i] = 2.0;
+    c[i] = 0.5;
+  });
+  Bandwidth bw;
+  const std::size_t grain = n / (8 * std::size_t(threads));
+  for (int rep = 0; rep < 6; ++rep) {
+    double t0 = wall();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) c[i] = a[i];
+                      });
+    double t = wall() - t0;
+    bw.copy = std::max(bw.copy, 16.0 * double(n) / t / 1e9);
+    t0 = wall();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) a[i] = b[i] + 3.0 * c[i];
+                      });
+    t = wall() - t0;
+    bw.triad = std::max(bw.triad, 24.0 * double(n) / t / 1e9);
+    std::vector<double> partial(64, 0.0);
+    t0 = wall();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+                        std::size_t i = r.begin();
+                        for (; i + 4 <= r.end(); i += 4) {
+                          s0 += a[i];
+                          s1 += a[i + 1];
+                          s2 += a[i + 2];
+                          s3 += a[i + 3];
+                        }
+                        for (; i < r.end(); ++i) s0 += a[i];
+                        partial[(r.begin() / grain) % 64] += s0 + s1 + s2 + s3;
+                      });
+    t = wall() - t0;
+    bw.read = std::max(bw.read, 8.0 * double(n) / t / 1e9);
+    if (partial[0] == -1) std::printf("?");
+  }
+  return bw;
+}
+
+// ------------------------------------------------------------------ binding
+struct Bind_result {
+  double wall1 = 0, cpu1 = 0, wall2 = 0, cpu2 = 0;
+};
+
+// Best of `reps` runs: on a shared machine the best run is the one least disturbed by others.
+template <class Coords>
+Bind_result time_bind(const Coords& c, const std::vector<Vec3>& pts, int reps) {
+  Bind_result r{1e300, 1e300, 1e300, 1e300};
+  for (int rep = 0; rep < reps; ++rep) {
+    {
+      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+      const double w0 = wall(), c0 = cpu();
+      Cage_binding<double> b = bind_points(c, pts);
+      r.wall1 = std::min(r.wall1, wall() - w0);
+      r.cpu1 = std::min(r.cpu1, cpu() - c0);
+    }
+    {
+      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+      const double w0 = wall(), c0 = cpu();
+      Cage_binding<double> b = bind_points(c, pts);
+      r.wall2 = std::min(r.wall2, wall() - w0);
+      r.cpu2 = std::min(r.cpu2, cpu() - c0);
+    }
+  }
+  return r;
+}
+
+template <class Binding>
+double time_deform(const Binding& b, const std::vector<Vec3>& basis, int threads, int frames) {
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+  std::vector<Vec3> out(b.number_of_points());
+  b.deform(basis, out.data());  // warm up
+  std::vector<double> t;
+  for (int f = 0; f < frames; ++f) {
+    const double t0 = wall();
+    b.deform(basis, out.data());
+    t.push_back(wall() - t0);
+  }
+  return *std::min_element(t.begin(), t.end());
+}
+
+struct Model {
+  std::string name, mesh, cage, deformed;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string data = CMGEOM_DATA_DIR;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") quick = true;
+    else data = a;
+  }
+  const std::string q = data + "/cages/qmvc/", p = data + "/cages/pgc/";
+  std::vector<Model> models = {
+      {"Ogre (qmvc)", q + "Ogre.obj", q + "Ogre_Cage.obj", q + "Ogre_Cage_Deformed.obj"},
+      {"Beast (qmvc)", q + "Beast.obj", q + "Beast_Cage.obj", q + "Beast_Cage_Deformed.obj"},
+      {"FireHydrant (qmvc)", q + "FireHydrant.obj.gz", q + "FireHydrant_Cage.obj",
+       q + "FireHydrant_Cage_Deformed.obj"},
+      {"ManHead (qmvc)", q + "ManHead.obj", q + "ManHead_Cage.obj", q + "ManHead_Cage_Deformed.obj"},
+      {"armadilloman (pgc)", p + "armadilloman/armadilloman.obj", p + "armadilloman/cage.obj", ""},
+      {"horse (pgc)", p + "horse/horse.obj.gz", p + "horse/cage.obj", ""},
+      {"cactus (pgc)", p + "cactus/cactus.obj.gz", p + "cactus/cage.obj", ""},
+      {"elephant (pgc)", p + "elephant/elephant.obj", p + "elephant/cage.obj", ""},
+  };
+  if (quick) models.resize(2);
+
+  std::printf("## Cage_deformation benchmark\n\n");
+  std::printf("Machine: %u hardware threads; load average at start: ",
+              std::thread::hardware_concurrency());
+  {
+    std::ifstream la("/proc/loadavg");
+    std::string l;
+    std::getline(la, l);
+    std::printf("%s\n\n", l.c_str());
+  }
+
+  // 1. bandwidth
+  const std::size_t sn = quick ? (std::size_t(1) << 23) : (std::size_t(1) << 25);  // 32M doubles = 256 MB/array
+  Bandwidth bw1 = stream(1, sn), bw2 = stream(2, sn);
+  std::printf("### Memory bandwidth (STREAM-style, %zu MB per array, best of 6)\n\n", sn * 8 >> 20);
+  std::printf("| threads | copy GB/s | triad GB/s | read (sum) GB/s |\n|---|---|---|---|\n");
+  std::printf("| 1 | %.1f | %.1f | %.1f |\n| 2 | %.1f | %.1f | %.1f |\n\n", bw1.copy, bw1.triad,
+              bw1.read, bw2.copy, bw2.triad, bw2.read);
+
+  // 2. binding
+  std::printf("### Binding: (point x cage triangle) per second (best of 3 runs)\n\n");
+  std::printf("M/s = millions of (mesh vertex x cage triangle) pairs per second. *cpu* divides by the "
+              "process CPU time summed over its threads (robust to other jobs on the shared machine), "
+              "*wall* by elapsed time. *2T/1T* is the wall-clock speed-up; *2T eff* = (2T cpu rate) / "
+              "(1T cpu rate), the work efficiency of the parallel run: on two otherwise idle cores the "
+              "speed-up would be about 2 x eff.\n\n");
+  std::printf("| model | vertices | cage V/T | MVC 1T cpu | MVC 1T wall | MVC 2T wall | MVC 2T/1T | MVC 2T eff | "
+              "Green 1T cpu | Green 1T wall | Green 2T wall | Green 2T/1T | Green 2T eff |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  struct Deform_row {
+    std::string name;
+    std::size_t N, K;
+    double td1, td2, tf1, ts1;
+    std::size_t bd, bf, bs;
+  };
+  std::vector<Deform_row> deform_rows;
+  std::vector<std::string> harmonic_rows;
+  std::mt19937 rng(1);
+  for (const Model& m : models) {
+    std::vector<Vec3> mp, cp, dp;
+    std::vector<std::vector<std::size_t>> mf, cf, df;
+    if (!read_obj(m.mesh, mp, mf) || !read_obj(m.cage, cp, cf)) {
+      std::printf("| %s | missing data | | | | | | | | | | | |\n", m.name.c_str());
+      continue;
+    }
+    Triangle_cage cage = make_triangle_cage(cp, cf);
+    validate_cage(cage, m.cage);
+    std::vector<Vec3> deformed;
+    if (!m.deformed.empty() && read_obj(m.deformed, dp, df) && dp.size() == cp.size()) {
+      deformed = dp;
+    } else {
+      deformed = cage.vertices;
+      std::normal_distribution<double> N(0, 0.02 * cage.bbox_diagonal());
+      for (Vec3& v : deformed)
+        for (double& c : v) c += N(rng);
+    }
+    const double pairs = double(mp.size()) * double(cage.triangles.size());
+    Mean_value_coordinates_3 mvc(cage);
+    Green_coordinates_3 gc(cage);
+    const int reps = quick ? 1 : 3;
+    const Bind_result rm = time_bind(mvc, mp, reps), rg = time_bind(gc, mp, reps);
+    std::printf("| %s | %zu | %zu/%zu | %.1f | %.1f | %.1f | %.2f | %.2f | %.1f | %.1f | %.1f | %.2f | %.2f |\n",
+                m.name.c_str(), mp.size(), cage.vertices.size(), cage.triangles.size(),
+                pairs / rm.cpu1 / 1e6, pairs / rm.wall1 / 1e6, pairs / rm.wall2 / 1e6,
+                rm.wall1 / rm.wall2, rm.cpu1 / rm.cpu2, pairs / rg.cpu1 / 1e6, pairs / rg.wall1 / 1e6,
+                pairs / rg.wall2 / 1e6, rg.wall1 / rg.wall2, rg.cpu1 / rg.cpu2);
+    std::fflush(stdout);
+
+    // deformation kernels (MVC weights; Green has n + m per vertex, reported in the same table)
+    for (int which = 0; which < 2; ++which) {
+      Deform_row row;
+      row.name = m.name + (which ? " Green" : " MVC");
+      std::vector<Vec3> basis;
+      if (which) gc.deformation_rule()(deformed, std::back_inserter(basis));
+      else mvc.deformation_rule()(deformed, std::back_inserter(basis));
+      Binding_options so;
+      so.storage = Weight_storage::sparse;
+      const int frames = quick ? 5 : 21;
+      if (which) {
+        Cage_binding<double> d = bind_points(gc, mp);
+        Cage_binding<float> f = bind_points<float>(gc, mp);
+        Cage_binding<double> s = bind_points(gc, mp, so);
+        row = {row.name, mp.size(), d.number_of_coordinates(), time_deform(d, basis, 1, frames),
+               time_deform(d, basis, 2, frames), time_deform(f, basis, 1, frames),
+               time_deform(s, basis, 1, frames), d.weights_bytes(), f.weights_bytes(), s.weights_bytes()};
+      } else {
+        Cage_binding<double> d = bind_points(mvc, mp);
+        Cage_binding<float> f = bind_points<float>(mvc, mp);
+        Cage_binding<double> s = bind_points(mvc, mp, so);
+        row = {row.name, mp.size(), d.number_of_coordinates(), time_deform(d, basis, 1, frames),
+               time_deform(d, basis, 2, frames), time_deform(f, basis, 1, frames),
+               time_deform(s, basis, 1, frames), d.weights_bytes(), f.weights_bytes(), s.weights_bytes()};
+      }
+      deform_rows.push_back(row);
+    }
+
+    // harmonic: solve once, then look up (points outside the cage are flagged, not counted)
+    if (!quick && harmonic_rows.size() < 3) {
+      Harmonic_options ho;
+      ho.resolution = 64;
+      const double w0 = wall();
+      Harmonic_coordinates_3 hc(cage, ho);
+      const double solve = wall() - w0;
+      const double w1 = wall();
+      Cage_binding<double> hb = bind_points(hc, mp);
+      const double look = wall() - w1;
+      char buf[512];
+      std::snprintf(buf, sizeof buf, "| %s | %d | %zu | %.2f | %zu | %.3f | %.2f | %zu | %zu |",
+                    m.name.c_str(), ho.resolution, hc.number_of_interior_nodes(), solve,
+                    hc.solver_iterations(), look, double(mp.size()) / look / 1e6,
+                    hb.count(Coordinate_status::approximate), hb.count(Coordinate_status::undefined));
+      harmonic_rows.push_back(buf);
+    }
+  }
+
+  std::printf("\n### Harmonic coordinates (2 threads, wall clock; tricubic lookup)\n\n");
+  std::printf("| model | resolution | interior nodes | solve s | CG iterations (all coords, levels) | "
+              "bind s | M vertices/s | approximate | undefined (outside) |\n|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& r : harmonic_rows) std::printf("%s\n", r.c_str());
+
+  // A large binding (weights far beyond the 32 MB L3): mesh vertices jittered inside the cage.
+  if (!models.empty()) {
+    std::vector<Vec3> mp, cp;
+    std::vector<std::vector<std::size_t>> mf, cf;
+    if (read_obj(models[0].mesh, mp, mf) && read_obj(models[0].cage, cp, cf)) {
+      Triangle_cage cage = make_triangle_cage(cp, cf);
+      validate_cage(cage);
+      Mean_value_coordinates_3 mvc(cage);
+      std::vector<Vec3> big;
+      std::normal_distribution<double> N(0, 1e-3 * cage.bbox_diagonal());
+      const std::size_t target = quick ? 100000 : 400000;
+      while (big.size() < target)
+        for (const Vec3& v : mp) {
+          big.push_back({v[0] + N(rng), v[1] + N(rng), v[2] + N(rng)});
+          if (big.size() == target) break;
+        }
+      std::vector<Vec3> basis;
+      mvc.deformation_rule()(cage.vertices, std::back_inserter(basis));
+      Binding_options so;
+      so.storage = Weight_storage::sparse;
+      Cage_binding<double> d = bind_points(mvc, big);
+      Cage_binding<float> f = bind_points<float>(mvc, big);
+      Deform_row row{models[0].name + " MVC x" + std::to_string(target / mp.size() + 1) + " points",
+                     big.size(), d.number_of_coordinates(), time_deform(d, basis, 1, 11),
+                     time_deform(d, basis, 2, 11), time_deform(f, basis, 1, 11), 0.0,
+                     d.weights_bytes(), f.weights_bytes(), 0};
+      {
+        Cage_binding<double> s = bind_points(mvc, big, so);
+        row.ts1 = time_deform(s, basis, 1, 11);
+        row.bs = s.weights_bytes();
+      }
+      deform_rows.push_back(row);
+    }
+  }
+
+  std::printf("\n### Deformation per frame (best of 21 frames, 11 for the large case; weights already bound)\n\n");
+  const double best1 = std::max({bw1.copy, bw1.triad, bw1.read});
+  const double best2 = std::max({bw2.copy, bw2.triad, bw2.read});
+  std::printf("GB/s = weight bytes read per second; %% = of the best STREAM figure (copy, triad or "
+              "read) with the same thread count: %.1f GB/s (1T), %.1f GB/s (2T). Weights that fit "
+              "in the 32 MB L3 exceed 100%%; the last row (weights far beyond L3) is the DRAM-bound "
+              "case.\n\n", best1, best2);
+  std::printf("| binding | vertices | coords/vertex | dense double MB | 1T ms | 1T M vert/s | 1T GB/s (%%) | "
+              "2T ms | 2T GB/s (%%) | dense float MB | float 1T ms | float 1T GB/s (%%) | sparse MB | sparse 1T ms |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Deform_row& r : deform_rows) {
+    const double gb1 = double(r.bd) / r.td1 / 1e9, gb2 = double(r.bd) / r.td2 / 1e9;
+    const double gbf = double(r.bf) / r.tf1 / 1e9;
+    std::printf("| %s | %zu | %zu | %.1f | %.2f | %.1f | %.1f (%.0f%%) | %.2f | %.1f (%.0f%%) | %.1f | "
+                "%.2f | %.1f (%.0f%%) | %.1f | %.2f |\n",
+                r.name.c_str(), r.N, r.K, double(r.bd) / 1e6, r.td1 * 1e3, double(r.N) / r.td1 / 1e6,
+                gb1, 100 * gb1 / best1, r.td2 * 1e3, gb2, 100 * gb2 / best2, double(r.bf) / 1e6,
+                r.tf1 * 1e3, gbf, 100 * gbf / best1, double(r.bs) / 1e6, r.ts1 * 1e3);
+  }
+  return 0;
+}

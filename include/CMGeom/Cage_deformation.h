@@ -1,0 +1,17 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Convenience header of the Cage_deformation package (thesis chapter 5): triangle cages, the
+// CageCoordinates models (mean value, Green, harmonic), binding and the deformation kernel.
+// See doc/Cage_deformation/README.md. Complexity: see each header.
+#ifndef CMGEOM_CAGE_DEFORMATION_H
+#define CMGEOM_CAGE_DEFORMATION_H
+
+#include <CMGeom/Cage_deformation/Triangle_cage.h>
+#include <CMGeom/Cage_deformation/Cage_coordinates.h>
+#include <CMGeom/Cage_deformation/Mean_value_coordinates_3.h>
+#include <CMGeom/Cage_deformation/Green_coordinates_3.h>
+#include <CMGeom/Cage_deformation/Harmonic_coordinates_3.h>
+#include <CMGeom/Cage_deformation/Cage_binding.h>
+
+#endif  // CMGEOM_CAGE_DEFORMATION_H
