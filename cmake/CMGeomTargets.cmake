@@ -13,7 +13,7 @@ add_library(CMGeom::CMGeom ALIAS CMGeom)
 target_include_directories(CMGeom INTERFACE
   $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
   $<INSTALL_INTERFACE:include>)
-target_link_libraries(CMGeom INTERFACE CGAL::CGAL CGAL::Eigen3_support TBB::tbb Threads::Threads)
+target_link_libraries(CMGeom INTERFACE CGAL::CGAL CGAL::Eigen3_support CGAL::TBB_support TBB::tbb Threads::Threads)
 target_compile_features(CMGeom INTERFACE cxx_std_17)
 set_target_properties(CMGeom PROPERTIES EXPORT_NAME CMGeom)
 

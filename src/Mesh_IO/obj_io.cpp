@@ -194,6 +194,7 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
   int current_material = -1;
   std::size_t line_no = 0;
   std::size_t n_normals = 0;
+  std::size_t unknown_statements = 0;
   std::vector<long long> cv, ct;  // corners of the current face (vertex, texcoord) as written
   std::vector<std::string> pending_usemtl;
 
@@ -338,9 +339,14 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
                key == "con" || key == "bmat" || key == "step" || key == "call" || key == "csh") {
       // grouping, smoothing, free-form geometry: not part of the polygon mesh
     } else {
-      throw IO_error(path, line_no, "unknown OBJ statement '" + std::string(key.substr(0, 40)) + "'");
+      // Exporters add their own statements (even a stray "V F 0" count line): skip them, say so.
+      if (unknown_statements++ < 3)
+        soup.warnings.push_back(path + ":" + std::to_string(line_no) + ": unknown OBJ statement '" +
+                                std::string(key.substr(0, 40)) + "' skipped");
     }
   }
+  if (unknown_statements > 3)
+    soup.warnings.push_back(path + ": " + std::to_string(unknown_statements - 3) + " more unknown statements skipped");
   if (soup.number_of_faces() == 0) throw IO_error(path, "no faces in file");
   // Faces before any usemtl: material 0 when the file uses no material at all, otherwise a
   // "default" material is added for them.

@@ -223,6 +223,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
 
 void read_mesh(const std::string& path, Textured_mesh& out, const Read_options& options) {
   const Polygon_soup soup = read_polygon_soup(path);
+  if (options.warnings) options.warnings->insert(options.warnings->end(), soup.warnings.begin(), soup.warnings.end());
   build_textured_mesh(soup, out, options);
 }
 

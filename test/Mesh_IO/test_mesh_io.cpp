@@ -235,6 +235,16 @@ TEST(Mesh_IO_obj, PolygonsAreFanSplitInFileOrderAndNegativeIndicesWork) {
   EXPECT_EQ(faces[2], (std::vector<std::size_t>{2, 4, 3}));
 }
 
+TEST(Mesh_IO_obj, UnknownStatementsAreSkippedWithAWarning) {
+  // Some exporters write a stray "V F 0" line (QMVC's Beast.obj does): read the mesh, warn once.
+  const std::string dir = scratch_dir();
+  const std::string path = write_text(dir, "stray.obj", "# x\n3 1 0\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Polygon_soup soup = IO::read_polygon_soup(path);
+  EXPECT_EQ(soup.number_of_faces(), 1u);
+  ASSERT_EQ(soup.warnings.size(), 1u);
+  EXPECT_NE(soup.warnings[0].find("stray.obj:2: unknown OBJ statement '3'"), std::string::npos) << soup.warnings[0];
+}
+
 TEST(Mesh_IO_model, SeamsAreChartBoundariesWithoutSplitVertices) {
   // Two triangles sharing edge (1,2); the right one uses other UVs at vertex 2: a seam.
   const std::string dir = scratch_dir();
@@ -355,7 +365,7 @@ std::vector<Bad_case> bad_cases() {
   const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
   v.push_back({"empty.obj", "", "empty file", 0});
   v.push_back({"garbage.obj", std::string("\x7f" "ELF\x02\x01\x01\0\0\0binary", 16), "", 0});
-  v.push_back({"unknown.obj", "v 0 0 0\nhello world\n", "unknown OBJ statement", 2});
+  v.push_back({"unknown.obj", "v 0 0 0\nhello world\n", "no faces", 0});  // unknown lines only warn
   v.push_back({"short_vertex.obj", "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "three numbers", 1});
   v.push_back({"nan.obj", "v 0 nan 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "not finite", 1});
   v.push_back({"inf.obj", "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n", "not finite", 2});

@@ -17,7 +17,11 @@ CMGEOM_CLI_COMMAND(convert, "Convert a mesh between OBJ(+MTL+textures), OFF, PLY
   app.add_flag("--remove-unreferenced", opts->remove_unreferenced_vertices, "Drop vertices no face uses");
   return [=]() -> int {
     CMGeom::Textured_mesh tm;
-    CMGeom::IO::read_mesh(*input, tm, *opts);
+    std::vector<std::string> warnings;
+    CMGeom::IO::Read_options o = *opts;
+    o.warnings = &warnings;
+    CMGeom::IO::read_mesh(*input, tm, o);
+    for (const std::string& w : warnings) std::cerr << "cmgeom convert: warning: " << w << "\n";
     CMGeom::IO::write_textured_mesh(*output, tm);
     return 0;
   };

@@ -24,6 +24,7 @@
 #include <CMGeom/Mesh_IO/Textured_mesh.h>
 
 #include <string>
+#include <vector>
 
 namespace CMGeom {
 namespace IO {
@@ -39,6 +40,9 @@ struct Read_options {
   bool drop_repeated_vertex_faces = false;
   /// Vertices no face uses are kept (so that vertex order survives read -> write) unless set.
   bool remove_unreferenced_vertices = false;
+  /// Where read_mesh() appends non-fatal remarks ("file:line: ..."; a missing MTL file, skipped
+  /// unknown statements); null: they are dropped.
+  std::vector<std::string>* warnings = nullptr;
 };
 
 /// Reads any supported file into a soup; checks syntax, index ranges and finite values.
