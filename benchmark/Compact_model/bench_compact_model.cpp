@@ -1,0 +1,225 @@
+// Benchmark of the Compact_model package (thesis chapter 4, Table 4.1 style): for each model,
+// CM build time and bytes, reconstruction time and output vertices/s at levels 1-3 (projection
+// along N and closest point), Metro error (Hausdorff and RMS, % of the bounding-box diagonal)
+// against the original; side by side with the plain simplified mesh of equal storage in bytes
+// (float32 coordinates + uint32 indices, 12 V + 12 F bytes) and with PN triangles (Vlachos et al.
+// 2001) on the same base, same level. Prints a Markdown table. Never run by CTest.
+//
+// Usage: bench_compact_model [data_dir] [model:faces ...]   (default: the six models below)
+// Environment: CMGEOM_CM_CONE_RATIO overrides Build_options::cone_error_ratio.
+#include <CMGeom/Compact_model.h>
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+
+#include <random>
+#include <CMGeom/Mesh_IO/mesh_io.h>
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace CM = CMGeom::CM;
+using CM::Vec3;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct Model {
+  std::string file;
+  std::size_t base_faces;
+};
+
+// PN triangle (cubic Bezier patch from corner positions and normals) evaluated on the regular
+// level-L grid of every base face; per-corner normals are the CM's frame normals of the corner,
+// so creases open (PN triangles have no crease handling) -- the baseline the issue compares to.
+CMGeom::Surface_mesh pn_triangles(const CM::Compact_model& m, int level) {
+  using CM::internal::dot;
+  const int n = 1 << level;
+  CMGeom::Surface_mesh out;
+  for (const auto& F : m.faces) {
+    Vec3 P[3], N[3];
+    for (int k = 0; k < 3; ++k) {
+      P[k] = m.vertices[F[k].vertex];
+      const CM::Local_frame fr = m.frame(F[k]);
+      N[k] = CM::surface_normal(fr, m.surfaces[F[k].surface], 0, 0);
+    }
+    auto w = [&](int i, int j) { return dot(P[j] - P[i], N[i]); };
+    const Vec3 b300 = P[0], b030 = P[1], b003 = P[2];
+    const Vec3 b210 = (2 * P[0] + P[1] - w(0, 1) * N[0]) * (1. / 3), b120 = (2 * P[1] + P[0] - w(1, 0) * N[1]) * (1. / 3);
+    const Vec3 b021 = (2 * P[1] + P[2] - w(1, 2) * N[1]) * (1. / 3), b012 = (2 * P[2] + P[1] - w(2, 1) * N[2]) * (1. / 3);
+    const Vec3 b102 = (2 * P[2] + P[0] - w(2, 0) * N[2]) * (1. / 3), b201 = (2 * P[0] + P[2] - w(0, 2) * N[0]) * (1. / 3);
+    const Vec3 E = (b210 + b120 + b021 + b012 + b102 + b201) * (1. / 6), V = (P[0] + P[1] + P[2]) * (1. / 3);
+    const Vec3 b111 = E + 0.5 * (E - V);
+    std::vector<CMGeom::Surface_mesh::Vertex_index> id;
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i + j <= n; ++i) {
+        const double v = double(i) / n, x = double(j) / n, u = 1 - v - x;  // weights of P0, P1, P2
+        const Vec3 p = b300 * (u * u * u) + b030 * (v * v * v) + b003 * (x * x * x) + b210 * (3 * u * u * v) +
+                       b120 * (3 * u * v * v) + b201 * (3 * u * u * x) + b021 * (3 * v * v * x) +
+                       b102 * (3 * u * x * x) + b012 * (3 * v * x * x) + b111 * (6 * u * v * x);
+        id.push_back(out.add_vertex(CMGeom::Point_3(p.x, p.y, p.z)));
+      }
+    auto at = [&](int i, int j) { return id[std::size_t(j * (n + 1) - j * (j - 1) / 2 + i)]; };
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i + j < n; ++i) {
+        out.add_face(at(i, j), at(i + 1, j), at(i, j + 1));
+        if (i + j + 2 <= n) out.add_face(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+      }
+  }
+  return out;
+}
+
+// Metro-style symmetric error (thesis §2.3.2.2): every vertex plus 10 x F area-uniform random
+// samples of each mesh measured against the other with an AABB tree; Hausdorff = max, RMS over
+// the pooled samples, both as fractions of the reference's bounding-box diagonal. (Self-contained
+// so that the benchmark does not depend on the Metrics package's build state.)
+struct Error {
+  double hausdorff = 0, rms = 0;
+};
+Error metro(const CMGeom::Surface_mesh& ref, const CMGeom::Surface_mesh& app) {
+  using Mesh = CMGeom::Surface_mesh;
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Primitive>>;
+  double mx = 0, sum = 0;
+  std::size_t n = 0;
+  std::mt19937_64 rng(20110101);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int side = 0; side < 2; ++side) {
+    const Mesh& from = side ? app : ref;
+    const Mesh& to = side ? ref : app;
+    Tree tree(faces(to).first, faces(to).second, to);
+    tree.accelerate_distance_queries();
+    std::vector<CMGeom::Point_3> samples;
+    for (auto v : from.vertices()) samples.push_back(from.point(v));
+    std::vector<double> cumulative;
+    std::vector<std::array<CMGeom::Point_3, 3>> tris;
+    double area = 0;
+    for (auto f : from.faces()) {
+      auto h = from.halfedge(f);
+      const std::array<CMGeom::Point_3, 3> t = {from.point(from.source(h)), from.point(from.target(h)),
+                                                 from.point(from.target(from.next(h)))};
+      area += std::sqrt(CGAL::to_double(CGAL::squared_area(t[0], t[1], t[2])));
+      cumulative.push_back(area);
+      tris.push_back(t);
+    }
+    const std::size_t count = 10 * std::max(ref.number_of_faces(), app.number_of_faces());
+    for (std::size_t i = 0; i < count && area > 0; ++i) {
+      const std::size_t f = std::size_t(std::lower_bound(cumulative.begin(), cumulative.end(), u(rng) * area) -
+                                        cumulative.begin());
+      const auto& t = tris[std::min(f, tris.size() - 1)];
+      double a = u(rng), b = u(rng);
+      if (a + b > 1) {
+        a = 1 - a;
+        b = 1 - b;
+      }
+      samples.push_back(CGAL::barycenter(t[0], 1 - a - b, t[1], a, t[2], b));
+    }
+    for (const auto& p : samples) {
+      const double d2 = CGAL::to_double(tree.squared_distance(p));
+      mx = std::max(mx, d2);
+      sum += d2;
+      ++n;
+    }
+  }
+  const auto box = CGAL::Polygon_mesh_processing::bbox(ref);
+  const double diag = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                CGAL::square(box.zmax() - box.zmin()));
+  return {std::sqrt(mx) / diag, std::sqrt(sum / double(n)) / diag};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string data = argc > 1 ? argv[1] : CMGEOM_BENCH_DATA_DIR;
+  std::vector<Model> models = {{"classic/fandisk.obj", 250},      {"classic/trim-star.off", 1000},
+                               {"classic/camel.off", 1000},       {"classic/horse.ply", 1000},
+                               {"classic/decimated-max.obj", 1000}, {"classic/igea.ply.gz", 2000}};
+  if (argc > 2) {
+    models.clear();
+    for (int i = 2; i < argc; ++i) {
+      const std::string a = argv[i];
+      const auto c = a.rfind(':');
+      models.push_back({a.substr(0, c), std::size_t(std::stoul(a.substr(c + 1)))});
+    }
+  }
+  const std::string tmp = (std::filesystem::temp_directory_path() / "cmgeom_bench_cm").string();
+  std::filesystem::create_directories(tmp);
+  std::printf("Threads: %d (TBB default concurrency)\n\n", tbb::info::default_concurrency());
+  std::printf("| model | input V/F | base V/F | sharp | cones | build s | CM bytes | level | rec s (normal) | Mvert/s (normal) | "
+              "rec s (closest) | out V | CM Hausdorff %% | CM RMS %% | PN Hausdorff %% | PN RMS %% | plain F (equal bytes) | "
+              "plain Hausdorff %% | plain RMS %% |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Model& md : models) {
+    std::string path = data + "/" + md.file;
+    if (!std::filesystem::exists(path)) {
+      std::fprintf(stderr, "skipping %s (not found)\n", path.c_str());
+      continue;
+    }
+    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0) {
+      const std::string out = tmp + "/" + std::filesystem::path(path).stem().string();
+      const std::string cmd = "gunzip -c '" + path + "' > '" + out + "'";
+      if (std::system(cmd.c_str()) != 0) continue;
+      path = out;
+    }
+    CMGeom::Textured_mesh tm;
+    CMGeom::IO::read_mesh(path, tm);
+    const CMGeom::Surface_mesh& mesh = tm.mesh();
+    CM::Build_statistics st;
+    auto t0 = Clock::now();
+    CM::Build_options bo;
+    if (const char* r = std::getenv("CMGEOM_CM_CONE_RATIO")) bo.cone_error_ratio = std::atof(r);
+    const CM::Compact_model model = CM::build_compact_model(mesh, md.base_faces, bo,
+                                                            CM::Quadric_surface_traits(), CM::Weighted_quadric_simplifier(), &st);
+    const double build_s = seconds_since(t0);
+    const std::size_t bytes = CM::cm_bytes(model).size();
+    // Plain mesh of equal bytes: 12 V + 12 F with F ~ 2 V on closed meshes -> F = bytes / 18.
+    const std::size_t plain_faces = std::max<std::size_t>(4, bytes / 18);
+    CMGeom::Surface_mesh plain = mesh;
+    {
+      namespace TS = CMGeom::Textured_simplification;
+      TS::Area_weighted_quadric_policies<CMGeom::Surface_mesh> policy(plain);
+      TS::Face_count_stop_predicate<CMGeom::Surface_mesh> stop(plain, plain_faces);
+      TS::edge_collapse(plain, stop, CGAL::parameters::get_cost(policy).get_placement(policy));
+      plain.collect_garbage();
+    }
+    const auto plain_err = metro(mesh, plain);
+    const std::string name = std::filesystem::path(md.file).filename().string();
+    for (int level = 1; level <= 3; ++level) {
+      CM::Reconstruction_options ro;
+      ro.projection = CM::Projection::along_normal;
+      // Best of 3 runs for the timings (the machine is shared).
+      double tn = 1e9, tc = 1e9;
+      CM::Reconstruction rn, rc;
+      for (int rep = 0; rep < 3; ++rep) {
+        t0 = Clock::now();
+        rn = CM::reconstruct_regular(model, level, ro);
+        tn = std::min(tn, seconds_since(t0));
+      }
+      ro.projection = CM::Projection::closest_point;
+      for (int rep = 0; rep < 3; ++rep) {
+        t0 = Clock::now();
+        rc = CM::reconstruct_regular(model, level, ro);
+        tc = std::min(tc, seconds_since(t0));
+      }
+      const auto err = metro(mesh, CM::to_surface_mesh(rc));
+      const auto pn = metro(mesh, pn_triangles(model, level));
+      std::printf("| %s | %zu/%zu | %zu/%zu | %zu | %zu | %.2f | %zu | %d | %.4f | %.1f | %.4f | %zu | %.3f | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n",
+                  name.c_str(), mesh.number_of_vertices(), mesh.number_of_faces(), st.base_vertices, st.base_faces,
+                  st.sharp_edges, st.cone_vertices, build_s, bytes, level, tn, double(rn.points.size()) / tn / 1e6, tc,
+                  rc.points.size(), 100 * err.hausdorff, 100 * err.rms, 100 * pn.hausdorff, 100 * pn.rms,
+                  plain.number_of_faces(), 100 * plain_err.hausdorff, 100 * plain_err.rms);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}

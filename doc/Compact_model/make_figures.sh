@@ -1,0 +1,33 @@
+#!/bin/sh
+# Regenerates the figures of doc/Compact_model/README.md with the cmgeom tool itself:
+#   cm build -> cm reconstruct (regular, adaptive) -> error --field -> render --field.
+# Usage: make_figures.sh <path/to/cmgeom> [shared data dir]   (writes into images/ next to this file)
+set -e
+B=${1:?path to the cmgeom executable}
+D=${2:-$(dirname "$0")/../../../shared/data}/classic
+OUT=$(cd "$(dirname "$0")" && pwd)/images
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+mkdir -p "$OUT"
+
+# Fandisk (thesis Fig. 4.5): 127-vertex base, regular level 3, error map on the reconstruction.
+"$B" cm build "$D/fandisk.obj" -o "$T/fandisk.cm" --faces 250 --json > "$OUT/fandisk_build.json"
+"$B" cm reconstruct "$T/fandisk.cm" -o "$T/fandisk_l3.off" --level 3 --json > "$OUT/fandisk_l3.json"
+"$B" error "$D/fandisk.obj" "$T/fandisk_l3.off" --field "$T/fandisk_err.ply" --json > "$OUT/fandisk_l3_error.json"
+"$B" render "$T/fandisk_l3.off" -o "$OUT/fandisk_l3_error.png" --field "$T/fandisk_err.ply" \
+  --views "iso;back" --size 480x480 --caption "level 3"
+
+# Max Planck (thesis Fig. 4.9): regular level 2 and the three adaptive criteria.
+"$B" cm build "$D/decimated-max.obj" -o "$T/max.cm" --faces 1000 --json > "$OUT/max_build.json"
+for mode in regular length roi silhouette; do
+  case $mode in
+    regular)    opt="--level 2" ;;
+    length)     opt="--edge-length 6 --max-level 3" ;;
+    roi)        opt="--roi 26.0,-14.3,-39.8,40 --max-level 3" ;;
+    silhouette) opt="--silhouette 30,0,-600 --max-level 3" ;;
+  esac
+  "$B" cm reconstruct "$T/max.cm" -o "$T/max_$mode.off" $opt --json > "$OUT/max_$mode.json"
+  "$B" error "$D/decimated-max.obj" "$T/max_$mode.off" --field "$T/max_$mode.ply" --json > "$OUT/max_${mode}_error.json"
+  "$B" render "$T/max_$mode.off" -o "$OUT/max_$mode.png" --field "$T/max_$mode.ply" --range 0,1.5 \
+    --views "back;left" --size 400x400 --wireframe --caption "$mode"
+done

@@ -1,0 +1,291 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Local surfaces of a Compact Model (thesis §4.4.1) and the `LocalSurfaceTraits` concept that
+// fits them. A local surface lives in the frame (v; U, V, N) of a base vertex v, with U built
+// from N exactly as in §4.4.1 (U = (n2, -n1, 0)/|.|, or (1,0,0) when N is the z axis; V = N x U),
+// and is a height function x3 = h(x1, x2) over the (U, V) plane:
+//
+//   quadric (thesis default)  h = a x1^2 + b x1x2 + c x2^2 + d x1 + e x2               (5 coeffs)
+//   cone    (thesis §4.4.1)   h = s sqrt(max(0, Q(x1, x2))), Q fitted to x3^2 ("cone-type")
+//                             s = +-1 is the side of the apex the points lie on (6th coeff)
+//   cubic   (CMGeom addition) the quadric plus x1^3, x1^2x2, x1x2^2, x2^3                 (9 coeffs)
+//
+// Every model passes through v (no constant term), so Phi(v) = v (§4.5.1). The quadric and the
+// cubic are fitted by the least-squares normal equations of §4.4.1 (5x5, resp. 9x9); the cone by
+// the same equations with right-hand side x3^2. Choices the thesis leaves open, documented in
+// doc/Compact_model/README.md:
+//   * conditioning: the normal equations are assembled in coordinates scaled by the RMS radius of
+//     the points (a pure change of unit, undone on the coefficients), and solved by LDLT; a
+//     rank-deficient system (fewer points than coefficients, collinear points) gets the
+//     minimum-norm solution (complete orthogonal decomposition);
+//   * the sign s of the cone is the sign of the sum of the x3 of the points (the thesis fits x3^2
+//     and loses it);
+//   * the fitting error used to choose quadric or cone (§4.4.3) is the RMS of the height
+//     residuals |h(x1, x2) - x3| of both models, so the two are compared in the same unit.
+//
+// Concept `LocalSurfaceTraits` (models: Quadric_surface_traits, the default, and
+// Cubic_surface_traits):
+//   Fit_result fit(const std::vector<Vec3>& local_points) const;       smooth model
+//   Fit_result fit_cone(const std::vector<Vec3>& local_points) const;  conical model (ok=false if none)
+//   double height(const Local_surface&, double x1, double x2, double* d = nullptr) const;
+//       d (if given) receives h_x1, h_x2, h_x1x1, h_x1x2, h_x2x2 (used by the Newton schemes).
+// A CM file stores the model id of every coefficient list, so a reader evaluates any stored
+// surface with evaluate_height() whatever traits built it.
+//
+// Complexity: fitting O(n k^2 + k^3) for n points and k coefficients; evaluation O(1).
+#ifndef CMGEOM_COMPACT_MODEL_LOCAL_SURFACE_TRAITS_H
+#define CMGEOM_COMPACT_MODEL_LOCAL_SURFACE_TRAITS_H
+
+#include <CMGeom/Compact_model/internal/Vec3.h>
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace CMGeom {
+namespace CM {
+
+using internal::Vec3;
+
+/// The local frame (origin; U, V, N) of §4.4.1.
+struct Local_frame {
+  Vec3 origin, U, V, N;
+  Local_frame() : U(1, 0, 0), V(0, 1, 0), N(0, 0, 1) {}
+  /// Frame at `o` with unit normal direction `n` (normalised here), U and V as in §4.4.1.
+  Local_frame(const Vec3& o, const Vec3& n) : origin(o), N(internal::normalized(n)) {
+    const double r2 = N.x * N.x + N.y * N.y;
+    if (r2 > 0.) {
+      const double r = std::sqrt(r2);
+      U = Vec3(N.y / r, -N.x / r, 0.);
+    } else {
+      U = Vec3(1., 0., 0.);
+    }
+    V = internal::cross(N, U);
+  }
+  Vec3 to_local(const Vec3& p) const {
+    const Vec3 d = p - origin;
+    return Vec3(internal::dot(d, U), internal::dot(d, V), internal::dot(d, N));
+  }
+  Vec3 to_world(double x1, double x2, double x3) const { return origin + x1 * U + x2 * V + x3 * N; }
+  Vec3 direction_to_world(const Vec3& d) const { return d.x * U + d.y * V + d.z * N; }
+};
+
+/// Model ids, stored in CM files (never renumber).
+enum Surface_model : std::uint8_t { QUADRIC_MODEL = 0, CONE_MODEL = 1, CUBIC_MODEL = 2 };
+
+/// Number of stored coefficients of a model (0 for an unknown id).
+inline int number_of_coefficients(std::uint8_t model) {
+  switch (model) {
+    case QUADRIC_MODEL: return 5;
+    case CONE_MODEL: return 6;
+    case CUBIC_MODEL: return 9;
+    default: return 0;
+  }
+}
+
+/// A local surface: a model id and its coefficients (unused ones are 0).
+struct Local_surface {
+  std::uint8_t model = QUADRIC_MODEL;
+  std::array<double, 9> c{};
+  bool operator==(const Local_surface& o) const { return model == o.model && c == o.c; }
+  bool is_cone() const { return model == CONE_MODEL; }
+};
+
+/// Height of a stored surface at (x1, x2) of its frame; `d` (optional) receives
+/// h_x1, h_x2, h_x1x1, h_x1x2, h_x2x2. For a cone at (or beyond) its apex the derivatives are
+/// infinite and `d[0]` is set to NaN so that callers fall back to the projection along N.
+inline double evaluate_height(const Local_surface& s, double x, double y, double* d = nullptr) {
+  const auto& c = s.c;
+  switch (s.model) {
+    case CUBIC_MODEL: {
+      const double h = c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y + c[5] * x * x * x +
+                       c[6] * x * x * y + c[7] * x * y * y + c[8] * y * y * y;
+      if (d) {
+        d[0] = 2 * c[0] * x + c[1] * y + c[3] + 3 * c[5] * x * x + 2 * c[6] * x * y + c[7] * y * y;
+        d[1] = c[1] * x + 2 * c[2] * y + c[4] + c[6] * x * x + 2 * c[7] * x * y + 3 * c[8] * y * y;
+        d[2] = 2 * c[0] + 6 * c[5] * x + 2 * c[6] * y;
+        d[3] = c[1] + 2 * c[6] * x + 2 * c[7] * y;
+        d[4] = 2 * c[2] + 2 * c[7] * x + 6 * c[8] * y;
+      }
+      return h;
+    }
+    case CONE_MODEL: {
+      const double q = c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y;
+      const double sgn = c[5] < 0 ? -1. : 1.;
+      if (q <= 0.) {
+        if (d) d[0] = d[1] = d[2] = d[3] = d[4] = std::numeric_limits<double>::quiet_NaN();
+        return 0.;
+      }
+      const double r = std::sqrt(q);
+      if (d) {
+        const double qx = 2 * c[0] * x + c[1] * y + c[3], qy = c[1] * x + 2 * c[2] * y + c[4];
+        const double qxx = 2 * c[0], qxy = c[1], qyy = 2 * c[2];
+        // h = s r, h_x = s q_x / (2r), h_xy = s (q_xy / (2r) - q_x q_y / (4 r^3)).
+        d[0] = sgn * qx / (2 * r);
+        d[1] = sgn * qy / (2 * r);
+        d[2] = sgn * (qxx / (2 * r) - qx * qx / (4 * q * r));
+        d[3] = sgn * (qxy / (2 * r) - qx * qy / (4 * q * r));
+        d[4] = sgn * (qyy / (2 * r) - qy * qy / (4 * q * r));
+      }
+      return sgn * r;
+    }
+    default: {  // quadric
+      if (d) {
+        d[0] = 2 * c[0] * x + c[1] * y + c[3];
+        d[1] = c[1] * x + 2 * c[2] * y + c[4];
+        d[2] = 2 * c[0];
+        d[3] = c[1];
+        d[4] = 2 * c[2];
+      }
+      return c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y;
+    }
+  }
+}
+
+/// Result of a fit: the surface, its RMS height residual over the points, and whether a
+/// surface was produced.
+struct Fit_result {
+  Local_surface surface;
+  double error = std::numeric_limits<double>::infinity();
+  bool ok = false;
+};
+
+namespace internal {
+
+// Least squares sum_p (X(p) . C - rhs(p))^2 over monomials x^i y^j with total degree 1..3 listed
+// in `exps`. Assembled in coordinates divided by the RMS radius `h` of the points (a change of
+// unit that keeps the normal matrix well conditioned for tiny or huge models), solved by LDLT,
+// minimum-norm solution when rank deficient; coefficients are scaled back by h^-(i+j).
+template <int K, class Rhs>
+bool fit_monomials(const std::vector<Vec3>& pts, const std::array<std::array<int, 2>, K>& exps, Rhs rhs,
+                   double* out) {
+  for (int k = 0; k < K; ++k) out[k] = 0.;
+  if (pts.empty()) return false;
+  double r2 = 0.;
+  for (const Vec3& p : pts) r2 += p.x * p.x + p.y * p.y;
+  const double h = std::sqrt(r2 / double(pts.size()));
+  if (!(h > 0.) || !std::isfinite(h)) return false;
+  const double inv = 1. / h;
+  Eigen::Matrix<double, K, K> A = Eigen::Matrix<double, K, K>::Zero();
+  Eigen::Matrix<double, K, 1> b = Eigen::Matrix<double, K, 1>::Zero();
+  Eigen::Matrix<double, K, 1> X;
+  for (const Vec3& p : pts) {
+    const double x = p.x * inv, y = p.y * inv;
+    const double px[4] = {1., x, x * x, x * x * x}, py[4] = {1., y, y * y, y * y * y};
+    for (int k = 0; k < K; ++k) X[k] = px[exps[k][0]] * py[exps[k][1]];
+    A.noalias() += X * X.transpose();
+    b += rhs(p) * X;
+  }
+  Eigen::Matrix<double, K, 1> C;
+  Eigen::LDLT<Eigen::Matrix<double, K, K>> ldlt(A);
+  if (ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.rcond() > 1e-13) {
+    C = ldlt.solve(b);
+  } else {
+    C = Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, K, K>>(A).solve(b);
+  }
+  for (int k = 0; k < K; ++k) {
+    if (!std::isfinite(C[k])) return false;
+    out[k] = C[k] * std::pow(inv, exps[k][0] + exps[k][1]);
+  }
+  return true;
+}
+
+inline const std::array<std::array<int, 2>, 5>& quadric_exponents() {
+  static const std::array<std::array<int, 2>, 5> e{{{2, 0}, {1, 1}, {0, 2}, {1, 0}, {0, 1}}};
+  return e;
+}
+inline const std::array<std::array<int, 2>, 9>& cubic_exponents() {
+  static const std::array<std::array<int, 2>, 9> e{
+      {{2, 0}, {1, 1}, {0, 2}, {1, 0}, {0, 1}, {3, 0}, {2, 1}, {1, 2}, {0, 3}}};
+  return e;
+}
+
+inline double rms_height_error(const Local_surface& s, const std::vector<Vec3>& pts) {
+  if (pts.empty()) return 0.;
+  double e = 0.;
+  for (const Vec3& p : pts) {
+    const double r = evaluate_height(s, p.x, p.y) - p.z;
+    e += r * r;
+  }
+  return std::sqrt(e / double(pts.size()));
+}
+
+}  // namespace internal
+
+/// Quadric z = Q(x1, x2) by the 5x5 normal equations of §4.4.1 (points in local coordinates).
+inline Fit_result fit_quadric(const std::vector<Vec3>& local_points) {
+  Fit_result r;
+  r.surface.model = QUADRIC_MODEL;
+  r.ok = internal::fit_monomials<5>(local_points, internal::quadric_exponents(),
+                                     [](const Vec3& p) { return p.z; }, r.surface.c.data());
+  r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
+  return r;
+}
+
+/// Tangent plane z = d x1 + e x2 (a quadric with a = b = c = 0), for sets too small for a quadric.
+inline Fit_result fit_plane(const std::vector<Vec3>& local_points) {
+  static const std::array<std::array<int, 2>, 2> e{{{1, 0}, {0, 1}}};
+  Fit_result r;
+  r.surface.model = QUADRIC_MODEL;
+  double de[2];
+  r.ok = internal::fit_monomials<2>(local_points, e, [](const Vec3& p) { return p.z; }, de);
+  r.surface.c[3] = de[0];
+  r.surface.c[4] = de[1];
+  r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
+  return r;
+}
+
+/// Conical surface z = s sqrt(Q(x1, x2)), Q fitted to z^2 (§4.4.1).
+inline Fit_result fit_cone(const std::vector<Vec3>& local_points) {
+  Fit_result r;
+  r.surface.model = CONE_MODEL;
+  r.ok = internal::fit_monomials<5>(local_points, internal::quadric_exponents(),
+                                     [](const Vec3& p) { return p.z * p.z; }, r.surface.c.data());
+  double side = 0.;
+  for (const Vec3& p : local_points) side += p.z;
+  r.surface.c[5] = side < 0. ? -1. : 1.;
+  r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
+  return r;
+}
+
+/// Cubic height function (9x9 normal equations). Falls back to the quadric when there are fewer
+/// than 9 points (a cubic would interpolate noise) and keeps the better of the two otherwise.
+inline Fit_result fit_cubic(const std::vector<Vec3>& local_points) {
+  Fit_result q = fit_quadric(local_points);
+  if (local_points.size() < 9) return q;
+  Fit_result r;
+  r.surface.model = CUBIC_MODEL;
+  r.ok = internal::fit_monomials<9>(local_points, internal::cubic_exponents(),
+                                     [](const Vec3& p) { return p.z; }, r.surface.c.data());
+  r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
+  return (r.ok && r.error <= q.error) ? r : q;
+}
+
+/// The thesis' traits (default): quadric local surfaces, cones for cone-type vertices.
+struct Quadric_surface_traits {
+  Fit_result fit(const std::vector<Vec3>& local_points) const { return fit_quadric(local_points); }
+  Fit_result fit_cone(const std::vector<Vec3>& local_points) const { return CM::fit_cone(local_points); }
+  double height(const Local_surface& s, double x1, double x2, double* d = nullptr) const {
+    return evaluate_height(s, x1, x2, d);
+  }
+};
+
+/// Cubic local surfaces (better where a quadric cannot follow an inflection, e.g. on the
+/// saddles of the trim-star), cones as in the thesis.
+struct Cubic_surface_traits {
+  Fit_result fit(const std::vector<Vec3>& local_points) const { return fit_cubic(local_points); }
+  Fit_result fit_cone(const std::vector<Vec3>& local_points) const { return CM::fit_cone(local_points); }
+  double height(const Local_surface& s, double x1, double x2, double* d = nullptr) const {
+    return evaluate_height(s, x1, x2, d);
+  }
+};
+
+}  // namespace CM
+}  // namespace CMGeom
+
+#endif  // CMGEOM_COMPACT_MODEL_LOCAL_SURFACE_TRAITS_H

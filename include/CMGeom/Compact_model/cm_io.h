@@ -1,0 +1,274 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// The CM file format (thesis §4.4.3: "storing vertices, least-squares coefficient list, normal
+// vectors, cone-type vertex list and ... the faces by three sets of three indices: vertex,
+// coefficient list and normal vector"), binary, little-endian, version 1:
+//
+//   offset  size            content
+//   0       8               magic "CMGEOMCM"
+//   8       4   u32         version (1)
+//   12      4   u32         flags: bit 0 = textured (uv section present); other bits must be 0
+//   16      8*5 u64         counts: vertices V, normals N, coefficient lists S, cone vertices C, faces F
+//   56      12V f32         vertices (x, y, z)
+//           12N f32         unit frame normals
+//           S lists         per list: u8 model id (0 quadric, 1 cone, 2 cubic), then 5, 6 or 9 f32
+//           4C  u32         cone-type vertex indices (ascending; must match the conical lists)
+//           36F u32         faces: 3 x (vertex, coefficient list, normal)
+//   [textured] u32 length + bytes of the texture path, then 24F f32 (u, v per corner)
+//   end-8   8   u64         FNV-1a 64-bit hash of every preceding byte
+//
+// Reading checks, in this order, and throws CMGeom::IO_error (file, what) on the first failure:
+// size and magic, version, flags, counts against the file size (before allocating anything),
+// section sizes and model ids while parsing, the checksum, then every index and number
+// (Compact_model::validate) and the cone list. No partial model is returned. write_cm() is atomic
+// (temporary file + rename, never a truncated file).
+//
+// Complexity: O(file size).
+#ifndef CMGEOM_COMPACT_MODEL_CM_IO_H
+#define CMGEOM_COMPACT_MODEL_CM_IO_H
+
+#include <CMGeom/Compact_model/Compact_model.h>
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/Atomic_output.h>
+
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+
+namespace CMGeom {
+namespace CM {
+
+namespace internal {
+
+constexpr char cm_magic[8] = {'C', 'M', 'G', 'E', 'O', 'M', 'C', 'M'};
+constexpr std::uint32_t cm_version = 1;
+constexpr std::size_t cm_header_size = 56;
+
+inline std::uint64_t fnv1a64(const unsigned char* data, std::size_t n) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= data[i];
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+// Little-endian writer/reader, independent of the host byte order.
+struct Le_writer {
+  std::string out;
+  void u8(std::uint8_t v) { out.push_back(char(v)); }
+  void u32(std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out.push_back(char((v >> (8 * i)) & 0xffu));
+  }
+  void u64(std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) out.push_back(char((v >> (8 * i)) & 0xffu));
+  }
+  void f32(double d) {
+    const float f = float(d);
+    std::uint32_t v;
+    std::memcpy(&v, &f, 4);
+    u32(v);
+  }
+};
+
+struct Le_reader {
+  const unsigned char* p;
+  std::size_t n, pos = 0;
+  const std::string& file;
+  void need(std::size_t k, const char* what) const {
+    if (k > n - pos)
+      throw IO_error(file, std::string("truncated file: ") + what + " needs " + std::to_string(k) +
+                               " bytes at offset " + std::to_string(pos) + ", " + std::to_string(n - pos) +
+                               " left");
+  }
+  std::uint8_t u8() { return p[pos++]; }
+  std::uint32_t u32() {
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= std::uint32_t(p[pos + i]) << (8 * i);
+    pos += 4;
+    return v;
+  }
+  std::uint64_t u64() {
+    std::uint64_t v = 0;
+    for (int i = 0; i < 8; ++i) v |= std::uint64_t(p[pos + i]) << (8 * i);
+    pos += 8;
+    return v;
+  }
+  double f32() {
+    const std::uint32_t v = u32();
+    float f;
+    std::memcpy(&f, &v, 4);
+    return double(f);
+  }
+};
+
+}  // namespace internal
+
+/// The bytes of a CM file for `m` (see the file comment). Throws Invalid_input if `m` is invalid.
+inline std::string cm_bytes(const Compact_model& m) {
+  m.validate();
+  internal::Le_writer w;
+  w.out.reserve(64 + m.vertices.size() * 12 + m.normals.size() * 12 + m.surfaces.size() * 40 + m.faces.size() * 60);
+  w.out.append(internal::cm_magic, 8);
+  w.u32(internal::cm_version);
+  w.u32(m.has_uvs() ? 1u : 0u);
+  const std::vector<std::uint32_t> cones = m.cone_vertices();
+  w.u64(m.vertices.size());
+  w.u64(m.normals.size());
+  w.u64(m.surfaces.size());
+  w.u64(cones.size());
+  w.u64(m.faces.size());
+  for (const Vec3& v : m.vertices) {
+    w.f32(v.x);
+    w.f32(v.y);
+    w.f32(v.z);
+  }
+  for (const Vec3& v : m.normals) {
+    w.f32(v.x);
+    w.f32(v.y);
+    w.f32(v.z);
+  }
+  for (const Local_surface& s : m.surfaces) {
+    w.u8(s.model);
+    for (int k = 0; k < number_of_coefficients(s.model); ++k) w.f32(s.c[k]);
+  }
+  for (std::uint32_t c : cones) w.u32(c);
+  for (const auto& f : m.faces)
+    for (const Corner& c : f) {
+      w.u32(c.vertex);
+      w.u32(c.surface);
+      w.u32(c.normal);
+    }
+  if (m.has_uvs()) {
+    w.u32(std::uint32_t(m.texture.size()));
+    w.out.append(m.texture);
+    for (const Face_uvs& f : m.uvs)
+      for (const auto& uv : f) {
+        w.f32(uv[0]);
+        w.f32(uv[1]);
+      }
+  }
+  w.u64(internal::fnv1a64(reinterpret_cast<const unsigned char*>(w.out.data()), w.out.size()));
+  return w.out;
+}
+
+/// Parses the bytes of a CM file; `file` names it in error messages.
+inline Compact_model parse_cm(const std::string& bytes, const std::string& file = "<memory>") {
+  using internal::Le_reader;
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), internal::cm_magic, 8) != 0)
+    throw IO_error(file, "not a CM file (bad magic number)");
+  if (bytes.size() < internal::cm_header_size + 8)
+    throw IO_error(file, "truncated file: " + std::to_string(bytes.size()) + " bytes, header needs " +
+                             std::to_string(internal::cm_header_size + 8));
+  Le_reader r{data, bytes.size() - 8, 8, file};  // the trailing checksum is not content
+  const std::uint32_t version = r.u32();
+  if (version != internal::cm_version)
+    throw IO_error(file, "unsupported CM version " + std::to_string(version) + " (this reader knows 1)");
+  const std::uint32_t flags = r.u32();
+  if (flags & ~1u) throw IO_error(file, "unknown flags " + std::to_string(flags));
+  const std::uint64_t nv = r.u64(), nn = r.u64(), ns = r.u64(), nc = r.u64(), nf = r.u64();
+  // Check every count against the bytes left before allocating (a corrupt count must not make us
+  // allocate gigabytes); lists have at least 21 bytes each.
+  const std::uint64_t left = r.n - r.pos;
+  auto check = [&](std::uint64_t count, std::uint64_t unit, const char* what) {
+    if (count > left / unit)
+      throw IO_error(file, std::string("corrupt or truncated file: ") + std::to_string(count) + " " + what +
+                               " do not fit in the remaining " + std::to_string(left) + " bytes");
+  };
+  check(nv, 12, "vertices");
+  check(nn, 12, "normals");
+  check(ns, 21, "coefficient lists");
+  check(nc, 4, "cone vertices");
+  check(nf, 36, "faces");
+  const std::uint64_t stored = [&] {
+    Le_reader t{data, bytes.size(), bytes.size() - 8, file};
+    return t.u64();
+  }();
+  const std::uint64_t actual = internal::fnv1a64(data, bytes.size() - 8);
+
+  Compact_model m;
+  r.need(nv * 12, "vertices");
+  m.vertices.resize(nv);
+  for (Vec3& v : m.vertices) {
+    const double x = r.f32(), y = r.f32(), z = r.f32();
+    v = Vec3(x, y, z);
+  }
+  r.need(nn * 12, "normals");
+  m.normals.resize(nn);
+  for (Vec3& v : m.normals) {
+    const double x = r.f32(), y = r.f32(), z = r.f32();
+    v = Vec3(x, y, z);
+  }
+  m.surfaces.resize(ns);
+  for (std::uint64_t i = 0; i < ns; ++i) {
+    r.need(1, "coefficient list");
+    Local_surface& s = m.surfaces[i];
+    s.model = r.u8();
+    const int k = number_of_coefficients(s.model);
+    if (k == 0)
+      throw IO_error(file, "coefficient list " + std::to_string(i) + ": unknown model id " + std::to_string(s.model));
+    r.need(std::size_t(4 * k), "coefficient list");
+    for (int j = 0; j < k; ++j) s.c[j] = r.f32();
+  }
+  r.need(nc * 4, "cone vertex list");
+  std::vector<std::uint32_t> cones(nc);
+  for (auto& c : cones) c = r.u32();
+  r.need(nf * 36, "faces");
+  m.faces.resize(nf);
+  for (auto& f : m.faces)
+    for (Corner& c : f) {
+      c.vertex = r.u32();
+      c.surface = r.u32();
+      c.normal = r.u32();
+    }
+  if (flags & 1u) {
+    r.need(4, "texture path length");
+    const std::uint32_t len = r.u32();
+    r.need(len, "texture path");
+    m.texture.assign(reinterpret_cast<const char*>(data + r.pos), len);
+    r.pos += len;
+    r.need(nf * 24, "texture coordinates");
+    m.uvs.resize(nf);
+    for (Face_uvs& f : m.uvs)
+      for (auto& uv : f) {
+        uv[0] = float(r.f32());
+        uv[1] = float(r.f32());
+      }
+  }
+  if (r.pos != r.n)
+    throw IO_error(file, "corrupt file: " + std::to_string(r.n - r.pos) + " unexpected bytes before the checksum");
+  if (stored != actual) throw IO_error(file, "checksum mismatch (the file is corrupt)");
+  try {
+    m.validate("CM content");
+  } catch (const Invalid_input& e) {
+    throw IO_error(file, e.what());
+  }
+  if (cones != m.cone_vertices()) throw IO_error(file, "cone-type vertex list does not match the conical surfaces");
+  return m;
+}
+
+/// Reads a CM file. Throws IO_error (file, what) when it cannot be read or is malformed.
+inline Compact_model read_cm(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IO_error(path, "cannot open the file");
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw IO_error(path, "read error");
+  return parse_cm(bytes, path);
+}
+
+/// Writes a CM file atomically; returns its size in bytes.
+inline std::size_t write_cm(const std::string& path, const Compact_model& m) {
+  const std::string bytes = cm_bytes(m);
+  IO::write_file_atomically(path, bytes);
+  return bytes.size();
+}
+
+}  // namespace CM
+}  // namespace CMGeom
+
+#endif  // CMGEOM_COMPACT_MODEL_CM_IO_H

@@ -1,0 +1,611 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Reconstruction of a surface from a Compact Model (thesis §4.5): every base triangle is
+// subdivided and every new point p (barycentric alpha) is replaced by
+//   Phi(p) = sum_i W_i(p) S-bar_i(p),   W_i = alpha_i^3 / (alpha_1^3 + alpha_2^3 + alpha_3^3)  (§4.5.1)
+// where S-bar_i(p) is the projection of p onto the local surface of corner i (along its frame
+// normal, or closest point by Newton: Reconstruction_options::projection), except for points on
+// a sharp base edge, which go to the point of S^n ∩ S^m ∩ pi closest to p (pi orthogonal to the
+// edge through p, both surfaces of the endpoint's two sectors).
+//
+// Subdivision (§4.5.2):
+//   * regular, level L: every triangle becomes 4^L triangles (2^L segments per base edge);
+//   * adaptive: a triangle is split into 2, 3 or 4 by joining the midpoints of the edges that a
+//     criterion selects, recursively, up to `max_level` halvings of any edge. A criterion is a
+//     function object `bool operator()(const Sample& a, const Sample& b) const` on the two
+//     reconstructed end points of an edge (point and normal): Edge_length_criterion,
+//     Region_of_interest_criterion, Silhouette_criterion, Always_split (= regular) below.
+//
+// Crack-freedom and shared vertices: the points of a base edge are computed once, by the edge
+// (never by its faces), in the edge's canonical direction (smaller vertex index first), and an
+// adaptive split of a segment of a base edge is decided by the edge alone from its two end
+// samples; inside a face, a sub-edge's decision depends only on its end samples (memoised) and on
+// a level that both sub-triangles sharing it agree on. Hence neighbouring triangles always agree,
+// and every output point exists once: base vertices first, then the points of each base edge,
+// then the interior points of each face, all in index order.
+//
+// Parallelism: base edges, then base faces, are processed with tbb::parallel_for; each writes
+// only its own pre-assigned slots (regular) or its own buffers concatenated in order (adaptive),
+// so the output is bit-identical to the serial run (`parallel = false`).
+//
+// Texture coordinates (§4.5.4) are interpolated linearly per output corner from the base face's
+// corner uvs.
+//
+// Complexity: O(F 4^L) for regular level L; O(output size x log) for adaptive (one hash lookup per
+// sub-edge); each point costs O(1) (bounded Newton iterations).
+#ifndef CMGEOM_COMPACT_MODEL_RECONSTRUCT_H
+#define CMGEOM_COMPACT_MODEL_RECONSTRUCT_H
+
+#include <CMGeom/Compact_model/Compact_model.h>
+#include <CMGeom/Compact_model/local_surface_projection.h>
+#include <CMGeom/Error.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace CMGeom {
+namespace CM {
+
+/// How S-bar_i(p) is computed (§4.5.1).
+enum class Projection { along_normal, closest_point };
+
+struct Reconstruction_options {
+  Projection projection = Projection::closest_point;  ///< the thesis' results use closest point
+  bool parallel = true;                               ///< TBB over base edges and faces
+};
+
+/// A reconstructed point with its blended unit normal (what adaptive criteria look at).
+struct Sample {
+  Vec3 point, normal;
+};
+
+/// Output of reconstruct_*(): an indexed triangle mesh with per-corner texture coordinates
+/// (when the model is textured) and the base face of every triangle.
+struct Reconstruction {
+  std::vector<Vec3> points;
+  std::vector<Vec3> normals;  ///< blended normal of every point
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<std::uint32_t> base_face;          ///< per triangle
+  std::vector<std::array<float, 2>> corner_uvs;  ///< 3 per triangle, or empty
+};
+
+// ------------------------------------------------------------------ criteria
+/// Splits every edge (adaptive with this criterion = regular subdivision).
+struct Always_split {
+  bool operator()(const Sample&, const Sample&) const { return true; }
+};
+/// §4.5.2 "Length": |Phi(p1) Phi(p2)| greater than a threshold.
+struct Edge_length_criterion {
+  double max_length;
+  bool operator()(const Sample& a, const Sample& b) const {
+    return internal::squared_length(a.point - b.point) > max_length * max_length;
+  }
+};
+/// §4.5.2 "Region of interest": at least one end point within a ball.
+struct Region_of_interest_criterion {
+  Vec3 center;
+  double radius;
+  bool operator()(const Sample& a, const Sample& b) const {
+    const double r2 = radius * radius;
+    return internal::squared_length(a.point - center) <= r2 || internal::squared_length(b.point - center) <= r2;
+  }
+};
+/// §4.5.2 "Silhouette" for a viewpoint: an end point is on the silhouette when its normal is
+/// within `tolerance` (cosine) of orthogonal to the view direction; an edge whose two ends face
+/// opposite ways also straddles the silhouette (our addition: the contour can pass between two
+/// samples neither of which is within the tolerance).
+struct Silhouette_criterion {
+  Vec3 eye;
+  double tolerance = 0.2;
+  double facing(const Sample& s) const {
+    const Vec3 d = internal::normalized(eye - s.point);
+    return internal::dot(d, s.normal);
+  }
+  bool operator()(const Sample& a, const Sample& b) const {
+    const double fa = facing(a), fb = facing(b);
+    return std::abs(fa) < tolerance || std::abs(fb) < tolerance || (fa > 0) != (fb > 0);
+  }
+};
+
+namespace internal {
+
+// Edges of the base mesh, faces' sides, and per-corner frames (computed once).
+struct Base_topology {
+  struct Edge {
+    std::uint32_t a, b;             // a < b
+    std::uint32_t face[2], side[2];  // side k of a face joins its corners k and k+1; face[1] = npos if border
+  };
+  static constexpr std::uint32_t npos = 0xffffffffu;
+  std::vector<Edge> edges;
+  std::vector<std::array<std::uint32_t, 3>> face_edges;
+  std::vector<Local_frame> frames;  // 3 per face
+
+  explicit Base_topology(const Compact_model& m) {
+    const std::size_t F = m.faces.size();
+    face_edges.resize(F);
+    frames.resize(3 * F);
+    std::vector<std::array<std::uint32_t, 4>> sides;  // (a, b, face, side)
+    sides.reserve(3 * F);
+    for (std::uint32_t f = 0; f < F; ++f)
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        std::uint32_t a = m.faces[f][k].vertex, b = m.faces[f][(k + 1) % 3].vertex;
+        if (a > b) std::swap(a, b);
+        sides.push_back({a, b, f, k});
+        frames[3 * f + k] = m.frame(m.faces[f][k]);
+      }
+    std::sort(sides.begin(), sides.end());
+    for (std::size_t i = 0; i < sides.size();) {
+      Edge e{sides[i][0], sides[i][1], {sides[i][2], npos}, {sides[i][3], 0}};
+      std::size_t j = i + 1;
+      // A non-manifold edge (more than two faces) is reconstructed from its first two faces;
+      // all of them share its points.
+      if (j < sides.size() && sides[j][0] == e.a && sides[j][1] == e.b) {
+        e.face[1] = sides[j][2];
+        e.side[1] = sides[j][3];
+      }
+      const auto id = std::uint32_t(edges.size());
+      for (; j < sides.size() && sides[j][0] == e.a && sides[j][1] == e.b; ++j) {}
+      for (std::size_t k = i; k < j; ++k) face_edges[sides[k][2]][sides[k][3]] = id;
+      edges.push_back(e);
+      i = j;
+    }
+  }
+};
+
+template <class Traits>
+class Evaluator {
+public:
+  Evaluator(const Compact_model& m, const Base_topology& topo, const Traits& traits, Projection proj)
+      : m_(m), topo_(topo), traits_(traits), proj_(proj) {}
+
+  // S-bar of p on corner `c` of face f, with the surface normal there.
+  Sample project(std::uint32_t f, int c, const Vec3& p) const {
+    const Local_frame& fr = topo_.frames[3 * f + c];
+    const Local_surface& s = m_.surfaces[m_.faces[f][c].surface];
+    double uv[2];
+    Vec3 q;
+    if (proj_ == Projection::closest_point) {
+      q = closest_point(fr, s, p, traits_, uv);
+    } else {
+      const Vec3 l = fr.to_local(p);
+      uv[0] = l.x;
+      uv[1] = l.y;
+      q = surface_point(fr, s, l.x, l.y, traits_);
+    }
+    return {q, surface_normal(fr, s, uv[0], uv[1], traits_)};
+  }
+
+  // Phi at barycentric (a0, a1, a2) of face f (a point not on a base edge, or on a smooth one).
+  Sample interior(std::uint32_t f, double a0, double a1, double a2) const {
+    const auto& F = m_.faces[f];
+    const Vec3 p = a0 * m_.vertices[F[0].vertex] + a1 * m_.vertices[F[1].vertex] + a2 * m_.vertices[F[2].vertex];
+    const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
+    const double sum = w[0] + w[1] + w[2];
+    Sample r{Vec3(), Vec3()};
+    for (int c = 0; c < 3; ++c) {
+      if (w[c] == 0.) continue;
+      const Sample s = project(f, c, p);
+      r.point += (w[c] / sum) * s.point;
+      r.normal += (w[c] / sum) * s.normal;
+    }
+    r.normal = normalized(r.normal);
+    return r;
+  }
+
+  // S-bar at endpoint `end` (0: a, 1: b) of base edge e for the point p (sharp-aware).
+  Sample edge_end_projection(const Base_topology::Edge& e, int end, const Vec3& p) const {
+    const std::uint32_t v = end == 0 ? e.a : e.b;
+    const std::uint32_t f0 = e.face[0];
+    const int c0 = corner_of(f0, v);
+    if (e.face[1] != Base_topology::npos) {
+      const std::uint32_t f1 = e.face[1];
+      const int c1 = corner_of(f1, v);
+      const Corner& k0 = m_.faces[f0][c0];
+      const Corner& k1 = m_.faces[f1][c1];
+      if (k0.surface != k1.surface || k0.normal != k1.normal) {
+        const Local_frame& fr0 = topo_.frames[3 * f0 + c0];
+        const Local_frame& fr1 = topo_.frames[3 * f1 + c1];
+        const Vec3 t = normalized(m_.vertices[e.b] - m_.vertices[e.a]);
+        const Local_surface& s0 = m_.surfaces[k0.surface];
+        const Local_surface& s1 = m_.surfaces[k1.surface];
+        const Vec3 q = sharp_edge_point(fr0, s0, fr1, s1, p, t, traits_);
+        const Vec3 l0 = fr0.to_local(q), l1 = fr1.to_local(q);
+        return {q, normalized(surface_normal(fr0, s0, l0.x, l0.y, traits_) + surface_normal(fr1, s1, l1.x, l1.y, traits_))};
+      }
+    }
+    return project(f0, c0, p);
+  }
+
+  // Phi at parameter t in [0, 1] along base edge e (from a to b).
+  Sample on_edge(std::uint32_t ei, double t) const {
+    const Base_topology::Edge& e = topo_.edges[ei];
+    const Vec3 p = (1. - t) * m_.vertices[e.a] + t * m_.vertices[e.b];
+    const double wa = (1. - t) * (1. - t) * (1. - t), wb = t * t * t, sum = wa + wb;
+    Sample r{Vec3(), Vec3()};
+    if (wa > 0.) {
+      const Sample s = edge_end_projection(e, 0, p);
+      r.point += (wa / sum) * s.point;
+      r.normal += (wa / sum) * s.normal;
+    }
+    if (wb > 0.) {
+      const Sample s = edge_end_projection(e, 1, p);
+      r.point += (wb / sum) * s.point;
+      r.normal += (wb / sum) * s.normal;
+    }
+    r.normal = normalized(r.normal);
+    return r;
+  }
+
+  // A base vertex seen from corner c of face f: the point itself, the sector's surface normal.
+  Sample vertex(std::uint32_t f, int c) const {
+    const Local_frame& fr = topo_.frames[3 * f + c];
+    return {m_.vertices[m_.faces[f][c].vertex],
+            surface_normal(fr, m_.surfaces[m_.faces[f][c].surface], 0., 0., traits_)};
+  }
+
+  int corner_of(std::uint32_t f, std::uint32_t v) const {
+    const auto& F = m_.faces[f];
+    return F[0].vertex == v ? 0 : (F[1].vertex == v ? 1 : 2);
+  }
+
+private:
+  const Compact_model& m_;
+  const Base_topology& topo_;
+  Traits traits_;
+  Projection proj_;
+};
+
+template <class Body>
+void for_range(std::size_t n, bool parallel, const Body& body) {
+  if (parallel) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) body(i);
+    });
+  } else {
+    for (std::size_t i = 0; i < n; ++i) body(i);
+  }
+}
+
+inline std::array<float, 2> interpolate_uv(const Face_uvs& uv, double a0, double a1, double a2) {
+  return {float(a0 * uv[0][0] + a1 * uv[1][0] + a2 * uv[2][0]), float(a0 * uv[0][1] + a1 * uv[1][1] + a2 * uv[2][1])};
+}
+
+}  // namespace internal
+
+/// Regular reconstruction at `level` (§4.5.2): 4^level triangles per base triangle.
+template <class Traits = Quadric_surface_traits>
+Reconstruction reconstruct_regular(const Compact_model& m, int level,
+                                   const Reconstruction_options& opt = Reconstruction_options(),
+                                   const Traits& traits = Traits()) {
+  if (level < 0 || level > 12) throw Invalid_input("reconstruction level must be in [0, 12], got " + std::to_string(level));
+  m.validate();
+  const internal::Base_topology topo(m);
+  const internal::Evaluator<Traits> ev(m, topo, traits, opt.projection);
+  const std::size_t n = std::size_t(1) << level, V = m.vertices.size(), E = topo.edges.size(), F = m.faces.size();
+  const std::size_t per_edge = n - 1, per_face = (n - 1) * (n - 2) / 2;
+  const std::size_t edge_base = V, face_base = V + E * per_edge;
+  Reconstruction r;
+  r.points.resize(face_base + F * per_face);
+  r.normals.resize(r.points.size());
+  r.triangles.resize(F * n * n);
+  r.base_face.resize(F * n * n);
+  if (m.has_uvs()) r.corner_uvs.resize(3 * F * n * n);
+  // Base vertices: Phi(v) = v; normal of the first corner that uses it.
+  std::vector<std::uint8_t> seen(V, 0);
+  for (std::size_t i = 0; i < V; ++i) r.points[i] = m.vertices[i];
+  for (std::uint32_t f = 0; f < F; ++f)
+    for (int c = 0; c < 3; ++c)
+      if (!seen[m.faces[f][c].vertex]) {
+        seen[m.faces[f][c].vertex] = 1;
+        r.normals[m.faces[f][c].vertex] = ev.vertex(f, c).normal;
+      }
+  internal::for_range(E, opt.parallel, [&](std::size_t e) {
+    for (std::size_t k = 1; k < n; ++k) {
+      const Sample s = ev.on_edge(std::uint32_t(e), double(k) / double(n));
+      r.points[edge_base + e * per_edge + k - 1] = s.point;
+      r.normals[edge_base + e * per_edge + k - 1] = s.normal;
+    }
+  });
+  internal::for_range(F, opt.parallel, [&](std::size_t f) {
+    const auto& Fc = m.faces[f];
+    // Output index of grid point (i, j): corner 0 at (0,0), corner 1 at (n,0), corner 2 at (0,n).
+    auto on_side = [&](int side, std::size_t k_from_start) -> std::uint32_t {
+      const auto& e = topo.edges[topo.face_edges[f][side]];
+      const std::size_t k = (Fc[side].vertex == e.a) ? k_from_start : n - k_from_start;
+      return std::uint32_t(edge_base + topo.face_edges[f][side] * per_edge + k - 1);
+    };
+    auto index = [&](std::size_t i, std::size_t j) -> std::uint32_t {
+      if (i == 0 && j == 0) return Fc[0].vertex;
+      if (i == n && j == 0) return Fc[1].vertex;
+      if (i == 0 && j == n) return Fc[2].vertex;
+      if (j == 0) return on_side(0, i);
+      if (i + j == n) return on_side(1, j);
+      if (i == 0) return on_side(2, n - j);
+      // interior, rows j = 1..n-2, i = 1..n-1-j
+      const std::size_t before = (j - 1) * (n - 2) - (j - 1) * (j - 2) / 2;
+      return std::uint32_t(face_base + f * per_face + before + (i - 1));
+    };
+    for (std::size_t j = 1; j + 1 < n; ++j)
+      for (std::size_t i = 1; i + j < n; ++i) {
+        const double a1 = double(i) / double(n), a2 = double(j) / double(n), a0 = double(n - i - j) / double(n);
+        const Sample s = ev.interior(std::uint32_t(f), a0, a1, a2);
+        const std::uint32_t id = index(i, j);
+        r.points[id] = s.point;
+        r.normals[id] = s.normal;
+      }
+    std::size_t t = f * n * n;
+    auto emit = [&](std::size_t i0, std::size_t j0, std::size_t i1, std::size_t j1, std::size_t i2, std::size_t j2) {
+      r.triangles[t] = {index(i0, j0), index(i1, j1), index(i2, j2)};
+      r.base_face[t] = std::uint32_t(f);
+      if (m.has_uvs()) {
+        const std::size_t ij[3][2] = {{i0, j0}, {i1, j1}, {i2, j2}};
+        for (int c = 0; c < 3; ++c)
+          r.corner_uvs[3 * t + c] = internal::interpolate_uv(m.uvs[f], double(n - ij[c][0] - ij[c][1]) / double(n),
+                                                              double(ij[c][0]) / double(n), double(ij[c][1]) / double(n));
+      }
+      ++t;
+    };
+    for (std::size_t j = 0; j < n; ++j)
+      for (std::size_t i = 0; i + j < n; ++i) {
+        emit(i, j, i + 1, j, i, j + 1);
+        if (i + j + 2 <= n) emit(i + 1, j, i + 1, j + 1, i, j + 1);
+      }
+  });
+  return r;
+}
+
+namespace internal {
+
+// Fixed-point barycentric coordinates: a point of a base face is (u1, u2) / 2^kBits (u0 implied);
+// every subdivision point is a midpoint, so these stay exact.
+constexpr int kBits = 40;
+constexpr std::int64_t kOne = std::int64_t(1) << kBits;
+
+struct Bary {
+  std::int64_t u1, u2;
+  std::int64_t u0() const { return kOne - u1 - u2; }
+  bool operator==(const Bary& o) const { return u1 == o.u1 && u2 == o.u2; }
+};
+inline Bary midpoint(const Bary& a, const Bary& b) { return {(a.u1 + b.u1) / 2, (a.u2 + b.u2) / 2}; }
+struct Bary_hash {
+  std::size_t operator()(const Bary& b) const {
+    return std::size_t(std::uint64_t(b.u1) * 0x9E3779B97F4A7C15ull ^ (std::uint64_t(b.u2) + 0x632BE59BD9B4E019ull));
+  }
+};
+
+}  // namespace internal
+
+/// Adaptive reconstruction (§4.5.2): edges selected by `criterion` (see the file comment) are
+/// halved, recursively, up to `max_level` halvings of a base edge.
+template <class Criterion, class Traits = Quadric_surface_traits>
+Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& criterion, int max_level,
+                                    const Reconstruction_options& opt = Reconstruction_options(),
+                                    const Traits& traits = Traits()) {
+  using internal::Bary;
+  using internal::kOne;
+  if (max_level < 0 || max_level > 20)
+    throw Invalid_input("adaptive reconstruction level must be in [0, 20], got " + std::to_string(max_level));
+  m.validate();
+  const internal::Base_topology topo(m);
+  const internal::Evaluator<Traits> ev(m, topo, traits, opt.projection);
+  const std::size_t V = m.vertices.size(), E = topo.edges.size(), F = m.faces.size();
+
+  // 1. Base edges: sorted split parameters (fixed point along a -> b) and their samples.
+  struct Edge_points {
+    std::vector<std::int64_t> t;  // interior parameters, ascending
+    std::vector<Sample> s;
+  };
+  std::vector<Edge_points> ep(E);
+  internal::for_range(E, opt.parallel, [&](std::size_t e) {
+    const auto& ed = topo.edges[e];
+    const std::uint32_t f0 = ed.face[0];
+    const Sample sa = ev.vertex(f0, ev.corner_of(f0, ed.a)), sb = ev.vertex(f0, ev.corner_of(f0, ed.b));
+    // Depth-first over segments, left to right, so t comes out sorted.
+    struct Item {
+      std::int64_t t0, t1;
+      Sample s0, s1;
+      int level;
+    };
+    std::vector<Item> stack{{0, kOne, sa, sb, 0}};
+    while (!stack.empty()) {
+      const Item it = stack.back();
+      stack.pop_back();
+      if (it.level >= max_level || !criterion(it.s0, it.s1)) continue;
+      const std::int64_t tm = (it.t0 + it.t1) / 2;
+      const Sample sm = ev.on_edge(std::uint32_t(e), double(tm) / double(kOne));
+      // Right half pushed first so the left one is processed (and its points emitted) first;
+      // points are emitted in order by an in-order traversal below.
+      stack.push_back({tm, it.t1, sm, it.s1, it.level + 1});
+      stack.push_back({it.t0, tm, it.s0, sm, it.level + 1});
+      ep[e].t.push_back(tm);
+      ep[e].s.push_back(sm);
+    }
+    // Sort by parameter (the pre-order above is not sorted).
+    std::vector<std::size_t> order(ep[e].t.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return ep[e].t[x] < ep[e].t[y]; });
+    Edge_points sorted;
+    for (std::size_t i : order) {
+      sorted.t.push_back(ep[e].t[i]);
+      sorted.s.push_back(ep[e].s[i]);
+    }
+    ep[e] = std::move(sorted);
+  });
+  std::vector<std::size_t> edge_offset(E + 1, V);
+  for (std::size_t e = 0; e < E; ++e) edge_offset[e + 1] = edge_offset[e] + ep[e].t.size();
+
+  // 2. Faces: recursive splitting into per-face buffers.
+  struct Face_out {
+    std::vector<Sample> interior;
+    std::vector<std::array<std::int64_t, 3>> tri;  // >= 0: global index; < 0: -(1 + local interior index)
+    std::vector<std::array<Bary, 3>> bary;
+  };
+  std::vector<Face_out> fo(F);
+  internal::for_range(F, opt.parallel, [&](std::size_t fi) {
+    const std::uint32_t f = std::uint32_t(fi);
+    const auto& Fc = m.faces[f];
+    Face_out& out = fo[f];
+    struct Node {
+      std::int64_t id;
+      Sample s;
+    };
+    std::unordered_map<Bary, Node, internal::Bary_hash> memo;
+    const Bary corner[3] = {{0, 0}, {kOne, 0}, {0, kOne}};
+    for (int c = 0; c < 3; ++c) memo.emplace(corner[c], Node{std::int64_t(Fc[c].vertex), ev.vertex(f, c)});
+    // Side k of the face holds points with u_{k+2} = 0; its parameter from corner k is u_{k+1}.
+    auto coord = [](const Bary& b, int k) { return k == 0 ? b.u0() : (k == 1 ? b.u1 : b.u2); };
+    auto side_of = [&](const Bary& b) -> int {
+      for (int k = 0; k < 3; ++k)
+        if (coord(b, (k + 2) % 3) == 0) return k;
+      return -1;
+    };
+    auto edge_lookup = [&](int side, const Bary& b) -> const Node* {
+      const std::uint32_t e = topo.face_edges[f][side];
+      const auto& ed = topo.edges[e];
+      const std::int64_t from_start = coord(b, (side + 1) % 3);
+      const std::int64_t t = Fc[side].vertex == ed.a ? from_start : kOne - from_start;
+      const auto it = std::lower_bound(ep[e].t.begin(), ep[e].t.end(), t);
+      if (it == ep[e].t.end() || *it != t) return nullptr;
+      const std::size_t k = std::size_t(it - ep[e].t.begin());
+      auto ins = memo.emplace(b, Node{std::int64_t(edge_offset[e] + k), ep[e].s[k]});
+      return &ins.first->second;
+    };
+    auto node = [&](const Bary& b) -> const Node& {
+      auto it = memo.find(b);
+      if (it != memo.end()) return it->second;
+      const int side = side_of(b);
+      if (side >= 0) {
+        const Node* n = edge_lookup(side, b);
+        CGAL_assertion(n != nullptr);
+        return *n;
+      }
+      const Sample s = ev.interior(f, double(b.u0()) / double(kOne), double(b.u1) / double(kOne),
+                                   double(b.u2) / double(kOne));
+      out.interior.push_back(s);
+      return memo.emplace(b, Node{-std::int64_t(out.interior.size()), s}).first->second;
+    };
+    // Does sub-edge (p, q) get split? Base-edge segments: the edge decided (its point exists).
+    auto split = [&](const Bary& p, const Bary& q, int level) -> bool {
+      const Bary mid = midpoint(p, q);
+      for (int k = 0; k < 3; ++k) {
+        const int opp = (k + 2) % 3;
+        if (coord(p, opp) == 0 && coord(q, opp) == 0) return memo.count(mid) || edge_lookup(k, mid) != nullptr;
+      }
+      return level < max_level && criterion(node(p).s, node(q).s);
+    };
+    struct Tri {
+      Bary p[3];
+      int level[3];  // level of edge p[k] p[k+1]
+    };
+    std::vector<Tri> stack{{{corner[0], corner[1], corner[2]}, {0, 0, 0}}};
+    while (!stack.empty()) {
+      const Tri T = stack.back();
+      stack.pop_back();
+      bool sp[3];
+      int nsplit = 0;
+      for (int k = 0; k < 3; ++k) nsplit += (sp[k] = split(T.p[k], T.p[(k + 1) % 3], T.level[k]));
+      if (nsplit == 0) {
+        std::array<std::int64_t, 3> ids;
+        for (int k = 0; k < 3; ++k) ids[k] = node(T.p[k]).id;
+        out.tri.push_back(ids);
+        out.bary.push_back({T.p[0], T.p[1], T.p[2]});
+        continue;
+      }
+      const int ln = std::max({T.level[0], T.level[1], T.level[2]}) + 1;
+      Bary M[3];
+      for (int k = 0; k < 3; ++k)
+        if (sp[k]) {
+          M[k] = midpoint(T.p[k], T.p[(k + 1) % 3]);
+          node(M[k]);
+        }
+      // Children are pushed in reverse so they are processed (and their triangles emitted) in
+      // the listed order; the order only matters for determinism, which any fixed order gives.
+      std::vector<Tri> kids;
+      if (nsplit == 3) {
+        kids.push_back({{T.p[0], M[0], M[2]}, {T.level[0] + 1, ln, T.level[2] + 1}});
+        kids.push_back({{M[0], T.p[1], M[1]}, {T.level[0] + 1, T.level[1] + 1, ln}});
+        kids.push_back({{M[2], M[1], T.p[2]}, {ln, T.level[1] + 1, T.level[2] + 1}});
+        kids.push_back({{M[0], M[1], M[2]}, {ln, ln, ln}});
+      } else if (nsplit == 1) {
+        const int k = sp[0] ? 0 : (sp[1] ? 1 : 2);
+        const Bary &a = T.p[k], &b = T.p[(k + 1) % 3], &c = T.p[(k + 2) % 3];
+        kids.push_back({{a, M[k], c}, {T.level[k] + 1, ln, T.level[(k + 2) % 3]}});
+        kids.push_back({{M[k], b, c}, {T.level[k] + 1, T.level[(k + 1) % 3], ln}});
+      } else {
+        // Two split edges k and k+1 (cyclically); the unsplit one is k+2.
+        const int u = !sp[0] ? 0 : (!sp[1] ? 1 : 2);
+        const int k = (u + 1) % 3, k1 = (u + 2) % 3;
+        const Bary &a = T.p[k], &b = T.p[k1], &c = T.p[u];  // edges a-b (k) and b-c (k1) split
+        const Bary &mab = M[k], &mbc = M[k1];
+        kids.push_back({{mab, b, mbc}, {T.level[k] + 1, T.level[k1] + 1, ln}});
+        // Quad a, mab, mbc, c: cut along the shorter reconstructed diagonal (ties: a-mbc).
+        const double d1 = internal::squared_length(node(a).s.point - node(mbc).s.point);
+        const double d2 = internal::squared_length(node(mab).s.point - node(c).s.point);
+        if (d1 <= d2) {
+          kids.push_back({{a, mab, mbc}, {T.level[k] + 1, ln, ln}});
+          kids.push_back({{a, mbc, c}, {ln, T.level[k1] + 1, T.level[u]}});
+        } else {
+          kids.push_back({{a, mab, c}, {T.level[k] + 1, ln, T.level[u]}});
+          kids.push_back({{mab, mbc, c}, {ln, T.level[k1] + 1, ln}});
+        }
+      }
+      for (auto it = kids.rbegin(); it != kids.rend(); ++it) stack.push_back(*it);
+    }
+  });
+
+  // 3. Assemble in order: base vertices, edge points, face interiors; triangles by face.
+  std::vector<std::size_t> face_offset(F + 1, edge_offset[E]);
+  for (std::size_t f = 0; f < F; ++f) face_offset[f + 1] = face_offset[f] + fo[f].interior.size();
+  Reconstruction r;
+  r.points.resize(face_offset[F]);
+  r.normals.resize(face_offset[F]);
+  for (std::size_t i = 0; i < V; ++i) r.points[i] = m.vertices[i];
+  std::vector<std::uint8_t> seen(V, 0);
+  for (std::uint32_t f = 0; f < F; ++f)
+    for (int c = 0; c < 3; ++c)
+      if (!seen[m.faces[f][c].vertex]) {
+        seen[m.faces[f][c].vertex] = 1;
+        r.normals[m.faces[f][c].vertex] = ev.vertex(f, c).normal;
+      }
+  for (std::size_t e = 0; e < E; ++e)
+    for (std::size_t k = 0; k < ep[e].s.size(); ++k) {
+      r.points[edge_offset[e] + k] = ep[e].s[k].point;
+      r.normals[edge_offset[e] + k] = ep[e].s[k].normal;
+    }
+  for (std::size_t f = 0; f < F; ++f) {
+    for (std::size_t k = 0; k < fo[f].interior.size(); ++k) {
+      r.points[face_offset[f] + k] = fo[f].interior[k].point;
+      r.normals[face_offset[f] + k] = fo[f].interior[k].normal;
+    }
+    for (std::size_t t = 0; t < fo[f].tri.size(); ++t) {
+      std::array<std::uint32_t, 3> tri;
+      for (int c = 0; c < 3; ++c) {
+        const std::int64_t id = fo[f].tri[t][c];
+        tri[c] = std::uint32_t(id >= 0 ? id : std::int64_t(face_offset[f]) + (-id - 1));
+      }
+      r.triangles.push_back(tri);
+      r.base_face.push_back(std::uint32_t(f));
+      if (m.has_uvs())
+        for (int c = 0; c < 3; ++c) {
+          const Bary& b = fo[f].bary[t][c];
+          r.corner_uvs.push_back(internal::interpolate_uv(m.uvs[f], double(b.u0()) / double(kOne),
+                                                           double(b.u1) / double(kOne), double(b.u2) / double(kOne)));
+        }
+    }
+  }
+  return r;
+}
+
+}  // namespace CM
+}  // namespace CMGeom
+
+#endif  // CMGEOM_COMPACT_MODEL_RECONSTRUCT_H

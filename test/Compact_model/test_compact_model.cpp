@@ -1,0 +1,609 @@
+// Tests of the Compact_model package (thesis chapter 4): analytic reproduction by the local
+// surface models, Newton projections, CM file round trip and corruption, reconstruction
+// (crack-free, shared vertices, parallel == serial, error decreasing with level), point
+// gathering, sharp-edge detection (box: all crease edges, sphere: none), error control.
+#include "cmgeom_test_support.h"
+
+#include <CMGeom/Compact_model.h>
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
+
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+#include <CGAL/boost/graph/helpers.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+
+namespace {
+
+using namespace CMGeom::CM;
+using CMGeom::Point_3;
+using CMGeom::Surface_mesh;
+using Vtx = Surface_mesh::Vertex_index;
+
+// ------------------------------------------------------------------ synthetic meshes
+// Unit sphere: subdivided octahedron projected on the sphere (closed, genus 0).
+Surface_mesh make_sphere(int subdivisions, double radius = 1.0) {
+  std::vector<std::array<double, 3>> P = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  std::vector<std::array<int, 3>> F = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                       {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<int, int>, int> mid;
+    auto m = [&](int a, int b) {
+      auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      P.push_back({(P[a][0] + P[b][0]) / 2, (P[a][1] + P[b][1]) / 2, (P[a][2] + P[b][2]) / 2});
+      return mid[key] = int(P.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> G;
+    for (auto f : F) {
+      const int a = m(f[0], f[1]), b = m(f[1], f[2]), c = m(f[2], f[0]);
+      G.push_back({f[0], a, c});
+      G.push_back({a, f[1], b});
+      G.push_back({c, b, f[2]});
+      G.push_back({a, b, c});
+    }
+    F = G;
+  }
+  Surface_mesh mesh;
+  std::vector<Vtx> v;
+  for (auto p : P) {
+    const double l = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) / radius;
+    v.push_back(mesh.add_vertex(Point_3(p[0] / l, p[1] / l, p[2] / l)));
+  }
+  for (auto f : F) mesh.add_face(v[f[0]], v[f[1]], v[f[2]]);
+  return mesh;
+}
+
+// Box [-1,1] x [-1,1] x [-h,h]: each face an n x n grid of quads split into triangles.
+Surface_mesh make_box(int n, double h = 0.6) {
+  Surface_mesh mesh;
+  std::map<std::array<long, 3>, Vtx> index;
+  auto vertex = [&](double x, double y, double z) {
+    const std::array<long, 3> key = {std::lround(x * 1e6), std::lround(y * 1e6), std::lround(z * 1e6)};
+    auto it = index.find(key);
+    if (it != index.end()) return it->second;
+    return index[key] = mesh.add_vertex(Point_3(x, y, z));
+  };
+  const double ext[3] = {1., 1., h};
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = -1; side <= 1; side += 2) {
+      const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          Vtx q[4];
+          const int di[4] = {0, 1, 1, 0}, dj[4] = {0, 0, 1, 1};
+          for (int k = 0; k < 4; ++k) {
+            double c[3];
+            c[axis] = side * ext[axis];
+            c[u] = -ext[u] + 2 * ext[u] * double(i + di[k]) / n;
+            c[w] = -ext[w] + 2 * ext[w] * double(j + dj[k]) / n;
+            q[k] = vertex(c[0], c[1], c[2]);
+          }
+          // Outward orientation: (u, w, axis) is right-handed, so CCW in (u, w) faces +axis.
+          if (side > 0) {
+            mesh.add_face(q[0], q[1], q[2]);
+            mesh.add_face(q[0], q[2], q[3]);
+          } else {
+            mesh.add_face(q[0], q[2], q[1]);
+            mesh.add_face(q[0], q[3], q[2]);
+          }
+        }
+    }
+  return mesh;
+}
+
+// A model on the height field z = g(x, y) over a regular grid, every frame normal (0, 0, 1), each
+// vertex's quadric the exact Taylor expansion of g at the vertex (exact for quadratic g).
+Compact_model height_field_model(double a, double b, double c, double d, double e, int n) {
+  auto g = [&](double x, double y) { return a * x * x + b * x * y + c * y * y + d * x + e * y; };
+  Compact_model m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = -1 + 2. * i / n, y = -1 + 2. * j / n;
+      m.vertices.push_back(Vec3(x, y, g(x, y)));
+      m.normals.push_back(Vec3(0, 0, 1));
+      Local_surface s;
+      // g(x0+u, y0+v) - g(x0, y0) in the frame (U, V) = (x, y) since N = z (U = (1,0,0)).
+      s.c = {a, b, c, 2 * a * x + b * y + d, b * x + 2 * c * y + e, 0, 0, 0, 0};
+      m.surfaces.push_back(s);
+    }
+  auto id = [&](int i, int j) { return std::uint32_t(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      auto corner = [&](std::uint32_t v) { return Corner{v, v, v}; };
+      m.faces.push_back({corner(id(i, j)), corner(id(i + 1, j)), corner(id(i + 1, j + 1))});
+      m.faces.push_back({corner(id(i, j)), corner(id(i + 1, j + 1)), corner(id(i, j + 1))});
+    }
+  return m;
+}
+
+std::vector<Vec3> sample_local(const Local_frame& f, std::mt19937& rng, int n, double r,
+                               const std::function<double(double, double)>& h, bool positive_x = false) {
+  std::uniform_real_distribution<double> u(-r, r);
+  std::vector<Vec3> pts;
+  while (int(pts.size()) < n) {
+    double x = u(rng), y = u(rng);
+    if (positive_x) x = std::abs(x);
+    pts.push_back(f.to_local(f.to_world(x, y, h(x, y))));
+  }
+  return pts;
+}
+
+bool is_closed_and_shared(const Reconstruction& r, std::string* why) {
+  // Every undirected edge used exactly twice, once in each direction; no two points equal.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (const auto& t : r.triangles)
+    for (int k = 0; k < 3; ++k) {
+      if (t[k] == t[(k + 1) % 3]) {
+        *why = "degenerate triangle";
+        return false;
+      }
+      if (++directed[{t[k], t[(k + 1) % 3]}] > 1) {
+        *why = "directed edge used twice";
+        return false;
+      }
+    }
+  for (const auto& [e, n] : directed)
+    if (!directed.count({e.second, e.first})) {
+      *why = "border edge " + std::to_string(e.first) + "-" + std::to_string(e.second);
+      return false;
+    }
+  std::set<std::array<double, 3>> pts;
+  for (const Vec3& p : r.points)
+    if (!pts.insert({p.x, p.y, p.z}).second) {
+      *why = "duplicated point";
+      return false;
+    }
+  return true;
+}
+
+bool same(const Reconstruction& a, const Reconstruction& b) {
+  if (a.points.size() != b.points.size() || a.triangles != b.triangles) return false;
+  for (std::size_t i = 0; i < a.points.size(); ++i)
+    if (a.points[i] != b.points[i] || a.normals[i] != b.normals[i]) return false;
+  return true;
+}
+
+double max_radius_error(const Reconstruction& r, double radius = 1.0) {
+  double e = 0;
+  for (const Vec3& p : r.points) e = std::max(e, std::abs(CMGeom::CM::internal::length(p) - radius));
+  return e;
+}
+
+
+// Symmetric RMS of vertex-to-surface distances (each mesh's vertices against the other mesh),
+// an independent reference measure computed with CGAL's AABB tree.
+double symmetric_vertex_rms(const Surface_mesh& a, const Surface_mesh& b) {
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<Surface_mesh>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Primitive>>;
+  double sum = 0;
+  std::size_t n = 0;
+  for (int side = 0; side < 2; ++side) {
+    const Surface_mesh& from = side ? b : a;
+    const Surface_mesh& to = side ? a : b;
+    Tree tree(faces(to).first, faces(to).second, to);
+    tree.accelerate_distance_queries();
+    for (auto v : from.vertices()) {
+      sum += CGAL::to_double(tree.squared_distance(from.point(v)));
+      ++n;
+    }
+  }
+  return std::sqrt(sum / double(n));
+}
+
+// ------------------------------------------------------------------ local surfaces
+TEST(CompactModelSurfaces, QuadricReproducesParaboloidInAnyFrame) {
+  std::mt19937 rng(7);
+  const Local_frame f(Vec3(0.3, -0.2, 1.1), Vec3(0.4, -0.7, 0.6));
+  const double a = 0.7, b = -0.3, c = 1.2, d = 0.25, e = -0.4;
+  auto h = [&](double x, double y) { return a * x * x + b * x * y + c * y * y + d * x + e * y; };
+  const auto pts = sample_local(f, rng, 60, 0.5, h);
+  const Fit_result r = fit_quadric(pts);
+  ASSERT_TRUE(r.ok);
+  EXPECT_NEAR(r.surface.c[0], a, 1e-9);
+  EXPECT_NEAR(r.surface.c[1], b, 1e-9);
+  EXPECT_NEAR(r.surface.c[2], c, 1e-9);
+  EXPECT_NEAR(r.surface.c[3], d, 1e-9);
+  EXPECT_NEAR(r.surface.c[4], e, 1e-9);
+  EXPECT_LT(r.error, 1e-9);
+  for (const Vec3& p : pts) EXPECT_NEAR(evaluate_height(r.surface, p.x, p.y), p.z, 1e-9);
+  // Normal at the origin: NS = N - dU - eV (§4.4.1).
+  const Vec3 ns = surface_normal(f, r.surface, 0, 0);
+  const Vec3 expect = CMGeom::CM::internal::normalized(f.N - d * f.U - e * f.V);
+  EXPECT_NEAR(CMGeom::CM::internal::length(ns - expect), 0., 1e-9);
+}
+
+TEST(CompactModelSurfaces, FrameFollowsThesisFormula) {
+  const Local_frame f(Vec3(), Vec3(1, 2, 2));
+  EXPECT_NEAR(f.U.x, 2 / std::sqrt(5.), 1e-15);
+  EXPECT_NEAR(f.U.y, -1 / std::sqrt(5.), 1e-15);
+  EXPECT_EQ(f.U.z, 0.);
+  const Local_frame z(Vec3(), Vec3(0, 0, 3));
+  EXPECT_EQ(z.U, Vec3(1, 0, 0));
+  EXPECT_EQ(z.V, Vec3(0, 1, 0));
+}
+
+TEST(CompactModelSurfaces, ConeModelReproducesCone) {
+  std::mt19937 rng(11);
+  // Circular cone with its apex at the frame origin and axis -N (points below the apex).
+  const Local_frame f(Vec3(1, 2, 3), Vec3(-0.2, 0.5, 0.8));
+  const double k = 1.7;
+  auto h = [&](double x, double y) { return -k * std::sqrt(x * x + y * y); };
+  const auto pts = sample_local(f, rng, 80, 1.0, h);
+  const Fit_result cone = fit_cone(pts);
+  ASSERT_TRUE(cone.ok);
+  EXPECT_LT(cone.error, 1e-9);
+  for (const Vec3& p : pts) EXPECT_NEAR(evaluate_height(cone.surface, p.x, p.y), p.z, 1e-9);
+  // The quadric cannot: the build would pick the cone (cone-type vertex, §4.4.3).
+  EXPECT_GT(fit_quadric(pts).error, 1e-3);
+}
+
+TEST(CompactModelSurfaces, ConeModelReproducesCylinderThroughOrigin) {
+  // Cylinder of radius r, axis parallel to V, through the origin with N tangent to it:
+  // (x - r)^2 + z^2 = r^2  <=>  z^2 = -x^2 + 2 r x, the conical model with a = -1, d = 2r.
+  std::mt19937 rng(12);
+  const Local_frame f(Vec3(0.5, 0, 0), Vec3(0, 0.3, 1));
+  const double r = 0.8;
+  auto h = [&](double x, double) { return std::sqrt(std::max(0., -x * x + 2 * r * x)); };
+  const auto pts = sample_local(f, rng, 80, 2 * r * 0.999, h, true);
+  const Fit_result cone = fit_cone(pts);
+  ASSERT_TRUE(cone.ok);
+  EXPECT_NEAR(cone.surface.c[0], -1, 1e-9);
+  EXPECT_NEAR(cone.surface.c[3], 2 * r, 1e-9);
+  for (const Vec3& p : pts) EXPECT_NEAR(evaluate_height(cone.surface, p.x, p.y), p.z, 1e-9);
+}
+
+TEST(CompactModelSurfaces, CubicReproducesCubicAndBeatsQuadric) {
+  std::mt19937 rng(13);
+  const Local_frame f(Vec3(), Vec3(0.1, 0.2, 1));
+  auto h = [](double x, double y) { return 0.5 * x * x - 0.2 * y * y + 0.3 * x - 0.7 * x * x * x + 0.4 * x * y * y; };
+  const auto pts = sample_local(f, rng, 100, 0.8, h);
+  const Fit_result cubic = Cubic_surface_traits().fit(pts);
+  ASSERT_TRUE(cubic.ok);
+  EXPECT_EQ(cubic.surface.model, CUBIC_MODEL);
+  EXPECT_LT(cubic.error, 1e-9);
+  for (const Vec3& p : pts) EXPECT_NEAR(evaluate_height(cubic.surface, p.x, p.y), p.z, 1e-9);
+  EXPECT_GT(Quadric_surface_traits().fit(pts).error, 1e-3);
+}
+
+TEST(CompactModelSurfaces, RankDeficientFitsGiveFiniteSurfaces) {
+  std::vector<Vec3> pts = {Vec3(0.1, 0.1, 0.01), Vec3(0.2, 0.2, 0.04)};  // collinear, 2 points
+  const Fit_result r = fit_quadric(pts);
+  ASSERT_TRUE(r.ok);
+  for (double c : r.surface.c) EXPECT_TRUE(std::isfinite(c));
+  EXPECT_LT(r.error, 1e-12);  // minimum-norm solution still interpolates
+  EXPECT_FALSE(fit_quadric({}).ok);
+}
+
+TEST(CompactModelSurfaces, ClosestPointNewtonIsOrthogonalAndCloser) {
+  const Local_frame f(Vec3(0.2, 0.1, -0.3), Vec3(0.3, 0.1, 1));
+  Local_surface s;
+  s.c = {0.9, 0.2, -0.6, 0.1, 0.3, 0, 0, 0, 0};
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.4, 0.4);
+  for (int i = 0; i < 50; ++i) {
+    const Vec3 p = f.to_world(u(rng), u(rng), u(rng));
+    double uv[2];
+    const Vec3 q = closest_point(f, s, p, Quadric_surface_traits(), uv);
+    // q on S, p - q parallel to the normal at q, and no farther than the projection along N.
+    EXPECT_NEAR(f.to_local(q).z, evaluate_height(s, uv[0], uv[1]), 1e-12);
+    const Vec3 n = surface_normal(f, s, uv[0], uv[1]);
+    const Vec3 d = p - q;
+    EXPECT_NEAR(CMGeom::CM::internal::length(CMGeom::CM::internal::cross(d, n)), 0., 1e-9);
+    EXPECT_LE(CMGeom::CM::internal::length(d),
+              CMGeom::CM::internal::length(p - project_along_normal(f, s, p)) + 1e-12);
+  }
+}
+
+TEST(CompactModelSurfaces, SharpEdgePointLiesOnBothSurfacesInThePlane) {
+  // Two tilted paraboloid pieces meeting at a crease near the x axis.
+  const Local_frame f1(Vec3(0, 0, 0), Vec3(0, -0.7, 1)), f2(Vec3(0, 0, 0), Vec3(0, 0.7, 1));
+  Local_surface s1, s2;
+  s1.c = {0.2, 0, 0.1, 0, 0, 0, 0, 0, 0};
+  s2.c = {0.3, 0.05, -0.1, 0, 0, 0, 0, 0, 0};
+  const Vec3 t(1, 0, 0);
+  for (double x : {-0.4, -0.1, 0.2, 0.5}) {
+    const Vec3 p(x, 0.01, 0.02);
+    bool ok = false;
+    const Vec3 q = sharp_edge_point(f1, s1, f2, s2, p, t, Quadric_surface_traits(), &ok);
+    ASSERT_TRUE(ok);
+    const Vec3 l1 = f1.to_local(q), l2 = f2.to_local(q);
+    EXPECT_NEAR(l1.z, evaluate_height(s1, l1.x, l1.y), 1e-10);
+    EXPECT_NEAR(l2.z, evaluate_height(s2, l2.x, l2.y), 1e-10);
+    EXPECT_NEAR(CMGeom::CM::internal::dot(q - p, t), 0., 1e-12);
+  }
+}
+
+// ------------------------------------------------------------------ reconstruction
+TEST(CompactModelReconstruction, ParaboloidReproducedAtEveryLevel) {
+  const double a = 0.6, b = 0.2, c = -0.4, d = 0.1, e = -0.2;
+  auto g = [&](double x, double y) { return a * x * x + b * x * y + c * y * y + d * x + e * y; };
+  const Compact_model m = height_field_model(a, b, c, d, e, 4);
+  for (Projection proj : {Projection::along_normal, Projection::closest_point}) {
+    Reconstruction_options o;
+    o.projection = proj;
+    for (int level = 0; level <= 4; ++level) {
+      const Reconstruction r = reconstruct_regular(m, level, o);
+      EXPECT_EQ(r.triangles.size(), m.faces.size() << (2 * level));
+      double err = 0;
+      for (const Vec3& p : r.points) err = std::max(err, std::abs(p.z - g(p.x, p.y)));
+      EXPECT_LT(err, 1e-9) << "level " << level;
+    }
+  }
+}
+
+TEST(CompactModelReconstruction, ParabolicCylinderReproducedAdaptively) {
+  auto g = [](double x, double) { return 0.8 * x * x - 0.3 * x; };
+  const Compact_model m = height_field_model(0.8, 0, 0, -0.3, 0, 3);
+  const Reconstruction r =
+      reconstruct_adaptive(m, Region_of_interest_criterion{Vec3(0.5, 0.5, 0.), 0.6}, 4);
+  double err = 0;
+  for (const Vec3& p : r.points) err = std::max(err, std::abs(p.z - g(p.x, p.y)));
+  EXPECT_LT(err, 1e-9);
+  EXPECT_GT(r.points.size(), m.vertices.size());
+}
+
+// A CM of a fine sphere with a coarse base, shared by the next tests.
+const Compact_model& sphere_model() {
+  static const Compact_model m = [] {
+    const Surface_mesh s = make_sphere(5);  // 8192 faces
+    return build_compact_model(s, 120);
+  }();
+  return m;
+}
+
+TEST(CompactModelReconstruction, RegularIsCrackFreeWithSharedVertices) {
+  const Compact_model& m = sphere_model();
+  for (int level = 0; level <= 3; ++level) {
+    const Reconstruction r = reconstruct_regular(m, level);
+    std::string why;
+    EXPECT_TRUE(is_closed_and_shared(r, &why)) << "level " << level << ": " << why;
+    // Euler characteristic of a sphere.
+    std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+    for (const auto& t : r.triangles)
+      for (int k = 0; k < 3; ++k) edges.insert({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+    EXPECT_EQ(long(r.points.size()) - long(edges.size()) + long(r.triangles.size()), 2);
+    const Surface_mesh mesh = to_surface_mesh(r);
+    EXPECT_TRUE(CGAL::is_closed(mesh));
+    EXPECT_TRUE(mesh.is_valid(false));
+  }
+}
+
+TEST(CompactModelReconstruction, AdaptiveIsCrackFreeForEveryCriterion) {
+  const Compact_model& m = sphere_model();
+  std::string why;
+  const Reconstruction len = reconstruct_adaptive(m, Edge_length_criterion{0.08}, 5);
+  EXPECT_TRUE(is_closed_and_shared(len, &why)) << why;
+  const Reconstruction roi = reconstruct_adaptive(m, Region_of_interest_criterion{Vec3(0, 0, 1), 0.5}, 4);
+  EXPECT_TRUE(is_closed_and_shared(roi, &why)) << why;
+  const Reconstruction sil = reconstruct_adaptive(m, Silhouette_criterion{Vec3(0, 0, 6), 0.25}, 4);
+  EXPECT_TRUE(is_closed_and_shared(sil, &why)) << why;
+  // Adaptivity: the ROI refines near its centre only.
+  const Reconstruction full = reconstruct_regular(m, 4);
+  EXPECT_LT(roi.triangles.size(), full.triangles.size());
+  EXPECT_GT(roi.triangles.size(), m.faces.size());
+  // Edge length: every output edge respects the bound up to the deepest level allowed.
+  double longest = 0;
+  for (const auto& t : len.triangles)
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, CMGeom::CM::internal::length(len.points[t[k]] - len.points[t[(k + 1) % 3]]));
+  EXPECT_LE(longest, 0.08 * 1.0001);
+  // Always_split with level L is the regular subdivision (same triangle count, same points set).
+  const Reconstruction always = reconstruct_adaptive(m, Always_split(), 2);
+  const Reconstruction reg = reconstruct_regular(m, 2);
+  EXPECT_EQ(always.triangles.size(), reg.triangles.size());
+  EXPECT_EQ(always.points.size(), reg.points.size());
+}
+
+TEST(CompactModelReconstruction, ParallelEqualsSerial) {
+  const Compact_model& m = sphere_model();
+  Reconstruction_options par, ser;
+  ser.parallel = false;
+  EXPECT_TRUE(same(reconstruct_regular(m, 3, par), reconstruct_regular(m, 3, ser)));
+  EXPECT_TRUE(same(reconstruct_adaptive(m, Edge_length_criterion{0.05}, 5, par),
+                   reconstruct_adaptive(m, Edge_length_criterion{0.05}, 5, ser)));
+  par.projection = ser.projection = Projection::along_normal;
+  EXPECT_TRUE(same(reconstruct_regular(m, 2, par), reconstruct_regular(m, 2, ser)));
+}
+
+TEST(CompactModelReconstruction, ErrorDecreasesWithLevelOnSmoothModel) {
+  const Compact_model& m = sphere_model();
+  const Surface_mesh original = make_sphere(5);
+  double previous_rms = 1e9, previous_radius = 1e9;
+  for (int level = 0; level <= 3; ++level) {
+    const Reconstruction r = reconstruct_regular(m, level);
+    const double rms = symmetric_vertex_rms(original, to_surface_mesh(r));
+    EXPECT_LT(rms, previous_rms) << "level " << level;
+    previous_rms = rms;
+    // (The maximum radial error cannot decrease: level L's points are a subset of level L+1's.)
+    previous_radius = max_radius_error(r);
+  }
+  // Level 3 of a 120-face base (edges ~0.35) stays within 0.3 % of the radius: the quartic term
+  // of the sphere a quadric cannot follow is (0.35^2)^2 / 8 ~ 2e-3 at the fan's rim.
+  EXPECT_LT(previous_radius, 3e-3);
+}
+
+// ------------------------------------------------------------------ building
+TEST(CompactModelBuild, GatheringIsLinearAndCoversEveryVertex) {
+  Surface_mesh s = make_sphere(3);
+  const std::size_t V = s.number_of_vertices(), E = s.number_of_edges();
+  auto vim = get(CGAL::vertex_index, s);
+  Gathered_points g(s, vim);
+  EXPECT_EQ(g.number_of_nodes(), V + 2 * E);
+  Weighted_quadric_simplifier()(s, 50, Point_gathering_visitor<decltype(vim)>(&g, vim));
+  EXPECT_EQ(g.number_of_nodes(), V + 2 * E);  // merging never allocates
+  std::vector<int> seen(V, 0);
+  std::size_t total = 0;
+  for (auto v : s.vertices()) {
+    const auto pts = g.points_of(std::uint32_t(v.idx()));
+    EXPECT_FALSE(pts.empty());
+    EXPECT_TRUE(std::binary_search(pts.begin(), pts.end(), std::uint32_t(v.idx())));
+    for (auto p : pts) seen[p] = 1;
+    total += pts.size();
+  }
+  for (std::size_t i = 0; i < V; ++i) EXPECT_TRUE(seen[i]) << "point " << i;
+  EXPECT_LE(total, V + 2 * E);
+  // CGAL's engine with the Garland-Heckbert policies drives the same visitor.
+  Surface_mesh t = make_sphere(3);
+  auto vim2 = get(CGAL::vertex_index, t);
+  Gathered_points g2(t, vim2);
+  Garland_heckbert_simplifier()(t, 50, Point_gathering_visitor<decltype(vim2)>(&g2, vim2));
+  std::vector<int> seen2(V, 0);
+  for (auto v : t.vertices())
+    if (!t.is_removed(v))
+      for (auto p : g2.points_of(std::uint32_t(v.idx()))) seen2[p] = 1;
+  for (std::size_t i = 0; i < V; ++i) EXPECT_TRUE(seen2[i]) << "point " << i;
+}
+
+TEST(CompactModelBuild, SphereHasNoSharpEdge) {
+  Build_statistics st;
+  const Compact_model m = build_compact_model(make_sphere(5), 120, Build_options(), Quadric_surface_traits(),
+                                              Weighted_quadric_simplifier(), &st);
+  EXPECT_EQ(st.sharp_edges, 0u);
+  EXPECT_EQ(m.sharp_edges().size(), 0u);
+  EXPECT_EQ(m.surfaces.size(), m.vertices.size());  // one surface per vertex
+  EXPECT_NEAR(double(m.faces.size()), 120., 2.);
+  // Base vertices are original points (on the unit sphere).
+  for (const Vec3& v : m.vertices) EXPECT_NEAR(CMGeom::CM::internal::length(v), 1., 1e-6);
+}
+
+TEST(CompactModelBuild, BoxCreasesAreAllFoundAndOnlyThem) {
+  const Surface_mesh box = make_box(12);
+  Build_statistics st;
+  const Compact_model m =
+      build_compact_model(box, 150, Build_options(), Quadric_surface_traits(), Weighted_quadric_simplifier(), &st);
+  const double ext[3] = {1., 1., 0.6};
+  auto on_crease = [&](const Vec3& a, const Vec3& b) {
+    // Both endpoints on the same box edge: two coordinates at +-extent, shared.
+    for (int i = 0; i < 3; ++i)
+      for (int j = i + 1; j < 3; ++j) {
+        auto at = [&](const Vec3& p, int k) { return std::abs(std::abs(p[k]) - ext[k]) < 1e-6; };
+        if (at(a, i) && at(a, j) && at(b, i) && at(b, j) && std::signbit(a[i]) == std::signbit(b[i]) &&
+            std::signbit(a[j]) == std::signbit(b[j]))
+          return true;
+      }
+    return false;
+  };
+  auto sharp = m.sharp_edges();
+  std::set<std::pair<std::uint32_t, std::uint32_t>> sharp_set(sharp.begin(), sharp.end());
+  std::set<std::pair<std::uint32_t, std::uint32_t>> crease;
+  for (const auto& f : m.faces)
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t a = f[k].vertex, b = f[(k + 1) % 3].vertex;
+      if (a > b) std::swap(a, b);
+      if (on_crease(m.vertices[a], m.vertices[b])) crease.insert({a, b});
+    }
+  EXPECT_GE(crease.size(), 12u);
+  for (const auto& e : crease) EXPECT_TRUE(sharp_set.count(e)) << "crease edge " << e.first << "-" << e.second << " missed";
+  for (const auto& e : sharp_set) EXPECT_TRUE(crease.count(e)) << "edge " << e.first << "-" << e.second << " wrongly sharp: (" << m.vertices[e.first].x << "," << m.vertices[e.first].y << "," << m.vertices[e.first].z << ") (" << m.vertices[e.second].x << "," << m.vertices[e.second].y << "," << m.vertices[e.second].z << ")";
+  // Corners have three sectors: reconstruction keeps the box (flat faces, exact creases).
+  const Reconstruction r = reconstruct_regular(m, 2);
+  double err = 0;
+  for (const Vec3& p : r.points) {
+    double d = 1e9;  // distance to the box surface from outside/inside: max over axes of |p_k| - ext_k
+    d = std::max({std::abs(p.x) - 1., std::abs(p.y) - 1., std::abs(p.z) - 0.6});
+    err = std::max(err, std::abs(d));
+  }
+  EXPECT_LT(err, 1e-5);
+  std::string why;
+  EXPECT_TRUE(is_closed_and_shared(r, &why)) << why;
+}
+
+TEST(CompactModelBuild, FandiskSharpEdgesAndAccuracy) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  CMGeom::Textured_mesh tm;
+  CMGeom::IO::read_mesh(cmgeom_test::shared_data("classic/fandisk.obj"), tm);
+  Build_statistics st;
+  const Compact_model m = build_compact_model(tm.mesh(), 250, Build_options(), Quadric_surface_traits(),
+                                              Weighted_quadric_simplifier(), &st);
+  EXPECT_GT(st.sharp_edges, 20u);
+  const Reconstruction r = reconstruct_regular(m, 2);
+  std::string why;
+  EXPECT_TRUE(is_closed_and_shared(r, &why)) << why;
+  // RMS vertex distance within 0.2 % of the bounding-box diagonal.
+  const auto box = CGAL::Polygon_mesh_processing::bbox(tm.mesh());
+  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                    CGAL::square(box.zmax() - box.zmin()));
+  EXPECT_LT(symmetric_vertex_rms(tm.mesh(), to_surface_mesh(r)), 0.002 * diagonal);
+}
+
+TEST(CompactModelBuild, ErrorControlLowersTheMaximumError) {
+  const Surface_mesh s = make_sphere(4);
+  Build_options plain, controlled;
+  controlled.error_bound = 1e-4;
+  controlled.error_control_level = 2;
+  const Compact_model a = build_compact_model(s, 40, plain);
+  const Compact_model b = build_compact_model(s, 40, controlled);
+  EXPECT_EQ(a.faces, b.faces);  // same base, refitted surfaces
+  const double ea = max_radius_error(reconstruct_regular(a, 2)), eb = max_radius_error(reconstruct_regular(b, 2));
+  EXPECT_LT(eb, ea);
+}
+
+// ------------------------------------------------------------------ CM files
+TEST(CompactModelFile, RoundTripIsBitExact) {
+  const Compact_model& m = sphere_model();
+  const std::string bytes = cm_bytes(m);
+  const Compact_model back = parse_cm(bytes);
+  EXPECT_TRUE(back.vertices == m.vertices);
+  EXPECT_TRUE(back.normals == m.normals);
+  EXPECT_TRUE(back.surfaces == m.surfaces);
+  EXPECT_TRUE(back.faces == m.faces);
+  EXPECT_TRUE(back == m);
+  EXPECT_EQ(cm_bytes(back), bytes);
+  // Through a file, with texture coordinates and a cone.
+  Compact_model t = m;
+  t.uvs.resize(t.faces.size());
+  for (std::size_t f = 0; f < t.faces.size(); ++f)
+    t.uvs[f] = {{{float(f) / 1000.f, 0.25f}, {0.5f, float(f % 7) / 7.f}, {1.f, 0.f}}};
+  t.texture = "textures/checker.png";
+  t.surfaces[0].model = CONE_MODEL;
+  t.surfaces[0].c[5] = -1;
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string path = dir + "/model.cm";
+  const std::size_t size = write_cm(path, t);
+  EXPECT_EQ(size, std::filesystem::file_size(path));
+  const Compact_model u = read_cm(path);
+  EXPECT_TRUE(u == t);
+  EXPECT_EQ(u.cone_vertices().size(), 1u);
+  const Reconstruction r = reconstruct_regular(u, 1);
+  EXPECT_EQ(r.corner_uvs.size(), 3 * r.triangles.size());
+}
+
+TEST(CompactModelFile, CorruptOrTruncatedFilesGiveOneLineErrors) {
+  const Compact_model& m = sphere_model();
+  const std::string bytes = cm_bytes(m);
+  auto expect_io_error = [](const std::string& b, const std::string& what) {
+    try {
+      parse_cm(b, "bad.cm");
+      ADD_FAILURE() << what << ": no error";
+    } catch (const CMGeom::IO_error& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.find('\n'), std::string::npos);
+      EXPECT_EQ(msg.rfind("bad.cm: ", 0), 0u) << msg;
+    }
+  };
+  for (std::size_t len : {std::size_t(0), std::size_t(5), std::size_t(40), std::size_t(63), bytes.size() / 2,
+                          bytes.size() - 1})
+    expect_io_error(bytes.substr(0, len), "truncated to " + std::to_string(len));
+  // Every single-byte corruption is caught (structure, checksum or validation).
+  for (std::size_t pos = 0; pos < bytes.size(); pos += std::max<std::size_t>(1, bytes.size() / 400)) {
+    std::string b = bytes;
+    b[pos] = char(b[pos] ^ 0x5a);
+    expect_io_error(b, "byte " + std::to_string(pos));
+  }
+  std::string huge = bytes;
+  huge[16] = char(0xff);
+  huge[23] = char(0x7f);  // vertex count ~ 2^63
+  expect_io_error(huge, "huge count");
+  EXPECT_THROW(read_cm("/nonexistent/dir/x.cm"), CMGeom::IO_error);
+}
+
+}  // namespace

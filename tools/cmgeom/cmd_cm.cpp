@@ -1,0 +1,179 @@
+// cmgeom cm build <in> -o <model.cm> (--faces N | --ratio r) [--sharp-angle deg] [--cubic]
+//                 [--error-bound x] [--json]
+// cmgeom cm reconstruct <model.cm> -o <out> [--level L | --edge-length x | --roi x,y,z,r |
+//                       --silhouette x,y,z] [--max-level L] [--projection normal|closest] [--json]
+// Compact Models (thesis chapter 4): build writes the CM file of a mesh (§4.3-4.4, error control
+// §4.5.3); reconstruct rebuilds a mesh from it, regularly or adaptively (§4.5). Outputs are
+// written atomically.
+#include "cli_common.h"
+
+#include <CMGeom/Compact_model.h>
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
+
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace CM = CMGeom::CM;
+
+std::vector<double> parse_numbers(const std::string& s, std::size_t n, const std::string& option) {
+  std::vector<double> r;
+  std::stringstream ss(s);
+  std::string tok;
+  while (std::getline(ss, tok, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(tok.c_str(), &end);
+    if (tok.empty() || *end != 0 || !std::isfinite(v))
+      throw CMGeom::Invalid_input(option + ": not a number: '" + tok + "'");
+    r.push_back(v);
+  }
+  if (r.size() != n)
+    throw CMGeom::Invalid_input(option + " needs " + std::to_string(n) + " comma-separated numbers, got '" + s + "'");
+  return r;
+}
+
+}  // namespace
+
+CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4): 'cm build' a CM file, 'cm reconstruct' a mesh from it") {
+  app.require_subcommand(1);
+  // ------------------------------------------------------------------ cm build
+  struct Build_args {
+    std::string input, output;
+    std::size_t faces = 0;
+    double ratio = 0, sharp_angle = 40, error_bound = 0;
+    bool cubic = false, json = false;
+  };
+  auto b = std::make_shared<Build_args>();
+  CLI::App* build = app.add_subcommand("build", "Build the Compact Model of a triangle mesh (thesis 4.3-4.4)");
+  build->add_option("input", b->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
+  build->add_option("-o,--output", b->output, "Output CM file")->required();
+  auto* faces = build->add_option("--faces", b->faces, "Faces of the base (simplified) mesh");
+  auto* ratio = build->add_option("--ratio", b->ratio, "Base faces as a fraction of the input faces, in (0, 1]");
+  faces->excludes(ratio);
+  ratio->excludes(faces);
+  build->add_option("--sharp-angle", b->sharp_angle, "Sharp-edge threshold in degrees (thesis 4.4.2; default 40)");
+  build->add_option("--error-bound", b->error_bound,
+                    "Error control (thesis 4.5.3): absolute distance bound, 0 = off (default)");
+  build->add_flag("--cubic", b->cubic, "Cubic local surfaces instead of the thesis' quadrics");
+  build->add_flag("--json", b->json, "Print a JSON report on stdout");
+
+  // ------------------------------------------------------------------ cm reconstruct
+  struct Rec_args {
+    std::string input, output, roi, silhouette, projection = "closest";
+    int level = 2, max_level = 6;
+    double edge_length = 0;
+    bool json = false;
+  };
+  auto r = std::make_shared<Rec_args>();
+  CLI::App* rec = app.add_subcommand("reconstruct", "Reconstruct a mesh from a CM file (thesis 4.5)");
+  rec->add_option("input", r->input, "CM file")->required();
+  rec->add_option("-o,--output", r->output, "Output mesh (.obj, .off, .ply)")->required();
+  auto* level = rec->add_option("--level", r->level, "Regular subdivision level (default 2)");
+  auto* edge = rec->add_option("--edge-length", r->edge_length, "Adaptive: split edges longer than this");
+  auto* roi = rec->add_option("--roi", r->roi, "Adaptive: region of interest x,y,z,radius");
+  auto* sil = rec->add_option("--silhouette", r->silhouette, "Adaptive: refine the silhouette seen from x,y,z");
+  level->excludes(edge)->excludes(roi)->excludes(sil);
+  edge->excludes(roi)->excludes(sil);
+  roi->excludes(sil);
+  rec->add_option("--max-level", r->max_level, "Adaptive: maximum halvings of a base edge (default 6)");
+  rec->add_option("--projection", r->projection, "Projection onto local surfaces: closest (Newton) or normal")
+      ->check(CLI::IsMember({"closest", "normal"}));
+  rec->add_flag("--json", r->json, "Print a JSON report on stdout");
+
+  return [build, rec, b, r, faces, ratio, level, edge, roi, sil]() -> int {
+    if (build->parsed()) {
+      if (faces->count() == 0 && ratio->count() == 0) throw CMGeom::Invalid_input("one of --faces or --ratio is required");
+      if (ratio->count() && !(b->ratio > 0 && b->ratio <= 1))
+        throw CMGeom::Invalid_input("--ratio must be in (0, 1], got " + std::to_string(b->ratio));
+      if (faces->count() && b->faces < 2) throw CMGeom::Invalid_input("--faces must be at least 2");
+      if (!(b->sharp_angle > 0 && b->sharp_angle < 180))
+        throw CMGeom::Invalid_input("--sharp-angle must be in (0, 180) degrees");
+      if (!(b->error_bound >= 0)) throw CMGeom::Invalid_input("--error-bound must be >= 0");
+      CMGeom::Textured_mesh tm;
+      CMGeom::IO::read_mesh(b->input, tm);
+      CMGeom::Surface_mesh& mesh = tm.mesh();
+      if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(b->input + ": not a triangle mesh");
+      if (tm.has_uvs())
+        std::cerr << "cmgeom cm build: note: texture coordinates are not carried into the CM (geometry only)\n";
+      const std::size_t target =
+          faces->count() ? b->faces : std::size_t(std::max(2.0, std::round(b->ratio * double(mesh.number_of_faces()))));
+      CM::Build_options opt;
+      opt.sharp_angle = b->sharp_angle;
+      opt.error_bound = b->error_bound;
+      CM::Build_statistics st;
+      const double t0 = cmgeom_cli::now_seconds();
+      const CM::Compact_model model =
+          b->cubic ? CM::build_compact_model(mesh, target, opt, CM::Cubic_surface_traits(), CM::Weighted_quadric_simplifier(), &st)
+                   : CM::build_compact_model(mesh, target, opt, CM::Quadric_surface_traits(), CM::Weighted_quadric_simplifier(), &st);
+      const double seconds = cmgeom_cli::now_seconds() - t0;
+      const std::size_t bytes = CM::write_cm(b->output, model);
+      if (b->json) {
+        nlohmann::ordered_json j;
+        j["input"] = b->input;
+        j["output"] = b->output;
+        j["input_vertices"] = mesh.number_of_vertices();
+        j["input_faces"] = mesh.number_of_faces();
+        j["base_vertices"] = st.base_vertices;
+        j["base_faces"] = st.base_faces;
+        j["surfaces"] = model.surfaces.size();
+        j["sharp_edges"] = st.sharp_edges;
+        j["dart_promotions"] = st.dart_promotions;
+        j["cone_vertices"] = st.cone_vertices;
+        j["error_control_points"] = st.error_control_points;
+        j["bytes"] = bytes;
+        j["seconds"] = seconds;
+        cmgeom_cli::print_json(j);
+      }
+      return 0;
+    }
+    // reconstruct
+    if (r->max_level < 0 || r->max_level > 20) throw CMGeom::Invalid_input("--max-level must be in [0, 20]");
+    const CM::Compact_model model = CM::read_cm(r->input);
+    CM::Reconstruction_options ro;
+    ro.projection = r->projection == "normal" ? CM::Projection::along_normal : CM::Projection::closest_point;
+    std::string mode = "regular";
+    const double t0 = cmgeom_cli::now_seconds();
+    CM::Reconstruction out;
+    if (edge->count()) {
+      if (!(r->edge_length > 0)) throw CMGeom::Invalid_input("--edge-length must be > 0");
+      mode = "edge-length";
+      out = CM::reconstruct_adaptive(model, CM::Edge_length_criterion{r->edge_length}, r->max_level, ro);
+    } else if (roi->count()) {
+      const auto v = parse_numbers(r->roi, 4, "--roi");
+      if (!(v[3] > 0)) throw CMGeom::Invalid_input("--roi radius must be > 0");
+      mode = "roi";
+      out = CM::reconstruct_adaptive(model, CM::Region_of_interest_criterion{CM::Vec3(v[0], v[1], v[2]), v[3]},
+                                     r->max_level, ro);
+    } else if (sil->count()) {
+      const auto v = parse_numbers(r->silhouette, 3, "--silhouette");
+      mode = "silhouette";
+      out = CM::reconstruct_adaptive(model, CM::Silhouette_criterion{CM::Vec3(v[0], v[1], v[2]), 0.2}, r->max_level, ro);
+    } else {
+      if (r->level < 0 || r->level > 12) throw CMGeom::Invalid_input("--level must be in [0, 12]");
+      out = CM::reconstruct_regular(model, r->level, ro);
+    }
+    const double seconds = cmgeom_cli::now_seconds() - t0;
+    CMGeom::Textured_mesh tm;
+    CM::to_textured_mesh(out, tm, model.texture);
+    CMGeom::IO::write_mesh(r->output, tm);
+    if (r->json) {
+      nlohmann::ordered_json j;
+      j["input"] = r->input;
+      j["output"] = r->output;
+      j["mode"] = mode;
+      j["projection"] = r->projection;
+      j["base_vertices"] = model.vertices.size();
+      j["base_faces"] = model.faces.size();
+      j["vertices"] = out.points.size();
+      j["faces"] = out.triangles.size();
+      j["seconds"] = seconds;
+      cmgeom_cli::print_json(j);
+    }
+    return 0;
+  };
+}
