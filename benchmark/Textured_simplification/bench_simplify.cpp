@@ -1,0 +1,427 @@
+// Benchmark of the Textured_simplification geometry part (thesis §3.4): time and Metro-like error
+// of CMGeom's weighted and plain quadric policies on CMGeom's engine and on CGAL's engine, against
+// CGAL's GarlandHeckbert_plane_policies and Lindstrom-Turk, meshoptimizer's meshopt_simplify and
+// OpenMesh's Decimater + ModQuadric. Prints one Markdown table (and writes it with --out).
+//
+//   bench_simplify [--data DIR] [--tmp DIR] [--models a,b,...] [--ratios 0.1,0.01]
+//                  [--tools t1,t2,...] [--samples N] [--out FILE]
+//
+// Timing: process CPU seconds of the simplification call alone (set-up of the policy included,
+// mesh IO and format conversion excluded), one run per configuration. Error: Metro convention —
+// N uniform area samples (fixed seed) on each surface, distance to the other surface (AABB tree),
+// symmetric Hausdorff = max of both directions, RMS = the larger of the two directional RMS, both
+// divided by the input's bounding-box diagonal.
+#include <CMGeom/Textured_simplification.h>
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_cost.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_placement.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+#include <CGAL/boost/graph/IO/polygon_mesh_io.h>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace TS = CMGeom::Textured_simplification;
+namespace SMS = CGAL::Surface_mesh_simplification;
+namespace fs = std::filesystem;
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = K::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
+namespace {
+
+double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// Flat arrays: the common input of every tool (built outside the timed region).
+struct Soup {
+  std::vector<float> xyz;
+  std::vector<unsigned> tris;
+};
+
+Soup to_soup(const Mesh& m) {
+  Soup s;
+  std::vector<unsigned> id(m.number_of_vertices() + m.number_of_removed_vertices(), 0);
+  unsigned k = 0;
+  for (auto v : m.vertices()) {
+    id[v] = k++;
+    const Point& p = m.point(v);
+    s.xyz.insert(s.xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
+  }
+  for (auto f : m.faces())
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) s.tris.push_back(id[v]);
+  return s;
+}
+
+Mesh from_indices(const Soup& s, const unsigned* tris, std::size_t n_idx) {
+  Mesh m;
+  std::vector<Mesh::Vertex_index> map(s.xyz.size() / 3, Mesh::null_vertex());
+  for (std::size_t i = 0; i < n_idx; i += 3) {
+    Mesh::Vertex_index v[3];
+    for (int c = 0; c < 3; ++c) {
+      const unsigned j = tris[i + c];
+      if (map[j] == Mesh::null_vertex()) map[j] = m.add_vertex(Point(s.xyz[3 * j], s.xyz[3 * j + 1], s.xyz[3 * j + 2]));
+      v[c] = map[j];
+    }
+    if (m.add_face(v[0], v[1], v[2]) == Mesh::null_face()) {
+      // a face the halfedge structure cannot take (non-manifold output): keep it out of the
+      // error computation by adding it as a separate triangle
+      m.add_face(m.add_vertex(m.point(v[0])), m.add_vertex(m.point(v[1])), m.add_vertex(m.point(v[2])));
+    }
+  }
+  return m;
+}
+
+// Midpoint subdivision 1 -> 4 (the >= 1M-face input from igea).
+Mesh subdivide_midpoint(const Mesh& in) {
+  Mesh out;
+  std::map<std::pair<unsigned, unsigned>, Mesh::Vertex_index> mid;
+  std::vector<Mesh::Vertex_index> vmap(in.number_of_vertices() + in.number_of_removed_vertices());
+  for (auto v : in.vertices()) vmap[v] = out.add_vertex(in.point(v));
+  auto midpoint = [&](Mesh::Vertex_index a, Mesh::Vertex_index b) {
+    // a pair of values: std::minmax returns references, which would dangle here
+    const std::pair<unsigned, unsigned> key = std::minmax(unsigned(a), unsigned(b));
+    auto it = mid.find(key);
+    if (it != mid.end()) return it->second;
+    const auto v = out.add_vertex(CGAL::midpoint(in.point(a), in.point(b)));
+    mid.emplace(key, v);
+    return v;
+  };
+  for (auto f : in.faces()) {
+    auto h = in.halfedge(f);
+    const auto a = in.source(h), b = in.target(h), c = in.target(in.next(h));
+    const auto ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+    out.add_face(vmap[a], ab, ca);
+    out.add_face(ab, vmap[b], bc);
+    out.add_face(ca, bc, vmap[c]);
+    out.add_face(ab, bc, ca);
+  }
+  return out;
+}
+
+class Distance {
+public:
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle_primitive<Mesh>>>;
+  explicit Distance(const Mesh& m) : tree_(faces(m).first, faces(m).second, m) { tree_.accelerate_distance_queries(); }
+  double operator()(const Point& p) const { return std::sqrt(tree_.squared_distance(p)); }
+
+private:
+  Tree tree_;
+};
+
+std::vector<Point> samples(const Mesh& m, std::size_t n, unsigned seed) {
+  std::vector<Mesh::Face_index> fs_;
+  std::vector<double> cdf;
+  double total = 0;
+  for (auto f : m.faces()) {
+    auto h = m.halfedge(f);
+    const Point &a = m.point(m.source(h)), &b = m.point(m.target(h)), &c = m.point(m.target(m.next(h)));
+    total += std::sqrt(CGAL::cross_product(b - a, c - a).squared_length()) / 2;
+    fs_.push_back(f);
+    cdf.push_back(total);
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> U(0, 1);
+  std::vector<Point> out;
+  out.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t k = std::min<std::size_t>(std::lower_bound(cdf.begin(), cdf.end(), U(rng) * total) - cdf.begin(),
+                                                fs_.size() - 1);
+    auto h = m.halfedge(fs_[k]);
+    const Point &a = m.point(m.source(h)), &b = m.point(m.target(h)), &c = m.point(m.target(m.next(h)));
+    double s = U(rng), t = U(rng);
+    if (s + t > 1) { s = 1 - s; t = 1 - t; }
+    out.push_back(a + s * (b - a) + t * (c - a));
+  }
+  return out;
+}
+
+struct Row {
+  std::string model, tool;
+  std::size_t faces_in = 0, target = 0, faces_out = 0;
+  double ratio = 0, seconds = 0, hausdorff = 0, rms = 0;
+};
+
+struct Model {
+  std::string name;
+  Mesh mesh;
+  Soup soup;
+  double diagonal = 0;
+  std::vector<Point> samples;  // on the input
+  std::unique_ptr<Distance> to_input;
+};
+
+void measure(const Model& in, const Mesh& out, std::size_t n_samples, Row& r) {
+  Distance to_out(out);
+  double mx = 0, s2 = 0;
+  for (const Point& p : in.samples) {
+    const double d = to_out(p);
+    mx = std::max(mx, d);
+    s2 += d * d;
+  }
+  double rms = std::sqrt(s2 / double(in.samples.size()));
+  double mx2 = 0, s22 = 0;
+  const auto so = samples(out, n_samples, 1234567);
+  for (const Point& p : so) {
+    const double d = (*in.to_input)(p);
+    mx2 = std::max(mx2, d);
+    s22 += d * d;
+  }
+  const double rms2 = std::sqrt(s22 / double(so.size()));
+  r.hausdorff = std::max(mx, mx2) / in.diagonal;
+  r.rms = std::max(rms, rms2) / in.diagonal;
+}
+
+// ------------------------------------------------------------------------- the tools
+
+Mesh run_cmgeom(const Mesh& in, std::size_t target, bool weighted, bool flips, double& secs,
+                TS::Quadric_merge merge = TS::Quadric_merge::weighted_average) {
+  Mesh m = in;
+  const double t0 = cpu_seconds();
+  TS::Quadric_options o;
+  o.weighted = weighted;
+  o.merge = merge;
+  TS::Area_weighted_quadric_policies<Mesh> policy(m, o);
+  TS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target),
+                    CMGeom::parameters::edge_flips(flips, CGAL::parameters::get_cost(policy).get_placement(policy)));
+  secs = cpu_seconds() - t0;
+  m.collect_garbage();
+  return m;
+}
+
+Mesh run_cmgeom_policy_on_cgal(const Mesh& in, std::size_t target, bool weighted, double& secs) {
+  Mesh m = in;
+  const double t0 = cpu_seconds();
+  TS::Quadric_options o;
+  o.weighted = weighted;
+  TS::Area_weighted_quadric_policies<Mesh> policy(m, o);
+  SMS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target),
+                     CGAL::parameters::get_cost(policy).get_placement(policy).filter(TS::No_normal_flip_filter<>()));
+  secs = cpu_seconds() - t0;
+  m.collect_garbage();
+  return m;
+}
+
+Mesh run_cgal_gh(const Mesh& in, std::size_t target, double& secs) {
+  Mesh m = in;
+  const double t0 = cpu_seconds();
+  SMS::GarlandHeckbert_plane_policies<Mesh, K> gh(m);
+  SMS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target),
+                     CGAL::parameters::get_cost(gh.get_cost()).get_placement(gh.get_placement()));
+  secs = cpu_seconds() - t0;
+  m.collect_garbage();
+  return m;
+}
+
+Mesh run_cgal_lt(const Mesh& in, std::size_t target, double& secs) {
+  Mesh m = in;
+  const double t0 = cpu_seconds();
+  SMS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target),
+                     CGAL::parameters::get_cost(SMS::LindstromTurk_cost<Mesh>())
+                         .get_placement(SMS::LindstromTurk_placement<Mesh>()));
+  secs = cpu_seconds() - t0;
+  m.collect_garbage();
+  return m;
+}
+
+Mesh run_meshopt(const Soup& s, std::size_t target, double& secs) {
+  std::vector<unsigned> dst(s.tris.size());
+  const double t0 = cpu_seconds();
+  const std::size_t n = meshopt_simplify(dst.data(), s.tris.data(), s.tris.size(), s.xyz.data(), s.xyz.size() / 3,
+                                         3 * sizeof(float), 3 * target, 1e30f, 0, nullptr);
+  secs = cpu_seconds() - t0;
+  return from_indices(s, dst.data(), n);
+}
+
+Mesh run_openmesh(const Soup& s, std::size_t target, double& secs) {
+  OMesh om;
+  std::vector<OMesh::VertexHandle> vh;
+  for (std::size_t i = 0; i < s.xyz.size(); i += 3) vh.push_back(om.add_vertex(OMesh::Point(s.xyz[i], s.xyz[i + 1], s.xyz[i + 2])));
+  for (std::size_t i = 0; i < s.tris.size(); i += 3) om.add_face(vh[s.tris[i]], vh[s.tris[i + 1]], vh[s.tris[i + 2]]);
+  const double t0 = cpu_seconds();
+  OpenMesh::Decimater::DecimaterT<OMesh> dec(om);
+  OpenMesh::Decimater::ModQuadricT<OMesh>::Handle hq;
+  dec.add(hq);
+  dec.initialize();
+  dec.decimate_to_faces(0, target);
+  secs = cpu_seconds() - t0;
+  om.garbage_collection();
+  Soup o;
+  for (auto v : om.vertices()) {
+    const auto p = om.point(v);
+    o.xyz.insert(o.xyz.end(), {p[0], p[1], p[2]});
+  }
+  for (auto f : om.faces())
+    for (auto v : om.fv_range(f)) o.tris.push_back(unsigned(v.idx()));
+  return from_indices(o, o.tris.data(), o.tris.size());
+}
+
+bool load(const std::string& data, const std::string& tmp, const std::string& name, Mesh& m) {
+  std::map<std::string, std::string> files = {
+      {"bunny", "classic/stanford-bunny.obj.gz"}, {"armadillo", "classic/armadillo.obj.gz"},
+      {"igea", "classic/igea.ply.gz"},            {"nefertiti", "classic/nefertiti.obj.gz"},
+      {"max-planck", "classic/decimated-max.obj"}, {"igea-sub", "classic/igea.ply.gz"}};
+  if (!files.count(name)) return false;
+  std::string path = data + "/" + files[name];
+  if (path.size() > 3 && path.substr(path.size() - 3) == ".gz") {
+    fs::create_directories(tmp);
+    const std::string out = tmp + "/" + fs::path(path).stem().string();
+    if (!fs::exists(out)) {
+      const std::string cmd = "gunzip -c '" + path + "' > '" + out + "'";
+      if (std::system(cmd.c_str()) != 0) return false;
+    }
+    path = out;
+  }
+  if (!CGAL::IO::read_polygon_mesh(path, m) || m.is_empty()) return false;
+  // unreferenced vertices (stanford-bunny has 1113) play no role in simplification
+  std::vector<Mesh::Vertex_index> isolated;
+  for (auto v : m.vertices()) if (m.is_isolated(v)) isolated.push_back(v);
+  for (auto v : isolated) m.remove_vertex(v);
+  m.collect_garbage();
+  if (name == "igea-sub") m = subdivide_midpoint(m);  // 1,074,744 faces
+  return true;
+}
+
+std::string fmt(double v, int prec = 3) {
+  std::ostringstream s;
+  s << std::setprecision(prec) << v;
+  return s.str();
+}
+std::string sci(double v) {
+  std::ostringstream s;
+  s << std::scientific << std::setprecision(2) << v;
+  return s.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string data = CMGEOM_BENCH_DATA_DIR, tmp = "/tmp/cmgeom-bench-simplify", out_file;
+  std::vector<std::string> models = {"bunny", "armadillo", "igea", "nefertiti", "max-planck", "igea-sub"};
+  std::vector<double> ratios = {0.1, 0.01};
+  std::vector<std::string> tools = {"cmgeom-weighted",      "cmgeom-weighted-sum", "cmgeom-plain",
+                                    "cmgeom-weighted-flips", "cgal-engine-weighted", "cgal-engine-plain",
+                                    "cgal-gh",              "cgal-lt",             "meshopt",
+                                    "openmesh"};
+  std::size_t n_samples = 100000;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) { std::cerr << "missing value after " << a << "\n"; std::exit(2); }
+      return argv[++i];
+    };
+    if (a == "--data") data = next();
+    else if (a == "--tmp") tmp = next();
+    else if (a == "--models") models = split(next());
+    else if (a == "--tools") tools = split(next());
+    else if (a == "--samples") n_samples = std::stoul(next());
+    else if (a == "--out") out_file = next();
+    else if (a == "--ratios") {
+      ratios.clear();
+      for (const auto& r : split(next())) ratios.push_back(std::stod(r));
+    } else {
+      std::cerr << "unknown option " << a << "\n";
+      return 2;
+    }
+  }
+
+  std::vector<Row> rows;
+  for (const std::string& name : models) {
+    Model md;
+    md.name = name;
+    if (!load(data, tmp, name, md.mesh)) {
+      std::cerr << "skipping " << name << ": cannot read it under " << data << "\n";
+      continue;
+    }
+    md.soup = to_soup(md.mesh);
+    CGAL::Bbox_3 bb;
+    for (auto v : md.mesh.vertices()) bb += md.mesh.point(v).bbox();
+    md.diagonal = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
+                            CGAL::square(bb.zmax() - bb.zmin()));
+    md.samples = samples(md.mesh, n_samples, 42);
+    md.to_input = std::make_unique<Distance>(md.mesh);
+    const std::size_t faces_in = md.mesh.number_of_faces();
+    for (double ratio : ratios) {
+      const std::size_t target = static_cast<std::size_t>(std::llround(ratio * double(faces_in)));
+      for (const std::string& tool : tools) {
+        Row r;
+        r.model = name;
+        r.tool = tool;
+        r.faces_in = faces_in;
+        r.target = target;
+        r.ratio = ratio;
+        Mesh out;
+        if (tool == "cmgeom-weighted") out = run_cmgeom(md.mesh, target, true, false, r.seconds);
+        else if (tool == "cmgeom-plain") out = run_cmgeom(md.mesh, target, false, false, r.seconds);
+        else if (tool == "cmgeom-weighted-flips") out = run_cmgeom(md.mesh, target, true, true, r.seconds);
+        else if (tool == "cmgeom-weighted-sum")
+          out = run_cmgeom(md.mesh, target, true, false, r.seconds, TS::Quadric_merge::sum);
+        else if (tool == "cmgeom-plain-flips") out = run_cmgeom(md.mesh, target, false, true, r.seconds);
+        else if (tool == "cgal-engine-weighted") out = run_cmgeom_policy_on_cgal(md.mesh, target, true, r.seconds);
+        else if (tool == "cgal-engine-plain") out = run_cmgeom_policy_on_cgal(md.mesh, target, false, r.seconds);
+        else if (tool == "cgal-gh") out = run_cgal_gh(md.mesh, target, r.seconds);
+        else if (tool == "cgal-lt") out = run_cgal_lt(md.mesh, target, r.seconds);
+        else if (tool == "meshopt") out = run_meshopt(md.soup, target, r.seconds);
+        else if (tool == "openmesh") out = run_openmesh(md.soup, target, r.seconds);
+        else {
+          std::cerr << "unknown tool " << tool << "\n";
+          return 2;
+        }
+        r.faces_out = out.number_of_faces();
+        measure(md, out, n_samples, r);
+        std::cerr << name << " " << ratio << " " << tool << ": " << r.faces_out << " faces, " << r.seconds
+                  << " s, haus " << r.hausdorff << ", rms " << r.rms << std::endl;
+        rows.push_back(r);
+      }
+    }
+  }
+
+  std::ostringstream t;
+  t << "| model (faces) | target | tool | faces out | CPU s | M input tri/s | Hausdorff | RMS | time / GH | "
+       "Hausdorff / GH | RMS / GH |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const Row& r : rows) {
+    const Row* gh = nullptr;
+    for (const Row& g : rows)
+      if (g.model == r.model && g.ratio == r.ratio && g.tool == "cgal-gh") gh = &g;
+    t << "| " << r.model << " (" << r.faces_in << ") | " << fmt(100 * r.ratio) << "% (" << r.target << ") | " << r.tool
+      << " | " << r.faces_out << " | " << fmt(r.seconds) << " | " << fmt(r.faces_in / std::max(r.seconds, 1e-9) / 1e6)
+      << " | " << sci(r.hausdorff) << " | " << sci(r.rms) << " | "
+      << (gh ? fmt(r.seconds / gh->seconds) : "-") << " | " << (gh ? fmt(r.hausdorff / gh->hausdorff) : "-")
+      << " | " << (gh ? fmt(r.rms / gh->rms) : "-") << " |\n";
+  }
+  std::cout << t.str();
+  if (!out_file.empty()) {
+    std::ofstream f(out_file);
+    f << t.str();
+  }
+  return 0;
+}

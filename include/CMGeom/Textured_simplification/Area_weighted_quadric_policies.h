@@ -1,0 +1,233 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Area_weighted_quadric_policies: the edge-collapse cost and placement of thesis §3.4 (weighted
+// quadric error metrics), one object modelling both CGAL's `GetCost` and `GetPlacement` concepts
+// exactly as CGAL's Garland-Heckbert policies do, so it runs under
+// `CGAL::Surface_mesh_simplification::edge_collapse` and under `CMGeom::Textured_simplification::
+// edge_collapse`.
+//
+//   * Vertex quadrics (§3.4): Q_v = sum over incident faces of area(f) * Q_f, Q_f the fundamental
+//     quadric of the face plane; border edges add a boundary-preserving quadric (plane through
+//     the edge, orthogonal to its face) scaled by `boundary_weight * |e|^2` so it has the
+//     dimension of a face term.
+//   * Weights (§3.4.1): w_v = (trace(A) - lambda) / (trace(A) + lambda), lambda the eigenvalue of
+//     A whose eigenvector is closest to the vertex normal (area-weighted face normal sum).
+//   * Cost (§3.4.2): (w_i Q_i + w_j Q_j)(u*) with u* the minimiser of w_i Q_i + w_j Q_j.
+//   * Merge (§3.4.2): Q_kept = (w_i Q_i + w_j Q_j) / (w_i + w_j), then w_kept is recomputed from
+//     Q_kept and the kept vertex's new normal after every collapse.
+//   * `weighted = false` gives plain Garland-Heckbert on the same quadrics: w = 1 and
+//     Q_kept = Q_i + Q_j (see "Degenerate cases and choices" below for why the sum).
+//
+// Degenerate cases and choices (also in doc/Textured_simplification/README.md):
+//   * Flat neighbourhood: A = area * n n^T, lambda = trace(A), w = 0. Then w_i Q_i + w_j Q_j can be
+//     0 and the merge is 0/0. We clamp w to [min_weight, 1] (default 1e-3): flat regions still
+//     collapse first (their cost is scaled down 1000x) but their quadrics keep their shape, so
+//     placements stay on the plane and no NaN can arise.
+//   * Singular A (flat or cylindrical neighbourhoods, boundary chains): the placement is the free
+//     minimiser only when A is well conditioned and the minimiser lies within two edge lengths of
+//     the edge; otherwise the minimiser on the segment, otherwise the best of midpoint and
+//     endpoints (Symmetric_quadric::minimiser_on_edge).
+//   * Open boundaries: boundary quadrics as above (default weight 100, CGAL's discontinuity
+//     multiplier). They enter A, so boundary vertices get larger weights and are kept longer.
+//   * Fold-overs: the policy returns a placement for every edge; fold-overs are rejected where the
+//     collapse is decided: by CMGeom's engine, and under CGAL's engine by
+//     `No_normal_flip_filter` (see No_normal_flip_filter.h), which both engines share.
+//   * Plain mode merge: with w = 1 the thesis' merge would be (Q_i + Q_j) / 2, i.e. not
+//     Garland-Heckbert. Plain mode uses the sum so that it is the classic QSlim baseline.
+//
+// Storage: two dynamic vertex property maps (quadric, 80 bytes; weight, 8 bytes) created on the
+// mesh in the constructor and shared by every copy of the object (CGAL copies policies).
+//
+// Complexity: initialize() O(F + V); cost and placement O(1); update_after_collapse()
+// O(deg(v_kept)) for the new normal plus one closed-form 3x3 eigen decomposition.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_AREA_WEIGHTED_QUADRIC_POLICIES_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_AREA_WEIGHTED_QUADRIC_POLICIES_H
+
+#include <CMGeom/config.h>
+#include <CMGeom/Textured_simplification/internal/Symmetric_quadric.h>
+#include <CMGeom/Textured_simplification/internal/collapse_checks.h>
+
+#include <CGAL/Dynamic_property_map.h>
+#include <CGAL/Kernel_traits.h>
+#include <CGAL/boost/graph/helpers.h>
+#include <CGAL/boost/graph/properties.h>
+#include <CGAL/tags.h>
+
+#include <algorithm>
+
+namespace CMGeom {
+namespace Textured_simplification {
+
+/// How the kept vertex's quadric is formed from the two endpoints' quadrics (weighted mode).
+enum class Quadric_merge {
+  /// (w_i Q_i + w_j Q_j) / (w_i + w_j), thesis §3.4.2.
+  weighted_average,
+  /// Q_i + Q_j, as Garland-Heckbert; the weights still scale the cost and are recomputed.
+  sum
+};
+
+/// Options of Area_weighted_quadric_policies.
+struct Quadric_options {
+  /// true: the thesis' weighted quadrics (§3.4.2); false: plain Garland-Heckbert.
+  bool weighted = true;
+  /// Lower clamp of the local area distortion weight (flat regions have weight 0).
+  double min_weight = 1e-3;
+  /// Multiplier of the boundary-preserving quadric of border edges (0 disables it).
+  double boundary_weight = 100.0;
+  /// Merge rule in weighted mode (plain mode always sums).
+  Quadric_merge merge = Quadric_merge::weighted_average;
+};
+
+/// Cost and placement policies of thesis §3.4 (see the file comment).
+/// \tparam TriangleMesh a model of `FaceListGraph` and `HalfedgeListGraph`
+/// \tparam GeomTraits a CGAL kernel; its `Point_3` is the placement type
+template <class TriangleMesh,
+          class GeomTraits = typename CGAL::Kernel_traits<
+              typename boost::property_traits<typename boost::property_map<
+                  TriangleMesh, CGAL::vertex_point_t>::type>::value_type>::Kernel>
+class Area_weighted_quadric_policies {
+public:
+  using Triangle_mesh = TriangleMesh;
+  using Geom_traits = GeomTraits;
+  using FT = typename GeomTraits::FT;
+  using Point_3 = typename GeomTraits::Point_3;
+  using vertex_descriptor = typename boost::graph_traits<TriangleMesh>::vertex_descriptor;
+  using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
+  using Quadric = internal::Symmetric_quadric;
+
+  using Self = Area_weighted_quadric_policies;
+  using Get_cost = Self;
+  using Get_placement = Self;
+  /// CGAL's engine calls initialize() and update_after_collapse() when this is true.
+  using Update_tag = CGAL::Tag_true;
+  /// Tells CMGeom's engine that an edge's cost depends only on its two endpoints' data, so only
+  /// the edges around the kept vertex need a new cost after a collapse.
+  using Cost_depends_on_endpoints_only = CGAL::Tag_true;
+
+  using Quadric_map = typename boost::property_map<TriangleMesh, CGAL::dynamic_vertex_property_t<Quadric>>::type;
+  using Weight_map = typename boost::property_map<TriangleMesh, CGAL::dynamic_vertex_property_t<double>>::type;
+
+  explicit Area_weighted_quadric_policies(TriangleMesh& tm, const Quadric_options& options = Quadric_options())
+      : quadrics_(get(CGAL::dynamic_vertex_property_t<Quadric>(), tm)),
+        weights_(get(CGAL::dynamic_vertex_property_t<double>(), tm)),
+        options_(options) {}
+
+  const Get_cost& get_cost() const { return *this; }
+  const Get_placement& get_placement() const { return *this; }
+  const Quadric_options& options() const { return options_; }
+
+  /// Unweighted quadric and weight of a vertex (valid after initialize()).
+  const Quadric& quadric(vertex_descriptor v) const { return get(quadrics_, v); }
+  double weight(vertex_descriptor v) const { return get(weights_, v); }
+
+  /// Builds the vertex quadrics and weights. Called once by the engines before collecting edges.
+  template <class VertexPointMap>
+  void initialize(const TriangleMesh& tm, const VertexPointMap& vpm, const GeomTraits& = GeomTraits()) const {
+    for (vertex_descriptor v : vertices(tm)) put(quadrics_, v, Quadric());
+    for (auto f : faces(tm)) {
+      const halfedge_descriptor h = halfedge(f, tm);
+      const vertex_descriptor va = source(h, tm), vb = target(h, tm), vc = target(next(h, tm), tm);
+      const internal::Vec3 a = internal::to_vec3(get(vpm, va)), b = internal::to_vec3(get(vpm, vb)),
+                           c = internal::to_vec3(get(vpm, vc));
+      const internal::Vec3 n2 = internal::cross(internal::sub(b, a), internal::sub(c, a));
+      const double len = internal::norm(n2);
+      if (!(len > 0)) continue;  // a zero-area face defines no plane and has no area
+      const internal::Vec3 n = internal::scale(n2, 1.0 / len);
+      const Quadric q = Quadric::plane(n, -internal::dot(n, a), 0.5 * len);
+      for (vertex_descriptor v : {va, vb, vc}) {
+        Quadric qv = get(quadrics_, v);
+        qv += q;
+        put(quadrics_, v, qv);
+      }
+    }
+    if (options_.boundary_weight > 0) {
+      for (halfedge_descriptor h : halfedges(tm)) {
+        if (!is_border(opposite(h, tm), tm) || is_border(h, tm)) continue;
+        // h is the face side of a border edge
+        const vertex_descriptor va = source(h, tm), vb = target(h, tm);
+        const internal::Vec3 a = internal::to_vec3(get(vpm, va)), b = internal::to_vec3(get(vpm, vb)),
+                             c = internal::to_vec3(get(vpm, target(next(h, tm), tm)));
+        const internal::Vec3 e = internal::sub(b, a);
+        const internal::Vec3 fn = internal::cross(e, internal::sub(c, a));
+        internal::Vec3 m = internal::cross(e, fn);
+        const double ml = internal::norm(m);
+        if (!(ml > 0)) continue;
+        m = internal::scale(m, 1.0 / ml);
+        const Quadric q = Quadric::plane(m, -internal::dot(m, a), options_.boundary_weight * internal::dot(e, e));
+        for (vertex_descriptor v : {va, vb}) {
+          Quadric qv = get(quadrics_, v);
+          qv += q;
+          put(quadrics_, v, qv);
+        }
+      }
+    }
+    for (vertex_descriptor v : vertices(tm)) put(weights_, v, compute_weight(tm, vpm, v, get(quadrics_, v)));
+  }
+
+  /// Merges the quadrics of the collapsed edge into `v_kept` (§3.4.2) and recomputes its weight.
+  /// Called by the engines right after each collapse, `v_kept` already at its new position.
+  template <class Profile>
+  void update_after_collapse(const Profile& profile, vertex_descriptor v_kept) const {
+    const vertex_descriptor v0 = profile.v0(), v1 = profile.v1();
+    const double w0 = get(weights_, v0), w1 = get(weights_, v1);
+    Quadric q;
+    if (options_.weighted && options_.merge == Quadric_merge::weighted_average) {
+      q = Quadric::combine(get(quadrics_, v0), w0 / (w0 + w1), get(quadrics_, v1), w1 / (w0 + w1));
+    } else {
+      q = Quadric::combine(get(quadrics_, v0), 1.0, get(quadrics_, v1), 1.0);
+    }
+    put(quadrics_, v_kept, q);
+    put(weights_, v_kept, compute_weight(profile.surface_mesh(), profile.vertex_point_map(), v_kept, q));
+  }
+
+  /// GetPlacement: the minimiser of w0 Q0 + w1 Q1 (singular-safe, see the file comment).
+  template <class Profile>
+  CMGeom::internal::optional<Point_3> operator()(const Profile& profile) const {
+    const Quadric q = edge_quadric(profile.v0(), profile.v1());
+    const internal::Vec3 u = q.minimiser_on_edge(internal::to_vec3(profile.p0()), internal::to_vec3(profile.p1()));
+    return Point_3(u[0], u[1], u[2]);
+  }
+
+  /// GetCost: (w0 Q0 + w1 Q1)(placement); absent placement gives absent cost.
+  template <class Profile>
+  CMGeom::internal::optional<FT> operator()(const Profile& profile,
+                                            const CMGeom::internal::optional<Point_3>& placement) const {
+    if (!placement) return CMGeom::internal::optional<FT>();
+    const Quadric q = edge_quadric(profile.v0(), profile.v1());
+    return FT((std::max)(0.0, q(internal::to_vec3(*placement))));
+  }
+
+  /// The quadric whose minimum is the collapse cost of edge (v0, v1).
+  Quadric edge_quadric(vertex_descriptor v0, vertex_descriptor v1) const {
+    return Quadric::combine(get(quadrics_, v0), get(weights_, v0), get(quadrics_, v1), get(weights_, v1));
+  }
+
+private:
+  template <class VertexPointMap>
+  double compute_weight(const TriangleMesh& tm, const VertexPointMap& vpm, vertex_descriptor v,
+                        const Quadric& q) const {
+    if (!options_.weighted) return 1.0;
+    if (halfedge(v, tm) == boost::graph_traits<TriangleMesh>::null_halfedge()) return 1.0;  // isolated
+    // vertex normal: sum of the (area-weighted) normals of the incident faces
+    internal::Vec3 n{0, 0, 0};
+    const internal::Vec3 pv = internal::to_vec3(get(vpm, v));
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
+      if (is_border(h, tm)) continue;
+      const internal::Vec3 a = internal::to_vec3(get(vpm, source(h, tm)));
+      const internal::Vec3 b = internal::to_vec3(get(vpm, target(next(h, tm), tm)));
+      n = internal::add(n, internal::cross(internal::sub(b, pv), internal::sub(a, pv)));
+    }
+    const double w = q.area_distortion(n);
+    return std::clamp(w, options_.min_weight, 1.0);
+  }
+
+  Quadric_map quadrics_;
+  Weight_map weights_;
+  Quadric_options options_;
+};
+
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_AREA_WEIGHTED_QUADRIC_POLICIES_H

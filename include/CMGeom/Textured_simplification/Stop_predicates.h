@@ -1,0 +1,158 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Stop predicates (models of CGAL's `StopPredicate` concept, usable with both CGAL's and CMGeom's
+// `edge_collapse`): target face count, face ratio, target vertex count, maximum cost.
+//
+// Why not CGAL's: CGAL 5.5.1 only counts edges, and the face-count predicates of later releases
+// scan the mesh (O(F) per call, CGAL issues #5720/#8158). These run in O(1) per call: the face and
+// vertex counts are measured once (O(F + V), on the first call, after the engine's set-up) and
+// then tracked from the edge count the engine passes. Between two calls an engine performs at most
+// one collapse (true of both engines), and a collapse that removes k edges removes k - 1 faces
+// (3 edges / 2 faces inside, 2 edges / 1 face on a border) and one vertex.
+//
+// The predicates share their counters between copies (engines copy them), so use one predicate
+// object per simplification run.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_STOP_PREDICATES_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_STOP_PREDICATES_H
+
+#include <CGAL/boost/graph/iterator.h>
+#include <CGAL/number_utils.h>
+#include <boost/graph/graph_traits.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <iterator>
+#include <memory>
+
+namespace CMGeom {
+namespace Textured_simplification {
+namespace internal {
+
+/// Tracks the live face and vertex counts of a mesh being simplified, in O(1) per call.
+template <class TriangleMesh>
+class Mesh_size_tracker {
+public:
+  explicit Mesh_size_tracker(const TriangleMesh& tm) : state_(std::make_shared<State>()) { state_->tm = &tm; }
+
+  void update(std::size_t current_edge_count) const {
+    State& s = *state_;
+    if (!s.started) {
+      // first call: count the live elements once (Surface_mesh's num_faces() includes removed ones)
+      const auto fr = faces(*s.tm);
+      const auto vr = vertices(*s.tm);
+      s.faces = static_cast<std::size_t>(std::distance(fr.begin(), fr.end()));
+      s.vertices = static_cast<std::size_t>(std::distance(vr.begin(), vr.end()));
+      s.edges = current_edge_count;
+      s.started = true;
+      return;
+    }
+    if (current_edge_count < s.edges) {
+      const std::size_t removed = s.edges - current_edge_count;
+      s.faces -= (removed - 1);
+      s.vertices -= 1;
+      s.edges = current_edge_count;
+    }
+  }
+  std::size_t face_count() const { return state_->faces; }
+  std::size_t vertex_count() const { return state_->vertices; }
+
+private:
+  struct State {
+    const TriangleMesh* tm = nullptr;
+    std::size_t faces = 0, vertices = 0, edges = 0;
+    bool started = false;
+  };
+  std::shared_ptr<State> state_;
+};
+
+}  // namespace internal
+
+/// Stops when the mesh has at most `target` faces. On a closed mesh every collapse removes two
+/// faces, so an odd target is reached as target - 1.
+template <class TriangleMesh>
+class Face_count_stop_predicate {
+public:
+  Face_count_stop_predicate(const TriangleMesh& tm, std::size_t target) : tracker_(tm), target_(target) {}
+  template <class FT, class Profile>
+  bool operator()(const FT&, const Profile&, std::size_t, std::size_t current_edge_count) const {
+    tracker_.update(current_edge_count);
+    return tracker_.face_count() <= target_;
+  }
+  std::size_t current_face_count() const { return tracker_.face_count(); }
+
+private:
+  internal::Mesh_size_tracker<TriangleMesh> tracker_;
+  std::size_t target_;
+};
+
+/// Stops when faces <= ratio * (faces at the start).
+template <class TriangleMesh>
+class Face_count_ratio_stop_predicate {
+public:
+  Face_count_ratio_stop_predicate(const TriangleMesh& tm, double ratio) : tracker_(tm), ratio_(ratio) {}
+  template <class FT, class Profile>
+  bool operator()(const FT&, const Profile&, std::size_t, std::size_t current_edge_count) const {
+    const bool first = !initial_;
+    tracker_.update(current_edge_count);
+    if (first) initial_ = std::make_shared<std::size_t>(tracker_.face_count());
+    return double(tracker_.face_count()) <= ratio_ * double(*initial_);
+  }
+
+private:
+  internal::Mesh_size_tracker<TriangleMesh> tracker_;
+  double ratio_;
+  mutable std::shared_ptr<std::size_t> initial_;
+};
+
+/// Stops when the mesh has at most `target` vertices.
+template <class TriangleMesh>
+class Vertex_count_stop_predicate {
+public:
+  Vertex_count_stop_predicate(const TriangleMesh& tm, std::size_t target) : tracker_(tm), target_(target) {}
+  template <class FT, class Profile>
+  bool operator()(const FT&, const Profile&, std::size_t, std::size_t current_edge_count) const {
+    tracker_.update(current_edge_count);
+    return tracker_.vertex_count() <= target_;
+  }
+
+private:
+  internal::Mesh_size_tracker<TriangleMesh> tracker_;
+  std::size_t target_;
+};
+
+/// Stops when the cheapest remaining collapse costs more than `max_cost` (the policy's cost
+/// units: for the quadric policies, area times squared distance).
+class Max_cost_stop_predicate {
+public:
+  explicit Max_cost_stop_predicate(double max_cost) : max_cost_(max_cost) {}
+  template <class FT, class Profile>
+  bool operator()(const FT& cost, const Profile&, std::size_t, std::size_t) const {
+    return CGAL::to_double(cost) > max_cost_;
+  }
+
+private:
+  double max_cost_;
+};
+
+/// Stops as soon as either predicate does (both are called, so both keep their counters).
+template <class P1, class P2>
+class Stop_if_any {
+public:
+  Stop_if_any(const P1& p1, const P2& p2) : p1_(p1), p2_(p2) {}
+  template <class FT, class Profile>
+  bool operator()(const FT& c, const Profile& p, std::size_t i, std::size_t e) const {
+    const bool a = p1_(c, p, i, e);
+    const bool b = p2_(c, p, i, e);
+    return a || b;
+  }
+
+private:
+  P1 p1_;
+  P2 p2_;
+};
+
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_STOP_PREDICATES_H

@@ -1,0 +1,435 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// CMGeom::Textured_simplification::edge_collapse: an edge-collapse engine for the policy concepts
+// of CGAL's Surface_mesh_simplification (GetCost, GetPlacement, PlacementFilter, StopPredicate,
+// EdgeCollapseSimplificationVisitor, and the Update_tag hook of cost policies), built for speed.
+// It drives the weighted quadric simplification of thesis §3.4 and the edge flips of §3.5.1.
+//
+// Sequence per popped edge (same order and visitor calls as CGAL 5.5.1's engine):
+//   OnSelected -> stop predicate (OnStopConditionReached) -> link condition (OnNonCollapsable)
+//   -> placement (absent: skipped silently) -> fold-over test -> filter (OnNonCollapsable)
+//   -> OnCollapsing -> Euler::collapse_edge -> put(vpm) -> OnCollapsed
+//   -> cost.update_after_collapse (Update_tag) -> neighbour costs -> optional flips.
+// Differences from CGAL's engine, all deliberate:
+//   * Zero-length edges are not collapsed during set-up; their cost is minimal anyway, so they go
+//     first through the normal path (and therefore do get OnCollapsing).
+//   * The fold-over test rejects a collapse when a surviving star triangle flips or loses its
+//     area (CGAL's bounds dihedral angles between link triangles instead).
+//   * Cost updates: a cost policy declaring `Cost_depends_on_endpoints_only = CGAL::Tag_true`
+//     (the quadric policies do) only gets the edges around the kept vertex re-evaluated; edges one
+//     ring farther, whose cost is unchanged, are only put back in the queue if a previous
+//     topological/geometric rejection had taken them out. Other policies get CGAL's treatment
+//     (every edge around every neighbour of the kept vertex is re-evaluated).
+//   * The profile is CMGeom's light Collapse_profile (no triangles()/link()).
+//
+// Data layout: one record (cost, flags) and one heap slot per edge, indexed by the edge index
+// map; per vertex, a counter of rejected edges around it (so re-queueing them costs nothing where
+// there are none) and a mark array used by the link condition only for degrees above 64.
+// Everything is allocated once at set-up; the collapse loop allocates nothing. The queue is an
+// indexed 8-ary heap updated in place (no stale entries, no lazy deletion).
+//
+// Complexity: O(E log E) for set-up, O(d log E) per collapse (d = vertex degree), O(1) stop tests
+// with the predicates of Stop_predicates.h.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_EDGE_COLLAPSE_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_EDGE_COLLAPSE_H
+
+#include <CMGeom/config.h>
+#include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
+#include <CMGeom/Textured_simplification/Collapse_profile.h>
+#include <CMGeom/Textured_simplification/No_normal_flip_filter.h>
+#include <CMGeom/Textured_simplification/internal/Indexed_heap.h>
+#include <CMGeom/Textured_simplification/internal/collapse_checks.h>
+#include <CMGeom/Textured_simplification/internal/edge_flip.h>
+#include <CMGeom/Textured_simplification/parameters.h>
+
+#include <CGAL/Named_function_parameters.h>
+#include <CGAL/boost/graph/Euler_operations.h>
+#include <CGAL/boost/graph/named_params_helper.h>
+#include <CGAL/property_map.h>
+
+#include <boost/mpl/has_xxx.hpp>
+
+#include <cstdint>
+#include <type_traits>
+#include <vector>
+
+namespace CMGeom {
+namespace Textured_simplification {
+
+/// A visitor that does nothing; derive from it and override what you need (the member functions
+/// are templates on the profile type, so one visitor serves both engines).
+struct Edge_collapse_visitor_base {
+  template <class TM> void OnStarted(TM&) const {}
+  template <class TM> void OnFinished(TM&) const {}
+  template <class Profile> void OnStopConditionReached(const Profile&) const {}
+  template <class Profile, class OFT> void OnCollected(const Profile&, const OFT&) const {}
+  template <class Profile, class OFT, class S> void OnSelected(const Profile&, const OFT&, S, S) const {}
+  template <class Profile, class OP> void OnCollapsing(const Profile&, const OP&) const {}
+  template <class Profile, class V> void OnCollapsed(const Profile&, const V&) const {}
+  template <class Profile> void OnNonCollapsable(const Profile&) const {}
+  /// CMGeom extension (not in CGAL's concept): called after an edge flip; `h` is the new edge.
+  template <class TM, class H> void OnFlipped(const TM&, const H&) const {}
+};
+
+namespace internal {
+
+BOOST_MPL_HAS_XXX_TRAIT_DEF(Update_tag)
+BOOST_MPL_HAS_XXX_TRAIT_DEF(Cost_depends_on_endpoints_only)
+
+template <class C, bool = has_Update_tag<C>::value>
+struct has_update : std::false_type {};
+template <class C>
+struct has_update<C, true> : std::integral_constant<bool, C::Update_tag::value> {};
+
+template <class C, bool = has_Cost_depends_on_endpoints_only<C>::value>
+struct endpoint_cost : std::false_type {};
+template <class C>
+struct endpoint_cost<C, true> : std::integral_constant<bool, C::Cost_depends_on_endpoints_only::value> {};
+
+template <class V, class TM, class H, class = void>
+struct has_on_flipped : std::false_type {};
+template <class V, class TM, class H>
+struct has_on_flipped<V, TM, H, std::void_t<decltype(std::declval<V&>().OnFlipped(std::declval<const TM&>(), std::declval<H>()))>>
+    : std::true_type {};
+
+template <class TM, class VPM, class GT, class ECM, class GetCost, class GetPlacement, class Filter,
+          class Visitor, class StopPredicate>
+class Edge_collapse_engine {
+  using GTraits = boost::graph_traits<TM>;
+  using vertex_descriptor = typename GTraits::vertex_descriptor;
+  using halfedge_descriptor = typename GTraits::halfedge_descriptor;
+  using edge_descriptor = typename GTraits::edge_descriptor;
+  using Profile = Collapse_profile<TM, VPM, GT>;
+  using FT = typename GT::FT;
+  using Point = typename boost::property_traits<VPM>::value_type;
+  using Cost = CMGeom::internal::optional<FT>;
+  using Placement = CMGeom::internal::optional<Point>;
+
+  enum : std::uint8_t { HAS_COST = 1, DEAD = 2, CONSTRAINED = 4, REJECTED = 8 };
+
+public:
+  Edge_collapse_engine(TM& tm, const StopPredicate& stop, const VPM& vpm, const GT& gt, const ECM& ecm,
+                       const GetCost& cost, const GetPlacement& placement, const Filter& filter,
+                       Visitor& visitor, bool flips)
+      : tm_(tm), stop_(stop), vpm_(vpm), gt_(gt), ecm_(ecm), get_cost_(cost), get_placement_(placement),
+        filter_(filter), visitor_(visitor), flips_(flips),
+        vim_(CGAL::get_initialized_vertex_index_map(tm)), eim_(CGAL::get_initialized_edge_index_map(tm)) {}
+
+  int run() {
+    visitor_.OnStarted(tm_);
+    initialize_cost(std::integral_constant<bool, has_update<GetCost>::value>());
+    collect();
+    loop();
+    visitor_.OnFinished(tm_);
+    return static_cast<int>(initial_edges_ - current_edges_);
+  }
+
+private:
+  template <class B> void initialize_cost(B) {}
+  void initialize_cost(std::true_type) { get_cost_.initialize(tm_, vpm_, gt_); }
+  void after_collapse(const Profile&, vertex_descriptor, std::false_type) {}
+  void after_collapse(const Profile& p, vertex_descriptor v, std::true_type) { get_cost_.update_after_collapse(p, v); }
+
+  std::uint32_t id(edge_descriptor e) const { return static_cast<std::uint32_t>(get(eim_, e)); }
+
+  Profile profile_of(edge_descriptor e) const { return Profile(halfedge(e, tm_), tm_, vpm_, gt_); }
+
+  /// (Re)computes the cost of edge e and puts it in the queue (or takes it out if absent).
+  void evaluate(edge_descriptor e) {
+    const std::uint32_t i = id(e);
+    if (data_[i].flags & (DEAD | CONSTRAINED)) return;
+    const Profile p = profile_of(e);
+    const Placement pl = get_placement_(p);
+    const Cost c = get_cost_(p, pl);
+    data_[i].flags &= std::uint8_t(~REJECTED);
+    if (c) {
+      data_[i].cost = CGAL::to_double(*c);
+      data_[i].flags |= HAS_COST;
+      if (!heap_.contains(i) || data_[i].cost != heap_.key(i)) heap_.set(i, data_[i].cost);
+    } else {
+      data_[i].flags &= std::uint8_t(~HAS_COST);
+      heap_.remove(i);
+    }
+  }
+
+  void collect() {
+    // Graphs whose edge index is derived from halfedge ids (Polyhedron_3 with ids) need those
+    // initialised first; on Surface_mesh this is a no-op.
+    (void)CGAL::get_initialized_halfedge_index_map(tm_);
+    eim_ = CGAL::get_initialized_edge_index_map(tm_);
+    std::size_t max_e = 0, max_v = 0;
+    for (edge_descriptor e : edges(tm_)) max_e = (std::max)(max_e, std::size_t(get(eim_, e)) + 1);
+    for (vertex_descriptor v : vertices(tm_)) max_v = (std::max)(max_v, std::size_t(get(vim_, v)) + 1);
+    edge_of_.assign(max_e, edge_descriptor());
+    data_.assign(max_e, Edge_data{0.0, 0});
+    mark_.assign(max_v, 0u);
+    rejected_around_.assign(max_v, 0u);
+    heap_.reset(max_e);
+    initial_edges_ = 0;
+    for (edge_descriptor e : edges(tm_)) {
+      const std::uint32_t i = id(e);
+      edge_of_[i] = e;
+      ++initial_edges_;
+      if (get(ecm_, e)) { data_[i].flags |= CONSTRAINED; continue; }
+      evaluate(e);
+      if (std::is_same<Visitor, Edge_collapse_visitor_base>::value) continue;
+      const Profile p = profile_of(e);
+      visitor_.OnCollected(p, (data_[i].flags & HAS_COST) ? Cost(FT(data_[i].cost)) : Cost());
+    }
+    current_edges_ = initial_edges_;
+  }
+
+  bool is_constrained_vertex(vertex_descriptor v) const {
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_))
+      if (get(ecm_, edge(h, tm_))) return true;
+    return false;
+  }
+
+  void loop() {
+    while (!heap_.empty()) {
+      const std::uint32_t i = heap_.pop();
+      const edge_descriptor e = edge_of_[i];
+      const Profile p = profile_of(e);
+      const Cost c = Cost(FT(data_[i].cost));
+      visitor_.OnSelected(p, c, initial_edges_, current_edges_);
+      if (stop_(*c, p, initial_edges_, current_edges_)) {
+        visitor_.OnStopConditionReached(p);
+        break;
+      }
+      const bool ok_topo =
+          internal::is_collapse_topologically_valid(tm_, vim_, p.v0_v1(), mark_, stamp_) &&
+          !(has_constraints_ && is_constrained_vertex(p.v0()) && is_constrained_vertex(p.v1()));
+      if (!ok_topo) {
+        reject(i, p);
+        visitor_.OnNonCollapsable(p);
+        continue;
+      }
+      Placement pl = get_placement_(p);
+      if (!pl) {
+        reject(i, p);
+        continue;
+      }
+      if (internal::collapse_flips_a_face(tm_, vpm_, p.v0_v1(), internal::to_vec3(*pl))) {
+        reject(i, p);
+        continue;
+      }
+      pl = filter_(p, pl);
+      if (!pl) {
+        reject(i, p);
+        visitor_.OnNonCollapsable(p);
+        continue;
+      }
+      collapse(p, *pl);
+    }
+  }
+
+  /// A popped edge that cannot be collapsed now leaves the queue; it comes back when a collapse
+  /// next to it changes its neighbourhood (see update_neighbours). The per-vertex counters let
+  /// that test skip vertices with no rejected edge around them (they may over-count, never
+  /// under-count).
+  void reject(std::uint32_t i, const Profile& p) {
+    data_[i].flags |= REJECTED;
+    ++rejected_around_[get(vim_, p.v0())];
+    ++rejected_around_[get(vim_, p.v1())];
+  }
+
+  void kill(edge_descriptor e) {
+    const std::uint32_t i = id(e);
+    heap_.remove(i);
+    data_[i].flags |= DEAD;
+  }
+
+  void collapse(const Profile& p, const Point& placement) {
+    p.load_apexes();  // the halfedges they come from are about to disappear
+    visitor_.OnCollapsing(p, Placement(placement));
+    const edge_descriptor e = edge(p.v0_v1(), tm_);
+    const halfedge_descriptor h = halfedge(e, tm_);
+    const halfedge_descriptor o = opposite(h, tm_);
+    // Euler::collapse_edge(e) removes e and, for each incident face, the edge of prev() of
+    // halfedge(e) / of its opposite (see its documentation) — or, with constraints, the
+    // unconstrained edge of the pair; the other edges survive.
+    kill(e);
+    for (halfedge_descriptor side : {h, o}) {
+      if (is_border(side, tm_)) continue;
+      const edge_descriptor ep = edge(prev(side, tm_), tm_);
+      kill(has_constraints_ && get(ecm_, ep) ? edge(next(side, tm_), tm_) : ep);
+    }
+    current_edges_ -= 1 + std::size_t(p.left_face_exists()) + std::size_t(p.right_face_exists());
+    vertex_descriptor v_kept = has_constraints_ ? CGAL::Euler::collapse_edge(e, tm_, ecm_)
+                                                : CGAL::Euler::collapse_edge(e, tm_);
+    {
+      const vertex_descriptor v_gone = v_kept == p.v0() ? p.v1() : p.v0();
+      rejected_around_[get(vim_, v_kept)] += rejected_around_[get(vim_, v_gone)];
+    }
+    put(vpm_, v_kept, placement);
+    visitor_.OnCollapsed(p, v_kept);
+    after_collapse(p, v_kept, std::integral_constant<bool, has_update<GetCost>::value>());
+    update_neighbours(v_kept, std::integral_constant<bool, endpoint_cost<GetCost>::value>());
+    if (flips_) flip_around(v_kept);
+  }
+
+  void update_neighbours(vertex_descriptor v, std::true_type) {
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) evaluate(edge(h, tm_));
+    // one ring farther: costs are unchanged, but edges rejected earlier may have become valid
+    rejected_around_[get(vim_, v)] = 0;
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
+      const vertex_descriptor n = source(h, tm_);
+      unsigned& count = rejected_around_[get(vim_, n)];
+      if (count == 0) continue;
+      count = 0;
+      for (halfedge_descriptor h2 : CGAL::halfedges_around_target(n, tm_)) {
+        const std::uint32_t i = id(edge(h2, tm_));
+        if ((data_[i].flags & (REJECTED | DEAD | CONSTRAINED)) == REJECTED) {
+          data_[i].flags &= std::uint8_t(~REJECTED);
+          if (data_[i].flags & HAS_COST) heap_.set(i, data_[i].cost);
+        }
+      }
+    }
+  }
+  void update_neighbours(vertex_descriptor v, std::false_type) {
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
+      const vertex_descriptor n = source(h, tm_);
+      for (halfedge_descriptor h2 : CGAL::halfedges_around_target(n, tm_)) evaluate(edge(h2, tm_));
+    }
+  }
+
+  /// §3.5.1: flip-tests the edges of the triangles around the kept vertex.
+  void flip_around(vertex_descriptor v) {
+    // Edges opposite to v (the link) and the edges incident to v. Collect first: flipping
+    // changes the circulation around v. A fixed-size buffer: vertex degrees above 64 skip flips.
+    halfedge_descriptor buf[128];
+    int n = 0;
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
+      if (n + 2 > 128) return;
+      buf[n++] = h;
+      if (!is_border(h, tm_)) buf[n++] = prev(h, tm_);  // the link edge of face(h)
+    }
+    for (int k = 0; k < n; ++k) {
+      const halfedge_descriptor h = buf[k];
+      const edge_descriptor e = edge(h, tm_);
+      const std::uint32_t i = id(e);
+      if (data_[i].flags & (DEAD | CONSTRAINED)) continue;
+      if (!internal::should_flip(tm_, vpm_, h, get_cost_, vim_, mark_, stamp_)) continue;
+      CGAL::Euler::flip_edge(h, tm_);
+      if constexpr (has_on_flipped<Visitor, TM, halfedge_descriptor>::value) visitor_.OnFlipped(tm_, h);
+      // the flipped edge has new endpoints; rim edges are re-evaluated for policies whose cost
+      // depends on more than the endpoints
+      evaluate(e);
+      if constexpr (!endpoint_cost<GetCost>::value) {
+        evaluate(edge(next(h, tm_), tm_));
+        evaluate(edge(prev(h, tm_), tm_));
+        evaluate(edge(next(opposite(h, tm_), tm_), tm_));
+        evaluate(edge(prev(opposite(h, tm_), tm_), tm_));
+      }
+    }
+  }
+
+  TM& tm_;
+  const StopPredicate& stop_;
+  VPM vpm_;
+  const GT& gt_;
+  ECM ecm_;
+  const GetCost& get_cost_;
+  const GetPlacement& get_placement_;
+  const Filter& filter_;
+  Visitor& visitor_;
+  bool flips_;
+  bool has_constraints_ = !std::is_same<ECM, CGAL::Constant_property_map<edge_descriptor, bool>>::value;
+  typename CGAL::GetInitializedVertexIndexMap<TM>::const_type vim_;
+  typename CGAL::GetInitializedEdgeIndexMap<TM>::const_type eim_;
+
+  std::vector<edge_descriptor> edge_of_;
+  struct Edge_data {
+    double cost;
+    std::uint8_t flags;
+  };
+  std::vector<Edge_data> data_;  // cost and flags together: one memory access per edge
+  std::vector<unsigned> mark_;
+  std::vector<unsigned> rejected_around_;
+  unsigned stamp_ = 0;
+  Indexed_heap heap_;
+  std::size_t initial_edges_ = 0, current_edges_ = 0;
+};
+
+}  // namespace internal
+
+/// Simplifies `tm` in place by edge collapses until `should_stop` says so; returns the number of
+/// removed edges (as CGAL's edge_collapse does: 3 per interior collapse, 2 on a border). `tm` keeps removed elements until `collect_garbage()` (Surface_mesh).
+///
+/// \tparam TriangleMesh a model of `MutableFaceGraph` and `HalfedgeListGraph`, triangulated and
+///   2-manifold (with or without boundary)
+/// \tparam StopPredicate a model of CGAL's `StopPredicate` (see Stop_predicates.h)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{get_cost}, \cgalParamNBegin{get_placement}: models of `GetCost` / `GetPlacement`
+///     (default: one `Area_weighted_quadric_policies<TriangleMesh>` object for both).
+///   \cgalParamNBegin{filter}: a model of `PlacementFilter`, called when an edge is about to be
+///     collapsed, after CMGeom's fold-over test (default: accepts everything).
+///   \cgalParamNBegin{visitor}: a model of `EdgeCollapseSimplificationVisitor` (taken by value,
+///     as CGAL does: hold pointers to shared state).
+///   \cgalParamNBegin{edge_is_constrained_map}: constrained edges are never collapsed.
+///   \cgalParamNBegin{vertex_point_map}, \cgalParamNBegin{geom_traits}: as in CGAL.
+///   `CMGeom::parameters::edge_flips(bool)`: flips of §3.5.1 after each collapse (default false).
+/// \cgalNamedParamsEnd
+template <class TriangleMesh, class StopPredicate,
+          class NamedParameters = CGAL::parameters::Default_named_parameters>
+int edge_collapse(TriangleMesh& tm, const StopPredicate& should_stop,
+                  const NamedParameters& np = CGAL::parameters::default_values()) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  using GT = typename CGAL::GetGeomTraits<TriangleMesh, NamedParameters>::type;
+  using VPM = typename CGAL::GetVertexPointMap<TriangleMesh, NamedParameters>::type;
+  using edge_descriptor = typename boost::graph_traits<TriangleMesh>::edge_descriptor;
+  using Default_policy = Area_weighted_quadric_policies<TriangleMesh, GT>;
+
+  const GT gt = choose_parameter<GT>(get_parameter(np, CGAL::internal_np::geom_traits));
+  const VPM vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
+                                   get_property_map(CGAL::vertex_point, tm));
+  const auto ecm = choose_parameter(get_parameter(np, CGAL::internal_np::edge_is_constrained),
+                                    CGAL::Constant_property_map<edge_descriptor, bool>(false));
+  const bool flips = choose_parameter(get_parameter(np, CMGeom::internal_np::edge_flips), false);
+
+  using Cost_np = typename CGAL::internal_np::Lookup_named_param_def<CGAL::internal_np::get_cost_policy_t,
+                                                                     NamedParameters, Default_policy>::type;
+  using Placement_np = typename CGAL::internal_np::Lookup_named_param_def<
+      CGAL::internal_np::get_placement_policy_t, NamedParameters, Default_policy>::type;
+  using Filter = typename CGAL::internal_np::Lookup_named_param_def<CGAL::internal_np::filter_t, NamedParameters,
+                                                                    Identity_filter>::type;
+  using Visitor = typename CGAL::internal_np::Lookup_named_param_def<CGAL::internal_np::visitor_t,
+                                                                     NamedParameters, Edge_collapse_visitor_base>::type;
+
+  const Filter filter = choose_parameter<Filter>(get_parameter(np, CGAL::internal_np::filter));
+  Visitor visitor = choose_parameter<Visitor>(get_parameter(np, CGAL::internal_np::visitor));
+  using ECM = std::decay_t<decltype(ecm)>;
+  auto run = [&](const auto& cost, const auto& placement) {
+    internal::Edge_collapse_engine<TriangleMesh, VPM, GT, ECM, std::decay_t<decltype(cost)>,
+                                   std::decay_t<decltype(placement)>, Filter, Visitor, StopPredicate>
+        engine(tm, should_stop, vpm, gt, ecm, cost, placement, filter, visitor, flips);
+    return engine.run();
+  };
+
+  constexpr bool cost_given =
+      !CGAL::parameters::is_default_parameter<NamedParameters, CGAL::internal_np::get_cost_policy_t>::value;
+  constexpr bool placement_given =
+      !CGAL::parameters::is_default_parameter<NamedParameters, CGAL::internal_np::get_placement_policy_t>::value;
+  // A default cost and placement must be one object: they share the quadrics.
+  if constexpr (cost_given && placement_given) {
+    return run(choose_parameter<Cost_np>(get_parameter(np, CGAL::internal_np::get_cost_policy)),
+               choose_parameter<Placement_np>(get_parameter(np, CGAL::internal_np::get_placement_policy)));
+  } else if constexpr (cost_given) {
+    Default_policy policy(tm);
+    return run(choose_parameter<Cost_np>(get_parameter(np, CGAL::internal_np::get_cost_policy)), policy);
+  } else if constexpr (placement_given) {
+    Default_policy policy(tm);
+    return run(policy, choose_parameter<Placement_np>(get_parameter(np, CGAL::internal_np::get_placement_policy)));
+  } else {
+    Default_policy policy(tm);
+    return run(policy, policy);
+  }
+}
+
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_EDGE_COLLAPSE_H

@@ -1,0 +1,142 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Local validity tests of one edge collapse, shared by CMGeom's engine and the filters that run
+// under CGAL's engine: the link condition (topology) and the fold-over test (geometry).
+// Both are O(deg(v0) + deg(v1)) and allocate nothing.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_COLLAPSE_CHECKS_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_COLLAPSE_CHECKS_H
+
+#include <CMGeom/Textured_simplification/internal/Symmetric_quadric.h>
+
+#include <CGAL/boost/graph/helpers.h>
+#include <CGAL/number_utils.h>
+#include <boost/graph/graph_traits.hpp>
+
+namespace CMGeom {
+namespace Textured_simplification {
+namespace internal {
+
+template <class Point>
+inline Vec3 to_vec3(const Point& p) {
+  return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
+}
+
+/// True when moving the endpoints of halfedge `h_v0v1` to `x` flips (or flattens to zero area)
+/// some triangle of the star of v0 or v1 that survives the collapse. A flip is a non-positive dot
+/// product between the triangle's normal before and after the move (§3.4.2: "fold-overs" are
+/// rejected; the thesis does not fix a threshold, we use the sign, as CGAL's
+/// Bounded_normal_change_filter does).
+template <class TriangleMesh, class VertexPointMap>
+bool collapse_flips_a_face(const TriangleMesh& tm, const VertexPointMap& vpm,
+                           typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h_v0v1,
+                           const Vec3& x) {
+  using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
+  using face_descriptor = typename boost::graph_traits<TriangleMesh>::face_descriptor;
+  const auto v0 = source(h_v0v1, tm);
+  const auto v1 = target(h_v0v1, tm);
+  const face_descriptor fL = face(h_v0v1, tm);
+  const face_descriptor fR = face(opposite(h_v0v1, tm), tm);
+  for (int side = 0; side < 2; ++side) {
+    const auto v = side == 0 ? v0 : v1;
+    const Vec3 pv = to_vec3(get(vpm, v));
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
+      if (is_border(h, tm)) continue;
+      const face_descriptor f = face(h, tm);
+      if (f == fL || f == fR) continue;
+      // h = (a -> v); the triangle is (v, b, a) with b = target(next(h)).
+      const Vec3 a = to_vec3(get(vpm, source(h, tm)));
+      const Vec3 b = to_vec3(get(vpm, target(next(h, tm), tm)));
+      const Vec3 n_old = cross(sub(b, pv), sub(a, pv));
+      const Vec3 n_new = cross(sub(b, x), sub(a, x));
+      const double d = dot(n_old, n_new);
+      const double nn = dot(n_new, n_new);
+      if (!(d > 0) || !(nn > 1e-24 * dot(n_old, n_old))) return true;
+    }
+  }
+  return false;
+}
+
+/// Link condition of Dey et al. / Hoppe et al. for collapsing halfedge `h_v0v1` of a manifold
+/// triangle mesh, plus the cases where the result would be degenerate although the link
+/// condition holds (a tetrahedron, an isolated triangle, a kept vertex with fewer than three
+/// neighbours, an interior edge between two boundary vertices). `mark`/`stamp` are caller-owned
+/// scratch (a vertex-indexed array and a counter, used for vertices of degree > 64) so the test
+/// allocates nothing.
+template <class TriangleMesh, class VertexIndexMap, class MarkVector>
+bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMap& vim,
+                                     typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h,
+                                     MarkVector& mark, unsigned& stamp) {
+  using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
+  using vertex_descriptor = typename boost::graph_traits<TriangleMesh>::vertex_descriptor;
+  const halfedge_descriptor o = opposite(h, tm);
+  const bool left = !is_border(h, tm), right = !is_border(o, tm);
+  if (!left && !right) return false;
+  const vertex_descriptor v0 = source(h, tm), v1 = target(h, tm);
+  vertex_descriptor vL = boost::graph_traits<TriangleMesh>::null_vertex();
+  vertex_descriptor vR = vL;
+  if (left) {
+    vL = target(next(h, tm), tm);
+    // an isolated triangle (both other edges on the border) would vanish to a segment
+    if (is_border(opposite(next(h, tm), tm), tm) && is_border(opposite(prev(h, tm), tm), tm))
+      return false;
+  }
+  if (right) {
+    vR = target(next(o, tm), tm);
+    if (is_border(opposite(next(o, tm), tm), tm) && is_border(opposite(prev(o, tm), tm), tm))
+      return false;
+  }
+
+  // v0's neighbours go to a small local array (no random access into a vertex-indexed array:
+  // this test runs once per popped edge); vertex-indexed marks only past 64 neighbours.
+  constexpr std::size_t local_max = 64;
+  vertex_descriptor ring0[local_max];
+  bool v0_border = false, v1_border = false;
+  std::size_t deg0 = 0, deg1 = 0;
+  for (halfedge_descriptor hh : CGAL::halfedges_around_target(v0, tm)) {
+    if (deg0 < local_max) ring0[deg0] = source(hh, tm);
+    v0_border = v0_border || is_border(hh, tm) || is_border(opposite(hh, tm), tm);
+    ++deg0;
+  }
+  const bool use_marks = deg0 > local_max;
+  if (use_marks) {
+    if (++stamp == 0) {  // counter wrapped: reset the marks once every 2^32 tests
+      std::fill(mark.begin(), mark.end(), 0u);
+      stamp = 1;
+    }
+    for (halfedge_descriptor hh : CGAL::halfedges_around_target(v0, tm)) mark[get(vim, source(hh, tm))] = stamp;
+  }
+  std::size_t common = 0;
+  for (halfedge_descriptor hh : CGAL::halfedges_around_target(v1, tm)) {
+    const vertex_descriptor k = source(hh, tm);
+    v1_border = v1_border || is_border(hh, tm) || is_border(opposite(hh, tm), tm);
+    ++deg1;
+    bool shared = false;
+    if (use_marks) {
+      shared = mark[get(vim, k)] == stamp;
+    } else {
+      for (std::size_t j = 0; j < deg0; ++j)
+        if (ring0[j] == k) { shared = true; break; }
+    }
+    if (shared) {
+      if ((left && k == vL) || (right && k == vR)) ++common;
+      else return false;  // k, v0, v1 is not a face: collapsing would pinch the surface
+    }
+  }
+  if (common != std::size_t(left) + std::size_t(right)) return false;
+  // an interior edge joining two boundary vertices would pinch the boundary
+  if (left && right && v0_border && v1_border) return false;
+  // The kept vertex must keep at least three neighbours. The apexes need no test of their own:
+  // an interior apex of degree 3 passes the link condition only when its third neighbour is the
+  // other apex, i.e. the component is a tetrahedron, which this test rejects (3 + 3 - 2 - 2 < 3);
+  // a border apex of degree 2 is an isolated triangle, rejected above.
+  const std::size_t removed = std::size_t(left) + std::size_t(right);
+  if (deg0 + deg1 - 2 - removed < 3) return false;
+  return true;
+}
+
+}  // namespace internal
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_COLLAPSE_CHECKS_H

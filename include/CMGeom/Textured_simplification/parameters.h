@@ -1,0 +1,35 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Named parameters of the Textured_simplification package that CGAL does not know. They are
+// CGAL-compatible tags: each function returns a genuine `CGAL::Named_function_parameters` pack,
+// which CGAL's own options can follow (`edge_flips(true).get_cost(p).get_placement(p)`), or
+// which can be prepended to an existing pack (`edge_flips(true, CGAL::parameters::visitor(v))`).
+// CGAL's member chaining only knows CGAL's tags, so CMGeom parameters come first.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_PARAMETERS_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_PARAMETERS_H
+
+#include <CGAL/Named_function_parameters.h>
+
+namespace CMGeom {
+namespace internal_np {
+enum edge_flips_t { edge_flips };
+}  // namespace internal_np
+
+namespace parameters {
+
+/// Enables the edge flips of thesis §3.5.1 after each collapse (default: false).
+inline CGAL::Named_function_parameters<bool, internal_np::edge_flips_t> edge_flips(bool b) {
+  return CGAL::Named_function_parameters<bool, internal_np::edge_flips_t>(b);
+}
+template <class T, class Tag, class Base>
+CGAL::Named_function_parameters<bool, internal_np::edge_flips_t, CGAL::Named_function_parameters<T, Tag, Base>>
+edge_flips(bool b, const CGAL::Named_function_parameters<T, Tag, Base>& base) {
+  return CGAL::Named_function_parameters<bool, internal_np::edge_flips_t,
+                                         CGAL::Named_function_parameters<T, Tag, Base>>(b, base);
+}
+
+}  // namespace parameters
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_PARAMETERS_H

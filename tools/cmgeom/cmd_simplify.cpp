@@ -1,0 +1,142 @@
+// cmgeom simplify <in> -o <out> (--faces N | --ratio r) [--policy weighted|plain]
+//                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
+// Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
+// CMGeom's engine or CGAL's. Geometry only: texture coordinates are not carried (the textured
+// pipeline remaps them); the output is written atomically.
+#include "cli_common.h"
+
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
+#include <CMGeom/Textured_simplification.h>
+
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <string>
+
+namespace {
+
+namespace TS = CMGeom::Textured_simplification;
+using Mesh = CMGeom::Surface_mesh;
+
+// Draws the progress bar from the collapses (faces removed so far / faces to remove).
+struct Progress_visitor : TS::Edge_collapse_visitor_base {
+  struct State {
+    cmgeom_cli::Progress* bar;
+    double faces_to_remove;
+    std::size_t removed = 0, calls = 0;
+  };
+  State* s;
+  explicit Progress_visitor(State* st) : s(st) {}
+  template <class Profile, class V>
+  void OnCollapsed(const Profile& p, const V&) const {
+    s->removed += std::size_t(p.left_face_exists()) + std::size_t(p.right_face_exists());
+    if ((++s->calls & 1023u) == 0 && s->faces_to_remove > 0) s->bar->update(double(s->removed) / s->faces_to_remove);
+  }
+  // CGAL's visitor concept has these too; the base class covers the rest.
+};
+
+}  // namespace
+
+CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge collapse (thesis 3.4)") {
+  struct Options {
+    std::string input, output, policy = "weighted", engine = "cmgeom", merge = "thesis";
+    std::size_t faces = 0;
+    double ratio = 0;
+    bool flips = false, json = false, repair = false;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("input", o->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
+  app.add_option("-o,--output", o->output, "Output mesh (.obj, .off, .ply)")->required();
+  auto* faces = app.add_option("--faces", o->faces, "Target number of faces");
+  auto* ratio = app.add_option("--ratio", o->ratio, "Target fraction of the input faces, in (0, 1]");
+  faces->excludes(ratio);
+  ratio->excludes(faces);
+  app.add_option("--policy", o->policy, "Cost: weighted (thesis 3.4.2) or plain (Garland-Heckbert)")
+      ->check(CLI::IsMember({"weighted", "plain"}));
+  app.add_option("--merge", o->merge,
+                 "Weighted policy's quadric merge: thesis ((w_i Q_i + w_j Q_j)/(w_i + w_j), 3.4.2) or sum "
+                 "(Q_i + Q_j: lower global error, weaker feature preservation)")
+      ->check(CLI::IsMember({"thesis", "sum"}));
+  app.add_option("--engine", o->engine, "Collapse engine: cmgeom (fast) or cgal (CGAL's edge_collapse)")
+      ->check(CLI::IsMember({"cmgeom", "cgal"}));
+  app.add_flag("--flips", o->flips, "Flip-test the edges around each collapse (thesis 3.5.1; cmgeom engine)");
+  app.add_flag("--json", o->json, "Print a JSON report on stdout");
+  app.add_flag("--repair", o->repair, "Split non-manifold edges/vertices and fix orientation while reading");
+
+  return [o, faces, ratio]() -> int {
+    if (faces->count() == 0 && ratio->count() == 0) throw CMGeom::Invalid_input("one of --faces or --ratio is required");
+    if (ratio->count() && !(o->ratio > 0 && o->ratio <= 1))
+      throw CMGeom::Invalid_input("--ratio must be in (0, 1], got " + std::to_string(o->ratio));
+    if (faces->count() && o->faces == 0) throw CMGeom::Invalid_input("--faces must be at least 1");
+    if (o->flips && o->engine == "cgal")
+      throw CMGeom::Invalid_input("--flips needs --engine cmgeom (CGAL's engine has no flip hook)");
+
+    CMGeom::Textured_mesh tm;
+    CMGeom::IO::Read_options ro;
+    ro.repair = o->repair;
+    CMGeom::IO::read_mesh(o->input, tm, ro);
+    Mesh& mesh = tm.mesh();
+    if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
+    if (tm.has_uvs())
+      std::cerr << "cmgeom simplify: note: texture coordinates are dropped (geometry-only simplification)\n";
+
+    const std::size_t faces_in = mesh.number_of_faces();
+    const std::size_t target =
+        faces->count() ? o->faces : static_cast<std::size_t>(std::llround(o->ratio * double(faces_in)));
+
+    TS::Quadric_options qo;
+    qo.weighted = o->policy == "weighted";
+    qo.merge = o->merge == "sum" ? TS::Quadric_merge::sum : TS::Quadric_merge::weighted_average;
+    cmgeom_cli::Progress bar("simplify");
+    Progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
+    double seconds = 0;
+    if (target < faces_in) {
+      const double t0 = cmgeom_cli::now_seconds();
+      TS::Area_weighted_quadric_policies<Mesh> policy(mesh, qo);
+      TS::Face_count_stop_predicate<Mesh> stop(mesh, target);
+      if (o->engine == "cmgeom") {
+        TS::edge_collapse(mesh, stop,
+                          CMGeom::parameters::edge_flips(o->flips, CGAL::parameters::get_cost(policy)
+                                                                       .get_placement(policy)
+                                                                       .visitor(Progress_visitor(&state))));
+      } else {
+        CGAL::Surface_mesh_simplification::edge_collapse(mesh, stop,
+                                                         CGAL::parameters::get_cost(policy)
+                                                             .get_placement(policy)
+                                                             .filter(TS::No_normal_flip_filter<>())
+                                                             .visitor(Progress_visitor(&state)));
+      }
+      seconds = cmgeom_cli::now_seconds() - t0;
+    }
+    bar.done();
+    mesh.collect_garbage();
+    const std::size_t faces_out = mesh.number_of_faces();
+
+    tm.set_has_uvs(false);  // geometry only: no UVs, no materials
+    tm.materials().clear();
+    CMGeom::IO::write_mesh(o->output, tm);
+
+    if (o->json) {
+      nlohmann::ordered_json j;
+      j["input"] = o->input;
+      j["output"] = o->output;
+      j["engine"] = o->engine;
+      j["policy"] = o->policy;
+      j["merge"] = o->merge;
+      j["flips"] = o->flips;
+      j["faces_in"] = faces_in;
+      j["target_faces"] = target;
+      j["faces_out"] = faces_out;
+      j["vertices_out"] = mesh.number_of_vertices();
+      j["seconds"] = seconds;
+      cmgeom_cli::print_json(j);
+    } else {
+      std::cout << o->input << ": " << faces_in << " -> " << faces_out << " faces in " << seconds << " s ("
+                << o->engine << " engine, " << o->policy << " policy" << (o->flips ? ", flips" : "") << ")\n";
+    }
+    return 0;
+  };
+}
