@@ -6,6 +6,7 @@
 #include <CMGeom/Mesh_IO/Polygon_soup.h>
 #include <CMGeom/Mesh_IO/Textured_mesh.h>
 
+#include <cstring>
 #include <functional>
 #include <string>
 
@@ -31,6 +32,19 @@ void write_ply(const std::string& path, const Textured_mesh& tm, Atomic_output& 
 
 // Shortest decimal text that reads back to the same double.
 void append_double(std::string& s, double x);
+
+// Calls f(line_number, begin, end) for every line of `data` (1-based numbers, '\n' excluded).
+template <class F> void for_each_line(const std::string& data, F&& f) {
+  std::size_t line_no = 0;
+  const char* p = data.data();
+  const char* const end = p + data.size();
+  while (p < end) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(end - p)));
+    if (!nl) nl = end;
+    f(++line_no, p, nl);
+    p = nl + 1;
+  }
+}
 
 // Reads a whole file; throws IO_error (missing, unreadable, directory).
 std::string slurp(const std::string& path);

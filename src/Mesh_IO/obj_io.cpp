@@ -130,17 +130,10 @@ void read_mtl(const std::string& mtl_path, Polygon_soup& soup,
   const std::string data = slurp(mtl_path);
   const fs::path dir = fs::path(mtl_path).parent_path();
   int current = -1;
-  std::size_t line_no = 0;
-  const char* p = data.data();
-  const char* end = p + data.size();
-  while (p < end) {
-    const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(end - p)));
-    if (!nl) nl = end;
-    ++line_no;
-    Line l{p, nl};
-    p = nl + 1;
+  for_each_line(data, [&](std::size_t line_no, const char* b, const char* e) {
+    Line l{b, e};
     std::string_view key = l.token();
-    if (key.empty() || key[0] == '#') continue;
+    if (key.empty() || key[0] == '#') return;
     if (key == "newmtl") {
       std::string name = l.rest();
       if (name.empty()) throw IO_error(mtl_path, line_no, "newmtl without a name");
@@ -153,9 +146,9 @@ void read_mtl(const std::string& mtl_path, Polygon_soup& soup,
         soup.materials.back().name = name;
         by_name.emplace(name, current);
       }
-      continue;
+      return;
     }
-    if (current < 0) continue;  // statements before the first newmtl have nothing to apply to
+    if (current < 0) return;  // statements before the first newmtl have nothing to apply to
     Material& m = soup.materials[std::size_t(current)];
     if (key == "Kd") {
       for (int i = 0; i < 3; ++i) {
@@ -178,7 +171,7 @@ void read_mtl(const std::string& mtl_path, Polygon_soup& soup,
       if (key == "map_Kd") m.diffuse_texture = abs;
       else m.normal_texture = abs;
     }
-  }
+  });
 }
 
 }  // namespace
@@ -192,7 +185,6 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
 
   std::unordered_map<std::string, int> material_by_name;
   int current_material = -1;
-  std::size_t line_no = 0;
   std::size_t n_normals = 0;
   std::size_t unknown_statements = 0;
   std::vector<long long> cv, ct;  // corners of the current face (vertex, texcoord) as written
@@ -208,19 +200,13 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
     return id;
   };
 
-  const char* p = data.data();
-  const char* end = p + data.size();
-  while (p < end) {
-    const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(end - p)));
-    if (!nl) nl = end;
-    ++line_no;
-    Line l{p, nl};
-    p = nl + 1;
+  for_each_line(data, [&](std::size_t line_no, const char* b, const char* e) {
+    Line l{b, e};
     // Binary garbage is rejected early with a clear message instead of a cascade of errors.
     for (const char* q = l.p; q < l.end; ++q)
       if (*q == '\0') throw IO_error(path, line_no, "binary data (NUL byte) in a text OBJ file");
     std::string_view key = l.token();
-    if (key.empty() || key[0] == '#') continue;
+    if (key.empty() || key[0] == '#') return;
     if (key == "v") {
       std::array<double, 3> x;
       for (int i = 0; i < 3; ++i) {
@@ -344,7 +330,7 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
         soup.warnings.push_back(path + ":" + std::to_string(line_no) + ": unknown OBJ statement '" +
                                 std::string(key.substr(0, 40)) + "' skipped");
     }
-  }
+  });
   if (unknown_statements > 3)
     soup.warnings.push_back(path + ": " + std::to_string(unknown_statements - 3) + " more unknown statements skipped");
   if (soup.number_of_faces() == 0) throw IO_error(path, "no faces in file");

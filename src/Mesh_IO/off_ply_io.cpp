@@ -27,13 +27,7 @@ struct Token_line {
 // Splits OFF text into non-empty, comment-free lines of tokens.
 std::vector<Token_line> tokenize(const std::string& data, const std::string& path) {
   std::vector<Token_line> lines;
-  std::size_t line_no = 0;
-  const char* p = data.data();
-  const char* end = p + data.size();
-  while (p < end) {
-    const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(end - p)));
-    if (!nl) nl = end;
-    ++line_no;
+  for_each_line(data, [&](std::size_t line_no, const char* p, const char* nl) {
     Token_line tl{line_no, {}};
     const char* q = p;
     while (q < nl) {
@@ -46,8 +40,7 @@ std::vector<Token_line> tokenize(const std::string& data, const std::string& pat
       if (q < nl && *q == '#') break;
     }
     if (!tl.tokens.empty()) lines.push_back(std::move(tl));
-    p = nl + 1;
-  }
+  });
   return lines;
 }
 

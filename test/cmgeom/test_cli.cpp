@@ -29,8 +29,8 @@ std::string expand(std::string s, const std::string& dir) {
   return s;
 }
 
-void check_deterministic(const std::vector<Step>& steps) {
-  const std::string base = cmgeom_test::scratch_dir();
+// `base`: the test's scratch directory (inputs the steps need may already be there).
+void check_deterministic(const std::vector<Step>& steps, const std::string& base) {
   std::vector<std::string> runs;
   const char* threads[] = {"--threads 1", "--threads 1", "--threads 2"};
   for (int r = 0; r < 3; ++r) {
@@ -56,7 +56,8 @@ void check_deterministic(const std::vector<Step>& steps) {
 
 TEST(cmgeom_cli, ConvertIsDeterministic) {
   check_deterministic({{"convert", "convert {in} -o {dir}/spot.obj", {"spot.obj", "spot.mtl"}},
-                       {"convert ply", "convert {in} -o {dir}/spot.ply", {"spot.ply"}}});
+                       {"convert ply", "convert {in} -o {dir}/spot.ply", {"spot.ply"}}},
+                      cmgeom_test::scratch_dir());
 }
 
 TEST(cmgeom_cli, PipelineCommandsAreDeterministic) {
@@ -81,5 +82,5 @@ TEST(cmgeom_cli, PipelineCommandsAreDeterministic) {
       {"cm reconstruct", "cm reconstruct {dir}/spot.cm -o {dir}/cm.ply --level 2", {"cm.ply"}},
       {"deform mean value", "deform {in} --cages '" + cages + "/mean_value.json' -o {dir}/mv.ply", {"mv.ply"}},
       {"deform green", "deform {in} --cages '" + cages + "/green.json' -o {dir}/g.ply", {"g.ply"}},
-  });
+  }, base);
 }
