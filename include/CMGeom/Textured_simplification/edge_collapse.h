@@ -256,11 +256,14 @@ private:
       kill(has_constraints_ && get(ecm_, ep) ? edge(next(side, tm_), tm_) : ep);
     }
     current_edges_ -= 1 + std::size_t(p.left_face_exists()) + std::size_t(p.right_face_exists());
+    // Vertex ids are read before the collapse: graphs such as Polyhedron_3 free the removed
+    // vertex, and its id lives in the vertex record.
+    const std::size_t id0 = std::size_t(get(vim_, p.v0())), id1 = std::size_t(get(vim_, p.v1()));
     vertex_descriptor v_kept = has_constraints_ ? CGAL::Euler::collapse_edge(e, tm_, ecm_)
                                                 : CGAL::Euler::collapse_edge(e, tm_);
     {
-      const vertex_descriptor v_gone = v_kept == p.v0() ? p.v1() : p.v0();
-      rejected_around_[get(vim_, v_kept)] += rejected_around_[get(vim_, v_gone)];
+      const bool kept_v0 = v_kept == p.v0();
+      rejected_around_[kept_v0 ? id0 : id1] += rejected_around_[kept_v0 ? id1 : id0];
     }
     put(vpm_, v_kept, placement);
     visitor_.OnCollapsed(p, v_kept);
