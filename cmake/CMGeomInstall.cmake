@@ -18,3 +18,5 @@ write_basic_package_version_file(${CMAKE_BINARY_DIR}/CMGeomConfigVersion.cmake
   VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_BINARY_DIR}/CMGeomConfig.cmake ${CMAKE_BINARY_DIR}/CMGeomConfigVersion.cmake
         DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/CMGeom)
+# The bundled default model (with its license), which `cmgeom pipeline` runs on when no model is given.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/CMGeom/data)

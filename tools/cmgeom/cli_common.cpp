@@ -1,8 +1,15 @@
 #include "cli_common.h"
 
+#include <tbb/global_control.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
 #include <unistd.h>
 
 namespace cmgeom_cli {
@@ -14,6 +21,90 @@ std::vector<Registered_command>& registry() {
 
 Command_registration::Command_registration(const char* name, const char* description, Setup setup) {
   registry().push_back({name, description, std::move(setup)});
+}
+
+namespace {
+
+std::string one_line(std::string msg) {
+  std::replace(msg.begin(), msg.end(), '\n', ' ');
+  return msg;
+}
+
+// The shared body of run() and run_captured(): `error` receives the message that is also
+// printed on stderr.
+int run_impl(const std::vector<std::string>& args, std::string* error) {
+  CLI::App app{"cmgeom - simplification, approximation and deformation of large models"};
+  app.require_subcommand(1);
+  app.fallthrough();  // global options (--threads) may follow the sub-command
+  app.set_version_flag("--version", std::string("cmgeom 0.1.0"));
+  int threads = 0;
+  app.add_option("--threads", threads,
+                 "Worker threads for parallel stages (default: all cores); results do not depend on it")
+      ->check(CLI::NonNegativeNumber);
+
+  // Sorted by name so that --help lists the sub-commands alphabetically, whatever the link order.
+  std::vector<const Registered_command*> commands;
+  for (const auto& c : registry()) commands.push_back(&c);
+  std::sort(commands.begin(), commands.end(),
+            [](const auto* a, const auto* b) { return a->name < b->name; });
+  std::map<CLI::App*, std::pair<std::string, Runner>> runners;
+  for (const auto* c : commands) {
+    CLI::App* sub = app.add_subcommand(c->name, c->description);
+    runners[sub] = {c->name, c->setup(*sub)};
+  }
+
+  std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 wants them reversed
+  try {
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    *error = "usage error: " + one_line(e.what());
+    std::cerr << "cmgeom: " << *error << " (see cmgeom --help)" << std::endl;
+    return 2;
+  }
+
+  std::unique_ptr<tbb::global_control> limit;
+  if (threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  std::size_t(threads));
+  for (auto& [sub, named] : runners) {
+    if (!sub->parsed()) continue;
+    try {
+      return named.second();
+    } catch (const std::exception& e) {
+      *error = one_line(e.what());
+      std::cerr << "cmgeom " << named.first << ": error: " << *error << std::endl;
+      return 1;
+    }
+  }
+  return 2;
+}
+
+}  // namespace
+
+int run(const std::vector<std::string>& args) {
+  std::string error;
+  return run_impl(args, &error);
+}
+
+Command_result run_captured(const std::vector<std::string>& args) {
+  Command_result result;
+  std::ostringstream captured;
+  std::streambuf* const saved = std::cout.rdbuf(captured.rdbuf());
+  try {
+    result.exit_code = run_impl(args, &result.error);
+  } catch (...) {
+    std::cout.rdbuf(saved);
+    throw;
+  }
+  std::cout.rdbuf(saved);
+  result.output = captured.str();
+  return result;
 }
 
 void print_json(const nlohmann::ordered_json& j) { std::cout << j.dump(2) << std::endl; }

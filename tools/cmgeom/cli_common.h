@@ -28,6 +28,20 @@ struct Registered_command {
 };
 std::vector<Registered_command>& registry();
 
+// Builds the whole command line (global options and every registered sub-command), parses
+// `args` (without the program name) and runs the chosen sub-command. Errors are reported on
+// stderr as one line; returns the exit code (0 success, 1 error, 2 usage error). `main` is this
+// function; the pipeline command calls it again in-process for each stage.
+int run(const std::vector<std::string>& args);
+
+// Runs one sub-command in-process as `run` does, with its standard output captured.
+struct Command_result {
+  int exit_code = 0;
+  std::string output;  // what the command printed on stdout
+  std::string error;   // the one-line error message, when exit_code != 0
+};
+Command_result run_captured(const std::vector<std::string>& args);
+
 // Prints a JSON document on stdout (2-space indentation, keys in insertion order).
 void print_json(const nlohmann::ordered_json& j);
 

@@ -1,0 +1,258 @@
+// cmgeom pipeline [--model <mesh>] [--cages <system.json>] -o <dir>: the whole framework of the
+// thesis on one model, as the README's main job. Each stage runs the corresponding sub-command
+// in-process (so it gets exactly the validation, atomic output and JSON report of the command a
+// user would type), prints its progress on stderr, and the run ends with report.md and
+// report.html (the same content; the HTML embeds the pictures) listing every command, number
+// and picture. A failing stage stops the run with a one-line message; the outputs of the
+// stages that finished stay in place and the report says where the run stopped.
+#include "cli_common.h"
+#include "pipeline_report.h"
+
+#include <CMGeom/Mesh_IO/mesh_io.h>
+
+#include <CGAL/bounding_box.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+using cmgeom_cli::Report;
+
+// Where the bundled default model is: next to an installed binary (share/CMGeom/data), or in
+// the source tree the binary was built from.
+std::string default_model() {
+  std::vector<fs::path> candidates;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "share/CMGeom/data/spot/spot.obj");
+#ifdef CMGEOM_SOURCE_DATA_DIR
+  candidates.push_back(fs::path(CMGEOM_SOURCE_DATA_DIR) / "spot/spot.obj");
+#endif
+  for (const auto& c : candidates)
+    if (fs::exists(c)) return c.string();
+  throw std::runtime_error("the bundled model data/spot/spot.obj was not found; give one with --model");
+}
+
+struct Stage_failed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+std::string quoted(const std::string& s) {
+  if (s.find_first_of(" \t'\"$\\;&|") == std::string::npos && !s.empty()) return s;
+  std::string q = "'";
+  for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+class Pipeline {
+public:
+  Pipeline(fs::path out, int stages) : out_(std::move(out)), stages_(stages) {}
+
+  // Runs one sub-command; returns its JSON output when it printed one. The command line
+  // recorded in the report uses paths relative to the output directory.
+  json run(const std::vector<std::string>& args) {
+    // Outputs are shown relative to the output directory, where the report is.
+    const std::string prefix = out_.string() + "/";
+    std::string line = "cmgeom";
+    for (const auto& a : args)
+      line += " " + quoted(a.compare(0, prefix.size(), prefix) == 0 ? a.substr(prefix.size()) : a);
+    commands_.push_back(line);
+    const auto r = cmgeom_cli::run_captured(args);
+    if (r.exit_code != 0)
+      throw Stage_failed("'" + line + "' failed: " + (r.error.empty() ? "exit code " + std::to_string(r.exit_code) : r.error));
+    if (r.output.empty() || r.output.front() != '{') return json();
+    try {
+      return json::parse(r.output);
+    } catch (const json::parse_error&) {
+      return json();
+    }
+  }
+
+  std::string path(const std::string& name) const { return (out_ / name).string(); }
+
+  void begin(const std::string& title) {
+    ++current_;
+    title_ = title;
+    commands_.clear();
+    start_ = cmgeom_cli::now_seconds();
+    std::cerr << "[" << current_ << "/" << stages_ << "] " << title << " ..." << std::endl;
+  }
+  double end() {
+    const double s = cmgeom_cli::now_seconds() - start_;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.2f", s);
+    std::cerr << "[" << current_ << "/" << stages_ << "] " << title_ << ": done in " << buf << " s" << std::endl;
+    return s;
+  }
+  const std::vector<std::string>& commands() const { return commands_; }
+  const std::string& title() const { return title_; }
+
+private:
+  fs::path out_;
+  int stages_, current_ = 0;
+  std::string title_;
+  double start_ = 0;
+  std::vector<std::string> commands_;
+};
+
+std::string fmt(double v, int digits = 3) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+std::string general(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+std::string pct(const json& v) { return v.is_number() ? fmt(100.0 * v.get<double>(), 4) + " %" : "-"; }
+std::string num(const json& v) {
+  if (v.is_number_integer() || v.is_number_unsigned()) return std::to_string(v.get<long long>());
+  if (v.is_number()) return fmt(v.get<double>());
+  return "-";
+}
+
+}  // namespace
+
+CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the bundled Spot) and write report.md/.html") {
+  struct Options {
+    std::string model, output, size = "768x768";
+    double ratio = 0.1, cm_ratio = 0.05;
+    int level = 2;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("--model", o->model, "Input mesh, textured or not (default: the bundled Spot model)");
+  app.add_option("-o,--output", o->output, "Output directory (created; existing files of the same name are replaced)")
+      ->required();
+  app.add_option("--ratio", o->ratio, "Simplification target as a fraction of the input faces (default 0.1)")
+      ->check(CLI::Range(1e-6, 1.0));
+  app.add_option("--cm-ratio", o->cm_ratio, "Compact Model base faces as a fraction of the input (default 0.05)")
+      ->check(CLI::Range(1e-6, 1.0));
+  app.add_option("--level", o->level, "Regular reconstruction level of the Compact Model (default 2)")
+      ->check(CLI::Range(0, 6));
+  app.add_option("--size", o->size, "Picture size WxH (default 768x768)");
+
+  return [o]() -> int {
+    const std::string model = o->model.empty() ? default_model() : o->model;
+    // Read once here (before anything is created) for the facts the stages' parameters depend on.
+    CMGeom::Textured_mesh mesh;
+    CMGeom::IO::read_mesh(model, mesh);
+    const fs::path out = o->output;
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (ec || !fs::is_directory(out))
+      throw CMGeom::IO_error(out.string(), "cannot create the output directory: " + ec.message());
+    const auto box = CGAL::bounding_box(mesh.mesh().points().begin(), mesh.mesh().points().end());
+    const double diagonal = std::sqrt(CGAL::squared_distance(box.min(), box.max()));
+    const bool textured = mesh.has_uvs();
+
+    Report report("CMGeom pipeline on " + fs::path(model).filename().string());
+    const int stages = 4;
+    Pipeline p(out, stages);
+    auto section = [&](double seconds) -> Report::Section& {
+      auto& s = report.add_section(p.title(), seconds);
+      s.commands = p.commands();
+      return s;
+    };
+
+    try {
+      p.begin("Input model");
+      const json info = p.run({"info", model, "--json"});
+      p.run({"render", model, "-o", p.path("input.png"), "--size", o->size, "--charts", "--caption",
+             "input: chart boundaries in red"});
+      if (textured) p.run({"render", model, "-o", p.path("input_shaded.png"), "--size", o->size, "--no-texture"});
+      {
+        auto& s = section(p.end());
+        s.table = {{"vertices", "faces", "charts", "genus", "components", "closed"},
+                   {{num(info["referenced_vertices"]), num(info["faces"]), num(info["charts"]),
+                     num(info["genus"]), num(info["components"]), info["closed"].dump()}}};
+        s.pictures.push_back({"input.png", "Input model, chart boundaries in red"});
+        if (textured) s.pictures.push_back({"input_shaded.png", "Input geometry"});
+      }
+
+      p.begin("Simplification (thesis ch. 3): area-weighted quadric vs plain Garland-Heckbert");
+      {
+        Report::Table table{{"policy", "faces in", "faces out", "seconds", "Hausdorff (% diag)",
+                             "RMS (% diag)", "image RMSE (26 views)"},
+                            {}};
+        std::vector<Report::Picture> pictures;
+        for (const std::string policy : {"weighted", "plain"}) {
+          const std::string mesh_out = p.path("simplified_" + policy + ".obj");
+          const json js = p.run({"simplify", model, "-o", mesh_out, "--ratio", general(o->ratio), "--policy",
+                                 policy, "--json"});
+          const json je = p.run({"error", model, mesh_out, "--json"});
+          const json jc = p.run({"compare", model, mesh_out, "--json", "-o", p.path("compare_" + policy + ".png"),
+                                 "--size", "256"});
+          p.run({"render", mesh_out, "-o", p.path("simplified_" + policy + ".png"), "--size", o->size,
+                 "--wireframe", "--caption", policy + " quadric"});
+          table.rows.push_back({policy, num(js["faces_in"]), num(js["faces_out"]), num(js["seconds"]),
+                                pct(je["hausdorff"]), pct(je["rms"]), num(jc["rmse"])});
+          pictures.push_back({"simplified_" + policy + ".png", policy + " quadric, " + num(js["faces_out"]) + " faces"});
+          pictures.push_back({"compare_" + policy + ".png",
+                              policy + ": reference / simplified / difference over 6 of the 26 views"});
+        }
+        auto& s = section(p.end());
+        s.table = table;
+        s.pictures = pictures;
+      }
+
+      p.begin("Compact Model (thesis ch. 4): build, regular and adaptive reconstruction");
+      {
+        const json jb = p.run({"cm", "build", model, "-o", p.path("model.cm"), "--ratio", general(o->cm_ratio),
+                               "--json"});
+        Report::Table table{{"reconstruction", "vertices", "faces", "seconds", "Hausdorff (% diag)",
+                             "RMS (% diag)"},
+                            {}};
+        std::vector<Report::Picture> pictures;
+        struct Variant {
+          std::string name, caption;
+          std::vector<std::string> args;
+        };
+        const std::vector<Variant> variants = {
+            {"regular", "regular, level " + std::to_string(o->level), {"--level", std::to_string(o->level)}},
+            {"adaptive", "adaptive, edges below 1 % of the diagonal", {"--edge-length", general(0.01 * diagonal)}}};
+        for (const auto& v : variants) {
+          const std::string mesh_out = p.path("cm_" + v.name + ".ply");
+          std::vector<std::string> args = {"cm", "reconstruct", p.path("model.cm"), "-o", mesh_out, "--json"};
+          args.insert(args.end(), v.args.begin(), v.args.end());
+          const json jr = p.run(args);
+          const std::string field = p.path("cm_" + v.name + "_error.txt");
+          const json je = p.run({"error", model, mesh_out, "--json", "--field", field, "--field-on", "approximation"});
+          p.run({"render", mesh_out, "-o", p.path("cm_" + v.name + ".png"), "--size", o->size, "--wireframe",
+                 "--caption", "CM " + v.caption});
+          p.run({"render", mesh_out, "-o", p.path("cm_" + v.name + "_error.png"), "--size", o->size, "--field",
+                 field, "--label", "distance to the input"});
+          table.rows.push_back({v.caption, num(jr["vertices"]), num(jr["faces"]), num(jr["seconds"]),
+                                pct(je["hausdorff"]), pct(je["rms"])});
+          pictures.push_back({"cm_" + v.name + ".png", "CM reconstruction, " + v.caption});
+          pictures.push_back({"cm_" + v.name + "_error.png", "distance to the input, " + v.caption});
+        }
+        auto& s = section(p.end());
+        s.text = "Base: " + num(jb["base_vertices"]) + " vertices, " + num(jb["base_faces"]) + " faces, " +
+                 num(jb["sharp_edges"]) + " sharp edges, " + num(jb["cone_vertices"]) + " cone vertices; " +
+                 num(jb["bytes"]) + " bytes; built in " + num(jb["seconds"]) + " s.";
+        s.table = table;
+        s.pictures = pictures;
+      }
+
+      p.begin("Report");
+      report.finish(out, "");
+      p.end();
+    } catch (const Stage_failed& e) {
+      report.finish(out, "stopped at stage '" + p.title() + "': " + e.what());
+      throw std::runtime_error("stage '" + p.title() + "' failed; outputs of the finished stages are in " +
+                               out.string() + ": " + e.what());
+    }
+    std::cerr << "results: " << (out / "report.md").string() << ", " << (out / "report.html").string() << std::endl;
+    return 0;
+  };
+}
