@@ -1,15 +1,19 @@
 #!/usr/bin/env bash
 # Gathers the per-package benchmark tables (benchmark/<Package>/RESULTS.md, each written by its
-# package's benchmark program or script) into benchmark/RESULTS.md.
+# package's benchmark program or script) into benchmark/RESULTS.md. benchmark/run.sh calls it
+# with a line describing the machine and the run; without it a generic description is used.
+#   collect_results.sh ["machine and run description"]
 set -euo pipefail
 cd "$(dirname "$0")"
 {
   echo "# CMGeom benchmark results"
   echo
-  echo "Each section below is written by the benchmark of its package (see the section for the exact"
-  echo "command). Machine of the committed figures: 2-vCPU AMD EPYC VM, 24 GiB, Debian 12, g++ 12.2,"
-  echo "\`-O2\` unless a section says otherwise. The machine is shared: trust ratios measured within one run"
-  echo "more than absolute seconds."
+  echo "Each section below is written by the benchmark of its package (\`benchmark/<Package>/run.sh\`, see"
+  echo "the section for the exact command); \`bash benchmark/run.sh\` rebuilds and reruns them all. Peers"
+  echo "(CGAL 5.5.1, meshoptimizer 0.18, OpenMesh 9) run in the same process or the same run as ours."
+  echo "Trust ratios measured within one run more than absolute seconds."
+  echo
+  echo "${1:-Machine of the committed figures: 2-vCPU AMD EPYC VM, 24 GiB, Debian 12, g++ 12.2, \`-O2\` unless a section says otherwise.}"
   for f in */RESULTS.md; do
     echo
     echo "---"

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Writes benchmark/Compact_model/RESULTS.md (thesis Table 4.1 style): CM build, bytes,
+# reconstruction speed at levels 1-3 and Metro error, beside PN triangles on the same base and
+# the plain mesh of equal bytes.
+#   bash benchmark/Compact_model/run.sh <build-dir> [--quick]     (called by benchmark/run.sh)
+set -euo pipefail
+build=${1:?usage: run.sh <build-dir> [--quick]}
+here=$(cd "$(dirname "$0")" && pwd)
+data=${CMGEOM_DATA_DIR:-$here/../../../shared/data}
+models=()
+[[ "${2:-}" == "--quick" ]] && models=(classic/fandisk.obj:250 classic/camel.off:1000)
+tmp=$(mktemp)
+trap 'rm -f "$tmp"' EXIT
+"$build/bin/bench_compact_model" "$data" "${models[@]}" > "$tmp"
+{
+  echo "# Compact_model benchmark results"
+  echo
+  echo "Program \`benchmark/Compact_model/bench_compact_model.cpp\`, run by"
+  echo "\`bash benchmark/Compact_model/run.sh <build> ${2:-}\` on $(date -u +%Y-%m-%d) ($(nproc) cores)."
+  echo
+  echo "Columns: base V/F of the CM; \`sharp\` sharp edges and \`cones\` cone-type vertices found; \`build s\`"
+  echo "CM build time (simplification + gathering + fitting); \`CM bytes\` size of the CM file (float32);"
+  echo "\`rec s\` reconstruction time at the level (best of 3), along N and closest point (Newton);"
+  echo "\`Mvert/s\` output vertices per second along N; errors are Metro-style (every vertex plus 10 x F"
+  echo "random area-uniform samples of each mesh measured against the other, Hausdorff = max, RMS pooled)"
+  echo "in % of the original's bounding-box diagonal, for the CM reconstruction (closest point), for PN"
+  echo "triangles on the same base at the same level, and for the plain simplified mesh (same"
+  echo "weighted-quadric simplifier) with the same number of bytes (12 V + 12 F, F = bytes / 18)."
+  echo
+  cat "$tmp"
+} > "$here/RESULTS.md.tmp"
+mv "$here/RESULTS.md.tmp" "$here/RESULTS.md"
