@@ -535,6 +535,42 @@ TEST(CompactModelBuild, FandiskSharpEdgesAndAccuracy) {
   EXPECT_LT(symmetric_vertex_rms(tm.mesh(), to_surface_mesh(r)), 0.002 * diagonal);
 }
 
+// Largest distance from a reconstructed point to the input surface.
+double max_distance_to(const Reconstruction& r, const Surface_mesh& input) {
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<Surface_mesh>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Primitive>>;
+  Tree tree(faces(input).first, faces(input).second, input);
+  tree.accelerate_distance_queries();
+  double d2 = 0;
+  for (const Vec3& p : r.points)
+    d2 = std::max(d2, CGAL::to_double(tree.squared_distance(CMGeom::Point_3(p.x, p.y, p.z))));
+  return std::sqrt(d2);
+}
+
+// A coarse base of a small CAD part (joint.off, 446 faces -> 100) leaves sectors of 3-5 points
+// whose quadrics extrapolate far outside the points they were fitted to. The support check
+// replaces them; without it (max_surface_departure = 0) the reconstruction leaves the part by
+// more than its own size, which is what makes this test able to fail.
+TEST(CompactModelBuild, SupportCheckKeepsCoarseBasesOnTheSurface) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  CMGeom::Textured_mesh tm;
+  CMGeom::IO::read_mesh(cmgeom_test::shared_data("classic/joint.off"), tm);
+  const auto box = CGAL::Polygon_mesh_processing::bbox(tm.mesh());
+  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                    CGAL::square(box.zmax() - box.zmin()));
+  Build_options unchecked;
+  unchecked.max_surface_departure = 0.;
+  Build_statistics st;
+  const Compact_model checked_model =
+      build_compact_model(tm.mesh(), 100, Build_options(), Quadric_surface_traits(), Weighted_quadric_simplifier(), &st);
+  const Compact_model unchecked_model = build_compact_model(tm.mesh(), 100, unchecked);
+  EXPECT_GT(st.unsupported_surfaces, 0u);
+  const double with = max_distance_to(reconstruct_regular(checked_model, 2), tm.mesh());
+  const double without = max_distance_to(reconstruct_regular(unchecked_model, 2), tm.mesh());
+  EXPECT_GT(without, diagonal);        // the failure the check exists for
+  EXPECT_LT(with, 0.25 * diagonal);    // every point stays near the part
+}
+
 TEST(CompactModelBuild, ErrorControlLowersTheMaximumError) {
   const Surface_mesh s = make_sphere(4);
   Build_options plain, controlled;
