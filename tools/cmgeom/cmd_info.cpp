@@ -5,7 +5,11 @@
 #include <CMGeom/Mesh_IO/image_io.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <iostream>
+#include <vector>
 
 CMGEOM_CLI_COMMAND(info, "Print vertices, faces, charts, topology and materials of a mesh file") {
   auto input = std::make_shared<std::string>();
@@ -37,6 +41,29 @@ CMGEOM_CLI_COMMAND(info, "Print vertices, faces, charts, topology and materials 
     j["non_manifold_vertices"] = st.non_manifold_vertices;
     j["inconsistent_edges"] = st.inconsistent_edges;
     j["degenerate_faces"] = st.degenerate_faces;
+    // Bounding box of the referenced vertices (what errors are expressed against: % of its diagonal).
+    {
+      std::array<double, 3> lo{{HUGE_VAL, HUGE_VAL, HUGE_VAL}}, hi{{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
+      std::vector<char> used(soup.positions.size(), 0);
+      for (const auto v : soup.corner_vertex) used[v] = 1;
+      bool any = false;
+      for (std::size_t i = 0; i < soup.positions.size(); ++i) {
+        if (!used[i]) continue;
+        any = true;
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = std::min(lo[k], double(soup.positions[i][k]));
+          hi[k] = std::max(hi[k], double(soup.positions[i][k]));
+        }
+      }
+      if (any) {
+        j["bbox_min"] = lo;
+        j["bbox_max"] = hi;
+        j["diagonal"] = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
+      } else {
+        j["diagonal"] = nullptr;
+      }
+    }
     nlohmann::ordered_json mats = nlohmann::ordered_json::array();
     for (const CMGeom::Material& m : soup.materials) {
       nlohmann::ordered_json mj;
