@@ -74,7 +74,8 @@ done
   echo "\`cmgeom cm build\`, reconstruction = \`cmgeom cm reconstruct\` (closest-point projection, one thread)."
   echo "Where the thesis does not give the base size or level we use 1000 base faces and level 2; our"
   echo "reading of its adaptive rows: '20% Length' = split edges longer than 2 % of the diagonal, 'point of"
-  echo "interest' = a ball of radius 25 % of the diagonal around the centre, 'silhouette' = seen from +z."
+  echo "interest' = a ball of radius 25 % of the diagonal around the centre, 'silhouette' = seen from +z;"
+  echo "adaptive rows stop at 3 halvings of a base edge (\`--max-level 3\`)."
   echo
   echo "| model (thesis row) | thesis orig MB | thesis CM MB | thesis generate s | thesis reconstruct s | our model (faces) | base faces | reconstruction | our orig MB | our CM MB | our generate s | our reconstruct s | out vertices |"
   echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
@@ -106,9 +107,9 @@ for row in "${rows41[@]}"; do
   hi=($(sed -n '/"bbox_max"/,/]/p' "$tmp/$key.info.json" | grep -o '[-0-9.eE+]\{2,\}'))
   c=$(LC_ALL=C awk -v a="${lo[0]}" -v b="${lo[1]}" -v c="${lo[2]}" -v d="${hi[0]}" -v e="${hi[1]}" -v f="${hi[2]}" 'BEGIN{printf "%.9g,%.9g,%.9g", (a+d)/2, (b+e)/2, (c+f)/2}')
   case "$rec" in
-    length) args=(--edge-length "$(LC_ALL=C awk -v d="$diag" 'BEGIN{printf "%.9g", 0.02 * d}')"); label="adaptive, length" ;;
-    roi) args=(--roi "$c,$(LC_ALL=C awk -v d="$diag" 'BEGIN{printf "%.9g", 0.25 * d}')"); label="adaptive, region of interest" ;;
-    silhouette) args=(--silhouette "$(LC_ALL=C awk -v c="$c" -v d="$diag" 'BEGIN{split(c,p,","); printf "%.9g,%.9g,%.9g", p[1], p[2], p[3] + 2 * d}')"); label="adaptive, silhouette" ;;
+    length) args=(--edge-length "$(LC_ALL=C awk -v d="$diag" 'BEGIN{printf "%.9g", 0.02 * d}')" --max-level 3); label="adaptive, length" ;;
+    roi) args=(--roi "$c,$(LC_ALL=C awk -v d="$diag" 'BEGIN{printf "%.9g", 0.25 * d}')" --max-level 3); label="adaptive, region of interest" ;;
+    silhouette) args=(--silhouette "$(LC_ALL=C awk -v c="$c" -v d="$diag" 'BEGIN{split(c,p,","); printf "%.9g,%.9g,%.9g", p[1], p[2], p[3] + 2 * d}')" --max-level 3); label="adaptive, silhouette" ;;
     *) read -r -a args <<< "$rec"; label="regular, level ${rec#--level }" ;;
   esac
   run cm reconstruct "$tmp/$key.cm" -o "$tmp/r.ply" "${args[@]}" --json > "$tmp/rec.json"
