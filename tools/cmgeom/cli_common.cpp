@@ -1,5 +1,7 @@
 #include "cli_common.h"
 
+#include <CMGeom/Mesh_IO/image_io.h>
+
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -105,6 +107,18 @@ Command_result run_captured(const std::vector<std::string>& args) {
   std::cout.rdbuf(saved);
   result.output = captured.str();
   return result;
+}
+
+void load_soup_textures(CMGeom::Polygon_soup& soup) {
+  for (CMGeom::Material& m : soup.materials) {
+    if (!m.diffuse_image.empty()) continue;
+    if (!m.diffuse_texture.empty()) {
+      m.diffuse_image = CMGeom::IO::read_image(m.diffuse_texture);
+    } else if (!m.diffuse_texture_blob.empty()) {
+      m.diffuse_image =
+          CMGeom::IO::read_image_from_memory(m.diffuse_texture_blob, soup.source + " (material '" + m.name + "')");
+    }
+  }
 }
 
 void print_json(const nlohmann::ordered_json& j) { std::cout << j.dump(2) << std::endl; }

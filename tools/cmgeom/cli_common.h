@@ -3,6 +3,7 @@
 #define CMGEOM_TOOLS_CLI_COMMON_H
 
 #include <CLI/CLI.hpp>
+#include <CMGeom/Mesh_IO/Polygon_soup.h>
 #include <nlohmann/json.hpp>
 
 #include <functional>
@@ -41,6 +42,10 @@ struct Command_result {
   std::string error;   // the one-line error message, when exit_code != 0
 };
 Command_result run_captured(const std::vector<std::string>& args);
+
+// Decodes the diffuse textures of the soup's materials (files or embedded glTF images) that are
+// not decoded yet. Throws IO_error when an image cannot be read.
+void load_soup_textures(CMGeom::Polygon_soup& soup);
 
 // Prints a JSON document on stdout (2-space indentation, keys in insertion order).
 void print_json(const nlohmann::ordered_json& j);

@@ -21,16 +21,6 @@
 
 namespace {
 
-// Decodes the diffuse textures of the soup's materials (files or embedded glTF images).
-void load_soup_textures(CMGeom::Polygon_soup& soup) {
-  for (CMGeom::Material& m : soup.materials) {
-    if (!m.diffuse_image.empty()) continue;
-    if (!m.diffuse_texture.empty()) m.diffuse_image = CMGeom::IO::read_image(m.diffuse_texture);
-    else if (!m.diffuse_texture_blob.empty())
-      m.diffuse_image = CMGeom::IO::read_image_from_memory(m.diffuse_texture_blob, soup.source + " (material '" + m.name + "')");
-  }
-}
-
 nlohmann::ordered_json psnr_json(double psnr) {
   return std::isfinite(psnr) ? nlohmann::ordered_json(psnr) : nlohmann::ordered_json(nullptr);
 }
@@ -79,7 +69,7 @@ CMGEOM_CLI_COMMAND(compare, "Image-space error (RMSE, PSNR) between two meshes o
     // texture, so only the reference's images are decoded.
     CMGeom::Polygon_soup ref = CMGeom::IO::read_polygon_soup(*reference);
     const CMGeom::Polygon_soup app_mesh = CMGeom::IO::read_polygon_soup(*approximation);
-    if (texture->empty()) load_soup_textures(ref);
+    if (texture->empty()) cmgeom_cli::load_soup_textures(ref);
     R::Render_mesh a = R::make_render_mesh(ref);
     const R::Render_mesh b = R::make_render_mesh(app_mesh);
     CMGeom::Image image;

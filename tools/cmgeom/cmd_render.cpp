@@ -23,16 +23,6 @@
 
 namespace {
 
-// Decodes the diffuse textures of the soup's materials (files or embedded glTF images).
-void load_soup_textures(CMGeom::Polygon_soup& soup) {
-  for (CMGeom::Material& m : soup.materials) {
-    if (!m.diffuse_image.empty()) continue;
-    if (!m.diffuse_texture.empty()) m.diffuse_image = CMGeom::IO::read_image(m.diffuse_texture);
-    else if (!m.diffuse_texture_blob.empty())
-      m.diffuse_image = CMGeom::IO::read_image_from_memory(m.diffuse_texture_blob, soup.source + " (material '" + m.name + "')");
-  }
-}
-
 double parse_number(const std::string& s, const std::string& file, std::size_t line) {
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
@@ -136,7 +126,7 @@ CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wi
     // Drawn as the file holds it (polygon soup): non-manifold input needs no repair.
     CMGeom::Polygon_soup tm = CMGeom::IO::read_polygon_soup(a->mesh);
     for (const std::string& w : tm.warnings) std::cerr << "cmgeom render: warning: " << w << "\n";
-    if (a->texture.empty() && !a->no_texture) load_soup_textures(tm);
+    if (a->texture.empty() && !a->no_texture) cmgeom_cli::load_soup_textures(tm);
     std::vector<double> field;
     if (!a->field.empty()) {
       field = read_field(a->field);
