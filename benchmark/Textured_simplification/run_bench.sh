@@ -13,7 +13,10 @@ table=$(mktemp)
 table2=$(mktemp)
 log=$(mktemp)
 log2=$(mktemp)
-trap 'rm -f "$table" "$table2" "$log" "$log2"' EXIT
+texture_part=$(mktemp)
+trap 'rm -f "$table" "$table2" "$log" "$log2" "$texture_part"' EXIT
+# keep the texture section (written by run_textured_bench.sh)
+if [ -f "$out" ]; then sed -n '/^## Texture part/,$p' "$out" > "$texture_part"; fi
 start=$(date -u +%Y-%m-%dT%H:%MZ)
 # Two processes, one per core: the five scanned models, and the 1M-face model alone.
 "$build/bin/bench_simplify" --models bunny,armadillo,igea,nefertiti,max-planck --out "$table" "$@" 2>"$log" >/dev/null &
@@ -42,4 +45,5 @@ tail -n +3 "$table2" >> "$table"
   cat "$table"
 } > "$out"
 "$here/summarize.sh" "$out"
+if [ -s "$texture_part" ]; then { echo; cat "$texture_part"; } >> "$out"; fi
 echo "wrote $out"

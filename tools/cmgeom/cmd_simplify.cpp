@@ -1,17 +1,24 @@
 // cmgeom simplify <in> -o <out> (--faces N | --ratio r) [--policy weighted|plain]
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
+//                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
+//                 [--no-texture] [--freeze-seams]
 // Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
-// CMGeom's engine or CGAL's. Geometry only: texture coordinates are not carried (the textured
-// pipeline remaps them); the output is written atomically.
+// CMGeom's engine or CGAL's. A textured input (UVs and a texture image) goes through the texture
+// part of chapter 3 (chart constraints §3.5, index texture §3.3/§3.6) and is written as
+// OBJ + MTL + PNG; anything else is simplified as geometry only, UVs dropped. Outputs are
+// written atomically.
 #include "cli_common.h"
 
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
+#include <CMGeom/Mesh_IO/textured_mesh_io.h>
 #include <CMGeom/Textured_simplification.h>
+#include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
 
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -43,9 +50,11 @@ struct Progress_visitor : TS::Edge_collapse_visitor_base {
 CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge collapse (thesis 3.4)") {
   struct Options {
     std::string input, output, policy = "weighted", engine = "cmgeom", merge = "thesis";
+    std::string texture_backend = "cpu", texture;
     std::size_t faces = 0;
     double ratio = 0;
-    bool flips = false, json = false, repair = false;
+    int texture_size = 0;
+    bool flips = false, json = false, repair = false, no_texture = false, freeze_seams = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("input", o->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
@@ -65,8 +74,17 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   app.add_flag("--flips", o->flips, "Flip-test the edges around each collapse (thesis 3.5.1; cmgeom engine)");
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
   app.add_flag("--repair", o->repair, "Split non-manifold edges/vertices and fix orientation while reading");
+  auto* backend = app.add_option("--texture-backend", o->texture_backend,
+                                 "Index-texture resampling backend (textured input): cpu (reference) or osmesa")
+                      ->check(CLI::IsMember({"cpu", "osmesa"}));
+  auto* tsize = app.add_option("--texture-size", o->texture_size,
+                               "Texels per UV unit of the index and output textures (default: the input texture's size)");
+  app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
+  app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input (UVs dropped)");
+  app.add_flag("--freeze-seams", o->freeze_seams,
+               "Textured input: never move chart-boundary vertices (baseline; the thesis simplifies them)");
 
-  return [o, faces, ratio]() -> int {
+  return [o, faces, ratio, backend, tsize]() -> int {
     if (faces->count() == 0 && ratio->count() == 0) throw CMGeom::Invalid_input("one of --faces or --ratio is required");
     if (ratio->count() && !(o->ratio > 0 && o->ratio <= 1))
       throw CMGeom::Invalid_input("--ratio must be in (0, 1], got " + std::to_string(o->ratio));
@@ -80,8 +98,21 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     CMGeom::IO::read_mesh(o->input, tm, ro);
     Mesh& mesh = tm.mesh();
     if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
-    if (tm.has_uvs())
-      std::cerr << "cmgeom simplify: note: texture coordinates are dropped (geometry-only simplification)\n";
+    if (!o->texture.empty() && !o->no_texture) {
+      if (!tm.has_uvs()) throw CMGeom::Invalid_input(o->input + ": --texture given but the mesh has no texture coordinates");
+      if (tm.materials().empty()) tm.materials().emplace_back();
+      for (auto& m : tm.materials()) {
+        if (m.name.empty()) m.name = "material";
+        m.diffuse_texture = std::filesystem::absolute(o->texture).string();
+        m.diffuse_texture_blob.clear();
+      }
+      for (auto f : mesh.faces()) tm.material_map()[f] = 0;
+    }
+    bool has_texture = false;
+    for (const auto& m : tm.materials()) has_texture |= m.has_diffuse_texture() || !m.normal_texture.empty();
+    const bool textured = tm.has_uvs() && has_texture && !o->no_texture;
+    if ((backend->count() || tsize->count() || o->freeze_seams) && !textured)
+      throw CMGeom::Invalid_input(o->input + ": texture options need a textured input (UVs and a texture; see --texture)");
 
     const std::size_t faces_in = mesh.number_of_faces();
     const std::size_t target =
@@ -91,6 +122,59 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     qo.weighted = o->policy == "weighted";
     qo.merge = o->merge == "sum" ? TS::Quadric_merge::sum : TS::Quadric_merge::weighted_average;
     cmgeom_cli::Progress bar("simplify");
+    if (textured) {
+      if (o->engine != "cmgeom") throw CMGeom::Invalid_input("textured simplification runs on --engine cmgeom only");
+      if (o->flips) throw CMGeom::Invalid_input("--flips is not supported on textured input (flips would need UV flips)");
+      if (o->texture_backend == "osmesa")
+        throw CMGeom::Invalid_input("--texture-backend osmesa is not available in this build; use cpu");
+      if (tsize->count() && (o->texture_size < 16 || o->texture_size > 16384))
+        throw CMGeom::Invalid_input("--texture-size must be in [16, 16384], got " + std::to_string(o->texture_size));
+      const std::string ext = std::filesystem::path(o->output).extension().string();
+      if (ext != ".obj") throw CMGeom::Invalid_input(o->output + ": textured output must be .obj (or pass --no-texture)");
+      CMGeom::IO::load_textures(tm);
+      TS::Textured_simplification_options to;
+      to.target_faces = target;
+      to.quadric = qo;
+      to.texture_size = o->texture_size;
+      to.constraints.freeze_chart_boundaries = o->freeze_seams;
+      Progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
+      const double t0 = cmgeom_cli::now_seconds();
+      const TS::Textured_simplification_result r = TS::simplify_textured_mesh(tm, to, Progress_visitor(&state));
+      const double seconds = cmgeom_cli::now_seconds() - t0;
+      bar.done();
+      CMGeom::IO::write_textured_mesh(o->output, tm);
+      if (o->json) {
+        nlohmann::ordered_json j;
+        j["input"] = o->input;
+        j["output"] = o->output;
+        j["engine"] = o->engine;
+        j["policy"] = o->policy;
+        j["merge"] = o->merge;
+        j["textured"] = true;
+        j["texture_backend"] = o->texture_backend;
+        j["faces_in"] = r.faces_in;
+        j["target_faces"] = target;
+        j["faces_out"] = r.faces_out;
+        j["vertices_out"] = mesh.number_of_vertices();
+        j["charts_in"] = r.charts_in;
+        j["charts_out"] = r.charts_out;
+        j["texture_width"] = r.texture_width;
+        j["texture_height"] = r.texture_height;
+        j["refused_topology"] = r.statistics.topology;
+        j["refused_uv_fold"] = r.statistics.uv_fold;
+        j["refused_projection_overlap"] = r.statistics.projection_overlap;
+        j["seconds"] = seconds;
+        j["seconds_collapse"] = r.seconds_collapse;
+        j["seconds_texture"] = r.seconds_texture;
+        cmgeom_cli::print_json(j);
+      } else {
+        std::cout << o->input << ": " << r.faces_in << " -> " << r.faces_out << " faces, " << r.charts_in << " -> "
+                  << r.charts_out << " charts in " << seconds << " s (textured, " << o->policy << " policy)\n";
+      }
+      return 0;
+    }
+    if (tm.has_uvs())
+      std::cerr << "cmgeom simplify: note: texture coordinates are dropped (geometry-only simplification)\n";
     Progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
     double seconds = 0;
     if (target < faces_in) {

@@ -1,0 +1,269 @@
+// Benchmark of the texture part (thesis chapter 3): textured models simplified to a fraction of
+// their faces by four tools, side by side in one run, with
+//   time (simplification + texture work, IO excluded),
+//   Metro error (Metrics::approximation_error, as `cmgeom error`),
+//   image RMSE over the 26 cube views (Rendering, as `cmgeom compare`, except that every
+//   approximation wears its OWN texture: ours has a new atlas).
+// Tools:
+//   ours          simplify_textured_mesh(): chart constraints §3.5 (boundaries simplified), index
+//                 texture §3.3/§3.6, new texture (CPU backend)
+//   ours-frozen   same engine and policy, chart-boundary vertices frozen, UVs kept, original texture
+//   cgal-gh       CGAL 5.5.1 edge_collapse + GarlandHeckbert_plane_policies, chart boundaries
+//                 frozen (the chart filter in frozen mode: interior edges only), UVs by §3.5
+//   meshopt       meshoptimizer 0.18 meshopt_simplify on the vertex buffer split at UV seams
+//                 (seams are kept because split vertices are borders), original texture
+// Prints one Markdown table row per (model, fraction, tool) on stdout.
+//   bench_textured [--models a,b] [--fractions 0.1,0.02] [--size 256]
+#include <CMGeom/Mesh_IO/textured_mesh_io.h>
+#include <CMGeom/Metrics/soup_metrics.h>
+#include <CMGeom/Rendering/Renderer.h>
+#include <CMGeom/Rendering/make_render_mesh.h>
+#include <CMGeom/Rendering/views.h>
+#include <CMGeom/Metrics/image_error.h>
+#include <CMGeom/Textured_simplification.h>
+
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+
+#include <meshoptimizer.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace TS = CMGeom::Textured_simplification;
+namespace R = CMGeom::Rendering;
+using Mesh = CMGeom::Surface_mesh;
+
+namespace {
+
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string x; std::getline(ss, x, ',');) out.push_back(x);
+  return out;
+}
+
+// Soup of a textured mesh (shared positions, per-corner UVs) with one material wearing `tex`.
+CMGeom::Polygon_soup to_soup(const CMGeom::Textured_mesh& tm, const CMGeom::Image& tex) {
+  CMGeom::Polygon_soup s;
+  const Mesh& m = tm.mesh();
+  std::map<Mesh::Vertex_index, std::uint32_t> id;
+  for (auto v : m.vertices()) {
+    id[v] = std::uint32_t(s.positions.size());
+    const auto& p = m.point(v);
+    s.positions.push_back({{p.x(), p.y(), p.z()}});
+  }
+  for (auto f : m.faces()) {
+    for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+      s.corner_vertex.push_back(id[m.target(h)]);
+      s.corner_uv.push_back(std::uint32_t(s.uvs.size()));
+      const auto q = tm.uv(h);
+      s.uvs.push_back({{q.x(), q.y()}});
+    }
+    s.face_start.push_back(std::uint32_t(s.corner_vertex.size()));
+    s.face_material.push_back(0);
+  }
+  s.materials.resize(1);
+  s.materials[0].name = "m";
+  s.materials[0].diffuse_image = tex;
+  return s;
+}
+
+struct Row {
+  std::size_t faces = 0, charts = 0;
+  double seconds = 0;
+  bool ok = true;
+  std::string note;
+  CMGeom::Polygon_soup soup;
+};
+
+Row run_ours(const CMGeom::Textured_mesh& in, std::size_t target, bool frozen) {
+  CMGeom::Textured_mesh tm = in;
+  TS::Textured_simplification_options o;
+  o.target_faces = target;
+  o.constraints.freeze_chart_boundaries = frozen;
+  o.resample_textures = !frozen;
+  const double t0 = now();
+  const auto r = TS::simplify_textured_mesh(tm, o);
+  Row row;
+  row.seconds = now() - t0;
+  row.faces = r.faces_out;
+  row.charts = r.charts_out;
+  row.soup = to_soup(tm, tm.materials()[0].diffuse_image);
+  return row;
+}
+
+Row run_cgal(const CMGeom::Textured_mesh& in, std::size_t target) {
+  CMGeom::Textured_mesh tm = in;
+  Mesh& m = tm.mesh();
+  using VPM = boost::property_map<Mesh, CGAL::vertex_point_t>::type;
+  using CC = TS::Chart_constraints<Mesh, VPM, CMGeom::Textured_mesh::UV_map>;
+  TS::Chart_constraint_options co;
+  co.freeze_chart_boundaries = true;
+  co.bijectivity = false;
+  co.boundary_half_edge_collapses = false;  // CGAL 5.5.1's engine ignores a filter's new placement
+  CC cc(m, get(CGAL::vertex_point, m), tm.uv_map(), co);
+  const double t0 = now();
+  CGAL::Surface_mesh_simplification::GarlandHeckbert_plane_policies<Mesh, CMGeom::Kernel> gh(m);
+  CGAL::Surface_mesh_simplification::edge_collapse(
+      m, TS::Face_count_stop_predicate<Mesh>(m, target),
+      CGAL::parameters::get_cost(gh.get_cost()).get_placement(gh.get_placement())
+          .filter(TS::Chart_constraint_filter<CC>(cc)).visitor(TS::Chart_constraint_visitor<CC>(cc, nullptr)));
+  Row row;
+  row.seconds = now() - t0;
+  m.collect_garbage();
+  row.faces = m.number_of_faces();
+  std::vector<std::array<TS::UV2, 3>> t;
+  std::vector<int> ids;
+  row.charts = TS::internal::uv_layout(tm, t, ids);
+  row.soup = to_soup(tm, tm.materials()[0].diffuse_image);
+  return row;
+}
+
+Row run_meshopt(const CMGeom::Textured_mesh& in, std::size_t target) {
+  // vertex buffer split at UV seams: one vertex per distinct (position, uv) pair
+  const Mesh& m = in.mesh();
+  std::map<std::pair<std::uint32_t, std::pair<double, double>>, std::uint32_t> key;
+  std::vector<float> vb;                 // x y z u v
+  std::vector<std::uint32_t> orig;       // split vertex -> mesh vertex
+  std::vector<std::uint32_t> ib;
+  for (auto f : m.faces())
+    for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+      const auto v = m.target(h);
+      const auto q = in.uv(h);
+      const auto k = std::make_pair(std::uint32_t(v), std::make_pair(q.x(), q.y()));
+      auto it = key.find(k);
+      if (it == key.end()) {
+        it = key.emplace(k, std::uint32_t(orig.size())).first;
+        const auto& p = m.point(v);
+        vb.insert(vb.end(), {float(p.x()), float(p.y()), float(p.z()), float(q.x()), float(q.y())});
+        orig.push_back(std::uint32_t(v));
+      }
+      ib.push_back(it->second);
+    }
+  std::vector<std::uint32_t> out(ib.size());
+  const double t0 = now();
+  const std::size_t n = meshopt_simplify(out.data(), ib.data(), ib.size(), vb.data(), orig.size(), 5 * sizeof(float),
+                                         3 * target, 1e10f);
+  Row row;
+  row.seconds = now() - t0;
+  out.resize(n);
+  CMGeom::Polygon_soup& s = row.soup;
+  for (auto v : m.vertices()) {
+    const auto& p = m.point(v);
+    s.positions.push_back({{p.x(), p.y(), p.z()}});
+  }
+  for (std::size_t i = 0; i < orig.size(); ++i) s.uvs.push_back({{double(vb[5 * i + 3]), double(vb[5 * i + 4])}});
+  for (std::size_t i = 0; i < n; i += 3) {
+    for (int c = 0; c < 3; ++c) {
+      s.corner_vertex.push_back(orig[out[i + c]]);
+      s.corner_uv.push_back(out[i + c]);
+    }
+    s.face_start.push_back(std::uint32_t(s.corner_vertex.size()));
+    s.face_material.push_back(0);
+  }
+  s.materials.resize(1);
+  s.materials[0].diffuse_image = in.materials()[0].diffuse_image;
+  row.faces = n / 3;
+  row.charts = CMGeom::count_soup_charts(s);
+  return row;
+}
+
+// RMSE (8-bit units) over the 26 views, each mesh wearing its own texture, camera fitted on the
+// reference (as Rendering::image_space_error does).
+double image_rmse(R::Renderer& renderer, const R::Render_mesh& ref, const CMGeom::Polygon_soup& app, int size) {
+  const R::Render_mesh b = R::make_render_mesh(app);
+  std::vector<R::Render_options> views;
+  for (const R::View& v : R::cube_views_26()) {
+    R::Render_options o;
+    o.width = o.height = size;
+    o.view(v.azimuth, v.elevation).fit_to(ref.bbox);
+    views.push_back(o);
+  }
+  const std::vector<CMGeom::Image> ia = renderer.render_views(ref, views);
+  const std::vector<CMGeom::Image> ib = renderer.render_views(b, views);
+  CMGeom::Metrics::Image_error_accumulator acc;
+  for (std::size_t i = 0; i < ia.size(); ++i) acc.add(ia[i], ib[i]);
+  return acc.result().rmse;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string models = "bunny10k_textured,DamagedHelmet,spot,bob", fractions = "0.1,0.02";
+  int size = 256;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--models") models = argv[i + 1];
+    else if (a == "--fractions") fractions = argv[i + 1];
+    else if (a == "--size") size = std::stoi(argv[i + 1]);
+  }
+  const std::map<std::string, std::pair<std::string, std::string>> files{
+      {"bunny10k_textured", {"bunny10k_textured/bunny10k_textured.obj", ""}},
+      {"DamagedHelmet", {"DamagedHelmet/DamagedHelmet.obj", ""}},
+      {"spot", {"spot/spot.obj", "spot/spot_texture.png"}},
+      {"bob", {"bob/bob_tri.obj", ""}},
+      {"Duck", {"Duck/Duck.obj", ""}},
+      {"fuze", {"fuze/fuze.obj", ""}}};
+  R::Renderer renderer;
+  std::cout << "| model | faces in | target | tool | faces out | charts in → out | seconds | Hausdorff | RMS | image RMSE |\n"
+               "|---|---:|---:|---|---:|---|---:|---:|---:|---:|\n";
+  for (const std::string& name : split(models)) {
+    const auto& f = files.at(name);
+    const std::string path = std::string(CMGEOM_BENCH_DATA_DIR) + "/textured/" + f.first;
+    CMGeom::Textured_mesh in;
+    CMGeom::IO::Read_options ro;
+    ro.repair = true;
+    CMGeom::IO::read_mesh(path, in, ro);
+    if (!f.second.empty()) {
+      in.materials().resize(1);
+      in.materials()[0].name = "m";
+      in.materials()[0].diffuse_texture = std::string(CMGEOM_BENCH_DATA_DIR) + "/textured/" + f.second;
+      for (auto fc : in.mesh().faces()) in.material_map()[fc] = 0;
+    }
+    CMGeom::IO::load_textures(in);
+    std::vector<std::array<TS::UV2, 3>> t;
+    std::vector<int> ids;
+    const std::size_t charts_in = TS::internal::uv_layout(in, t, ids);
+    const CMGeom::Polygon_soup ref_soup = to_soup(in, in.materials()[0].diffuse_image);
+    const R::Render_mesh ref = R::make_render_mesh(ref_soup);
+    const std::size_t faces_in = in.mesh().number_of_faces();
+    for (const std::string& fs : split(fractions)) {
+      const std::size_t target = std::size_t(std::llround(std::stod(fs) * double(faces_in)));
+      {
+        // reference time: our geometry-only simplification of the same mesh (same policy, no UVs)
+        CMGeom::Textured_mesh g = in;
+        const double t0 = now();
+        TS::Area_weighted_quadric_policies<Mesh> policy(g.mesh());
+        TS::edge_collapse(g.mesh(), TS::Face_count_stop_predicate<Mesh>(g.mesh(), target),
+                          CGAL::parameters::get_cost(policy).get_placement(policy));
+        const double sec = now() - t0;
+        g.mesh().collect_garbage();
+        std::printf("| %s | %zu | %zu (%s) | geometry only | %zu | - | %.3f | - | - | - |\n", name.c_str(), faces_in, target,
+                    fs.c_str(), std::size_t(g.mesh().number_of_faces()), sec);
+      }
+      for (const char* tool : {"ours", "ours-frozen", "cgal-gh", "meshopt"}) {
+        Row r;
+        const std::string tl = tool;
+        if (tl == "ours") r = run_ours(in, target, false);
+        else if (tl == "ours-frozen") r = run_ours(in, target, true);
+        else if (tl == "cgal-gh") r = run_cgal(in, target);
+        else r = run_meshopt(in, target);
+        CMGeom::Metrics::Error_options eo;
+        const auto e = CMGeom::Metrics::approximation_error(ref_soup, r.soup, eo);
+        const double rmse = image_rmse(renderer, ref, r.soup, size);
+        std::printf("| %s | %zu | %zu (%s) | %s | %zu | %zu → %zu | %.3f | %.5f | %.6f | %.2f |\n", name.c_str(), faces_in,
+                    target, fs.c_str(), tool, r.faces, charts_in, r.charts, r.seconds, e.hausdorff, e.rms, rmse);
+        std::fflush(stdout);
+      }
+    }
+  }
+  return 0;
+}

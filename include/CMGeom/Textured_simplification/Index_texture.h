@@ -1,0 +1,496 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// The index texture of thesis §3.3 and its per-collapse resampling through the bijective
+// mappings of §3.6, CPU backend (the reference: deterministic, single-threaded, no dependency).
+//
+//  * Texture_domain: the rectangle of UV space the textures cover ([0,1]² extended to the UV
+//    bounding box when UVs leave it, e.g. tiled textures) and its size in texels.
+//  * Index_texture: two floats per texel holding a position in the ORIGINAL atlas, in texel units
+//    of the domain (texel centres at +0.5, row 0 = v0, i.e. bottom; OpenGL convention), initially
+//    the identity; plus the chart map of the original layout (chart id + 1 per texel, 0 = empty,
+//    grown by `chart_margin` texels into the gutters so bilinear lookups at chart borders stay in
+//    the chart).
+//  * rasterize_triangle(): fixed-point half-space rasteriser (8 sub-texel bits, texel centres,
+//    top-left fill rule) — the coverage rule of GL rasterisers.
+//  * Index_texture_resampler: the resampler hook of Chart_constraint_visitor. For each new
+//    texture triangle t̄' of a collapse, every covered texel centre p̄' is mapped to π by
+//    PM_{t'} = P_{t'} ∘ M_{t'}⁻¹; the old triangle t_j whose projection contains that point is
+//    found (the projections tile π, bijectivity checked by Chart_constraints), and the texel gets
+//    the chart-aware bilinear sample (§3.6) of the old index texture at (PM_{t_j}⁻¹ ∘ PM_{t'})(p̄'),
+//    read from a copy of the old region (no read/write feedback). The composed map is one 2x3
+//    affine map per (t', t_j) pair, computed in double and evaluated in float as
+//    (m00·x + m01·y) + m02 — the form a GL backend evaluates at gl_FragCoord with `precise`.
+//  * generate_texture(): the output texture, looked up in the original texture through the final
+//    index texture for every texel covered by a final texture triangle, then dilated into the
+//    gutters (breadth-first, average of the already-filled 8-neighbours) so bilinear sampling at
+//    chart borders never reads background.
+//
+// Floating point: float arithmetic in a fixed order, no fused multiply-add (x86-64 builds
+// without -mfma do not contract; compile with -ffp-contract=off elsewhere).
+//
+// Complexity: O(texels of the new triangles × star size) per collapse; O(W·H) for set-up,
+// texture generation and dilation.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INDEX_TEXTURE_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_INDEX_TEXTURE_H
+
+#include <CMGeom/Mesh_IO/Image.h>
+#include <CMGeom/Textured_simplification/Chart_constraints.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+namespace CMGeom {
+namespace Textured_simplification {
+
+/// The UV rectangle [u0, u0 + du] x [v0, v0 + dv] covered by width x height texels.
+struct Texture_domain {
+  double u0 = 0, v0 = 0, du = 1, dv = 1;
+  int width = 0, height = 0;
+  UV2 to_texel(const UV2& uv) const {
+    return {{(uv[0] - u0) / du * width, (uv[1] - v0) / dv * height}};
+  }
+  UV2 from_texel(double x, double y) const { return {{u0 + x / width * du, v0 + y / height * dv}}; }
+  /// Normalised output UV (the output texture covers exactly the domain).
+  UV2 to_output_uv(const UV2& uv) const { return {{(uv[0] - u0) / du, (uv[1] - v0) / dv}}; }
+};
+
+/// Calls f(x, y) for every texel whose centre (x + .5, y + .5) is covered by triangle `t` (texel
+/// coordinates), with 8 sub-texel bits and the top-left rule, clipped to [0,W) x [0,H).
+template <class F>
+void rasterize_triangle(const std::array<UV2, 3>& t, int W, int H, F&& f) {
+  constexpr std::int64_t S = 256, HALF = 128;
+  std::int64_t X[3], Y[3];
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(t[i][0]) || !std::isfinite(t[i][1]) || std::abs(t[i][0]) > 1e7 || std::abs(t[i][1]) > 1e7)
+      return;
+    X[i] = std::llround(t[i][0] * S);
+    Y[i] = std::llround(t[i][1] * S);
+  }
+  const std::int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]);
+  if (area == 0) return;
+  if (area < 0) {
+    std::swap(X[1], X[2]);
+    std::swap(Y[1], Y[2]);
+  }
+  const std::int64_t minx = (std::min)({X[0], X[1], X[2]}), maxx = (std::max)({X[0], X[1], X[2]});
+  const std::int64_t miny = (std::min)({Y[0], Y[1], Y[2]}), maxy = (std::max)({Y[0], Y[1], Y[2]});
+  auto ceil_div = [](std::int64_t a, std::int64_t b) { return a >= 0 ? (a + b - 1) / b : -((-a) / b); };
+  auto floor_div = [](std::int64_t a, std::int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
+  const int xlo = int((std::max<std::int64_t>)(ceil_div(minx - HALF, S), 0));
+  const int xhi = int((std::min<std::int64_t>)(floor_div(maxx - HALF, S), W - 1));
+  const int ylo = int((std::max<std::int64_t>)(ceil_div(miny - HALF, S), 0));
+  const int yhi = int((std::min<std::int64_t>)(floor_div(maxy - HALF, S), H - 1));
+  if (xlo > xhi || ylo > yhi) return;
+  std::int64_t A[3], B[3], C[3];
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3;
+    const std::int64_t dx = X[j] - X[i], dy = Y[j] - Y[i];
+    A[i] = -dy;
+    B[i] = dx;
+    const bool top_left = (dy == 0 && dx < 0) || dy < 0;
+    C[i] = dy * X[i] - dx * Y[i] + (top_left ? 0 : -1);
+  }
+  for (int y = ylo; y <= yhi; ++y) {
+    const std::int64_t py = std::int64_t(y) * S + HALF;
+    std::int64_t e[3];
+    for (int i = 0; i < 3; ++i) e[i] = A[i] * (std::int64_t(xlo) * S + HALF) + B[i] * py + C[i];
+    for (int x = xlo; x <= xhi; ++x) {
+      if ((e[0] | e[1] | e[2]) >= 0) f(x, y);
+      for (int i = 0; i < 3; ++i) e[i] += A[i] * S;
+    }
+  }
+}
+
+/// Index texture (§3.3) and the chart map of the original layout.
+class Index_texture {
+public:
+  Index_texture() = default;
+
+  /// Identity index texture over `domain`; `triangles`/`chart_ids` (chart ids >= 0) are the
+  /// original UV layout.
+  /// With `mark_overlaps`, texels covered by two triangles get the id `contested` (used for region
+  /// tests, never for resampling).
+  Index_texture(const Texture_domain& domain, const std::vector<std::array<UV2, 3>>& triangles,
+                const std::vector<int>& chart_ids, int chart_margin = 2, bool mark_overlaps = false)
+      : domain_(domain), w_(domain.width), h_(domain.height),
+        idx_(std::size_t(2) * std::size_t(w_) * std::size_t(h_)), chart_(std::size_t(w_) * std::size_t(h_), 0u) {
+    for (int y = 0; y < h_; ++y)
+      for (int x = 0; x < w_; ++x) {
+        float* p = at(x, y);
+        p[0] = float(x) + 0.5f;
+        p[1] = float(y) + 0.5f;
+      }
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      std::array<UV2, 3> t;
+      for (int c = 0; c < 3; ++c) t[c] = domain.to_texel(triangles[i][c]);
+      const std::uint32_t id = std::uint32_t(chart_ids[i] + 1);
+      rasterize_triangle(t, w_, h_, [&](int x, int y) {
+        std::uint32_t& c = chart_[std::size_t(y) * w_ + x];
+        c = (mark_overlaps && c != 0) ? contested : id;
+      });
+    }
+    // grow the charts into the gutters (first ring first; ties: smallest neighbour id)
+    for (int ring = 0; ring < chart_margin; ++ring) {
+      std::vector<std::uint32_t> next = chart_;
+      for (int y = 0; y < h_; ++y)
+        for (int x = 0; x < w_; ++x) {
+          if (chart_[std::size_t(y) * w_ + x] != 0) continue;
+          std::uint32_t best = 0;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int qx = x + dx, qy = y + dy;
+              if (qx < 0 || qy < 0 || qx >= w_ || qy >= h_) continue;
+              const std::uint32_t c = chart_[std::size_t(qy) * w_ + qx];
+              if (c != 0 && (best == 0 || c < best)) best = c;
+            }
+          next[std::size_t(y) * w_ + x] = best;
+        }
+      chart_.swap(next);
+    }
+  }
+
+  static constexpr std::uint32_t contested = 0xffffffffu;
+
+  int width() const { return w_; }
+  int height() const { return h_; }
+  const Texture_domain& domain() const { return domain_; }
+  float* at(int x, int y) { return &idx_[2 * (std::size_t(y) * std::size_t(w_) + std::size_t(x))]; }
+  const float* at(int x, int y) const { return &idx_[2 * (std::size_t(y) * std::size_t(w_) + std::size_t(x))]; }
+  const std::vector<float>& data() const { return idx_; }
+  std::vector<float>& data() { return idx_; }
+  /// Chart id + 1 of the original layout at texel (x, y) (0: no chart).
+  std::uint32_t chart(int x, int y) const { return chart_[std::size_t(y) * std::size_t(w_) + std::size_t(x)]; }
+  /// Chart of an original-atlas position (texel units), 0 when outside.
+  std::uint32_t chart_of(float ax, float ay) const {
+    if (!(ax >= 0.f) || !(ay >= 0.f)) return 0u;
+    const int x = (std::min)(int(ax), w_ - 1), y = (std::min)(int(ay), h_ - 1);
+    return chart(x, y);
+  }
+
+private:
+  Texture_domain domain_;
+  int w_ = 0, h_ = 0;
+  std::vector<float> idx_;
+  std::vector<std::uint32_t> chart_;
+};
+
+namespace internal {
+
+/// 2x3 affine map taking triangle `from` to triangle `to` (double); false if `from` is flat.
+inline bool affine_map(const std::array<UV2, 3>& from, const std::array<UV2, 3>& to, double M[2][3]) {
+  const double x0 = from[0][0], y0 = from[0][1];
+  const double e1x = from[1][0] - x0, e1y = from[1][1] - y0, e2x = from[2][0] - x0, e2y = from[2][1] - y0;
+  const double det = e1x * e2y - e1y * e2x;
+  if (!(std::abs(det) > 0)) return false;
+  for (int c = 0; c < 2; ++c) {
+    const double s0 = to[0][c], d1 = to[1][c] - s0, d2 = to[2][c] - s0;
+    const double gx = (d1 * e2y - d2 * e1y) / det, gy = (d2 * e1x - d1 * e2x) / det;
+    M[c][0] = gx;
+    M[c][1] = gy;
+    M[c][2] = s0 - gx * x0 - gy * y0;
+  }
+  return true;
+}
+
+inline void compose(const double A[2][3], const double B[2][3], double out[2][3]) {  // A ∘ B
+  for (int r = 0; r < 2; ++r) {
+    out[r][0] = A[r][0] * B[0][0] + A[r][1] * B[1][0];
+    out[r][1] = A[r][0] * B[0][1] + A[r][1] * B[1][1];
+    out[r][2] = A[r][0] * B[0][2] + A[r][1] * B[1][2] + A[r][2];
+  }
+}
+
+}  // namespace internal
+
+/// Per-collapse resampling of an Index_texture (CPU backend; see the file comment).
+class Index_texture_resampler {
+public:
+  explicit Index_texture_resampler(Index_texture& it) : it_(&it) {}
+
+  void operator()(const Collapse_record& rec) {
+    Index_texture& it = *it_;
+    const Texture_domain& dom = it.domain();
+    const int W = it.width(), H = it.height();
+    const std::size_t n = rec.star.size();
+    // frame of π
+    const auto& nrm = rec.normal;
+    internal::Vec3 a = std::abs(nrm[0]) < 0.9 ? internal::Vec3{{1, 0, 0}} : internal::Vec3{{0, 1, 0}};
+    internal::Vec3 e1 = internal::cross(nrm, a);
+    e1 = internal::scale(e1, 1.0 / internal::norm(e1));
+    const internal::Vec3 e2 = internal::cross(nrm, e1);
+    auto proj = [&](const internal::Vec3& p) {
+      const internal::Vec3 d = internal::sub(p, rec.placement);
+      return UV2{{internal::dot(d, e1), internal::dot(d, e2)}};
+    };
+    old_src_.resize(n);
+    old_proj_.resize(n);
+    bary_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      for (int c = 0; c < 3; ++c) {
+        old_src_[k][c] = dom.to_texel(rec.star[k].uv[c]);
+        old_proj_[k][c] = proj(rec.star[k].p[c]);
+      }
+      // barycentrics l1, l2 of a point of π as affine functions (no division per texel)
+      const auto& t = old_proj_[k];
+      const double d = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]);
+      auto& b = bary_[k];
+      if (d == 0) {
+        b = {{0, 0, -1e300, 0, 0, -1e300}};
+        continue;
+      }
+      b[0] = (t[2][1] - t[0][1]) / d;
+      b[1] = -(t[2][0] - t[0][0]) / d;
+      b[2] = -(b[0] * t[0][0] + b[1] * t[0][1]);
+      b[3] = -(t[1][1] - t[0][1]) / d;
+      b[4] = (t[1][0] - t[0][0]) / d;
+      b[5] = -(b[3] * t[0][0] + b[4] * t[0][1]);
+    }
+    // copies of the old regions, one per wedge (§3.6: read from a copy, never from what is written)
+    for (int w = 0; w < 2; ++w) {
+      Rect& r = rects_[w];
+      r = Rect{W, H, -1, -1};
+      for (std::size_t k = 0; k < n; ++k) {
+        if (rec.star[k].wedge != w) continue;
+        for (int c = 0; c < 3; ++c) {
+          r.x0 = (std::min)(r.x0, int(std::floor(old_src_[k][c][0])) - 2);
+          r.y0 = (std::min)(r.y0, int(std::floor(old_src_[k][c][1])) - 2);
+          r.x1 = (std::max)(r.x1, int(std::floor(old_src_[k][c][0])) + 2);
+          r.y1 = (std::max)(r.y1, int(std::floor(old_src_[k][c][1])) + 2);
+        }
+      }
+      r.x0 = (std::max)(r.x0, 0);
+      r.y0 = (std::max)(r.y0, 0);
+      r.x1 = (std::min)(r.x1, W - 1);
+      r.y1 = (std::min)(r.y1, H - 1);
+      copies_[w].clear();
+      copy_charts_[w].clear();
+      if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+      for (int y = r.y0; y <= r.y1; ++y) {
+        copies_[w].insert(copies_[w].end(), it.at(r.x0, y), it.at(r.x1, y) + 2);
+        // chart of every copied index value, looked up once instead of at each of its ~5 reads
+        for (int x = r.x0; x <= r.x1; ++x) copy_charts_[w].push_back(it.chart_of(it.at(x, y)[0], it.at(x, y)[1]));
+      }
+    }
+    // fill the new texture triangles
+    for (std::size_t k = 0; k < n; ++k) {
+      if (rec.star[k].removed || rec.star[k].unchanged) continue;
+      const auto nuv = rec.new_uvs(k);
+      const auto np = rec.new_positions(k);
+      std::array<UV2, 3> dst, dproj;
+      for (int c = 0; c < 3; ++c) {
+        dst[c] = dom.to_texel(nuv[c]);
+        dproj[c] = proj(np[c]);
+      }
+      double PMn[2][3];  // texel of t̄' -> π
+      if (!internal::affine_map(dst, dproj, PMn)) continue;
+      maps_.resize(n);
+      valid_.assign(n, 0);
+      for (std::size_t j = 0; j < n; ++j) {
+        double PMj_inv[2][3], M[2][3];  // π -> old texel of t̄_j
+        if (!internal::affine_map(old_proj_[j], old_src_[j], PMj_inv)) continue;
+        internal::compose(PMj_inv, PMn, M);
+        for (int r = 0; r < 2; ++r)
+          for (int c = 0; c < 3; ++c) maps_[j][r][c] = float(M[r][c]);
+        valid_[j] = 1;
+      }
+      rasterize_triangle(dst, W, H, [&](int x, int y) {
+        const double cx = x + 0.5, cy = y + 0.5;
+        const double qx = PMn[0][0] * cx + PMn[0][1] * cy + PMn[0][2];
+        const double qy = PMn[1][0] * cx + PMn[1][1] * cy + PMn[1][2];
+        // the old triangle whose projection contains q (else the closest by barycentrics)
+        std::size_t best = n;
+        double best_score = -1e300;
+        for (std::size_t j = 0; j < n; ++j) {
+          if (!valid_[j]) continue;
+          const auto& b = bary_[j];
+          const double l1 = b[0] * qx + b[1] * qy + b[2], l2 = b[3] * qx + b[4] * qy + b[5];
+          const double s = (std::min)({1.0 - l1 - l2, l1, l2});
+          if (s > best_score) {
+            best_score = s;
+            best = j;
+            if (s >= 0) break;
+          }
+        }
+        if (best == n) return;
+        const auto& M = maps_[best];
+        const float fx = float(x) + 0.5f, fy = float(y) + 0.5f;
+        const float t0 = M[0][0] * fx, t1 = M[0][1] * fy, t2 = M[1][0] * fx, t3 = M[1][1] * fy;
+        const float sx = (t0 + t1) + M[0][2], sy = (t2 + t3) + M[1][2];
+        sample(rec.star[best].wedge, sx, sy, it.at(x, y));
+      });
+    }
+  }
+
+private:
+  struct Rect {
+    int x0, y0, x1, y1;
+  };
+
+  std::size_t copy_index(int w, int x, int y) const {
+    const Rect& r = rects_[w];
+    x = (std::min)((std::max)(x, r.x0), r.x1);
+    y = (std::min)((std::max)(y, r.y0), r.y1);
+    return std::size_t(y - r.y0) * std::size_t(r.x1 - r.x0 + 1) + std::size_t(x - r.x0);
+  }
+
+  /// Chart-aware bilinear lookup (§3.6) of the old index texture at (sx, sy) (texel units): only
+  /// the four nearest texels whose stored index lies in the chart of the nearest one's are blended.
+  void sample(int w, float sx, float sy, float* out) const {
+    const Rect& r = rects_[w];
+    if (copies_[w].empty()) return;
+    // stay inside the copied region (the source point is inside an old triangle, up to rounding)
+    sx = (std::min)((std::max)(sx, float(r.x0)), float(r.x1) + 1.f);
+    sy = (std::min)((std::max)(sy, float(r.y0)), float(r.y1) + 1.f);
+    const std::size_t in = copy_index(w, int(std::floor(sx)), int(std::floor(sy)));
+    const float* an = &copies_[w][2 * in];
+    const std::uint32_t cn = copy_charts_[w][in];
+    const float px = sx - 0.5f, py = sy - 0.5f;
+    const float flx = std::floor(px), fly = std::floor(py);
+    const float fx = px - flx, fy = py - fly;
+    const int ix = int(flx), iy = int(fly);
+    float a0 = 0.f, a1 = 0.f, ws = 0.f;
+    if (cn != 0u) {
+      for (int k = 0; k < 4; ++k) {
+        const int ox = k & 1, oy = k >> 1;
+        const std::size_t iq = copy_index(w, ix + ox, iy + oy);
+        const float* q = &copies_[w][2 * iq];
+        const float wt = (ox ? fx : 1.f - fx) * (oy ? fy : 1.f - fy);
+        if (copy_charts_[w][iq] == cn) {
+          a0 += wt * q[0];
+          a1 += wt * q[1];
+          ws += wt;
+        }
+      }
+    }
+    if (ws > 0.f) {
+      out[0] = a0 / ws;
+      out[1] = a1 / ws;
+    } else {
+      out[0] = an[0];
+      out[1] = an[1];
+    }
+  }
+
+  Index_texture* it_;
+  std::vector<std::array<UV2, 3>> old_src_, old_proj_;
+  std::vector<std::array<std::array<float, 3>, 2>> maps_;
+  std::vector<char> valid_;
+  Rect rects_[2]{};
+  std::vector<float> copies_[2];
+  std::vector<std::uint32_t> copy_charts_[2];
+  std::vector<std::array<double, 6>> bary_;  // per old projected triangle: l1, l2 as affine functions
+};
+
+/// Chart-aware bilinear lookup of `original` (any size; UVs outside [0,1] repeat) at the
+/// original-atlas position `a` (index-texture texel units of `it`); channel values in [0,1].
+inline void sample_original(const Index_texture& it, const Image& original, float ax, float ay, float* out) {
+  const Texture_domain& dom = it.domain();
+  const int W0 = original.width(), H0 = original.height(), C = original.channels();
+  const UV2 uv = dom.from_texel(ax, ay);
+  const std::uint32_t cn = it.chart_of(ax, ay);
+  // image row 0 is the top row (v = 1)
+  const double px = uv[0] * W0 - 0.5, py = (1.0 - uv[1]) * H0 - 0.5;
+  const double flx = std::floor(px), fly = std::floor(py);
+  const double fx = px - flx, fy = py - fly;
+  double acc[4] = {0, 0, 0, 0}, ws = 0;
+  double acc_all[4] = {0, 0, 0, 0};
+  for (int k = 0; k < 4; ++k) {
+    const int ox = k & 1, oy = k >> 1;
+    const long long ix = (long long)flx + ox, iy = (long long)fly + oy;
+    const int wx = int(((ix % W0) + W0) % W0), wy = int(((iy % H0) + H0) % H0);
+    const double wt = (ox ? fx : 1 - fx) * (oy ? fy : 1 - fy);
+    // chart of this texel's centre, in the (unwrapped) domain
+    const UV2 c_uv{{(double(ix) + 0.5) / W0, 1.0 - (double(iy) + 0.5) / H0}};
+    const UV2 ct = dom.to_texel(c_uv);
+    const bool same = cn == 0u || it.chart_of(float(ct[0]), float(ct[1])) == cn;
+    for (int c = 0; c < C; ++c) {
+      const double v = original.value(wx, wy, c);
+      acc_all[c] += wt * v;
+      if (same) acc[c] += wt * v;
+    }
+    if (same) ws += wt;
+  }
+  for (int c = 0; c < C; ++c) out[c] = float(ws > 0 ? acc[c] / ws : acc_all[c]);
+}
+
+/// Output texture (same size as the index texture, covering the domain; row 0 at the top as in
+/// image files): the original looked up through the index texture on every texel covered by
+/// `final_triangles` (UVs in the domain), then dilated into the gutters.
+inline Image generate_texture(const Index_texture& it, const Image& original,
+                              const std::vector<std::array<UV2, 3>>& final_triangles) {
+  const int W = it.width(), H = it.height(), C = original.channels();
+  Image out(W, H, C, Image::Format::UInt8);
+  std::vector<char> filled(std::size_t(W) * std::size_t(H), 0);
+  std::vector<float> acc(std::size_t(W) * std::size_t(H) * std::size_t(C), 0.f);
+  float v[4];
+  for (const auto& tri : final_triangles) {
+    std::array<UV2, 3> t;
+    for (int c = 0; c < 3; ++c) t[c] = it.domain().to_texel(tri[c]);
+    rasterize_triangle(t, W, H, [&](int x, int y) {
+      const std::size_t i = std::size_t(y) * W + x;
+      if (filled[i]) return;
+      const float* a = it.at(x, y);
+      sample_original(it, original, a[0], a[1], v);
+      for (int c = 0; c < C; ++c) acc[i * C + c] = v[c];
+      filled[i] = 1;
+    });
+  }
+  // dilation: breadth-first from the covered texels
+  std::deque<std::size_t> queue;
+  for (std::size_t i = 0; i < filled.size(); ++i)
+    if (filled[i]) queue.push_back(i);
+  std::vector<char> queued = filled;
+  std::size_t head_level_end = queue.size();
+  std::vector<std::size_t> level;
+  while (!queue.empty()) {
+    // collect the next ring: unfilled neighbours of the current frontier
+    level.clear();
+    for (std::size_t q = 0; q < head_level_end; ++q) {
+      const std::size_t i = queue.front();
+      queue.pop_front();
+      const int x = int(i % std::size_t(W)), y = int(i / std::size_t(W));
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if (qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
+          const std::size_t j = std::size_t(qy) * W + qx;
+          if (queued[j]) continue;
+          queued[j] = 1;
+          level.push_back(j);
+        }
+    }
+    std::sort(level.begin(), level.end());
+    for (std::size_t j : level) {
+      const int x = int(j % std::size_t(W)), y = int(j / std::size_t(W));
+      float s[4] = {0, 0, 0, 0};
+      int cnt = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if (qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
+          const std::size_t k = std::size_t(qy) * W + qx;
+          if (filled[k] != 1) continue;
+          for (int c = 0; c < C; ++c) s[c] += acc[k * C + c];
+          ++cnt;
+        }
+      for (int c = 0; c < C; ++c) acc[j * C + c] = cnt ? s[c] / float(cnt) : 0.f;
+    }
+    for (std::size_t j : level) filled[j] = 1;  // after the ring: a ring only reads inner rings
+    for (std::size_t j : level) queue.push_back(j);
+    head_level_end = level.size();
+  }
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      for (int c = 0; c < C; ++c) out.set_value(x, H - 1 - y, c, acc[(std::size_t(y) * W + x) * C + c]);
+  return out;
+}
+
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_INDEX_TEXTURE_H

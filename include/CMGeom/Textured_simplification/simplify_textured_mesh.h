@@ -1,0 +1,243 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// simplify_textured_mesh(): the whole texture-preserving simplification of thesis chapter 3 on a
+// Textured_mesh — weighted quadric collapses (§3.4) under the chart constraints of §3.5 with UV
+// placement of the kept vertex, the index texture of §3.3 rewritten at every collapse through the
+// bijective mappings of §3.6 (CPU backend), and at the end the output textures (diffuse and,
+// when present, normal map) generated through the index texture and dilated into the gutters.
+// The output UVs cover the output textures' [0,1]² (the index-texture domain, see Index_texture.h).
+//
+// Input: a triangle mesh with UVs (has_uvs()); textures must be decoded (IO::load_textures) for
+// them to be resampled. A mesh without a decoded texture is simplified with its UVs kept under the
+// same constraints (no texture work). Several different textures (multi-material atlases) are not
+// supported: Invalid_input.
+//
+// Charts only shrink inside their original UV region, except that a concave boundary corner may be
+// cut by a sliver within `chart_growth_texels` texels of the chart's own texels (see
+// Chart_constraints.h); charts overlapping in the input are never grown into.
+//
+// Normal maps are resampled like colours (the tangent frames of the simplified surface are not
+// re-derived): exact for object-space maps, an approximation for tangent-space ones.
+//
+// Complexity: O(E log E) collapse work plus O(texels of the new triangles × star size) per
+// collapse, plus O(W·H) texture set-up and generation.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_TEXTURED_MESH_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_TEXTURED_MESH_H
+
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/Textured_mesh.h>
+#include <CMGeom/Mesh_IO/charts.h>
+#include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
+#include <CMGeom/Textured_simplification/Chart_constraints.h>
+#include <CMGeom/Textured_simplification/Index_texture.h>
+#include <CMGeom/Textured_simplification/Stop_predicates.h>
+#include <CMGeom/Textured_simplification/edge_collapse.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace CMGeom {
+namespace Textured_simplification {
+
+struct Textured_simplification_options {
+  std::size_t target_faces = 0;
+  Quadric_options quadric;
+  Chart_constraint_options constraints;
+  /// Rewrite the index texture and generate output textures (when the input has a texture).
+  bool resample_textures = true;
+  /// Texels per unit of UV for the index and output textures (0: the input texture's size).
+  int texture_size = 0;
+  /// Largest index/output texture side (bigger domains, e.g. tiled UVs, are scaled down).
+  int max_texture_side = 8192;
+  /// A chart may grow across a concave corner of its boundary by a sliver whose texels all lie
+  /// within this many texels of the chart's original texels (and in no other chart's): 0 = charts
+  /// only shrink. Texel size: the index texture's, or 1/1024 of UV when there is no texture.
+  int chart_growth_texels = 2;
+};
+
+struct Textured_simplification_result {
+  std::size_t faces_in = 0, faces_out = 0, charts_in = 0, charts_out = 0;
+  int texture_width = 0, texture_height = 0;
+  double seconds_collapse = 0;  ///< the collapses, including the per-collapse index-texture resampling
+  double seconds_texture = 0;   ///< index texture set-up, output texture generation and dilation
+  Chart_constraint_statistics statistics;
+};
+
+namespace internal {
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// UV triangles (in face order) and chart ids of every face of `tm`.
+inline std::size_t uv_layout(const Textured_mesh& tm, std::vector<std::array<UV2, 3>>& tris,
+                             std::vector<int>& chart_ids) {
+  const auto& m = tm.mesh();
+  auto tmp = const_cast<Surface_mesh&>(m).add_property_map<Surface_mesh::Face_index, int>("f:cmgeom_chart", -1).first;
+  const std::size_t n = compute_chart_ids(m, tm.uv_map(), tmp);
+  tris.clear();
+  chart_ids.clear();
+  for (auto f : faces(m)) {
+    std::array<UV2, 3> t;
+    int c = 0;
+    for (auto h : CGAL::halfedges_around_face(halfedge(f, m), m)) {
+      const Point_2 p = tm.uv(h);
+      if (c < 3) t[c] = {{p.x(), p.y()}};
+      ++c;
+    }
+    tris.push_back(t);
+    chart_ids.push_back(tmp[f]);
+  }
+  const_cast<Surface_mesh&>(m).remove_property_map(tmp);
+  return n;
+}
+
+}  // namespace internal
+
+/// Texture domain of a UV layout: [0,1]² grown to the UVs' bounding box; `size` texels per UV
+/// unit horizontally (`size_v` vertically), capped at `max_side`.
+inline Texture_domain make_texture_domain(const std::vector<std::array<UV2, 3>>& tris, int size_u, int size_v,
+                                          int max_side) {
+  double umin = 0, vmin = 0, umax = 1, vmax = 1;
+  for (const auto& t : tris)
+    for (const auto& p : t) {
+      umin = (std::min)(umin, p[0]);
+      umax = (std::max)(umax, p[0]);
+      vmin = (std::min)(vmin, p[1]);
+      vmax = (std::max)(vmax, p[1]);
+    }
+  Texture_domain d;
+  d.u0 = umin;
+  d.v0 = vmin;
+  d.du = umax - umin;
+  d.dv = vmax - vmin;
+  double w = d.du * size_u, h = d.dv * size_v;
+  const double s = (std::max)(w, h) > max_side ? max_side / (std::max)(w, h) : 1.0;
+  d.width = (std::max)(1, int(std::lround(w * s)));
+  d.height = (std::max)(1, int(std::lround(h * s)));
+  return d;
+}
+
+/// Simplifies `tm` to `options.target_faces` faces (see the file comment); `visitor` receives
+/// the engine's visitor calls too (e.g. progress).
+template <class Visitor = Edge_collapse_visitor_base>
+Textured_simplification_result simplify_textured_mesh(Textured_mesh& tm, const Textured_simplification_options& options,
+                                                      Visitor visitor = Visitor()) {
+  using Mesh = Surface_mesh;
+  Mesh& mesh = tm.mesh();
+  if (!tm.has_uvs()) throw Invalid_input("simplify_textured_mesh: the mesh has no texture coordinates");
+  if (!CGAL::is_triangle_mesh(mesh)) throw Invalid_input("simplify_textured_mesh: not a triangle mesh");
+  Textured_simplification_result res;
+  res.faces_in = mesh.number_of_faces();
+
+  // the texture(s) in use: one atlas at most
+  const Material* textured = nullptr;
+  std::vector<char> used(tm.materials().size(), 0);
+  for (auto f : faces(mesh)) {
+    const int m = tm.material(f);
+    if (m >= 0 && std::size_t(m) < used.size()) used[std::size_t(m)] = 1;
+  }
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    const Material& m = tm.materials()[i];
+    if (!used[i] || (m.diffuse_image.empty() && m.normal_image.empty())) continue;
+    if (textured && (textured->diffuse_texture != m.diffuse_texture || textured->diffuse_image.width() != m.diffuse_image.width()))
+      throw Invalid_input("textured simplification supports a single texture atlas; '" + tm.source() +
+                          "' uses several textures");
+    if (!textured) textured = &m;
+  }
+  const bool resample = options.resample_textures && textured != nullptr;
+
+  std::vector<std::array<UV2, 3>> tris;
+  std::vector<int> chart_ids;
+  res.charts_in = internal::uv_layout(tm, tris, chart_ids);
+
+  Index_texture it;
+  const auto t_set_up = std::chrono::steady_clock::now();
+  int su = options.texture_size > 0 ? options.texture_size : 1024, sv = su;
+  if (resample) {
+    const Image& ref = !textured->diffuse_image.empty() ? textured->diffuse_image : textured->normal_image;
+    if (options.texture_size <= 0) {
+      su = ref.width();
+      sv = ref.height();
+    }
+    it = Index_texture(make_texture_domain(tris, su, sv, options.max_texture_side), tris, chart_ids);
+  }
+  // region map for the growth test: original chart ids grown by chart_growth_texels
+  Index_texture region;
+  auto face_chart = get(CGAL::dynamic_face_property_t<int>(), mesh);
+  if (options.chart_growth_texels > 0) {
+    // texels where the input's charts overlap (themselves or each other) are nobody's to grow into
+    region = Index_texture(make_texture_domain(tris, su, sv, options.max_texture_side), tris, chart_ids,
+                           options.chart_growth_texels, true);
+    std::size_t i = 0;
+    for (auto f : faces(mesh)) put(face_chart, f, chart_ids[i++]);
+  }
+  res.seconds_texture += internal::seconds_since(t_set_up);
+
+  using VPM = typename boost::property_map<Mesh, CGAL::vertex_point_t>::type;
+  using UVMap = Textured_mesh::UV_map;
+  using CC = Chart_constraints<Mesh, VPM, UVMap>;
+  CC cc(mesh, get(CGAL::vertex_point, mesh), tm.uv_map(), options.constraints);
+  if (options.chart_growth_texels > 0) {
+    cc.set_growth_test([&](const std::array<UV2, 3>& sliver, Surface_mesh::Face_index f) {
+      const std::uint32_t own = std::uint32_t(get(face_chart, f) + 1);
+      std::array<UV2, 3> t;
+      for (int c = 0; c < 3; ++c) {
+        t[c] = region.domain().to_texel(sliver[c]);
+        if (region.chart_of(float(t[c][0]), float(t[c][1])) != own) return false;
+      }
+      bool inside = true;
+      rasterize_triangle(t, region.width(), region.height(), [&](int x, int y) { inside &= region.chart(x, y) == own; });
+      return inside;
+    });
+  }
+  Index_texture_resampler resampler(it);
+  const auto t0 = std::chrono::steady_clock::now();
+  if (options.target_faces < res.faces_in) {
+    Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
+    Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
+    Chart_constraint_visitor<CC, Index_texture_resampler, Visitor> vis(cc, resample ? &resampler : nullptr, visitor);
+    edge_collapse(mesh, stop,
+                  CGAL::parameters::get_cost(policy).get_placement(policy).filter(Chart_constraint_filter<CC>(cc)).visitor(vis));
+  }
+  const double total = internal::seconds_since(t0);
+  mesh.collect_garbage();
+  res.statistics = cc.statistics();
+  res.faces_out = mesh.number_of_faces();
+
+  if (resample) {
+    const auto t1 = std::chrono::steady_clock::now();
+    std::vector<std::array<UV2, 3>> final_tris;
+    std::vector<int> ids;
+    internal::uv_layout(tm, final_tris, ids);
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      Material& m = tm.materials()[i];
+      if (!used[i]) continue;
+      if (!m.diffuse_image.empty()) m.diffuse_image = generate_texture(it, m.diffuse_image, final_tris);
+      if (!m.normal_image.empty()) m.normal_image = generate_texture(it, m.normal_image, final_tris);
+      m.diffuse_texture_blob.clear();
+    }
+    // output UVs: the domain normalised to [0,1]²
+    for (auto h : halfedges(mesh)) {
+      if (is_border(h, mesh)) continue;
+      const Point_2 p = tm.uv(h);
+      const UV2 q = it.domain().to_output_uv({{p.x(), p.y()}});
+      tm.set_uv(h, Point_2(q[0], q[1]));
+    }
+    res.texture_width = it.width();
+    res.texture_height = it.height();
+    res.seconds_texture += internal::seconds_since(t1);
+  }
+  res.charts_out = internal::uv_layout(tm, tris, chart_ids);
+  res.seconds_collapse = total;
+  return res;
+}
+
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_TEXTURED_MESH_H

@@ -1,0 +1,482 @@
+// Tests of the texture part of Textured_simplification (thesis §3.3, §3.5, §3.6): chart
+// constraints and UV placement on every model of shared/data/textured, index-texture resampling,
+// output textures, the red-filled-atlas test (Fig. 3.8), weighted vs plain texture deviation.
+#include "cmgeom_test_config.h"
+
+#include <CMGeom/Metrics/texture_deviation.h>
+#include <CMGeom/Mesh_IO/textured_mesh_io.h>
+#include <CMGeom/Textured_simplification.h>
+#include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
+#ifdef CMGEOM_HAS_OSMESA
+#include <CMGeom/Rendering/Renderer.h>
+#include <CMGeom/Rendering/make_render_mesh.h>
+#include <CMGeom/Rendering/views.h>
+#endif
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace TS = CMGeom::Textured_simplification;
+namespace fs = std::filesystem;
+using TS::UV2;
+
+struct Model {
+  const char* dir;
+  const char* file;
+};
+const Model kModels[] = {{"spot", "spot.obj"},       {"bob", "bob_tri.obj"},
+                         {"fuze", "fuze.obj"},       {"DamagedHelmet", "DamagedHelmet.obj"},
+                         {"WaterBottle", "WaterBottle.obj"}, {"Duck", "Duck.obj"},
+                         {"bunny10k_textured", "bunny10k_textured.obj"}, {"texturedknot", "texturedknot.obj"}};
+
+std::string model_path(const Model& m) {
+  return std::string(CMGEOM_DATA_DIR) + "/textured/" + m.dir + "/" + m.file;
+}
+
+bool read_model(const Model& m, CMGeom::Textured_mesh& tm, bool textures) {
+  const std::string path = model_path(m);
+  if (!fs::exists(path)) return false;
+  CMGeom::IO::Read_options ro;
+  ro.repair = true;  // DamagedHelmet has a few non-manifold edges
+  if (textures) CMGeom::IO::read_textured_mesh(path, tm, ro);
+  else CMGeom::IO::read_mesh(path, tm, ro);
+  return true;
+}
+
+double signed_area(const std::array<UV2, 3>& t) {
+  return 0.5 * ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]));
+}
+
+// Per-face UV triangles and chart ids (independent of the package: charts.h from Mesh_IO).
+std::size_t layout(const CMGeom::Textured_mesh& tm, std::vector<std::array<UV2, 3>>& tris, std::vector<int>& ids) {
+  return TS::internal::uv_layout(tm, tris, ids);
+}
+
+// Original UV triangles bucketed on a grid, for exact point-in-chart queries.
+struct Chart_regions {
+  std::vector<std::array<UV2, 3>> tris;
+  std::vector<int> ids;
+  double u0 = 0, v0 = 0, su = 1, sv = 1;
+  int G = 128;
+  std::vector<std::vector<std::size_t>> cells;
+  Chart_regions(const std::vector<std::array<UV2, 3>>& t, const std::vector<int>& i) : tris(t), ids(i), cells(std::size_t(G) * G) {
+    double u1 = -1e300, v1 = -1e300;
+    u0 = v0 = 1e300;
+    for (const auto& tri : tris)
+      for (const auto& p : tri) {
+        u0 = std::min(u0, p[0]); v0 = std::min(v0, p[1]);
+        u1 = std::max(u1, p[0]); v1 = std::max(v1, p[1]);
+      }
+    su = G / std::max(u1 - u0, 1e-12) * 0.999999;
+    sv = G / std::max(v1 - v0, 1e-12) * 0.999999;
+    for (std::size_t k = 0; k < tris.size(); ++k) {
+      double a0 = 1e300, b0 = 1e300, a1 = -1e300, b1 = -1e300;
+      for (const auto& p : tris[k]) {
+        a0 = std::min(a0, p[0]); b0 = std::min(b0, p[1]);
+        a1 = std::max(a1, p[0]); b1 = std::max(b1, p[1]);
+      }
+      for (int y = cell_y(b0); y <= cell_y(b1); ++y)
+        for (int x = cell_x(a0); x <= cell_x(a1); ++x) cells[std::size_t(y) * G + x].push_back(k);
+    }
+  }
+  int cell_x(double u) const { return std::clamp(int((u - u0) * su), 0, G - 1); }
+  int cell_y(double v) const { return std::clamp(int((v - v0) * sv), 0, G - 1); }
+  /// Charts of the original triangles containing p (closed, with a relative tolerance).
+  std::set<int> charts_at(const UV2& p) const {
+    std::set<int> out;
+    for (std::size_t k : cells[std::size_t(cell_y(p[1])) * G + cell_x(p[0])]) {
+      const auto& t = tris[k];
+      const double d = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]);
+      if (d == 0) continue;
+      const double l1 = ((p[0] - t[0][0]) * (t[2][1] - t[0][1]) - (p[1] - t[0][1]) * (t[2][0] - t[0][0])) / d;
+      const double l2 = ((t[1][0] - t[0][0]) * (p[1] - t[0][1]) - (t[1][1] - t[0][1]) * (p[0] - t[0][0])) / d;
+      const double eps = 1e-7;
+      if (l1 >= -eps && l2 >= -eps && 1 - l1 - l2 >= -eps) out.insert(ids[k]);
+    }
+    return out;
+  }
+};
+
+struct Layout_counts {
+  std::size_t folded = 0, overlaps = 0, outside = 0;
+};
+
+// Counts, for a layout `out` against the original layout `in`:
+//  * folded: UV triangles degenerate or oriented against their chart's majority;
+//  * overlaps: texel centres (1024 per UV unit) covered twice by triangles of one chart;
+//  * outside: UV corners neither inside the original chart their chart corresponds to (the
+//    original chart containing most of its corners; exact point-in-triangle tests) nor within 3
+//    texels of it (charts may grow by 2 texels across concave corners).
+Layout_counts count_layout(const std::vector<std::array<UV2, 3>>& in_tris, const std::vector<int>& in_ids,
+                           const std::vector<std::array<UV2, 3>>& out_tris, const std::vector<int>& out_ids) {
+  Layout_counts n;
+  std::vector<std::array<UV2, 3>> all = in_tris;
+  all.insert(all.end(), out_tris.begin(), out_tris.end());
+  const TS::Texture_domain dom = TS::make_texture_domain(all, 1024, 1024, 8192);
+  std::map<int, double> chart_sign;
+  for (std::size_t i = 0; i < out_tris.size(); ++i) chart_sign[out_ids[i]] += signed_area(out_tris[i]);
+  for (std::size_t i = 0; i < out_tris.size(); ++i)
+    if (!(signed_area(out_tris[i]) * chart_sign[out_ids[i]] > 0)) ++n.folded;
+  // chart correspondence, then containment
+  const Chart_regions regions(in_tris, in_ids);
+  std::map<int, std::map<int, int>> votes;
+  std::vector<std::array<std::set<int>, 3>> at(out_tris.size());
+  for (std::size_t i = 0; i < out_tris.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      at[i][c] = regions.charts_at(out_tris[i][c]);
+      for (int k : at[i][c]) ++votes[out_ids[i]][k];
+    }
+  std::map<int, int> match;
+  for (const auto& kv : votes) {
+    int best = -1, bv = -1;
+    for (const auto& kc : kv.second)
+      if (kc.second > bv) { bv = kc.second; best = kc.first; }
+    match[kv.first] = best;
+  }
+  // charts may grow across concave corners by slivers within 2 texels (1024 per UV unit) of
+  // their original texels (Textured_simplification_options::chart_growth_texels): accept corners
+  // within 3 texels of the matched chart (rasterised chart ids grown by 3 rings, no other chart)
+  const TS::Index_texture margin(dom, in_tris, in_ids, 3);
+  for (std::size_t i = 0; i < out_tris.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      if (!match.count(out_ids[i])) { ++n.outside; continue; }
+      if (at[i][c].count(match[out_ids[i]])) continue;
+      const UV2 t = dom.to_texel(out_tris[i][c]);
+      if (margin.chart_of(float(t[0]), float(t[1])) != std::uint32_t(match[out_ids[i]] + 1)) ++n.outside;
+    }
+  std::map<int, std::vector<std::size_t>> by_chart;
+  for (std::size_t i = 0; i < out_tris.size(); ++i) by_chart[out_ids[i]].push_back(i);
+  std::vector<int> owner(std::size_t(dom.width) * std::size_t(dom.height), -1);
+  for (const auto& kv : by_chart) {
+    std::vector<std::size_t> touched;
+    for (std::size_t i : kv.second) {
+      std::array<UV2, 3> t;
+      for (int c = 0; c < 3; ++c) t[c] = dom.to_texel(out_tris[i][c]);
+      TS::rasterize_triangle(t, dom.width, dom.height, [&](int x, int y) {
+        const std::size_t k = std::size_t(y) * dom.width + x;
+        if (owner[k] == kv.first) ++n.overlaps;
+        owner[k] = kv.first;
+        touched.push_back(k);
+      });
+    }
+    for (std::size_t k : touched) owner[k] = -1;
+  }
+  return n;
+}
+
+// The result introduces no fold, no overlap within a chart and no UV outside its chart (inputs
+// that already have folded or self-overlapping charts: not more than they had).
+void check_layout(const std::vector<std::array<UV2, 3>>& in_tris, const std::vector<int>& in_ids,
+                  const std::vector<std::array<UV2, 3>>& out_tris, const std::vector<int>& out_ids,
+                  const std::string& name) {
+  const Layout_counts a = count_layout(in_tris, in_ids, in_tris, in_ids);
+  const Layout_counts b = count_layout(in_tris, in_ids, out_tris, out_ids);
+  EXPECT_EQ(a.outside, 0u) << name << ": input corners outside their own chart";
+  EXPECT_LE(b.folded, a.folded) << name << ": folded or degenerate UV triangles";
+  EXPECT_LE(b.overlaps, a.overlaps) << name << ": texel centres covered twice within one chart";
+  EXPECT_EQ(b.outside, 0u) << name << ": UV corners outside their original chart";
+  if (std::getenv("CMGEOM_TS_DIAG"))
+    std::cout << name << ": folded " << a.folded << " -> " << b.folded << ", overlap texels " << a.overlaps << " -> "
+              << b.overlaps << ", outside " << b.outside << "\n";
+}
+
+TEST(TexturedSimplification, ChartConstraintsOnEveryTexturedModel) {
+  int tested = 0;
+  for (const Model& m : kModels) {
+    CMGeom::Textured_mesh tm;
+    if (!read_model(m, tm, false)) GTEST_SKIP() << "shared data not found: " << model_path(m);
+    ASSERT_TRUE(tm.has_uvs()) << m.file;
+    std::vector<std::array<UV2, 3>> in_tris;
+    std::vector<int> in_ids;
+    const std::size_t charts_in = layout(tm, in_tris, in_ids);
+    TS::Textured_simplification_options o;
+    o.target_faces = tm.mesh().number_of_faces() / 10;
+    o.resample_textures = false;
+    const auto r = TS::simplify_textured_mesh(tm, o);
+    ASSERT_TRUE(CGAL::is_valid_polygon_mesh(tm.mesh())) << m.file;
+    std::vector<std::array<UV2, 3>> out_tris;
+    std::vector<int> out_ids;
+    const std::size_t charts_out = layout(tm, out_tris, out_ids);
+    EXPECT_EQ(r.charts_in, charts_in);
+    EXPECT_EQ(charts_out, charts_in) << m.file << ": chart count changed";
+    EXPECT_EQ(r.charts_out, charts_out);
+    check_layout(in_tris, in_ids, out_tris, out_ids, m.file);
+    std::cout << m.file << ": " << r.faces_in << " -> " << r.faces_out << " faces (target " << o.target_faces
+              << "), charts " << charts_in << " -> " << charts_out << ", refused: topology "
+              << r.statistics.topology << ", uv " << r.statistics.uv_fold << ", projection "
+              << r.statistics.projection_overlap << "\n";
+    // Target: reached exactly where the charts allow it. Measured floors elsewhere (chart corners
+    // never move, concave boundary corners move only by slivers within 2 texels, wedges whose input
+    // UVs are folded are frozen): bunny10k (190 charts) 1291 faces for 999, Duck (1641 folded
+    // input triangles) 726 for 421, DamagedHelmet (486 charts, 804 folded) 5750 for 1545.
+    const std::string f = m.file;
+    const double slack = f == "bunny10k_textured.obj" ? 1.4 : f == "Duck.obj" ? 1.9 : f == "DamagedHelmet.obj" ? 4.0 : 1.0;
+    EXPECT_LE(double(r.faces_out), slack * double(o.target_faces)) << m.file;
+    ++tested;
+  }
+  EXPECT_EQ(tested, 8);
+}
+
+TEST(TexturedSimplification, InteriorCollapseKeepsUVsInsideAndChartsOnASimpleGrid) {
+  // a flat 10x10 grid with two charts (left/right halves, mirrored right chart): the seam must
+  // survive, UVs stay in their half, no folds.
+  CMGeom::Textured_mesh tm;
+  auto& m = tm.mesh();
+  const int N = 10;
+  std::vector<CMGeom::Surface_mesh::Vertex_index> v;
+  for (int j = 0; j <= N; ++j)
+    for (int i = 0; i <= N; ++i) v.push_back(m.add_vertex(CMGeom::Point_3(i, j, 0.01 * ((i * 7 + j * 3) % 5))));
+  for (int j = 0; j < N; ++j)
+    for (int i = 0; i < N; ++i) {
+      const auto a = v[j * (N + 1) + i], b = v[j * (N + 1) + i + 1], c = v[(j + 1) * (N + 1) + i + 1],
+                 d = v[(j + 1) * (N + 1) + i];
+      const auto f1 = m.add_face(a, b, c), f2 = m.add_face(a, c, d);
+      for (auto f : {f1, f2})
+        for (auto h : CGAL::halfedges_around_face(halfedge(f, m), m)) {
+          const auto p = m.point(target(h, m));
+          const bool right = (i >= N / 2);
+          // left chart: u = x/20; right chart mirrored: u = 1 - (x - 5)/20 at an offset
+          const double u = right ? 0.9 - (p.x() - N / 2) / 20.0 : p.x() / 20.0;
+          tm.set_uv(h, CMGeom::Point_2(u, p.y() / 10.0));
+        }
+    }
+  tm.set_has_uvs(true);
+  std::vector<std::array<UV2, 3>> in_tris, out_tris;
+  std::vector<int> in_ids, out_ids;
+  ASSERT_EQ(layout(tm, in_tris, in_ids), 2u);
+  TS::Textured_simplification_options o;
+  o.target_faces = 20;
+  o.resample_textures = false;
+  const auto r = TS::simplify_textured_mesh(tm, o);
+  EXPECT_EQ(layout(tm, out_tris, out_ids), 2u);
+  EXPECT_LE(r.faces_out, 40u);
+  EXPECT_GT(r.statistics.accepted, 50u);
+  check_layout(in_tris, in_ids, out_tris, out_ids, "grid");
+}
+
+// Red-filled atlas (thesis Fig. 3.8): texels outside every chart get a marker colour (pure red in
+// the thesis; bunny10k's test atlas has pure red charts, so the first of red, magenta, cyan,
+// yellow that no chart texel is close to is used); after the simplification with index-texture
+// resampling no texel of the output texture — and no rendered pixel of the output model — has
+// the marker colour.
+TEST(TexturedSimplification, RedFilledAtlasShowsNoRed) {
+  const Model m{"bunny10k_textured", "bunny10k_textured.obj"};
+  CMGeom::Textured_mesh tm;
+  if (!read_model(m, tm, true)) GTEST_SKIP() << "shared data not found: " << model_path(m);
+  ASSERT_FALSE(tm.materials().empty());
+  CMGeom::Image& atlas = tm.materials()[0].diffuse_image;
+  ASSERT_FALSE(atlas.empty());
+  std::vector<std::array<UV2, 3>> tris;
+  std::vector<int> ids;
+  layout(tm, tris, ids);
+  const TS::Texture_domain dom = TS::make_texture_domain(tris, atlas.width(), atlas.height(), 8192);
+  ASSERT_EQ(dom.width, atlas.width()) << "bunny10k's UVs are expected inside [0,1]";
+  const TS::Index_texture region(dom, tris, ids, 2);
+  auto in_chart = [&](int x, int y) { return region.chart(x, atlas.height() - 1 - y) != 0; };
+  const std::array<std::array<float, 3>, 4> candidates{{{{1, 0, 0}}, {{1, 0, 1}}, {{0, 1, 1}}, {{1, 1, 0}}}};
+  auto close_to = [](const CMGeom::Image& img, int x, int y, const std::array<float, 3>& c, float tol) {
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(img.value(x, y, k) - c[k]) > tol) return false;
+    return true;
+  };
+  int marker = -1;
+  for (int k = 0; k < 4 && marker < 0; ++k) {
+    bool used = false;
+    for (int y = 0; y < atlas.height() && !used; ++y)
+      for (int x = 0; x < atlas.width() && !used; ++x) used = in_chart(x, y) && close_to(atlas, x, y, candidates[k], 0.25f);
+    if (!used) marker = k;
+  }
+  ASSERT_GE(marker, 0);
+  const auto mc = candidates[std::size_t(marker)];
+  std::size_t filled = 0;
+  for (int y = 0; y < atlas.height(); ++y)
+    for (int x = 0; x < atlas.width(); ++x)
+      if (!in_chart(x, y)) {
+        for (int c = 0; c < 3; ++c) atlas.set_value(x, y, c, mc[c]);
+        ++filled;
+      }
+  ASSERT_GT(filled, 1000u);
+  TS::Textured_simplification_options o;
+  o.target_faces = tm.mesh().number_of_faces() / 5;
+  const auto r = TS::simplify_textured_mesh(tm, o);
+  EXPECT_EQ(r.charts_out, r.charts_in);
+  EXPECT_LT(r.faces_out, tm.mesh().number_of_faces() + 1);
+  const CMGeom::Image& out = tm.materials()[0].diffuse_image;
+  ASSERT_EQ(out.width(), dom.width);
+  std::size_t marked = 0;
+  for (int y = 0; y < out.height(); ++y)
+    for (int x = 0; x < out.width(); ++x) marked += close_to(out, x, y, mc, 0.1f) ? 1 : 0;
+  if (std::getenv("CMGEOM_TS_DIAG")) CMGeom::IO::write_image("/tmp/ts_red_out.png", out);
+  EXPECT_EQ(marked, 0u) << "marker-coloured texels in the output texture (of " << out.width() * out.height() << ")";
+#ifdef CMGEOM_HAS_OSMESA
+  // through the renderer: no marker-coloured pixel on the simplified model, from 12 directions
+  CMGeom::Rendering::Renderer renderer;
+  CMGeom::Rendering::Render_mesh_inputs<CMGeom::Textured_mesh::UV_map> in;
+  const auto uv = tm.uv_map();
+  in.uv = &uv;
+  in.texture_of = [&](std::size_t) -> const CMGeom::Image* { return &out; };
+  const auto rm = CMGeom::Rendering::make_render_mesh(tm.mesh(), get(CGAL::vertex_point, tm.mesh()), in);
+  std::size_t marked_pixels = 0, covered = 0;
+  for (double az : {0., 90., 180., 270.})
+    for (double el : {-60., 0., 60.}) {
+      CMGeom::Rendering::Render_options ro;
+      ro.width = ro.height = 256;
+      ro.lighting = false;
+      ro.background = {{0.5, 0.5, 0.5}};
+      ro.view(az, el);
+      const CMGeom::Image img = renderer.render(rm, ro);
+      for (int y = 0; y < img.height(); ++y)
+        for (int x = 0; x < img.width(); ++x) {
+          if (img.value(x, y, 3) < 1.f) continue;
+          ++covered;
+          if (close_to(img, x, y, mc, 0.15f)) ++marked_pixels;
+        }
+    }
+  EXPECT_GT(covered, 10000u);
+  EXPECT_EQ(marked_pixels, 0u) << "marker-coloured pixels on the rendered simplified model";
+#endif
+}
+
+// The index texture after resampling only stores positions inside original charts, and texels
+// of an interior-only collapse sequence on a flat single-chart grid keep the identity map
+// (projection onto the plane = the UV map up to scale): resampling a flat isometric patch is exact.
+TEST(TexturedSimplification, ResamplingIsIdentityOnAFlatIsometricPatch) {
+  CMGeom::Textured_mesh tm;
+  auto& m = tm.mesh();
+  const int N = 16;
+  std::vector<CMGeom::Surface_mesh::Vertex_index> v;
+  for (int j = 0; j <= N; ++j)
+    for (int i = 0; i <= N; ++i) {
+      // irregular interior spacing so that collapses happen, flat (z = 0)
+      const double x = i + ((i > 0 && i < N) ? 0.3 * std::sin(1.7 * i + 3.1 * j) : 0.);
+      const double y = j + ((j > 0 && j < N) ? 0.3 * std::cos(2.3 * i + 0.7 * j) : 0.);
+      v.push_back(m.add_vertex(CMGeom::Point_3(x, y, 0)));
+    }
+  for (int j = 0; j < N; ++j)
+    for (int i = 0; i < N; ++i) {
+      const auto a = v[j * (N + 1) + i], b = v[j * (N + 1) + i + 1], c = v[(j + 1) * (N + 1) + i + 1],
+                 d = v[(j + 1) * (N + 1) + i];
+      for (auto f : {m.add_face(a, b, c), m.add_face(a, c, d)})
+        for (auto h : CGAL::halfedges_around_face(halfedge(f, m), m)) {
+          const auto p = m.point(target(h, m));
+          tm.set_uv(h, CMGeom::Point_2(p.x() / N, p.y() / N));
+        }
+    }
+  tm.set_has_uvs(true);
+  std::vector<std::array<UV2, 3>> tris;
+  std::vector<int> ids;
+  layout(tm, tris, ids);
+  TS::Texture_domain dom = TS::make_texture_domain(tris, 128, 128, 8192);
+  TS::Index_texture it(dom, tris, ids);
+  using VPM = boost::property_map<CMGeom::Surface_mesh, CGAL::vertex_point_t>::type;
+  using CC = TS::Chart_constraints<CMGeom::Surface_mesh, VPM, CMGeom::Textured_mesh::UV_map>;
+  CC cc(m, get(CGAL::vertex_point, m), tm.uv_map());
+  TS::Index_texture_resampler rs(it);
+  TS::Area_weighted_quadric_policies<CMGeom::Surface_mesh> policy(m);
+  TS::edge_collapse(m, TS::Face_count_stop_predicate<CMGeom::Surface_mesh>(m, 60),
+                    CGAL::parameters::get_cost(policy).get_placement(policy).filter(TS::Chart_constraint_filter<CC>(cc)).visitor(
+                        TS::Chart_constraint_visitor<CC, TS::Index_texture_resampler>(cc, &rs)));
+  EXPECT_GT(cc.statistics().accepted, 100u);
+  // On a flat patch whose UVs are its xy coordinates scaled, PM maps are similarities and the
+  // composed maps are the identity: each texel keeps its own coordinates (up to float rounding
+  // and bilinear weights summing to one).
+  double worst = 0;
+  for (int y = 0; y < it.height(); ++y)
+    for (int x = 0; x < it.width(); ++x) {
+      const float* p = it.at(x, y);
+      worst = std::max({worst, std::abs(p[0] - (x + 0.5)), std::abs(p[1] - (y + 0.5))});
+    }
+  EXPECT_LT(worst, 1e-3) << "index texture drifted from the identity (texels)";
+}
+
+// Texture deviation (Metrics) with the weighted policy is lower than with plain quadrics, UVs
+// kept under the same chart constraints (thesis §3.4: the weighting exists for the texture).
+// Measured on bunny10k_textured at 5 % with the sum merge (0.080 vs 0.118 of the diagonal); the
+// doc's table lists the other models and merges, where the result is mixed.
+TEST(TexturedSimplification, WeightedPolicyLowersTextureDeviation) {
+  const Model m{"bunny10k_textured", "bunny10k_textured.obj"};
+  CMGeom::Textured_mesh base;
+  if (!read_model(m, base, false)) GTEST_SKIP() << "shared data not found: " << model_path(m);
+  double dev[2];
+  for (int weighted = 0; weighted < 2; ++weighted) {
+    CMGeom::Textured_mesh tm = base;
+    TS::Textured_simplification_options o;
+    o.target_faces = base.mesh().number_of_faces() / 20;
+    o.resample_textures = false;
+    o.quadric.weighted = weighted == 1;
+    o.quadric.merge = TS::Quadric_merge::sum;
+    TS::simplify_textured_mesh(tm, o);
+    CMGeom::Metrics::Error_options eo;
+    eo.threads = 1;
+    dev[weighted] = CMGeom::Metrics::texture_deviation(base.mesh(), base.uv_map(), tm.mesh(), tm.uv_map(), eo).deviation;
+  }
+  EXPECT_LT(dev[1], dev[0]) << "texture deviation: plain " << dev[0] << ", weighted " << dev[1];
+}
+
+// `cmgeom simplify` on a textured input: OBJ + MTL + PNG, JSON keys, charts kept, target
+// reached; identical bytes on a second run; clear errors for unusable texture options.
+TEST(TexturedSimplification, CommandLineWritesObjMtlPng) {
+  const std::string in = std::string(CMGEOM_DATA_DIR) + "/textured/bunny10k_textured/bunny10k_textured.obj";
+  if (!fs::exists(in)) GTEST_SKIP() << "shared data not found: " << in;
+  const std::string exe = CMGEOM_CMGEOM_EXE;
+  const std::string dir = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_textured_cli";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  auto run = [](const std::string& cmd, std::string* out = nullptr) {
+    FILE* p = popen((cmd + " 2>/dev/null").c_str(), "r");
+    std::string text;
+    char buf[4096];
+    std::size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) text.append(buf, n);
+    const int status = pclose(p);
+    if (out) *out = text;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  auto slurp = [](const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  };
+  std::string text;
+  for (const char* name : {"a", "b"}) {
+    ASSERT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir + "/" + name + ".obj' --ratio 0.3 --json", &text), 0);
+  }
+  const auto j = nlohmann::json::parse(text);
+  for (const char* key : {"faces_in", "faces_out", "charts_in", "charts_out", "seconds"}) EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["charts_in"], j["charts_out"]);
+  EXPECT_EQ(j["faces_in"].get<int>(), 9999);
+  EXPECT_LE(j["faces_out"].get<int>(), 3000);
+  EXPECT_TRUE(fs::exists(dir + "/a.mtl"));
+  EXPECT_TRUE(fs::exists(dir + "/a_0_diffuse.png"));
+  EXPECT_EQ(slurp(dir + "/a.obj").size() > 1000, true);
+  // deterministic (the OBJ names its own MTL, so compare the textures and the MTL-free body)
+  EXPECT_EQ(slurp(dir + "/a_0_diffuse.png"), slurp(dir + "/b_0_diffuse.png"));
+  std::string a = slurp(dir + "/a.obj"), b = slurp(dir + "/b.obj");
+  a = a.substr(a.find("\nv "));
+  b = b.substr(b.find("\nv "));
+  EXPECT_EQ(a, b);
+  // the written mesh reads back with its UVs and texture
+  CMGeom::Textured_mesh back;
+  CMGeom::IO::read_textured_mesh(dir + "/a.obj", back);
+  EXPECT_TRUE(back.has_uvs());
+  ASSERT_FALSE(back.materials().empty());
+  EXPECT_EQ(back.materials()[0].diffuse_image.width(), 512);
+  // errors: one line, exit code 1, no output file
+  EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir + "/c.ply' --ratio 0.3"), 1);
+  EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir + "/c.obj' --ratio 0.3 --texture-backend osmesa"), 1);
+  EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir + "/c.obj' --ratio 0.3 --texture-size 4"), 1);
+  EXPECT_FALSE(fs::exists(dir + "/c.obj"));
+  EXPECT_FALSE(fs::exists(dir + "/c.ply"));
+}
+
+}  // namespace
