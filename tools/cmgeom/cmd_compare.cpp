@@ -54,22 +54,26 @@ CMGEOM_CLI_COMMAND(compare, "Image-space error (RMSE, PSNR) between two meshes o
   auto size = std::make_shared<int>(512);
   auto json = std::make_shared<bool>(false);
   auto texture = std::make_shared<std::string>();
+  auto reference_texture = std::make_shared<bool>(false);
   app.add_option("reference", *reference, "Reference (original) mesh")->required();
   app.add_option("approximation", *approximation, "Approximating mesh")->required();
   app.add_option("-o,--output", *output, "Write a PNG grid: reference / approximation / difference, 6 axis views");
   app.add_option("--size", *size, "Render size N (N x N pixels per view, default 512)")->check(CLI::Range(16, 4096));
   app.add_flag("--json", *json, "Print a JSON object instead of text");
   app.add_option("--texture", *texture, "Texture image of the reference when its file names none");
+  app.add_flag("--reference-texture", *reference_texture,
+               "Draw the approximation with the reference's texture even when it has its own");
   return [=]() -> int {
 #ifndef CMGEOM_HAS_OSMESA
     throw CMGeom::Error(CMGeom::Rendering::rendering_unavailable_message());
 #else
     namespace R = CMGeom::Rendering;
-    // Drawn as the files hold them (polygon soups); the approximation wears the reference's
-    // texture, so only the reference's images are decoded.
+    // Drawn as the files hold them (polygon soups). The approximation wears its own texture when
+    // its file names one (a textured simplification has a new atlas), else the reference's.
     CMGeom::Polygon_soup ref = CMGeom::IO::read_polygon_soup(*reference);
-    const CMGeom::Polygon_soup app_mesh = CMGeom::IO::read_polygon_soup(*approximation);
+    CMGeom::Polygon_soup app_mesh = CMGeom::IO::read_polygon_soup(*approximation);
     if (texture->empty()) cmgeom_cli::load_soup_textures(ref);
+    if (!*reference_texture) cmgeom_cli::load_soup_textures(app_mesh);
     R::Render_mesh a = R::make_render_mesh(ref);
     const R::Render_mesh b = R::make_render_mesh(app_mesh);
     CMGeom::Image image;
@@ -80,6 +84,8 @@ CMGEOM_CLI_COMMAND(compare, "Image-space error (RMSE, PSNR) between two meshes o
     }
     R::Image_space_error_options opt;
     opt.size = *size;
+    if (*reference_texture)
+      opt.approximation_texture = R::Image_space_error_options::Approximation_texture::Reference;
     opt.keep_images = !output->empty();
     R::Renderer renderer;
     const double t0 = cmgeom_cli::now_seconds();

@@ -4,10 +4,13 @@
 // image_space_error(): the appearance error of thesis §2.3.2.1 (eq. 2.1) between a reference
 // mesh and an approximation, measured on renders from a fixed view set (by default the 26 cube
 // directions of views.h) at a fixed resolution, with identical lighting and camera for both
-// (the camera is framed on the REFERENCE's bounding box) and with the reference's texture on both
-// meshes: the approximation is drawn through its own UVs into the reference's first texture, so
-// that only geometry and parameterisation differences show. Pixels covered by either mesh count
-// (see Metrics/image_error.h for RMSE and PSNR).
+// (the camera is framed on the REFERENCE's bounding box). Texture of the approximation
+// (`Image_space_error_options::approximation_texture`): by default (`Own_or_reference`) its own
+// texture when it has one — a textured simplification writes a new atlas, and drawing its new
+// UVs into the old atlas would be meaningless — otherwise the reference's first texture through
+// the approximation's UVs (simplifiers that keep UVs but write no material); `Reference` forces
+// the latter, so that only geometry and parameterisation differences show. Pixels covered by
+// either mesh count (see Metrics/image_error.h for RMSE and PSNR).
 //
 // Complexity: 2 x views renders of O(F + W H samples) each.
 #ifndef CMGEOM_RENDERING_IMAGE_SPACE_ERROR_H
@@ -30,6 +33,9 @@ struct Image_space_error_options {
   /// Shading of both meshes; Textured falls back to Smooth when the reference has no texture.
   Shading shading = Shading::Textured;
   bool keep_images = false;                ///< return the renders as well
+  /// Which texture the approximation wears (see the file comment).
+  enum class Approximation_texture { Own_or_reference, Reference };
+  Approximation_texture approximation_texture = Approximation_texture::Own_or_reference;
 };
 
 struct Image_space_error {
@@ -44,7 +50,10 @@ inline Image_space_error image_space_error(Renderer& renderer, const Render_mesh
                                            const Image_space_error_options& options = Image_space_error_options()) {
   const Image* texture = reference.texture();
   Render_mesh approx = approximation;
-  for (auto& r : approx.ranges) r.texture = approximation.has_uvs() ? texture : nullptr;
+  const bool own = options.approximation_texture == Image_space_error_options::Approximation_texture::Own_or_reference &&
+                   approximation.has_uvs() && approximation.texture() != nullptr;
+  if (!own)
+    for (auto& r : approx.ranges) r.texture = approximation.has_uvs() ? texture : nullptr;
   std::vector<Render_options> views;
   for (const View& v : options.views) {
     Render_options o;
