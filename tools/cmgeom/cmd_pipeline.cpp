@@ -167,8 +167,12 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
     try {
       p.begin("Input model");
       const json info = p.run({"info", model, "--json"});
-      p.run({"render", model, "-o", p.path("input.png"), "--size", o->size, "--charts", "--caption",
-             "input: chart boundaries in red"});
+      {
+        std::vector<std::string> args = {"render", model, "-o", p.path("input.png"), "--size", o->size, "--charts",
+                                         "--caption", "input: chart boundaries in red"};
+        if (textured) args.insert(args.end(), {"--atlas", p.path("input_atlas.png")});
+        p.run(args);
+      }
       if (textured) p.run({"render", model, "-o", p.path("input_shaded.png"), "--size", o->size, "--no-texture"});
       {
         auto& s = section(p.end());
@@ -176,13 +180,16 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
                    {{num(info["referenced_vertices"]), num(info["faces"]), num(info["charts"]),
                      num(info["genus"]), num(info["components"]), info["closed"].dump()}}};
         s.pictures.push_back({"input.png", "Input model, chart boundaries in red"});
-        if (textured) s.pictures.push_back({"input_shaded.png", "Input geometry"});
+        if (textured) {
+          s.pictures.push_back({"input_shaded.png", "Input geometry"});
+          s.pictures.push_back({"input_atlas.png", "Input texture atlas with its UV layout"});
+        }
       }
 
       p.begin("Simplification (thesis ch. 3): area-weighted quadric vs plain Garland-Heckbert");
       {
-        Report::Table table{{"policy", "faces in", "faces out", "seconds", "Hausdorff (% diag)",
-                             "RMS (% diag)", "image RMSE (26 views)"},
+        Report::Table table{{"policy", "faces in", "faces out", "charts in", "charts out", "seconds",
+                             "Hausdorff (% diag)", "RMS (% diag)", "image RMSE (26 views)"},
                             {}};
         std::vector<Report::Picture> pictures;
         for (const std::string policy : {"weighted", "plain"}) {
@@ -192,11 +199,18 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
           const json je = p.run({"error", model, mesh_out, "--json"});
           const json jc = p.run({"compare", model, mesh_out, "--json", "-o", p.path("compare_" + policy + ".png"),
                                  "--size", "256"});
-          p.run({"render", mesh_out, "-o", p.path("simplified_" + policy + ".png"), "--size", o->size,
-                 "--wireframe", "--caption", policy + " quadric"});
-          table.rows.push_back({policy, num(js["faces_in"]), num(js["faces_out"]), num(js["seconds"]),
-                                pct(je["hausdorff"]), pct(je["rms"]), num(jc["rmse"])});
-          pictures.push_back({"simplified_" + policy + ".png", policy + " quadric, " + num(js["faces_out"]) + " faces"});
+          std::vector<std::string> render = {"render", mesh_out, "-o", p.path("simplified_" + policy + ".png"),
+                                             "--size", o->size, "--wireframe", "--caption", policy + " quadric"};
+          if (textured)  // chart boundaries in red, and the new atlas (thesis Fig. 3.8-3.13)
+            render.insert(render.end(), {"--charts", "--atlas", p.path("simplified_" + policy + "_atlas.png")});
+          p.run(render);
+          table.rows.push_back({policy, num(js["faces_in"]), num(js["faces_out"]), num(js.value("charts_in", json())),
+                                num(js.value("charts_out", json())), num(js["seconds"]), pct(je["hausdorff"]),
+                                pct(je["rms"]), num(jc["rmse"])});
+          pictures.push_back({"simplified_" + policy + ".png", policy + " quadric, " + num(js["faces_out"]) + " faces" +
+                                                                   (textured ? ", chart boundaries in red" : "")});
+          if (textured)
+            pictures.push_back({"simplified_" + policy + "_atlas.png", policy + ": resampled texture atlas"});
           pictures.push_back({"compare_" + policy + ".png",
                               policy + ": reference / simplified / difference over 6 of the 26 views"});
         }
