@@ -50,28 +50,11 @@ bool read_obj(const std::string& path, std::vector<Vec3>& pts,
         std::system(("gzip -dc '" + path + "' > '" + file + "'").c_str()) != 0)
       return false;
   }
-  std::ifstream in(file);
-  if (!in) return false;
-  pts.clear();
-  polys.clear();
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      Vec3 p;
-      ls >> p[0] >> p[1] >> p[2];
-      pts.push_back(p);
-    } else if (tag == "f") {
-      std::vector<std::size_t> f;
-      std::string c;
-      while (ls >> c) {
-        long i = std::stol(c.substr(0, c.find('/')));
-        f.push_back(i < 0 ? std::size_t(long(pts.size()) + i) : std::size_t(i - 1));
-      }
-      polys.push_back(f);
-    }
+  try {
+    read_polygons(file, pts, polys);
+  } catch (const CMGeom::Error& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return false;
   }
   return !pts.empty();
 }

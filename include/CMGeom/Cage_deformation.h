@@ -2,7 +2,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Convenience header of the Cage_deformation package (thesis chapter 5): triangle cages, the
-// CageCoordinates models (mean value, Green, harmonic), binding and the deformation kernel.
+// CageCoordinates models (mean value, Green, harmonic), binding and the deformation kernel, and
+// the *Cages system of several cages joined C1 (§5.3) with its JSON file format.
+// Cage_system_io.h needs the CMGeom::Mesh_IO library (cage files are read with its readers).
 // See doc/Cage_deformation/README.md. Complexity: see each header.
 #ifndef CMGEOM_CAGE_DEFORMATION_H
 #define CMGEOM_CAGE_DEFORMATION_H
@@ -13,5 +15,9 @@
 #include <CMGeom/Cage_deformation/Green_coordinates_3.h>
 #include <CMGeom/Cage_deformation/Harmonic_coordinates_3.h>
 #include <CMGeom/Cage_deformation/Cage_binding.h>
+#include <CMGeom/Cage_deformation/Any_cage_coordinates.h>
+#include <CMGeom/Cage_deformation/Cage_system_description.h>
+#include <CMGeom/Cage_deformation/Cage_system.h>
+#include <CMGeom/Cage_deformation/Cage_system_io.h>
 
 #endif  // CMGEOM_CAGE_DEFORMATION_H

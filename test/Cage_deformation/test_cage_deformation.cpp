@@ -184,31 +184,14 @@ std::vector<Vec3> random_points(std::mt19937& rng, Vec3 lo, Vec3 hi, int count) 
 // ------------------------------------------------------------------ shared data
 std::string data_dir() { return CMGEOM_DATA_DIR; }
 
-// Minimal OBJ reading for the tests (v and f records only; other records are ignored).
+// Points and polygons of a mesh or cage file, with the project's reader.
 bool read_soup(const std::string& path, std::vector<Vec3>& pts,
                std::vector<std::vector<std::size_t>>& polys) {
-  std::ifstream in(path);
-  if (!in) return false;
-  pts.clear();
-  polys.clear();
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      Vec3 p;
-      ls >> p[0] >> p[1] >> p[2];
-      pts.push_back(p);
-    } else if (tag == "f") {
-      std::vector<std::size_t> f;
-      std::string c;
-      while (ls >> c) {
-        long i = std::stol(c.substr(0, c.find('/')));
-        f.push_back(i < 0 ? std::size_t(long(pts.size()) + i) : std::size_t(i - 1));
-      }
-      polys.push_back(f);
-    }
+  try {
+    read_polygons(path, pts, polys);
+  } catch (const CMGeom::Error& e) {
+    ADD_FAILURE() << e.what();
+    return false;
   }
   return !pts.empty();
 }
@@ -955,7 +938,7 @@ TEST(CAGE_SUITE(Cage_cli), errors_are_one_line_and_leave_no_output) {
   };
   const std::vector<Bad> bad = {
       {"{\"cages\": [", "mesh.obj", "invalid JSON"},
-      {"{\"cages\": [{\"deformed\": \"cages/rest.obj\"}]}", "mesh.obj", "\"rest\""},
+      {"{\"cages\": [{\"deformed\": \"cages/rest.obj\"}]}", "mesh.obj", "/cages/0/rest: missing"},
       {"{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": \"cages/missing.obj\"}]}", "mesh.obj", "missing.obj"},
       {"{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": \"cages/other.obj\"}]}", "mesh.obj", "same vertices"},
       {"{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": \"cages/rest.obj\", \"coordinates\": \"bogus\"}]}", "mesh.obj", "unknown coordinates"},

@@ -1,20 +1,22 @@
-// cmgeom deform <mesh> --cages <system.json> -o <out> [--json]: deforms a mesh with a cage
-// (thesis chapter 5). The cage-system file is JSON:
-//   {"cages": [{"rest": "rest.obj", "deformed": "deformed.obj",
-//               "coordinates": "mean_value" | "green" | "harmonic",
-//               "harmonic": {"resolution": 64, "interpolation": "trilinear" | "tricubic"}}]}
-// Paths are relative to the JSON file. Cage polygons are fan-triangulated in file order; the
-// deformed cage must have the same vertices (in the same order) as the rest cage and only its
-// vertex positions are used, with the rest cage's triangles (so both poses share one split). With
-// one cage the result is the plain coordinate deformation; the output keeps the input vertex
-// order.
+// cmgeom deform <mesh> (--cages <system.json> | --grid nx,ny,nz) -o <out> [--json]
+//               [--weights double|float] [--storage dense|sparse] [--write-cages system.json]
+//               [--coordinates mean_value|green|harmonic] [--h 0.6] [--margin 0.05] [--piecewise]
+// Deforms a mesh with a cage or a *Cages system (thesis chapter 5). The cage-system JSON format
+// is read by CMGeom::Cage_deformation::read_cage_system() (Cage_system_io.h, documented in
+// doc/Cage_deformation/README.md). One cage without parent links is the plain coordinate
+// deformation (dense or sparse weights); several cages are evaluated as the *Cages system of
+// §5.3 (join and smooth transformations, multi-level parent links; sparse weights). --grid builds
+// a lattice of box cages around the mesh; with --write-cages the system (inline cages, deformed
+// = rest) is written for editing, and -o may then be omitted. --piecewise evaluates S_i = T_i
+// (no join: the C0 / discontinuous piecewise deformation of Fig. 5.2(a, b), for comparisons).
+// The output keeps the input vertex order.
 #include "cli_common.h"
 
 #include <CMGeom/Cage_deformation.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
-#include <filesystem>
-#include <fstream>
+#include <cstdio>
+#include <set>
 #include <iostream>
 
 namespace {
@@ -22,81 +24,24 @@ namespace {
 namespace CD = CMGeom::Cage_deformation;
 using json = nlohmann::ordered_json;
 
-CD::Triangle_cage read_cage(const std::string& path) {
-  const CMGeom::Polygon_soup soup = CMGeom::IO::read_polygon_soup(path);
-  std::vector<std::vector<std::uint32_t>> faces;  // already fans in file order
-  for (std::size_t f = 0; f < soup.number_of_faces(); ++f)
-    faces.emplace_back(soup.corner_vertex.begin() + soup.face_start[f],
-                       soup.corner_vertex.begin() + soup.face_start[f + 1]);
-  return CD::make_triangle_cage(soup.positions, faces);
-}
-
-struct Cage_entry {
-  std::string rest, deformed, coordinates = "mean_value";
-  int resolution = 64;
-  std::string interpolation = "tricubic";
-};
-
-Cage_entry parse_system(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw CMGeom::IO_error(path, "cannot open the cage-system file");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw CMGeom::IO_error(path, std::string("invalid JSON: ") + e.what());
-  }
-  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-  auto rel = [&](const json& v, const char* key) {
-    if (!v.contains(key) || !v[key].is_string())
-      throw CMGeom::IO_error(path, std::string("cage entry needs a string \"") + key + "\"");
-    std::filesystem::path p = v[key].get<std::string>();
-    return (p.is_absolute() ? p : dir / p).string();
-  };
-  if (!j.is_object() || !j.contains("cages") || !j["cages"].is_array() || j["cages"].empty())
-    throw CMGeom::IO_error(path, "expected an object with a non-empty array \"cages\"");
-  if (j["cages"].size() > 1)
-    throw CMGeom::IO_error(path, "several cages need the *Cages join/smooth transformations, "
-                                 "which this version does not implement; give one cage");
-  const json& c = j["cages"][0];
-  Cage_entry e;
-  e.rest = rel(c, "rest");
-  e.deformed = rel(c, "deformed");
-  if (c.contains("coordinates")) {
-    if (!c["coordinates"].is_string())
-      throw CMGeom::IO_error(path, "\"coordinates\" must be a string");
-    e.coordinates = c["coordinates"].get<std::string>();
-  }
-  if (e.coordinates != "mean_value" && e.coordinates != "green" && e.coordinates != "harmonic")
-    throw CMGeom::IO_error(path, "unknown coordinates \"" + e.coordinates +
-                                     "\" (expected mean_value, green or harmonic)");
-  if (c.contains("harmonic")) {
-    const json& h = c["harmonic"];
-    if (h.contains("resolution")) {
-      if (!h["resolution"].is_number_integer() || h["resolution"].get<int>() < 8 ||
-          h["resolution"].get<int>() > 512)
-        throw CMGeom::IO_error(path, "\"harmonic.resolution\" must be an integer in [8, 512]");
-      e.resolution = h["resolution"].get<int>();
-    }
-    if (h.contains("interpolation")) {
-      e.interpolation = h["interpolation"].is_string() ? h["interpolation"].get<std::string>() : "";
-      if (e.interpolation != "trilinear" && e.interpolation != "tricubic")
-        throw CMGeom::IO_error(path, "\"harmonic.interpolation\" must be trilinear or tricubic");
-    }
-  }
-  return e;
-}
-
 struct Result {
   std::vector<CD::Vec3> positions;
-  double bind_seconds = 0, deform_seconds = 0;
-  std::size_t weights_bytes = 0, coordinates = 0;
+  double setup_seconds = 0, bind_seconds = 0, deform_seconds = 0;
+  std::size_t weights_bytes = 0, coordinates = 0, joined = 0, outside = 0;
   std::map<std::string, std::size_t> status;
 };
 
+template <class Binding>
+void count_status(const Binding& b, Result& r) {
+  for (auto s : {CD::Coordinate_status::regular, CD::Coordinate_status::on_boundary,
+                 CD::Coordinate_status::extended, CD::Coordinate_status::approximate,
+                 CD::Coordinate_status::undefined})
+    r.status[CD::to_string(s)] = b.count(s);
+}
+
 template <class Weight, class Coords>
-void run(const Coords& coords, const std::vector<CD::Vec3>& points,
-         const std::vector<CD::Vec3>& deformed, CD::Weight_storage storage, Result& r) {
+void run_single(const Coords& coords, const std::vector<CD::Vec3>& points,
+                const std::vector<CD::Vec3>& deformed, CD::Weight_storage storage, Result& r) {
   CD::Binding_options opt;
   opt.storage = storage;
   double t0 = cmgeom_cli::now_seconds();
@@ -109,48 +54,58 @@ void run(const Coords& coords, const std::vector<CD::Vec3>& points,
   r.deform_seconds = cmgeom_cli::now_seconds() - t0;
   r.weights_bytes = b.weights_bytes();
   r.coordinates = b.number_of_coordinates();
-  for (auto s : {CD::Coordinate_status::regular, CD::Coordinate_status::on_boundary,
-                 CD::Coordinate_status::extended, CD::Coordinate_status::approximate,
-                 CD::Coordinate_status::undefined})
-    r.status[CD::to_string(s)] = b.count(s);
+  count_status(b, r);
+}
+
+template <class Weight, class Fh>
+void run_system(const CD::Cage_system& sys, const std::vector<CD::Vec3>& points, const Fh& fh, Result& r) {
+  double t0 = cmgeom_cli::now_seconds();
+  const CD::Cage_system_binding<Weight> b = sys.template bind<Weight>(points, CD::Sine_smoothing(), fh);
+  r.bind_seconds = cmgeom_cli::now_seconds() - t0;
+  t0 = cmgeom_cli::now_seconds();
+  b.deform(sys.basis(sys.deformed_leaf_vertices()), r.positions);
+  r.deform_seconds = cmgeom_cli::now_seconds() - t0;
+  r.weights_bytes = b.weights_bytes();
+  r.coordinates = sys.number_of_coordinates();
+  r.joined = b.joined_points();
+  r.outside = b.outside();
+  count_status(b.weights(), r);
 }
 
 }  // namespace
 
-CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage (mean value, Green or harmonic coordinates)") {
-  auto input = std::make_shared<std::string>();
-  auto system = std::make_shared<std::string>();
-  auto output = std::make_shared<std::string>();
-  auto weights = std::make_shared<std::string>("double");
-  auto storage = std::make_shared<std::string>("dense");
-  auto as_json = std::make_shared<bool>(false);
-  app.add_option("mesh", *input, "Mesh to deform (.obj, .off, .ply, .gltf, .glb)")->required();
-  app.add_option("--cages", *system, "Cage-system JSON file")->required();
-  app.add_option("-o,--output", *output, "Deformed mesh (same vertex order as the input)")->required();
-  app.add_option("--weights", *weights, "Weight precision: double or float")
+CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean value, Green, harmonic)") {
+  struct Args {
+    std::string input, system, output, grid, write_cages, weights = "double", storage = "dense",
+        coordinates = "mean_value";
+    double h = 1.0, margin = 0.05;
+    bool as_json = false, piecewise = false;
+  };
+  auto a = std::make_shared<Args>();
+  app.add_option("mesh", a->input, "Mesh to deform (.obj, .off, .ply, .gltf, .glb)")->required();
+  auto* cages = app.add_option("--cages", a->system, "Cage-system JSON file");
+  auto* grid = app.add_option("--grid", a->grid, "Build a grid of nx,ny,nz box cages around the mesh");
+  cages->excludes(grid);
+  app.add_option("-o,--output", a->output, "Deformed mesh (same vertex order as the input)");
+  app.add_option("--write-cages", a->write_cages, "Write the cage system (inline cages) to this JSON file");
+  app.add_option("--coordinates", a->coordinates, "With --grid: coordinates of every cage")
+      ->check(CLI::IsMember({"mean_value", "green", "harmonic"}));
+  app.add_option("--h", a->h, "With --grid: h of every cage, in (0, 1] (default 1)");
+  app.add_option("--margin", a->margin, "With --grid: margin around the mesh, times its bbox diagonal (default 0.05)");
+  app.add_option("--weights", a->weights, "Weight precision: double or float")
       ->check(CLI::IsMember({"double", "float"}));
-  app.add_option("--storage", *storage, "Weight storage: dense or sparse")
+  app.add_option("--storage", a->storage, "Weight storage of a single cage: dense or sparse")
       ->check(CLI::IsMember({"dense", "sparse"}));
-  app.add_flag("--json", *as_json, "Print timings and counts as JSON");
-  return [=]() -> int {
-    const Cage_entry e = parse_system(*system);
-    CD::Triangle_cage rest = read_cage(e.rest);
-    const CD::Triangle_cage def = read_cage(e.deformed);
-    if (def.vertices.size() != rest.vertices.size())
-      throw CMGeom::IO_error(e.deformed, "the deformed cage has " + std::to_string(def.vertices.size()) +
-                                             " vertices and the rest cage " + e.rest + " has " +
-                                             std::to_string(rest.vertices.size()) +
-                                             ": they must have the same vertices");
-    // Only vertex positions are taken from the deformed cage: the triangles are the rest cage's
-    // (same split for both poses), so a file that lists the faces differently is accepted.
-    if (def.triangles != rest.triangles)
-      std::cerr << "cmgeom deform: warning: " << e.deformed
-                << ": faces differ from the rest cage's; the rest cage's triangles are used\n";
-    const bool flipped = CD::validate_cage(rest, e.rest);
-    std::vector<CD::Vec3> deformed = def.vertices;
+  app.add_flag("--piecewise", a->piecewise,
+               "Several cages: apply each cage's own coordinates alone (no join; for comparisons)");
+  app.add_flag("--json", a->as_json, "Print timings and counts as JSON");
+  return [a]() -> int {
+    if (a->system.empty() && a->grid.empty()) throw CMGeom::Invalid_input("give --cages <system.json> or --grid nx,ny,nz");
+    if (a->output.empty() && a->write_cages.empty()) throw CMGeom::Invalid_input("give -o <output> (or --write-cages)");
+    if (!(a->h > 0 && a->h <= 1)) throw CMGeom::Invalid_input("--h must be in (0, 1]");
 
     CMGeom::Textured_mesh tm;
-    CMGeom::IO::read_mesh(*input, tm);
+    CMGeom::IO::read_mesh(a->input, tm);
     auto& mesh = tm.mesh();
     std::vector<CD::Vec3> points;
     points.reserve(mesh.number_of_vertices());
@@ -159,67 +114,103 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage (mean value, Green or harm
       points.push_back({p.x(), p.y(), p.z()});
     }
 
-    const auto st = *storage == "sparse" ? CD::Weight_storage::sparse : CD::Weight_storage::dense;
-    const bool use_float = *weights == "float";
-    Result r;
-    double setup_seconds = 0;
-    auto dispatch = [&](const auto& coords) {
-      if (use_float)
-        run<float>(coords, points, deformed, st, r);
-      else
-        run<double>(coords, points, deformed, st, r);
-    };
-    if (e.coordinates == "mean_value") {
-      dispatch(CD::Mean_value_coordinates_3(rest));
-    } else if (e.coordinates == "green") {
-      dispatch(CD::Green_coordinates_3(rest));
+    CD::Cage_system_description desc;
+    if (!a->grid.empty()) {
+      int n[3];
+      char extra = 0;
+      if (std::sscanf(a->grid.c_str(), "%d,%d,%d%c", &n[0], &n[1], &n[2], &extra) != 3)
+        throw CMGeom::Invalid_input("bad --grid '" + a->grid + "': expected nx,ny,nz, e.g. 2,2,1");
+      const CD::Coordinate_type type = a->coordinates == "green"      ? CD::Coordinate_type::green
+                                       : a->coordinates == "harmonic" ? CD::Coordinate_type::harmonic
+                                                                      : CD::Coordinate_type::mean_value;
+      desc = CD::make_grid_cage_system(points, n[0], n[1], n[2], a->margin, type, a->h);
     } else {
-      const double t0 = cmgeom_cli::now_seconds();
-      CD::Harmonic_options ho;
-      ho.resolution = e.resolution;
-      ho.interpolation = e.interpolation == "tricubic" ? CD::Harmonic_interpolation::tricubic
-                                                       : CD::Harmonic_interpolation::trilinear;
-      CD::Harmonic_coordinates_3 hc(rest, ho);
-      setup_seconds = cmgeom_cli::now_seconds() - t0;
-      dispatch(hc);
+      desc = CD::read_cage_system(a->system);
+    }
+    for (const auto& c : desc.cages)
+      for (const std::string& w : c.warnings) std::cerr << "cmgeom deform: warning: " << w << "\n";
+    if (!a->write_cages.empty()) CD::write_cage_system(a->write_cages, desc);
+    if (a->output.empty()) return 0;
+
+    const bool use_float = a->weights == "float";
+    const bool single = desc.cages.size() == 1;
+    Result r;
+    std::string coordinates;
+    const double t_setup = cmgeom_cli::now_seconds();
+    if (single) {
+      const CD::Cage_description& c = desc.cages[0];
+      coordinates = CD::to_string(c.coordinates);
+      const auto st = a->storage == "sparse" ? CD::Weight_storage::sparse : CD::Weight_storage::dense;
+      const CD::Any_cage_coordinates coords = CD::make_cage_coordinates(c.coordinates, c.rest, c.harmonic);
+      r.setup_seconds = cmgeom_cli::now_seconds() - t_setup;
+      if (use_float)
+        run_single<float>(coords, points, c.deformed, st, r);
+      else
+        run_single<double>(coords, points, c.deformed, st, r);
+    } else {
+      std::set<std::string> types;
+      for (const auto& c : desc.cages) types.insert(CD::to_string(c.coordinates));
+      for (const std::string& t : types) coordinates += (coordinates.empty() ? "" : "+") + t;
+      const CD::Cage_system sys(desc);
+      r.setup_seconds = cmgeom_cli::now_seconds() - t_setup;
+      if (use_float && a->piecewise)
+        run_system<float>(sys, points, CD::Piecewise_smoothing(), r);
+      else if (use_float)
+        run_system<float>(sys, points, CD::Sine_h_smoothing(), r);
+      else if (a->piecewise)
+        run_system<double>(sys, points, CD::Piecewise_smoothing(), r);
+      else
+        run_system<double>(sys, points, CD::Sine_h_smoothing(), r);
     }
     if (const std::size_t bad = r.status["undefined"])
-      throw CMGeom::Invalid_input(*input + ": " + std::to_string(bad) + " of " +
-                                  std::to_string(points.size()) +
-                                  " vertices lie outside the cage " + e.rest +
+      throw CMGeom::Invalid_input(a->input + ": " + std::to_string(bad) + " of " + std::to_string(points.size()) +
+                                  " vertices lie outside the cage" + (single ? " " + desc.cages[0].rest_source : "s") +
                                   ", where harmonic coordinates are undefined");
     std::size_t i = 0;
     for (auto v : mesh.vertices()) {
       const CD::Vec3& p = r.positions[i++];
       mesh.point(v) = CMGeom::Point_3(p[0], p[1], p[2]);
     }
-    CMGeom::IO::write_mesh(*output, tm);
+    CMGeom::IO::write_mesh(a->output, tm);
 
+    std::size_t cage_vertices = 0, cage_triangles = 0;
+    bool reoriented = false;
+    for (const auto& c : desc.cages) {
+      cage_vertices += c.rest.vertices.size();
+      cage_triangles += c.rest.triangles.size();
+      reoriented = reoriented || c.reoriented;
+    }
     json j;
-    j["input"] = *input;
-    j["output"] = *output;
-    j["coordinates"] = e.coordinates;
+    j["input"] = a->input;
+    j["output"] = a->output;
+    j["coordinates"] = coordinates;
     j["vertices"] = points.size();
-    j["cage_vertices"] = rest.vertices.size();
-    j["cage_triangles"] = rest.triangles.size();
-    j["cage_reoriented"] = flipped;
+    j["cages"] = desc.cages.size();
+    j["cage_vertices"] = cage_vertices;
+    j["cage_triangles"] = cage_triangles;
+    j["cage_reoriented"] = reoriented;
     j["coordinates_per_vertex"] = r.coordinates;
-    j["weights"] = *weights;
-    j["storage"] = *storage;
-    if (e.coordinates == "harmonic") j["harmonic_solve_seconds"] = setup_seconds;
+    j["weights"] = a->weights;
+    j["storage"] = single ? a->storage : "sparse";
+    if (!single) {
+      j["piecewise"] = a->piecewise;
+      j["joined_vertices"] = r.joined;
+      j["outside_vertices"] = r.outside;
+    }
+    j["setup_seconds"] = r.setup_seconds;
     j["bind_seconds"] = r.bind_seconds;
     j["deform_seconds"] = r.deform_seconds;
     j["weights_bytes"] = r.weights_bytes;
     json s;
     for (const auto& [k, n] : r.status) s[k] = n;
     j["vertex_status"] = s;
-    if (*as_json) {
+    if (a->as_json) {
       cmgeom_cli::print_json(j);
     } else {
-      std::cout << "deformed " << points.size() << " vertices with " << e.coordinates
-                << " coordinates (" << rest.vertices.size() << " cage vertices): bind "
-                << r.bind_seconds << " s, deform " << r.deform_seconds << " s, weights "
-                << r.weights_bytes << " bytes -> " << *output << "\n";
+      std::cout << "deformed " << points.size() << " vertices with " << desc.cages.size() << " cage"
+                << (single ? "" : "s") << " (" << coordinates << ", " << cage_vertices
+                << " cage vertices): bind " << r.bind_seconds << " s, deform " << r.deform_seconds
+                << " s, weights " << r.weights_bytes << " bytes -> " << a->output << "\n";
     }
     return 0;
   };

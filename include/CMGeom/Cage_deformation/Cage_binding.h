@@ -99,6 +99,24 @@ public:
     deform(basis, out);
   }
 
+  /// A sparse binding from CSR rows (`row_start` holds N + 1 offsets into `columns`/`values`),
+  /// for callers that assemble the rows themselves (Cage_system, §5.3).
+  static Cage_binding from_sparse_rows(std::size_t K, std::vector<std::size_t> row_start,
+                                       std::vector<std::uint32_t> columns, std::vector<Weight> values,
+                                       std::vector<Coordinate_status> status) {
+    CGAL_precondition(!row_start.empty() && row_start.back() == columns.size() &&
+                      columns.size() == values.size() && status.size() + 1 == row_start.size());
+    Cage_binding b;
+    b.rows_ = status.size();
+    b.K_ = K;
+    b.storage_ = Weight_storage::sparse;
+    b.row_start_ = std::move(row_start);
+    b.columns_ = std::move(columns);
+    b.values_ = std::move(values);
+    b.status_ = std::move(status);
+    return b;
+  }
+
   // Raw access, for the benchmark and for packages that combine several bindings.
   const std::vector<Weight>& values() const { return values_; }
   const std::vector<std::uint32_t>& columns() const { return columns_; }

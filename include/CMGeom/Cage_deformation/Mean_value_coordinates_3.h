@@ -98,21 +98,7 @@ public:
       edges_avx2(g, s);
     else
 #endif
-      for (std::size_t e = 0; e < g.E; ++e) {
-        const std::uint32_t a = g.edge[e][0], b = g.edge[e][1];
-        const double cx = s.uy[a] * s.uz[b] - s.uz[a] * s.uy[b];
-        const double cy = s.uz[a] * s.ux[b] - s.ux[a] * s.uz[b];
-        const double cz = s.ux[a] * s.uy[b] - s.uy[a] * s.ux[b];
-        const double sn = std::sqrt(cx * cx + cy * cy + cz * cz);
-        const double cs = s.ux[a] * s.ux[b] + s.uy[a] * s.uy[b] + s.uz[a] * s.uz[b];
-        const double f = sn > 0 ? std::atan2(sn, cs) / sn : 0.0;
-        s.cx[e] = cx;
-        s.cy[e] = cy;
-        s.cz[e] = cz;
-        s.gx[e] = f * cx;
-        s.gy[e] = f * cy;
-        s.gz[e] = f * cz;
-      }
+      edges_scalar(g, s, 0, [](double y, double x) { return std::atan2(y, x); });
     // 4. Per triangle: mean vector and its expansion in the vertex directions.
 #ifdef CMGEOM_CAGE_SIMD_AVX2
     if (internal::has_avx2()) {
@@ -181,6 +167,28 @@ private:
     return s;
   }
 
+  // Step 3 for edges first..E-1: the arc of each edge seen from x (cross product of the unit
+  // directions of its ends, and (arc angle / |cross|) times it). `atan2` is std::atan2 on the
+  // plain path and the vector kernel's own atan2 for the tail of the AVX2 path.
+  template <class Atan2>
+  static void edges_scalar(const internal::Cage_geometry& g, Scratch& s, std::size_t first, Atan2 atan2) {
+    for (std::size_t e = first; e < g.E; ++e) {
+      const std::uint32_t a = g.edge[e][0], b = g.edge[e][1];
+      const double cx = s.uy[a] * s.uz[b] - s.uz[a] * s.uy[b];
+      const double cy = s.uz[a] * s.ux[b] - s.ux[a] * s.uz[b];
+      const double cz = s.ux[a] * s.uy[b] - s.uy[a] * s.ux[b];
+      const double sn = std::sqrt(cx * cx + cy * cy + cz * cz);
+      const double cs = s.ux[a] * s.ux[b] + s.uy[a] * s.uy[b] + s.uz[a] * s.uz[b];
+      const double f = sn > 0 ? atan2(sn, cs) / sn : 0.0;
+      s.cx[e] = cx;
+      s.cy[e] = cy;
+      s.cz[e] = cz;
+      s.gx[e] = f * cx;
+      s.gy[e] = f * cy;
+      s.gz[e] = f * cz;
+    }
+  }
+
 #ifdef CMGEOM_CAGE_SIMD_AVX2
   // Step 3 on four edges at a time (gathers of the endpoint directions, branch-free atan2).
   __attribute__((target("avx2,fma"))) static void edges_avx2(const internal::Cage_geometry& g,
@@ -212,21 +220,8 @@ private:
       _mm256_storeu_pd(s.gy.data() + e, _mm256_mul_pd(f, cy));
       _mm256_storeu_pd(s.gz.data() + e, _mm256_mul_pd(f, cz));
     }
-    for (; e < g.E; ++e) {
-      const std::uint32_t a = g.edge[e][0], b = g.edge[e][1];
-      const double cx = s.uy[a] * s.uz[b] - s.uz[a] * s.uy[b];
-      const double cy = s.uz[a] * s.ux[b] - s.ux[a] * s.uz[b];
-      const double cz = s.ux[a] * s.uy[b] - s.uy[a] * s.ux[b];
-      const double sn = std::sqrt(cx * cx + cy * cy + cz * cz);
-      const double cs = s.ux[a] * s.ux[b] + s.uy[a] * s.uy[b] + s.uz[a] * s.uz[b];
-      const double f = sn > 0 ? internal::atan2_nonneg(sn, cs) / sn : 0.0;
-      s.cx[e] = cx;
-      s.cy[e] = cy;
-      s.cz[e] = cz;
-      s.gx[e] = f * cx;
-      s.gy[e] = f * cy;
-      s.gz[e] = f * cz;
-    }
+    // The tail uses the same atan2 as the vector lanes, so results do not depend on the position.
+    edges_scalar(g, s, e, [](double y, double x) { return internal::atan2_nonneg(y, x); });
   }
 
   // Step 4 on four triangles at a time: gathers of the edge quantities, corner contributions
