@@ -2,12 +2,24 @@
 //                 [--error-bound x] [--json]
 // cmgeom cm reconstruct <model.cm> -o <out> [--level L | --edge-length x | --roi x,y,z,r |
 //                       --silhouette x,y,z] [--max-level L] [--projection normal|closest] [--json]
+// cmgeom cm deform <model.cm> (--cages <system.json> | --affine a11,...,a34) -o <out>
+//                  [--level L | --edge-length x | --roi x,y,z,r | --silhouette x,y,z] [--max-level L]
+//                  [--projection normal|closest] [--flatness f] [--json]
 // Compact Models (thesis chapter 4): build writes the CM file of a mesh (§4.3-4.4, error control
-// §4.5.3); reconstruct rebuilds a mesh from it, regularly or adaptively (§4.5). Outputs are
-// written atomically.
+// §4.5.3); reconstruct rebuilds a mesh from it, regularly or adaptively (§4.5); deform deforms
+// the CM base with a cage, a *Cages system or an affine map and reconstructs the deformed model
+// (Deformable CMs, thesis chapter 6). The cage-system file is the one of `cmgeom deform`
+// (Cage_deformation/Cage_system_io.h): one cage deforms with its own coordinates, several with
+// the *Cages join (§5.3). Outputs are written atomically.
 #include "cli_common.h"
 
+#include <CMGeom/Cage_deformation.h>
+#include <CMGeom/Cage_deformation/Any_cage_coordinates.h>
+#include <CMGeom/Cage_deformation/Cage_system.h>
+#include <CMGeom/Cage_deformation/Cage_system_io.h>
 #include <CMGeom/Compact_model.h>
+#include <CMGeom/Deformable_compact_model.h>
+#include <CMGeom/Deformable_compact_model/Cage_system_deformer.h>
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
@@ -37,9 +49,12 @@ std::vector<double> parse_numbers(const std::string& s, std::size_t n, const std
   return r;
 }
 
+namespace CD = CMGeom::Cage_deformation;
+namespace DCM = CMGeom::DCM;
+
 }  // namespace
 
-CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4): 'cm build' a CM file, 'cm reconstruct' a mesh from it") {
+CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 'cm reconstruct' a mesh from it, 'cm deform' it") {
   app.require_subcommand(1);
   // ------------------------------------------------------------------ cm build
   struct Build_args {
@@ -85,7 +100,152 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4): 'cm build' a CM file, 'cm
       ->check(CLI::IsMember({"closest", "normal"}));
   rec->add_flag("--json", r->json, "Print a JSON report on stdout");
 
-  return [build, rec, b, r, faces, ratio, level, edge, roi, sil]() -> int {
+  // ------------------------------------------------------------------ cm deform
+  struct Def_args {
+    std::string input, output, cages, affine, roi, silhouette, projection = "closest";
+    int level = 2, max_level = 6;
+    double edge_length = 0, flatness = 0.01;
+    bool json = false;
+  };
+  auto d = std::make_shared<Def_args>();
+  CLI::App* def = app.add_subcommand("deform", "Deform a CM's base and reconstruct the deformed model (thesis ch. 6)");
+  def->add_option("input", d->input, "CM file")->required();
+  auto* d_cages = def->add_option("--cages", d->cages, "Cage-system JSON file (as for 'cmgeom deform': one cage or *Cages)");
+  auto* d_affine = def->add_option("--affine", d->affine, "Affine map instead of a cage: a11,a12,a13,b1,a21,...,b3 (12 numbers)");
+  d_cages->excludes(d_affine);
+  d_affine->excludes(d_cages);
+  def->add_option("-o,--output", d->output, "Output mesh (.obj, .off, .ply)")->required();
+  auto* d_level = def->add_option("--level", d->level, "Regular subdivision level (default 2)");
+  auto* d_edge = def->add_option("--edge-length", d->edge_length, "Adaptive: split edges longer than this (deformed lengths)");
+  auto* d_roi = def->add_option("--roi", d->roi, "Adaptive: region of interest x,y,z,radius (deformed space)");
+  auto* d_sil = def->add_option("--silhouette", d->silhouette, "Adaptive: refine the deformed silhouette seen from x,y,z");
+  d_level->excludes(d_edge)->excludes(d_roi)->excludes(d_sil);
+  d_edge->excludes(d_roi)->excludes(d_sil);
+  d_roi->excludes(d_sil);
+  def->add_option("--max-level", d->max_level, "Adaptive: maximum halvings of a base edge (default 6)");
+  def->add_option("--projection", d->projection, "Projection onto local surfaces: closest (Newton) or normal")
+      ->check(CLI::IsMember({"closest", "normal"}));
+  def->add_option("--flatness", d->flatness, "Local maps: regularise 1-rings flatter than this (default 0.01; 0 = never, planar 1-rings then only translate)");
+  def->add_flag("--json", d->json, "Print a JSON report on stdout");
+
+  return [build, rec, def, b, r, d, faces, ratio, level, edge, roi, sil, d_cages, d_affine, d_edge, d_roi, d_sil]() -> int {
+    if (def->parsed()) {
+      if (d_cages->count() == 0 && d_affine->count() == 0) throw CMGeom::Invalid_input("one of --cages or --affine is required");
+      if (d->max_level < 0 || d->max_level > 20) throw CMGeom::Invalid_input("--max-level must be in [0, 20]");
+      if (!(d->flatness >= 0 && d->flatness <= 1)) throw CMGeom::Invalid_input("--flatness must be in [0, 1]");
+      const CM::Compact_model model = CM::read_cm(d->input);
+      DCM::Local_deformation_options lo;
+      lo.flatness = d->flatness;
+      DCM::Deformable_compact_model dcm(model, lo);
+      nlohmann::ordered_json j;
+      j["input"] = d->input;
+      j["output"] = d->output;
+      std::vector<CM::Vec3> deformed;
+      double bind_seconds = 0, deform_seconds = 0, setup_seconds = 0;
+      std::size_t weights_bytes = 0;
+      if (d_affine->count()) {
+        const auto a = parse_numbers(d->affine, 12, "--affine");
+        DCM::Affine_deformer af({{{a[0], a[1], a[2]}, {a[4], a[5], a[6]}, {a[8], a[9], a[10]}}}, CM::Vec3(a[3], a[7], a[11]));
+        af.bind(dcm.base_vertices());
+        const double t0 = cmgeom_cli::now_seconds();
+        af.deform(deformed);
+        deform_seconds = cmgeom_cli::now_seconds() - t0;
+        j["deformer"] = "affine";
+      } else {
+        const CD::Cage_system_description desc = CD::read_cage_system(d->cages);
+        for (const auto& c : desc.cages)
+          for (const std::string& w : c.warnings) std::cerr << "cmgeom cm deform: warning: " << w << "\n";
+        std::size_t undefined = 0;
+        auto run = [&](auto& deformer) {
+          double t0 = cmgeom_cli::now_seconds();
+          deformer.bind(dcm.base_vertices());
+          bind_seconds = cmgeom_cli::now_seconds() - t0;
+          t0 = cmgeom_cli::now_seconds();
+          deformer.deform(deformed);
+          deform_seconds = cmgeom_cli::now_seconds() - t0;
+          weights_bytes = deformer.weights_bytes();
+        };
+        std::string coordinates;
+        std::size_t cage_vertices = 0;
+        for (const auto& c : desc.cages) {
+          const std::string t = CD::to_string(c.coordinates);
+          if (coordinates.find(t) == std::string::npos) coordinates += (coordinates.empty() ? "" : "+") + t;
+          cage_vertices += c.rest.vertices.size();
+        }
+        const double t_setup = cmgeom_cli::now_seconds();
+        if (desc.cages.size() == 1) {
+          const CD::Cage_description& c = desc.cages[0];
+          DCM::Cage_deformer<CD::Any_cage_coordinates> cd(CD::make_cage_coordinates(c.coordinates, c.rest, c.harmonic));
+          setup_seconds = cmgeom_cli::now_seconds() - t_setup;
+          cd.set_pose(c.deformed);
+          run(cd);
+          undefined = cd.binding().count(CD::Coordinate_status::undefined);
+        } else {
+          const CD::Cage_system sys(desc);
+          setup_seconds = cmgeom_cli::now_seconds() - t_setup;
+          DCM::Cage_system_deformer<> cs(sys);
+          run(cs);
+          undefined = cs.binding().weights().count(CD::Coordinate_status::undefined);
+        }
+        if (undefined)
+          throw CMGeom::Invalid_input(d->input + ": " + std::to_string(undefined) + " of " +
+                                      std::to_string(model.vertices.size()) +
+                                      " base vertices lie outside the cages, where harmonic coordinates are undefined");
+        j["deformer"] = desc.cages.size() == 1 ? "cage" : "cage_system";
+        j["coordinates"] = coordinates;
+        j["cages"] = desc.cages.size();
+        j["cage_vertices"] = cage_vertices;
+      }
+      double t0 = cmgeom_cli::now_seconds();
+      dcm.set_deformed_base(deformed);
+      const double maps_seconds = cmgeom_cli::now_seconds() - t0;
+      CM::Reconstruction_options ro;
+      ro.projection = d->projection == "normal" ? CM::Projection::along_normal : CM::Projection::closest_point;
+      std::string mode = "regular";
+      t0 = cmgeom_cli::now_seconds();
+      CM::Reconstruction out;
+      if (d_edge->count()) {
+        if (!(d->edge_length > 0)) throw CMGeom::Invalid_input("--edge-length must be > 0");
+        mode = "edge-length";
+        out = dcm.reconstruct_adaptive(CM::Edge_length_criterion{d->edge_length}, d->max_level, ro);
+      } else if (d_roi->count()) {
+        const auto v = parse_numbers(d->roi, 4, "--roi");
+        if (!(v[3] > 0)) throw CMGeom::Invalid_input("--roi radius must be > 0");
+        mode = "roi";
+        out = dcm.reconstruct_adaptive(CM::Region_of_interest_criterion{CM::Vec3(v[0], v[1], v[2]), v[3]}, d->max_level, ro);
+      } else if (d_sil->count()) {
+        const auto v = parse_numbers(d->silhouette, 3, "--silhouette");
+        mode = "silhouette";
+        out = dcm.reconstruct_adaptive(CM::Silhouette_criterion{CM::Vec3(v[0], v[1], v[2]), 0.2}, d->max_level, ro);
+      } else {
+        if (d->level < 0 || d->level > 12) throw CMGeom::Invalid_input("--level must be in [0, 12]");
+        out = dcm.reconstruct_regular(d->level, ro);
+      }
+      const double reconstruct_seconds = cmgeom_cli::now_seconds() - t0;
+      CMGeom::Textured_mesh tm;
+      CM::to_textured_mesh(out, tm, model.texture);
+      CMGeom::IO::write_mesh(d->output, tm);
+      if (d->json) {
+        j["mode"] = mode;
+        j["projection"] = d->projection;
+        j["base_vertices"] = model.vertices.size();
+        j["base_faces"] = model.faces.size();
+        j["regularised_vertices"] = dcm.solver().number_of_regularised_vertices();
+        j["degenerate_vertices"] = dcm.solver().number_of_degenerate_vertices();
+        j["vertices"] = out.points.size();
+        j["faces"] = out.triangles.size();
+        if (d_cages->count()) j["setup_seconds"] = setup_seconds;
+        j["bind_seconds"] = bind_seconds;
+        j["base_deform_seconds"] = deform_seconds;
+        j["local_maps_seconds"] = maps_seconds;
+        j["deform_seconds"] = deform_seconds + maps_seconds;
+        j["reconstruct_seconds"] = reconstruct_seconds;
+        j["weights_bytes"] = weights_bytes;
+        j["local_maps_bytes"] = dcm.bytes();
+        cmgeom_cli::print_json(j);
+      }
+      return 0;
+    }
     if (build->parsed()) {
       if (faces->count() == 0 && ratio->count() == 0) throw CMGeom::Invalid_input("one of --faces or --ratio is required");
       if (ratio->count() && !(b->ratio > 0 && b->ratio <= 1))

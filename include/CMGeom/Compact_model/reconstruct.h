@@ -32,6 +32,15 @@
 // Texture coordinates (§4.5.4) are interpolated linearly per output corner from the base face's
 // corner uvs.
 //
+// Deformation hook (thesis §6.4, used by the Deformable_compact_model package): when
+// Reconstruction_options::vertex_maps points to one Vertex_affine_map T_i per base vertex, every
+// reconstructed point becomes sum_i W_i(p) T_i(Phi(p)) with the same weights W_i as the blend
+// (base vertices become T_i(v_i) = deformed v_i) and its normal is mapped by the cofactor matrix
+// of sum_i W_i M_i. Because the samples are deformed before the adaptive criteria see them,
+// adaptive subdivision follows the deformed surface. A point whose weighted corners all carry
+// identity maps is left untouched, so identity maps give the plain reconstruction bit for bit;
+// without maps (the default) nothing changes.
+//
 // Complexity: O(F 4^L) for regular level L; O(output size x log) for adaptive (one hash lookup per
 // sub-edge); each point costs O(1) (bounded Newton iterations).
 #ifndef CMGEOM_COMPACT_MODEL_RECONSTRUCT_H
@@ -58,9 +67,20 @@ namespace CM {
 /// How S-bar_i(p) is computed (§4.5.1).
 enum class Projection { along_normal, closest_point };
 
+/// Affine map T(x) = M (x - rest) + deformed of one base vertex (thesis §6.3), see the
+/// deformation hook in the file comment. `identity` marks maps that are exactly x -> x (they are
+/// skipped, so that unmoved regions stay bit-identical to the plain reconstruction).
+struct Vertex_affine_map {
+  double M[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};  ///< row-major
+  Vec3 rest, deformed;
+  bool identity = true;
+};
+
 struct Reconstruction_options {
   Projection projection = Projection::closest_point;  ///< the thesis' results use closest point
   bool parallel = true;                               ///< TBB over base edges and faces
+  /// Optional per-base-vertex affine maps (one per base vertex; nullptr = plain reconstruction).
+  const std::vector<Vertex_affine_map>* vertex_maps = nullptr;
 };
 
 /// A reconstructed point with its blended unit normal (what adaptive criteria look at).
@@ -161,11 +181,50 @@ struct Base_topology {
   }
 };
 
+// Applies sum_k w[k] T_{v[k]} to a sample (point, and normal through the cofactor matrix of the
+// blended M, which maps the normal of a tangent plane to the normal of its image, orientation
+// included). Corners with zero weight are ignored; if every weighted corner is an identity map,
+// the sample is left untouched (bit-exact identity).
+inline void apply_vertex_maps(const std::vector<Vertex_affine_map>& maps, int n, const std::uint32_t* v,
+                              const double* w, Sample& s) {
+  bool moved = false;
+  for (int k = 0; k < n; ++k) moved = moved || (w[k] != 0. && !maps[v[k]].identity);
+  if (!moved) return;
+  double B[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  Vec3 q(0, 0, 0);
+  for (int k = 0; k < n; ++k) {
+    if (w[k] == 0.) continue;
+    const Vertex_affine_map& T = maps[v[k]];
+    const Vec3 d = s.point - T.rest;
+    const Vec3 Md(T.M[0][0] * d.x + T.M[0][1] * d.y + T.M[0][2] * d.z, T.M[1][0] * d.x + T.M[1][1] * d.y + T.M[1][2] * d.z,
+                  T.M[2][0] * d.x + T.M[2][1] * d.y + T.M[2][2] * d.z);
+    q += w[k] * (Md + T.deformed);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) B[i][j] += w[k] * T.M[i][j];
+  }
+  // Cofactor matrix C of B: C n = (B a) x (B b) for n = a x b.
+  const Vec3 r0(B[0][0], B[0][1], B[0][2]), r1(B[1][0], B[1][1], B[1][2]), r2(B[2][0], B[2][1], B[2][2]);
+  const Vec3 c0 = cross(r1, r2), c1 = cross(r2, r0), c2 = cross(r0, r1);
+  const Vec3 cn(dot(c0, s.normal), dot(c1, s.normal), dot(c2, s.normal));
+  s.point = q;
+  if (squared_length(cn) > 0.) s.normal = normalized(cn);
+}
+
 template <class Traits>
 class Evaluator {
 public:
-  Evaluator(const Compact_model& m, const Base_topology& topo, const Traits& traits, Projection proj)
-      : m_(m), topo_(topo), traits_(traits), proj_(proj) {}
+  Evaluator(const Compact_model& m, const Base_topology& topo, const Traits& traits, Projection proj,
+            const std::vector<Vertex_affine_map>* maps = nullptr)
+      : m_(m), topo_(topo), traits_(traits), proj_(proj), maps_(maps) {
+    if (maps_ && maps_->size() != m.vertices.size())
+      throw Invalid_input("reconstruction: " + std::to_string(maps_->size()) + " vertex maps for " +
+                          std::to_string(m.vertices.size()) + " base vertices");
+  }
+
+  // Position of base vertex i in the output (deformed when maps are given).
+  Vec3 base_point(std::size_t i) const {
+    return maps_ && !(*maps_)[i].identity ? (*maps_)[i].deformed : m_.vertices[i];
+  }
 
   // S-bar of p on corner `c` of face f, with the surface normal there.
   Sample project(std::uint32_t f, int c, const Vec3& p) const {
@@ -198,6 +257,11 @@ public:
       r.normal += (w[c] / sum) * s.normal;
     }
     r.normal = normalized(r.normal);
+    if (maps_) {
+      const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
+      const double wn[3] = {w[0] / sum, w[1] / sum, w[2] / sum};
+      apply_vertex_maps(*maps_, 3, v, wn, r);
+    }
     return r;
   }
 
@@ -242,14 +306,25 @@ public:
       r.normal += (wb / sum) * s.normal;
     }
     r.normal = normalized(r.normal);
+    if (maps_) {
+      const std::uint32_t v[2] = {e.a, e.b};
+      const double wn[2] = {wa / sum, wb / sum};
+      apply_vertex_maps(*maps_, 2, v, wn, r);
+    }
     return r;
   }
 
   // A base vertex seen from corner c of face f: the point itself, the sector's surface normal.
   Sample vertex(std::uint32_t f, int c) const {
     const Local_frame& fr = topo_.frames[3 * f + c];
-    return {m_.vertices[m_.faces[f][c].vertex],
-            surface_normal(fr, m_.surfaces[m_.faces[f][c].surface], 0., 0., traits_)};
+    Sample r{m_.vertices[m_.faces[f][c].vertex],
+             surface_normal(fr, m_.surfaces[m_.faces[f][c].surface], 0., 0., traits_)};
+    if (maps_) {
+      const std::uint32_t v = m_.faces[f][c].vertex;
+      const double w = 1.;
+      apply_vertex_maps(*maps_, 1, &v, &w, r);
+    }
+    return r;
   }
 
   int corner_of(std::uint32_t f, std::uint32_t v) const {
@@ -262,6 +337,7 @@ private:
   const Base_topology& topo_;
   Traits traits_;
   Projection proj_;
+  const std::vector<Vertex_affine_map>* maps_;
 };
 
 template <class Body>
@@ -289,7 +365,7 @@ Reconstruction reconstruct_regular(const Compact_model& m, int level,
   if (level < 0 || level > 12) throw Invalid_input("reconstruction level must be in [0, 12], got " + std::to_string(level));
   m.validate();
   const internal::Base_topology topo(m);
-  const internal::Evaluator<Traits> ev(m, topo, traits, opt.projection);
+  const internal::Evaluator<Traits> ev(m, topo, traits, opt.projection, opt.vertex_maps);
   const std::size_t n = std::size_t(1) << level, V = m.vertices.size(), E = topo.edges.size(), F = m.faces.size();
   const std::size_t per_edge = n - 1, per_face = (n - 1) * (n - 2) / 2;
   const std::size_t edge_base = V, face_base = V + E * per_edge;
@@ -301,7 +377,7 @@ Reconstruction reconstruct_regular(const Compact_model& m, int level,
   if (m.has_uvs()) r.corner_uvs.resize(3 * F * n * n);
   // Base vertices: Phi(v) = v; normal of the first corner that uses it.
   std::vector<std::uint8_t> seen(V, 0);
-  for (std::size_t i = 0; i < V; ++i) r.points[i] = m.vertices[i];
+  for (std::size_t i = 0; i < V; ++i) r.points[i] = ev.base_point(i);
   for (std::uint32_t f = 0; f < F; ++f)
     for (int c = 0; c < 3; ++c)
       if (!seen[m.faces[f][c].vertex]) {
@@ -396,7 +472,7 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
     throw Invalid_input("adaptive reconstruction level must be in [0, 20], got " + std::to_string(max_level));
   m.validate();
   const internal::Base_topology topo(m);
-  const internal::Evaluator<Traits> ev(m, topo, traits, opt.projection);
+  const internal::Evaluator<Traits> ev(m, topo, traits, opt.projection, opt.vertex_maps);
   const std::size_t V = m.vertices.size(), E = topo.edges.size(), F = m.faces.size();
 
   // 1. Base edges: sorted split parameters (fixed point along a -> b) and their samples.
@@ -568,7 +644,7 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
   Reconstruction r;
   r.points.resize(face_offset[F]);
   r.normals.resize(face_offset[F]);
-  for (std::size_t i = 0; i < V; ++i) r.points[i] = m.vertices[i];
+  for (std::size_t i = 0; i < V; ++i) r.points[i] = ev.base_point(i);
   std::vector<std::uint8_t> seen(V, 0);
   for (std::uint32_t f = 0; f < F; ++f)
     for (int c = 0; c < 3; ++c)

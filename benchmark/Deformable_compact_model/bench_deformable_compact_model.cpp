@@ -1,0 +1,411 @@
+// Deformable Compact Models against the alternatives (thesis Tables 6.1-6.3, Fig. 6.4): for each
+// model and cage, the memory (mesh + stored coordinates) and the time per deformation of
+//   (a) the original mesh deformed directly (coordinates of every vertex),
+//   (b) the simplified base deformed directly,
+//   (c) the CM reconstructed at level L once, then deformed (coordinates of every reconstructed
+//       point; "CM reconstruction" in Fig. 6.4),
+//   (d) the deformable CM at level L: base deformed, local maps, deformed reconstruction per
+//       pose ("CM deformation" in Fig. 6.4), closest-point and along-N projections,
+//   (e) the same with the rest reconstruction kept (Deformable_reconstruction): base deformed,
+//       local maps, blend of the maps at every point (the cost model of §6.5),
+// and the Metro error (Metrics package) of (b)-(e) against (a), in % of (a)'s diagonal.
+// Memory: `mesh` = the geometry held (mesh, or CM file + kept rest points/normals/triangles),
+// `coordinates` = the cage coordinates, `maps` = the local-deformation data (1-rings, inverses,
+// maps, and for (e) the per-point corners and weights).
+// Cages are made here from the model's bounding box: `box` = the box itself (8 vertices, mean
+// value coordinates), `grid` = its surface cut in 4 x 4 x 4 cells (98 vertices, Green
+// coordinates, K = 98 + 192), `system` = a *Cages grid of 3 x 2 x 2 box cells (Cage_system, mean
+// value coordinates, joined with h = 0.6). The pose twists the cage by 40 degrees about the longest axis and
+// bends it along the shortest, progressively from one end to the other.
+// --write-cages dir writes <model>_<cage>_rest.obj, _deformed.obj and _system.json (for
+// `cmgeom deform` / `cmgeom cm deform`).
+#include <CMGeom/Cage_deformation.h>
+#include <CMGeom/Compact_model.h>
+#include <CMGeom/Deformable_compact_model.h>
+#include <CMGeom/Deformable_compact_model/Cage_system_deformer.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
+#include <CMGeom/Metrics/approximation_error.h>
+
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace CM = CMGeom::CM;
+namespace CD = CMGeom::Cage_deformation;
+namespace DCM = CMGeom::DCM;
+namespace fs = std::filesystem;
+
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+template <class F>
+double best_of(int n, const F& f) {
+  double best = 1e300;
+  for (int i = 0; i < n; ++i) {
+    const double t0 = now();
+    f();
+    best = std::min(best, now() - t0);
+  }
+  return best;
+}
+
+struct Box {
+  CD::Vec3 lo, hi;
+  int axis[3];  // longest, middle, shortest
+};
+
+Box box_of(const std::vector<CD::Vec3>& P) {
+  Box b{P[0], P[0], {0, 1, 2}};
+  for (const auto& p : P)
+    for (int i = 0; i < 3; ++i) {
+      b.lo[i] = std::min(b.lo[i], p[i]);
+      b.hi[i] = std::max(b.hi[i], p[i]);
+    }
+  std::sort(b.axis, b.axis + 3, [&](int x, int y) { return b.hi[x] - b.lo[x] > b.hi[y] - b.lo[y]; });
+  return b;
+}
+
+// Surface of the box (enlarged by 10%) cut in n^3 cells, quads oriented outwards.
+void grid_cage(const Box& b, int n, std::vector<std::array<double, 3>>& P, std::vector<std::vector<std::uint32_t>>& Q) {
+  std::map<std::array<int, 3>, std::uint32_t> index;
+  auto vertex = [&](std::array<int, 3> g) {
+    auto it = index.find(g);
+    if (it != index.end()) return it->second;
+    std::array<double, 3> p;
+    for (int i = 0; i < 3; ++i) {
+      const double c = 0.5 * (b.lo[i] + b.hi[i]), h = 0.55 * (b.hi[i] - b.lo[i]);
+      p[i] = c + h * (-1. + 2. * g[i] / n);
+    }
+    P.push_back(p);
+    return index[g] = std::uint32_t(P.size() - 1);
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side <= 1; ++side) {
+      const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          auto at = [&](int a, int c) {
+            std::array<int, 3> g;
+            g[axis] = side * n;
+            g[u] = a;
+            g[w] = c;
+            return vertex(g);
+          };
+          if (side)
+            Q.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+          else
+            Q.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
+        }
+    }
+}
+
+// Twist about the longest axis and bend along the shortest, growing from one end (t = 0) to
+// the other (t = 1).
+CD::Vec3 pose(const Box& b, const CD::Vec3& p) {
+  const int a = b.axis[0], m = b.axis[1], s = b.axis[2];
+  const double L = b.hi[a] - b.lo[a];
+  const double t = std::clamp((p[a] - (b.lo[a] - 0.05 * L)) / (1.1 * L), 0., 1.);
+  const double th = 0.7 * t;  // 40 degrees at the far end
+  const double cm = 0.5 * (b.lo[m] + b.hi[m]), cs = 0.5 * (b.lo[s] + b.hi[s]);
+  const double y = p[m] - cm, z = p[s] - cs;
+  CD::Vec3 q = p;
+  q[m] = cm + std::cos(th) * y - std::sin(th) * z;
+  q[s] = cs + std::sin(th) * y + std::cos(th) * z + 0.25 * L * t * t;
+  return q;
+}
+
+void write_obj(const std::string& path, const std::vector<CD::Vec3>& P, const std::vector<std::vector<std::uint32_t>>& Q) {
+  std::ofstream o(path);
+  o.precision(17);
+  for (const auto& p : P) o << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+  for (const auto& q : Q) {
+    o << 'f';
+    for (auto i : q) o << ' ' << i + 1;
+    o << '\n';
+  }
+}
+
+CMGeom::Surface_mesh mesh_of(const std::vector<CD::Vec3>& P, const std::vector<std::array<std::uint32_t, 3>>& T) {
+  CMGeom::Surface_mesh m;
+  for (const auto& p : P) m.add_vertex(CMGeom::Point_3(p[0], p[1], p[2]));
+  for (const auto& t : T)
+    m.add_face(CMGeom::Surface_mesh::Vertex_index(t[0]), CMGeom::Surface_mesh::Vertex_index(t[1]),
+               CMGeom::Surface_mesh::Vertex_index(t[2]));
+  return m;
+}
+std::vector<CD::Vec3> to_cd(const std::vector<CM::Vec3>& P) {
+  std::vector<CD::Vec3> r;
+  r.reserve(P.size());
+  for (const auto& p : P) r.push_back({p.x, p.y, p.z});
+  return r;
+}
+
+struct Row {
+  std::string method;
+  std::size_t points = 0, mesh_bytes = 0, coord_bytes = 0, other_bytes = 0;
+  double bind = 0, per_deformation = 0, hausdorff = -1, rms = -1;
+};
+
+// One cage: coordinates, the basis of the pose, and the posed BaseDeformer of the deformable CM.
+template <class Coords>
+struct Single_cage_setup {
+  Coords coords;
+  std::vector<CD::Vec3> posed, basis_;
+  Single_cage_setup(const Coords& c, const std::vector<CD::Vec3>& p) : coords(c), posed(p) {
+    coords.deformation_rule()(posed, std::back_inserter(basis_));
+  }
+  std::size_t K() const { return coords.number_of_coordinates(); }
+  CD::Cage_binding<double> bind(const std::vector<CD::Vec3>& pts) const { return CD::bind_points(coords, pts); }
+  const std::vector<CD::Vec3>& basis() const { return basis_; }
+  DCM::Cage_deformer<Coords> deformer() const {
+    DCM::Cage_deformer<Coords> d(coords);
+    d.set_pose(posed);
+    return d;
+  }
+};
+
+// A *Cages system (Cage_system, §5.3): sparse rows over the global basis, join where d_i < 1.
+struct Cage_system_setup {
+  const CD::Cage_system& sys;
+  std::vector<std::vector<CD::Vec3>> pose;
+  std::vector<CD::Vec3> basis_;
+  Cage_system_setup(const CD::Cage_system& s, const std::vector<std::vector<CD::Vec3>>& p)
+      : sys(s), pose(p), basis_(s.basis(s.deformed_leaf_vertices(p))) {}
+  std::size_t K() const { return sys.number_of_coordinates(); }
+  CD::Cage_system_binding<double> bind(const std::vector<CD::Vec3>& pts) const { return sys.bind<double>(pts); }
+  const std::vector<CD::Vec3>& basis() const { return basis_; }
+  DCM::Cage_system_deformer<> deformer() const {
+    DCM::Cage_system_deformer<> d(sys);
+    d.set_pose(pose);
+    return d;
+  }
+};
+
+template <class Setup>
+void run(const std::string& name, const std::string& cage_name, const Setup& setup,
+         const std::vector<CD::Vec3>& orig_pts, const std::vector<std::array<std::uint32_t, 3>>& orig_tris,
+         const CM::Compact_model& model) {
+  const std::size_t K = setup.K();
+  const std::vector<CD::Vec3>& basis = setup.basis();
+  std::vector<Row> rows;
+  CMGeom::Metrics::Error_options eo;
+  eo.vertex_field = false;
+  // (a) direct
+  Row a{"(a) original, direct"};
+  a.points = orig_pts.size();
+  a.mesh_bytes = orig_pts.size() * 24 + orig_tris.size() * 12;
+  double t0 = now();
+  const auto ba = setup.bind(orig_pts);
+  a.bind = now() - t0;
+  a.coord_bytes = ba.weights_bytes();
+  std::vector<CD::Vec3> da;
+  a.per_deformation = best_of(5, [&] { ba.deform(basis, da); });
+  const CMGeom::Surface_mesh ref = mesh_of(da, orig_tris);
+  rows.push_back(a);
+  // (b) base
+  {
+    Row r{"(b) simplified base, direct"};
+    const auto bp = to_cd(model.vertices);
+    std::vector<std::array<std::uint32_t, 3>> bt;
+    for (const auto& f : model.faces) bt.push_back({f[0].vertex, f[1].vertex, f[2].vertex});
+    r.points = bp.size();
+    r.mesh_bytes = bp.size() * 24 + bt.size() * 12;
+    t0 = now();
+    const auto bb = setup.bind(bp);
+    r.bind = now() - t0;
+    r.coord_bytes = bb.weights_bytes();
+    std::vector<CD::Vec3> d;
+    r.per_deformation = best_of(5, [&] { bb.deform(basis, d); });
+    const auto e = CMGeom::Metrics::approximation_error(ref, mesh_of(d, bt), eo);
+    r.hausdorff = 100 * e.hausdorff;
+    r.rms = 100 * e.rms;
+    rows.push_back(r);
+  }
+  const std::size_t cm_bytes = CM::cm_bytes(model).size();  // the CM file (float32)
+  DCM::Deformable_compact_model dcm(model);
+  for (int level : {1, 2}) {
+    // (c) reconstruct once, then deform every reconstructed point.
+    Row c{"(c) CM level " + std::to_string(level) + ", reconstruct then deform"};
+    const CM::Reconstruction rec = CM::reconstruct_regular(model, level);
+    const auto rp = to_cd(rec.points);
+    c.points = rp.size();
+    c.mesh_bytes = rp.size() * 24 + rec.triangles.size() * 12;
+    t0 = now();
+    const auto bc = setup.bind(rp);
+    c.bind = now() - t0;
+    c.coord_bytes = bc.weights_bytes();
+    std::vector<CD::Vec3> dc;
+    c.per_deformation = best_of(5, [&] { bc.deform(basis, dc); });
+    const auto ec = CMGeom::Metrics::approximation_error(ref, mesh_of(dc, rec.triangles), eo);
+    c.hausdorff = 100 * ec.hausdorff;
+    c.rms = 100 * ec.rms;
+    rows.push_back(c);
+    // (d) deformable CM: only the base is bound.
+    for (CM::Projection proj : {CM::Projection::closest_point, CM::Projection::along_normal}) {
+      Row d{"(d) deformable CM level " + std::to_string(level) +
+            (proj == CM::Projection::closest_point ? "" : ", projection along N")};
+      auto cd = setup.deformer();
+      t0 = now();
+      cd.bind(dcm.base_vertices());
+      d.bind = now() - t0;
+      d.coord_bytes = cd.weights_bytes();
+      d.other_bytes = dcm.bytes();
+      d.mesh_bytes = cm_bytes;
+      CM::Reconstruction out;
+      CM::Reconstruction_options ro;
+      ro.projection = proj;
+      d.per_deformation = best_of(3, [&] {
+        dcm.deform(cd);
+        out = dcm.reconstruct_regular(level, ro);
+      });
+      d.points = out.points.size();
+      const auto ed = CMGeom::Metrics::approximation_error(ref, mesh_of(to_cd(out.points), out.triangles), eo);
+      d.hausdorff = 100 * ed.hausdorff;
+      d.rms = 100 * ed.rms;
+      rows.push_back(d);
+    }
+    // (e) deformable CM with the rest reconstruction kept (Deformable_reconstruction): a pose
+    // costs the base deformation, the local maps and the blend of the maps at every point.
+    {
+      Row e{"(e) deformable CM level " + std::to_string(level) + ", rest reconstruction kept"};
+      auto cd = setup.deformer();
+      t0 = now();
+      cd.bind(dcm.base_vertices());
+      const DCM::Deformable_reconstruction cache(model, level);
+      e.bind = now() - t0;
+      e.coord_bytes = cd.weights_bytes();
+      e.other_bytes = dcm.bytes() + cache.bytes() - cache.number_of_points() * 2 * sizeof(CM::Vec3);
+      e.mesh_bytes = cm_bytes + cache.number_of_points() * 2 * sizeof(CM::Vec3) + rec.triangles.size() * 12;
+      CM::Reconstruction out;
+      e.per_deformation = best_of(5, [&] {
+        dcm.deform(cd);
+        cache.deform(dcm, out);
+      });
+      e.points = out.points.size();
+      const auto ee = CMGeom::Metrics::approximation_error(ref, mesh_of(to_cd(out.points), out.triangles), eo);
+      e.hausdorff = 100 * ee.hausdorff;
+      e.rms = 100 * ee.rms;
+      rows.push_back(e);
+    }
+  }
+  for (const Row& r : rows) {
+    std::printf("| %s | %s (K=%zu) | %s | %zu | %.3f | %.3f | %.3f | %.3f | %.5f | %.2f |", name.c_str(), cage_name.c_str(),
+                K, r.method.c_str(), r.points, r.mesh_bytes / 1e6, r.coord_bytes / 1e6, r.other_bytes / 1e6, r.bind,
+                r.per_deformation, a.per_deformation / r.per_deformation);
+    if (r.hausdorff >= 0)
+      std::printf(" %.3f | %.4f |\n", r.hausdorff, r.rms);
+    else
+      std::printf(" - | - |\n");
+    std::fflush(stdout);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string data = CMGEOM_BENCH_DATA_DIR, cage_dir;
+  std::vector<std::string> cages = {"box", "grid", "system"};
+  std::vector<std::pair<std::string, std::size_t>> models;
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    if (s == "--write-cages" && i + 1 < argc) {
+      cage_dir = argv[++i];
+    } else if (s == "--cages" && i + 1 < argc) {  // comma-separated subset of box,grid,system
+      cages.clear();
+      std::string list = argv[++i], item;
+      for (std::size_t p = 0; p <= list.size(); ++p)
+        if (p == list.size() || list[p] == ',') {
+          cages.push_back(item);
+          item.clear();
+        } else {
+          item += list[p];
+        }
+    } else if (s.find(':') != std::string::npos) {
+      models.emplace_back(s.substr(0, s.find(':')), std::stoul(s.substr(s.find(':') + 1)));
+    } else {
+      data = s;
+    }
+  }
+  if (models.empty()) models = {{"camel.off", 1000}, {"horse.ply", 2000}, {"igea.ply.gz", 4000}};
+  const fs::path tmp = fs::temp_directory_path() / ("cmgeom_bench_dcm_" + std::to_string(::getpid()));
+  fs::create_directories(tmp);
+  std::printf("Threads: %d (TBB default concurrency)\n\n", tbb::info::default_concurrency());
+  std::printf("| model | cage | method | points | mesh MB | coordinates MB | maps MB | bind s | s per deformation | "
+              "speed-up vs (a) | Hausdorff %% vs (a) | RMS %% vs (a) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& [file, base_faces] : models) {
+    std::string path = (fs::path(data) / "classic" / file).string();
+    if (!fs::exists(path)) {
+      std::fprintf(stderr, "missing %s, skipped\n", path.c_str());
+      continue;
+    }
+    std::string name = file;
+    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0) {
+      name = fs::path(file).stem().string();
+      const std::string out = (tmp / name).string();
+      if (std::system(("gunzip -c '" + path + "' > '" + out + "'").c_str()) != 0) return 1;
+      path = out;
+    }
+    CMGeom::Textured_mesh tm;
+    CMGeom::IO::read_mesh(path, tm);
+    const CMGeom::Surface_mesh& mesh = tm.mesh();
+    std::vector<CD::Vec3> pts;
+    std::vector<std::array<std::uint32_t, 3>> tris;
+    for (auto v : mesh.vertices()) pts.push_back({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
+    for (auto f : mesh.faces()) {
+      std::array<std::uint32_t, 3> t;
+      int k = 0;
+      for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) t[k++] = std::uint32_t(v);
+      tris.push_back(t);
+    }
+    const CM::Compact_model model = CM::build_compact_model(mesh, base_faces);
+    const Box b = box_of(pts);
+    for (const std::string& cage_name : cages) {
+      if (cage_name == "system") {
+        // *Cages: 3 x 2 x 2 box cells (mean value, joined, h = 0.6), the same pose on every cell.
+        const CD::Cage_system sys(CD::make_grid_cage_system(pts, 3, 2, 2, 0.05, CD::Coordinate_type::mean_value, 0.6));
+        std::vector<std::vector<CD::Vec3>> pose_of;
+        for (const auto& c : sys.description().cages) {
+          pose_of.emplace_back();
+          for (const auto& v : c.rest.vertices) pose_of.back().push_back(pose(b, v));
+        }
+        run(name, "3x2x2 *Cages MVC", Cage_system_setup(sys, pose_of), pts, tris, model);
+        continue;
+      }
+      std::vector<std::array<double, 3>> P;
+      std::vector<std::vector<std::uint32_t>> Q;
+      grid_cage(b, cage_name == "box" ? 1 : 4, P, Q);
+      CD::Triangle_cage cage = CD::make_triangle_cage(P, Q);
+      CD::validate_cage(cage, cage_name);
+      std::vector<CD::Vec3> posed;
+      for (const auto& p : cage.vertices) posed.push_back(pose(b, p));
+      const std::string stem = fs::path(name).stem().string() + "_" + cage_name;
+      if (!cage_dir.empty()) {
+        fs::create_directories(cage_dir);
+        write_obj((fs::path(cage_dir) / (stem + "_rest.obj")).string(), cage.vertices, Q);
+        write_obj((fs::path(cage_dir) / (stem + "_deformed.obj")).string(), posed, Q);
+        std::ofstream((fs::path(cage_dir) / (stem + "_system.json")).string())
+            << "{\"cages\": [{\"rest\": \"" << stem << "_rest.obj\", \"deformed\": \"" << stem
+            << "_deformed.obj\", \"coordinates\": \"" << (cage_name == "box" ? "mean_value" : "green") << "\"}]}\n";
+      }
+      if (cage_name == "box")
+        run(name, cage_name + " MVC", Single_cage_setup<CD::Mean_value_coordinates_3>(CD::Mean_value_coordinates_3(cage), posed),
+            pts, tris, model);
+      else
+        run(name, cage_name + " Green", Single_cage_setup<CD::Green_coordinates_3>(CD::Green_coordinates_3(cage), posed),
+            pts, tris, model);
+    }
+  }
+  fs::remove_all(tmp);
+  return 0;
+}
