@@ -9,9 +9,11 @@
 //  * with clang and -fsanitize=fuzzer (CMGEOM_LIBFUZZER): a coverage-guided libFuzzer target,
 //    see scripts/fuzz.sh;
 //  * as a plain program (any compiler, what CTest runs): `fuzz_readers --smoke N --seed S DIR...`
-//    applies N deterministic random mutations (bit flips, byte insert/erase, truncation, line
-//    duplication, digit changes, splices) to the seed files of DIR... and runs each one.
+//    applies N deterministic random mutations (test/Reliability/fuzz_mutate.h) to the seed files
+//    of DIR... and runs each one.
 #include <CMGeom/Mesh_IO.h>
+
+#include "../Reliability/fuzz_mutate.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -80,61 +82,6 @@ int run_one(const std::uint8_t* data, std::size_t size) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) { return run_one(data, size); }
 
 #ifndef CMGEOM_LIBFUZZER
-namespace {
-
-std::vector<std::uint8_t> mutate(std::vector<std::uint8_t> s, std::mt19937_64& rng,
-                                 const std::vector<std::vector<std::uint8_t>>& pool) {
-  auto pick = [&](std::size_t n) { return n ? std::size_t(rng() % n) : 0; };
-  const int rounds = 1 + int(rng() % 4);
-  for (int r = 0; r < rounds; ++r) {
-    switch (rng() % 9) {
-      case 0: if (s.size() > 1) s[1 + pick(s.size() - 1)] ^= std::uint8_t(1u << (rng() % 8)); break;
-      case 1: if (s.size() > 1) s.erase(s.begin() + std::ptrdiff_t(1 + pick(s.size() - 1))); break;
-      case 2: s.insert(s.begin() + std::ptrdiff_t(1 + pick(s.size())), std::uint8_t(rng())); break;
-      case 3: if (s.size() > 2) s.resize(1 + pick(s.size() - 1)); break;  // truncation
-      case 4: {  // change a digit, or a whole number into a huge or negative one
-        std::vector<std::size_t> digits;
-        for (std::size_t i = 1; i < s.size(); ++i) if (s[i] >= '0' && s[i] <= '9') digits.push_back(i);
-        if (digits.empty()) break;
-        const std::size_t at = digits[pick(digits.size())];
-        static const char* const repl[] = {"0", "-1", "4294967295", "99999999999", "nan", "inf", "1e308", "-0"};
-        const std::string w = repl[rng() % 8];
-        s.erase(s.begin() + std::ptrdiff_t(at));
-        s.insert(s.begin() + std::ptrdiff_t(at), w.begin(), w.end());
-        break;
-      }
-      case 5: {  // duplicate or drop a line
-        std::vector<std::size_t> nl;
-        for (std::size_t i = 1; i < s.size(); ++i) if (s[i] == '\n') nl.push_back(i);
-        if (nl.size() < 2) break;
-        const std::size_t k = pick(nl.size() - 1);
-        std::vector<std::uint8_t> line(s.begin() + std::ptrdiff_t(nl[k] + 1), s.begin() + std::ptrdiff_t(nl[k + 1] + 1));
-        if (rng() % 2) s.insert(s.begin() + std::ptrdiff_t(nl[k] + 1), line.begin(), line.end());
-        else s.erase(s.begin() + std::ptrdiff_t(nl[k] + 1), s.begin() + std::ptrdiff_t(nl[k + 1] + 1));
-        break;
-      }
-      case 6: if (!s.empty()) s[0] = std::uint8_t(rng()); break;  // same bytes, another reader
-      case 7: {  // splice with another seed
-        const auto& o = pool[pick(pool.size())];
-        if (o.size() < 2 || s.size() < 2) break;
-        const std::size_t a = 1 + pick(s.size() - 1), b = 1 + pick(o.size() - 1);
-        s.resize(a);
-        s.insert(s.end(), o.begin() + std::ptrdiff_t(b), o.end());
-        break;
-      }
-      default: {  // overwrite a few bytes with interesting values
-        if (s.size() < 5) break;
-        static const std::uint8_t vals[] = {0, 0xff, 0x7f, 0x80, '/', ' ', '\n', '-'};
-        const std::size_t at = 1 + pick(s.size() - 1);
-        for (std::size_t i = at; i < std::min(s.size(), at + 4); ++i) s[i] = vals[rng() % 8];
-      }
-    }
-  }
-  return s;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   std::size_t runs = 2000;
   std::uint64_t seed = 1;
@@ -171,7 +118,7 @@ int main(int argc, char** argv) {
   std::mt19937_64 rng(seed);
   for (const auto& s : pool) run_one(s.data(), s.size());
   for (std::size_t i = 0; i < runs; ++i) {
-    const auto input = mutate(pool[rng() % pool.size()], rng, pool);
+    const auto input = cmgeom_fuzz::mutate(pool[rng() % pool.size()], rng, pool);
     run_one(input.data(), input.size());
   }
   std::filesystem::remove_all(std::filesystem::path(scratch_path(0)).parent_path());
