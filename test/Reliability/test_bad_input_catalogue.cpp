@@ -318,7 +318,7 @@ TEST_F(Bad_input, RenderFieldWithWrongCount) {
 // Finding (tools/cmgeom/cmd_render.cpp, not fixed here): a NaN value in a --field file is
 // accepted and a PNG is written (exit 0) whose colour for that vertex is undefined; the field
 // reader checks the count but not finiteness. Enable once render rejects non-finite values.
-TEST_F(Bad_input, DISABLED_RenderFieldWithNaN) {
+TEST_F(Bad_input, RenderFieldWithNaN) {
   const std::string m = input("sphere.obj", sphere_obj(1));
   std::string values;
   for (int i = 0; i < 42; ++i) values += i == 5 ? "nan\n" : "1\n";

@@ -32,6 +32,13 @@ double parse_number(const std::string& s, const std::string& file, std::size_t l
 
 // One value per line (blank lines and '#' comments ignored), or the "quality" vertex property of
 // an ASCII PLY.
+// A field value: a finite number (a NaN or infinity would colour the mesh with garbage).
+double parse_field_value(const std::string& tok, const std::string& path, std::size_t line) {
+  const double v = parse_number(tok, path, line);
+  if (!std::isfinite(v)) throw CMGeom::IO_error(path, line, "field value '" + tok + "' is not a finite number");
+  return v;
+}
+
 std::vector<double> read_field(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw CMGeom::IO_error(path, "cannot open the field file");
@@ -65,7 +72,7 @@ std::vector<double> read_field(const std::string& path) {
       std::string tok;
       for (long k = 0; k <= quality; ++k)
         if (!(ls >> tok)) throw CMGeom::IO_error(path, n, "vertex line with too few values");
-      values.push_back(parse_number(tok, path, n));
+      values.push_back(parse_field_value(tok, path, n));
       ++index;
     }
     if (index < vertices) throw CMGeom::IO_error(path, n, "file ends before the last vertex");
@@ -78,7 +85,7 @@ std::vector<double> read_field(const std::string& path) {
     std::istringstream ls(line);
     std::string tok;
     if (!(ls >> tok)) continue;
-    values.push_back(parse_number(tok, path, n));
+    values.push_back(parse_field_value(tok, path, n));
     if (ls >> tok) throw CMGeom::IO_error(path, n, "expected one value per line");
   }
   return values;
