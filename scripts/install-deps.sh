@@ -7,7 +7,7 @@ packages=(
   libosmesa6-dev libopenimageio-dev
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libmeshoptimizer-dev libopenmesh-dev time
+  libmeshoptimizer-dev libopenmesh-dev time python3
 )
 missing=()
 for p in "${packages[@]}"; do

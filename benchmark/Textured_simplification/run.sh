@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Writes benchmark/Textured_simplification/RESULTS.md: the geometry part (run_bench.sh: our engine
+# and policies against CGAL, meshoptimizer and OpenMesh) and the texture part
+# (run_textured_bench.sh: chart-aware simplification against meshoptimizer and CGAL with frozen
+# seams, image RMSE over 26 views).
+#   bash benchmark/Textured_simplification/run.sh <build-dir> [--quick]   (called by benchmark/run.sh)
+set -euo pipefail
+build=${1:?usage: run.sh <build-dir> [--quick]}
+here=$(cd "$(dirname "$0")" && pwd)
+if [[ "${2:-}" == "--quick" ]]; then
+  sh "$here/run_bench.sh" "$build" --models bunny,max-planck
+  sh "$here/run_textured_bench.sh" "$build" --models spot,bob --fractions 0.1
+else
+  sh "$here/run_bench.sh" "$build"
+  sh "$here/run_textured_bench.sh" "$build"
+fi
