@@ -14,7 +14,10 @@
 #include <CGAL/boost/graph/copy_face_graph.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_profile.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_cost.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_placement.h>
 #include <CGAL/boost/graph/IO/polygon_mesh_io.h>
 #include <CGAL/boost/graph/helpers.h>
 
@@ -22,6 +25,7 @@
 #include <sys/wait.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -29,7 +33,9 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace TS = CMGeom::Textured_simplification;
@@ -456,6 +462,82 @@ TEST(TexturedSimplificationEngine, ExtremeTargetKeepsTopology) {
     TS::Face_count_stop_predicate<Mesh> stop(mesh, t);
     TS::edge_collapse(mesh, stop, CGAL::parameters::visitor(vis));
   });
+}
+
+// CMGeom's profile gives the same neighbourhood as CGAL's Edge_profile (triangles with the same
+// orientation, link vertices, border edges), compared as sets on every halfedge of an open mesh.
+TEST(TexturedSimplificationEngine, ProfileNeighbourhoodMatchesCgalEdgeProfile) {
+  Mesh m;
+  if (!read_mesh(data_dir() + "/classic/mech-holes-shark.off", m)) GTEST_SKIP() << "shared data not found: " << data_dir();
+  ASSERT_FALSE(CGAL::is_closed(m));
+  using VPM = Mesh::Property_map<vertex_descriptor, Point>;
+  using Ours = TS::Collapse_profile<Mesh, VPM, K>;
+  using Theirs = SMS::Edge_profile<Mesh, VPM, K>;
+  const K gt;
+  // A triangle as its cyclic order starting from the smallest vertex (orientation kept).
+  auto key = [](vertex_descriptor a, vertex_descriptor b, vertex_descriptor c) {
+    while (!(a < b && a < c)) std::tie(a, b, c) = std::make_tuple(b, c, a);
+    return std::array<std::size_t, 3>{std::size_t(a), std::size_t(b), std::size_t(c)};
+  };
+  std::size_t checked = 0, with_border = 0;
+  for (halfedge_descriptor h : halfedges(m)) {
+    if (is_border(h, m) && is_border(opposite(h, m), m)) continue;
+    const Ours ours(h, m, m.points(), gt);
+    const Theirs theirs(h, m, gt, get(CGAL::vertex_index, m), m.points(), get(CGAL::halfedge_index, m), true);
+    std::set<std::array<std::size_t, 3>> t1, t2;
+    for (const auto& t : ours.triangles()) t1.insert(key(t.v0, t.v1, t.v2));
+    for (const auto& t : theirs.triangles()) t2.insert(key(t.v0, t.v1, t.v2));
+    ASSERT_EQ(t1, t2) << "halfedge " << h;
+    EXPECT_EQ(ours.triangles().size(), theirs.triangles().size());
+    const std::set<vertex_descriptor> l1(ours.link().begin(), ours.link().end()),
+        l2(theirs.link().begin(), theirs.link().end());
+    ASSERT_EQ(l1, l2) << "halfedge " << h;
+    const std::set<halfedge_descriptor> b1(ours.border_edges().begin(), ours.border_edges().end()),
+        b2(theirs.border_edges().begin(), theirs.border_edges().end());
+    ASSERT_EQ(b1, b2) << "halfedge " << h;
+    with_border += !b1.empty();
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000u);
+  EXPECT_GT(with_border, 10u);
+}
+
+// Policies written for CGAL's engine run unchanged on CMGeom's: CGAL's Lindstrom-Turk cost and
+// placement (which read triangles(), link() and border_edges()) and its Garland-Heckbert
+// policies reach the target and leave a valid mesh of the same topology close to the input.
+TEST(TexturedSimplificationEngine, CgalPoliciesRunOnTheEngine) {
+  Mesh input;
+  if (!read_mesh(data_dir() + "/classic/mech-holes-shark.off", input)) GTEST_SKIP() << "shared data not found: " << data_dir();
+  const long chi = euler_characteristic(input);
+  const std::size_t target = live_faces(input) / 5;
+  Mesh lt = input;
+  TS::edge_collapse(lt, TS::Face_count_stop_predicate<Mesh>(lt, target),
+                    CGAL::parameters::get_cost(SMS::LindstromTurk_cost<Mesh>())
+                        .get_placement(SMS::LindstromTurk_placement<Mesh>()));
+  Mesh gh = input;
+  SMS::GarlandHeckbert_plane_policies<Mesh, K> policies(gh);
+  TS::edge_collapse(gh, TS::Face_count_stop_predicate<Mesh>(gh, target),
+                    CGAL::parameters::get_cost(policies.get_cost()).get_placement(policies.get_placement()));
+  // The same Lindstrom-Turk run on CGAL's engine, for the distance comparison.
+  Mesh lt_cgal = input;
+  SMS::edge_collapse(lt_cgal, TS::Face_count_stop_predicate<Mesh>(lt_cgal, target));
+  const double diag = bbox_diagonal(input);
+  for (const Mesh* m : {&lt, &gh}) {
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(*m));
+    EXPECT_LE(live_faces(*m), target);
+    EXPECT_GE(live_faces(*m), target - 2);
+    EXPECT_EQ(euler_characteristic(*m), chi);
+  }
+  // Lindstrom-Turk on either engine: every vertex of the input stays as close to the result.
+  auto worst = [&](const Mesh& m) {
+    CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle_primitive<Mesh>>> tree(faces(m).first,
+                                                                                                faces(m).second, m);
+    double d = 0;
+    for (auto v : vertices(input)) d = std::max(d, std::sqrt(tree.squared_distance(input.point(v))));
+    return d / diag;
+  };
+  const double ours = worst(lt), theirs = worst(lt_cgal);
+  EXPECT_LT(ours, 1.5 * theirs + 1e-3) << "ours " << ours << ", CGAL's engine " << theirs;
 }
 
 TEST(TexturedSimplificationEngine, OpenMeshBoundaryAndExactCounts) {

@@ -4,35 +4,53 @@
 // Collapse_profile: what CMGeom's edge_collapse hands to cost, placement, filter, stop predicate
 // and visitor — the same accessors as CGAL's `Surface_mesh_simplification::Edge_profile`
 // (v0, v1, p0, p1, v0_v1, v1_v0, vL, vR, v1_vL, vL_v0, v0_vR, vR_v1, left/right_face_exists,
-// is_v0_v1_a_border, is_v1_v0_a_border, surface_mesh, vertex_point_map, geom_traits), so a policy
-// written against those (as templates on the profile type) runs under both engines.
+// is_v0_v1_a_border, is_v1_v0_a_border, surface_mesh, vertex_point_map, geom_traits, triangles,
+// link, border_edges) and types, so a policy written against CGAL's EdgeProfile concept — CGAL's
+// own Lindstrom-Turk and Garland-Heckbert policies included — runs under both engines.
 //
-// Not provided: triangles(), link() and border_edges(). CGAL's profile fills three vectors for
-// them on every construction; a profile is built for every cost evaluation, and the quadric
-// policies never need them. The endpoints, points and border flags are read at construction, the
-// apexes on first use (O(1) either way); the engine loads the apexes before collapsing so the
-// profile stays valid after the collapse, as visitors' OnCollapsed expects.
+// CGAL's profile fills the vectors of triangles() and link() (and border_edges() on meshes with
+// a border) on every construction; a profile is built for every cost evaluation, and the quadric
+// policies never need them. Here the endpoints, points and border flags are read at
+// construction, the apexes and the three vectors on first use only; the engine loads the apexes
+// before collapsing so the profile stays valid after the collapse, as visitors' OnCollapsed
+// expects. triangles() lists every face incident to v0 or v1 once, its vertices in the face's
+// order (the two faces of the edge first, as (v0, v1, vL) and (v1, v0, vR)); link() the vertices
+// adjacent to v0 or v1 other than v0 and v1, each once; border_edges() the border halfedge of
+// every border edge incident to v0 or v1.
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_COLLAPSE_PROFILE_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_COLLAPSE_PROFILE_H
 
 #include <boost/graph/graph_traits.hpp>
 #include <boost/property_map/property_map.hpp>
 
+#include <algorithm>
+#include <vector>
+
 namespace CMGeom {
 namespace Textured_simplification {
 
-template <class TriangleMesh, class VertexPointMap, class GeomTraits>
+template <class TriangleMesh, class VPMap, class GeomTraits>
 class Collapse_profile {
 public:
   using Triangle_mesh = TriangleMesh;
   using TM = TriangleMesh;
-  using Vertex_point_map = VertexPointMap;
-  using VertexPointMap_ = VertexPointMap;
+  using Vertex_point_map = VPMap;
   using Geom_traits = GeomTraits;
   using FT = typename GeomTraits::FT;
-  using Point = typename boost::property_traits<VertexPointMap>::value_type;
+  using Point = typename boost::property_traits<VPMap>::value_type;
   using vertex_descriptor = typename boost::graph_traits<TriangleMesh>::vertex_descriptor;
   using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
+  using edge_descriptor = typename boost::graph_traits<TriangleMesh>::edge_descriptor;
+  using face_descriptor = typename boost::graph_traits<TriangleMesh>::face_descriptor;
+  using VertexPointMap = VPMap;  // the name of CGAL's EdgeProfile concept
+  using vertex_descriptor_vector = std::vector<vertex_descriptor>;
+  using halfedge_descriptor_vector = std::vector<halfedge_descriptor>;
+  struct Triangle {
+    Triangle() = default;
+    Triangle(vertex_descriptor a, vertex_descriptor b, vertex_descriptor c) : v0(a), v1(b), v2(c) {}
+    vertex_descriptor v0, v1, v2;
+  };
+  using Triangle_vector = std::vector<Triangle>;
 
   Collapse_profile(halfedge_descriptor h_v0v1, const TriangleMesh& tm, const VertexPointMap& vpm,
                    const GeomTraits& gt)
@@ -81,7 +99,52 @@ public:
   const VertexPointMap& vertex_point_map() const { return vpm_; }
   const GeomTraits& geom_traits() const { return *gt_; }
 
+  const Triangle_vector& triangles() const {
+    load_neighbourhood();
+    return triangles_;
+  }
+  const vertex_descriptor_vector& link() const {
+    load_neighbourhood();
+    return link_;
+  }
+  const halfedge_descriptor_vector& border_edges() const {
+    load_neighbourhood();
+    return border_edges_;
+  }
+
 private:
+  void load_neighbourhood() const {
+    if (neighbourhood_loaded_) return;
+    neighbourhood_loaded_ = true;
+    load_apexes();
+    const TriangleMesh& tm = *tm_;
+    if (left_) triangles_.emplace_back(v0_, v1_, vL_);
+    if (right_) triangles_.emplace_back(v1_, v0_, vR_);
+    auto add_link = [&](vertex_descriptor v) {
+      if (v != v0_ && v != v1_ && std::find(link_.begin(), link_.end(), v) == link_.end()) link_.push_back(v);
+    };
+    for (const vertex_descriptor c : {v0_, v1_}) {
+      // Every halfedge pointing to c: its source is a neighbour, its face (when any) an incident face.
+      const halfedge_descriptor start = halfedge(c, tm);
+      halfedge_descriptor h = start;
+      do {
+        const halfedge_descriptor o = opposite(h, tm);
+        add_link(source(h, tm));
+        const bool edge_v0v1 = (h == h_ || h == o_);
+        if (!edge_v0v1 || c == v0_) {  // the edge v0v1 once
+          if (is_border(h, tm)) border_edges_.push_back(h);
+          else if (is_border(o, tm)) border_edges_.push_back(o);
+        }
+        if (!is_border(h, tm)) {  // faces holding both v0 and v1 are the edge's, listed first
+          const vertex_descriptor a = source(h, tm), b = target(h, tm), d = target(next(h, tm), tm);
+          const vertex_descriptor other = (c == v0_) ? v1_ : v0_;
+          if (a != other && d != other) triangles_.emplace_back(a, b, d);
+        }
+        h = opposite(next(h, tm), tm);
+      } while (h != start);
+    }
+  }
+
   const TriangleMesh* tm_;
   VertexPointMap vpm_;
   const GeomTraits* gt_;
@@ -89,7 +152,10 @@ private:
   vertex_descriptor v0_, v1_;
   Point p0_, p1_;
   bool left_, right_;
-  mutable bool apexes_loaded_ = false;
+  mutable bool apexes_loaded_ = false, neighbourhood_loaded_ = false;
+  mutable Triangle_vector triangles_;
+  mutable vertex_descriptor_vector link_;
+  mutable halfedge_descriptor_vector border_edges_;
   mutable vertex_descriptor vL_ = boost::graph_traits<TriangleMesh>::null_vertex();
   mutable vertex_descriptor vR_ = boost::graph_traits<TriangleMesh>::null_vertex();
   mutable halfedge_descriptor v1vL_ = boost::graph_traits<TriangleMesh>::null_halfedge();
