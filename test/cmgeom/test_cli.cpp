@@ -3,6 +3,8 @@
 // runs (the guarantee of doc/Reliability.md).
 #include "cmgeom_test_support.h"
 
+#include <nlohmann/json.hpp>
+
 #include <fstream>
 #include <iterator>
 #include <vector>
@@ -112,4 +114,63 @@ TEST(cmgeom_cli, CommandsOfTheCageAndTextureStagesAreDeterministic) {
       {"cm build", "cm build {in} -o {dir}/spot.cm --ratio 0.1", {"spot.cm"}},
       {"cm deform", "cm deform {dir}/spot.cm --cages '" + base + "/one.json' -o {dir}/cmd.ply --level 1", {"cmd.ply"}},
   }, base);
+}
+
+// The README's main job: every stage writes its files, the report names each picture it shows,
+// every picture is a PNG, and the deformable CM stays close to the mesh deformed by the same cages.
+TEST(cmgeom_cli, PipelineRunsEveryStageAndReportsIt) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string out = (fs::path(dir) / "out").string();
+  const auto r = cmgeom_test::run_cli("pipeline -o '" + out + "' --size 128x128", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (int k = 1; k <= 6; ++k)
+    EXPECT_NE(r.err.find("[" + std::to_string(k) + "/6]"), std::string::npos) << "no progress line for stage " << k;
+  const std::string report = bytes_of((fs::path(out) / "report.md").string());
+  for (const char* section : {"## Input model", "## Simplification", "## Compact Model", "## *Cages deformation",
+                              "## Deformable Compact Model"})
+    EXPECT_NE(report.find(section), std::string::npos) << "report.md has no section " << section;
+  EXPECT_EQ(report.find("stopped at stage"), std::string::npos);
+  // Every picture the report shows exists and starts with the PNG signature.
+  std::size_t pictures = 0;
+  for (std::size_t p = 0; (p = report.find("](", p)) != std::string::npos; p += 2) {
+    const std::string name = report.substr(p + 2, report.find(')', p) - p - 2);
+    const std::string png = bytes_of((fs::path(out) / name).string());
+    EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << name;
+    ++pictures;
+  }
+  EXPECT_GE(pictures, 15u);
+  for (const char* f : {"simplified_weighted.obj", "simplified_plain.obj", "model.cm", "cm_regular.ply",
+                        "cm_adaptive.ply", "rest_cages.json", "cages.json", "deformed.obj", "dcm_cages.obj",
+                        "dcm_affine.obj", "report.html"})
+    EXPECT_TRUE(fs::is_regular_file(fs::path(out) / f)) << f;
+  // The deformable CM against the full mesh deformed by the same cages: the error command,
+  // run independently of the pipeline, must find them within 5 % of the diagonal.
+  const auto e = cmgeom_test::run_cli("error '" + out + "/deformed.obj' '" + out + "/dcm_cages.obj' --json", dir);
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const auto j = nlohmann::json::parse(e.out);
+  EXPECT_LT(j["hausdorff"].get<double>(), 0.05);
+  EXPECT_GT(j["hausdorff"].get<double>(), 0.0);
+}
+
+// A stage that fails stops the run; the files of the finished stages stay and the report says
+// where the run stopped.
+TEST(cmgeom_cli, PipelineStopsAtTheFailingStageAndKeepsTheFinishedOnes) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string out = (fs::path(dir) / "out").string();
+  const std::string bad = cmgeom_test::write_text(dir, "bad.json", "{\"cages\": [{\"rest\": {\"vertices\": [[0,0,0]]}}]}");
+  const auto r = cmgeom_test::run_cli("pipeline -o '" + out + "' --size 64x64 --cages '" + bad + "'", dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("*Cages deformation"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bad.json"), std::string::npos) << r.err;
+  for (const char* f : {"input.png", "simplified_weighted.obj", "model.cm", "cm_regular.ply"})
+    EXPECT_TRUE(fs::is_regular_file(fs::path(out) / f)) << f;
+  EXPECT_FALSE(fs::exists(fs::path(out) / "deformed.obj"));
+  const std::string report = bytes_of((fs::path(out) / "report.md").string());
+  EXPECT_NE(report.find("stopped at stage '*Cages deformation"), std::string::npos);
+  // A missing cage file is refused before anything is written.
+  const std::string out2 = (fs::path(dir) / "out2").string();
+  const auto m = cmgeom_test::run_cli("pipeline -o '" + out2 + "' --cages '" + dir + "/missing.json'", dir);
+  EXPECT_EQ(m.exit_code, 1);
+  EXPECT_NE(m.err.find("missing.json"), std::string::npos) << m.err;
+  EXPECT_FALSE(fs::exists(out2));
 }
