@@ -17,15 +17,15 @@ trap 'rm -f "$tmp"' EXIT
   echo '```'
   "$cmgeom" --help
   echo '```'
-  # The sub-command names are the lines of the SUBCOMMANDS block of the global help.
-  for cmd in $("$cmgeom" --help | awk '/^SUBCOMMANDS:/{on=1; next} on && NF {print $1}'); do
+  # The sub-command names: the first word of each line of the Subcommands block of the help.
+  for cmd in $("$cmgeom" --help | awk '/^(SUBCOMMANDS|Subcommands):/{on=1; next} on && !NF {exit} on {print $1}'); do
     echo
     echo "## cmgeom $cmd"
     echo
     echo '```'
     "$cmgeom" "$cmd" --help
     echo '```'
-    for sub in $("$cmgeom" "$cmd" --help | awk '/^SUBCOMMANDS:/{on=1; next} on && NF {print $1}'); do
+    for sub in $("$cmgeom" "$cmd" --help | awk '/^(SUBCOMMANDS|Subcommands):/{on=1; next} on && !NF {exit} on {print $1}'); do
       echo
       echo "### cmgeom $cmd $sub"
       echo

@@ -315,9 +315,9 @@ TEST_F(Bad_input, RenderFieldWithWrongCount) {
   expect_rejected("render " + q(m) + " -o " + q(output("r.png")) + " --size 64x64 --field " + q(f), {"field.txt"});
 }
 
-// Finding (tools/cmgeom/cmd_render.cpp, not fixed here): a NaN value in a --field file is
-// accepted and a PNG is written (exit 0) whose colour for that vertex is undefined; the field
-// reader checks the count but not finiteness. Enable once render rejects non-finite values.
+// Regression test of a finding: a NaN value in a --field file was accepted and a PNG written
+// whose colour for that vertex was undefined (the field reader checked the count only). The
+// reader now rejects non-finite values with the file and line.
 TEST_F(Bad_input, RenderFieldWithNaN) {
   const std::string m = input("sphere.obj", sphere_obj(1));
   std::string values;
