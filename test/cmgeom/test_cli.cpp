@@ -1,6 +1,7 @@
 // Determinism of the command-line tool: each sub-command of a representative set is run twice
 // with one thread and once with two; every output file must be byte-identical across the three
 // runs (the guarantee of doc/Reliability.md).
+#include "cmgeom_test_meshes.h"
 #include "cmgeom_test_support.h"
 
 #include <nlohmann/json.hpp>
@@ -121,7 +122,7 @@ TEST(cmgeom_cli, CommandsOfTheCageAndTextureStagesAreDeterministic) {
 TEST(cmgeom_cli, PipelineRunsEveryStageAndReportsIt) {
   const std::string dir = cmgeom_test::scratch_dir();
   const std::string out = (fs::path(dir) / "out").string();
-  const auto r = cmgeom_test::run_cli("pipeline -o '" + out + "' --size 128x128", dir);
+  const auto r = cmgeom_test::run_cli("pipeline -o '" + out + "' --size 64x64", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (int k = 1; k <= 6; ++k)
     EXPECT_NE(r.err.find("[" + std::to_string(k) + "/6]"), std::string::npos) << "no progress line for stage " << k;
@@ -158,12 +159,20 @@ TEST(cmgeom_cli, PipelineStopsAtTheFailingStageAndKeepsTheFinishedOnes) {
   const std::string dir = cmgeom_test::scratch_dir();
   const std::string out = (fs::path(dir) / "out").string();
   const std::string bad = cmgeom_test::write_text(dir, "bad.json", "{\"cages\": [{\"rest\": {\"vertices\": [[0,0,0]]}}]}");
-  const auto r = cmgeom_test::run_cli("pipeline -o '" + out + "' --size 64x64 --cages '" + bad + "'", dir);
+  // A small untextured sphere keeps the three stages that must finish quick.
+  std::vector<std::array<double, 3>> p;
+  std::vector<std::array<std::size_t, 3>> f;
+  cmgeom_test::icosphere(3, p, f);
+  std::string obj;
+  for (const auto& q : p) obj += "v " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + "\n";
+  for (const auto& t : f) obj += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+  const std::string sphere = cmgeom_test::write_text(dir, "sphere.obj", obj);
+  const auto r = cmgeom_test::run_cli("pipeline --model '" + sphere + "' -o '" + out + "' --size 64x64 --cages '" + bad + "'", dir);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("*Cages deformation"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("bad.json"), std::string::npos) << r.err;
-  for (const char* f : {"input.png", "simplified_weighted.obj", "model.cm", "cm_regular.ply"})
-    EXPECT_TRUE(fs::is_regular_file(fs::path(out) / f)) << f;
+  for (const char* name : {"input.png", "simplified_weighted.obj", "model.cm", "cm_regular.ply"})
+    EXPECT_TRUE(fs::is_regular_file(fs::path(out) / name)) << name;
   EXPECT_FALSE(fs::exists(fs::path(out) / "deformed.obj"));
   const std::string report = bytes_of((fs::path(out) / "report.md").string());
   EXPECT_NE(report.find("stopped at stage '*Cages deformation"), std::string::npos);

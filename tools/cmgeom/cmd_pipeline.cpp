@@ -219,9 +219,9 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
       p.begin("Input model");
       const json info = p.run({"info", model, "--json"});
       {
-        std::vector<std::string> args = {"render", model, "-o", p.path("input.png"), "--size", o->size, "--charts",
-                                         "--caption", "input: chart boundaries in red"};
-        if (textured) args.insert(args.end(), {"--atlas", p.path("input_atlas.png")});
+        std::vector<std::string> args = {"render", model, "-o", p.path("input.png"), "--size", o->size, "--caption",
+                                         textured ? "input: chart boundaries in red" : "input"};
+        if (textured) args.insert(args.end(), {"--charts", "--atlas", p.path("input_atlas.png")});
         p.run(args);
       }
       if (textured) p.run({"render", model, "-o", p.path("input_shaded.png"), "--size", o->size, "--no-texture"});
@@ -230,7 +230,7 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
         s.table = {{"vertices", "faces", "charts", "genus", "components", "closed"},
                    {{num(info["referenced_vertices"]), num(info["faces"]), num(info["charts"]),
                      num(info["genus"]), num(info["components"]), info["closed"].dump()}}};
-        s.pictures.push_back({"input.png", "Input model, chart boundaries in red"});
+        s.pictures.push_back({"input.png", textured ? "Input model, chart boundaries in red" : "Input model"});
         if (textured) {
           s.pictures.push_back({"input_shaded.png", "Input geometry"});
           s.pictures.push_back({"input_atlas.png", "Input texture atlas with its UV layout"});
