@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Writes benchmark/Thesis_tables/RESULTS.md: analogues of the thesis' tables (3.1, 4.1-4.3) with the
+# Writes benchmark/Thesis_tables/RESULTS.md: analogues of the thesis' tables (3.1, 4.1-4.3, 5.1-5.3,
+# 6.1-6.3) with the
 # thesis' own 2011 figures in a column beside ours, measured with the cmgeom tool on the public models
 # of ../shared/data that are the thesis' models or the nearest ones available.
 #   bash benchmark/Thesis_tables/run.sh <build-dir> [--quick]     (called by benchmark/run.sh)
@@ -140,6 +141,213 @@ for row in "${rows42[@]}"; do
   run cm reconstruct "$tmp/e.cm" -o "$tmp/e.ply" --level 3 > /dev/null
   "$cmgeom" error "$m" "$tmp/e.ply" --json > "$tmp/e.err.json"
   echo "| $name | $tbase | $trms | $tmax | $file ($(jnum input_faces "$tmp/e.build.json")) | $(jnum base_vertices "$tmp/e.build.json") | $(pct "$(jnum rms "$tmp/e.err.json")") | $(pct "$(jnum hausdorff "$tmp/e.err.json")") |" >> "$out"
+done
+
+# ------------------------------------------------------------------ cages for chapters 5 and 6
+# lattice_cage INFO_JSON NX NY NZ OUT.obj: the surface of an NX x NY x NZ lattice over the mesh's
+# bounding box grown by 5 % of its diagonal -- the same box and vertices as `cmgeom deform --grid`
+# (margin 0.05), so it is the union of the grid's cells: the "single cage" of the thesis' tables.
+# Quads, outward oriented.
+lattice_cage() {
+  local lo hi diag
+  lo=($(sed -n '/"bbox_min"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
+  hi=($(sed -n '/"bbox_max"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
+  LC_ALL=C awk -v l0="${lo[0]}" -v l1="${lo[1]}" -v l2="${lo[2]}" -v h0="${hi[0]}" -v h1="${hi[1]}" -v h2="${hi[2]}" \
+      -v n0="$2" -v n1="$3" -v n2="$4" '
+    function vid(i, j, k,   key, q, a) {
+      key = i "," j "," k
+      if (!(key in id)) {
+        id[key] = ++nv
+        q[0] = i; q[1] = j; q[2] = k
+        for (a = 0; a < 3; ++a) p[a] = q[a] == n[a] ? hi[a] : lo[a] + (hi[a] - lo[a]) * q[a] / n[a]
+        printf "v %.17g %.17g %.17g\n", p[0], p[1], p[2]
+      }
+      return id[key]
+    }
+    function at(a, s, u, w,   q) {  # lattice vertex with coordinate s on axis a, u on a+1, w on a+2
+      q[a] = s; q[(a + 1) % 3] = u; q[(a + 2) % 3] = w
+      return vid(q[0], q[1], q[2])
+    }
+    BEGIN {
+      lo[0] = l0; lo[1] = l1; lo[2] = l2; hi[0] = h0; hi[1] = h1; hi[2] = h2
+      d = sqrt((h0 - l0)^2 + (h1 - l1)^2 + (h2 - l2)^2); e = 0.05 * d
+      for (a = 0; a < 3; ++a) { lo[a] -= e; hi[a] += e }
+      n[0] = n0; n[1] = n1; n[2] = n2
+      for (a = 0; a < 3; ++a) {
+        b = (a + 1) % 3; c = (a + 2) % 3
+        for (side = 0; side <= 1; ++side)
+          for (u = 0; u < n[b]; ++u)
+            for (w = 0; w < n[c]; ++w) {
+              s = side ? n[a] : 0
+              v0 = at(a, s, u, w); v1 = at(a, s, u + 1, w); v2 = at(a, s, u + 1, w + 1); v3 = at(a, s, u, w + 1)
+              f[++nf] = side ? v0 " " v1 " " v2 " " v3 : v0 " " v3 " " v2 " " v1
+            }
+      }
+      for (i = 1; i <= nf; ++i) print "f " f[i]
+    }' > "$5"
+}
+# cage_json OBJ COORDINATES OUT.json: a one-cage system file.
+cage_json() { printf '{"cages": [{"rest": "%s", "coordinates": "%s"}]}\n' "$1" "$2" > "$3"; }
+longest_axis_grid() {  # INFO_JSON N -> "N,1,1" with N along the longest bounding-box axis
+  local lo hi
+  lo=($(sed -n '/"bbox_min"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
+  hi=($(sed -n '/"bbox_max"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
+  LC_ALL=C awk -v n="$2" -v a="${lo[0]}" -v b="${lo[1]}" -v c="${lo[2]}" -v d="${hi[0]}" -v e="${hi[1]}" -v f="${hi[2]}" \
+    'BEGIN{x=d-a; y=e-b; z=f-c; if (x>=y && x>=z) print n",1,1"; else if (y>=z) print "1,"n",1"; else print "1,1,"n}'
+}
+sum() { LC_ALL=C awk -v a="$1" -v b="$2" 'BEGIN{printf "%.4f", a + b}'; }
+
+# ------------------------------------------------------------------ Table 5.1
+{
+  echo
+  echo "## Table 5.1: *Cages memory and time against the influence parameter h (thesis line 1713)"
+  echo
+  echo "Thesis: the chinchilla (19,274 vertices, 11 cages), not public. Ours: camel.off (9,770 vertices) in"
+  echo "the thesis' 4-cage layout (a grid of 4 box cages along its longest axis, \`cmgeom deform --grid\`),"
+  echo "cages and join cages with the same coordinates, h the same for every cage. Memory = the sparse"
+  echo "weights (\`weights_bytes\`); *cage coord.* = building the system (borders, join cages and their"
+  echo "coordinates; the thesis' column is the coordinates of cage vertices in their parents); *total* ="
+  echo "that + binding every vertex; *deform* = one pose."
+  echo
+  echo "| coordinates | h | thesis MB | thesis cage coord. s | thesis total s | thesis deform s | our MB | our cage coord. s | our total s | our deform s | our vertices with join data |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|"
+} >> "$out"
+camel=$(model camel.off)
+run info "$camel" --json > "$tmp/camel.info.json"
+grid=$(longest_axis_grid "$tmp/camel.info.json" 4)
+rows51=("mean_value|1.0|45.45|3.8481|103.2508|0.5277" "mean_value|0.6|29.75|3.7938|46.2589|0.2477"
+        "mean_value|0.2|14.05|3.7944|21.3310|0.1064" "green|1.0|131.27|10.1164|130.5485|1.1849"
+        "green|0.6|84.35|10.0846|72.0995|0.5012" "green|0.2|37.43|10.0876|47.5258|0.2086")
+[[ -n "$quick" ]] && rows51=("${rows51[0]}" "${rows51[2]}")
+for row in "${rows51[@]}"; do
+  IFS='|' read -r coords h tmb tcc ttot tdef <<< "$row"
+  run deform "$camel" --grid "$grid" --coordinates "$coords" --h "$h" -o "$tmp/d.ply" --json > "$tmp/d.json"
+  joined=$(jnum joined_vertices "$tmp/d.json")
+  echo "| $coords | $h | $tmb | $tcc | $ttot | $tdef | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(fixed "$(jnum setup_seconds "$tmp/d.json")" 4) | $(sum "$(jnum setup_seconds "$tmp/d.json")" "$(jnum bind_seconds "$tmp/d.json")") | $(fixed "$(jnum deform_seconds "$tmp/d.json")" 5) | ${joined:--} |" >> "$out"
+done
+
+# ------------------------------------------------------------------ Table 5.2
+{
+  echo
+  echo "## Table 5.2: *Cages (h = 0.5) against a single cage (thesis line 1738)"
+  echo
+  echo "The thesis' camel with 4 cages, ours camel.off with the grid of Table 5.1; the single cage is the"
+  echo "union of the 4 cells (the same 20 surface vertices, \`lattice_cage\` in this script), with dense"
+  echo "weights. Columns as in Table 5.1."
+  echo
+  echo "| camel | thesis MB | thesis cage coord. s | thesis total s | thesis deform s | our MB | our cage coord. s | our total s | our deform s |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+} >> "$out"
+IFS=, read -r gx gy gz <<< "$grid"
+lattice_cage "$tmp/camel.info.json" "$gx" "$gy" "$gz" "$tmp/camel_union.obj"
+rows52=("MVC single cage|mean_value|single|2.68|1.0634|1.0634|0.0256" "MVC *Cages|mean_value|system|2.80|0.6317|4.2333|0.0554"
+        "GC single cage|green|single|7.75|5.2271|5.2271|0.1159" "GC *Cages|green|system|7.18|1.8454|7.4331|0.0960")
+for row in "${rows52[@]}"; do
+  IFS='|' read -r name coords kind tmb tcc ttot tdef <<< "$row"
+  if [[ "$kind" == single ]]; then
+    cage_json "$tmp/camel_union.obj" "$coords" "$tmp/single.json"
+    run deform "$camel" --cages "$tmp/single.json" -o "$tmp/d.ply" --json > "$tmp/d.json"
+  else
+    run deform "$camel" --grid "$grid" --coordinates "$coords" --h 0.5 -o "$tmp/d.ply" --json > "$tmp/d.json"
+  fi
+  echo "| $name | $tmb | $tcc | $ttot | $tdef | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(fixed "$(jnum setup_seconds "$tmp/d.json")" 4) | $(sum "$(jnum setup_seconds "$tmp/d.json")" "$(jnum bind_seconds "$tmp/d.json")") | $(fixed "$(jnum deform_seconds "$tmp/d.json")" 5) |" >> "$out"
+done
+
+# ------------------------------------------------------------------ Table 5.3
+{
+  echo
+  echo "## Table 5.3: *Cages on several models, h = 0.5 (thesis line 1749)"
+  echo
+  echo "The thesis' models (elk toy, squirrel, flower, chinchilla) are not public; its rows are quoted"
+  echo "first, ours (public models in grid cage systems, \`cmgeom deform --grid\`) follow. Memory = sparse"
+  echo "weights; preprocess = system construction + binding."
+  echo
+  echo "| source | model | coordinates | vertices | cages | memory MB | preprocess s | deform s |"
+  echo "|---|---|---|---|---|---|---|---|"
+  echo "| thesis | Elk toy | MVC/HC | 26216 | 6 | 22.20 | 305.0652 | 0.19289 |"
+  echo "| thesis | Elk toy | GC/HC | 26216 | 6 | 30.42 | 309.7331 | 0.2067 |"
+  echo "| thesis | Squirrel's head | (mixed) | 9724 | 6 | 6.87 | 8.7232 | 0.07821 |"
+  echo "| thesis | Flower | (mixed) | 10978 | 13 | 11.06 | 31.0083 | 0.1436 |"
+  echo "| thesis | Chinchilla | (mixed) | 19274 | 11 | 51.64 | 64.5301 | 0.1943 |"
+  echo "| thesis | Squirrel | (mixed) | 19030 | 15 | 12.04 | 48.8736 | 0.0449 |"
+} >> "$out"
+rows53=("bunny.off|3,2,2|mean_value" "horse.ply|3,2,2|green" "armadillo.obj.gz|2,3,2|mean_value" "nefertiti.obj.gz|2,2,3|green")
+[[ -n "$quick" ]] && rows53=("${rows53[0]}")
+for row in "${rows53[@]}"; do
+  IFS='|' read -r file g coords <<< "$row"
+  m=$(model "$file")
+  run deform "$m" --grid "$g" --coordinates "$coords" --h 0.5 -o "$tmp/d.ply" --json > "$tmp/d.json"
+  echo "| ours | $file | $coords | $(jnum vertices "$tmp/d.json") | $(jnum cages "$tmp/d.json") | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(sum "$(jnum setup_seconds "$tmp/d.json")" "$(jnum bind_seconds "$tmp/d.json")") | $(fixed "$(jnum deform_seconds "$tmp/d.json")" 5) |" >> "$out"
+done
+
+# ------------------------------------------------------------------ Tables 6.1-6.3
+{
+  echo
+  echo "## Tables 6.1-6.3: deformable Compact Models against the original and the simplified mesh (thesis lines 1928, 1943, 1958)"
+  echo
+  echo "Thesis: Vase (142,462 faces, cage of 20 vertices / 36 faces) and Imperia (199,978 faces, 60 / 116),"
+  echo "not public. Ours: nefertiti (99,938 faces) with the surface of a 2 x 2 x 1 lattice as its cage"
+  echo "(18 vertices, 32 triangles) and igea (268,686 faces) with a 3 x 3 x 3 lattice surface (56 vertices,"
+  echo "108 triangles), built as in Table 5.2. Simplified = \`cmgeom simplify\` to 5 % of the faces (the"
+  echo "thesis: 2 % and 5 %); CM = \`cmgeom cm build\` with the same base size, reconstructed at levels 1"
+  echo "and 2. Mesh MB = the binary PLY file (the CM file for the CM rows); coord. MB = the cage weights of"
+  echo "the deformed vertices (the CM's base only). Preprocess: *cage coord.* = binding, *reconstruction* ="
+  echo "\`cmgeom cm reconstruct\` at that level. Execution (one pose; times do not depend on it):"
+  echo "*deformation* = the deformed vertices (the base for the CM), *total* = for the CM also its local"
+  echo "maps and the deformed reconstruction (\`cmgeom cm deform\`)."
+  echo
+  echo "| model | version | coordinates | thesis faces | thesis mesh MB | thesis coord. MB | thesis cage coord. s | thesis reconstruction s | thesis deformation s | thesis total s | our faces | our mesh MB | our coord. MB | our cage coord. s | our reconstruction s | our deformation s | our total s |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+} >> "$out"
+# model | our file | lattice | thesis per version and coordinates: faces|mesh MB|coord MB|cage s|rec s|def s|total s
+rows6=("Vase|nefertiti.obj.gz|2,2,1|MVC|Original|142462|7.06473|10.8686|3.18|-|0.22175|0.22175"
+       "Vase|nefertiti.obj.gz|2,2,1|MVC|Simplified|2848|0.14112|0.21698|0.08|-|0.00023|0.00023"
+       "Vase|nefertiti.obj.gz|2,2,1|MVC|CM - Level 1|11384|0.81929|0.21698|0.08|0.17|0.00023|0.03944"
+       "Vase|nefertiti.obj.gz|2,2,1|MVC|CM - Level 2|45536|0.81929|0.21698|0.08|0.77|0.00023|0.09602"
+       "Vase|nefertiti.obj.gz|2,2,1|GC|Original|142462|7.06473|30.4323|25.15|-|0.78417|0.78417"
+       "Vase|nefertiti.obj.gz|2,2,1|GC|Simplified|2848|0.14112|0.60754|0.50|-|0.01286|0.01286"
+       "Vase|nefertiti.obj.gz|2,2,1|GC|CM - Level 1|11384|0.81929|0.60754|0.50|0.17|0.01286|0.05282"
+       "Vase|nefertiti.obj.gz|2,2,1|GC|CM - Level 2|45536|0.81929|0.60754|0.50|0.77|0.01286|0.10685"
+       "Imperia|igea.ply.gz|3,3,3|MVC|Original|199978|9.91728|45.7727|13.22|-|0.44146|0.44146"
+       "Imperia|igea.ply.gz|3,3,3|MVC|Simplified|9997|0.49517|2.2833|0.68|-|0.01987|0.01996"
+       "Imperia|igea.ply.gz|3,3,3|MVC|CM - Level 1|39808|0.81929|2.2833|0.68|0.58|0.01987|0.14198"
+       "Imperia|igea.ply.gz|3,3,3|MVC|CM - Level 2|159232|0.81929|2.2833|0.68|2.62|0.01987|0.34971"
+       "Imperia|igea.ply.gz|3,3,3|GC|Original|199978|9.91728|134.2666|108.11|-|2.90368|2.90368"
+       "Imperia|igea.ply.gz|3,3,3|GC|Simplified|9997|0.49517|6.6977|5.56|-|0.14031|0.14031"
+       "Imperia|igea.ply.gz|3,3,3|GC|CM - Level 1|39808|0.81929|6.6977|5.56|0.58|0.14031|0.25779"
+       "Imperia|igea.ply.gz|3,3,3|GC|CM - Level 2|159232|0.81929|6.6977|5.56|2.62|0.14031|0.48929")
+[[ -n "$quick" ]] && rows6=("${rows6[@]:0:4}")
+for row in "${rows6[@]}"; do
+  IFS='|' read -r name file lat tc version tfaces tmesh tcoord tcage trec tdef ttot <<< "$row"
+  m=$(model "$file")
+  key=t6_${file%%.*}
+  coords=$([[ "$tc" == MVC ]] && echo mean_value || echo green)
+  if [[ ! -f "$tmp/$key.ply" ]]; then  # once per model: info, lattice cage, PLY copy, simplified mesh, CM
+    run info "$m" --json > "$tmp/$key.info.json"
+    IFS=, read -r lx ly lz <<< "$lat"
+    lattice_cage "$tmp/$key.info.json" "$lx" "$ly" "$lz" "$tmp/$key.cage.obj"
+    run convert "$m" -o "$tmp/$key.ply" > /dev/null
+    base=$(( $(jnum faces "$tmp/$key.info.json") / 20 ))
+    run simplify "$m" -o "$tmp/$key.simplified.ply" --faces "$base" > /dev/null
+    run cm build "$m" -o "$tmp/$key.cm" --faces "$base" --json > "$tmp/$key.build.json"
+  fi
+  cage_json "$tmp/$key.cage.obj" "$coords" "$tmp/$key.$coords.json"
+  case "$version" in
+    Original|Simplified)
+      mesh=$([[ "$version" == Original ]] && echo "$tmp/$key.ply" || echo "$tmp/$key.simplified.ply")
+      run deform "$mesh" --cages "$tmp/$key.$coords.json" -o "$tmp/d.ply" --json > "$tmp/d.json"
+      run info "$mesh" --json > "$tmp/i.json"
+      def=$(jnum deform_seconds "$tmp/d.json")
+      echo "| $name | $version | $tc | $tfaces | $tmesh | $tcoord | $tcage | $trec | $tdef | $ttot | $(jnum faces "$tmp/i.json") | $(mb "$(stat -c %s "$mesh")") | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(fixed "$(jnum bind_seconds "$tmp/d.json")" 3) | - | $(fixed "$def" 5) | $(fixed "$def" 5) |" >> "$out"
+      ;;
+    *)
+      level=${version##* }
+      run cm reconstruct "$tmp/$key.cm" -o "$tmp/r.ply" --level "$level" --json > "$tmp/r.json"
+      run cm deform "$tmp/$key.cm" --cages "$tmp/$key.$coords.json" -o "$tmp/d.ply" --level "$level" --json > "$tmp/d.json"
+      total=$(sum "$(jnum deform_seconds "$tmp/d.json")" "$(jnum reconstruct_seconds "$tmp/d.json")")
+      echo "| $name | $version | $tc | $tfaces | $tmesh | $tcoord | $tcage | $trec | $tdef | $ttot | $(jnum faces "$tmp/d.json") | $(mb "$(stat -c %s "$tmp/$key.cm")") | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(fixed "$(jnum bind_seconds "$tmp/d.json")" 3) | $(fixed "$(jnum seconds "$tmp/r.json")" 3) | $(fixed "$(jnum base_deform_seconds "$tmp/d.json")" 5) | $total |" >> "$out"
+      ;;
+  esac
 done
 
 mv "$out" "$here/RESULTS.md"
