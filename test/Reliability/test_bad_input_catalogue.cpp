@@ -47,22 +47,6 @@ std::vector<std::string> lines_of(const std::string& s) {
   return r;
 }
 
-// OBJ text of an icosphere of radius r (20 * 4^level triangles), optionally with one corrupted
-// vertex line.
-std::string sphere_obj(int level, double r = 1.0, const std::string& bad_vertex = "") {
-  std::vector<std::array<double, 3>> p;
-  std::vector<std::array<std::size_t, 3>> f;
-  cmgeom_test::icosphere(level, p, f);
-  std::ostringstream o;
-  o.precision(17);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (i == 3 && !bad_vertex.empty()) o << bad_vertex << "\n";
-    else o << "v " << r * p[i][0] << " " << r * p[i][1] << " " << r * p[i][2] << "\n";
-  }
-  for (const auto& t : f) o << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
-  return o.str();
-}
-
 // A closed box cage [-s, s]^3 (quads, outward), optionally without its last face, with vertex 7
 // moved by `shift` in x (the "deformed" pose).
 std::string box_cage(double s, bool open = false, double shift = 0) {
@@ -146,7 +130,7 @@ protected:
 
   // A valid CM file of a level-2 icosphere (320 faces) with a 40-face base, made by the tool.
   std::string good_cm() {
-    const std::string mesh = input("sphere.obj", sphere_obj(2));
+    const std::string mesh = input("sphere.obj", cmgeom_test::icosphere_obj(2));
     const std::string cm = (fs::path(in) / "good.cm").string();
     const auto r = run("cm build " + q(mesh) + " -o " + q(cm) + " --faces 40");
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -170,44 +154,44 @@ TEST_F(Bad_input, SimplifyBinaryGarbage) {
 }
 
 TEST_F(Bad_input, SimplifyNaNCoordinate) {
-  const std::string m = input("nan.obj", sphere_obj(1, 1.0, "v nan 0 0"));
+  const std::string m = input("nan.obj", cmgeom_test::icosphere_obj(1, 1.0, "v nan 0 0"));
   expect_rejected("simplify " + q(m) + " -o " + q(output("s.obj")) + " --faces 10", {"nan.obj"});
 }
 
 TEST_F(Bad_input, SimplifyInfCoordinate) {
-  const std::string m = input("inf.obj", sphere_obj(1, 1.0, "v 0 inf 0"));
+  const std::string m = input("inf.obj", cmgeom_test::icosphere_obj(1, 1.0, "v 0 inf 0"));
   expect_rejected("simplify " + q(m) + " -o " + q(output("s.obj")) + " --faces 10", {"inf.obj"});
 }
 
 TEST_F(Bad_input, SimplifyIndexOutOfRange) {
-  const std::string m = input("range.obj", sphere_obj(1) + "f 1 2 999\n");
+  const std::string m = input("range.obj", cmgeom_test::icosphere_obj(1) + "f 1 2 999\n");
   expect_rejected("simplify " + q(m) + " -o " + q(output("s.obj")) + " --faces 10", {"range.obj"});
 }
 
 TEST_F(Bad_input, SimplifyZeroTargetFaces) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("simplify " + q(m) + " -o " + q(output("s.obj")) + " --faces 0", {"--faces"});
 }
 
 TEST_F(Bad_input, SimplifyZeroRatio) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("simplify " + q(m) + " -o " + q(output("s.obj")) + " --ratio 0", {"--ratio"});
 }
 
 TEST_F(Bad_input, SimplifyRatioAboveOne) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("simplify " + q(m) + " -o " + q(output("s.obj")) + " --ratio 1.5", {"--ratio"});
 }
 
 TEST_F(Bad_input, SimplifyNaNRatio) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("simplify " + q(m) + " -o " + q(output("s.obj")) + " --ratio nan", {"--ratio"});
 }
 
 // Documented handling (doc/Reliability.md): a target at or above the input's face count leaves
 // the mesh as it is; the output is written and has every input face.
 TEST_F(Bad_input, SimplifyTargetLargerThanInputKeepsTheMesh) {
-  const std::string m = input("sphere.obj", sphere_obj(1));  // 80 faces
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));  // 80 faces
   const std::string o = output("s.off");
   const auto r = run("simplify " + q(m) + " -o " + q(o) + " --faces 100000");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -221,12 +205,12 @@ TEST_F(Bad_input, SimplifyTargetLargerThanInputKeepsTheMesh) {
 }
 
 TEST_F(Bad_input, SimplifyUnsupportedOutputFormat) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("simplify " + q(m) + " -o " + q(output("s.xyz")) + " --faces 10", {"s.xyz"});
 }
 
 TEST_F(Bad_input, SimplifyOutputDirectoryMissing) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("simplify " + q(m) + " -o " + q(output("missing/s.obj")) + " --faces 10", {"s.obj"});
 }
 
@@ -282,35 +266,35 @@ TEST_F(Bad_input, SimplifyMissingTexture) {
 
 // ------------------------------------------------------------------ error, render, compare
 TEST_F(Bad_input, ErrorTruncatedApproximation) {
-  const std::string ref = input("sphere.obj", sphere_obj(1));
-  const std::string full = sphere_obj(1);
+  const std::string ref = input("sphere.obj", cmgeom_test::icosphere_obj(1));
+  const std::string full = cmgeom_test::icosphere_obj(1);
   const std::string app = input("cut.obj", full.substr(0, full.size() * 2 / 3) + "f 1 2 300\n");
   expect_rejected("error " + q(ref) + " " + q(app) + " --field " + q(output("f.txt")), {"cut.obj"});
 }
 
 TEST_F(Bad_input, ErrorNaNReference) {
-  const std::string ref = input("nan.obj", sphere_obj(1, 1.0, "v 0 0 nan"));
-  const std::string app = input("sphere.obj", sphere_obj(1));
+  const std::string ref = input("nan.obj", cmgeom_test::icosphere_obj(1, 1.0, "v 0 0 nan"));
+  const std::string app = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("error " + q(ref) + " " + q(app) + " --field " + q(output("f.txt")), {"nan.obj"});
 }
 
 TEST_F(Bad_input, ErrorUnsupportedFieldFormat) {
-  const std::string ref = input("sphere.obj", sphere_obj(1));
+  const std::string ref = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("error " + q(ref) + " " + q(ref) + " --field " + q(output("f.csv")), {"f.csv"});
 }
 
 TEST_F(Bad_input, RenderNaNMesh) {
-  const std::string m = input("nan.obj", sphere_obj(1, 1.0, "v nan nan nan"));
+  const std::string m = input("nan.obj", cmgeom_test::icosphere_obj(1, 1.0, "v nan nan nan"));
   expect_rejected("render " + q(m) + " -o " + q(output("r.png")) + " --size 64x64", {"nan.obj"});
 }
 
 TEST_F(Bad_input, RenderBadSize) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("render " + q(m) + " -o " + q(output("r.png")) + " --size 0x64", {"--size"});
 }
 
 TEST_F(Bad_input, RenderFieldWithWrongCount) {
-  const std::string m = input("sphere.obj", sphere_obj(1));  // 42 vertices
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));  // 42 vertices
   const std::string f = input("field.txt", "1\n2\n3\n");
   expect_rejected("render " + q(m) + " -o " + q(output("r.png")) + " --size 64x64 --field " + q(f), {"field.txt"});
 }
@@ -319,7 +303,7 @@ TEST_F(Bad_input, RenderFieldWithWrongCount) {
 // whose colour for that vertex was undefined (the field reader checked the count only). The
 // reader now rejects non-finite values with the file and line.
 TEST_F(Bad_input, RenderFieldWithNaN) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   std::string values;
   for (int i = 0; i < 42; ++i) values += i == 5 ? "nan\n" : "1\n";
   const std::string f = input("field.txt", values);
@@ -346,14 +330,14 @@ TEST_F(Bad_input, RenderTilingUVsRepeatTheTexture) {
 }
 
 TEST_F(Bad_input, CompareMissingApproximation) {
-  const std::string ref = input("sphere.obj", sphere_obj(1));
+  const std::string ref = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("compare " + q(ref) + " " + q(in + "/nothere.obj") + " -o " + q(output("c.png")) + " --size 32",
                   {"nothere.obj"});
 }
 
 TEST_F(Bad_input, CompareEmptyReference) {
   const std::string ref = input("empty.off", "");
-  const std::string app = input("sphere.obj", sphere_obj(1));
+  const std::string app = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("compare " + q(ref) + " " + q(app) + " -o " + q(output("c.png")) + " --size 32", {"empty.off"});
 }
 
@@ -364,22 +348,22 @@ TEST_F(Bad_input, CmBuildEmptyMesh) {
 }
 
 TEST_F(Bad_input, CmBuildZeroTargetFaces) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("cm build " + q(m) + " -o " + q(output("m.cm")) + " --faces 0", {"--faces"});
 }
 
 TEST_F(Bad_input, CmBuildZeroRatio) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("cm build " + q(m) + " -o " + q(output("m.cm")) + " --ratio 0", {"--ratio"});
 }
 
 TEST_F(Bad_input, CmBuildNaNCoordinate) {
-  const std::string m = input("nan.obj", sphere_obj(1, 1.0, "v 1 nan 0"));
+  const std::string m = input("nan.obj", cmgeom_test::icosphere_obj(1, 1.0, "v 1 nan 0"));
   expect_rejected("cm build " + q(m) + " -o " + q(output("m.cm")) + " --faces 10", {"nan.obj"});
 }
 
 TEST_F(Bad_input, CmBuildBadSharpAngle) {
-  const std::string m = input("sphere.obj", sphere_obj(1));
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
   expect_rejected("cm build " + q(m) + " -o " + q(output("m.cm")) + " --faces 10 --sharp-angle 200", {"--sharp-angle"});
 }
 
@@ -390,7 +374,7 @@ TEST_F(Bad_input, CmReconstructEmptyFile) {
 }
 
 TEST_F(Bad_input, CmReconstructNotACmFile) {
-  const std::string cm = input("mesh.cm", sphere_obj(1));
+  const std::string cm = input("mesh.cm", cmgeom_test::icosphere_obj(1));
   expect_rejected("cm reconstruct " + q(cm) + " -o " + q(output("r.ply")), {"mesh.cm"});
 }
 
@@ -458,7 +442,7 @@ protected:
     return input("system.json", "{\"cages\": [{\"rest\": \"rest.obj\", \"deformed\": \"deformed.obj\", "
                                 "\"coordinates\": \"" + coords + "\"" + extra + "}]}");
   }
-  std::string mesh() { return input("sphere.obj", sphere_obj(1)); }
+  std::string mesh() { return input("sphere.obj", cmgeom_test::icosphere_obj(1)); }
 };
 
 TEST_F(Bad_cages, DeformOpenCage) {

@@ -160,13 +160,7 @@ TEST(cmgeom_cli, PipelineStopsAtTheFailingStageAndKeepsTheFinishedOnes) {
   const std::string out = (fs::path(dir) / "out").string();
   const std::string bad = cmgeom_test::write_text(dir, "bad.json", "{\"cages\": [{\"rest\": {\"vertices\": [[0,0,0]]}}]}");
   // A small untextured sphere keeps the three stages that must finish quick.
-  std::vector<std::array<double, 3>> p;
-  std::vector<std::array<std::size_t, 3>> f;
-  cmgeom_test::icosphere(3, p, f);
-  std::string obj;
-  for (const auto& q : p) obj += "v " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + "\n";
-  for (const auto& t : f) obj += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
-  const std::string sphere = cmgeom_test::write_text(dir, "sphere.obj", obj);
+  const std::string sphere = cmgeom_test::write_text(dir, "sphere.obj", cmgeom_test::icosphere_obj(3));
   const auto r = cmgeom_test::run_cli("pipeline --model '" + sphere + "' -o '" + out + "' --size 64x64 --cages '" + bad + "'", dir);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("*Cages deformation"), std::string::npos) << r.err;

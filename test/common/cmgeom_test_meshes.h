@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstddef>
 #include <map>
+#include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -48,6 +50,22 @@ inline void icosphere(int level, std::vector<std::array<double, 3>>& p,
     }
     f.swap(nf);
   }
+}
+
+/// icosphere(level) of radius `r` as OBJ text (full precision). A non-empty `bad_vertex` replaces
+/// the line of vertex 4 (to make malformed files).
+inline std::string icosphere_obj(int level, double r = 1.0, const std::string& bad_vertex = "") {
+  std::vector<std::array<double, 3>> p;
+  std::vector<std::array<std::size_t, 3>> f;
+  icosphere(level, p, f);
+  std::ostringstream o;
+  o.precision(17);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (i == 3 && !bad_vertex.empty()) o << bad_vertex << "\n";
+    else o << "v " << r * p[i][0] << " " << r * p[i][1] << " " << r * p[i][2] << "\n";
+  }
+  for (const auto& t : f) o << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+  return o.str();
 }
 
 }  // namespace cmgeom_test
