@@ -8,9 +8,8 @@
 #include "cli_common.h"
 #include "pipeline_report.h"
 
-#include <CMGeom/Mesh_IO/mesh_io.h>
-
 #include <CMGeom/Mesh_IO/Atomic_output.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
 
 #include <CGAL/bounding_box.h>
 
@@ -126,33 +125,29 @@ std::string num(const json& v) {
   return "-";
 }
 
-// The default deformation of the pipeline: a smooth bend of the rest cages. A point at
-// signed position t in [-1, 1] along the longest box axis (from the box centre) is rotated by
-// angle * t about the shortest axis, through the centre, which curves the model like a U
-// (both ends rise along the middle axis). The map depends only on the position, so vertices
-// shared by neighbouring grid cages stay shared. Every cage of the result uses `coordinates`
-// except that the odd-numbered cages switch to Green coordinates when `mixed` is set (the
-// heterogeneous *Cages systems of thesis §5.3.3).
-json bent_cage_system(const json& rest, const CGAL::Bbox_3& box, double angle_degrees, bool mixed) {
-  double lo[3] = {box.xmin(), box.ymin(), box.zmin()}, hi[3] = {box.xmax(), box.ymax(), box.zmax()};
-  int axis[3] = {0, 1, 2};  // sorted by extent: axis[2] longest, axis[0] shortest
-  std::sort(axis, axis + 3, [&](int a, int b) { return hi[a] - lo[a] < hi[b] - lo[b]; });
-  const int a = axis[2], b = axis[1];
-  const double half = 0.5 * (hi[a] - lo[a]);
-  const double pi = std::acos(-1.0);
+// The default deformation of the pipeline: a smooth bend of the rest cages. A point at signed
+// position t in [-1, 1] along axis `along` (from the centre of `box`, clamped) is rotated by
+// angle * t in the plane of `along` and `across`, about the centre, which curves the model like
+// a U (both ends move the same way along `across`). The map depends only on the position, so
+// vertices shared by neighbouring grid cages stay shared. When `mixed` is set, the odd-numbered
+// cages switch to Green coordinates (the heterogeneous *Cages systems of thesis §5.3.3).
+json bent_cage_system(const json& rest, const CGAL::Bbox_3& box, int along, int across, double angle_degrees,
+                      bool mixed) {
+  double c[3];
+  for (int i = 0; i < 3; ++i) c[i] = 0.5 * (box.min(i) + box.max(i));
+  const double half = 0.5 * (box.max(along) - box.min(along));
+  const double radians_per_t = angle_degrees * std::acos(-1.0) / 180.0;
   json system = rest;
   int index = 0;
   for (auto& cage : system["cages"]) {
     json deformed = json::array();
     for (const auto& v : cage["rest"]["vertices"]) {
       double p[3] = {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
-      double c[3];
-      for (int i = 0; i < 3; ++i) c[i] = 0.5 * (lo[i] + hi[i]);
-      const double t = std::max(-1.0, std::min(1.0, (p[a] - c[a]) / half));
-      const double phi = angle_degrees * pi / 180.0 * t;
-      const double da = p[a] - c[a], db = p[b] - c[b];
-      p[a] = c[a] + std::cos(phi) * da - std::sin(phi) * db;
-      p[b] = c[b] + std::sin(phi) * da + std::cos(phi) * db;
+      const double t = std::max(-1.0, std::min(1.0, (p[along] - c[along]) / half));
+      const double phi = radians_per_t * t;
+      const double da = p[along] - c[along], db = p[across] - c[across];
+      p[along] = c[along] + std::cos(phi) * da - std::sin(phi) * db;
+      p[across] = c[across] + std::sin(phi) * da + std::cos(phi) * db;
       deformed.push_back({p[0], p[1], p[2]});
     }
     cage["deformed"] = deformed;
@@ -200,11 +195,13 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
     const auto box = CGAL::bounding_box(mesh.mesh().points().begin(), mesh.mesh().points().end());
     const double diagonal = std::sqrt(CGAL::squared_distance(box.min(), box.max()));
     const bool textured = mesh.has_uvs();
-    // The default bend of the deformation stages happens in the plane of the two longest box
-    // axes: their pictures look along the shortest one.
-    const double extent[3] = {box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()};
-    const int shortest = int(std::min_element(extent, extent + 3) - extent);
-    const std::string view = shortest == 0 ? "right" : shortest == 1 ? "top" : "front";
+    // Box axes from the shortest to the longest. The default cages are split across the longest
+    // and bent in the plane of the two longest; the deformation pictures look along the shortest.
+    int axis[3] = {0, 1, 2};
+    std::stable_sort(axis, axis + 3, [&](int a, int b) {
+      return box.max_coord(a) - box.min_coord(a) < box.max_coord(b) - box.min_coord(b);
+    });
+    const std::string view = axis[0] == 0 ? "right" : axis[0] == 1 ? "top" : "front";
 
     Report report("CMGeom pipeline on " + fs::path(model).filename().string());
     const int stages = 6;
@@ -327,15 +324,14 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
         if (system.empty()) {
           // A grid of two box cages split across the longest axis, bent 30 degrees; once with
           // mean value coordinates in both cages, once with Green coordinates in the second.
-          const int longest = int(std::max_element(extent, extent + 3) - extent);
           std::string grid;
-          for (int i = 0; i < 3; ++i) grid += std::string(i ? "," : "") + (i == longest ? "2" : "1");
+          for (int i = 0; i < 3; ++i) grid += std::string(i ? "," : "") + (i == axis[2] ? "2" : "1");
           p.run({"deform", model, "--grid", grid, "--write-cages", p.path("rest_cages.json")});
           std::ifstream in(p.path("rest_cages.json"));
           const json rest = json::parse(in);
           for (const bool mixed : {false, true}) {
             const std::string name = mixed ? "cages.json" : "cages_mean_value.json";
-            CMGeom::IO::write_file_atomically(p.path(name), bent_cage_system(rest, box.bbox(), 30.0, mixed).dump(1) + "\n");
+            CMGeom::IO::write_file_atomically(p.path(name), bent_cage_system(rest, box.bbox(), axis[2], axis[1], 30.0, mixed).dump(1) + "\n");
             systems.push_back({mixed ? "grid " + grid + ", mean value + Green" : "grid " + grid + ", mean value",
                                p.path(name)});
           }
@@ -384,7 +380,7 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
                               num(jc["faces"]), ms(jc["deform_seconds"]), ms(jc["reconstruct_seconds"]),
                               pct(je["hausdorff"]), pct(je["rms"])});
         pictures.push_back({"dcm_cages.png", "deformable CM deformed by the cages, level " + std::to_string(o->level)});
-        // A shear along the longest axis, scaled by the middle one: x' = A x + b.
+        // The affine map: the shear x' = x + 0.3 z (y and z unchanged).
         const double shear = 0.3;
         const json ja = p.run({"cm", "deform", p.path("model.cm"), "--affine",
                                "1,0," + general(shear) + ",0,0,1,0,0,0,0,1,0", "-o", p.path("dcm_affine.obj"),
