@@ -32,6 +32,10 @@ model() {  # model FILE -> a readable path (gunzipped into the temp dir when nee
   fi
 }
 run() { "$cmgeom" --threads 1 "$@"; }
+read_bbox() {  # INFO_JSON (of `cmgeom info --json`) -> the arrays lo and hi (its bounding box)
+  lo=($(sed -n '/"bbox_min"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
+  hi=($(sed -n '/"bbox_max"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
+}
 
 out="$here/RESULTS.md.tmp"
 {
@@ -104,8 +108,7 @@ for row in "${rows41[@]}"; do
     run info "$m" --json > "$tmp/$key.info.json"
   fi
   diag=$(jnum diagonal "$tmp/$key.info.json")
-  lo=($(sed -n '/"bbox_min"/,/]/p' "$tmp/$key.info.json" | grep -o '[-0-9.eE+]\{2,\}'))
-  hi=($(sed -n '/"bbox_max"/,/]/p' "$tmp/$key.info.json" | grep -o '[-0-9.eE+]\{2,\}'))
+  read_bbox "$tmp/$key.info.json"
   c=$(LC_ALL=C awk -v a="${lo[0]}" -v b="${lo[1]}" -v c="${lo[2]}" -v d="${hi[0]}" -v e="${hi[1]}" -v f="${hi[2]}" 'BEGIN{printf "%.9g,%.9g,%.9g", (a+d)/2, (b+e)/2, (c+f)/2}')
   case "$rec" in
     length) args=(--edge-length "$(LC_ALL=C awk -v d="$diag" 'BEGIN{printf "%.9g", 0.02 * d}')" --max-level 3); label="adaptive, length" ;;
@@ -149,9 +152,7 @@ done
 # (margin 0.05), so it is the union of the grid's cells: the "single cage" of the thesis' tables.
 # Quads, outward oriented.
 lattice_cage() {
-  local lo hi diag
-  lo=($(sed -n '/"bbox_min"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
-  hi=($(sed -n '/"bbox_max"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
+  read_bbox "$1"
   LC_ALL=C awk -v l0="${lo[0]}" -v l1="${lo[1]}" -v l2="${lo[2]}" -v h0="${hi[0]}" -v h1="${hi[1]}" -v h2="${hi[2]}" \
       -v n0="$2" -v n1="$3" -v n2="$4" '
     function vid(i, j, k,   key, q, a) {
@@ -189,9 +190,7 @@ lattice_cage() {
 # cage_json OBJ COORDINATES OUT.json: a one-cage system file.
 cage_json() { printf '{"cages": [{"rest": "%s", "coordinates": "%s"}]}\n' "$1" "$2" > "$3"; }
 longest_axis_grid() {  # INFO_JSON N -> "N,1,1" with N along the longest bounding-box axis
-  local lo hi
-  lo=($(sed -n '/"bbox_min"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
-  hi=($(sed -n '/"bbox_max"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
+  read_bbox "$1"
   LC_ALL=C awk -v n="$2" -v a="${lo[0]}" -v b="${lo[1]}" -v c="${lo[2]}" -v d="${hi[0]}" -v e="${hi[1]}" -v f="${hi[2]}" \
     'BEGIN{x=d-a; y=e-b; z=f-c; if (x>=y && x>=z) print n",1,1"; else if (y>=z) print "1,"n",1"; else print "1,1,"n}'
 }
