@@ -176,4 +176,9 @@ TEST(cmgeom_cli, PipelineStopsAtTheFailingStageAndKeepsTheFinishedOnes) {
   EXPECT_EQ(m.exit_code, 1);
   EXPECT_NE(m.err.find("missing.json"), std::string::npos) << m.err;
   EXPECT_FALSE(fs::exists(out2));
+  // So is a bad picture size.
+  const auto z = cmgeom_test::run_cli("pipeline -o '" + out2 + "' --size 0x0", dir);
+  EXPECT_EQ(z.exit_code, 1);
+  EXPECT_NE(z.err.find("--size '0x0'"), std::string::npos) << z.err;
+  EXPECT_FALSE(fs::exists(out2));
 }

@@ -123,6 +123,15 @@ void load_soup_textures(CMGeom::Polygon_soup& soup) {
 
 void print_json(const nlohmann::ordered_json& j) { std::cout << j.dump(2) << std::endl; }
 
+std::pair<int, int> parse_picture_size(const std::string& size) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(size.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
+      w > 16384 || h > 16384)
+    throw CMGeom::Invalid_input("bad --size '" + size + "': expected WxH, e.g. 1024x768");
+  return {w, h};
+}
+
 double now_seconds() {
   using namespace std::chrono;
   return duration<double>(steady_clock::now().time_since_epoch()).count();

@@ -9,6 +9,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace cmgeom_cli {
@@ -49,6 +50,9 @@ void load_soup_textures(CMGeom::Polygon_soup& soup);
 
 // Prints a JSON document on stdout (2-space indentation, keys in insertion order).
 void print_json(const nlohmann::ordered_json& j);
+
+// Parses a picture size "WxH" (1 to 16384 each); Invalid_input naming the option otherwise.
+std::pair<int, int> parse_picture_size(const std::string& size);
 
 // Seconds since an arbitrary origin (steady clock).
 double now_seconds();

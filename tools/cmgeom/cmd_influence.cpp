@@ -43,13 +43,7 @@ CMGEOM_CLI_COMMAND(influence, "Influence map d_i of a *Cages system on a mesh (P
     if (a->system.empty() && a->grid.empty()) throw CMGeom::Invalid_input("give --cages <system.json> or --grid nx,ny,nz");
     if (a->output.empty() && a->values.empty()) throw CMGeom::Invalid_input("give -o <map.png> and/or --values <file>");
     if (!(a->h > 0 && a->h <= 1)) throw CMGeom::Invalid_input("--h must be in (0, 1]");
-    int w = 0, hgt = 0;
-    {
-      char x = 0, extra = 0;
-      if (std::sscanf(a->size.c_str(), "%d%c%d%c", &w, &x, &hgt, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 ||
-          hgt < 1 || w > 16384 || hgt > 16384)
-        throw CMGeom::Invalid_input("bad --size '" + a->size + "': expected WxH, e.g. 1024x768");
-    }
+    const auto [w, hgt] = cmgeom_cli::parse_picture_size(a->size);
 #ifndef CMGEOM_HAS_OSMESA
     if (!a->output.empty()) throw CMGeom::Error(CMGeom::Rendering::rendering_unavailable_message());
 #endif

@@ -184,6 +184,7 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
     const std::string model = o->model.empty() ? default_model() : o->model;
     if (!o->cages.empty() && !fs::is_regular_file(o->cages))
       throw CMGeom::IO_error(o->cages, "no such cage-system file");
+    cmgeom_cli::parse_picture_size(o->size);  // checked before anything is written
     // Read once here (before anything is created) for the facts the stages' parameters depend on.
     CMGeom::Textured_mesh mesh;
     CMGeom::IO::read_mesh(model, mesh);

@@ -91,15 +91,6 @@ std::vector<double> read_field(const std::string& path) {
   return values;
 }
 
-std::pair<int, int> parse_size(const std::string& s) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
-      w > 16384 || h > 16384)
-    throw CMGeom::Invalid_input("bad --size '" + s + "': expected WxH, e.g. 1024x768");
-  return {w, h};
-}
-
 }  // namespace
 
 CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wireframe, charts, fields)") {
@@ -129,7 +120,7 @@ CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wi
     throw CMGeom::Error(CMGeom::Rendering::rendering_unavailable_message());
 #else
     namespace R = CMGeom::Rendering;
-    const auto [w, h] = parse_size(a->size);
+    const auto [w, h] = cmgeom_cli::parse_picture_size(a->size);
     // Drawn as the file holds it (polygon soup): non-manifold input needs no repair.
     CMGeom::Polygon_soup tm = CMGeom::IO::read_polygon_soup(a->mesh);
     for (const std::string& w : tm.warnings) std::cerr << "cmgeom render: warning: " << w << "\n";
