@@ -672,15 +672,30 @@ TEST(CAGE_SUITE(Cage_binding), dense_sparse_float_agree_and_thread_independent) 
     Binding_options so;
     so.storage = Weight_storage::sparse;
     Cage_binding<double> sd = bind_points(coords, pts, so);
-    std::vector<Vec3> a, b, c, d;
+    so.storage = Weight_storage::grouped;
+    Cage_binding<double> gd = bind_points(coords, pts, so);
+    std::vector<Vec3> a, b, c, d, e;
     dd.deform(rule, def, a);
     df.deform(rule, def, b);
     sd.deform(rule, def, c);
+    gd.deform(rule, def, e);
     EXPECT_EQ(df.weights_bytes() * 2, dd.weights_bytes());
     EXPECT_LE(sd.number_of_stored_weights(), dd.number_of_stored_weights());
+    // Grouping keeps every stored weight; rows with exact zeros (if the coordinates give any at
+    // the cage vertex) make patterns of their own.
+    EXPECT_EQ(gd.number_of_stored_weights(), sd.number_of_stored_weights());
+    std::set<std::vector<std::uint32_t>> patterns;
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      patterns.emplace(sd.columns().begin() + std::ptrdiff_t(sd.row_start()[i]),
+                       sd.columns().begin() + std::ptrdiff_t(sd.row_start()[i + 1]));
+    EXPECT_EQ(gd.number_of_groups(), patterns.size());
+    EXPECT_LT(gd.weights_bytes(), sd.weights_bytes());
+    for (std::size_t i : {std::size_t(0), std::size_t(17), pts.size() - 1})
+      for (std::size_t k = 0; k < gd.number_of_coordinates(); ++k) EXPECT_EQ(gd.weight(i, k), sd.weight(i, k));
     for (std::size_t i = 0; i < pts.size(); ++i) {
       EXPECT_LT(norm(sub(a[i], b[i])), 1e-6 * L);
       EXPECT_LT(norm(sub(a[i], c[i])), 1e-13 * L);
+      EXPECT_LT(norm(sub(a[i], e[i])), 1e-13 * L);
       // against a direct evaluation
       std::vector<double> w = coordinates(coords, pts[i]);
       EXPECT_LT(norm(sub(a[i], combine(w, basis_of(rule, def)))), 1e-12 * L);

@@ -1,5 +1,5 @@
 // cmgeom deform <mesh> (--cages <system.json> | --grid nx,ny,nz) -o <out> [--json]
-//               [--weights double|float] [--storage dense|sparse] [--write-cages system.json]
+//               [--weights double|float] [--storage dense|sparse|grouped] [--write-cages system.json]
 //               [--coordinates mean_value|green|harmonic] [--h 0.6] [--margin 0.05] [--piecewise]
 // Deforms a mesh with a cage or a *Cages system (thesis chapter 5). The cage-system JSON format
 // is read by CMGeom::Cage_deformation::read_cage_system() (Cage_system_io.h, documented in
@@ -94,8 +94,9 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
   app.add_option("--margin", a->margin, "With --grid: margin around the mesh, times its bbox diagonal (default 0.05)");
   app.add_option("--weights", a->weights, "Weight precision: double or float")
       ->check(CLI::IsMember({"double", "float"}));
-  app.add_option("--storage", a->storage, "Weight storage of a single cage: dense or sparse")
-      ->check(CLI::IsMember({"dense", "sparse"}));
+  app.add_option("--storage", a->storage,
+                 "Weight storage of a single cage: dense, sparse or grouped (rows sharing a column pattern)")
+      ->check(CLI::IsMember({"dense", "sparse", "grouped"}));
   app.add_flag("--piecewise", a->piecewise,
                "Several cages: apply each cage's own coordinates alone (no join; for comparisons)");
   app.add_flag("--json", a->as_json, "Print timings and counts as JSON");
@@ -140,7 +141,9 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     if (single) {
       const CD::Cage_description& c = desc.cages[0];
       coordinates = CD::to_string(c.coordinates);
-      const auto st = a->storage == "sparse" ? CD::Weight_storage::sparse : CD::Weight_storage::dense;
+      const auto st = a->storage == "sparse"    ? CD::Weight_storage::sparse
+                      : a->storage == "grouped" ? CD::Weight_storage::grouped
+                                                : CD::Weight_storage::dense;
       const CD::Any_cage_coordinates coords = CD::make_cage_coordinates(c.coordinates, c.rest, c.harmonic);
       r.setup_seconds = cmgeom_cli::now_seconds() - t_setup;
       if (use_float)
@@ -191,7 +194,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     j["cage_reoriented"] = reoriented;
     j["coordinates_per_vertex"] = r.coordinates;
     j["weights"] = a->weights;
-    j["storage"] = single ? a->storage : "sparse";
+    j["storage"] = single ? a->storage : "grouped";
     if (!single) {
       j["piecewise"] = a->piecewise;
       j["joined_vertices"] = r.joined;
