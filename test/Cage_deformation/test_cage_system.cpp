@@ -152,7 +152,7 @@ TEST(Cage_system_io, reads_inline_and_file_cages_and_round_trips) {
   const std::string path = write("ok.json", std::string(R"({"h": 0.5, "join_coordinates": "mean_value", "cages": [
       {"name": "a", "rest": )") + cube_json + R"(, "deformed": [[0,0,0],[1,0,0],[0,1,0],[1,1,0],[0,0,1],[1,0,1],[0,1,1],[1,1,2]]},
       {"name": "b", "rest": "cage_system_cube.obj", "coordinates": "green", "h": 0.25,
-       "parent": {"cage": "a", "vertices": [0, 7]}}]})");
+       "border_h": [{"cage": "a", "h": 0.125}], "parent": {"cage": "a", "vertices": [0, 7]}}]})");
   const Cage_system_description d = read_cage_system(path);
   ASSERT_EQ(d.cages.size(), 2u);
   EXPECT_EQ(d.cages[0].h, 0.5);
@@ -163,6 +163,10 @@ TEST(Cage_system_io, reads_inline_and_file_cages_and_round_trips) {
   ASSERT_EQ(d.cages[1].parents.size(), 1u);
   EXPECT_EQ(d.cages[1].parents[0].cage, 0u);
   EXPECT_EQ(d.cages[1].parents[0].vertices, (std::vector<std::uint32_t>{0, 7}));
+  ASSERT_EQ(d.cages[1].border_h.size(), 1u);
+  EXPECT_EQ(d.cages[1].border_h[0].cage, 0u);
+  EXPECT_EQ(d.cages[1].border_h[0].h, 0.125);
+  EXPECT_TRUE(d.cages[0].border_h.empty());
   // Round trip through the inline writer.
   write_cage_system(tmp("rt.json"), d);
   const Cage_system_description e = read_cage_system(tmp("rt.json"));
@@ -173,6 +177,11 @@ TEST(Cage_system_io, reads_inline_and_file_cages_and_round_trips) {
     EXPECT_EQ(e.cages[c].deformed, d.cages[c].deformed);
     EXPECT_EQ(e.cages[c].h, d.cages[c].h);
     EXPECT_EQ(e.cages[c].coordinates, d.cages[c].coordinates);
+    ASSERT_EQ(e.cages[c].border_h.size(), d.cages[c].border_h.size());
+    for (std::size_t k = 0; k < d.cages[c].border_h.size(); ++k) {
+      EXPECT_EQ(e.cages[c].border_h[k].cage, d.cages[c].border_h[k].cage);
+      EXPECT_EQ(e.cages[c].border_h[k].h, d.cages[c].border_h[k].h);
+    }
   }
   EXPECT_EQ(e.cages[1].parents[0].vertices, d.cages[1].parents[0].vertices);
 }
@@ -201,6 +210,18 @@ TEST(Cage_system_io, errors_name_the_file_and_the_json_pointer) {
       {R"({"cages": [{"rest": "no_such_file.obj"}]})", "/cages/0/rest: "},
       {R"({"join_coordinates": "green", "cages": [{"rest": )" + c + R"(}]})", "/join_coordinates: join cages need C1"},
       {R"({"cages": [{"rest": )" + c + R"(, "harmonic": {"resolution": 4}}]})", "/cages/0/harmonic/resolution"},
+      {R"({"cages": [{"rest": )" + c + R"(, "border_h": {"cage": 1, "h": 0.5}}, {"rest": )" + c + R"(}]})",
+       "/cages/0/border_h: must be an array"},
+      {R"({"cages": [{"rest": )" + c + R"(, "border_h": [{"cage": 1, "h": 1.5}]}, {"rest": )" + c + R"(}]})",
+       "/cages/0/border_h/0/h: must be a number in (0, 1]"},
+      {R"({"cages": [{"rest": )" + c + R"(, "border_h": [{"cage": "x", "h": 0.5}]}]})",
+       "/cages/0/border_h/0/cage: no cage has this name"},
+      {R"({"cages": [{"rest": )" + c + R"(, "border_h": [{"cage": 0, "h": 0.5}]}]})",
+       "/cages/0/border_h/0/cage: a cage has no border with itself"},
+      {R"({"cages": [{"rest": )" + c + R"(, "border_h": [{"cage": 1, "h": 0.5}, {"cage": 1, "h": 0.2}]},
+                     {"rest": )" + c + R"(}]})",
+       "/cages/0/border_h/1/cage: this border is given twice"},
+      {R"({"cages": [{"rest": )" + c + R"(, "border_h": [{"h": 0.5}]}]})", "/cages/0/border_h/0/cage: missing"},
   };
   for (const auto& [text, expect] : cases) {
     const std::string p = write("bad.json", text);
@@ -313,6 +334,90 @@ TEST(Cage_system, S_equals_T_where_d_is_one) {
     EXPECT_EQ(s.row(p, c).entries.size(), 8u) << "no join data where d = 1";
   }
   EXPECT_GT(with_d1, 100);
+}
+
+// ------------------------------------------------------------------ h per border (§5.5)
+TEST(Cage_system, h_per_border_is_C1_and_acts_near_its_border_only) {
+  std::mt19937 rng(13);
+  // Three cells along x; the middle cell (1) has borders with 0 (x = 1) and 2 (x = 2).
+  Cage_system_description d = make_grid_cage_system({0, 0, 0}, {3, 1, 1}, 3, 1, 1, Coordinate_type::mean_value, 0.5);
+  deform_all(d, bend);
+  const Cage_system plain(d);
+  d.cages[1].border_h.push_back({0, 0.1});
+  d.cages[0].border_h.push_back({1, 0.3});  // the other side of the same border, its own value
+  const Cage_system own(d);
+  EXPECT_EQ(own.border_h(1, 0), 0.1);
+  EXPECT_EQ(own.border_h(1, 2), 0.5);
+  EXPECT_EQ(own.border_h(0, 1), 0.3);
+  // Reference: d_1 = f_0.5(1 − w_12) · f_0.1(1 − w_10), with w_1j the mean value coordinates of
+  // cage 1 summed over the 4 vertices of the shared face (computed here from the rest cage).
+  Mean_value_coordinates_3 mvc(d.cages[1].rest);
+  const Sine_h_smoothing fh;
+  int near0_plain = 0, near0_own = 0, near2_plain = 0, near2_own = 0;
+  for (const Vec3& p : random_points(rng, {1.02, 0.02, 0.02}, {1.98, 0.98, 0.98}, 2000)) {
+    std::vector<double> w(8);
+    mvc(p, w.begin());
+    double w10 = 0, w12 = 0;
+    for (int k = 0; k < 8; ++k) (d.cages[1].rest.vertices[k][0] < 1.5 ? w10 : w12) += w[k];
+    const double ref = fh(1 - w12, 0.5) * fh(1 - w10, 0.1);
+    EXPECT_NEAR(own.distance(p, 1), ref, 1e-12);
+    EXPECT_NEAR(plain.distance(p, 1), fh((1 - w10) * (1 - w12), 0.5), 1e-12);
+    const bool near0 = p[0] < 1.5;
+    (near0 ? near0_plain : near2_plain) += plain.distance(p, 1) < 1;
+    (near0 ? near0_own : near2_own) += own.distance(p, 1) < 1;
+  }
+  // A small h on the border with cage 0 frees most of that half from join data; the half near
+  // cage 2 keeps its transition zone.
+  std::cout << "points with d < 1, half near cage 0: " << near0_plain << " -> " << near0_own
+            << ", half near cage 2: " << near2_plain << " -> " << near2_own << "\n";
+  EXPECT_GT(near0_plain, 800);
+  EXPECT_LT(near0_own, near0_plain / 2);
+  EXPECT_GT(near2_own, near2_plain * 8 / 10);
+  // d = 0 on the borders and S stays C¹ across every border (both sides with their own h).
+  const std::vector<Vec3> B = own.basis(own.deformed_leaf_vertices());
+  const Border_result r = probe_borders(own, B, Sine_h_smoothing(), rng);
+  EXPECT_GT(r.probes, 0);
+  EXPECT_LT(r.max_rel_jump, 1e-6);
+  EXPECT_LT(r.max_value_gap, 1e-12);
+  EXPECT_NEAR(own.distance({1.0 + 1e-12, 0.5, 0.5}, 1), 0.0, 1e-9);
+  // A border h naming a cage that is no neighbour is refused.
+  Cage_system_description bad = d;
+  bad.cages[0].border_h = {{2, 0.5}};
+  EXPECT_THROW(Cage_system{bad}, CMGeom::Invalid_input);
+  bad.cages[0].border_h = {{1, 0.0}};
+  EXPECT_THROW(Cage_system{bad}, CMGeom::Invalid_input);
+}
+
+// ------------------------------------------------------------------ grouped rows
+TEST(Cage_system, grouped_binding_equals_the_direct_rows) {
+  std::mt19937 rng(17);
+  Cage_system_description d = make_grid_cage_system({0, 0, 0}, {2, 2, 1}, 2, 2, 1, Coordinate_type::mean_value, 0.5);
+  d.cages[3].coordinates = Coordinate_type::green;
+  deform_all(d, bend);
+  const Cage_system s(d);
+  const std::vector<Vec3> pts = random_points(rng, {-0.1, -0.1, -0.1}, {2.1, 2.1, 1.1}, 3000);
+  const Cage_system_binding<double> b = s.bind(pts);
+  EXPECT_EQ(b.weights().storage(), Weight_storage::grouped);
+  // Few patterns: per cage, one per set of join terms in use.
+  EXPECT_LT(b.weights().number_of_groups(), 200u);
+  std::size_t nnz = 0;
+  const std::vector<Vec3> B = s.basis(s.deformed_leaf_vertices());
+  std::vector<Vec3> out;
+  b.deform(B, out);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Cage_system::Point_row r = s.row(pts[i]);
+    nnz += r.entries.size();
+    Vec3 x{0, 0, 0};
+    for (const auto& e : r.entries) x = add(x, mul(e.weight, B[e.column]));
+    EXPECT_LT(norm(sub(out[i], x)), 1e-13) << i;
+    if (i % 97 == 0)
+      for (const auto& e : r.entries) EXPECT_EQ(b.weights().weight(i, e.column), e.weight);
+  }
+  EXPECT_EQ(b.weights().number_of_stored_weights(), nnz);
+  // A weight costs its value, a row one 32-bit index, plus the patterns (sparse rows: value,
+  // 32-bit column and 8-byte row start).
+  EXPECT_LT(b.weights_bytes(), nnz * 8 + pts.size() * 4 + 64 * 1024);
+  EXPECT_LT(b.weights_bytes(), nnz * 12 + pts.size() * 8);
 }
 
 TEST(Cage_system, one_cage_is_the_plain_coordinates) {

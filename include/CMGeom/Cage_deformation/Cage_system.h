@@ -20,9 +20,16 @@
 // deformed vertices, so the coefficients of d_i T_i and of (1 − d_i) f(W̄_[u]) / Σ f · T̄_[u] are
 // summed per vertex: a row holds at most the vertices of C_i's join cages. S is linear in the
 // deformed vertex positions, so each frame is one sparse matrix-vector product (Cage_binding),
-// and join data are stored only where d_i < 1 (memory falls with h, Table 5.1).
+// and join data are stored only where d_i < 1 (memory falls with h, Table 5.1). The rows are
+// kept in Cage_binding's grouped storage: the points of one cage with the same join terms share
+// one column pattern, so a weight costs 8 bytes (no column index) and each group is a small
+// dense product.
 //
 // Choices where the thesis leaves room (documented in doc/Cage_deformation/README.md):
+//   * h per border (§5.5 lets h be chosen per border, per cage or for the whole model, but gives
+//     no formula for the first): a border with its own h_ij leaves the product of d_i
+//     and contributes its own factor f_{h_ij}(1 − w_ij) (see distance()); a system without
+//     per-border values is exactly the thesis' d_i.
 //   * w_i in d_i are the *mean value* coordinates of C_i whatever T_i is: Green coordinates are
 //     not barycentric (Σ_{v∈VB_ij} φ_v ≠ 1 on B_ij) and the grid harmonic coordinates are only
 //     approximate near the cage; MVC make d_i vanish exactly on every border.
@@ -360,19 +367,33 @@ public:
     return r;
   }
 
-  /// d_i(p) = f_{h_i}(Π_j (1 − w_ij(p))), 1 for a cage without neighbours (§5.3.3).
+  /// d_i(p) = f_{h_i}(Π_j (1 − w_ij(p))), 1 for a cage without neighbours (§5.3.3). Borders
+  /// given their own h_ij (Cage_description::border_h) leave the product and get their own
+  /// factor: d_i = f_{h_i}(Π_{j plain} (1 − w_ij)) · Π_{j own} f_{h_ij}(1 − w_ij). Without such
+  /// borders this is the thesis' formula; every factor is C¹, 1 away from its borders, and 0
+  /// with a zero gradient on them, so d_i keeps the properties the C¹ argument needs.
   template <class Fh = Sine_h_smoothing>
   double distance(const Vec3& p, std::size_t cage, const Fh& fh = Fh()) const {
     if (borders_[cage].empty()) return 1;
     std::vector<double> w(mvc_[cage].number_of_coordinates());
     mvc_[cage].evaluate(p, w.data());
-    double x = 1;
+    double x = 1, own = 1;
+    auto clamp = [](double y) { return std::min(1.0, std::max(0.0, y)); };
     for (const auto& b : borders_[cage]) {
       double wij = 0;
       for (std::uint32_t l : b.local) wij += w[l];
-      x *= 1 - wij;
+      if (b.h > 0)
+        own *= fh(clamp(1 - wij), b.h);
+      else
+        x *= 1 - wij;
     }
-    return fh(std::min(1.0, std::max(0.0, x)), desc_.cages[cage].h);
+    return own * fh(clamp(x), desc_.cages[cage].h);
+  }
+  /// h of the border of `cage` with `other`: its own value, or the cage's h_i.
+  double border_h(std::size_t cage, std::size_t other) const {
+    for (const auto& b : borders_[cage])
+      if (b.other == other && b.h > 0) return b.h;
+    return desc_.cages[cage].h;
   }
 
   /// S(p) for the given global basis (direct evaluation, for tests and single points).
@@ -393,6 +414,7 @@ private:
   struct Border {
     std::size_t other = 0, triangles = 0;
     std::vector<std::uint32_t> local;  // VB_ij, local indices in this cage
+    double h = 0;                      // own h_ij, 0: none (h_i applies)
   };
   struct Join_class {
     std::vector<std::size_t> cages;      // incident cage set (sorted)
@@ -510,6 +532,17 @@ private:
       }
       borders_[pr.first].push_back(std::move(b));
     }
+    for (std::size_t c = 0; c < desc_.cages.size(); ++c)
+      for (const Cage_border_h& bh : desc_.cages[c].border_h) {
+        const std::string who = "cage " + std::to_string(c) + ": border h for cage " + std::to_string(bh.cage);
+        if (!(bh.h > 0 && bh.h <= 1)) throw Invalid_input(who + ": h must be in (0, 1]");
+        if (!is_leaf_[c]) throw Invalid_input(who + ": only leaf cages have borders");
+        auto it = std::find_if(borders_[c].begin(), borders_[c].end(),
+                               [&](const Border& b) { return b.other == bh.cage; });
+        if (it == borders_[c].end()) throw Invalid_input(who + ", which shares no face with it");
+        if (it->h > 0) throw Invalid_input(who + " is given twice");
+        it->h = bh.h;
+      }
   }
 
   // Union of the given leaf cages, faces shared by two of them removed; `global` gets local ->
@@ -733,7 +766,8 @@ Cage_system_binding<Weight> Cage_system::bind(const PointRange& points, const F&
     out.joined_ += out.d_[v] < 1;
   }
   out.b_ = Cage_binding<Weight>::from_sparse_rows(K_, std::move(row_start), std::move(columns),
-                                                  std::move(values), std::move(status));
+                                                  std::move(values), std::move(status),
+                                                  Weight_storage::grouped);
   return out;
 }
 

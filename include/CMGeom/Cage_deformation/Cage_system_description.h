@@ -3,7 +3,7 @@
 //
 // Plain description of a *Cages system (thesis §5.3): the cages, their rest and deformed vertex
 // positions, the coordinate type of each cage, the smoothing parameter h_i of §5.3.3, the
-// coordinate type of the join cages (§5.3.2) and the parent links of multi-level systems
+// coordinate type of the join cages (§5.3.2), optional per-border h values and the parent links of multi-level systems
 // (§5.3.4: an upper-level cage owns vertices of lower-level cages). It is what
 // read_cage_system() (Cage_system_io.h) returns and what make_grid_cage_system() builds;
 // Cage_system (Cage_system.h) turns it into the deformation. Holding no behaviour, it can be
@@ -41,6 +41,13 @@ struct Cage_parent_link {
   std::vector<std::uint32_t> vertices;
 };
 
+/// h of one border of a cage (§5.5 lets h be chosen per border, per cage or for the whole
+/// model): the border this cage shares with leaf cage `cage`.
+struct Cage_border_h {
+  std::size_t cage = 0;
+  double h = 1.0;  ///< in (0, 1]
+};
+
 struct Cage_description {
   std::string name;                ///< optional label (for messages and parent references)
   std::string rest_source;         ///< file it was read from, or "inline"
@@ -50,6 +57,8 @@ struct Cage_description {
   Coordinate_type coordinates = Coordinate_type::mean_value;
   Harmonic_options harmonic;       ///< used when coordinates == harmonic
   double h = 1.0;                  ///< h_i of §5.3.3, in (0, 1]
+  /// Borders with their own h (see Cage_system::distance()); the others use h.
+  std::vector<Cage_border_h> border_h;
   std::vector<Cage_parent_link> parents;  ///< empty for top-level cages
   std::vector<std::string> warnings;      ///< non-fatal remarks of the reader (one line each)
 };

@@ -14,6 +14,7 @@
 //       "coordinates": "mean_value" | "green" | "harmonic",   (optional, default mean_value)
 //       "harmonic": {"resolution": 64, "interpolation": "tricubic" | "trilinear"},  (optional)
 //       "h": 0.6,                                                                   (optional)
+//       "border_h": [{"cage": 1 | "name", "h": 0.2}, ...],                          (optional)
 //       "parent": {"cage": 3 | "name", "vertices": [0, 1, ...]} | [ {...}, ... ]}   (optional)
 //    ]}
 //
@@ -21,12 +22,15 @@
 // deformed cage read from a file contributes only its vertex positions (its vertex count must
 // match the rest cage's). "parent" makes the named upper-level cage own the listed vertices of
 // this cage (all of them when "vertices" is absent); a vertex has at most one parent and the
-// links must form a DAG (§5.3.4).
+// links must form a DAG (§5.3.4). "border_h" gives the border this cage shares with the named leaf
+// cage its own h (§5.5; see Cage_system::distance()); the two cages sharing a border may use
+// different values, each for its own side.
 //
 // Validation: syntax; every key known (a typo is an error, not a silent default); every number
 // finite; closed, consistently oriented, non-degenerate rest cages (validate_cage(), inward cages
 // are flipped); rest/deformed vertex counts equal; known coordinate names; h in (0, 1]; parent
-// indices and names resolved, no self-link, no cycle, no vertex owned twice. Every error is one
+// and border_h indices and names resolved, no self-link, no cycle, no vertex owned twice, no
+// border given twice (that the named cage is a neighbour is checked by Cage_system). Every error is one
 // CMGeom::IO_error naming the JSON file and the JSON pointer of the offending value
 // ("system.json: /cages/2/h: must be a number in (0, 1]"); errors of a referenced cage file
 // carry both names. Inputs of any bytes give either a description or such an error: the parser
@@ -251,7 +255,7 @@ private:
 
   Cage_description cage(const json& c, const std::string& ptr, double default_h) const {
     if (!c.is_object()) fail(ptr, "must be an object");
-    known_keys(c, ptr, {"name", "rest", "deformed", "coordinates", "harmonic", "h", "parent"});
+    known_keys(c, ptr, {"name", "rest", "deformed", "coordinates", "harmonic", "h", "border_h", "parent"});
     Cage_description d;
     d.h = default_h;
     if (c.contains("name")) {
@@ -311,6 +315,34 @@ private:
     for (std::size_t i = 0; i < d.cages.size(); ++i)
       if (!d.cages[i].name.empty() && !by_name.emplace(d.cages[i].name, i).second)
         fail("/cages/" + std::to_string(i) + "/name", "duplicate cage name");
+    auto cage_ref = [&](const json& c, const std::string& p) {
+      if (c.is_string()) {
+        auto it = by_name.find(c.get<std::string>());
+        if (it == by_name.end()) fail(p, "no cage has this name");
+        return it->second;
+      }
+      return std::size_t(index(c, p, d.cages.size()));
+    };
+    for (std::size_t i = 0; i < d.cages.size(); ++i) {
+      if (!cages[i].contains("border_h")) continue;
+      const std::string ptr = "/cages/" + std::to_string(i) + "/border_h";
+      const json& bs = cages[i]["border_h"];
+      if (!bs.is_array()) fail(ptr, "must be an array of {\"cage\", \"h\"}");
+      for (std::size_t k = 0; k < bs.size(); ++k) {
+        const std::string bp = ptr + "/" + std::to_string(k);
+        if (!bs[k].is_object()) fail(bp, "must be an object {\"cage\", \"h\"}");
+        known_keys(bs[k], bp, {"cage", "h"});
+        if (!bs[k].contains("cage")) fail(bp + "/cage", "missing");
+        if (!bs[k].contains("h")) fail(bp + "/h", "missing");
+        Cage_border_h b;
+        b.cage = cage_ref(bs[k]["cage"], bp + "/cage");
+        if (b.cage == i) fail(bp + "/cage", "a cage has no border with itself");
+        for (const Cage_border_h& o : d.cages[i].border_h)
+          if (o.cage == b.cage) fail(bp + "/cage", "this border is given twice");
+        b.h = h_value(bs[k]["h"], bp + "/h");
+        d.cages[i].border_h.push_back(b);
+      }
+    }
     for (std::size_t i = 0; i < d.cages.size(); ++i) {
       if (!cages[i].contains("parent")) continue;
       const std::string ptr = "/cages/" + std::to_string(i) + "/parent";
@@ -328,13 +360,7 @@ private:
         if (!l->contains("cage")) fail(lp + "/cage", "missing");
         const json& c = (*l)["cage"];
         Cage_parent_link link;
-        if (c.is_string()) {
-          auto it = by_name.find(c.get<std::string>());
-          if (it == by_name.end()) fail(lp + "/cage", "no cage has this name");
-          link.cage = it->second;
-        } else {
-          link.cage = index(c, lp + "/cage", d.cages.size());
-        }
+        link.cage = cage_ref(c, lp + "/cage");
         if (link.cage == i) fail(lp + "/cage", "a cage cannot be its own parent");
         const std::size_t n = d.cages[i].rest.vertices.size();
         if (l->contains("vertices")) {
@@ -423,6 +449,11 @@ inline nlohmann::ordered_json cage_system_to_json(const Cage_system_description&
     o["coordinates"] = to_string(c.coordinates);
     if (c.coordinates == Coordinate_type::harmonic) o["harmonic"] = harmonic(c.harmonic);
     o["h"] = c.h;
+    if (!c.border_h.empty()) {
+      oj bs = oj::array();
+      for (const Cage_border_h& b : c.border_h) bs.push_back({{"cage", b.cage}, {"h", b.h}});
+      o["border_h"] = bs;
+    }
     if (!c.parents.empty()) {
       oj ps = oj::array();
       for (const Cage_parent_link& l : c.parents) ps.push_back({{"cage", l.cage}, {"vertices", l.vertices}});
