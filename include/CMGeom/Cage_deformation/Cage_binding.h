@@ -486,10 +486,13 @@ Cage_binding<Weight> bind_points(const Coordinates& coords, const PointRange& po
     b.values_.insert(b.values_.end(), vals[bi].begin(), vals[bi].end());
     b.columns_.insert(b.columns_.end(), cols[bi].begin(), cols[bi].end());
   }
-  if (options.storage == Weight_storage::grouped)
-    return Cage_binding<Weight>::from_sparse_rows(K, std::move(b.row_start_), std::move(b.columns_),
-                                                  std::move(b.values_), std::move(b.status_),
-                                                  Weight_storage::grouped);
+  if (options.storage == Weight_storage::grouped)  // one returned object (see the note below)
+    b = Cage_binding<Weight>::from_sparse_rows(K, std::move(b.row_start_), std::move(b.columns_),
+                                               std::move(b.values_), std::move(b.status_),
+                                               Weight_storage::grouped);
+  // bind_points returns `b` from every path: a second returned object made the ThreadSanitizer
+  // build (test scheduler of test/Reliability/tsan_tbb_runtime.cpp) crash in the parallel loop
+  // above, reading a clobbered task_group_context; the other builds were clean.
   return b;
 }
 
