@@ -414,6 +414,29 @@ TEST(CompactModelReconstruction, ParallelEqualsSerial) {
   EXPECT_TRUE(same(reconstruct_regular(m, 2, par), reconstruct_regular(m, 2, ser)));
 }
 
+TEST(CompactModelReconstruction, ReusedBufferGivesTheFreshResult) {
+  const Compact_model& m = sphere_model();
+  Compact_model textured = m;
+  textured.uvs.resize(textured.faces.size());
+  for (std::size_t f = 0; f < textured.faces.size(); ++f)
+    textured.uvs[f] = {{{0.f, 0.f}, {1.f, float(f % 5) / 5.f}, {0.5f, 1.f}}};
+  Reconstruction buffer;
+  // Growing, shrinking, the other projection, and a textured model followed by an untextured one:
+  // every field is rewritten, nothing of the previous content survives.
+  for (const Projection proj : {Projection::along_normal, Projection::closest_point})
+    for (const auto& [model, level] : {std::pair<const Compact_model*, int>{&m, 1}, {&m, 3}, {&textured, 2},
+                                       {&m, 2}, {&textured, 1}}) {
+      Reconstruction_options o;
+      o.projection = proj;
+      const Reconstruction fresh = reconstruct_regular(*model, level, o);
+      reconstruct_regular(*model, level, buffer, o);
+      EXPECT_TRUE(same(fresh, buffer)) << "level " << level;
+      EXPECT_EQ(fresh.base_face, buffer.base_face);
+      EXPECT_EQ(fresh.corner_uvs, buffer.corner_uvs);
+      EXPECT_EQ(buffer.corner_uvs.empty(), !model->has_uvs());
+    }
+}
+
 TEST(CompactModelReconstruction, ErrorDecreasesWithLevelOnSmoothModel) {
   const Compact_model& m = sphere_model();
   const Surface_mesh original = make_sphere(5);

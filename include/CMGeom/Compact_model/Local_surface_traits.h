@@ -99,7 +99,27 @@ struct Local_surface {
 /// Height of a stored surface at (x1, x2) of its frame; `d` (optional) receives
 /// h_x1, h_x2, h_x1x1, h_x1x2, h_x2x2. For a cone at (or beyond) its apex the derivatives are
 /// infinite and `d[0]` is set to NaN so that callers fall back to the projection along N.
+namespace internal {
+double evaluate_height_other(const Local_surface& s, double x, double y, double* d);
+}
 inline double evaluate_height(const Local_surface& s, double x, double y, double* d = nullptr) {
+  // The quadric (most vertices) is small enough to inline at every call; the other models are
+  // in a separate function.
+  if (s.model == QUADRIC_MODEL) {
+    const auto& c = s.c;
+    if (d) {
+      d[0] = 2 * c[0] * x + c[1] * y + c[3];
+      d[1] = c[1] * x + 2 * c[2] * y + c[4];
+      d[2] = 2 * c[0];
+      d[3] = c[1];
+      d[4] = 2 * c[2];
+    }
+    return c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y;
+  }
+  return internal::evaluate_height_other(s, x, y, d);
+}
+namespace internal {
+inline double evaluate_height_other(const Local_surface& s, double x, double y, double* d) {
   const auto& c = s.c;
   switch (s.model) {
     case CUBIC_MODEL: {
@@ -134,7 +154,7 @@ inline double evaluate_height(const Local_surface& s, double x, double y, double
       }
       return sgn * r;
     }
-    default: {  // quadric
+    default: {  // quadric (unknown ids are refused by the readers)
       if (d) {
         d[0] = 2 * c[0] * x + c[1] * y + c[3];
         d[1] = c[1] * x + 2 * c[2] * y + c[4];
@@ -146,6 +166,7 @@ inline double evaluate_height(const Local_surface& s, double x, double y, double
     }
   }
 }
+}  // namespace internal
 
 /// Result of a fit: the surface, its RMS height residual over the points, and whether a
 /// surface was produced.

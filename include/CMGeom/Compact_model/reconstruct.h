@@ -148,11 +148,16 @@ struct Base_topology {
   std::vector<Edge> edges;
   std::vector<std::array<std::uint32_t, 3>> face_edges;
   std::vector<Local_frame> frames;  // 3 per face
+  // Per face corner c, the local coordinates of the face's three vertices in that corner's frame:
+  // the frame map is affine, so a point a0 v0 + a1 v1 + a2 v2 has local coordinates
+  // a0 L[0] + a1 L[1] + a2 L[2] (6 multiply-adds instead of a world point and 3 dot products).
+  std::vector<std::array<Vec3, 3>> corner_local;  // 3 per face
 
   explicit Base_topology(const Compact_model& m) {
     const std::size_t F = m.faces.size();
     face_edges.resize(F);
     frames.resize(3 * F);
+    corner_local.resize(3 * F);
     std::vector<std::array<std::uint32_t, 4>> sides;  // (a, b, face, side)
     sides.reserve(3 * F);
     for (std::uint32_t f = 0; f < F; ++f)
@@ -161,6 +166,8 @@ struct Base_topology {
         if (a > b) std::swap(a, b);
         sides.push_back({a, b, f, k});
         frames[3 * f + k] = m.frame(m.faces[f][k]);
+        for (int i = 0; i < 3; ++i)
+          corner_local[3 * f + k][i] = frames[3 * f + k].to_local(m.vertices[m.faces[f][i].vertex]);
       }
     std::sort(sides.begin(), sides.end());
     for (std::size_t i = 0; i < sides.size();) {
@@ -229,32 +236,52 @@ public:
   // S-bar of p on corner `c` of face f, with the surface normal there.
   Sample project(std::uint32_t f, int c, const Vec3& p) const {
     const Local_frame& fr = topo_.frames[3 * f + c];
+    if (proj_ == Projection::along_normal) {
+      const Vec3 l = fr.to_local(p);
+      return along_normal_local(f, c, l.x, l.y);
+    }
     const Local_surface& s = m_.surfaces[m_.faces[f][c].surface];
     double uv[2];
-    Vec3 q;
-    if (proj_ == Projection::closest_point) {
-      q = closest_point(fr, s, p, traits_, uv);
-    } else {
-      const Vec3 l = fr.to_local(p);
-      uv[0] = l.x;
-      uv[1] = l.y;
-      q = surface_point(fr, s, l.x, l.y, traits_);
-    }
+    const Vec3 q = closest_point(fr, s, p, traits_, uv);
     return {q, surface_normal(fr, s, uv[0], uv[1], traits_)};
+  }
+
+  // S-bar along N of the point with local coordinates (x, y, ·) in corner c of face f: one height
+  // evaluation gives the point and the normal (what project() computes from a world point).
+  Sample along_normal_local(std::uint32_t f, int c, double x, double y) const {
+    const Local_frame& fr = topo_.frames[3 * f + c];
+    double d[5];
+    const double h = traits_.height(m_.surfaces[m_.faces[f][c].surface], x, y, d);
+    Sample r{fr.to_world(x, y, h), fr.N};
+    if (std::isfinite(d[0]) && std::isfinite(d[1])) r.normal = normalized(fr.N - d[0] * fr.U - d[1] * fr.V);
+    return r;
   }
 
   // Phi at barycentric (a0, a1, a2) of face f (a point not on a base edge, or on a smooth one).
   Sample interior(std::uint32_t f, double a0, double a1, double a2) const {
     const auto& F = m_.faces[f];
-    const Vec3 p = a0 * m_.vertices[F[0].vertex] + a1 * m_.vertices[F[1].vertex] + a2 * m_.vertices[F[2].vertex];
     const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
     const double sum = w[0] + w[1] + w[2];
     Sample r{Vec3(), Vec3()};
-    for (int c = 0; c < 3; ++c) {
-      if (w[c] == 0.) continue;
-      const Sample s = project(f, c, p);
-      r.point += (w[c] / sum) * s.point;
-      r.normal += (w[c] / sum) * s.normal;
+    if (proj_ == Projection::along_normal) {
+      // The normal is normalised at the end, so it is blended with w[c] (no division by sum).
+      const double inv = 1. / sum;
+      for (int c = 0; c < 3; ++c) {
+        if (w[c] == 0.) continue;
+        const auto& L = topo_.corner_local[3 * f + c];
+        const Sample s = along_normal_local(f, c, a0 * L[0].x + a1 * L[1].x + a2 * L[2].x,
+                                            a0 * L[0].y + a1 * L[1].y + a2 * L[2].y);
+        r.point += (w[c] * inv) * s.point;
+        r.normal += w[c] * s.normal;
+      }
+    } else {
+      const Vec3 p = a0 * m_.vertices[F[0].vertex] + a1 * m_.vertices[F[1].vertex] + a2 * m_.vertices[F[2].vertex];
+      for (int c = 0; c < 3; ++c) {
+        if (w[c] == 0.) continue;
+        const Sample s = project(f, c, p);
+        r.point += (w[c] / sum) * s.point;
+        r.normal += (w[c] / sum) * s.normal;
+      }
     }
     r.normal = normalized(r.normal);
     if (maps_) {
@@ -357,11 +384,13 @@ inline std::array<float, 2> interpolate_uv(const Face_uvs& uv, double a0, double
 
 }  // namespace internal
 
-/// Regular reconstruction at `level` (§4.5.2): 4^level triangles per base triangle.
+/// Regular reconstruction at `level` (§4.5.2) into `r`, reusing its memory: every array is
+/// resized and overwritten (a buffer of the right size is not reallocated, so repeated
+/// reconstructions, e.g. one per deformation frame, pay no allocation and no page faults).
 template <class Traits = Quadric_surface_traits>
-Reconstruction reconstruct_regular(const Compact_model& m, int level,
-                                   const Reconstruction_options& opt = Reconstruction_options(),
-                                   const Traits& traits = Traits()) {
+void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
+                         const Reconstruction_options& opt = Reconstruction_options(),
+                         const Traits& traits = Traits()) {
   if (level < 0 || level > 12) throw Invalid_input("reconstruction level must be in [0, 12], got " + std::to_string(level));
   m.validate();
   const internal::Base_topology topo(m);
@@ -369,12 +398,14 @@ Reconstruction reconstruct_regular(const Compact_model& m, int level,
   const std::size_t n = std::size_t(1) << level, V = m.vertices.size(), E = topo.edges.size(), F = m.faces.size();
   const std::size_t per_edge = n - 1, per_face = (n - 1) * (n - 2) / 2;
   const std::size_t edge_base = V, face_base = V + E * per_edge;
-  Reconstruction r;
   r.points.resize(face_base + F * per_face);
   r.normals.resize(r.points.size());
   r.triangles.resize(F * n * n);
   r.base_face.resize(F * n * n);
-  if (m.has_uvs()) r.corner_uvs.resize(3 * F * n * n);
+  if (m.has_uvs())
+    r.corner_uvs.resize(3 * F * n * n);
+  else
+    r.corner_uvs.clear();
   // Base vertices: Phi(v) = v; normal of the first corner that uses it.
   std::vector<std::uint8_t> seen(V, 0);
   for (std::size_t i = 0; i < V; ++i) r.points[i] = ev.base_point(i);
@@ -384,6 +415,8 @@ Reconstruction reconstruct_regular(const Compact_model& m, int level,
         seen[m.faces[f][c].vertex] = 1;
         r.normals[m.faces[f][c].vertex] = ev.vertex(f, c).normal;
       }
+  for (std::size_t i = 0; i < V; ++i)
+    if (!seen[i]) r.normals[i] = Vec3();  // a base vertex no face uses
   internal::for_range(E, opt.parallel, [&](std::size_t e) {
     for (std::size_t k = 1; k < n; ++k) {
       const Sample s = ev.on_edge(std::uint32_t(e), double(k) / double(n));
@@ -436,6 +469,15 @@ Reconstruction reconstruct_regular(const Compact_model& m, int level,
         if (i + j + 2 <= n) emit(i + 1, j, i + 1, j + 1, i, j + 1);
       }
   });
+}
+
+/// Regular reconstruction at `level` (§4.5.2): 4^level triangles per base triangle.
+template <class Traits = Quadric_surface_traits>
+Reconstruction reconstruct_regular(const Compact_model& m, int level,
+                                   const Reconstruction_options& opt = Reconstruction_options(),
+                                   const Traits& traits = Traits()) {
+  Reconstruction r;
+  reconstruct_regular(m, level, r, opt, traits);
   return r;
 }
 

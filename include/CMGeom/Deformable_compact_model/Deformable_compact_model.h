@@ -73,6 +73,15 @@ public:
     opt.vertex_maps = &maps_;
     return CM::reconstruct_regular(m_, level, opt, traits);
   }
+  /// The same into `out`, reusing its memory (one call per frame allocates nothing once `out`
+  /// has the right size).
+  template <class Traits = CM::Quadric_surface_traits>
+  void reconstruct_regular(int level, CM::Reconstruction& out,
+                           CM::Reconstruction_options opt = CM::Reconstruction_options(),
+                           const Traits& traits = Traits()) const {
+    opt.vertex_maps = &maps_;
+    CM::reconstruct_regular(m_, level, out, opt, traits);
+  }
   /// Deformed adaptive reconstruction (§4.5.2 + §6.4); `criterion` sees deformed samples.
   template <class Criterion, class Traits = CM::Quadric_surface_traits>
   CM::Reconstruction reconstruct_adaptive(const Criterion& criterion, int max_level,

@@ -1,0 +1,89 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Reconstruction throughput of Compact Models (thesis §4.5.2; never run by CTest): output
+// vertices per second of reconstruct_regular() at levels 3-6, projection along N and closest
+// point, 1 and 2 threads, into a fresh Reconstruction (what a one-off call pays: allocation and
+// first touch of the output) and into a reused one (what a per-frame call pays, e.g. a deformable
+// CM: no allocation). Best of several runs. Prints Markdown.
+//
+//   bench_reconstruction_speed [data dir] [model:base_faces ...]   (default: horse 1000, igea 2000)
+#include <CMGeom/Compact_model.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace CM = CMGeom::CM;
+
+namespace {
+double seconds(const std::chrono::steady_clock::time_point& t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string data = CMGEOM_BENCH_DATA_DIR;
+  std::vector<std::pair<std::string, int>> models;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const auto colon = a.rfind(':');
+    if (colon == std::string::npos)
+      data = a;
+    else
+      models.push_back({a.substr(0, colon), std::atoi(a.c_str() + colon + 1)});
+  }
+  if (models.empty()) models = {{"classic/horse.ply", 1000}, {"classic/igea.ply.gz", 2000}};
+  std::printf("| model | base F | projection | threads | level | out V | fresh s | fresh M vert/s | reused s | reused M vert/s |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& [file, faces] : models) {
+    std::string path = data + "/" + file;
+    if (!std::filesystem::exists(path)) {
+      std::fprintf(stderr, "skipping %s (not found)\n", path.c_str());
+      continue;
+    }
+    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0) {
+      const std::string out = (std::filesystem::temp_directory_path() /
+                               ("cmgeom_bench_" + std::filesystem::path(path).stem().string())).string();
+      if (std::system(("gunzip -c '" + path + "' > '" + out + "'").c_str()) != 0) continue;
+      path = out;
+    }
+    CMGeom::Textured_mesh tm;
+    CMGeom::IO::read_mesh(path, tm);
+    const CM::Compact_model model = CM::build_compact_model(tm.mesh(), std::size_t(faces));
+    for (CM::Projection proj : {CM::Projection::along_normal, CM::Projection::closest_point})
+      for (int threads : {1, 2}) {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        for (int level = 3; level <= 6; ++level) {
+          CM::Reconstruction_options o;
+          o.projection = proj;
+          const int runs = level <= 4 ? 15 : 5;
+          double fresh = 1e300, reused = 1e300;
+          std::size_t n = 0;
+          CM::Reconstruction buffer;
+          for (int r = 0; r < runs; ++r) {
+            auto t0 = std::chrono::steady_clock::now();
+            const CM::Reconstruction rec = CM::reconstruct_regular(model, level, o);
+            fresh = std::min(fresh, seconds(t0));
+            n = rec.points.size();
+            t0 = std::chrono::steady_clock::now();
+            CM::reconstruct_regular(model, level, buffer, o);
+            reused = std::min(reused, seconds(t0));
+          }
+          std::printf("| %s | %zu | %s | %d | %d | %zu | %.4f | %.1f | %.4f | %.1f |\n",
+                      std::filesystem::path(file).filename().string().c_str(), model.faces.size(),
+                      proj == CM::Projection::along_normal ? "along N" : "closest", threads, level, n, fresh,
+                      double(n) / fresh / 1e6, reused, double(n) / reused / 1e6);
+          std::fflush(stdout);
+        }
+      }
+  }
+  return 0;
+}
