@@ -96,28 +96,27 @@ struct Local_surface {
   bool is_cone() const { return model == CONE_MODEL; }
 };
 
+namespace internal {
+// Heights of the cone and cubic models (out of line: evaluate_height inlines the common quadric).
+double evaluate_height_other(const Local_surface& s, double x, double y, double* d);
+}  // namespace internal
+
 /// Height of a stored surface at (x1, x2) of its frame; `d` (optional) receives
 /// h_x1, h_x2, h_x1x1, h_x1x2, h_x2x2. For a cone at (or beyond) its apex the derivatives are
 /// infinite and `d[0]` is set to NaN so that callers fall back to the projection along N.
-namespace internal {
-double evaluate_height_other(const Local_surface& s, double x, double y, double* d);
-}
 inline double evaluate_height(const Local_surface& s, double x, double y, double* d = nullptr) {
-  // The quadric (most vertices) is small enough to inline at every call; the other models are
-  // in a separate function.
-  if (s.model == QUADRIC_MODEL) {
-    const auto& c = s.c;
-    if (d) {
-      d[0] = 2 * c[0] * x + c[1] * y + c[3];
-      d[1] = c[1] * x + 2 * c[2] * y + c[4];
-      d[2] = 2 * c[0];
-      d[3] = c[1];
-      d[4] = 2 * c[2];
-    }
-    return c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y;
+  if (s.model == CONE_MODEL || s.model == CUBIC_MODEL) return internal::evaluate_height_other(s, x, y, d);
+  const auto& c = s.c;  // quadric (unknown ids are refused by the readers)
+  if (d) {
+    d[0] = 2 * c[0] * x + c[1] * y + c[3];
+    d[1] = c[1] * x + 2 * c[2] * y + c[4];
+    d[2] = 2 * c[0];
+    d[3] = c[1];
+    d[4] = 2 * c[2];
   }
-  return internal::evaluate_height_other(s, x, y, d);
+  return c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y;
 }
+
 namespace internal {
 inline double evaluate_height_other(const Local_surface& s, double x, double y, double* d) {
   const auto& c = s.c;
@@ -134,7 +133,7 @@ inline double evaluate_height_other(const Local_surface& s, double x, double y, 
       }
       return h;
     }
-    case CONE_MODEL: {
+    default: {  // CONE_MODEL
       const double q = c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y;
       const double sgn = c[5] < 0 ? -1. : 1.;
       if (q <= 0.) {
@@ -153,16 +152,6 @@ inline double evaluate_height_other(const Local_surface& s, double x, double y, 
         d[4] = sgn * (qyy / (2 * r) - qy * qy / (4 * q * r));
       }
       return sgn * r;
-    }
-    default: {  // quadric (unknown ids are refused by the readers)
-      if (d) {
-        d[0] = 2 * c[0] * x + c[1] * y + c[3];
-        d[1] = c[1] * x + 2 * c[2] * y + c[4];
-        d[2] = 2 * c[0];
-        d[3] = c[1];
-        d[4] = 2 * c[2];
-      }
-      return c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y;
     }
   }
 }
