@@ -10,6 +10,7 @@
 #include <CMGeom/Cage_deformation.h>
 
 #include "cmgeom_test_config.h"
+#include "cmgeom_bench_support.h"
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -42,14 +43,8 @@ double cpu() {
 
 bool read_obj(const std::string& path, std::vector<Vec3>& pts,
               std::vector<std::vector<std::size_t>>& polys) {
-  std::string file = path;
-  if (path.size() > 3 && path.substr(path.size() - 3) == ".gz") {
-    file = std::string(CMGEOM_TEST_TMP_DIR) + "/bench_cage_" +
-           std::filesystem::path(path).stem().string();
-    if (!std::filesystem::exists(file) &&
-        std::system(("gzip -dc '" + path + "' > '" + file + "'").c_str()) != 0)
-      return false;
-  }
+  const std::string file = cmgeom_bench::readable_model(path, CMGEOM_TEST_TMP_DIR, "bench_cage_");
+  if (file.empty()) return false;
   try {
     read_polygons(file, pts, polys);
   } catch (const CMGeom::Error& e) {

@@ -11,6 +11,7 @@
 #include <CMGeom/Cage_deformation.h>
 
 #include "cmgeom_test_config.h"
+#include "cmgeom_bench_support.h"
 
 #include <tbb/global_control.h>
 
@@ -212,12 +213,8 @@ int main(int argc, char** argv) {
   };
   const std::string tmp = CMGEOM_TEST_TMP_DIR;
   for (const M& m : {M{"FireHydrant", "cages/qmvc/FireHydrant.obj.gz"}, M{"armadilloman", "cages/pgc/armadilloman/armadilloman.obj"}}) {
-    std::string file = data + "/" + m.path;
-    if (file.size() > 3 && file.substr(file.size() - 3) == ".gz") {
-      const std::string out = tmp + "/bench_cages_" + std::filesystem::path(file).stem().string();
-      if (!std::filesystem::exists(out) && std::system(("gzip -dc '" + file + "' > '" + out + "'").c_str()) != 0) continue;
-      file = out;
-    }
+    const std::string file = cmgeom_bench::readable_model(data + "/" + m.path, tmp, "bench_cages_");
+    if (file.empty()) continue;
     std::vector<Vec3> pts;
     std::vector<std::vector<std::uint32_t>> polys;
     try {

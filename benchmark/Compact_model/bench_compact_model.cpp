@@ -16,6 +16,8 @@
 #include <random>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
+#include "cmgeom_bench_support.h"
+
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
@@ -165,12 +167,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "skipping %s (not found)\n", path.c_str());
       continue;
     }
-    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0) {
-      const std::string out = tmp + "/" + std::filesystem::path(path).stem().string();
-      const std::string cmd = "gunzip -c '" + path + "' > '" + out + "'";
-      if (std::system(cmd.c_str()) != 0) continue;
-      path = out;
-    }
+    path = cmgeom_bench::readable_model(path, tmp);
+    if (path.empty()) continue;
     CMGeom::Textured_mesh tm;
     CMGeom::IO::read_mesh(path, tm);
     const CMGeom::Surface_mesh& mesh = tm.mesh();

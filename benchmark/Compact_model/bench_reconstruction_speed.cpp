@@ -11,6 +11,8 @@
 #include <CMGeom/Compact_model.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
+#include "cmgeom_bench_support.h"
+
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -49,12 +51,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "skipping %s (not found)\n", path.c_str());
       continue;
     }
-    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0) {
-      const std::string out = (std::filesystem::temp_directory_path() /
-                               ("cmgeom_bench_" + std::filesystem::path(path).stem().string())).string();
-      if (std::system(("gunzip -c '" + path + "' > '" + out + "'").c_str()) != 0) continue;
-      path = out;
-    }
+    path = cmgeom_bench::readable_model(path, std::filesystem::temp_directory_path().string(), "cmgeom_bench_");
+    if (path.empty()) continue;
     CMGeom::Textured_mesh tm;
     CMGeom::IO::read_mesh(path, tm);
     const CM::Compact_model model = CM::build_compact_model(tm.mesh(), std::size_t(faces));

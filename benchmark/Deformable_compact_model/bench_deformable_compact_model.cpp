@@ -26,6 +26,8 @@
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Metrics/approximation_error.h>
 
+#include "cmgeom_bench_support.h"
+
 #include <tbb/info.h>
 
 #include <algorithm>
@@ -349,13 +351,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "missing %s, skipped\n", path.c_str());
       continue;
     }
-    std::string name = file;
-    if (path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0) {
-      name = fs::path(file).stem().string();
-      const std::string out = (tmp / name).string();
-      if (std::system(("gunzip -c '" + path + "' > '" + out + "'").c_str()) != 0) return 1;
-      path = out;
-    }
+    path = cmgeom_bench::readable_model(path, tmp.string());
+    if (path.empty()) return 1;
+    const std::string name = fs::path(path).filename().string();
     CMGeom::Textured_mesh tm;
     CMGeom::IO::read_mesh(path, tm);
     const CMGeom::Surface_mesh& mesh = tm.mesh();

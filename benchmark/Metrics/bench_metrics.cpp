@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "cmgeom_test_config.h"
+#include "cmgeom_bench_support.h"
 
 namespace {
 
@@ -45,13 +46,9 @@ double median(std::vector<double> v) {
 
 // Reads a model, gunzipping "*.gz" into the temporary directory first.
 CMGeom::Textured_mesh load(const std::string& path) {
-  std::string file = path;
-  if (path.size() > 3 && path.substr(path.size() - 3) == ".gz") {
-    const std::string name = std::filesystem::path(path).stem().string();
-    file = (std::filesystem::temp_directory_path() / ("cmgeom_bench_" + name)).string();
-    const std::string cmd = "gzip -dc '" + path + "' > '" + file + "'";
-    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("cannot gunzip " + path);
-  }
+  const std::string file =
+      cmgeom_bench::readable_model(path, std::filesystem::temp_directory_path().string(), "cmgeom_bench_");
+  if (file.empty()) throw std::runtime_error("cannot gunzip " + path);
   CMGeom::Textured_mesh tm;
   if (!CGAL::IO::read_polygon_mesh(file, tm.mesh())) throw std::runtime_error("cannot read " + path);
   CGAL::Polygon_mesh_processing::remove_isolated_vertices(tm.mesh());

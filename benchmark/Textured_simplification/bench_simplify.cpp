@@ -13,6 +13,8 @@
 // divided by the input's bounding-box diagonal.
 #include <CMGeom/Textured_simplification.h>
 
+#include "cmgeom_bench_support.h"
+
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -291,16 +293,8 @@ bool load(const std::string& data, const std::string& tmp, const std::string& na
       {"igea", "classic/igea.ply.gz"},            {"nefertiti", "classic/nefertiti.obj.gz"},
       {"max-planck", "classic/decimated-max.obj"}, {"igea-sub", "classic/igea.ply.gz"}};
   if (!files.count(name)) return false;
-  std::string path = data + "/" + files[name];
-  if (path.size() > 3 && path.substr(path.size() - 3) == ".gz") {
-    fs::create_directories(tmp);
-    const std::string out = tmp + "/" + fs::path(path).stem().string();
-    if (!fs::exists(out)) {
-      const std::string cmd = "gunzip -c '" + path + "' > '" + out + "'";
-      if (std::system(cmd.c_str()) != 0) return false;
-    }
-    path = out;
-  }
+  const std::string path = cmgeom_bench::readable_model(data + "/" + files[name], tmp);
+  if (path.empty()) return false;
   if (!CGAL::IO::read_polygon_mesh(path, m) || m.is_empty()) return false;
   // unreferenced vertices (stanford-bunny has 1113) play no role in simplification
   std::vector<Mesh::Vertex_index> isolated;
