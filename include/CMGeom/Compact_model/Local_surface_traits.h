@@ -98,7 +98,7 @@ struct Local_surface {
 
 namespace internal {
 // Heights of the cone and cubic models (out of line: evaluate_height inlines the common quadric).
-double evaluate_height_other(const Local_surface& s, double x, double y, double* d);
+inline double evaluate_height_other(const Local_surface& s, double x, double y, double* d);
 }  // namespace internal
 
 /// Height of a stored surface at (x1, x2) of its frame; `d` (optional) receives
