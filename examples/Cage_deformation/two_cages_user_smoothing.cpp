@@ -4,6 +4,8 @@
 // functions f (§5.3.2) and f_h (§5.3.3) are function objects, and this example swaps the default
 // sine ramps for user-defined polynomial ones (smoothstep), which have the properties the
 // construction needs: f(0) = f'(0) = 0, f(1) = 1, non-decreasing; f_h = 1 from h on, C¹ at h.
+// Last, the twisted cage gets its own h on its border (§5.5: h per border), which narrows the
+// blend zone on its side.
 //
 // Usage: two_cages_user_smoothing        (prints how far the points moved; exit 1 on a failed check)
 #include <CMGeom/Cage_deformation.h>
@@ -62,6 +64,16 @@ int main() {
   system.bind<double>(points).deform(basis, sine);                                   // defaults
   system.bind<double>(points, Smoothstep(), Smoothstep_h()).deform(basis, smooth);  // user-defined
 
+  // h per border: the second cage's side of the shared face gets h = 0.1 (the first cage keeps
+  // h = 0.5), so fewer points of the second cage blend in the join transform.
+  CD::Cage_system_description narrow = desc;
+  narrow.cages[1].border_h.push_back({0, 0.1});
+  const CD::Cage_system narrow_system(narrow);
+  const CD::Cage_system_binding<double> wide_binding = system.bind<double>(points);
+  const CD::Cage_system_binding<double> narrow_binding = narrow_system.bind<double>(points);
+  std::cout << "points blending in the join transform: " << wide_binding.joined_points() << " with h = 0.5, "
+            << narrow_binding.joined_points() << " with h = 0.1 on the twisted cage's border\n";
+
   double moved_near_fixed_end = 0., moved_far_end = 0., between = 0.;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const double m = distance(sine[i], points[i]);
@@ -75,6 +87,7 @@ int main() {
   // The first cage does not move, and where d = 1 (far from the shared face, h = 0.5) its
   // transform is exactly the identity; the twisted end does move; the two ramps differ only
   // in the blend zone.
-  const bool ok = moved_near_fixed_end < 1e-9 && moved_far_end > 0.1 && between > 0. && between < moved_far_end;
+  const bool ok = moved_near_fixed_end < 1e-9 && moved_far_end > 0.1 && between > 0. && between < moved_far_end &&
+                  narrow_binding.joined_points() < wide_binding.joined_points();
   return ok ? 0 : 1;
 }

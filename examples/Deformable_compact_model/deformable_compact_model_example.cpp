@@ -64,7 +64,8 @@ int main(int argc, char** argv) {
   DCM::Affine_deformer shear({{{1, 0.3, 0}, {0, 1, 0}, {0, 0, 1}}}, CM::Vec3(0, 0, 0));
   shear.bind(dcm.base_vertices());
   dcm.deform(shear);
-  const CM::Reconstruction sheared = dcm.reconstruct_regular(2);
+  CM::Reconstruction sheared = twisted;  // reconstructed into an existing buffer: no allocation
+  dcm.reconstruct_regular(2, sheared);
   const CM::Reconstruction plain = CM::reconstruct_regular(model, 2);
   double worst = 0;
   for (std::size_t i = 0; i < plain.points.size(); ++i)
