@@ -386,6 +386,14 @@ TEST(Cage_system, h_per_border_is_C1_and_acts_near_its_border_only) {
   EXPECT_THROW(Cage_system{bad}, CMGeom::Invalid_input);
   bad.cages[0].border_h = {{1, 0.0}};
   EXPECT_THROW(Cage_system{bad}, CMGeom::Invalid_input);
+  // Errors name the file the description came from.
+  bad.source = "system.json";
+  try {
+    Cage_system{bad};
+    ADD_FAILURE() << "a border h of 0 was accepted";
+  } catch (const CMGeom::Invalid_input& e) {
+    EXPECT_EQ(std::string(e.what()), "system.json: cage 0: border h for cage 1: h must be in (0, 1]");
+  }
 }
 
 // ------------------------------------------------------------------ grouped rows

@@ -141,34 +141,16 @@ public:
   /// Builds the structure and the coordinates (harmonic ones are solved here). Throws
   /// Invalid_input when the leaf cages overlap (a face shared with the same orientation or by
   /// more than two cages), when shared vertices get different deformed positions, or when an
-  /// owned vertex lies where its parent's coordinates are undefined.
+  /// owned vertex lies where its parent's coordinates are undefined, or when a border h names a
+  /// cage that shares no face with its cage. Messages start with the description's `source` (the
+  /// file it was read from) when it has one.
   explicit Cage_system(const Cage_system_description& d) : desc_(d) {
-    const std::size_t C = d.cages.size();
-    if (C == 0) throw Invalid_input("a cage system needs at least one cage");
-    is_leaf_.assign(C, 1);
-    for (const auto& c : d.cages)
-      for (const auto& l : c.parents) is_leaf_[l.cage] = 0;
-    for (std::size_t i = 0; i < C; ++i)
-      if (is_leaf_[i]) leaves_.push_back(i);
-    leaf_slot_.assign(C, npos);
-    for (std::size_t s = 0; s < leaves_.size(); ++s) leaf_slot_[leaves_[s]] = s;
-    coords_.resize(C);
-    for (std::size_t i = 0; i < C; ++i)
-      coords_[i] = make_cage_coordinates(d.cages[i].coordinates, d.cages[i].rest, d.cages[i].harmonic);
-    weld_leaves();
-    build_borders();
-    build_classes();
-    topological_order();
-    check_ownership();
-    // Column layout: one column per welded leaf vertex (every coordinate type puts the deformed
-    // vertices first in its basis), then the extra columns of a cage (Green: s_j n'_j per face).
-    std::size_t K = gv_.size();
-    cage_col_.assign(C, 0);
-    for (std::size_t i : leaves_) {
-      cage_col_[i] = K;
-      K += coords_[i].number_of_coordinates() - desc_.cages[i].rest.vertices.size();
+    try {
+      build();
+    } catch (const Invalid_input& e) {
+      if (d.source.empty()) throw;
+      throw Invalid_input(d.source + ": " + e.what());
     }
-    K_ = K;
   }
 
   const Cage_system_description& description() const { return desc_; }
@@ -411,6 +393,36 @@ public:
 
 private:
   static constexpr std::size_t npos = std::size_t(-1);
+  // The whole construction (the constructor adds the source to error messages).
+  void build() {
+    const std::size_t C = desc_.cages.size();
+    if (C == 0) throw Invalid_input("a cage system needs at least one cage");
+    is_leaf_.assign(C, 1);
+    for (const auto& c : desc_.cages)
+      for (const auto& l : c.parents) is_leaf_[l.cage] = 0;
+    for (std::size_t i = 0; i < C; ++i)
+      if (is_leaf_[i]) leaves_.push_back(i);
+    leaf_slot_.assign(C, npos);
+    for (std::size_t s = 0; s < leaves_.size(); ++s) leaf_slot_[leaves_[s]] = s;
+    coords_.resize(C);
+    for (std::size_t i = 0; i < C; ++i)
+      coords_[i] = make_cage_coordinates(desc_.cages[i].coordinates, desc_.cages[i].rest, desc_.cages[i].harmonic);
+    weld_leaves();
+    build_borders();
+    build_classes();
+    topological_order();
+    check_ownership();
+    // Column layout: one column per welded leaf vertex (every coordinate type puts the deformed
+    // vertices first in its basis), then the extra columns of a cage (Green: s_j n'_j per face).
+    std::size_t K = gv_.size();
+    cage_col_.assign(C, 0);
+    for (std::size_t i : leaves_) {
+      cage_col_[i] = K;
+      K += coords_[i].number_of_coordinates() - desc_.cages[i].rest.vertices.size();
+    }
+    K_ = K;
+  }
+
   struct Border {
     std::size_t other = 0, triangles = 0;
     std::vector<std::uint32_t> local;  // VB_ij, local indices in this cage
