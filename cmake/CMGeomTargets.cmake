@@ -3,7 +3,8 @@
 #   CMGeom::CMGeom     INTERFACE: the header library (CGAL, Eigen, TBB).
 #   CMGeom::Mesh_IO    compiled: textured-mesh readers/writers and validation (no image library).
 #   CMGeom::Image_IO   compiled: images through OpenImageIO, texture loading, OBJ+MTL+PNG output.
-#   CMGeom::OSMesa     compiled, optional: headless OpenGL context (see the Rendering package).
+#   CMGeom::OSMesa     compiled, optional: the OSMesa backends (Rendering's Renderer, the
+#                      Textured_simplification index-texture resampler).
 #
 # OpenImageIO costs ~0.3 s start-up and ~270 shared libraries per binary, so only targets that
 # really touch images link CMGeom::Image_IO.
@@ -15,6 +16,10 @@ target_include_directories(CMGeom INTERFACE
   $<INSTALL_INTERFACE:include>)
 target_link_libraries(CMGeom INTERFACE CGAL::CGAL CGAL::Eigen3_support CGAL::TBB_support TBB::tbb Threads::Threads)
 target_compile_features(CMGeom INTERFACE cxx_std_17)
+# No fused multiply-add contraction, even where the target CPU has FMA (-march=native): the CPU
+# index-texture resampler must round like the OpenGL one (Osmesa_index_texture_resampler.h), and
+# results stay the same across machines. Explicit FMA intrinsics are not affected.
+target_compile_options(CMGeom INTERFACE $<$<COMPILE_LANG_AND_ID:CXX,GNU,Clang>:-ffp-contract=off>)
 set_target_properties(CMGeom PROPERTIES EXPORT_NAME CMGeom)
 
 # One precompiled header shared (REUSE_FROM) by every CGAL-heavy target of this build: a CGAL

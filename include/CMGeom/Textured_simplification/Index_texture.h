@@ -205,40 +205,64 @@ inline void compose(const double A[2][3], const double B[2][3], double out[2][3]
   }
 }
 
-}  // namespace internal
+/// What one collapse asks of a resampling backend, computed once on the CPU (in double, then
+/// rounded where the file comment says) so that every backend evaluates the same numbers:
+///  * per old star triangle t_j: its wedge, and its barycentrics in π as affine functions of a
+///    point of π (l1 = b0 x + b1 y + b2, l2 = b3 x + b4 y + b5), `valid` when PM_{t_j} inverts;
+///  * per wedge: the texel rectangle of the old index texture a collapse reads (its copy);
+///  * per new texture triangle t̄': its texel-space corners (`dst`), the map PM_{t'} (texel ->
+///    π, double) and, for every old t_j, the composed map PM_{t_j}⁻¹ ∘ PM_{t'} in float.
+/// The per-texel rule (select_old_triangle, map_to_old, Index_texture_resampler::sample) is
+/// the part a GPU backend mirrors in its shader.
+struct Resampling_plan {
+  struct Rect {
+    int x0, y0, x1, y1;  ///< inclusive; empty when x0 > x1 or y0 > y1
+    bool empty() const { return x0 > x1 || y0 > y1; }
+  };
+  struct Old_triangle {
+    std::array<double, 6> bary;
+    int wedge;
+    bool valid;
+  };
+  struct New_triangle {
+    std::array<UV2, 3> dst;  ///< texel coordinates
+    double pm[2][3];         ///< texel of t̄' -> π
+    std::size_t star;        ///< index of this triangle in the record's star
+  };
+  Rect rects[2]{};
+  std::vector<Old_triangle> old;
+  std::vector<New_triangle> added;
+  std::vector<std::array<float, 6>> maps;  ///< added.size() x old.size(), row-major
 
-/// Per-collapse resampling of an Index_texture (CPU backend; see the file comment).
-class Index_texture_resampler {
-public:
-  explicit Index_texture_resampler(Index_texture& it) : it_(&it) {}
+  const std::array<float, 6>& map(std::size_t k, std::size_t j) const { return maps[k * old.size() + j]; }
 
-  void operator()(const Collapse_record& rec) {
-    Index_texture& it = *it_;
-    const Texture_domain& dom = it.domain();
-    const int W = it.width(), H = it.height();
+  void build(const Collapse_record& rec, const Texture_domain& dom, int W, int H) {
     const std::size_t n = rec.star.size();
     // frame of π
     const auto& nrm = rec.normal;
-    internal::Vec3 a = std::abs(nrm[0]) < 0.9 ? internal::Vec3{{1, 0, 0}} : internal::Vec3{{0, 1, 0}};
-    internal::Vec3 e1 = internal::cross(nrm, a);
-    e1 = internal::scale(e1, 1.0 / internal::norm(e1));
-    const internal::Vec3 e2 = internal::cross(nrm, e1);
-    auto proj = [&](const internal::Vec3& p) {
-      const internal::Vec3 d = internal::sub(p, rec.placement);
-      return UV2{{internal::dot(d, e1), internal::dot(d, e2)}};
+    Vec3 a = std::abs(nrm[0]) < 0.9 ? Vec3{{1, 0, 0}} : Vec3{{0, 1, 0}};
+    Vec3 e1 = cross(nrm, a);
+    e1 = scale(e1, 1.0 / norm(e1));
+    const Vec3 e2 = cross(nrm, e1);
+    auto proj = [&](const Vec3& p) {
+      const Vec3 d = sub(p, rec.placement);
+      return UV2{{dot(d, e1), dot(d, e2)}};
     };
     old_src_.resize(n);
     old_proj_.resize(n);
-    bary_.resize(n);
+    old.resize(n);
+    pm_inv_.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
       for (int c = 0; c < 3; ++c) {
         old_src_[k][c] = dom.to_texel(rec.star[k].uv[c]);
         old_proj_[k][c] = proj(rec.star[k].p[c]);
       }
-      // barycentrics l1, l2 of a point of π as affine functions (no division per texel)
+      Old_triangle& o = old[k];
+      o.wedge = rec.star[k].wedge;
+      o.valid = affine_map(old_proj_[k], old_src_[k], pm_inv_[k].m);  // π -> old texel of t̄_k
       const auto& t = old_proj_[k];
       const double d = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]);
-      auto& b = bary_[k];
+      auto& b = o.bary;
       if (d == 0) {
         b = {{0, 0, -1e300, 0, 0, -1e300}};
         continue;
@@ -250,9 +274,9 @@ public:
       b[4] = (t[1][0] - t[0][0]) / d;
       b[5] = -(b[3] * t[0][0] + b[4] * t[0][1]);
     }
-    // copies of the old regions, one per wedge (§3.6: read from a copy, never from what is written)
+    // the old regions read, one per wedge (§3.6: read from a copy, never from what is written)
     for (int w = 0; w < 2; ++w) {
-      Rect& r = rects_[w];
+      Rect& r = rects[w];
       r = Rect{W, H, -1, -1};
       for (std::size_t k = 0; k < n; ++k) {
         if (rec.star[k].wedge != w) continue;
@@ -267,72 +291,119 @@ public:
       r.y0 = (std::max)(r.y0, 0);
       r.x1 = (std::min)(r.x1, W - 1);
       r.y1 = (std::min)(r.y1, H - 1);
+    }
+    // the new texture triangles and their maps into the old ones
+    added.clear();
+    maps.clear();
+    for (std::size_t k = 0; k < n; ++k) {
+      if (rec.star[k].removed || rec.star[k].unchanged) continue;
+      const auto nuv = rec.new_uvs(k);
+      const auto np = rec.new_positions(k);
+      New_triangle t;
+      std::array<UV2, 3> dproj;
+      for (int c = 0; c < 3; ++c) {
+        t.dst[c] = dom.to_texel(nuv[c]);
+        dproj[c] = proj(np[c]);
+      }
+      if (!affine_map(t.dst, dproj, t.pm)) continue;
+      t.star = k;
+      added.push_back(t);
+      for (std::size_t j = 0; j < n; ++j) {
+        std::array<float, 6> m{};
+        double M[2][3];
+        if (old[j].valid) {
+          compose(pm_inv_[j].m, t.pm, M);
+          for (int r = 0; r < 2; ++r)
+            for (int c = 0; c < 3; ++c) m[std::size_t(3 * r + c)] = float(M[r][c]);
+        }
+        maps.push_back(m);
+      }
+    }
+  }
+
+  /// The old triangle whose projection contains the image in π of texel centre (x, y) of new
+  /// triangle k (else the one with the largest smallest barycentric); old.size() when none.
+  std::size_t select_old_triangle(std::size_t k, int x, int y) const {
+    const double(&pm)[2][3] = added[k].pm;
+    const double cx = x + 0.5, cy = y + 0.5;
+    const double qx = pm[0][0] * cx + pm[0][1] * cy + pm[0][2];
+    const double qy = pm[1][0] * cx + pm[1][1] * cy + pm[1][2];
+    const std::size_t n = old.size();
+    std::size_t best = n;
+    double best_score = -1e300;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (!old[j].valid) continue;
+      const auto& b = old[j].bary;
+      const double l1 = b[0] * qx + b[1] * qy + b[2], l2 = b[3] * qx + b[4] * qy + b[5];
+      const double s = (std::min)({1.0 - l1 - l2, l1, l2});
+      if (s > best_score) {
+        best_score = s;
+        best = j;
+        if (s >= 0) break;
+      }
+    }
+    return best;
+  }
+
+  /// Position in the old index texture (texel units) of texel centre (x, y) through map m,
+  /// evaluated in float in the order a shader uses at gl_FragCoord.
+  static void map_to_old(const std::array<float, 6>& m, int x, int y, float& sx, float& sy) {
+    const float fx = float(x) + 0.5f, fy = float(y) + 0.5f;
+    const float t0 = m[0] * fx, t1 = m[1] * fy, t2 = m[3] * fx, t3 = m[4] * fy;
+    sx = (t0 + t1) + m[2];
+    sy = (t2 + t3) + m[5];
+  }
+
+private:
+  struct Affine {
+    double m[2][3];
+  };
+  std::vector<std::array<UV2, 3>> old_src_, old_proj_;
+  std::vector<Affine> pm_inv_;
+};
+
+}  // namespace internal
+
+/// Per-collapse resampling of an Index_texture (CPU backend; see the file comment). Models the
+/// IndexTextureResampler concept: constructible from an Index_texture&, called with every
+/// Collapse_record, and synchronize() leaves the Index_texture up to date (a no-op here: this
+/// backend writes it in place).
+class Index_texture_resampler {
+public:
+  explicit Index_texture_resampler(Index_texture& it) : it_(&it) {}
+
+  void operator()(const Collapse_record& rec) {
+    Index_texture& it = *it_;
+    const int W = it.width(), H = it.height();
+    plan_.build(rec, it.domain(), W, H);
+    for (int w = 0; w < 2; ++w) {
+      const auto& r = plan_.rects[w];
       copies_[w].clear();
       copy_charts_[w].clear();
-      if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+      if (r.empty()) continue;
       for (int y = r.y0; y <= r.y1; ++y) {
         copies_[w].insert(copies_[w].end(), it.at(r.x0, y), it.at(r.x1, y) + 2);
         // chart of every copied index value, looked up once instead of at each of its ~5 reads
         for (int x = r.x0; x <= r.x1; ++x) copy_charts_[w].push_back(it.chart_of(it.at(x, y)[0], it.at(x, y)[1]));
       }
     }
-    // fill the new texture triangles
-    for (std::size_t k = 0; k < n; ++k) {
-      if (rec.star[k].removed || rec.star[k].unchanged) continue;
-      const auto nuv = rec.new_uvs(k);
-      const auto np = rec.new_positions(k);
-      std::array<UV2, 3> dst, dproj;
-      for (int c = 0; c < 3; ++c) {
-        dst[c] = dom.to_texel(nuv[c]);
-        dproj[c] = proj(np[c]);
-      }
-      double PMn[2][3];  // texel of t̄' -> π
-      if (!internal::affine_map(dst, dproj, PMn)) continue;
-      maps_.resize(n);
-      valid_.assign(n, 0);
-      for (std::size_t j = 0; j < n; ++j) {
-        double PMj_inv[2][3], M[2][3];  // π -> old texel of t̄_j
-        if (!internal::affine_map(old_proj_[j], old_src_[j], PMj_inv)) continue;
-        internal::compose(PMj_inv, PMn, M);
-        for (int r = 0; r < 2; ++r)
-          for (int c = 0; c < 3; ++c) maps_[j][r][c] = float(M[r][c]);
-        valid_[j] = 1;
-      }
-      rasterize_triangle(dst, W, H, [&](int x, int y) {
-        const double cx = x + 0.5, cy = y + 0.5;
-        const double qx = PMn[0][0] * cx + PMn[0][1] * cy + PMn[0][2];
-        const double qy = PMn[1][0] * cx + PMn[1][1] * cy + PMn[1][2];
-        // the old triangle whose projection contains q (else the closest by barycentrics)
-        std::size_t best = n;
-        double best_score = -1e300;
-        for (std::size_t j = 0; j < n; ++j) {
-          if (!valid_[j]) continue;
-          const auto& b = bary_[j];
-          const double l1 = b[0] * qx + b[1] * qy + b[2], l2 = b[3] * qx + b[4] * qy + b[5];
-          const double s = (std::min)({1.0 - l1 - l2, l1, l2});
-          if (s > best_score) {
-            best_score = s;
-            best = j;
-            if (s >= 0) break;
-          }
-        }
-        if (best == n) return;
-        const auto& M = maps_[best];
-        const float fx = float(x) + 0.5f, fy = float(y) + 0.5f;
-        const float t0 = M[0][0] * fx, t1 = M[0][1] * fy, t2 = M[1][0] * fx, t3 = M[1][1] * fy;
-        const float sx = (t0 + t1) + M[0][2], sy = (t2 + t3) + M[1][2];
-        sample(rec.star[best].wedge, sx, sy, it.at(x, y));
+    for (std::size_t k = 0; k < plan_.added.size(); ++k) {
+      rasterize_triangle(plan_.added[k].dst, W, H, [&](int x, int y) {
+        const std::size_t j = plan_.select_old_triangle(k, x, y);
+        if (j == plan_.old.size()) return;
+        float sx, sy;
+        internal::Resampling_plan::map_to_old(plan_.map(k, j), x, y, sx, sy);
+        sample(plan_.old[j].wedge, sx, sy, it.at(x, y));
       });
     }
   }
 
-private:
-  struct Rect {
-    int x0, y0, x1, y1;
-  };
+  /// Nothing to do: the index texture is written in place.
+  void synchronize() {}
 
+private:
   std::size_t copy_index(int w, int x, int y) const {
-    const Rect& r = rects_[w];
+    const auto& r = plan_.rects[w];
     x = (std::min)((std::max)(x, r.x0), r.x1);
     y = (std::min)((std::max)(y, r.y0), r.y1);
     return std::size_t(y - r.y0) * std::size_t(r.x1 - r.x0 + 1) + std::size_t(x - r.x0);
@@ -341,7 +412,7 @@ private:
   /// Chart-aware bilinear lookup (§3.6) of the old index texture at (sx, sy) (texel units): only
   /// the four nearest texels whose stored index lies in the chart of the nearest one's are blended.
   void sample(int w, float sx, float sy, float* out) const {
-    const Rect& r = rects_[w];
+    const auto& r = plan_.rects[w];
     if (copies_[w].empty()) return;
     // stay inside the copied region (the source point is inside an old triangle, up to rounding)
     sx = (std::min)((std::max)(sx, float(r.x0)), float(r.x1) + 1.f);
@@ -377,13 +448,9 @@ private:
   }
 
   Index_texture* it_;
-  std::vector<std::array<UV2, 3>> old_src_, old_proj_;
-  std::vector<std::array<std::array<float, 3>, 2>> maps_;
-  std::vector<char> valid_;
-  Rect rects_[2]{};
+  internal::Resampling_plan plan_;
   std::vector<float> copies_[2];
   std::vector<std::uint32_t> copy_charts_[2];
-  std::vector<std::array<double, 6>> bary_;  // per old projected triangle: l1, l2 as affine functions
 };
 
 /// Chart-aware bilinear lookup of `original` (any size; UVs outside [0,1] repeat) at the
