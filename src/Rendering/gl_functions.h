@@ -28,7 +28,8 @@
   X(UniformMatrix4fv) X(GenVertexArrays) X(BindVertexArray) X(DeleteVertexArrays) X(GenBuffers)  \
   X(BindBuffer) X(BufferData) X(DeleteBuffers) X(VertexAttribPointer) X(EnableVertexAttribArray) \
   X(DisableVertexAttribArray) X(VertexAttrib1f) X(VertexAttrib2f) X(VertexAttrib3f)              \
-  X(DrawArrays) X(PolygonOffset) X(LineWidth)
+  X(DrawArrays) X(PolygonOffset) X(LineWidth) X(Scissor) X(CopyImageSubData) X(BindBufferBase)     \
+  X(VertexAttribIPointer) X(GetTexImage)
 
 namespace CMGeom {
 namespace Rendering {

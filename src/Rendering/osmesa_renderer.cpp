@@ -2,12 +2,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // OSMesa implementation of CMGeom::Rendering::Renderer (see Renderer.h for the contract).
-// The context's own framebuffer is a 16x16 dummy that only makes the context current: every
-// picture goes to a multisampled sRGB FBO, whose resolved copy is read back. The OSMesa buffer is
-// not usable for data (glReadPixels clamps and it is only updated on flush).
-#include "gl_functions.h"  // first: defines GL_GLEXT_PROTOTYPES before any GL header
-
-#include <GL/osmesa.h>
+// Every picture goes to a multisampled sRGB FBO, whose resolved copy is read back (the context's
+// own buffer is a dummy: osmesa_context.h).
+#include "osmesa_context.h"  // first: defines GL_GLEXT_PROTOTYPES before any GL header
 
 #include <CMGeom/Error.h>
 #include <CMGeom/Rendering/Renderer.h>
@@ -180,9 +177,8 @@ Camera make_camera(const std::array<double, 6>& box, const Render_options& o) {
 }  // namespace
 
 struct Renderer::Impl {
-  OSMesaContext context = nullptr;
-  std::uint8_t dummy[16 * 16 * 4] = {};
-  internal::GL_functions gl;
+  internal::Osmesa_context context{3, 3, "renderer"};
+  internal::GL_functions& gl = context.gl;
   GLuint program = 0, colormap = 0, white = 0;
   GLint u_mvp = -1, u_mv = -1, u_mode = -1, u_lit = -1, u_ortho = -1, u_color = -1, u_texture = -1,
         u_colormap = -1, u_range = -1;
@@ -190,37 +186,9 @@ struct Renderer::Impl {
   // Framebuffers, recreated when the size or sample count changes.
   int fb_width = 0, fb_height = 0, fb_samples = -1;
   GLuint ms_fbo = 0, ms_color = 0, ms_depth = 0, resolve_fbo = 0, resolve_tex = 0;
-  std::string description;
 
-  void make_current() {
-    if (!OSMesaMakeCurrent(context, dummy, GL_UNSIGNED_BYTE, 16, 16))
-      throw Error("OSMesa: cannot make the rendering context current");
-  }
-
-  void check(const char* where) {
-    const GLenum e = gl.GetError();
-    if (e != GL_NO_ERROR) {
-      char buf[96];
-      std::snprintf(buf, sizeof buf, "OpenGL error 0x%04x in %s", unsigned(e), where);
-      throw Error(buf);
-    }
-  }
-
-  GLuint compile(GLenum type, const char* src) {
-    const GLuint s = gl.CreateShader(type);
-    gl.ShaderSource(s, 1, &src, nullptr);
-    gl.CompileShader(s);
-    GLint ok = 0;
-    gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      char log[2048] = {};
-      gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
-      for (char& ch : log)
-        if (ch == '\n') ch = ' ';
-      throw Error(std::string("OpenGL shader compilation failed: ") + log);
-    }
-    return s;
-  }
+  void make_current() { context.make_current(); }
+  void check(const char* where) { context.check(where); }
 
   GLuint make_texture_rgba8(int w, int h, const std::uint8_t* rgba, bool mipmaps, GLint wrap) {
     GLuint t = 0;
@@ -306,35 +274,8 @@ struct Renderer::Impl {
 
 Renderer::Renderer() : impl_(new Impl) {
   Impl& I = *impl_;
-  const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
-                            OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                            OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
-  // Core 3.3 is requested because llvmpipe refuses 4.6 but upgrades any lower core request to 4.5.
-  I.context = OSMesaCreateContextAttribs(attributes, nullptr);
-  if (!I.context) throw Error("OSMesa: cannot create an OpenGL 3.3 core context");
-  I.make_current();
-  if (!I.gl.load([](const char* name) { return OSMesaGetProcAddress(name); }))
-    throw Error("OSMesa: missing OpenGL entry points");
-  const char* version = reinterpret_cast<const char*>(I.gl.GetString(GL_VERSION));
-  const char* renderer = reinterpret_cast<const char*>(I.gl.GetString(GL_RENDERER));
-  GLint major = 0, minor = 0;
-  I.gl.GetIntegerv(GL_MAJOR_VERSION, &major);
-  I.gl.GetIntegerv(GL_MINOR_VERSION, &minor);
-  if (!version || major * 10 + minor < 33) throw Error("OSMesa: OpenGL 3.3 or later is required");
-  I.description = std::string(renderer ? renderer : "?") + ", " + version;
   I.gl.GetIntegerv(GL_MAX_SAMPLES, &I.max_samples);
-
-  const GLuint vs = I.compile(GL_VERTEX_SHADER, vertex_shader);
-  const GLuint fs = I.compile(GL_FRAGMENT_SHADER, fragment_shader);
-  I.program = I.gl.CreateProgram();
-  I.gl.AttachShader(I.program, vs);
-  I.gl.AttachShader(I.program, fs);
-  I.gl.LinkProgram(I.program);
-  GLint ok = 0;
-  I.gl.GetProgramiv(I.program, GL_LINK_STATUS, &ok);
-  I.gl.DeleteShader(vs);
-  I.gl.DeleteShader(fs);
-  if (!ok) throw Error("OpenGL: shader program does not link");
+  I.program = I.context.program(vertex_shader, fragment_shader);
   I.u_mvp = I.gl.GetUniformLocation(I.program, "uMVP");
   I.u_mv = I.gl.GetUniformLocation(I.program, "uMV");
   I.u_mode = I.gl.GetUniformLocation(I.program, "uMode");
@@ -355,18 +296,20 @@ Renderer::Renderer() : impl_(new Impl) {
 }
 
 Renderer::~Renderer() {
-  if (!impl_ || !impl_->context) return;
+  if (!impl_) return;
   Impl& I = *impl_;
-  if (OSMesaMakeCurrent(I.context, I.dummy, GL_UNSIGNED_BYTE, 16, 16)) {
+  try {
+    I.make_current();
     I.release_framebuffer();
     if (I.program) I.gl.DeleteProgram(I.program);
     if (I.colormap) I.gl.DeleteTextures(1, &I.colormap);
     if (I.white) I.gl.DeleteTextures(1, &I.white);
+  } catch (const Error&) {
+    // the context is destroyed with its objects anyway
   }
-  OSMesaDestroyContext(I.context);
 }
 
-std::string Renderer::description() const { return impl_->description; }
+std::string Renderer::description() const { return impl_->context.description(); }
 
 Image Renderer::render(const Render_mesh& mesh, const Render_options& options) {
   return render_views(mesh, {options}).front();

@@ -14,6 +14,9 @@
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 #include <CMGeom/Textured_simplification.h>
 #include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
+#ifdef CMGEOM_HAS_OSMESA
+#include <CMGeom/Textured_simplification/Osmesa_index_texture_resampler.h>
+#endif
 
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
@@ -125,8 +128,10 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     if (textured) {
       if (o->engine != "cmgeom") throw CMGeom::Invalid_input("textured simplification runs on --engine cmgeom only");
       if (o->flips) throw CMGeom::Invalid_input("--flips is not supported on textured input (flips would need UV flips)");
+#ifndef CMGEOM_HAS_OSMESA
       if (o->texture_backend == "osmesa")
-        throw CMGeom::Invalid_input("--texture-backend osmesa is not available in this build; use cpu");
+        throw CMGeom::Invalid_input("--texture-backend osmesa is not available in this build (no OSMesa); use cpu");
+#endif
       if (tsize->count() && (o->texture_size < 16 || o->texture_size > 16384))
         throw CMGeom::Invalid_input("--texture-size must be in [16, 16384], got " + std::to_string(o->texture_size));
       const std::string ext = std::filesystem::path(o->output).extension().string();
@@ -139,7 +144,14 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       to.constraints.freeze_chart_boundaries = o->freeze_seams;
       Progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
       const double t0 = cmgeom_cli::now_seconds();
+#ifdef CMGEOM_HAS_OSMESA
+      const TS::Textured_simplification_result r =
+          o->texture_backend == "osmesa"
+              ? TS::simplify_textured_mesh<TS::Osmesa_index_texture_resampler>(tm, to, Progress_visitor(&state))
+              : TS::simplify_textured_mesh(tm, to, Progress_visitor(&state));
+#else
       const TS::Textured_simplification_result r = TS::simplify_textured_mesh(tm, to, Progress_visitor(&state));
+#endif
       const double seconds = cmgeom_cli::now_seconds() - t0;
       bar.done();
       CMGeom::IO::write_textured_mesh(o->output, tm);

@@ -4,7 +4,8 @@
 // simplify_textured_mesh(): the whole texture-preserving simplification of thesis chapter 3 on a
 // Textured_mesh — weighted quadric collapses (§3.4) under the chart constraints of §3.5 with UV
 // placement of the kept vertex, the index texture of §3.3 rewritten at every collapse through the
-// bijective mappings of §3.6 (CPU backend), and at the end the output textures (diffuse and,
+// bijective mappings of §3.6 (by `Resampler`: the CPU Index_texture_resampler by default, or
+// Osmesa_index_texture_resampler, bit-identical), and at the end the output textures (diffuse and,
 // when present, normal map) generated through the index texture and dilated into the gutters.
 // The output UVs cover the output textures' [0,1]² (the index-texture domain, see Index_texture.h).
 //
@@ -37,6 +38,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -123,8 +125,10 @@ inline Texture_domain make_texture_domain(const std::vector<std::array<UV2, 3>>&
 }
 
 /// Simplifies `tm` to `options.target_faces` faces (see the file comment); `visitor` receives
-/// the engine's visitor calls too (e.g. progress).
-template <class Visitor = Edge_collapse_visitor_base>
+/// the engine's visitor calls too (e.g. progress). `Resampler` models IndexTextureResampler
+/// (constructible from Index_texture&, called with each Collapse_record, synchronize() brings the
+/// Index_texture up to date); it is created only when there is a texture to resample.
+template <class Resampler = Index_texture_resampler, class Visitor = Edge_collapse_visitor_base>
 Textured_simplification_result simplify_textured_mesh(Textured_mesh& tm, const Textured_simplification_options& options,
                                                       Visitor visitor = Visitor()) {
   using Mesh = Surface_mesh;
@@ -195,15 +199,18 @@ Textured_simplification_result simplify_textured_mesh(Textured_mesh& tm, const T
       return inside;
     });
   }
-  Index_texture_resampler resampler(it);
   const auto t0 = std::chrono::steady_clock::now();
+  std::optional<Resampler> resampler;
+  if (resample) resampler.emplace(it);
   if (options.target_faces < res.faces_in) {
     Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
     Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
-    Chart_constraint_visitor<CC, Index_texture_resampler, Visitor> vis(cc, resample ? &resampler : nullptr, visitor);
+    Chart_constraint_visitor<CC, Resampler, Visitor> vis(cc, resampler ? &*resampler : nullptr, visitor);
     edge_collapse(mesh, stop,
                   CGAL::parameters::get_cost(policy).get_placement(policy).filter(Chart_constraint_filter<CC>(cc)).visitor(vis));
   }
+  if (resampler) resampler->synchronize();
+  resampler.reset();
   const double total = internal::seconds_since(t0);
   mesh.collect_garbage();
   res.statistics = cc.statistics();

@@ -1,0 +1,109 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "osmesa_context.h"
+
+#include <GL/osmesa.h>
+
+#include <CMGeom/Error.h>
+
+#include <cstdio>
+
+namespace CMGeom {
+namespace Rendering {
+namespace internal {
+
+Osmesa_context::Osmesa_context(int major, int minor, const char* who) {
+  // Core 3.3 is requested because llvmpipe refuses 4.6 but upgrades any lower core request to
+  // 4.5; the version actually obtained is checked below.
+  const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
+                            OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                            OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+  OSMesaContext c = OSMesaCreateContextAttribs(attributes, nullptr);
+  if (!c) throw Error(std::string(who) + ": OSMesa cannot create an OpenGL core context");
+  context_ = c;
+  try {
+    make_current();
+    if (!gl.load([](const char* name) { return OSMesaGetProcAddress(name); }))
+      throw Error(std::string(who) + ": OSMesa is missing OpenGL entry points");
+    const char* version = reinterpret_cast<const char*>(gl.GetString(GL_VERSION));
+    const char* renderer = reinterpret_cast<const char*>(gl.GetString(GL_RENDERER));
+    GLint got_major = 0, got_minor = 0;
+    gl.GetIntegerv(GL_MAJOR_VERSION, &got_major);
+    gl.GetIntegerv(GL_MINOR_VERSION, &got_minor);
+    if (!version || got_major * 10 + got_minor < major * 10 + minor)
+      throw Error(std::string(who) + ": OpenGL " + std::to_string(major) + "." + std::to_string(minor) +
+                  " or later is required, OSMesa offers " + (version ? version : "none"));
+    description_ = std::string(renderer ? renderer : "?") + ", " + version;
+  } catch (...) {
+    OSMesaDestroyContext(c);
+    context_ = nullptr;
+    throw;
+  }
+}
+
+Osmesa_context::~Osmesa_context() {
+  if (context_) OSMesaDestroyContext(static_cast<OSMesaContext>(context_));
+}
+
+void Osmesa_context::make_current() {
+  if (!OSMesaMakeCurrent(static_cast<OSMesaContext>(context_), dummy_, GL_UNSIGNED_BYTE, 16, 16))
+    throw Error("OSMesa: cannot make the OpenGL context current");
+}
+
+void Osmesa_context::check(const char* where) {
+  const GLenum e = gl.GetError();
+  if (e != GL_NO_ERROR) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "OpenGL error 0x%04x in %s", unsigned(e), where);
+    throw Error(buf);
+  }
+}
+
+GLuint Osmesa_context::compile(GLenum type, const char* source) {
+  const GLuint s = gl.CreateShader(type);
+  gl.ShaderSource(s, 1, &source, nullptr);
+  gl.CompileShader(s);
+  GLint ok = 0;
+  gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
+    gl.DeleteShader(s);
+    for (char& ch : log)
+      if (ch == '\n') ch = ' ';
+    throw Error(std::string("OpenGL shader compilation failed: ") + log);
+  }
+  return s;
+}
+
+GLuint Osmesa_context::program(const char* vertex_source, const char* fragment_source) {
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertex_source);
+  GLuint fs = 0;
+  try {
+    fs = compile(GL_FRAGMENT_SHADER, fragment_source);
+  } catch (...) {
+    gl.DeleteShader(vs);
+    throw;
+  }
+  const GLuint p = gl.CreateProgram();
+  gl.AttachShader(p, vs);
+  gl.AttachShader(p, fs);
+  gl.LinkProgram(p);
+  GLint ok = 0;
+  gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
+  gl.DeleteShader(vs);
+  gl.DeleteShader(fs);
+  if (!ok) {
+    char log[2048] = {};
+    gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
+    gl.DeleteProgram(p);
+    for (char& ch : log)
+      if (ch == '\n') ch = ' ';
+    throw Error(std::string("OpenGL program does not link: ") + log);
+  }
+  return p;
+}
+
+}  // namespace internal
+}  // namespace Rendering
+}  // namespace CMGeom
