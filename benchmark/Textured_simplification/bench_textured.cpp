@@ -7,6 +7,8 @@
 // Tools:
 //   ours          simplify_textured_mesh(): chart constraints §3.5 (boundaries simplified), index
 //                 texture §3.3/§3.6, new texture (CPU backend)
+//   ours-osmesa   the same with the OpenGL (OSMesa, llvmpipe) resampling backend: identical
+//                 output, its own time
 //   ours-frozen   same engine and policy, chart-boundary vertices frozen, UVs kept, original texture
 //   cgal-gh       CGAL 5.5.1 edge_collapse + GarlandHeckbert_plane_policies, chart boundaries
 //                 frozen (the chart filter in frozen mode: interior edges only), UVs by §3.5
@@ -21,6 +23,7 @@
 #include <CMGeom/Rendering/views.h>
 #include <CMGeom/Metrics/image_error.h>
 #include <CMGeom/Textured_simplification.h>
+#include <CMGeom/Textured_simplification/Osmesa_index_texture_resampler.h>
 
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
@@ -84,14 +87,15 @@ struct Row {
   CMGeom::Polygon_soup soup;
 };
 
-Row run_ours(const CMGeom::Textured_mesh& in, std::size_t target, bool frozen) {
+Row run_ours(const CMGeom::Textured_mesh& in, std::size_t target, bool frozen, bool gl = false) {
   CMGeom::Textured_mesh tm = in;
   TS::Textured_simplification_options o;
   o.target_faces = target;
   o.constraints.freeze_chart_boundaries = frozen;
   o.resample_textures = !frozen;
   const double t0 = now();
-  const auto r = TS::simplify_textured_mesh(tm, o);
+  const auto r = gl ? TS::simplify_textured_mesh<TS::Osmesa_index_texture_resampler>(tm, o)
+                    : TS::simplify_textured_mesh(tm, o);
   Row row;
   row.seconds = now() - t0;
   row.faces = r.faces_out;
@@ -249,10 +253,11 @@ int main(int argc, char** argv) {
         std::printf("| %s | %zu | %zu (%s) | geometry only | %zu | - | %.3f | - | - | - |\n", name.c_str(), faces_in, target,
                     fs.c_str(), std::size_t(g.mesh().number_of_faces()), sec);
       }
-      for (const char* tool : {"ours", "ours-frozen", "cgal-gh", "meshopt"}) {
+      for (const char* tool : {"ours", "ours-osmesa", "ours-frozen", "cgal-gh", "meshopt"}) {
         Row r;
         const std::string tl = tool;
         if (tl == "ours") r = run_ours(in, target, false);
+        else if (tl == "ours-osmesa") r = run_ours(in, target, false, true);
         else if (tl == "ours-frozen") r = run_ours(in, target, true);
         else if (tl == "cgal-gh") r = run_cgal(in, target);
         else r = run_meshopt(in, target);

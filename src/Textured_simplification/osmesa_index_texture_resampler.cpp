@@ -145,7 +145,7 @@ struct Vertex {
 };
 
 // Pending-write marks: tiles of this many texels a side.
-constexpr int tile = 16;
+constexpr int tile = 4;
 
 }  // namespace
 
