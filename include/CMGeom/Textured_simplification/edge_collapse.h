@@ -23,8 +23,9 @@
 //     (every edge around every neighbour of the kept vertex is re-evaluated).
 //   * The profile is CMGeom's light Collapse_profile (no triangles()/link()).
 //
-// Data layout: one record (cost, flags) and one heap slot per edge, indexed by the edge index
-// map; per vertex, a counter of rejected edges around it (so re-queueing them costs nothing where
+// Data layout: one 16-byte record per edge, indexed by the edge index map: the heap slot (exact
+// cost, heap position) with the edge's flags beside it, so an evaluation touches one cache line
+// for its bookkeeping; per vertex, a counter of rejected edges around it (so re-queueing them costs nothing where
 // there are none) and a mark array used by the link condition only for degrees above 64.
 // Everything is allocated once at set-up; the collapse loop allocates nothing. The queue is an
 // indexed 8-ary heap updated in place (no stale entries, no lazy deletion).
@@ -132,23 +133,25 @@ private:
   void after_collapse(const Profile& p, vertex_descriptor v, std::true_type) { get_cost_.update_after_collapse(p, v); }
 
   std::uint32_t id(edge_descriptor e) const { return static_cast<std::uint32_t>(get(eim_, e)); }
+  std::uint32_t& flags(std::uint32_t i) { return heap_.user(i); }
 
   Profile profile_of(edge_descriptor e) const { return Profile(halfedge(e, tm_), tm_, vpm_, gt_); }
 
   /// (Re)computes the cost of edge e and puts it in the queue (or takes it out if absent).
   void evaluate(edge_descriptor e) {
     const std::uint32_t i = id(e);
-    if (data_[i].flags & (DEAD | CONSTRAINED)) return;
+    std::uint32_t& f = flags(i);
+    if (f & (DEAD | CONSTRAINED)) return;
     const Profile p = profile_of(e);
     const Placement pl = get_placement_(p);
     const Cost c = get_cost_(p, pl);
-    data_[i].flags &= std::uint8_t(~REJECTED);
+    f &= ~std::uint32_t(REJECTED);
     if (c) {
-      data_[i].cost = CGAL::to_double(*c);
-      data_[i].flags |= HAS_COST;
-      if (!heap_.contains(i) || data_[i].cost != heap_.key(i)) heap_.set(i, data_[i].cost);
+      f |= HAS_COST;
+      const double cost = CGAL::to_double(*c);
+      if (!heap_.contains(i) || cost != heap_.key(i)) heap_.set(i, cost);
     } else {
-      data_[i].flags &= std::uint8_t(~HAS_COST);
+      f &= ~std::uint32_t(HAS_COST);
       heap_.remove(i);
     }
   }
@@ -162,7 +165,6 @@ private:
     for (edge_descriptor e : edges(tm_)) max_e = (std::max)(max_e, std::size_t(get(eim_, e)) + 1);
     for (vertex_descriptor v : vertices(tm_)) max_v = (std::max)(max_v, std::size_t(get(vim_, v)) + 1);
     edge_of_.assign(max_e, edge_descriptor());
-    data_.assign(max_e, Edge_data{0.0, 0});
     mark_.assign(max_v, 0u);
     rejected_around_.assign(max_v, 0u);
     heap_.reset(max_e);
@@ -171,11 +173,11 @@ private:
       const std::uint32_t i = id(e);
       edge_of_[i] = e;
       ++initial_edges_;
-      if (get(ecm_, e)) { data_[i].flags |= CONSTRAINED; continue; }
+      if (get(ecm_, e)) { flags(i) |= CONSTRAINED; continue; }
       evaluate(e);
       if (std::is_same<Visitor, Edge_collapse_visitor_base>::value) continue;
       const Profile p = profile_of(e);
-      visitor_.OnCollected(p, (data_[i].flags & HAS_COST) ? Cost(FT(data_[i].cost)) : Cost());
+      visitor_.OnCollected(p, (flags(i) & HAS_COST) ? Cost(FT(heap_.key(i))) : Cost());
     }
     current_edges_ = initial_edges_;
   }
@@ -191,7 +193,7 @@ private:
       const std::uint32_t i = heap_.pop();
       const edge_descriptor e = edge_of_[i];
       const Profile p = profile_of(e);
-      const Cost c = Cost(FT(data_[i].cost));
+      const Cost c = Cost(FT(heap_.key(i)));
       visitor_.OnSelected(p, c, initial_edges_, current_edges_);
       if (stop_(*c, p, initial_edges_, current_edges_)) {
         visitor_.OnStopConditionReached(p);
@@ -229,7 +231,7 @@ private:
   /// that test skip vertices with no rejected edge around them (they may over-count, never
   /// under-count).
   void reject(std::uint32_t i, const Profile& p) {
-    data_[i].flags |= REJECTED;
+    flags(i) |= REJECTED;
     ++rejected_around_[get(vim_, p.v0())];
     ++rejected_around_[get(vim_, p.v1())];
   }
@@ -237,7 +239,7 @@ private:
   void kill(edge_descriptor e) {
     const std::uint32_t i = id(e);
     heap_.remove(i);
-    data_[i].flags |= DEAD;
+    flags(i) |= DEAD;
   }
 
   void collapse(const Profile& p, const Point& placement) {
@@ -283,9 +285,10 @@ private:
       count = 0;
       for (halfedge_descriptor h2 : CGAL::halfedges_around_target(n, tm_)) {
         const std::uint32_t i = id(edge(h2, tm_));
-        if ((data_[i].flags & (REJECTED | DEAD | CONSTRAINED)) == REJECTED) {
-          data_[i].flags &= std::uint8_t(~REJECTED);
-          if (data_[i].flags & HAS_COST) heap_.set(i, data_[i].cost);
+        std::uint32_t& f = flags(i);
+        if ((f & (REJECTED | DEAD | CONSTRAINED)) == REJECTED) {
+          f &= ~std::uint32_t(REJECTED);
+          if (f & HAS_COST) heap_.restore(i);
         }
       }
     }
@@ -312,7 +315,7 @@ private:
       const halfedge_descriptor h = buf[k];
       const edge_descriptor e = edge(h, tm_);
       const std::uint32_t i = id(e);
-      if (data_[i].flags & (DEAD | CONSTRAINED)) continue;
+      if (flags(i) & (DEAD | CONSTRAINED)) continue;
       if (!internal::should_flip(tm_, vpm_, h, get_cost_, vim_, mark_, stamp_)) continue;
       CGAL::Euler::flip_edge(h, tm_);
       if constexpr (has_on_flipped<Visitor, TM, halfedge_descriptor>::value) visitor_.OnFlipped(tm_, h);
@@ -343,11 +346,6 @@ private:
   typename CGAL::GetInitializedEdgeIndexMap<TM>::const_type eim_;
 
   std::vector<edge_descriptor> edge_of_;
-  struct Edge_data {
-    double cost;
-    std::uint8_t flags;
-  };
-  std::vector<Edge_data> data_;  // cost and flags together: one memory access per edge
   std::vector<unsigned> mark_;
   std::vector<unsigned> rejected_around_;
   unsigned stamp_ = 0;
