@@ -22,6 +22,10 @@
 //     topological/geometric rejection had taken them out. Other policies get CGAL's treatment
 //     (every edge around every neighbour of the kept vertex is re-evaluated).
 //   * The profile is CMGeom's light Collapse_profile (no triangles()/link()).
+//   * A cost policy with `cost_at_own_placement(profile)` and `shares_state_with(placement)` (the
+//     quadric policies) is asked for the cost at its own placement in one call when the cost and
+//     placement objects share their state (same value as cost(profile, placement(profile)), the
+//     edge quadric formed once instead of twice).
 //
 // Data layout: one 16-byte record per edge, indexed by the edge index map: the heap slot (exact
 // cost, heap position) with the edge's flags beside it, so an evaluation touches one cache line
@@ -88,6 +92,16 @@ struct endpoint_cost : std::false_type {};
 template <class C>
 struct endpoint_cost<C, true> : std::integral_constant<bool, C::Cost_depends_on_endpoints_only::value> {};
 
+// A cost policy that can also compute its own placement's cost in one pass (see
+// Area_weighted_quadric_policies::cost_at_own_placement).
+template <class C, class P, class Profile, class = void>
+struct has_fused_cost : std::false_type {};
+template <class C, class P, class Profile>
+struct has_fused_cost<C, P, Profile,
+                      std::void_t<decltype(std::declval<const C&>().cost_at_own_placement(std::declval<const Profile&>())),
+                                  decltype(std::declval<const C&>().shares_state_with(std::declval<const P&>()))>>
+    : std::true_type {};
+
 template <class V, class TM, class H, class = void>
 struct has_on_flipped : std::false_type {};
 template <class V, class TM, class H>
@@ -115,7 +129,9 @@ public:
                        Visitor& visitor, bool flips)
       : tm_(tm), stop_(stop), vpm_(vpm), gt_(gt), ecm_(ecm), get_cost_(cost), get_placement_(placement),
         filter_(filter), visitor_(visitor), flips_(flips),
-        vim_(CGAL::get_initialized_vertex_index_map(tm)), eim_(CGAL::get_initialized_edge_index_map(tm)) {}
+        vim_(CGAL::get_initialized_vertex_index_map(tm)), eim_(CGAL::get_initialized_edge_index_map(tm)) {
+    if constexpr (fused_cost) fused_ = get_cost_.shares_state_with(get_placement_);
+  }
 
   int run() {
     visitor_.OnStarted(tm_);
@@ -137,14 +153,21 @@ private:
 
   Profile profile_of(edge_descriptor e) const { return Profile(halfedge(e, tm_), tm_, vpm_, gt_); }
 
+  /// The cost of the edge at the placement policy's placement.
+  Cost cost_of(const Profile& p) const {
+    if constexpr (fused_cost) {
+      if (fused_) return get_cost_.cost_at_own_placement(p);
+    }
+    return get_cost_(p, get_placement_(p));
+  }
+
   /// (Re)computes the cost of edge e and puts it in the queue (or takes it out if absent).
   void evaluate(edge_descriptor e) {
     const std::uint32_t i = id(e);
     std::uint32_t& f = flags(i);
     if (f & (DEAD | CONSTRAINED)) return;
     const Profile p = profile_of(e);
-    const Placement pl = get_placement_(p);
-    const Cost c = get_cost_(p, pl);
+    const Cost c = cost_of(p);
     f &= ~std::uint32_t(REJECTED);
     if (c) {
       f |= HAS_COST;
@@ -341,6 +364,8 @@ private:
   const Filter& filter_;
   Visitor& visitor_;
   bool flips_;
+  static constexpr bool fused_cost = has_fused_cost<GetCost, GetPlacement, Profile>::value;
+  bool fused_ = false;  // the cost policy computes the placement policy's placement itself
   bool has_constraints_ = !std::is_same<ECM, CGAL::Constant_property_map<edge_descriptor, bool>>::value;
   typename CGAL::GetInitializedVertexIndexMap<TM>::const_type vim_;
   typename CGAL::GetInitializedEdgeIndexMap<TM>::const_type eim_;
