@@ -129,6 +129,18 @@ public:
   const Quadric& quadric(vertex_descriptor v) const { return record(v).q; }
   double weight(vertex_descriptor v) const { return record(v).w; }
 
+  /// Asks the processor to start loading v's quadric and weight (a hint for engines that know
+  /// which vertices they will evaluate next; no effect on results).
+  void prefetch(vertex_descriptor v) const {
+#if defined(__GNUC__)
+    const char* r = reinterpret_cast<const char*>(&record(v));
+    __builtin_prefetch(r);
+    __builtin_prefetch(r + sizeof(Record) - 1);
+#else
+    (void)v;
+#endif
+  }
+
   /// True when `other` is this object or a copy of it (same vertex data and options): then its
   /// placement is this object's, and the engine may use cost_at_own_placement().
   bool shares_state_with(const Self& other) const { return data_ == other.data_; }

@@ -29,10 +29,14 @@
 //
 // Data layout: one 16-byte record per edge, indexed by the edge index map: the heap slot (exact
 // cost, heap position) with the edge's flags beside it, so an evaluation touches one cache line
-// for its bookkeeping; per vertex, a counter of rejected edges around it (so re-queueing them costs nothing where
-// there are none) and a mark array used by the link condition only for degrees above 64.
-// Everything is allocated once at set-up; the collapse loop allocates nothing. The queue is an
-// indexed 8-ary heap updated in place (no stale entries, no lazy deletion).
+// for its bookkeeping; per vertex, a counter of rejected edges around it (so re-queueing them
+// costs nothing where there are none) and a mark array used by the link condition only for
+// degrees above 64. Everything is allocated once at set-up; the collapse loop allocates nothing.
+// The queue is an indexed 8-ary heap updated in place (no stale entries, no lazy deletion).
+// After a collapse the edges around the kept vertex are re-evaluated in three passes — prefetch
+// of their records and of the policy's data of the neighbours (`prefetch(v)` when the cost policy
+// has it), costs, then queue updates in circulation order — so that their cache misses overlap;
+// the results are those of evaluating the edges one by one (costs do not depend on the queue).
 //
 // Complexity: O(E log E) for set-up, O(d log E) per collapse (d = vertex degree), O(1) stop tests
 // with the predicates of Stop_predicates.h.
@@ -102,6 +106,13 @@ struct has_fused_cost<C, P, Profile,
                                   decltype(std::declval<const C&>().shares_state_with(std::declval<const P&>()))>>
     : std::true_type {};
 
+// A cost policy with a prefetch(vertex) hint (see Area_weighted_quadric_policies::prefetch).
+template <class C, class V, class = void>
+struct has_prefetch : std::false_type {};
+template <class C, class V>
+struct has_prefetch<C, V, std::void_t<decltype(std::declval<const C&>().prefetch(std::declval<V>()))>>
+    : std::true_type {};
+
 template <class V, class TM, class H, class = void>
 struct has_on_flipped : std::false_type {};
 template <class V, class TM, class H>
@@ -153,6 +164,11 @@ private:
 
   Profile profile_of(edge_descriptor e) const { return Profile(halfedge(e, tm_), tm_, vpm_, gt_); }
 
+  void prefetch_vertex(vertex_descriptor v) const {
+    if constexpr (has_prefetch<GetCost, vertex_descriptor>::value) get_cost_.prefetch(v);
+    else (void)v;
+  }
+
   /// The cost of the edge at the placement policy's placement.
   Cost cost_of(const Profile& p) const {
     if constexpr (fused_cost) {
@@ -164,10 +180,13 @@ private:
   /// (Re)computes the cost of edge e and puts it in the queue (or takes it out if absent).
   void evaluate(edge_descriptor e) {
     const std::uint32_t i = id(e);
+    if (flags(i) & (DEAD | CONSTRAINED)) return;
+    requeue(i, cost_of(profile_of(e)));
+  }
+
+  /// Stores the new cost (or its absence) of live edge i and updates the queue.
+  void requeue(std::uint32_t i, const Cost& c) {
     std::uint32_t& f = flags(i);
-    if (f & (DEAD | CONSTRAINED)) return;
-    const Profile p = profile_of(e);
-    const Cost c = cost_of(p);
     f &= ~std::uint32_t(REJECTED);
     if (c) {
       f |= HAS_COST;
@@ -298,7 +317,34 @@ private:
   }
 
   void update_neighbours(vertex_descriptor v, std::true_type) {
-    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) evaluate(edge(h, tm_));
+    // The records of the edges around v and the policy's data of v's neighbours are scattered in
+    // memory: request them all first, so that their cache misses overlap, then evaluate.
+    constexpr int ring_max = 64;
+    halfedge_descriptor ring[ring_max];
+    int n = 0;
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
+      if (n < ring_max) ring[n] = h;
+      ++n;
+      heap_.prefetch(id(edge(h, tm_)));
+      prefetch_vertex(source(h, tm_));
+    }
+    if (n <= ring_max) {
+      // costs first (they do not depend on the queue), asking for each edge's heap node on the
+      // way; then the queue updates, in the same order as evaluate() would do them
+      Cost costs[ring_max];
+      std::uint32_t ids[ring_max];
+      for (int k = 0; k < n; ++k) {
+        const edge_descriptor e = edge(ring[k], tm_);
+        ids[k] = id(e);
+        if (flags(ids[k]) & (DEAD | CONSTRAINED)) continue;
+        costs[k] = cost_of(profile_of(e));
+        heap_.prefetch_node(ids[k]);
+      }
+      for (int k = 0; k < n; ++k)
+        if (!(flags(ids[k]) & (DEAD | CONSTRAINED))) requeue(ids[k], costs[k]);
+    } else {
+      for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) evaluate(edge(h, tm_));
+    }
     // one ring farther: costs are unchanged, but edges rejected earlier may have become valid
     rejected_around_[get(vim_, v)] = 0;
     for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {

@@ -61,6 +61,16 @@ public:
 #endif
   }
 
+  /// Hints the processor to load the heap node of id, if queued (no effect on the heap).
+  void prefetch_node(std::uint32_t id) const {
+#if defined(__GNUC__)
+    const std::uint32_t p = slot_[id].pos;
+    if (p != npos) __builtin_prefetch(&base_[p]);
+#else
+    (void)id;
+#endif
+  }
+
   /// Inserts id or changes its key.
   void set(std::uint32_t id, double key) {
     Slot& s = slot_[id];
