@@ -164,6 +164,14 @@ private:
 
   Profile profile_of(edge_descriptor e) const { return Profile(halfedge(e, tm_), tm_, vpm_, gt_); }
 
+  void prefetch_point(vertex_descriptor v) const {
+#if defined(__GNUC__)
+    if constexpr (std::is_lvalue_reference<decltype(get(vpm_, v))>::value) __builtin_prefetch(&get(vpm_, v));
+    else (void)v;
+#else
+    (void)v;
+#endif
+  }
   void prefetch_vertex(vertex_descriptor v) const {
     if constexpr (has_prefetch<GetCost, vertex_descriptor>::value) get_cost_.prefetch(v);
     else (void)v;
@@ -241,8 +249,11 @@ private:
         visitor_.OnStopConditionReached(p);
         break;
       }
+      // the link test walks the stars of v0 and v1: it asks for the neighbours' points on the way,
+      // which the fold-over test reads next
       const bool ok_topo =
-          internal::is_collapse_topologically_valid(tm_, vim_, p.v0_v1(), mark_, stamp_) &&
+          internal::is_collapse_topologically_valid(tm_, vim_, p.v0_v1(), mark_, stamp_,
+                                                    [this](vertex_descriptor n) { prefetch_point(n); }) &&
           !(has_constraints_ && is_constrained_vertex(p.v0()) && is_constrained_vertex(p.v1()));
       if (!ok_topo) {
         reject(i, p);

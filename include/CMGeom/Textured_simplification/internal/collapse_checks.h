@@ -62,11 +62,17 @@ bool collapse_flips_a_face(const TriangleMesh& tm, const VertexPointMap& vpm,
 /// condition holds (a tetrahedron, an isolated triangle, a kept vertex with fewer than three
 /// neighbours, an interior edge between two boundary vertices). `mark`/`stamp` are caller-owned
 /// scratch (a vertex-indexed array and a counter, used for vertices of degree > 64) so the test
-/// allocates nothing.
-template <class TriangleMesh, class VertexIndexMap, class MarkVector>
+/// allocates nothing. `on_neighbour(v)` is called for every neighbour of v0 and of v1 met while
+/// the test walks their stars (an engine uses it to prefetch their data); it must not modify the
+/// mesh.
+struct Ignore_neighbour {
+  template <class V> void operator()(const V&) const {}
+};
+template <class TriangleMesh, class VertexIndexMap, class MarkVector, class OnNeighbour = Ignore_neighbour>
 bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMap& vim,
                                      typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h,
-                                     MarkVector& mark, unsigned& stamp) {
+                                     MarkVector& mark, unsigned& stamp,
+                                     const OnNeighbour& on_neighbour = OnNeighbour()) {
   using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
   using vertex_descriptor = typename boost::graph_traits<TriangleMesh>::vertex_descriptor;
   const halfedge_descriptor o = opposite(h, tm);
@@ -94,6 +100,7 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
   bool v0_border = false, v1_border = false;
   std::size_t deg0 = 0, deg1 = 0;
   for (halfedge_descriptor hh : CGAL::halfedges_around_target(v0, tm)) {
+    on_neighbour(source(hh, tm));
     if (deg0 < local_max) ring0[deg0] = source(hh, tm);
     v0_border = v0_border || is_border(hh, tm) || is_border(opposite(hh, tm), tm);
     ++deg0;
@@ -109,6 +116,7 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
   std::size_t common = 0;
   for (halfedge_descriptor hh : CGAL::halfedges_around_target(v1, tm)) {
     const vertex_descriptor k = source(hh, tm);
+    on_neighbour(k);
     v1_border = v1_border || is_border(hh, tm) || is_border(opposite(hh, tm), tm);
     ++deg1;
     bool shared = false;
