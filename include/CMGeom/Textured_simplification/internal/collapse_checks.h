@@ -93,17 +93,38 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
       return false;
   }
 
-  // v0's neighbours go to a small local array (no random access into a vertex-indexed array:
-  // this test runs once per popped edge); vertex-indexed marks only past 64 neighbours.
+  // The neighbours of v0 and of v1 go to small local arrays (no random access into a
+  // vertex-indexed array: this test runs once per popped edge); vertex-indexed marks only past 64
+  // neighbours. The two stars are walked side by side: each step of a walk waits for the previous
+  // one's memory access, but the two walks are independent, so their cache misses overlap.
   constexpr std::size_t local_max = 64;
-  vertex_descriptor ring0[local_max];
+  vertex_descriptor ring0[local_max], ring1[local_max];
   bool v0_border = false, v1_border = false;
   std::size_t deg0 = 0, deg1 = 0;
-  for (halfedge_descriptor hh : CGAL::halfedges_around_target(v0, tm)) {
-    on_neighbour(source(hh, tm));
-    if (deg0 < local_max) ring0[deg0] = source(hh, tm);
-    v0_border = v0_border || is_border(hh, tm) || is_border(opposite(hh, tm), tm);
-    ++deg0;
+  {
+    const halfedge_descriptor s0 = halfedge(v0, tm), s1 = halfedge(v1, tm);
+    halfedge_descriptor h0 = s0, h1 = s1;
+    bool done0 = false, done1 = false;
+    while (!done0 || !done1) {
+      if (!done0) {
+        const vertex_descriptor k = source(h0, tm);
+        on_neighbour(k);
+        if (deg0 < local_max) ring0[deg0] = k;
+        v0_border = v0_border || is_border(h0, tm) || is_border(opposite(h0, tm), tm);
+        ++deg0;
+        h0 = opposite(next(h0, tm), tm);
+        done0 = h0 == s0;
+      }
+      if (!done1) {
+        const vertex_descriptor k = source(h1, tm);
+        on_neighbour(k);
+        if (deg1 < local_max) ring1[deg1] = k;
+        v1_border = v1_border || is_border(h1, tm) || is_border(opposite(h1, tm), tm);
+        ++deg1;
+        h1 = opposite(next(h1, tm), tm);
+        done1 = h1 == s1;
+      }
+    }
   }
   const bool use_marks = deg0 > local_max;
   if (use_marks) {
@@ -113,12 +134,8 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
     }
     for (halfedge_descriptor hh : CGAL::halfedges_around_target(v0, tm)) mark[get(vim, source(hh, tm))] = stamp;
   }
-  std::size_t common = 0;
-  for (halfedge_descriptor hh : CGAL::halfedges_around_target(v1, tm)) {
-    const vertex_descriptor k = source(hh, tm);
-    on_neighbour(k);
-    v1_border = v1_border || is_border(hh, tm) || is_border(opposite(hh, tm), tm);
-    ++deg1;
+  // a neighbour shared by v0 and v1 must be an apex of the edge's faces
+  auto shared_ok = [&](vertex_descriptor k, std::size_t& common) {
     bool shared = false;
     if (use_marks) {
       shared = mark[get(vim, k)] == stamp;
@@ -126,10 +143,17 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
       for (std::size_t j = 0; j < deg0; ++j)
         if (ring0[j] == k) { shared = true; break; }
     }
-    if (shared) {
-      if ((left && k == vL) || (right && k == vR)) ++common;
-      else return false;  // k, v0, v1 is not a face: collapsing would pinch the surface
-    }
+    if (!shared) return true;
+    if ((left && k == vL) || (right && k == vR)) { ++common; return true; }
+    return false;  // k, v0, v1 is not a face: collapsing would pinch the surface
+  };
+  std::size_t common = 0;
+  if (deg1 <= local_max) {
+    for (std::size_t j = 0; j < deg1; ++j)
+      if (!shared_ok(ring1[j], common)) return false;
+  } else {
+    for (halfedge_descriptor hh : CGAL::halfedges_around_target(v1, tm))
+      if (!shared_ok(source(hh, tm), common)) return false;
   }
   if (common != std::size_t(left) + std::size_t(right)) return false;
   // an interior edge joining two boundary vertices would pinch the boundary
