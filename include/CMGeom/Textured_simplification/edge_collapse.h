@@ -101,9 +101,10 @@ struct endpoint_cost<C, true> : std::integral_constant<bool, C::Cost_depends_on_
 template <class C, class P, class Profile, class = void>
 struct has_fused_cost : std::false_type {};
 template <class C, class P, class Profile>
-struct has_fused_cost<C, P, Profile,
-                      std::void_t<decltype(std::declval<const C&>().cost_at_own_placement(std::declval<const Profile&>())),
-                                  decltype(std::declval<const C&>().shares_state_with(std::declval<const P&>()))>>
+struct has_fused_cost<
+    C, P, Profile,
+    std::void_t<decltype(std::declval<const C&>().cost_at_own_placement(std::declval<const Profile&>())),
+                decltype(std::declval<const C&>().shares_state_with(std::declval<const P&>()))>>
     : std::true_type {};
 
 // A cost policy with a prefetch(vertex) hint (see Area_weighted_quadric_policies::prefetch).
@@ -250,10 +251,13 @@ private:
         break;
       }
       // the link test walks the stars of v0 and v1: it asks for the neighbours' points on the way,
-      // which the fold-over test reads next
+      // which the fold-over test reads next, and walks the stars of the edge now on top of the
+      // queue alongside (most often the next one popped; see is_collapse_topologically_valid)
+      const halfedge_descriptor next_top =
+          heap_.empty() ? GTraits::null_halfedge() : halfedge(edge_of_[heap_.top()], tm_);
       const bool ok_topo =
           internal::is_collapse_topologically_valid(tm_, vim_, p.v0_v1(), mark_, stamp_,
-                                                    [this](vertex_descriptor n) { prefetch_point(n); }) &&
+                                                    [this](vertex_descriptor n) { prefetch_point(n); }, next_top) &&
           !(has_constraints_ && is_constrained_vertex(p.v0()) && is_constrained_vertex(p.v1()));
       if (!ok_topo) {
         reject(i, p);

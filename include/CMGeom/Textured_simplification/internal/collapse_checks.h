@@ -64,7 +64,11 @@ bool collapse_flips_a_face(const TriangleMesh& tm, const VertexPointMap& vpm,
 /// scratch (a vertex-indexed array and a counter, used for vertices of degree > 64) so the test
 /// allocates nothing. `on_neighbour(v)` is called for every neighbour of v0 and of v1 met while
 /// the test walks their stars (an engine uses it to prefetch their data); it must not modify the
-/// mesh.
+/// mesh. If `warm` is not null, the stars of its endpoints are walked too, read only, alongside
+/// the test's own walks and never longer: an engine passes the edge it will most likely test
+/// next, whose halfedge records then come into the cache while this test waits for its own
+/// (walking a star is a chain of dependent memory accesses; independent chains overlap). The
+/// verdict does not depend on `warm`.
 struct Ignore_neighbour {
   template <class V> void operator()(const V&) const {}
 };
@@ -72,7 +76,9 @@ template <class TriangleMesh, class VertexIndexMap, class MarkVector, class OnNe
 bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMap& vim,
                                      typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h,
                                      MarkVector& mark, unsigned& stamp,
-                                     const OnNeighbour& on_neighbour = OnNeighbour()) {
+                                     const OnNeighbour& on_neighbour = OnNeighbour(),
+                                     typename boost::graph_traits<TriangleMesh>::halfedge_descriptor warm =
+                                         boost::graph_traits<TriangleMesh>::null_halfedge()) {
   using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
   using vertex_descriptor = typename boost::graph_traits<TriangleMesh>::vertex_descriptor;
   const halfedge_descriptor o = opposite(h, tm);
@@ -105,7 +111,20 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
     const halfedge_descriptor s0 = halfedge(v0, tm), s1 = halfedge(v1, tm);
     halfedge_descriptor h0 = s0, h1 = s1;
     bool done0 = false, done1 = false;
+    const bool warm_on = warm != boost::graph_traits<TriangleMesh>::null_halfedge();
+    const halfedge_descriptor ws0 = warm_on ? halfedge(source(warm, tm), tm) : h0;
+    const halfedge_descriptor ws1 = warm_on ? halfedge(target(warm, tm), tm) : h1;
+    halfedge_descriptor w0 = ws0, w1 = ws1;
+    bool wdone0 = !warm_on, wdone1 = !warm_on;
     while (!done0 || !done1) {
+      if (!wdone0) {
+        w0 = opposite(next(w0, tm), tm);
+        wdone0 = w0 == ws0;
+      }
+      if (!wdone1) {
+        w1 = opposite(next(w1, tm), tm);
+        wdone1 = w1 == ws1;
+      }
       if (!done0) {
         const vertex_descriptor k = source(h0, tm);
         on_neighbour(k);
