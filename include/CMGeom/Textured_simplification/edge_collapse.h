@@ -259,6 +259,14 @@ private:
           internal::is_collapse_topologically_valid(tm_, vim_, p.v0_v1(), mark_, stamp_,
                                                     [this](vertex_descriptor n) { prefetch_point(n); }, next_top) &&
           !(has_constraints_ && is_constrained_vertex(p.v0()) && is_constrained_vertex(p.v1()));
+      if (next_top != GTraits::null_halfedge()) {
+        // its halfedge records are in the cache now: ask for its endpoints' points and data
+        const vertex_descriptor a = source(next_top, tm_), b = target(next_top, tm_);
+        prefetch_point(a);
+        prefetch_point(b);
+        prefetch_vertex(a);
+        prefetch_vertex(b);
+      }
       if (!ok_topo) {
         reject(i, p);
         visitor_.OnNonCollapsable(p);
