@@ -29,9 +29,10 @@
 //
 // Data layout: one 16-byte record per edge, indexed by the edge index map: the heap slot (exact
 // cost, heap position) with the edge's flags beside it, so an evaluation touches one cache line
-// for its bookkeeping; per vertex, a counter of rejected edges around it (so re-queueing them
-// costs nothing where there are none) and a mark array used by the link condition only for
-// degrees above 64. Everything is allocated once at set-up; the collapse loop allocates nothing.
+// for its bookkeeping; per vertex, one bit "an edge around it may have been rejected" (so
+// re-queueing rejected edges costs nothing where there are none; a bit array stays in cache) and
+// a mark array used by the link condition only for degrees above 64. Everything is allocated
+// once at set-up; the collapse loop allocates nothing.
 // The queue is an indexed 8-ary heap updated in place (no stale entries, no lazy deletion).
 // After a collapse the edges around the kept vertex are re-evaluated in three passes — prefetch
 // of their records and of the policy's data of the neighbours (`prefetch(v)` when the cost policy
@@ -217,7 +218,7 @@ private:
     for (vertex_descriptor v : vertices(tm_)) max_v = (std::max)(max_v, std::size_t(get(vim_, v)) + 1);
     edge_of_.assign(max_e, edge_descriptor());
     mark_.assign(max_v, 0u);
-    rejected_around_.assign(max_v, 0u);
+    rejected_near_.assign((max_v + 63) / 64, 0u);
     heap_.reset(max_e);
     initial_edges_ = 0;
     for (edge_descriptor e : edges(tm_)) {
@@ -292,14 +293,17 @@ private:
   }
 
   /// A popped edge that cannot be collapsed now leaves the queue; it comes back when a collapse
-  /// next to it changes its neighbourhood (see update_neighbours). The per-vertex counters let
-  /// that test skip vertices with no rejected edge around them (they may over-count, never
-  /// under-count).
+  /// next to it changes its neighbourhood (see update_neighbours). The per-vertex bits let that
+  /// test skip vertices with no rejected edge around them (a bit may be set with none, never
+  /// clear with one).
   void reject(std::uint32_t i, const Profile& p) {
     flags(i) |= REJECTED;
-    ++rejected_around_[get(vim_, p.v0())];
-    ++rejected_around_[get(vim_, p.v1())];
+    set_rejected_near(std::size_t(get(vim_, p.v0())));
+    set_rejected_near(std::size_t(get(vim_, p.v1())));
   }
+  bool rejected_near(std::size_t v) const { return (rejected_near_[v >> 6] >> (v & 63)) & 1u; }
+  void set_rejected_near(std::size_t v) { rejected_near_[v >> 6] |= std::uint64_t(1) << (v & 63); }
+  void clear_rejected_near(std::size_t v) { rejected_near_[v >> 6] &= ~(std::uint64_t(1) << (v & 63)); }
 
   void kill(edge_descriptor e) {
     const std::uint32_t i = id(e);
@@ -330,7 +334,7 @@ private:
                                                 : CGAL::Euler::collapse_edge(e, tm_);
     {
       const bool kept_v0 = v_kept == p.v0();
-      rejected_around_[kept_v0 ? id0 : id1] += rejected_around_[kept_v0 ? id1 : id0];
+      if (rejected_near(kept_v0 ? id1 : id0)) set_rejected_near(kept_v0 ? id0 : id1);
     }
     put(vpm_, v_kept, placement);
     visitor_.OnCollapsed(p, v_kept);
@@ -369,13 +373,13 @@ private:
       for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) evaluate(edge(h, tm_));
     }
     // one ring farther: costs are unchanged, but edges rejected earlier may have become valid
-    rejected_around_[get(vim_, v)] = 0;
+    clear_rejected_near(std::size_t(get(vim_, v)));
     for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
-      const vertex_descriptor n = source(h, tm_);
-      unsigned& count = rejected_around_[get(vim_, n)];
-      if (count == 0) continue;
-      count = 0;
-      for (halfedge_descriptor h2 : CGAL::halfedges_around_target(n, tm_)) {
+      const std::size_t n = std::size_t(get(vim_, source(h, tm_)));
+      if (!rejected_near(n)) continue;
+      clear_rejected_near(n);
+      const vertex_descriptor vn = source(h, tm_);
+      for (halfedge_descriptor h2 : CGAL::halfedges_around_target(vn, tm_)) {
         const std::uint32_t i = id(edge(h2, tm_));
         std::uint32_t& f = flags(i);
         if ((f & (REJECTED | DEAD | CONSTRAINED)) == REJECTED) {
@@ -441,7 +445,7 @@ private:
 
   std::vector<edge_descriptor> edge_of_;
   std::vector<unsigned> mark_;
-  std::vector<unsigned> rejected_around_;
+  std::vector<std::uint64_t> rejected_near_;  // one bit per vertex, see reject()
   unsigned stamp_ = 0;
   Indexed_heap heap_;
   std::size_t initial_edges_ = 0, current_edges_ = 0;
