@@ -39,8 +39,13 @@
 //   * Plain mode merge: with w = 1 the thesis' merge would be (Q_i + Q_j) / 2, i.e. not
 //     Garland-Heckbert. Plain mode uses the sum so that it is the classic QSlim baseline.
 //
-// Storage: two dynamic vertex property maps (quadric, 80 bytes; weight, 8 bytes) created on the
-// mesh in the constructor and shared by every copy of the object (CGAL copies policies).
+// Storage: one 96-byte record per vertex (quadric, 80 bytes, and weight), in an array indexed by
+// the mesh's vertex index map (CGAL::get_initialized_vertex_index_map), created in the constructor
+// and shared by every copy of the object (CGAL copies policies). One record rather than two
+// property maps: a cost evaluation reads both values of both endpoints, and a 32-byte aligned
+// record spans exactly two cache lines; a plain array also avoids the indirections of a dynamic
+// property map on Surface_mesh. The mesh must not gain vertices between initialize() and the end
+// of the simplification (edge collapses only remove vertices).
 //
 // Complexity: initialize() O(F + V); cost and placement O(1); update_after_collapse()
 // O(deg(v_kept)) for the new normal plus one closed-form 3x3 eigen decomposition.
@@ -51,13 +56,15 @@
 #include <CMGeom/Textured_simplification/internal/Symmetric_quadric.h>
 #include <CMGeom/Textured_simplification/internal/collapse_checks.h>
 
-#include <CGAL/Dynamic_property_map.h>
 #include <CGAL/Kernel_traits.h>
 #include <CGAL/boost/graph/helpers.h>
+#include <CGAL/boost/graph/named_params_helper.h>
 #include <CGAL/boost/graph/properties.h>
 #include <CGAL/tags.h>
 
 #include <algorithm>
+#include <memory>
+#include <vector>
 
 namespace CMGeom {
 namespace Textured_simplification {
@@ -108,26 +115,41 @@ public:
   /// the edges around the kept vertex need a new cost after a collapse.
   using Cost_depends_on_endpoints_only = CGAL::Tag_true;
 
-  using Quadric_map = typename boost::property_map<TriangleMesh, CGAL::dynamic_vertex_property_t<Quadric>>::type;
-  using Weight_map = typename boost::property_map<TriangleMesh, CGAL::dynamic_vertex_property_t<double>>::type;
-
   explicit Area_weighted_quadric_policies(TriangleMesh& tm, const Quadric_options& options = Quadric_options())
-      : quadrics_(get(CGAL::dynamic_vertex_property_t<Quadric>(), tm)),
-        weights_(get(CGAL::dynamic_vertex_property_t<double>(), tm)),
-        options_(options) {}
+      : vim_(CGAL::get_initialized_vertex_index_map(tm)), data_(std::make_shared<std::vector<Record>>()),
+        options_(options) {
+    resize(tm);
+  }
 
   const Get_cost& get_cost() const { return *this; }
   const Get_placement& get_placement() const { return *this; }
   const Quadric_options& options() const { return options_; }
 
   /// Unweighted quadric and weight of a vertex (valid after initialize()).
-  const Quadric& quadric(vertex_descriptor v) const { return get(quadrics_, v); }
-  double weight(vertex_descriptor v) const { return get(weights_, v); }
+  const Quadric& quadric(vertex_descriptor v) const { return record(v).q; }
+  double weight(vertex_descriptor v) const { return record(v).w; }
+
+  /// Asks the processor to start loading v's quadric and weight (a hint for engines that know
+  /// which vertices they will evaluate next; no effect on results).
+  void prefetch(vertex_descriptor v) const {
+#if defined(__GNUC__)
+    const char* r = reinterpret_cast<const char*>(&record(v));
+    __builtin_prefetch(r);
+    __builtin_prefetch(r + sizeof(Record) - 1);
+#else
+    (void)v;
+#endif
+  }
+
+  /// True when `other` is this object or a copy of it (same vertex data and options): then its
+  /// placement is this object's, and the engine may use cost_at_own_placement().
+  bool shares_state_with(const Self& other) const { return data_ == other.data_; }
 
   /// Builds the vertex quadrics and weights. Called once by the engines before collecting edges.
   template <class VertexPointMap>
   void initialize(const TriangleMesh& tm, const VertexPointMap& vpm, const GeomTraits& = GeomTraits()) const {
-    for (vertex_descriptor v : vertices(tm)) put(quadrics_, v, Quadric());
+    resize(tm);
+    for (vertex_descriptor v : vertices(tm)) record(v) = Record();
     for (auto f : faces(tm)) {
       const halfedge_descriptor h = halfedge(f, tm);
       const vertex_descriptor va = source(h, tm), vb = target(h, tm), vc = target(next(h, tm), tm);
@@ -138,11 +160,7 @@ public:
       if (!(len > 0)) continue;  // a zero-area face defines no plane and has no area
       const internal::Vec3 n = internal::scale(n2, 1.0 / len);
       const Quadric q = Quadric::plane(n, -internal::dot(n, a), 0.5 * len);
-      for (vertex_descriptor v : {va, vb, vc}) {
-        Quadric qv = get(quadrics_, v);
-        qv += q;
-        put(quadrics_, v, qv);
-      }
+      for (vertex_descriptor v : {va, vb, vc}) record(v).q += q;
     }
     if (options_.boundary_weight > 0) {
       for (halfedge_descriptor h : halfedges(tm)) {
@@ -158,30 +176,31 @@ public:
         if (!(ml > 0)) continue;
         m = internal::scale(m, 1.0 / ml);
         const Quadric q = Quadric::plane(m, -internal::dot(m, a), options_.boundary_weight * internal::dot(e, e));
-        for (vertex_descriptor v : {va, vb}) {
-          Quadric qv = get(quadrics_, v);
-          qv += q;
-          put(quadrics_, v, qv);
-        }
+        for (vertex_descriptor v : {va, vb}) record(v).q += q;
       }
     }
-    for (vertex_descriptor v : vertices(tm)) put(weights_, v, compute_weight(tm, vpm, v, get(quadrics_, v)));
+    for (vertex_descriptor v : vertices(tm)) {
+      Record& r = record(v);
+      r.w = compute_weight(tm, vpm, v, r.q);
+    }
   }
 
   /// Merges the quadrics of the collapsed edge into `v_kept` (§3.4.2) and recomputes its weight.
   /// Called by the engines right after each collapse, `v_kept` already at its new position.
   template <class Profile>
   void update_after_collapse(const Profile& profile, vertex_descriptor v_kept) const {
-    const vertex_descriptor v0 = profile.v0(), v1 = profile.v1();
-    const double w0 = get(weights_, v0), w1 = get(weights_, v1);
+    const Record& r0 = record(profile.v0());
+    const Record& r1 = record(profile.v1());
+    const double w0 = r0.w, w1 = r1.w;
     Quadric q;
     if (options_.weighted && options_.merge == Quadric_merge::weighted_average) {
-      q = Quadric::combine(get(quadrics_, v0), w0 / (w0 + w1), get(quadrics_, v1), w1 / (w0 + w1));
+      q = Quadric::combine(r0.q, w0 / (w0 + w1), r1.q, w1 / (w0 + w1));
     } else {
-      q = Quadric::combine(get(quadrics_, v0), 1.0, get(quadrics_, v1), 1.0);
+      q = Quadric::combine(r0.q, 1.0, r1.q, 1.0);
     }
-    put(quadrics_, v_kept, q);
-    put(weights_, v_kept, compute_weight(profile.surface_mesh(), profile.vertex_point_map(), v_kept, q));
+    Record& kept = record(v_kept);
+    kept.q = q;
+    kept.w = compute_weight(profile.surface_mesh(), profile.vertex_point_map(), v_kept, q);
   }
 
   /// GetPlacement: the minimiser of w0 Q0 + w1 Q1 (singular-safe, see the file comment).
@@ -201,12 +220,37 @@ public:
     return FT((std::max)(0.0, q(internal::to_vec3(*placement))));
   }
 
+  /// Cost at this object's own placement, the edge quadric computed once: equal to
+  /// (*this)(profile, (*this)(profile)) (CMGeom's engine calls it when the cost and placement
+  /// policies share their state, see shares_state_with()).
+  template <class Profile>
+  CMGeom::internal::optional<FT> cost_at_own_placement(const Profile& profile) const {
+    const Quadric q = edge_quadric(profile.v0(), profile.v1());
+    const internal::Vec3 u = q.minimiser_on_edge(internal::to_vec3(profile.p0()), internal::to_vec3(profile.p1()));
+    return FT((std::max)(0.0, q(u)));
+  }
+
   /// The quadric whose minimum is the collapse cost of edge (v0, v1).
   Quadric edge_quadric(vertex_descriptor v0, vertex_descriptor v1) const {
-    return Quadric::combine(get(quadrics_, v0), get(weights_, v0), get(quadrics_, v1), get(weights_, v1));
+    const Record& r0 = record(v0);
+    const Record& r1 = record(v1);
+    return Quadric::combine(r0.q, r0.w, r1.q, r1.w);
   }
 
 private:
+  struct alignas(32) Record {
+    Quadric q;
+    double w = 1.0;
+  };
+  using Vertex_index_map = typename CGAL::GetInitializedVertexIndexMap<TriangleMesh>::const_type;
+
+  Record& record(vertex_descriptor v) const { return (*data_)[std::size_t(get(vim_, v))]; }
+  void resize(const TriangleMesh& tm) const {
+    std::size_t n = 0;
+    for (vertex_descriptor v : vertices(tm)) n = (std::max)(n, std::size_t(get(vim_, v)) + 1);
+    if (data_->size() < n) data_->resize(n);
+  }
+
   template <class VertexPointMap>
   double compute_weight(const TriangleMesh& tm, const VertexPointMap& vpm, vertex_descriptor v,
                         const Quadric& q) const {
@@ -225,8 +269,8 @@ private:
     return std::clamp(w, options_.min_weight, 1.0);
   }
 
-  Quadric_map quadrics_;
-  Weight_map weights_;
+  Vertex_index_map vim_;
+  std::shared_ptr<std::vector<Record>> data_;
   Quadric_options options_;
 };
 

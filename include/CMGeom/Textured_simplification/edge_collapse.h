@@ -22,12 +22,22 @@
 //     topological/geometric rejection had taken them out. Other policies get CGAL's treatment
 //     (every edge around every neighbour of the kept vertex is re-evaluated).
 //   * The profile is CMGeom's light Collapse_profile (no triangles()/link()).
+//   * A cost policy with `cost_at_own_placement(profile)` and `shares_state_with(placement)` (the
+//     quadric policies) is asked for the cost at its own placement in one call when the cost and
+//     placement objects share their state (same value as cost(profile, placement(profile)), the
+//     edge quadric formed once instead of twice).
 //
-// Data layout: one record (cost, flags) and one heap slot per edge, indexed by the edge index
-// map; per vertex, a counter of rejected edges around it (so re-queueing them costs nothing where
-// there are none) and a mark array used by the link condition only for degrees above 64.
-// Everything is allocated once at set-up; the collapse loop allocates nothing. The queue is an
-// indexed 8-ary heap updated in place (no stale entries, no lazy deletion).
+// Data layout: one 16-byte record per edge, indexed by the edge index map: the heap slot (exact
+// cost, heap position) with the edge's flags beside it, so an evaluation touches one cache line
+// for its bookkeeping; per vertex, one bit "an edge around it may have been rejected" (so
+// re-queueing rejected edges costs nothing where there are none; a bit array stays in cache) and
+// a mark array used by the link condition only for degrees above 64. Everything is allocated
+// once at set-up; the collapse loop allocates nothing.
+// The queue is an indexed 8-ary heap updated in place (no stale entries, no lazy deletion).
+// After a collapse the edges around the kept vertex are re-evaluated in three passes — prefetch
+// of their records and of the policy's data of the neighbours (`prefetch(v)` when the cost policy
+// has it), costs, then queue updates in circulation order — so that their cache misses overlap;
+// the results are those of evaluating the edges one by one (costs do not depend on the queue).
 //
 // Complexity: O(E log E) for set-up, O(d log E) per collapse (d = vertex degree), O(1) stop tests
 // with the predicates of Stop_predicates.h.
@@ -87,6 +97,24 @@ struct endpoint_cost : std::false_type {};
 template <class C>
 struct endpoint_cost<C, true> : std::integral_constant<bool, C::Cost_depends_on_endpoints_only::value> {};
 
+// A cost policy that can also compute its own placement's cost in one pass (see
+// Area_weighted_quadric_policies::cost_at_own_placement).
+template <class C, class P, class Profile, class = void>
+struct has_fused_cost : std::false_type {};
+template <class C, class P, class Profile>
+struct has_fused_cost<
+    C, P, Profile,
+    std::void_t<decltype(std::declval<const C&>().cost_at_own_placement(std::declval<const Profile&>())),
+                decltype(std::declval<const C&>().shares_state_with(std::declval<const P&>()))>>
+    : std::true_type {};
+
+// A cost policy with a prefetch(vertex) hint (see Area_weighted_quadric_policies::prefetch).
+template <class C, class V, class = void>
+struct has_prefetch : std::false_type {};
+template <class C, class V>
+struct has_prefetch<C, V, std::void_t<decltype(std::declval<const C&>().prefetch(std::declval<V>()))>>
+    : std::true_type {};
+
 template <class V, class TM, class H, class = void>
 struct has_on_flipped : std::false_type {};
 template <class V, class TM, class H>
@@ -114,7 +142,9 @@ public:
                        Visitor& visitor, bool flips)
       : tm_(tm), stop_(stop), vpm_(vpm), gt_(gt), ecm_(ecm), get_cost_(cost), get_placement_(placement),
         filter_(filter), visitor_(visitor), flips_(flips),
-        vim_(CGAL::get_initialized_vertex_index_map(tm)), eim_(CGAL::get_initialized_edge_index_map(tm)) {}
+        vim_(CGAL::get_initialized_vertex_index_map(tm)), eim_(CGAL::get_initialized_edge_index_map(tm)) {
+    if constexpr (fused_cost) fused_ = get_cost_.shares_state_with(get_placement_);
+  }
 
   int run() {
     visitor_.OnStarted(tm_);
@@ -132,23 +162,48 @@ private:
   void after_collapse(const Profile& p, vertex_descriptor v, std::true_type) { get_cost_.update_after_collapse(p, v); }
 
   std::uint32_t id(edge_descriptor e) const { return static_cast<std::uint32_t>(get(eim_, e)); }
+  std::uint32_t& flags(std::uint32_t i) { return heap_.user(i); }
 
   Profile profile_of(edge_descriptor e) const { return Profile(halfedge(e, tm_), tm_, vpm_, gt_); }
+
+  void prefetch_point(vertex_descriptor v) const {
+#if defined(__GNUC__)
+    if constexpr (std::is_lvalue_reference<decltype(get(vpm_, v))>::value) __builtin_prefetch(&get(vpm_, v));
+    else (void)v;
+#else
+    (void)v;
+#endif
+  }
+  void prefetch_vertex(vertex_descriptor v) const {
+    if constexpr (has_prefetch<GetCost, vertex_descriptor>::value) get_cost_.prefetch(v);
+    else (void)v;
+  }
+
+  /// The cost of the edge at the placement policy's placement.
+  Cost cost_of(const Profile& p) const {
+    if constexpr (fused_cost) {
+      if (fused_) return get_cost_.cost_at_own_placement(p);
+    }
+    return get_cost_(p, get_placement_(p));
+  }
 
   /// (Re)computes the cost of edge e and puts it in the queue (or takes it out if absent).
   void evaluate(edge_descriptor e) {
     const std::uint32_t i = id(e);
-    if (data_[i].flags & (DEAD | CONSTRAINED)) return;
-    const Profile p = profile_of(e);
-    const Placement pl = get_placement_(p);
-    const Cost c = get_cost_(p, pl);
-    data_[i].flags &= std::uint8_t(~REJECTED);
+    if (flags(i) & (DEAD | CONSTRAINED)) return;
+    requeue(i, cost_of(profile_of(e)));
+  }
+
+  /// Stores the new cost (or its absence) of live edge i and updates the queue.
+  void requeue(std::uint32_t i, const Cost& c) {
+    std::uint32_t& f = flags(i);
+    f &= ~std::uint32_t(REJECTED);
     if (c) {
-      data_[i].cost = CGAL::to_double(*c);
-      data_[i].flags |= HAS_COST;
-      if (!heap_.contains(i) || data_[i].cost != heap_.key(i)) heap_.set(i, data_[i].cost);
+      f |= HAS_COST;
+      const double cost = CGAL::to_double(*c);
+      if (!heap_.contains(i) || cost != heap_.key(i)) heap_.set(i, cost);
     } else {
-      data_[i].flags &= std::uint8_t(~HAS_COST);
+      f &= ~std::uint32_t(HAS_COST);
       heap_.remove(i);
     }
   }
@@ -162,20 +217,19 @@ private:
     for (edge_descriptor e : edges(tm_)) max_e = (std::max)(max_e, std::size_t(get(eim_, e)) + 1);
     for (vertex_descriptor v : vertices(tm_)) max_v = (std::max)(max_v, std::size_t(get(vim_, v)) + 1);
     edge_of_.assign(max_e, edge_descriptor());
-    data_.assign(max_e, Edge_data{0.0, 0});
     mark_.assign(max_v, 0u);
-    rejected_around_.assign(max_v, 0u);
+    rejected_near_.assign((max_v + 63) / 64, 0u);
     heap_.reset(max_e);
     initial_edges_ = 0;
     for (edge_descriptor e : edges(tm_)) {
       const std::uint32_t i = id(e);
       edge_of_[i] = e;
       ++initial_edges_;
-      if (get(ecm_, e)) { data_[i].flags |= CONSTRAINED; continue; }
+      if (get(ecm_, e)) { flags(i) |= CONSTRAINED; continue; }
       evaluate(e);
       if (std::is_same<Visitor, Edge_collapse_visitor_base>::value) continue;
       const Profile p = profile_of(e);
-      visitor_.OnCollected(p, (data_[i].flags & HAS_COST) ? Cost(FT(data_[i].cost)) : Cost());
+      visitor_.OnCollected(p, (flags(i) & HAS_COST) ? Cost(FT(heap_.key(i))) : Cost());
     }
     current_edges_ = initial_edges_;
   }
@@ -191,15 +245,29 @@ private:
       const std::uint32_t i = heap_.pop();
       const edge_descriptor e = edge_of_[i];
       const Profile p = profile_of(e);
-      const Cost c = Cost(FT(data_[i].cost));
+      const Cost c = Cost(FT(heap_.key(i)));
       visitor_.OnSelected(p, c, initial_edges_, current_edges_);
       if (stop_(*c, p, initial_edges_, current_edges_)) {
         visitor_.OnStopConditionReached(p);
         break;
       }
+      // the link test walks the stars of v0 and v1: it asks for the neighbours' points on the way,
+      // which the fold-over test reads next, and walks the stars of the edge now on top of the
+      // queue alongside (most often the next one popped; see is_collapse_topologically_valid)
+      const halfedge_descriptor next_top =
+          heap_.empty() ? GTraits::null_halfedge() : halfedge(edge_of_[heap_.top()], tm_);
       const bool ok_topo =
-          internal::is_collapse_topologically_valid(tm_, vim_, p.v0_v1(), mark_, stamp_) &&
+          internal::is_collapse_topologically_valid(tm_, vim_, p.v0_v1(), mark_, stamp_,
+                                                    [this](vertex_descriptor n) { prefetch_point(n); }, next_top) &&
           !(has_constraints_ && is_constrained_vertex(p.v0()) && is_constrained_vertex(p.v1()));
+      if (next_top != GTraits::null_halfedge()) {
+        // its halfedge records are in the cache now: ask for its endpoints' points and data
+        const vertex_descriptor a = source(next_top, tm_), b = target(next_top, tm_);
+        prefetch_point(a);
+        prefetch_point(b);
+        prefetch_vertex(a);
+        prefetch_vertex(b);
+      }
       if (!ok_topo) {
         reject(i, p);
         visitor_.OnNonCollapsable(p);
@@ -225,19 +293,22 @@ private:
   }
 
   /// A popped edge that cannot be collapsed now leaves the queue; it comes back when a collapse
-  /// next to it changes its neighbourhood (see update_neighbours). The per-vertex counters let
-  /// that test skip vertices with no rejected edge around them (they may over-count, never
-  /// under-count).
+  /// next to it changes its neighbourhood (see update_neighbours). The per-vertex bits let that
+  /// test skip vertices with no rejected edge around them (a bit may be set with none, never
+  /// clear with one).
   void reject(std::uint32_t i, const Profile& p) {
-    data_[i].flags |= REJECTED;
-    ++rejected_around_[get(vim_, p.v0())];
-    ++rejected_around_[get(vim_, p.v1())];
+    flags(i) |= REJECTED;
+    set_rejected_near(std::size_t(get(vim_, p.v0())));
+    set_rejected_near(std::size_t(get(vim_, p.v1())));
   }
+  bool rejected_near(std::size_t v) const { return (rejected_near_[v >> 6] >> (v & 63)) & 1u; }
+  void set_rejected_near(std::size_t v) { rejected_near_[v >> 6] |= std::uint64_t(1) << (v & 63); }
+  void clear_rejected_near(std::size_t v) { rejected_near_[v >> 6] &= ~(std::uint64_t(1) << (v & 63)); }
 
   void kill(edge_descriptor e) {
     const std::uint32_t i = id(e);
     heap_.remove(i);
-    data_[i].flags |= DEAD;
+    flags(i) |= DEAD;
   }
 
   void collapse(const Profile& p, const Point& placement) {
@@ -263,7 +334,7 @@ private:
                                                 : CGAL::Euler::collapse_edge(e, tm_);
     {
       const bool kept_v0 = v_kept == p.v0();
-      rejected_around_[kept_v0 ? id0 : id1] += rejected_around_[kept_v0 ? id1 : id0];
+      if (rejected_near(kept_v0 ? id1 : id0)) set_rejected_near(kept_v0 ? id0 : id1);
     }
     put(vpm_, v_kept, placement);
     visitor_.OnCollapsed(p, v_kept);
@@ -273,19 +344,47 @@ private:
   }
 
   void update_neighbours(vertex_descriptor v, std::true_type) {
-    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) evaluate(edge(h, tm_));
-    // one ring farther: costs are unchanged, but edges rejected earlier may have become valid
-    rejected_around_[get(vim_, v)] = 0;
+    // The records of the edges around v and the policy's data of v's neighbours are scattered in
+    // memory: request them all first, so that their cache misses overlap, then evaluate.
+    constexpr int ring_max = 64;
+    halfedge_descriptor ring[ring_max];
+    int n = 0;
     for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
-      const vertex_descriptor n = source(h, tm_);
-      unsigned& count = rejected_around_[get(vim_, n)];
-      if (count == 0) continue;
-      count = 0;
-      for (halfedge_descriptor h2 : CGAL::halfedges_around_target(n, tm_)) {
+      if (n < ring_max) ring[n] = h;
+      ++n;
+      heap_.prefetch(id(edge(h, tm_)));
+      prefetch_vertex(source(h, tm_));
+    }
+    if (n <= ring_max) {
+      // costs first (they do not depend on the queue), asking for each edge's heap node on the
+      // way; then the queue updates, in the same order as evaluate() would do them
+      Cost costs[ring_max];
+      std::uint32_t ids[ring_max];
+      for (int k = 0; k < n; ++k) {
+        const edge_descriptor e = edge(ring[k], tm_);
+        ids[k] = id(e);
+        if (flags(ids[k]) & (DEAD | CONSTRAINED)) continue;
+        costs[k] = cost_of(profile_of(e));
+        heap_.prefetch_node(ids[k]);
+      }
+      for (int k = 0; k < n; ++k)
+        if (!(flags(ids[k]) & (DEAD | CONSTRAINED))) requeue(ids[k], costs[k]);
+    } else {
+      for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) evaluate(edge(h, tm_));
+    }
+    // one ring farther: costs are unchanged, but edges rejected earlier may have become valid
+    clear_rejected_near(std::size_t(get(vim_, v)));
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
+      const std::size_t n = std::size_t(get(vim_, source(h, tm_)));
+      if (!rejected_near(n)) continue;
+      clear_rejected_near(n);
+      const vertex_descriptor vn = source(h, tm_);
+      for (halfedge_descriptor h2 : CGAL::halfedges_around_target(vn, tm_)) {
         const std::uint32_t i = id(edge(h2, tm_));
-        if ((data_[i].flags & (REJECTED | DEAD | CONSTRAINED)) == REJECTED) {
-          data_[i].flags &= std::uint8_t(~REJECTED);
-          if (data_[i].flags & HAS_COST) heap_.set(i, data_[i].cost);
+        std::uint32_t& f = flags(i);
+        if ((f & (REJECTED | DEAD | CONSTRAINED)) == REJECTED) {
+          f &= ~std::uint32_t(REJECTED);
+          if (f & HAS_COST) heap_.restore(i);
         }
       }
     }
@@ -312,7 +411,7 @@ private:
       const halfedge_descriptor h = buf[k];
       const edge_descriptor e = edge(h, tm_);
       const std::uint32_t i = id(e);
-      if (data_[i].flags & (DEAD | CONSTRAINED)) continue;
+      if (flags(i) & (DEAD | CONSTRAINED)) continue;
       if (!internal::should_flip(tm_, vpm_, h, get_cost_, vim_, mark_, stamp_)) continue;
       CGAL::Euler::flip_edge(h, tm_);
       if constexpr (has_on_flipped<Visitor, TM, halfedge_descriptor>::value) visitor_.OnFlipped(tm_, h);
@@ -338,18 +437,15 @@ private:
   const Filter& filter_;
   Visitor& visitor_;
   bool flips_;
+  static constexpr bool fused_cost = has_fused_cost<GetCost, GetPlacement, Profile>::value;
+  bool fused_ = false;  // the cost policy computes the placement policy's placement itself
   bool has_constraints_ = !std::is_same<ECM, CGAL::Constant_property_map<edge_descriptor, bool>>::value;
   typename CGAL::GetInitializedVertexIndexMap<TM>::const_type vim_;
   typename CGAL::GetInitializedEdgeIndexMap<TM>::const_type eim_;
 
   std::vector<edge_descriptor> edge_of_;
-  struct Edge_data {
-    double cost;
-    std::uint8_t flags;
-  };
-  std::vector<Edge_data> data_;  // cost and flags together: one memory access per edge
   std::vector<unsigned> mark_;
-  std::vector<unsigned> rejected_around_;
+  std::vector<std::uint64_t> rejected_near_;  // one bit per vertex, see reject()
   unsigned stamp_ = 0;
   Indexed_heap heap_;
   std::size_t initial_edges_ = 0, current_edges_ = 0;

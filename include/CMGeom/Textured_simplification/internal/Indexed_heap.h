@@ -4,13 +4,19 @@
 // An 8-ary min-heap of (key, id) pairs with a position table indexed by id, so that any entry can
 // be updated or removed in place in O(log n). Keys sit next to ids in the heap array (no
 // indirection while sifting) and are stored as float: a node is 8 bytes and the eight children of
-// a node share one 64-byte cache line, so a sift touches a third of the cache lines of a binary
-// heap (heap operations dominated the collapse loop in profiles). The exact double key is kept per
-// id; float rounding can only reorder keys equal to 7 significant digits. Ties are broken by id, which makes the collapse order, hence the
-// output, deterministic. All storage is allocated once by reset(); no operation allocates.
+// a node fill exactly one 64-byte cache line (the array is offset so that every group of siblings
+// starts on a line boundary), so a sift touches a third of the cache lines of a binary heap (heap
+// operations dominated the collapse loop in profiles). The exact double key is kept per id, in a
+// 16-byte slot that also holds the id's heap position and a 32-bit field owned by the caller
+// (the engine keeps its per-edge flags there: one record, one cache miss per edge); keys and that
+// field survive remove(). Float rounding can only reorder keys equal to 7 significant digits.
+// Ties are broken by id, which makes the order of pops, hence the output, deterministic (and
+// independent of the heap's internal layout: (key, id) is a strict total order). All storage is
+// allocated once by reset(); no operation allocates.
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_INDEXED_HEAP_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_INDEXED_HEAP_H
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -23,55 +29,94 @@ class Indexed_heap {
 public:
   static constexpr std::uint32_t npos = 0xffffffffu;
 
+  Indexed_heap() = default;
+  Indexed_heap(const Indexed_heap&) = delete;  // base_ points into storage_
+  Indexed_heap& operator=(const Indexed_heap&) = delete;
+
   void reset(std::size_t max_id) {
-    nodes_.clear();
-    nodes_.reserve(max_id + 4);
-    slot_.assign(max_id, Slot{0.0, npos});
+    // one spare line: base_ is placed so that &base_[1] (the root's children) is 64-byte aligned
+    storage_.assign(max_id + 16, Node{0.0f, 0});
+    const std::uintptr_t a = reinterpret_cast<std::uintptr_t>(storage_.data() + 1);
+    const std::size_t shift = ((64 - a % 64) % 64) / sizeof(Node);
+    base_ = storage_.data() + shift;
+    size_ = 0;
+    slot_.assign(max_id, Slot{0.0, npos, 0u});
   }
-  bool empty() const { return nodes_.empty(); }
-  std::size_t size() const { return nodes_.size(); }
+  bool empty() const { return size_ == 0; }
+  std::size_t size() const { return size_; }
   bool contains(std::uint32_t id) const { return slot_[id].pos != npos; }
-  /// The key of a queued id (one memory access: keys are mirrored per id).
+  /// The key of id (one memory access: keys are mirrored per id); kept after remove().
   double key(std::uint32_t id) const { return slot_[id].key; }
-  std::uint32_t top() const { return nodes_[0].id; }
-  double top_key() const { return slot_[nodes_[0].id].key; }
+  /// A 32-bit field per id for the caller's use, in the same 16-byte record as the key.
+  std::uint32_t& user(std::uint32_t id) { return slot_[id].user; }
+  std::uint32_t user(std::uint32_t id) const { return slot_[id].user; }
+  std::uint32_t top() const { return base_[0].id; }
+  double top_key() const { return slot_[base_[0].id].key; }
+  /// Hints the processor to load id's record (no effect on the heap).
+  void prefetch(std::uint32_t id) const {
+#if defined(__GNUC__)
+    __builtin_prefetch(&slot_[id]);
+#else
+    (void)id;
+#endif
+  }
+
+  /// Hints the processor to load the heap node of id, if queued (no effect on the heap).
+  void prefetch_node(std::uint32_t id) const {
+#if defined(__GNUC__)
+    const std::uint32_t p = slot_[id].pos;
+    if (p != npos) __builtin_prefetch(&base_[p]);
+#else
+    (void)id;
+#endif
+  }
 
   /// Inserts id or changes its key.
   void set(std::uint32_t id, double key) {
-    std::uint32_t p = slot_[id].pos;
-    slot_[id].key = key;
+    Slot& s = slot_[id];
+    std::uint32_t p = s.pos;
+    s.key = key;
     if (p == npos) {
-      p = static_cast<std::uint32_t>(nodes_.size());
-      nodes_.push_back({to_key(key), id});
-      slot_[id].pos = p;
+      p = static_cast<std::uint32_t>(size_++);
+      base_[p] = Node{to_key(key), id};
+      s.pos = p;
       sift_up(p);
     } else {
-      const float old = nodes_[p].key;
+      const float old = base_[p].key;
       const float k = to_key(key);
-      nodes_[p].key = k;
-      if (less(k, id, old, id)) sift_up(p); else sift_down(p);
+      if (k == old) return;  // same float key, same id: the node's place is unchanged
+      base_[p].key = k;
+      if (k < old) sift_up(p); else sift_down(p);
     }
+  }
+
+  /// Re-inserts id with its stored key (no effect if it is queued).
+  void restore(std::uint32_t id) {
+    if (slot_[id].pos == npos) set(id, slot_[id].key);
   }
 
   void remove(std::uint32_t id) {
     const std::uint32_t p = slot_[id].pos;
     if (p == npos) return;
     slot_[id].pos = npos;
-    const std::uint32_t last = static_cast<std::uint32_t>(nodes_.size() - 1);
+    const std::uint32_t last = static_cast<std::uint32_t>(--size_);
     if (p != last) {
-      nodes_[p] = nodes_[last];
-      slot_[nodes_[p].id].pos = p;
-      nodes_.pop_back();
+      base_[p] = base_[last];
+      slot_[base_[p].id].pos = p;
       sift_down(p);
       sift_up(p);
-    } else {
-      nodes_.pop_back();
     }
   }
 
   std::uint32_t pop() {
-    const std::uint32_t id = nodes_[0].id;
-    remove(id);
+    const std::uint32_t id = base_[0].id;
+    slot_[id].pos = npos;
+    const std::uint32_t last = static_cast<std::uint32_t>(--size_);
+    if (last != 0) {
+      base_[0] = base_[last];
+      slot_[base_[0].id].pos = 0;
+      sift_down(0);
+    }
     return id;
   }
 
@@ -96,44 +141,44 @@ private:
   static bool less(float ka, std::uint32_t ia, float kb, std::uint32_t ib) {
     return ka < kb || (ka == kb && ia < ib);
   }
-  bool less(std::uint32_t a, std::uint32_t b) const {
-    return less(nodes_[a].key, nodes_[a].id, nodes_[b].key, nodes_[b].id);
-  }
   void sift_up(std::uint32_t p) {
-    const Node n = nodes_[p];
+    const Node n = base_[p];
     while (p > 0) {
       const std::uint32_t parent = (p - 1) / arity;
-      if (!less(n.key, n.id, nodes_[parent].key, nodes_[parent].id)) break;
-      nodes_[p] = nodes_[parent];
-      slot_[nodes_[p].id].pos = p;
+      if (!less(n.key, n.id, base_[parent].key, base_[parent].id)) break;
+      base_[p] = base_[parent];
+      slot_[base_[p].id].pos = p;
       p = parent;
     }
-    nodes_[p] = n;
+    base_[p] = n;
     slot_[n.id].pos = p;
   }
   void sift_down(std::uint32_t p) {
-    const std::uint32_t n = static_cast<std::uint32_t>(nodes_.size());
-    const Node x = nodes_[p];
+    const std::uint32_t n = static_cast<std::uint32_t>(size_);
+    const Node x = base_[p];
     for (;;) {
       const std::uint32_t first = arity * p + 1;
       if (first >= n) break;
       std::uint32_t c = first;
       const std::uint32_t last = first + arity < n ? first + arity : n;
       for (std::uint32_t k = first + 1; k < last; ++k)
-        if (less(k, c)) c = k;
-      if (!less(nodes_[c].key, nodes_[c].id, x.key, x.id)) break;
-      nodes_[p] = nodes_[c];
-      slot_[nodes_[p].id].pos = p;
+        if (less(base_[k].key, base_[k].id, base_[c].key, base_[c].id)) c = k;
+      if (!less(base_[c].key, base_[c].id, x.key, x.id)) break;
+      base_[p] = base_[c];
+      slot_[base_[p].id].pos = p;
       p = c;
     }
-    nodes_[p] = x;
+    base_[p] = x;
     slot_[x.id].pos = p;
   }
 
-  std::vector<Node> nodes_;
+  std::vector<Node> storage_;
+  Node* base_ = nullptr;
+  std::size_t size_ = 0;
   struct Slot {
     double key;
     std::uint32_t pos;
+    std::uint32_t user;
   };
   std::vector<Slot> slot_;
 };

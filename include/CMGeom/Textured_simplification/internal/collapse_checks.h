@@ -62,11 +62,23 @@ bool collapse_flips_a_face(const TriangleMesh& tm, const VertexPointMap& vpm,
 /// condition holds (a tetrahedron, an isolated triangle, a kept vertex with fewer than three
 /// neighbours, an interior edge between two boundary vertices). `mark`/`stamp` are caller-owned
 /// scratch (a vertex-indexed array and a counter, used for vertices of degree > 64) so the test
-/// allocates nothing.
-template <class TriangleMesh, class VertexIndexMap, class MarkVector>
+/// allocates nothing. `on_neighbour(v)` is called for every neighbour of v0 and of v1 met while
+/// the test walks their stars (an engine uses it to prefetch their data); it must not modify the
+/// mesh. If `warm` is not null, the stars of its endpoints are walked too, read only, alongside
+/// the test's own walks and never longer: an engine passes the edge it will most likely test
+/// next, whose halfedge records then come into the cache while this test waits for its own
+/// (walking a star is a chain of dependent memory accesses; independent chains overlap). The
+/// verdict does not depend on `warm`.
+struct Ignore_neighbour {
+  template <class V> void operator()(const V&) const {}
+};
+template <class TriangleMesh, class VertexIndexMap, class MarkVector, class OnNeighbour = Ignore_neighbour>
 bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMap& vim,
                                      typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h,
-                                     MarkVector& mark, unsigned& stamp) {
+                                     MarkVector& mark, unsigned& stamp,
+                                     const OnNeighbour& on_neighbour = OnNeighbour(),
+                                     typename boost::graph_traits<TriangleMesh>::halfedge_descriptor warm =
+                                         boost::graph_traits<TriangleMesh>::null_halfedge()) {
   using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
   using vertex_descriptor = typename boost::graph_traits<TriangleMesh>::vertex_descriptor;
   const halfedge_descriptor o = opposite(h, tm);
@@ -87,16 +99,51 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
       return false;
   }
 
-  // v0's neighbours go to a small local array (no random access into a vertex-indexed array:
-  // this test runs once per popped edge); vertex-indexed marks only past 64 neighbours.
+  // The neighbours of v0 and of v1 go to small local arrays (no random access into a
+  // vertex-indexed array: this test runs once per popped edge); vertex-indexed marks only past 64
+  // neighbours. The two stars are walked side by side: each step of a walk waits for the previous
+  // one's memory access, but the two walks are independent, so their cache misses overlap.
   constexpr std::size_t local_max = 64;
-  vertex_descriptor ring0[local_max];
+  vertex_descriptor ring0[local_max], ring1[local_max];
   bool v0_border = false, v1_border = false;
   std::size_t deg0 = 0, deg1 = 0;
-  for (halfedge_descriptor hh : CGAL::halfedges_around_target(v0, tm)) {
-    if (deg0 < local_max) ring0[deg0] = source(hh, tm);
-    v0_border = v0_border || is_border(hh, tm) || is_border(opposite(hh, tm), tm);
-    ++deg0;
+  {
+    const halfedge_descriptor s0 = halfedge(v0, tm), s1 = halfedge(v1, tm);
+    halfedge_descriptor h0 = s0, h1 = s1;
+    bool done0 = false, done1 = false;
+    const bool warm_on = warm != boost::graph_traits<TriangleMesh>::null_halfedge();
+    const halfedge_descriptor ws0 = warm_on ? halfedge(source(warm, tm), tm) : h0;
+    const halfedge_descriptor ws1 = warm_on ? halfedge(target(warm, tm), tm) : h1;
+    halfedge_descriptor w0 = ws0, w1 = ws1;
+    bool wdone0 = !warm_on, wdone1 = !warm_on;
+    while (!done0 || !done1) {
+      if (!wdone0) {
+        w0 = opposite(next(w0, tm), tm);
+        wdone0 = w0 == ws0;
+      }
+      if (!wdone1) {
+        w1 = opposite(next(w1, tm), tm);
+        wdone1 = w1 == ws1;
+      }
+      if (!done0) {
+        const vertex_descriptor k = source(h0, tm);
+        on_neighbour(k);
+        if (deg0 < local_max) ring0[deg0] = k;
+        v0_border = v0_border || is_border(h0, tm) || is_border(opposite(h0, tm), tm);
+        ++deg0;
+        h0 = opposite(next(h0, tm), tm);
+        done0 = h0 == s0;
+      }
+      if (!done1) {
+        const vertex_descriptor k = source(h1, tm);
+        on_neighbour(k);
+        if (deg1 < local_max) ring1[deg1] = k;
+        v1_border = v1_border || is_border(h1, tm) || is_border(opposite(h1, tm), tm);
+        ++deg1;
+        h1 = opposite(next(h1, tm), tm);
+        done1 = h1 == s1;
+      }
+    }
   }
   const bool use_marks = deg0 > local_max;
   if (use_marks) {
@@ -106,11 +153,8 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
     }
     for (halfedge_descriptor hh : CGAL::halfedges_around_target(v0, tm)) mark[get(vim, source(hh, tm))] = stamp;
   }
-  std::size_t common = 0;
-  for (halfedge_descriptor hh : CGAL::halfedges_around_target(v1, tm)) {
-    const vertex_descriptor k = source(hh, tm);
-    v1_border = v1_border || is_border(hh, tm) || is_border(opposite(hh, tm), tm);
-    ++deg1;
+  // a neighbour shared by v0 and v1 must be an apex of the edge's faces
+  auto shared_ok = [&](vertex_descriptor k, std::size_t& common) {
     bool shared = false;
     if (use_marks) {
       shared = mark[get(vim, k)] == stamp;
@@ -118,10 +162,17 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
       for (std::size_t j = 0; j < deg0; ++j)
         if (ring0[j] == k) { shared = true; break; }
     }
-    if (shared) {
-      if ((left && k == vL) || (right && k == vR)) ++common;
-      else return false;  // k, v0, v1 is not a face: collapsing would pinch the surface
-    }
+    if (!shared) return true;
+    if ((left && k == vL) || (right && k == vR)) { ++common; return true; }
+    return false;  // k, v0, v1 is not a face: collapsing would pinch the surface
+  };
+  std::size_t common = 0;
+  if (deg1 <= local_max) {
+    for (std::size_t j = 0; j < deg1; ++j)
+      if (!shared_ok(ring1[j], common)) return false;
+  } else {
+    for (halfedge_descriptor hh : CGAL::halfedges_around_target(v1, tm))
+      if (!shared_ok(source(hh, tm), common)) return false;
   }
   if (common != std::size_t(left) + std::size_t(right)) return false;
   // an interior edge joining two boundary vertices would pinch the boundary
