@@ -12,6 +12,16 @@ namespace CMGeom {
 namespace Rendering {
 namespace internal {
 
+namespace {
+// A GL info log on one line (error messages are one line).
+std::string one_line(const char* log) {
+  std::string s(log);
+  for (char& ch : s)
+    if (ch == '\n') ch = ' ';
+  return s;
+}
+}  // namespace
+
 Osmesa_context::Osmesa_context(int major, int minor, const char* who) {
   // Core 3.3 is requested because llvmpipe refuses 4.6 but upgrades any lower core request to
   // 4.5; the version actually obtained is checked below.
@@ -69,9 +79,7 @@ GLuint Osmesa_context::compile(GLenum type, const char* source) {
     char log[2048] = {};
     gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
     gl.DeleteShader(s);
-    for (char& ch : log)
-      if (ch == '\n') ch = ' ';
-    throw Error(std::string("OpenGL shader compilation failed: ") + log);
+    throw Error("OpenGL shader compilation failed: " + one_line(log));
   }
   return s;
 }
@@ -97,9 +105,7 @@ GLuint Osmesa_context::program(const char* vertex_source, const char* fragment_s
     char log[2048] = {};
     gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
     gl.DeleteProgram(p);
-    for (char& ch : log)
-      if (ch == '\n') ch = ' ';
-    throw Error(std::string("OpenGL program does not link: ") + log);
+    throw Error("OpenGL program does not link: " + one_line(log));
   }
   return p;
 }
