@@ -189,8 +189,27 @@ public:
   /// Called by the engines right after each collapse, `v_kept` already at its new position.
   template <class Profile>
   void update_after_collapse(const Profile& profile, vertex_descriptor v_kept) const {
-    const Record& r0 = record(profile.v0());
-    const Record& r1 = record(profile.v1());
+    update_after_collapse(profile, v_kept, before_collapse(profile));
+  }
+
+  /// The endpoints' record indices, taken before the collapse. CMGeom's engine calls this and
+  /// then the overload below: graphs such as Polyhedron_3 with item ids free the removed vertex,
+  /// whose index lives in the vertex record. Under CGAL's engine (the overload above) the removed
+  /// vertex's index is read after the collapse: fine for Surface_mesh and for graphs whose index
+  /// map is not stored in the vertex (e.g. Polyhedron_3 without ids), not for Polyhedron_3 with
+  /// item ids.
+  struct Collapse_token {
+    std::size_t id0, id1;
+  };
+  template <class Profile>
+  Collapse_token before_collapse(const Profile& profile) const {
+    return {std::size_t(get(vim_, profile.v0())), std::size_t(get(vim_, profile.v1()))};
+  }
+
+  template <class Profile>
+  void update_after_collapse(const Profile& profile, vertex_descriptor v_kept, const Collapse_token& t) const {
+    const Record& r0 = (*data_)[t.id0];
+    const Record& r1 = (*data_)[t.id1];
     const double w0 = r0.w, w1 = r1.w;
     Quadric q;
     if (options_.weighted && options_.merge == Quadric_merge::weighted_average) {

@@ -62,6 +62,7 @@
 
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace CMGeom {
@@ -91,6 +92,14 @@ template <class C, bool = has_Update_tag<C>::value>
 struct has_update : std::false_type {};
 template <class C>
 struct has_update<C, true> : std::integral_constant<bool, C::Update_tag::value> {};
+
+// Policies that must read the endpoints' data before the collapse frees a vertex provide
+// before_collapse(profile) -> token and update_after_collapse(profile, v_kept, token).
+template <class C, class P, class = void>
+struct has_before_collapse : std::false_type {};
+template <class C, class P>
+struct has_before_collapse<C, P, std::void_t<decltype(std::declval<const C&>().before_collapse(std::declval<const P&>()))>>
+    : std::true_type {};
 
 template <class C, bool = has_Cost_depends_on_endpoints_only<C>::value>
 struct endpoint_cost : std::false_type {};
@@ -159,6 +168,14 @@ private:
   template <class B> void initialize_cost(B) {}
   void initialize_cost(std::true_type) { get_cost_.initialize(tm_, vpm_, gt_); }
   void after_collapse(const Profile&, vertex_descriptor, std::false_type) {}
+  struct No_token {};
+  No_token before_collapse(const Profile&, std::false_type) const { return {}; }
+  auto before_collapse(const Profile& p, std::true_type) const { return get_cost_.before_collapse(p); }
+  void after_collapse(const Profile& p, vertex_descriptor v, No_token) {
+    after_collapse(p, v, std::integral_constant<bool, has_update<GetCost>::value>());
+  }
+  template <class Token>
+  void after_collapse(const Profile& p, vertex_descriptor v, const Token& t) { get_cost_.update_after_collapse(p, v, t); }
   void after_collapse(const Profile& p, vertex_descriptor v, std::true_type) { get_cost_.update_after_collapse(p, v); }
 
   std::uint32_t id(edge_descriptor e) const { return static_cast<std::uint32_t>(get(eim_, e)); }
@@ -330,6 +347,8 @@ private:
     // Vertex ids are read before the collapse: graphs such as Polyhedron_3 free the removed
     // vertex, and its id lives in the vertex record.
     const std::size_t id0 = std::size_t(get(vim_, p.v0())), id1 = std::size_t(get(vim_, p.v1()));
+    auto token = before_collapse(p, std::integral_constant<bool, has_update<GetCost>::value &&
+                                                              has_before_collapse<GetCost, Profile>::value>());
     vertex_descriptor v_kept = has_constraints_ ? CGAL::Euler::collapse_edge(e, tm_, ecm_)
                                                 : CGAL::Euler::collapse_edge(e, tm_);
     {
@@ -338,7 +357,7 @@ private:
     }
     put(vpm_, v_kept, placement);
     visitor_.OnCollapsed(p, v_kept);
-    after_collapse(p, v_kept, std::integral_constant<bool, has_update<GetCost>::value>());
+    after_collapse(p, v_kept, token);
     update_neighbours(v_kept, std::integral_constant<bool, endpoint_cost<GetCost>::value>());
     if (flips_) flip_around(v_kept);
   }
