@@ -229,12 +229,11 @@ struct Osmesa_index_texture_resampler::Impl {
       const auto pm_base = std::int32_t(doubles.size()), map_base = std::int32_t(floats.size());
       for (int r = 0; r < 2; ++r) doubles.insert(doubles.end(), t.pm[r], t.pm[r] + 3);
       for (std::size_t j = 0; j < n; ++j) floats.insert(floats.end(), plan.map(k, j).begin(), plan.map(k, j).end());
-      bool drawable = true;
-      for (const auto& c : t.dst) drawable &= std::isfinite(c[0]) && std::isfinite(c[1]) && std::abs(c[0]) <= 1e7 && std::abs(c[1]) <= 1e7;
-      if (!drawable) continue;  // the CPU rasteriser skips such triangles too
+      if (!rasterizable(t.dst)) continue;  // the CPU rasteriser skips such triangles too
       for (const auto& c : t.dst) {
-        // the rasteriser's own snapping (8 sub-texel bits), exact in float below 2^15 texels
-        const float x = float(std::llround(c[0] * 256.0)) / 256.f, y = float(std::llround(c[1] * 256.0)) / 256.f;
+        // the rasteriser's own snapping, exact in float below 2^15 texels
+        constexpr float steps = float(rasterizer_subtexel_steps);
+        const float x = float(snap_to_subtexel(c[0])) / steps, y = float(snap_to_subtexel(c[1])) / steps;
         vertices.push_back(Vertex{x, y, {pm_base, bary_base, ints_base, map_base}});
         xmin = std::min(xmin, c[0]);
         ymin = std::min(ymin, c[1]);

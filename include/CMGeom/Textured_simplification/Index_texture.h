@@ -59,17 +59,30 @@ struct Texture_domain {
   UV2 to_output_uv(const UV2& uv) const { return {{(uv[0] - u0) / du, (uv[1] - v0) / dv}}; }
 };
 
+/// Sub-texel steps per texel of rasterize_triangle (8 bits, as GL rasterisers snap).
+constexpr std::int64_t rasterizer_subtexel_steps = 256;
+
+/// Whether rasterize_triangle() draws a triangle with these corners at all (finite, within
+/// 1e7 texels); a GPU backend skips the same triangles.
+inline bool rasterizable(const std::array<UV2, 3>& t) {
+  for (const UV2& c : t)
+    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || std::abs(c[0]) > 1e7 || std::abs(c[1]) > 1e7) return false;
+  return true;
+}
+
+/// A rasterizable coordinate snapped to the rasteriser's sub-texel grid, in sub-texel steps.
+inline std::int64_t snap_to_subtexel(double x) { return std::llround(x * double(rasterizer_subtexel_steps)); }
+
 /// Calls f(x, y) for every texel whose centre (x + .5, y + .5) is covered by triangle `t` (texel
 /// coordinates), with 8 sub-texel bits and the top-left rule, clipped to [0,W) x [0,H).
 template <class F>
 void rasterize_triangle(const std::array<UV2, 3>& t, int W, int H, F&& f) {
-  constexpr std::int64_t S = 256, HALF = 128;
+  constexpr std::int64_t S = rasterizer_subtexel_steps, HALF = S / 2;
+  if (!rasterizable(t)) return;
   std::int64_t X[3], Y[3];
   for (int i = 0; i < 3; ++i) {
-    if (!std::isfinite(t[i][0]) || !std::isfinite(t[i][1]) || std::abs(t[i][0]) > 1e7 || std::abs(t[i][1]) > 1e7)
-      return;
-    X[i] = std::llround(t[i][0] * S);
-    Y[i] = std::llround(t[i][1] * S);
+    X[i] = snap_to_subtexel(t[i][0]);
+    Y[i] = snap_to_subtexel(t[i][1]);
   }
   const std::int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]);
   if (area == 0) return;
@@ -227,7 +240,6 @@ struct Resampling_plan {
   struct New_triangle {
     std::array<UV2, 3> dst;  ///< texel coordinates
     double pm[2][3];         ///< texel of t̄' -> π
-    std::size_t star;        ///< index of this triangle in the record's star
   };
   Rect rects[2]{};
   std::vector<Old_triangle> old;
@@ -306,7 +318,6 @@ struct Resampling_plan {
         dproj[c] = proj(np[c]);
       }
       if (!affine_map(t.dst, dproj, t.pm)) continue;
-      t.star = k;
       added.push_back(t);
       for (std::size_t j = 0; j < n; ++j) {
         std::array<float, 6> m{};
