@@ -257,6 +257,45 @@ public:
     return r;
   }
 
+  // Phi along N at the interior grid points (i, j), i = 1 .. n-1-j, of row j of face f on the
+  // regular grid of step 1/n, written to pts[i - 1] and nrm[i - 1]: interior() with the corner
+  // frames, surfaces and local corner coordinates read once per row and the blend inlined (the
+  // kernel of regular reconstruction). The points are bit-identical to interior()'s; the normals
+  // may differ in the last bits (each corner normal is weighted as w / |g| in one step).
+  void along_normal_row(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts, Vec3* nrm) const {
+    const Local_frame* fr[3] = {&topo_.frames[3 * f], &topo_.frames[3 * f + 1], &topo_.frames[3 * f + 2]};
+    const Local_surface* sf[3] = {&m_.surfaces[m_.faces[f][0].surface], &m_.surfaces[m_.faces[f][1].surface],
+                                  &m_.surfaces[m_.faces[f][2].surface]};
+    const std::array<Vec3, 3>* L[3] = {&topo_.corner_local[3 * f], &topo_.corner_local[3 * f + 1],
+                                       &topo_.corner_local[3 * f + 2]};
+    const double step = 1. / double(n);  // n is a power of two: k * step == k / n exactly
+    const double a2 = double(j) * step;
+    for (std::size_t i = 1; i + j < n; ++i) {
+      const double a1 = double(i) * step, a0 = double(n - i - j) * step;
+      const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
+      const double inv = 1. / (w[0] + w[1] + w[2]);
+      Vec3 p, q;
+      for (int c = 0; c < 3; ++c) {
+        const auto& Lc = *L[c];
+        const double x = a0 * Lc[0].x + a1 * Lc[1].x + a2 * Lc[2].x;
+        const double y = a0 * Lc[0].y + a1 * Lc[1].y + a2 * Lc[2].y;
+        double d[5];
+        const double h = traits_.height(*sf[c], x, y, d);
+        const Local_frame& F = *fr[c];
+        p += (w[c] * inv) * F.to_world(x, y, h);
+        // the corner's unit normal, scaled by its weight with one square root and one division
+        const Vec3 g = F.N - d[0] * F.U - d[1] * F.V;
+        const double g2 = squared_length(g);
+        if (std::isfinite(g2) && g2 > 0.)
+          q += (w[c] / std::sqrt(g2)) * g;
+        else
+          q += w[c] * F.N;
+      }
+      pts[i - 1] = p;
+      nrm[i - 1] = normalized(q);
+    }
+  }
+
   // Phi at barycentric (a0, a1, a2) of face f (a point not on a base edge, or on a smooth one).
   Sample interior(std::uint32_t f, double a0, double a1, double a2) const {
     const auto& F = m_.faces[f];
@@ -367,6 +406,16 @@ private:
   const std::vector<Vertex_affine_map>* maps_;
 };
 
+// body(begin, end) over consecutive blocks of [0, n): per-block scratch memory lives in the body.
+template <class Body>
+void for_blocks(std::size_t n, bool parallel, const Body& body) {
+  if (parallel)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+  else
+    body(std::size_t(0), n);
+}
+
 template <class Body>
 void for_range(std::size_t n, bool parallel, const Body& body) {
   if (parallel) {
@@ -424,50 +473,73 @@ void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
       r.normals[edge_base + e * per_edge + k - 1] = s.normal;
     }
   });
-  internal::for_range(F, opt.parallel, [&](std::size_t f) {
-    const auto& Fc = m.faces[f];
-    // Output index of grid point (i, j): corner 0 at (0,0), corner 1 at (n,0), corner 2 at (0,n).
-    auto on_side = [&](int side, std::size_t k_from_start) -> std::uint32_t {
-      const auto& e = topo.edges[topo.face_edges[f][side]];
-      const std::size_t k = (Fc[side].vertex == e.a) ? k_from_start : n - k_from_start;
-      return std::uint32_t(edge_base + topo.face_edges[f][side] * per_edge + k - 1);
-    };
-    auto index = [&](std::size_t i, std::size_t j) -> std::uint32_t {
-      if (i == 0 && j == 0) return Fc[0].vertex;
-      if (i == n && j == 0) return Fc[1].vertex;
-      if (i == 0 && j == n) return Fc[2].vertex;
-      if (j == 0) return on_side(0, i);
-      if (i + j == n) return on_side(1, j);
-      if (i == 0) return on_side(2, n - j);
-      // interior, rows j = 1..n-2, i = 1..n-1-j
-      const std::size_t before = (j - 1) * (n - 2) - (j - 1) * (j - 2) / 2;
-      return std::uint32_t(face_base + f * per_face + before + (i - 1));
-    };
-    for (std::size_t j = 1; j + 1 < n; ++j)
-      for (std::size_t i = 1; i + j < n; ++i) {
-        const double a1 = double(i) / double(n), a2 = double(j) / double(n), a0 = double(n - i - j) / double(n);
-        const Sample s = ev.interior(std::uint32_t(f), a0, a1, a2);
-        const std::uint32_t id = index(i, j);
-        r.points[id] = s.point;
-        r.normals[id] = s.normal;
+  const bool along_n_rows = opt.projection == Projection::along_normal && opt.vertex_maps == nullptr;
+  internal::for_blocks(F, opt.parallel, [&](std::size_t f_begin, std::size_t f_end) {
+    std::vector<std::uint32_t> grid((n + 1) * (n + 2) / 2);
+    std::vector<std::array<float, 2>> grid_uv(m.has_uvs() ? grid.size() : 0);
+    for (std::size_t f = f_begin; f != f_end; ++f) {
+      const auto& Fc = m.faces[f];
+      // Output index of grid point (i, j): corner 0 at (0,0), corner 1 at (n,0), corner 2 at (0,n).
+      auto on_side = [&](int side, std::size_t k_from_start) -> std::uint32_t {
+        const auto& e = topo.edges[topo.face_edges[f][side]];
+        const std::size_t k = (Fc[side].vertex == e.a) ? k_from_start : n - k_from_start;
+        return std::uint32_t(edge_base + topo.face_edges[f][side] * per_edge + k - 1);
+      };
+      auto index = [&](std::size_t i, std::size_t j) -> std::uint32_t {
+        if (i == 0 && j == 0) return Fc[0].vertex;
+        if (i == n && j == 0) return Fc[1].vertex;
+        if (i == 0 && j == n) return Fc[2].vertex;
+        if (j == 0) return on_side(0, i);
+        if (i + j == n) return on_side(1, j);
+        if (i == 0) return on_side(2, n - j);
+        // interior, rows j = 1..n-2, i = 1..n-1-j
+        const std::size_t before = (j - 1) * (n - 2) - (j - 1) * (j - 2) / 2;
+        return std::uint32_t(face_base + f * per_face + before + (i - 1));
+      };
+      // Interior points, row by row; their ids in a row are consecutive (see index()).
+      for (std::size_t j = 1; j + 1 < n; ++j) {
+        const std::uint32_t id = index(1, j);
+        if (along_n_rows) {
+          ev.along_normal_row(std::uint32_t(f), j, n, &r.points[id], &r.normals[id]);
+          continue;
+        }
+        for (std::size_t i = 1; i + j < n; ++i) {
+          const double a1 = double(i) / double(n), a2 = double(j) / double(n), a0 = double(n - i - j) / double(n);
+          const Sample s = ev.interior(std::uint32_t(f), a0, a1, a2);
+          r.points[id + i - 1] = s.point;
+          r.normals[id + i - 1] = s.normal;
+        }
       }
-    std::size_t t = f * n * n;
-    auto emit = [&](std::size_t i0, std::size_t j0, std::size_t i1, std::size_t j1, std::size_t i2, std::size_t j2) {
-      r.triangles[t] = {index(i0, j0), index(i1, j1), index(i2, j2)};
-      r.base_face[t] = std::uint32_t(f);
+      // The output id (and texture coordinates) of every grid point, computed once, then the
+      // triangles: grid point (i, j) is entry row(j) + i.
+      auto row = [n](std::size_t j) { return j * (n + 1) - j * (j - 1) / 2; };
+      for (std::size_t j = 0; j <= n; ++j)
+        for (std::size_t i = 0; i + j <= n; ++i) grid[row(j) + i] = index(i, j);
       if (m.has_uvs()) {
-        const std::size_t ij[3][2] = {{i0, j0}, {i1, j1}, {i2, j2}};
-        for (int c = 0; c < 3; ++c)
-          r.corner_uvs[3 * t + c] = internal::interpolate_uv(m.uvs[f], double(n - ij[c][0] - ij[c][1]) / double(n),
-                                                              double(ij[c][0]) / double(n), double(ij[c][1]) / double(n));
+        for (std::size_t j = 0; j <= n; ++j)
+          for (std::size_t i = 0; i + j <= n; ++i)
+            grid_uv[row(j) + i] = internal::interpolate_uv(m.uvs[f], double(n - i - j) / double(n), double(i) / double(n),
+                                                           double(j) / double(n));
       }
-      ++t;
-    };
-    for (std::size_t j = 0; j < n; ++j)
-      for (std::size_t i = 0; i + j < n; ++i) {
-        emit(i, j, i + 1, j, i, j + 1);
-        if (i + j + 2 <= n) emit(i + 1, j, i + 1, j + 1, i, j + 1);
+      std::size_t t = f * n * n;
+      auto emit = [&](std::size_t g0, std::size_t g1, std::size_t g2) {
+        r.triangles[t] = {grid[g0], grid[g1], grid[g2]};
+        r.base_face[t] = std::uint32_t(f);
+        if (m.has_uvs()) {
+          r.corner_uvs[3 * t] = grid_uv[g0];
+          r.corner_uvs[3 * t + 1] = grid_uv[g1];
+          r.corner_uvs[3 * t + 2] = grid_uv[g2];
+        }
+        ++t;
+      };
+      for (std::size_t j = 0; j < n; ++j) {
+        const std::size_t r0 = row(j), r1 = row(j + 1);
+        for (std::size_t i = 0; i + j < n; ++i) {
+          emit(r0 + i, r0 + i + 1, r1 + i);                          // (i,j) (i+1,j) (i,j+1)
+          if (i + j + 2 <= n) emit(r0 + i + 1, r1 + i + 1, r1 + i);  // (i+1,j) (i+1,j+1) (i,j+1)
+        }
       }
+    }
   });
 }
 
