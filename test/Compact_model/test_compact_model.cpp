@@ -414,6 +414,18 @@ TEST(CompactModelReconstruction, ParallelEqualsSerial) {
   EXPECT_TRUE(same(reconstruct_regular(m, 2, par), reconstruct_regular(m, 2, ser)));
 }
 
+// Along N, regular reconstruction evaluates interior points row by row, while a reconstruction
+// with vertex maps goes point by point through interior(); with identity maps both must give the
+// same bits (points and normals).
+TEST(CompactModelReconstruction, IdentityVertexMapsAlongNormalGiveThePlainReconstruction) {
+  const Compact_model& m = sphere_model();
+  const std::vector<CMGeom::CM::Vertex_affine_map> maps(m.vertices.size());
+  Reconstruction_options plain, mapped;
+  plain.projection = mapped.projection = Projection::along_normal;
+  mapped.vertex_maps = &maps;
+  for (int level : {2, 4}) EXPECT_TRUE(same(reconstruct_regular(m, level, plain), reconstruct_regular(m, level, mapped)));
+}
+
 TEST(CompactModelReconstruction, ReusedBufferGivesTheFreshResult) {
   const Compact_model& m = sphere_model();
   Compact_model textured = m;

@@ -49,6 +49,7 @@
 #include <CMGeom/Compact_model/Compact_model.h>
 #include <CMGeom/Compact_model/local_surface_projection.h>
 #include <CMGeom/Error.h>
+#include <CMGeom/config.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -257,11 +258,31 @@ public:
     return r;
   }
 
+  // One corner's term of the blend along N at barycentric (a0, a1, a2): adds (w / sum) times the
+  // corner surface's point to p (inv = 1 / sum) and w times its unit normal to q. The point comes
+  // from the corner frame's images L of the base triangle; the normal is weighted as w / |g| in
+  // one step (one square root, one division). interior() and along_normal_row() both use it, so
+  // regular, adaptive and (identity-)mapped reconstructions along N agree bit for bit.
+  CMGEOM_ALWAYS_INLINE void add_along_normal(const Local_frame& fr, const Local_surface& s,
+                                             const std::array<Vec3, 3>& L, double a0, double a1, double a2,
+                                             double w, double inv, Vec3& p, Vec3& q) const {
+    const double x = a0 * L[0].x + a1 * L[1].x + a2 * L[2].x;
+    const double y = a0 * L[0].y + a1 * L[1].y + a2 * L[2].y;
+    double d[5];
+    const double h = traits_.height(s, x, y, d);
+    p += (w * inv) * fr.to_world(x, y, h);
+    const Vec3 g = fr.N - d[0] * fr.U - d[1] * fr.V;
+    const double g2 = squared_length(g);
+    if (std::isfinite(g2) && g2 > 0.)
+      q += (w / std::sqrt(g2)) * g;
+    else
+      q += w * fr.N;
+  }
+
   // Phi along N at the interior grid points (i, j), i = 1 .. n-1-j, of row j of face f on the
   // regular grid of step 1/n, written to pts[i - 1] and nrm[i - 1]: interior() with the corner
-  // frames, surfaces and local corner coordinates read once per row and the blend inlined (the
-  // kernel of regular reconstruction). The points are bit-identical to interior()'s; the normals
-  // may differ in the last bits (each corner normal is weighted as w / |g| in one step).
+  // frames, surfaces and local corner coordinates read once per row (the kernel of regular
+  // reconstruction); the results are bit-identical to interior()'s.
   void along_normal_row(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts, Vec3* nrm) const {
     const Local_frame* fr[3] = {&topo_.frames[3 * f], &topo_.frames[3 * f + 1], &topo_.frames[3 * f + 2]};
     const Local_surface* sf[3] = {&m_.surfaces[m_.faces[f][0].surface], &m_.surfaces[m_.faces[f][1].surface],
@@ -275,22 +296,7 @@ public:
       const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
       const double inv = 1. / (w[0] + w[1] + w[2]);
       Vec3 p, q;
-      for (int c = 0; c < 3; ++c) {
-        const auto& Lc = *L[c];
-        const double x = a0 * Lc[0].x + a1 * Lc[1].x + a2 * Lc[2].x;
-        const double y = a0 * Lc[0].y + a1 * Lc[1].y + a2 * Lc[2].y;
-        double d[5];
-        const double h = traits_.height(*sf[c], x, y, d);
-        const Local_frame& F = *fr[c];
-        p += (w[c] * inv) * F.to_world(x, y, h);
-        // the corner's unit normal, scaled by its weight with one square root and one division
-        const Vec3 g = F.N - d[0] * F.U - d[1] * F.V;
-        const double g2 = squared_length(g);
-        if (std::isfinite(g2) && g2 > 0.)
-          q += (w[c] / std::sqrt(g2)) * g;
-        else
-          q += w[c] * F.N;
-      }
+      for (int c = 0; c < 3; ++c) add_along_normal(*fr[c], *sf[c], *L[c], a0, a1, a2, w[c], inv, p, q);
       pts[i - 1] = p;
       nrm[i - 1] = normalized(q);
     }
@@ -305,14 +311,10 @@ public:
     if (proj_ == Projection::along_normal) {
       // The normal is normalised at the end, so it is blended with w[c] (no division by sum).
       const double inv = 1. / sum;
-      for (int c = 0; c < 3; ++c) {
-        if (w[c] == 0.) continue;
-        const auto& L = topo_.corner_local[3 * f + c];
-        const Sample s = along_normal_local(f, c, a0 * L[0].x + a1 * L[1].x + a2 * L[2].x,
-                                            a0 * L[0].y + a1 * L[1].y + a2 * L[2].y);
-        r.point += (w[c] * inv) * s.point;
-        r.normal += w[c] * s.normal;
-      }
+      for (int c = 0; c < 3; ++c)
+        if (w[c] != 0.)
+          add_along_normal(topo_.frames[3 * f + c], m_.surfaces[F[c].surface], topo_.corner_local[3 * f + c], a0, a1,
+                           a2, w[c], inv, r.point, r.normal);
     } else {
       const Vec3 p = a0 * m_.vertices[F[0].vertex] + a1 * m_.vertices[F[1].vertex] + a2 * m_.vertices[F[2].vertex];
       for (int c = 0; c < 3; ++c) {
