@@ -82,6 +82,7 @@ TEST(cmgeom_cli, PipelineCommandsAreDeterministic) {
       {"error", "error {in} {dir}/w.obj --field {dir}/field.txt --json", {"field.txt"}},
       {"render", "render {dir}/w.obj -o {dir}/w.png --size 256x256 --wireframe", {"w.png"}},
       {"cm build", "cm build {in} -o {dir}/spot.cm --ratio 0.1", {"spot.cm"}},
+      {"cm build joint", "cm build {in} -o {dir}/spot_joint.cm --ratio 0.1 --joint-fit", {"spot_joint.cm"}},
       {"cm reconstruct", "cm reconstruct {dir}/spot.cm -o {dir}/cm.ply --level 2", {"cm.ply"}},
       {"deform mean value", "deform {in} --cages '" + cages + "/mean_value.json' -o {dir}/mv.ply", {"mv.ply"}},
       {"deform green", "deform {in} --cages '" + cages + "/green.json' -o {dir}/g.ply", {"g.ply"}},

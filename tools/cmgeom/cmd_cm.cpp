@@ -1,5 +1,5 @@
 // cmgeom cm build <in> -o <model.cm> (--faces N | --ratio r) [--sharp-angle deg] [--cubic]
-//                 [--error-bound x] [--json]
+//                 [--joint-fit] [--error-bound x] [--json]
 // cmgeom cm reconstruct <model.cm> -o <out> [--level L | --edge-length x | --roi x,y,z,r |
 //                       --silhouette x,y,z] [--max-level L] [--projection normal|closest] [--json]
 // cmgeom cm deform <model.cm> (--cages <system.json> | --affine a11,...,a34) -o <out>
@@ -61,7 +61,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     std::string input, output;
     std::size_t faces = 0;
     double ratio = 0, sharp_angle = 40, error_bound = 0;
-    bool cubic = false, json = false;
+    bool cubic = false, joint_fit = false, json = false;
   };
   auto b = std::make_shared<Build_args>();
   CLI::App* build = app.add_subcommand("build", "Build the Compact Model of a triangle mesh (thesis 4.3-4.4)");
@@ -75,6 +75,9 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
   build->add_option("--error-bound", b->error_bound,
                     "Error control (thesis 4.5.3): absolute distance bound, 0 = off (default)");
   build->add_flag("--cubic", b->cubic, "Cubic local surfaces instead of the thesis' quadrics");
+  build->add_flag("--joint-fit", b->joint_fit,
+                  "Refit all local surfaces together so that their blend follows the input (CMGeom addition; "
+                  "default: the thesis' independent fits)");
   build->add_flag("--json", b->json, "Print a JSON report on stdout");
 
   // ------------------------------------------------------------------ cm reconstruct
@@ -265,6 +268,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       CM::Build_options opt;
       opt.sharp_angle = b->sharp_angle;
       opt.error_bound = b->error_bound;
+      opt.joint_fit = b->joint_fit;
       CM::Build_statistics st;
       const double t0 = cmgeom_cli::now_seconds();
       const CM::Compact_model model =
@@ -285,6 +289,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
         j["dart_promotions"] = st.dart_promotions;
         j["cone_vertices"] = st.cone_vertices;
         j["error_control_points"] = st.error_control_points;
+        j["joint_fit"] = st.joint_fit;
         j["bytes"] = bytes;
         j["seconds"] = seconds;
         cmgeom_cli::print_json(j);
