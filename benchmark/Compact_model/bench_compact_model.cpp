@@ -3,7 +3,9 @@
 // along N and closest point), Metro error (Hausdorff and RMS, % of the bounding-box diagonal)
 // against the original; side by side with the plain simplified mesh of equal storage in bytes
 // (float32 coordinates + uint32 indices, 12 V + 12 F bytes) and with PN triangles (Vlachos et al.
-// 2001) on the same base, same level. Prints a Markdown table. Never run by CTest.
+// 2001) on the same base, same level. Each model is built twice: with the thesis' independent
+// local fits (fit `thesis`) and with CMGeom's joint refit (fit `joint`, Build_options::joint_fit).
+// Prints a Markdown table. Never run by CTest.
 //
 // Usage: bench_compact_model [data_dir] [model:faces ...]   (default: the six models below)
 // Environment: CMGEOM_CM_CONE_RATIO overrides Build_options::cone_error_ratio.
@@ -157,10 +159,10 @@ int main(int argc, char** argv) {
   const std::string tmp = (std::filesystem::temp_directory_path() / "cmgeom_bench_cm").string();
   std::filesystem::create_directories(tmp);
   std::printf("Threads: %d (TBB default concurrency)\n\n", tbb::info::default_concurrency());
-  std::printf("| model | input V/F | base V/F | sharp | cones | build s | CM bytes | level | rec s (normal) | Mvert/s (normal) | "
+  std::printf("| model | fit | input V/F | base V/F | sharp | cones | build s | CM bytes | level | rec s (normal) | Mvert/s (normal) | "
               "rec s (closest) | out V | CM Hausdorff %% | CM RMS %% | PN Hausdorff %% | PN RMS %% | plain F (equal bytes) | "
               "plain Hausdorff %% | plain RMS %% |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Model& md : models) {
     std::string path = data + "/" + md.file;
     if (!std::filesystem::exists(path)) {
@@ -172,51 +174,54 @@ int main(int argc, char** argv) {
     CMGeom::Textured_mesh tm;
     CMGeom::IO::read_mesh(path, tm);
     const CMGeom::Surface_mesh& mesh = tm.mesh();
-    CM::Build_statistics st;
-    auto t0 = Clock::now();
-    CM::Build_options bo;
-    if (const char* r = std::getenv("CMGEOM_CM_CONE_RATIO")) bo.cone_error_ratio = std::atof(r);
-    const CM::Compact_model model = CM::build_compact_model(mesh, md.base_faces, bo,
-                                                            CM::Quadric_surface_traits(), CM::Weighted_quadric_simplifier(), &st);
-    const double build_s = seconds_since(t0);
-    const std::size_t bytes = CM::cm_bytes(model).size();
-    // Plain mesh of equal bytes: 12 V + 12 F with F ~ 2 V on closed meshes -> F = bytes / 18.
-    const std::size_t plain_faces = std::max<std::size_t>(4, bytes / 18);
-    CMGeom::Surface_mesh plain = mesh;
-    {
-      namespace TS = CMGeom::Textured_simplification;
-      TS::Area_weighted_quadric_policies<CMGeom::Surface_mesh> policy(plain);
-      TS::Face_count_stop_predicate<CMGeom::Surface_mesh> stop(plain, plain_faces);
-      TS::edge_collapse(plain, stop, CGAL::parameters::get_cost(policy).get_placement(policy));
-      plain.collect_garbage();
-    }
-    const auto plain_err = metro(mesh, plain);
-    const std::string name = std::filesystem::path(md.file).filename().string();
-    for (int level = 1; level <= 3; ++level) {
-      CM::Reconstruction_options ro;
-      ro.projection = CM::Projection::along_normal;
-      // Best of 3 runs for the timings (the machine is shared).
-      double tn = 1e9, tc = 1e9;
-      CM::Reconstruction rn, rc;
-      for (int rep = 0; rep < 3; ++rep) {
-        t0 = Clock::now();
-        rn = CM::reconstruct_regular(model, level, ro);
-        tn = std::min(tn, seconds_since(t0));
+    for (const bool joint : {false, true}) {
+      CM::Build_statistics st;
+      auto t0 = Clock::now();
+      CM::Build_options bo;
+      bo.joint_fit = joint;
+      if (const char* r = std::getenv("CMGEOM_CM_CONE_RATIO")) bo.cone_error_ratio = std::atof(r);
+      const CM::Compact_model model = CM::build_compact_model(mesh, md.base_faces, bo,
+                                                              CM::Quadric_surface_traits(), CM::Weighted_quadric_simplifier(), &st);
+      const double build_s = seconds_since(t0);
+      const std::size_t bytes = CM::cm_bytes(model).size();
+      // Plain mesh of equal bytes: 12 V + 12 F with F ~ 2 V on closed meshes -> F = bytes / 18.
+      const std::size_t plain_faces = std::max<std::size_t>(4, bytes / 18);
+      CMGeom::Surface_mesh plain = mesh;
+      {
+        namespace TS = CMGeom::Textured_simplification;
+        TS::Area_weighted_quadric_policies<CMGeom::Surface_mesh> policy(plain);
+        TS::Face_count_stop_predicate<CMGeom::Surface_mesh> stop(plain, plain_faces);
+        TS::edge_collapse(plain, stop, CGAL::parameters::get_cost(policy).get_placement(policy));
+        plain.collect_garbage();
       }
-      ro.projection = CM::Projection::closest_point;
-      for (int rep = 0; rep < 3; ++rep) {
-        t0 = Clock::now();
-        rc = CM::reconstruct_regular(model, level, ro);
-        tc = std::min(tc, seconds_since(t0));
+      const auto plain_err = metro(mesh, plain);
+      const std::string name = std::filesystem::path(md.file).filename().string();
+      for (int level = 1; level <= 3; ++level) {
+        CM::Reconstruction_options ro;
+        ro.projection = CM::Projection::along_normal;
+        // Best of 3 runs for the timings (the machine is shared).
+        double tn = 1e9, tc = 1e9;
+        CM::Reconstruction rn, rc;
+        for (int rep = 0; rep < 3; ++rep) {
+          t0 = Clock::now();
+          rn = CM::reconstruct_regular(model, level, ro);
+          tn = std::min(tn, seconds_since(t0));
+        }
+        ro.projection = CM::Projection::closest_point;
+        for (int rep = 0; rep < 3; ++rep) {
+          t0 = Clock::now();
+          rc = CM::reconstruct_regular(model, level, ro);
+          tc = std::min(tc, seconds_since(t0));
+        }
+        const auto err = metro(mesh, CM::to_surface_mesh(rc));
+        const auto pn = metro(mesh, pn_triangles(model, level));
+        std::printf("| %s | %s | %zu/%zu | %zu/%zu | %zu | %zu | %.2f | %zu | %d | %.4f | %.1f | %.4f | %zu | %.3f | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n",
+                    name.c_str(), joint ? "joint" : "thesis", mesh.number_of_vertices(), mesh.number_of_faces(), st.base_vertices, st.base_faces,
+                    st.sharp_edges, st.cone_vertices, build_s, bytes, level, tn, double(rn.points.size()) / tn / 1e6, tc,
+                    rc.points.size(), 100 * err.hausdorff, 100 * err.rms, 100 * pn.hausdorff, 100 * pn.rms,
+                    plain.number_of_faces(), 100 * plain_err.hausdorff, 100 * plain_err.rms);
+        std::fflush(stdout);
       }
-      const auto err = metro(mesh, CM::to_surface_mesh(rc));
-      const auto pn = metro(mesh, pn_triangles(model, level));
-      std::printf("| %s | %zu/%zu | %zu/%zu | %zu | %zu | %.2f | %zu | %d | %.4f | %.1f | %.4f | %zu | %.3f | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n",
-                  name.c_str(), mesh.number_of_vertices(), mesh.number_of_faces(), st.base_vertices, st.base_faces,
-                  st.sharp_edges, st.cone_vertices, build_s, bytes, level, tn, double(rn.points.size()) / tn / 1e6, tc,
-                  rc.points.size(), 100 * err.hausdorff, 100 * err.rms, 100 * pn.hausdorff, 100 * pn.rms,
-                  plain.number_of_faces(), 100 * plain_err.hausdorff, 100 * plain_err.rms);
-      std::fflush(stdout);
     }
   }
   return 0;
