@@ -14,8 +14,15 @@ mkdir -p "$OUT"
 "$B" cm build "$D/fandisk.obj" -o "$T/fandisk.cm" --faces 250 --json > "$OUT/fandisk_build.json"
 "$B" cm reconstruct "$T/fandisk.cm" -o "$T/fandisk_l3.off" --level 3 --json > "$OUT/fandisk_l3.json"
 "$B" error "$D/fandisk.obj" "$T/fandisk_l3.off" --field "$T/fandisk_err.ply" --json > "$OUT/fandisk_l3_error.json"
-"$B" render "$T/fandisk_l3.off" -o "$OUT/fandisk_l3_error.png" --field "$T/fandisk_err.ply" \
+"$B" render "$T/fandisk_l3.off" -o "$OUT/fandisk_l3_error.png" --field "$T/fandisk_err.ply" --range 0,0.065 \
   --views "iso;back" --size 480x480 --caption "level 3"
+# The same base with the joint refit (--joint-fit), same colour range.
+"$B" cm build "$D/fandisk.obj" -o "$T/fandisk_joint.cm" --faces 250 --joint-fit --json > "$OUT/fandisk_joint_build.json"
+"$B" cm reconstruct "$T/fandisk_joint.cm" -o "$T/fandisk_joint_l3.off" --level 3 --json > "$OUT/fandisk_joint_l3.json"
+"$B" error "$D/fandisk.obj" "$T/fandisk_joint_l3.off" --field "$T/fandisk_joint_err.ply" --json \
+  > "$OUT/fandisk_joint_l3_error.json"
+"$B" render "$T/fandisk_joint_l3.off" -o "$OUT/fandisk_joint_l3_error.png" --field "$T/fandisk_joint_err.ply" \
+  --range 0,0.065 --views "iso;back" --size 480x480 --caption "level 3, joint refit"
 
 # Max Planck (thesis Fig. 4.9): regular level 2 and the three adaptive criteria.
 "$B" cm build "$D/decimated-max.obj" -o "$T/max.cm" --faces 1000 --json > "$OUT/max_build.json"
