@@ -37,11 +37,13 @@
 //      refit chooses all smooth-model and tangent-plane coefficients together so that the blend
 //      along N passes through the input: each input sample q (vertices and face centroids,
 //      area-weighted) is located at its closest point p on the base mesh, and the residual
-//      n_f . (Phi(p) - q) is linear in the coefficients. The sectors' own points (weight
-//      `joint_fit_locality`) and their fitted surfaces over their faces (`joint_fit_stiffness`,
-//      stronger where few samples land) regularise it. Cones, sharp-edge intersections and the
-//      closest-point projection are not modelled; cones keep their fit. One sparse LDLT solve:
-//      O(S + F_in log F) for S sectors and F_in input faces.
+//      n . (Phi(p) - q), n the blend's normal at p, is linear in the coefficients. The sectors'
+//      own points (weight `joint_fit_locality`) and their fitted surfaces over their faces
+//      (`joint_fit_stiffness`, stronger where few samples land) regularise it. Cones keep their
+//      fit; sharp-edge points (intersections) are not in the least squares, but a guard keeps the
+//      own fits of the sectors whose sharp-edge points the refit moves away from the input, and
+//      solves again. The closest-point projection is not modelled. A few sparse LDLT solves:
+//      O(S + F_in log F) each, for S sectors and F_in input faces.
 //   6. Error control (§4.5.3, optional, `error_bound` > 0): reconstruct at
 //      `error_control_level`; every reconstructed point farther than `error_bound` from the input
 //      adds its foot point (closest point of the input) to the set of the nearest corner of its
@@ -72,6 +74,7 @@
 #include <CMGeom/Textured_simplification/edge_collapse.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -271,10 +274,11 @@ struct Joint_fit_input {
 //     weighted by W_v x area / 15 x max(stiffness, 1 - coverage), coverage = data weight of the
 //     face / twice its area: where few samples land, the surface keeps its own fit.
 // The system is sparse (a dense block per base face), solved by sparse LDLT; if that fails the
-// surfaces stay as fitted. Returns whether the surfaces were replaced.
+// surfaces stay as fitted. Then the sharp-edge guard (below) may hold some sectors at their own
+// fits and solve again. Returns whether the surfaces were replaced.
 template <class Mesh, class Traits>
 bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locality, double stiffness,
-                 const Traits& traits, Compact_model& model) {
+                 int guard_rounds, const Traits& traits, Compact_model& model) {
   using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Primitive>>;
   const std::size_t ns = in.kind.size(), nf = in.faces.size();
@@ -459,14 +463,74 @@ bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locali
   if (solver.info() != Eigen::Success) return false;
   const Eigen::VectorXd c = solver.solve(b);
   if (solver.info() != Eigen::Success || !c.allFinite()) return false;
+  std::vector<Local_surface> refit = model.surfaces;
   for (std::size_t s = 0; s < ns; ++s) {
     const int m = int(offset[s + 1] - offset[s]);
-    Local_surface& sf = model.surfaces[s];
+    Local_surface& sf = refit[s];
     for (int j = 0; j < m; ++j) {
       const int cj = joint_coefficient(in.kind[s], j);
       sf.c[std::size_t(cj)] = c[Eigen::Index(offset[s] + std::size_t(j))] * std::pow(1. / in.scale[s], joint_degree(cj));
     }
   }
+  // Sharp-edge guard: the points of sharp edges are intersections of two sector surfaces, which
+  // the residuals above do not see. Where the refit moves such a point (at 1/4, 1/2, 3/4 of the
+  // edge) away from the input, farther than twice the distance with the sectors' own fits plus a
+  // fifth of the edge's length, those two sectors keep their own fits and the others are solved
+  // again (at most `guard_rounds` times). Measured (level 3 Hausdorff, % of the diagonal): horse
+  // 1.25 -> 0.61, trim-star 2.97 -> 2.23, Max Planck 1.12 -> 0.87, Fandisk unchanged; with 1 % of
+  // the edge instead of a fifth, so many sectors were held that Fandisk went back to 0.76 %.
+  if (guard_rounds > 0) {
+    using Triangle = CMGeom::Kernel::Triangle_3;
+    using Tri_primitive = CGAL::AABB_triangle_primitive<CMGeom::Kernel, typename std::vector<Triangle>::const_iterator>;
+    std::vector<Triangle> input_tris;
+    input_tris.reserve(in.triangles.size());
+    auto pt = [](const Vec3& v) { return CMGeom::Point_3(v.x, v.y, v.z); };
+    for (const auto& t : in.triangles) input_tris.emplace_back(pt(in.points[t[0]]), pt(in.points[t[1]]), pt(in.points[t[2]]));
+    CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Tri_primitive>> input_tree(input_tris.begin(), input_tris.end());
+    input_tree.accelerate_distance_queries();
+    auto distance = [&](const Vec3& x) { return std::sqrt(CGAL::to_double(input_tree.squared_distance(pt(x)))); };
+    auto corner_of = [&](std::size_t f, std::uint32_t v) { return in.faces[f][0] == v ? 0 : in.faces[f][1] == v ? 1 : 2; };
+    std::vector<std::uint8_t> keep(ns, 0);
+    bool any = false;
+    for (auto e : edges(base_mesh)) {
+      const auto h = halfedge(e, base_mesh);
+      if (is_border_edge(h, base_mesh)) continue;
+      const std::size_t f[2] = {std::size_t(face(h, base_mesh).idx()), std::size_t(face(opposite(h, base_mesh), base_mesh).idx())};
+      const std::uint32_t v[2] = {std::uint32_t(source(h, base_mesh).idx()), std::uint32_t(target(h, base_mesh).idx())};
+      std::uint32_t sec[2][2];
+      bool sharp[2];
+      for (int end = 0; end < 2; ++end) {
+        for (int side = 0; side < 2; ++side) sec[end][side] = in.face_sector[f[side]][corner_of(f[side], v[end])];
+        sharp[end] = sec[end][0] != sec[end][1];
+      }
+      if (!sharp[0] && !sharp[1]) continue;
+      const Vec3 &A = in.base[v[0]], &B = in.base[v[1]];
+      const Vec3 dir = normalized(B - A);
+      const double tol = 0.2 * length(B - A);
+      for (int end = 0; end < 2; ++end) {
+        if (!sharp[end]) continue;
+        const Local_frame f0(in.base[v[end]], model.normals[sec[end][0]]), f1(in.base[v[end]], model.normals[sec[end][1]]);
+        for (const double t : {0.25, 0.5, 0.75}) {
+          const Vec3 p = (1. - t) * A + t * B;
+          const double d_own = distance(sharp_edge_point(f0, model.surfaces[sec[end][0]], f1, model.surfaces[sec[end][1]], p, dir, traits));
+          const double d_refit = distance(sharp_edge_point(f0, refit[sec[end][0]], f1, refit[sec[end][1]], p, dir, traits));
+          if (d_refit > 2. * d_own + tol) {
+            for (int side = 0; side < 2; ++side)
+              if (in.kind[sec[end][side]] != 0) keep[sec[end][side]] = 1, any = true;
+          }
+        }
+      }
+    }
+    if (any) {
+      std::vector<std::uint8_t> kind = in.kind;
+      for (std::size_t s = 0; s < ns; ++s)
+        if (keep[s]) kind[s] = 0;
+      const Joint_fit_input again{in.base, in.faces, in.face_normal, in.face_sector, in.points, in.point_normal,
+                                  in.triangles, kind, in.local_points, in.scale};
+      return joint_refit(base_mesh, again, locality, stiffness, guard_rounds - 1, traits, model);
+    }
+  }
+  model.surfaces = std::move(refit);
   return true;
 }
 
@@ -855,7 +919,7 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
     local_fit = model.surfaces;
     const Joint_fit_input in{base, BF, face_normal, face_sector, P, Nrm, input_triangles, sector_kind, sector_points,
                              sector_scale};
-    st.joint_fit = joint_refit(work, in, opt.joint_fit_locality, opt.joint_fit_stiffness, traits, model);
+    st.joint_fit = joint_refit(work, in, opt.joint_fit_locality, opt.joint_fit_stiffness, 2, traits, model);
   };
   for (std::size_t s = 0; s < sectors.size(); ++s)
     for (std::uint32_t f : sectors[s].faces) {
