@@ -607,6 +607,18 @@ TEST(CompactModelBuild, SupportCheckKeepsCoarseBasesOnTheSurface) {
   EXPECT_LT(with, 0.25 * diagonal);    // every point stays near the part
 }
 
+// Build options with the joint refit on, and a model of the shared data.
+Build_options joint_fit_options() {
+  Build_options o;
+  o.joint_fit = true;
+  return o;
+}
+CMGeom::Textured_mesh shared_model(const std::string& name) {
+  CMGeom::Textured_mesh tm;
+  CMGeom::IO::read_mesh(cmgeom_test::shared_data(name), tm);
+  return tm;
+}
+
 // A plane joined to a parabolic fillet (z = 0 for x < 0, 0.8 x^2 beyond: tangent-continuous, with
 // a jump in curvature, as on Fandisk): one quadric per corner cannot follow both sides, and the
 // joint refit (Build_options::joint_fit), which fits the blend rather than each corner surface,
@@ -626,11 +638,10 @@ TEST(CompactModelBuild, JointFitLowersTheErrorAcrossAFillet) {
       grid.add_face(v[a], v[b], v[d]);
       grid.add_face(v[a], v[d], v[c]);
     }
-  Build_options joint;
-  joint.joint_fit = true;
   Build_statistics st;
   const Compact_model a = build_compact_model(grid, 100);
-  const Compact_model b = build_compact_model(grid, 100, joint, Quadric_surface_traits(), Weighted_quadric_simplifier(), &st);
+  const Compact_model b =
+      build_compact_model(grid, 100, joint_fit_options(), Quadric_surface_traits(), Weighted_quadric_simplifier(), &st);
   EXPECT_TRUE(st.joint_fit);
   EXPECT_EQ(a.faces, b.faces);  // same base and sectors, other coefficients
   for (int level = 2; level <= 3; ++level) {
@@ -644,12 +655,9 @@ TEST(CompactModelBuild, JointFitLowersTheErrorAcrossAFillet) {
 // reconstruction stays closed, with shared vertices.
 TEST(CompactModelBuild, JointFitLowersTheFandiskError) {
   CMGEOM_REQUIRE_SHARED_DATA();
-  CMGeom::Textured_mesh tm;
-  CMGeom::IO::read_mesh(cmgeom_test::shared_data("classic/fandisk.obj"), tm);
-  Build_options joint;
-  joint.joint_fit = true;
+  const CMGeom::Textured_mesh tm = shared_model("classic/fandisk.obj");
   const Reconstruction ra = reconstruct_regular(build_compact_model(tm.mesh(), 250), 2);
-  const Reconstruction rb = reconstruct_regular(build_compact_model(tm.mesh(), 250, joint), 2);
+  const Reconstruction rb = reconstruct_regular(build_compact_model(tm.mesh(), 250, joint_fit_options()), 2);
   std::string why;
   EXPECT_TRUE(is_closed_and_shared(rb, &why)) << why;
   const double ea = symmetric_vertex_rms(tm.mesh(), to_surface_mesh(ra));
@@ -663,15 +671,13 @@ TEST(CompactModelBuild, JointFitLowersTheFandiskError) {
 // diagonal); with it, it must not.
 TEST(CompactModelBuild, JointFitKeepsSharpEdgesOnTheTrimStar) {
   CMGEOM_REQUIRE_SHARED_DATA();
-  CMGeom::Textured_mesh tm;
-  CMGeom::IO::read_mesh(cmgeom_test::shared_data("classic/trim-star.off"), tm);
-  Build_options joint;
-  joint.joint_fit = true;
+  const CMGeom::Textured_mesh tm = shared_model("classic/trim-star.off");
   CMGeom::Metrics::Error_options eo;
   eo.samples = 200000;
   eo.vertex_field = false;
   const Surface_mesh ra = to_surface_mesh(reconstruct_regular(build_compact_model(tm.mesh(), 1000), 3));
-  const Surface_mesh rb = to_surface_mesh(reconstruct_regular(build_compact_model(tm.mesh(), 1000, joint), 3));
+  const Surface_mesh rb =
+      to_surface_mesh(reconstruct_regular(build_compact_model(tm.mesh(), 1000, joint_fit_options()), 3));
   const auto ea = CMGeom::Metrics::approximation_error(tm.mesh(), ra, eo);
   const auto eb = CMGeom::Metrics::approximation_error(tm.mesh(), rb, eo);
   EXPECT_LT(eb.hausdorff, ea.hausdorff);
