@@ -5,6 +5,9 @@
 #   CMGeom::Image_IO   compiled: images through OpenImageIO, texture loading, OBJ+MTL+PNG output.
 #   CMGeom::OSMesa     compiled, optional: the OSMesa backends (Rendering's Renderer, the
 #                      Textured_simplification index-texture resampler).
+#   CMGeom::Compact_model  compiled: explicit instantiations of the Compact_model templates for
+#                      their common arguments (src/Compact_model/CMakeLists.txt); optional for users,
+#                      it only saves compile time.
 #
 # OpenImageIO costs ~0.3 s start-up and ~270 shared libraries per binary, so only targets that
 # really touch images link CMGeom::Image_IO.

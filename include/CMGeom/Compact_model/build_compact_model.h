@@ -981,6 +981,17 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
   return model;
 }
 
+#ifdef CMGEOM_COMPACT_MODEL_PRECOMPILED
+// Compiled once in CMGeom::Compact_model (src/Compact_model/compact_model_instantiations.cpp);
+// linking that library defines the macro.
+extern template Compact_model build_compact_model<Quadric_surface_traits, Weighted_quadric_simplifier>(
+    const CMGeom::Surface_mesh&, std::size_t, const Build_options&, const Quadric_surface_traits&,
+    const Weighted_quadric_simplifier&, Build_statistics*);
+extern template Compact_model build_compact_model<Cubic_surface_traits, Weighted_quadric_simplifier>(
+    const CMGeom::Surface_mesh&, std::size_t, const Build_options&, const Cubic_surface_traits&,
+    const Weighted_quadric_simplifier&, Build_statistics*);
+#endif
+
 }  // namespace CM
 }  // namespace CMGeom
 

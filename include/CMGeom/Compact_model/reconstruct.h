@@ -797,6 +797,26 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
   return r;
 }
 
+#ifdef CMGEOM_COMPACT_MODEL_PRECOMPILED
+// Compiled once in CMGeom::Compact_model (src/Compact_model/compact_model_instantiations.cpp);
+// linking that library defines the macro.
+extern template void reconstruct_regular<Quadric_surface_traits>(const Compact_model&, int, Reconstruction&,
+                                                                 const Reconstruction_options&,
+                                                                 const Quadric_surface_traits&);
+extern template Reconstruction reconstruct_regular<Quadric_surface_traits>(const Compact_model&, int,
+                                                                           const Reconstruction_options&,
+                                                                           const Quadric_surface_traits&);
+extern template Reconstruction reconstruct_adaptive<Edge_length_criterion, Quadric_surface_traits>(
+    const Compact_model&, const Edge_length_criterion&, int, const Reconstruction_options&,
+    const Quadric_surface_traits&);
+extern template Reconstruction reconstruct_adaptive<Region_of_interest_criterion, Quadric_surface_traits>(
+    const Compact_model&, const Region_of_interest_criterion&, int, const Reconstruction_options&,
+    const Quadric_surface_traits&);
+extern template Reconstruction reconstruct_adaptive<Silhouette_criterion, Quadric_surface_traits>(
+    const Compact_model&, const Silhouette_criterion&, int, const Reconstruction_options&,
+    const Quadric_surface_traits&);
+#endif
+
 }  // namespace CM
 }  // namespace CMGeom
 
