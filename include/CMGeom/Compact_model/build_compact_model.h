@@ -88,6 +88,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <numeric>
 #include <vector>
 
@@ -267,26 +268,32 @@ struct Joint_fit_input {
 //     and every face centroid, by the face's area) lands at its closest point p on the base mesh,
 //     in face f with barycentrics alpha; the blend along N of §4.5.1 at p,
 //     Phi(p) = sum_k W_k (o_k + x_k U_k + y_k V_k + h_k(x_k, y_k) N_k), is affine in the
-//     coefficients, and the residual is n_f . (Phi(p) - q). Samples whose normal is more than 60
-//     degrees from n_f are skipped (they belong to another sheet of a thin part);
+//     coefficients, and the residual is nr . (Phi(p) - q), nr the unit normal of the blend of
+//     the sectors' own fits at p. Samples whose normal is more than 60 degrees from the face's
+//     normal n_f are skipped (they belong to another sheet of a thin part);
 //   * locality: each sector's own points (§4.4.3) with weight `locality` x the mean sample weight;
 //   * stiffness: the sector's own fitted surface h_local, on 15 points per face of the sector,
 //     weighted by W_v x area / 15 x max(stiffness, 1 - coverage), coverage = data weight of the
 //     face / twice its area: where few samples land, the surface keeps its own fit.
 // The system is sparse (a dense block per base face), solved by sparse LDLT; if that fails the
 // surfaces stay as fitted. Then the sharp-edge guard (below) may hold some sectors at their own
-// fits and solve again. Returns whether the surfaces were replaced.
+// fits and solve again; the samples are located on the base mesh once for all rounds. Returns
+// whether the surfaces were replaced.
 template <class Mesh, class Traits>
 bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locality, double stiffness,
                  int guard_rounds, const Traits& traits, Compact_model& model) {
   using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Primitive>>;
   const std::size_t ns = in.kind.size(), nf = in.faces.size();
+  // kind[s]: the sector's unknowns in this round; the guard sets it to 0 for sectors it holds.
+  std::vector<std::uint8_t> kind = in.kind;
   std::vector<std::size_t> offset(ns + 1, 0);
-  for (std::size_t s = 0; s < ns; ++s)
-    offset[s + 1] = offset[s] + std::size_t(joint_unknowns(in.kind[s], model.surfaces[s].model));
-  const std::size_t n = offset[ns];
-  if (n == 0) return false;
+  auto count_unknowns = [&] {
+    for (std::size_t s = 0; s < ns; ++s)
+      offset[s + 1] = offset[s] + std::size_t(joint_unknowns(kind[s], model.surfaces[s].model));
+    return offset[ns];
+  };
+  if (count_unknowns() == 0) return false;
 
   // Samples of the input: (point, unit normal, weight).
   struct Sample {
@@ -310,185 +317,216 @@ bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locali
   for (const Sample& smp : samples) total_w += smp.w;
   const double mean_w = total_w / double(samples.size());
 
-  // Data rows, accumulated per base face into a dense block over its three sectors' unknowns.
-  Tree tree(faces(base_mesh).first, faces(base_mesh).second, base_mesh);
-  tree.accelerate_distance_queries();
-  std::vector<std::vector<double>> block(nf), rhs(nf);
-  std::vector<double> face_data(nf, 0.);
-  double X[9];
-  for (const Sample& smp : samples) {
-    const auto hit = tree.closest_point_and_primitive(CMGeom::Point_3(smp.q.x, smp.q.y, smp.q.z));
-    const std::size_t f = std::size_t(hit.second.idx());
-    const double n2 = squared_length(in.face_normal[f]);
-    if (!(n2 > 0.)) continue;
-    const Vec3 nf_ = normalized(in.face_normal[f]);
-    if (dot(nf_, smp.n) < 0.5) continue;
-    const Vec3 x = to_vec3(hit.first);
-    const Vec3 &A = in.base[in.faces[f][0]], &B = in.base[in.faces[f][1]], &C = in.base[in.faces[f][2]];
-    double al[3] = {dot(cross(C - B, x - B), in.face_normal[f]) / n2, dot(cross(A - C, x - C), in.face_normal[f]) / n2,
-                    dot(cross(B - A, x - A), in.face_normal[f]) / n2};
-    double W[3], sw = 0.;
-    for (int k = 0; k < 3; ++k) {
-      al[k] = std::max(0., al[k]);
-      W[k] = al[k] * al[k] * al[k];
-      sw += W[k];
+  // Each sample located once on the base mesh: face f, closest point x, blend weights W_k and
+  // the unit normal of the current blend at x (none of which depends on the guard's choices).
+  struct Located {
+    std::size_t f;
+    Vec3 q, x, nr;
+    double w, wk[3];
+  };
+  std::vector<Located> located;
+  located.reserve(samples.size());
+  {
+    Tree tree(faces(base_mesh).first, faces(base_mesh).second, base_mesh);
+    tree.accelerate_distance_queries();
+    for (const Sample& smp : samples) {
+      const auto hit = tree.closest_point_and_primitive(CMGeom::Point_3(smp.q.x, smp.q.y, smp.q.z));
+      const std::size_t f = std::size_t(hit.second.idx());
+      const double n2 = squared_length(in.face_normal[f]);
+      if (!(n2 > 0.)) continue;
+      const Vec3 nf_ = normalized(in.face_normal[f]);
+      if (dot(nf_, smp.n) < 0.5) continue;
+      const Vec3 x = to_vec3(hit.first);
+      const Vec3 &A = in.base[in.faces[f][0]], &B = in.base[in.faces[f][1]], &C = in.base[in.faces[f][2]];
+      double al[3] = {dot(cross(C - B, x - B), in.face_normal[f]) / n2, dot(cross(A - C, x - C), in.face_normal[f]) / n2,
+                      dot(cross(B - A, x - A), in.face_normal[f]) / n2};
+      double W[3], sw = 0.;
+      for (int k = 0; k < 3; ++k) {
+        al[k] = std::max(0., al[k]);
+        W[k] = al[k] * al[k] * al[k];
+        sw += W[k];
+      }
+      if (!(sw > 0.)) continue;
+      // The residual is measured along the normal of the current blend at p (the sectors' own
+      // fits): Phi(p) and q are two points of nearly the same surface, and their difference along
+      // any other direction would count their tangential offset as error.
+      Vec3 normal_at_p;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t s = in.face_sector[f][k];
+        const Local_frame fr(in.base[in.faces[f][k]], model.normals[s]);
+        const Vec3 l = fr.to_local(x);
+        double d[5];
+        traits.height(model.surfaces[s], l.x, l.y, d);
+        const Vec3 g = std::isfinite(d[0]) && std::isfinite(d[1]) ? fr.N - d[0] * fr.U - d[1] * fr.V : fr.N;
+        normal_at_p += (W[k] / sw) * normalized(g);
+      }
+      const Vec3 nr = squared_length(normal_at_p) > 0. ? normalized(normal_at_p) : nf_;
+      located.push_back({f, smp.q, x, nr, smp.w, {W[0] / sw, W[1] / sw, W[2] / sw}});
     }
-    if (!(sw > 0.)) continue;
-    // The residual is measured along the normal of the current blend at p (the sectors' own
-    // fits): Phi(p) and q are two points of nearly the same surface, and their difference along
-    // any other direction would count their tangential offset as error.
-    Vec3 normal_at_p;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t s = in.face_sector[f][k];
-      const Local_frame fr(in.base[in.faces[f][k]], model.normals[s]);
-      const Vec3 l = fr.to_local(x);
-      double d[5];
-      traits.height(model.surfaces[s], l.x, l.y, d);
-      const Vec3 g = std::isfinite(d[0]) && std::isfinite(d[1]) ? fr.N - d[0] * fr.U - d[1] * fr.V : fr.N;
-      normal_at_p += (W[k] / sw) * normalized(g);
+  }
+  samples = std::vector<Sample>();
+
+  // The sharp-edge guard's distance to the input (built when the guard first runs).
+  using Triangle = CMGeom::Kernel::Triangle_3;
+  using Tri_primitive = CGAL::AABB_triangle_primitive<CMGeom::Kernel, typename std::vector<Triangle>::const_iterator>;
+  using Input_tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Tri_primitive>>;
+  std::vector<Triangle> input_tris;
+  std::unique_ptr<Input_tree> input_tree;
+  auto pt = [](const Vec3& v) { return CMGeom::Point_3(v.x, v.y, v.z); };
+  auto distance = [&](const Vec3& x) {
+    if (!input_tree) {
+      input_tris.reserve(in.triangles.size());
+      for (const auto& t : in.triangles)
+        input_tris.emplace_back(pt(in.points[t[0]]), pt(in.points[t[1]]), pt(in.points[t[2]]));
+      input_tree = std::make_unique<Input_tree>(input_tris.begin(), input_tris.end());
+      input_tree->accelerate_distance_queries();
     }
-    const Vec3 nr = squared_length(normal_at_p) > 0. ? normalized(normal_at_p) : nf_;
-    double row[27];
-    double c0 = -dot(nr, smp.q);
-    int total = 0;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t s = in.face_sector[f][k];
-      const double wk = W[k] / sw;
-      const Local_frame fr(in.base[in.faces[f][k]], model.normals[s]);
-      const Vec3 l = fr.to_local(x);
-      c0 += wk * dot(nr, fr.to_world(l.x, l.y, 0.));
-      const double nn = dot(nr, fr.N);
-      if (in.kind[s] == 0) {
-        const double h = traits.height(model.surfaces[s], l.x, l.y);
-        if (std::isfinite(h)) c0 += wk * nn * h;
-        continue;
+    return std::sqrt(CGAL::to_double(input_tree->squared_distance(pt(x))));
+  };
+
+  std::vector<Local_surface> refit;
+  for (int round = 0;; ++round) {
+    const std::size_t n = offset[ns];
+    // Data rows, accumulated per base face into a dense block over its three sectors' unknowns.
+    std::vector<std::vector<double>> block(nf), rhs(nf);
+    std::vector<double> face_data(nf, 0.);
+    double X[9];
+    for (const Located& ls : located) {
+      const std::size_t f = ls.f;
+      double row[27];
+      double c0 = -dot(ls.nr, ls.q);
+      int total = 0;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t s = in.face_sector[f][k];
+        const double wk = ls.wk[k];
+        const Local_frame fr(in.base[in.faces[f][k]], model.normals[s]);
+        const Vec3 l = fr.to_local(ls.x);
+        c0 += wk * dot(ls.nr, fr.to_world(l.x, l.y, 0.));
+        const double nn = dot(ls.nr, fr.N);
+        if (kind[s] == 0) {
+          const double h = traits.height(model.surfaces[s], l.x, l.y);
+          if (std::isfinite(h)) c0 += wk * nn * h;
+          continue;
+        }
+        const double inv = 1. / in.scale[s];
+        joint_monomials(kind[s], l.x * inv, l.y * inv, X);
+        const int m = int(offset[s + 1] - offset[s]);
+        for (int j = 0; j < m; ++j) row[total + j] = wk * nn * X[j];
+        total += m;
+      }
+      if (total == 0) continue;
+      auto& blk = block[f];
+      auto& r = rhs[f];
+      if (blk.empty()) {
+        blk.assign(std::size_t(total * total), 0.);
+        r.assign(std::size_t(total), 0.);
+      }
+      for (int a = 0; a < total; ++a) {
+        r[std::size_t(a)] -= ls.w * row[a] * c0;
+        for (int k = 0; k < total; ++k) blk[std::size_t(a * total + k)] += ls.w * row[a] * row[k];
+      }
+      face_data[f] += ls.w;
+    }
+    std::vector<Eigen::Triplet<double>> trip;
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(Eigen::Index(n));
+    for (std::size_t f = 0; f < nf; ++f) {
+      if (block[f].empty()) continue;
+      std::size_t idx[27];
+      int total = 0;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t s = in.face_sector[f][k];
+        for (std::size_t j = offset[s]; j < offset[s + 1]; ++j) idx[total++] = j;
+      }
+      for (int a = 0; a < total; ++a) {
+        b[Eigen::Index(idx[a])] += rhs[f][std::size_t(a)];
+        for (int k = 0; k < total; ++k)
+          trip.emplace_back(Eigen::Index(idx[a]), Eigen::Index(idx[k]), block[f][std::size_t(a * total + k)]);
+      }
+    }
+
+    // Locality and stiffness rows, per sector.
+    std::vector<std::vector<double>> local_block(ns), local_rhs(ns);
+    auto add_row = [&](std::size_t s, double wt, double x, double y, double z) {
+      const int m = int(offset[s + 1] - offset[s]);
+      auto& blk = local_block[s];
+      if (blk.empty()) {
+        blk.assign(std::size_t(m * m), 0.);
+        local_rhs[s].assign(std::size_t(m), 0.);
       }
       const double inv = 1. / in.scale[s];
-      joint_monomials(in.kind[s], l.x * inv, l.y * inv, X);
+      joint_monomials(kind[s], x * inv, y * inv, X);
+      for (int a = 0; a < m; ++a) {
+        local_rhs[s][std::size_t(a)] += wt * X[a] * z;
+        for (int k = 0; k < m; ++k) blk[std::size_t(a * m + k)] += wt * X[a] * X[k];
+      }
+    };
+    const double mu = locality * mean_w;
+    for (std::size_t s = 0; s < ns; ++s)
+      if (offset[s + 1] > offset[s] && mu > 0.)
+        for (const Vec3& p : in.local_points[s]) add_row(s, mu, p.x, p.y, p.z);
+    for (std::size_t f = 0; f < nf; ++f) {
+      const double area = 0.5 * length(in.face_normal[f]);
+      if (!(area > 0.)) continue;
+      const double stiff = std::max(stiffness, std::min(1., 1. - face_data[f] / (2. * area)));
+      if (!(stiff > 0.)) continue;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t s = in.face_sector[f][k];
+        if (offset[s + 1] == offset[s]) continue;
+        const Local_frame fr(in.base[in.faces[f][k]], model.normals[s]);
+        for (int i = 0; i <= 4; ++i)
+          for (int j = 0; i + j <= 4; ++j) {
+            const double al[3] = {i / 4., j / 4., (4 - i - j) / 4.};
+            const double cubes = al[0] * al[0] * al[0] + al[1] * al[1] * al[1] + al[2] * al[2] * al[2];
+            const double W = al[k] * al[k] * al[k] / cubes;
+            if (W == 0.) continue;
+            const Vec3 l = fr.to_local(al[0] * in.base[in.faces[f][0]] + al[1] * in.base[in.faces[f][1]] +
+                                       al[2] * in.base[in.faces[f][2]]);
+            const double h = traits.height(model.surfaces[s], l.x, l.y);
+            if (std::isfinite(h)) add_row(s, stiff * W * area / 15., l.x, l.y, h);
+          }
+      }
+    }
+    for (std::size_t s = 0; s < ns; ++s) {
       const int m = int(offset[s + 1] - offset[s]);
-      for (int j = 0; j < m; ++j) row[total + j] = wk * nn * X[j];
-      total += m;
+      if (m == 0) continue;
+      if (local_block[s].empty()) {
+        local_block[s].assign(std::size_t(m * m), 0.);
+        local_rhs[s].assign(std::size_t(m), 0.);
+      }
+      double diag = 0.;
+      for (int a = 0; a < m; ++a) diag += local_block[s][std::size_t(a * m + a)];
+      for (int a = 0; a < m; ++a) {
+        b[Eigen::Index(offset[s] + std::size_t(a))] += local_rhs[s][std::size_t(a)];
+        for (int k = 0; k < m; ++k)  // a tiny ridge keeps unconstrained directions at 0
+          trip.emplace_back(Eigen::Index(offset[s] + std::size_t(a)), Eigen::Index(offset[s] + std::size_t(k)),
+                            local_block[s][std::size_t(a * m + k)] + (a == k ? 1e-9 * (diag + mean_w) : 0.));
+      }
     }
-    if (total == 0) continue;
-    auto& blk = block[f];
-    auto& r = rhs[f];
-    if (blk.empty()) {
-      blk.assign(std::size_t(total * total), 0.);
-      r.assign(std::size_t(total), 0.);
+    Eigen::SparseMatrix<double> M(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    M.setFromTriplets(trip.begin(), trip.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(M);
+    if (solver.info() != Eigen::Success) return false;
+    const Eigen::VectorXd c = solver.solve(b);
+    if (solver.info() != Eigen::Success || !c.allFinite()) return false;
+    refit = model.surfaces;
+    for (std::size_t s = 0; s < ns; ++s) {
+      const int m = int(offset[s + 1] - offset[s]);
+      Local_surface& sf = refit[s];
+      for (int j = 0; j < m; ++j) {
+        const int cj = joint_coefficient(kind[s], j);
+        sf.c[std::size_t(cj)] = c[Eigen::Index(offset[s] + std::size_t(j))] * std::pow(1. / in.scale[s], joint_degree(cj));
+      }
     }
-    for (int a = 0; a < total; ++a) {
-      r[std::size_t(a)] -= smp.w * row[a] * c0;
-      for (int k = 0; k < total; ++k) blk[std::size_t(a * total + k)] += smp.w * row[a] * row[k];
-    }
-    face_data[f] += smp.w;
-  }
-  std::vector<Eigen::Triplet<double>> trip;
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(Eigen::Index(n));
-  for (std::size_t f = 0; f < nf; ++f) {
-    if (block[f].empty()) continue;
-    std::size_t idx[27];
-    int total = 0;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t s = in.face_sector[f][k];
-      for (std::size_t j = offset[s]; j < offset[s + 1]; ++j) idx[total++] = j;
-    }
-    for (int a = 0; a < total; ++a) {
-      b[Eigen::Index(idx[a])] += rhs[f][std::size_t(a)];
-      for (int k = 0; k < total; ++k)
-        trip.emplace_back(Eigen::Index(idx[a]), Eigen::Index(idx[k]), block[f][std::size_t(a * total + k)]);
-    }
-  }
+    if (round == guard_rounds) break;
 
-  // Locality and stiffness rows, per sector.
-  std::vector<std::vector<double>> local_block(ns), local_rhs(ns);
-  auto add_row = [&](std::size_t s, double wt, double x, double y, double z) {
-    const int m = int(offset[s + 1] - offset[s]);
-    auto& blk = local_block[s];
-    if (blk.empty()) {
-      blk.assign(std::size_t(m * m), 0.);
-      local_rhs[s].assign(std::size_t(m), 0.);
-    }
-    const double inv = 1. / in.scale[s];
-    joint_monomials(in.kind[s], x * inv, y * inv, X);
-    for (int a = 0; a < m; ++a) {
-      local_rhs[s][std::size_t(a)] += wt * X[a] * z;
-      for (int k = 0; k < m; ++k) blk[std::size_t(a * m + k)] += wt * X[a] * X[k];
-    }
-  };
-  const double mu = locality * mean_w;
-  for (std::size_t s = 0; s < ns; ++s)
-    if (offset[s + 1] > offset[s] && mu > 0.)
-      for (const Vec3& p : in.local_points[s]) add_row(s, mu, p.x, p.y, p.z);
-  for (std::size_t f = 0; f < nf; ++f) {
-    const double area = 0.5 * length(in.face_normal[f]);
-    if (!(area > 0.)) continue;
-    const double stiff = std::max(stiffness, std::min(1., 1. - face_data[f] / (2. * area)));
-    if (!(stiff > 0.)) continue;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t s = in.face_sector[f][k];
-      if (offset[s + 1] == offset[s]) continue;
-      const Local_frame fr(in.base[in.faces[f][k]], model.normals[s]);
-      for (int i = 0; i <= 4; ++i)
-        for (int j = 0; i + j <= 4; ++j) {
-          const double al[3] = {i / 4., j / 4., (4 - i - j) / 4.};
-          const double cubes = al[0] * al[0] * al[0] + al[1] * al[1] * al[1] + al[2] * al[2] * al[2];
-          const double W = al[k] * al[k] * al[k] / cubes;
-          if (W == 0.) continue;
-          const Vec3 l = fr.to_local(al[0] * in.base[in.faces[f][0]] + al[1] * in.base[in.faces[f][1]] +
-                                     al[2] * in.base[in.faces[f][2]]);
-          const double h = traits.height(model.surfaces[s], l.x, l.y);
-          if (std::isfinite(h)) add_row(s, stiff * W * area / 15., l.x, l.y, h);
-        }
-    }
-  }
-  for (std::size_t s = 0; s < ns; ++s) {
-    const int m = int(offset[s + 1] - offset[s]);
-    if (m == 0) continue;
-    if (local_block[s].empty()) {
-      local_block[s].assign(std::size_t(m * m), 0.);
-      local_rhs[s].assign(std::size_t(m), 0.);
-    }
-    double diag = 0.;
-    for (int a = 0; a < m; ++a) diag += local_block[s][std::size_t(a * m + a)];
-    for (int a = 0; a < m; ++a) {
-      b[Eigen::Index(offset[s] + std::size_t(a))] += local_rhs[s][std::size_t(a)];
-      for (int k = 0; k < m; ++k)  // a tiny ridge keeps unconstrained directions at 0
-        trip.emplace_back(Eigen::Index(offset[s] + std::size_t(a)), Eigen::Index(offset[s] + std::size_t(k)),
-                          local_block[s][std::size_t(a * m + k)] + (a == k ? 1e-9 * (diag + mean_w) : 0.));
-    }
-  }
-  Eigen::SparseMatrix<double> M(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  M.setFromTriplets(trip.begin(), trip.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(M);
-  if (solver.info() != Eigen::Success) return false;
-  const Eigen::VectorXd c = solver.solve(b);
-  if (solver.info() != Eigen::Success || !c.allFinite()) return false;
-  std::vector<Local_surface> refit = model.surfaces;
-  for (std::size_t s = 0; s < ns; ++s) {
-    const int m = int(offset[s + 1] - offset[s]);
-    Local_surface& sf = refit[s];
-    for (int j = 0; j < m; ++j) {
-      const int cj = joint_coefficient(in.kind[s], j);
-      sf.c[std::size_t(cj)] = c[Eigen::Index(offset[s] + std::size_t(j))] * std::pow(1. / in.scale[s], joint_degree(cj));
-    }
-  }
-  // Sharp-edge guard: the points of sharp edges are intersections of two sector surfaces, which
-  // the residuals above do not see. Where the refit moves such a point (at 1/4, 1/2, 3/4 of the
-  // edge) away from the input, farther than twice the distance with the sectors' own fits plus a
-  // fifth of the edge's length, those two sectors keep their own fits and the others are solved
-  // again (at most `guard_rounds` times). Measured (level 3 Hausdorff, % of the diagonal): horse
-  // 1.25 -> 0.61, trim-star 2.97 -> 2.23, Max Planck 1.12 -> 0.87, Fandisk unchanged; with 1 % of
-  // the edge instead of a fifth, so many sectors were held that Fandisk went back to 0.76 %.
-  if (guard_rounds > 0) {
-    using Triangle = CMGeom::Kernel::Triangle_3;
-    using Tri_primitive = CGAL::AABB_triangle_primitive<CMGeom::Kernel, typename std::vector<Triangle>::const_iterator>;
-    std::vector<Triangle> input_tris;
-    input_tris.reserve(in.triangles.size());
-    auto pt = [](const Vec3& v) { return CMGeom::Point_3(v.x, v.y, v.z); };
-    for (const auto& t : in.triangles) input_tris.emplace_back(pt(in.points[t[0]]), pt(in.points[t[1]]), pt(in.points[t[2]]));
-    CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Tri_primitive>> input_tree(input_tris.begin(), input_tris.end());
-    input_tree.accelerate_distance_queries();
-    auto distance = [&](const Vec3& x) { return std::sqrt(CGAL::to_double(input_tree.squared_distance(pt(x)))); };
+    // Sharp-edge guard: the points of sharp edges are intersections of two sector surfaces,
+    // which the residuals above do not see. Where the refit moves such a point (at 1/4, 1/2, 3/4
+    // of the edge) away from the input, farther than twice the distance with the sectors' own
+    // fits plus a fifth of the edge's length, those two sectors keep their own fits and the
+    // others are solved again (at most `guard_rounds` times). Measured (level 3 Hausdorff, % of
+    // the diagonal): horse 1.25 -> 0.61, trim-star 2.97 -> 2.23, Max Planck 1.12 -> 0.87,
+    // Fandisk unchanged; with 1 % of the edge instead of a fifth, so many sectors were held that
+    // Fandisk went back to 0.76 %.
     auto corner_of = [&](std::size_t f, std::uint32_t v) { return in.faces[f][0] == v ? 0 : in.faces[f][1] == v ? 1 : 2; };
     std::vector<std::uint8_t> keep(ns, 0);
     bool any = false;
@@ -516,19 +554,15 @@ bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locali
           const double d_refit = distance(sharp_edge_point(f0, refit[sec[end][0]], f1, refit[sec[end][1]], p, dir, traits));
           if (d_refit > 2. * d_own + tol) {
             for (int side = 0; side < 2; ++side)
-              if (in.kind[sec[end][side]] != 0) keep[sec[end][side]] = 1, any = true;
+              if (kind[sec[end][side]] != 0) keep[sec[end][side]] = 1, any = true;
           }
         }
       }
     }
-    if (any) {
-      std::vector<std::uint8_t> kind = in.kind;
-      for (std::size_t s = 0; s < ns; ++s)
-        if (keep[s]) kind[s] = 0;
-      const Joint_fit_input again{in.base, in.faces, in.face_normal, in.face_sector, in.points, in.point_normal,
-                                  in.triangles, kind, in.local_points, in.scale};
-      return joint_refit(base_mesh, again, locality, stiffness, guard_rounds - 1, traits, model);
-    }
+    if (!any) break;
+    for (std::size_t s = 0; s < ns; ++s)
+      if (keep[s]) kind[s] = 0;
+    if (count_unknowns() == 0) return false;
   }
   model.surfaces = std::move(refit);
   return true;
@@ -921,11 +955,12 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
                              sector_scale};
     st.joint_fit = joint_refit(work, in, opt.joint_fit_locality, opt.joint_fit_stiffness, 2, traits, model);
   };
-  for (std::size_t s = 0; s < sectors.size(); ++s)
-    for (std::uint32_t f : sectors[s].faces) {
-      const Vec3 &a = base[BF[f][0]], &b = base[BF[f][1]], &c = base[BF[f][2]];
-      sector_scale[s] = std::max({sector_scale[s], length(b - a), length(c - b), length(a - c)});
-    }
+  if (opt.joint_fit)
+    for (std::size_t s = 0; s < sectors.size(); ++s)
+      for (std::uint32_t f : sectors[s].faces) {
+        const Vec3 &a = base[BF[f][0]], &b = base[BF[f][1]], &c = base[BF[f][2]];
+        sector_scale[s] = std::max({sector_scale[s], length(b - a), length(c - b), length(a - c)});
+      }
   joint();
 
   // 6. Error control (§4.5.3).
