@@ -919,9 +919,9 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
           probes.push_back(fr.to_local(x));
       }
       const double bound = opt.max_surface_departure * longest;
-      auto supported = [&](const Local_surface& sf) {
+      auto supported = [&](const Local_surface& candidate) {
         for (const Vec3& x : probes) {
-          const double h = traits.height(sf, x.x, x.y);
+          const double h = traits.height(candidate, x.x, x.y);
           if (std::isfinite(h) && std::abs(h - x.z) > bound) return false;
         }
         return true;
