@@ -14,6 +14,15 @@ export MESA_SHADER_CACHE_DIR="${MESA_SHADER_CACHE_DIR:-$root/build/mesa-shader-c
 mkdir -p "$MESA_SHADER_CACHE_DIR"
 stage_start=$SECONDS
 stage_done() { echo "-- $1: $((SECONDS - stage_start)) s"; stage_start=$SECONDS; }
+# gtest_suites <build dir> <test program...>: the GoogleTest suite names of these programs, joined
+# by '|' (each TEST is a CTest test named <suite>.<test>).
+gtest_suites() {
+  local dir=$1 t
+  shift
+  for t in "$@"; do
+    "$dir/bin/$t" --gtest_list_tests | grep -E '^[A-Za-z0-9_/]+\.( .*)?$' | sed -E 's/\.( .*)?$//'
+  done | sort -u | paste -sd'|'
+}
 
 echo "== build (Release, -O2) =="
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMGEOM_BUILD_TESTS=ON -DCMGEOM_BUILD_EXAMPLES=ON
@@ -43,10 +52,9 @@ if [[ "${1:-}" != "--no-sanitizers" ]]; then
   stage_done "ASan + UBSan build"
   echo "== tests under ASan + UBSan =="
   # The CTest names of the tests of these programs: their GoogleTest suites, and the fuzz smoke runs.
-  asan_suites=$(for t in "${asan_targets[@]}"; do
-                  [[ $t == cmgeom || $t == fuzz_* ]] && continue
-                  "build-asan/bin/$t" --gtest_list_tests | grep -E '^[A-Za-z0-9_/]+\.( .*)?$' | sed -E 's/\.( .*)?$//'
-                done | sort -u | paste -sd'|')
+  asan_gtests=()
+  for t in "${asan_targets[@]}"; do [[ $t == cmgeom || $t == fuzz_* ]] || asan_gtests+=("$t"); done
+  asan_suites=$(gtest_suites build-asan "${asan_gtests[@]}")
   # The CLI's determinism tests (every command run three times, byte comparisons) are left to the
   # Release run: the commands themselves run here in the other CLI tests, and under ASan these
   # two took a minute of CPU.
@@ -79,8 +87,7 @@ if [[ "${1:-}" != "--no-sanitizers" ]]; then
     stage_done "ThreadSanitizer build"
     echo "== tests under ThreadSanitizer (2 threads) =="
     # The CTest names of the tests of these programs (GoogleTest suites they contain).
-    suites=$(for t in "${tsan_targets[@]}"; do "build-tsan/bin/$t" --gtest_list_tests | grep -E '^[A-Za-z0-9_/]+\.( .*)?$' | sed -E 's/\.( .*)?$//'; done |
-             sort -u | paste -sd'|')
+    suites=$(gtest_suites build-tsan "${tsan_targets[@]}")
     TSAN_OPTIONS="suppressions=$root/test/Reliability/tsan.supp:halt_on_error=1:second_deadlock_stack=1" \
     CMGEOM_TSAN_TBB_THREADS=2 \
       ctest --test-dir build-tsan --output-on-failure -j "$jobs" -R "^($suites)\."
