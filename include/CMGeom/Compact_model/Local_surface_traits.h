@@ -39,8 +39,6 @@
 
 #include <CMGeom/Compact_model/internal/Vec3.h>
 
-#include <Eigen/Dense>
-
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -165,116 +163,29 @@ struct Fit_result {
   bool ok = false;
 };
 
-namespace internal {
-
-// Least squares sum_p (X(p) . C - rhs(p))^2 over monomials x^i y^j with total degree 1..3 listed
-// in `exps`. Assembled in coordinates divided by the RMS radius `h` of the points (a change of
-// unit that keeps the normal matrix well conditioned for tiny or huge models), solved by LDLT,
-// minimum-norm solution when rank deficient; coefficients are scaled back by h^-(i+j).
-template <int K, class Rhs>
-bool fit_monomials(const std::vector<Vec3>& pts, const std::array<std::array<int, 2>, K>& exps, Rhs rhs,
-                   double* out) {
-  for (int k = 0; k < K; ++k) out[k] = 0.;
-  if (pts.empty()) return false;
-  double r2 = 0.;
-  for (const Vec3& p : pts) r2 += p.x * p.x + p.y * p.y;
-  const double h = std::sqrt(r2 / double(pts.size()));
-  if (!(h > 0.) || !std::isfinite(h)) return false;
-  const double inv = 1. / h;
-  Eigen::Matrix<double, K, K> A = Eigen::Matrix<double, K, K>::Zero();
-  Eigen::Matrix<double, K, 1> b = Eigen::Matrix<double, K, 1>::Zero();
-  Eigen::Matrix<double, K, 1> X;
-  for (const Vec3& p : pts) {
-    const double x = p.x * inv, y = p.y * inv;
-    const double px[4] = {1., x, x * x, x * x * x}, py[4] = {1., y, y * y, y * y * y};
-    for (int k = 0; k < K; ++k) X[k] = px[exps[k][0]] * py[exps[k][1]];
-    A.noalias() += X * X.transpose();
-    b += rhs(p) * X;
-  }
-  Eigen::Matrix<double, K, 1> C;
-  Eigen::LDLT<Eigen::Matrix<double, K, K>> ldlt(A);
-  if (ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.rcond() > 1e-13) {
-    C = ldlt.solve(b);
-  } else {
-    C = Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, K, K>>(A).solve(b);
-  }
-  for (int k = 0; k < K; ++k) {
-    if (!std::isfinite(C[k])) return false;
-    out[k] = C[k] * std::pow(inv, exps[k][0] + exps[k][1]);
-  }
-  return true;
-}
-
-inline const std::array<std::array<int, 2>, 5>& quadric_exponents() {
-  static const std::array<std::array<int, 2>, 5> e{{{2, 0}, {1, 1}, {0, 2}, {1, 0}, {0, 1}}};
-  return e;
-}
-inline const std::array<std::array<int, 2>, 9>& cubic_exponents() {
-  static const std::array<std::array<int, 2>, 9> e{
-      {{2, 0}, {1, 1}, {0, 2}, {1, 0}, {0, 1}, {3, 0}, {2, 1}, {1, 2}, {0, 3}}};
-  return e;
-}
-
-inline double rms_height_error(const Local_surface& s, const std::vector<Vec3>& pts) {
-  if (pts.empty()) return 0.;
-  double e = 0.;
-  for (const Vec3& p : pts) {
-    const double r = evaluate_height(s, p.x, p.y) - p.z;
-    e += r * r;
-  }
-  return std::sqrt(e / double(pts.size()));
-}
-
-}  // namespace internal
+// The fits below are compiled once into CMGeom::Compact_model when a program links it
+// (CMGEOM_COMPACT_MODEL_PRECOMPILED), and defined inline by internal/Local_surface_traits_impl.h
+// otherwise. Their Eigen solvers (LDLT with a condition estimate, complete orthogonal
+// decomposition) for 2x2, 5x5 and 9x9 systems are instantiated wherever the definitions are
+// seen, used or not: ~40 s of compile time per translation unit at -O2.
+#ifdef CMGEOM_COMPACT_MODEL_PRECOMPILED
+#define CMGEOM_CM_INLINE
+#else
+#define CMGEOM_CM_INLINE inline
+#endif
 
 /// Quadric z = Q(x1, x2) by the 5x5 normal equations of §4.4.1 (points in local coordinates).
-inline Fit_result fit_quadric(const std::vector<Vec3>& local_points) {
-  Fit_result r;
-  r.surface.model = QUADRIC_MODEL;
-  r.ok = internal::fit_monomials<5>(local_points, internal::quadric_exponents(),
-                                     [](const Vec3& p) { return p.z; }, r.surface.c.data());
-  r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
-  return r;
-}
+CMGEOM_CM_INLINE Fit_result fit_quadric(const std::vector<Vec3>& local_points);
 
 /// Tangent plane z = d x1 + e x2 (a quadric with a = b = c = 0), for sets too small for a quadric.
-inline Fit_result fit_plane(const std::vector<Vec3>& local_points) {
-  static const std::array<std::array<int, 2>, 2> e{{{1, 0}, {0, 1}}};
-  Fit_result r;
-  r.surface.model = QUADRIC_MODEL;
-  double de[2];
-  r.ok = internal::fit_monomials<2>(local_points, e, [](const Vec3& p) { return p.z; }, de);
-  r.surface.c[3] = de[0];
-  r.surface.c[4] = de[1];
-  r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
-  return r;
-}
+CMGEOM_CM_INLINE Fit_result fit_plane(const std::vector<Vec3>& local_points);
 
 /// Conical surface z = s sqrt(Q(x1, x2)), Q fitted to z^2 (§4.4.1).
-inline Fit_result fit_cone(const std::vector<Vec3>& local_points) {
-  Fit_result r;
-  r.surface.model = CONE_MODEL;
-  r.ok = internal::fit_monomials<5>(local_points, internal::quadric_exponents(),
-                                     [](const Vec3& p) { return p.z * p.z; }, r.surface.c.data());
-  double side = 0.;
-  for (const Vec3& p : local_points) side += p.z;
-  r.surface.c[5] = side < 0. ? -1. : 1.;
-  r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
-  return r;
-}
+CMGEOM_CM_INLINE Fit_result fit_cone(const std::vector<Vec3>& local_points);
 
 /// Cubic height function (9x9 normal equations). Falls back to the quadric when there are fewer
 /// than 9 points (a cubic would interpolate noise) and keeps the better of the two otherwise.
-inline Fit_result fit_cubic(const std::vector<Vec3>& local_points) {
-  Fit_result q = fit_quadric(local_points);
-  if (local_points.size() < 9) return q;
-  Fit_result r;
-  r.surface.model = CUBIC_MODEL;
-  r.ok = internal::fit_monomials<9>(local_points, internal::cubic_exponents(),
-                                     [](const Vec3& p) { return p.z; }, r.surface.c.data());
-  r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
-  return (r.ok && r.error <= q.error) ? r : q;
-}
+CMGEOM_CM_INLINE Fit_result fit_cubic(const std::vector<Vec3>& local_points);
 
 /// The thesis' traits (default): quadric local surfaces, cones for cone-type vertices.
 struct Quadric_surface_traits {
@@ -297,5 +208,9 @@ struct Cubic_surface_traits {
 
 }  // namespace CM
 }  // namespace CMGeom
+
+#ifndef CMGEOM_COMPACT_MODEL_PRECOMPILED
+#include <CMGeom/Compact_model/internal/Local_surface_traits_impl.h>
+#endif
 
 #endif  // CMGEOM_COMPACT_MODEL_LOCAL_SURFACE_TRAITS_H
