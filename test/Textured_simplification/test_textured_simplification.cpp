@@ -410,6 +410,61 @@ TEST(TexturedSimplificationQuadric, AreaDistortionMatchesThesisFormula) {
   EXPECT_NEAR(Quadric::plane(n, 1.0, 5.0).area_distortion(n), 0.0, 1e-12);
 }
 
+TEST(TexturedSimplificationQuadric, AreaDistortionMatchesAnIterativeEigenDecomposition) {
+  // Reference: Eigen's iterative (QR) solver, eigenvector closest to the normal picked by the
+  // largest |cosine| -- an algorithm independent of the closed-form eigenvalues and projectors
+  // area_distortion() uses. Random positive semi-definite A (sums of 1 to 6 area-weighted
+  // planes, from flat to isotropic) and normals near or far from the dominant direction.
+  std::mt19937 rng(20261123);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), area(1e-3, 2.0);
+  int compared = 0, near_ties = 0, repeated = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Quadric q;
+    const int planes = 1 + trial % 6;
+    for (int k = 0; k < planes; ++k) {
+      TS::internal::Vec3 n{u(rng), u(rng), u(rng)};
+      const double l = TS::internal::norm(n);
+      if (!(l > 1e-3)) continue;
+      q += Quadric::plane(TS::internal::scale(n, 1.0 / l), u(rng), area(rng));
+    }
+    const TS::internal::Vec3 normal{u(rng), u(rng), u(rng)};
+    Eigen::Matrix3d A;
+    A << q.a00, q.a01, q.a02, q.a01, q.a11, q.a12, q.a02, q.a12, q.a22;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(A);
+    const Eigen::Vector3d nv(normal[0], normal[1], normal[2]);
+    double cos_abs[3];
+    for (int i = 0; i < 3; ++i) cos_abs[i] = std::abs(es.eigenvectors().col(i).dot(nv)) / nv.norm();
+    const int best = int(std::max_element(cos_abs, cos_abs + 3) - cos_abs);
+    double second = 0;
+    for (int i = 0; i < 3; ++i)
+      if (i != best) second = std::max(second, cos_abs[i]);
+    const double t = A.trace();
+    const double lambda = std::clamp(es.eigenvalues()(best), 0.0, t);
+    const double expected = (t - lambda) / (t + lambda);
+    const double w = q.area_distortion(normal);
+    ASSERT_TRUE(std::isfinite(w));
+    ASSERT_GE(w, 0.0);
+    ASSERT_LE(w, 1.0);
+    const Eigen::Vector3d& l = es.eigenvalues();
+    if (std::min(l(1) - l(0), l(2) - l(1)) < 1e-6 * t) {  // repeated eigenvalue: no unique eigenvectors
+      ++repeated;
+      continue;
+    }
+    if (cos_abs[best] - second < 1e-6) {  // two eigenvectors equally close: either is right
+      ++near_ties;
+      continue;
+    }
+    ++compared;
+    // the closed-form eigenvalues are accurate to ~1e-8 of the trace (near-zero eigenvalues of
+    // rank-deficient A differ most); a wrong eigenvector would change w by far more
+    ASSERT_NEAR(w, expected, 1e-7) << "trial " << trial;
+  }
+  // one plane in six gives a rank-1 A (a double zero eigenvalue)
+  EXPECT_GT(compared, 15000);
+  EXPECT_LT(near_ties, 100);
+  EXPECT_LT(repeated, 4000);
+}
+
 // ------------------------------------------------------------------------- policies
 
 TEST(TexturedSimplificationPolicy, FlatGridHasClampedWeightsAndStaysPlanar) {

@@ -146,15 +146,36 @@ struct Symmetric_quadric {
     Eigen::Matrix3d A;
     A << a00, a01, a02, a01, a11, a12, a02, a12, a22;
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-    es.computeDirect(A);
     const Eigen::Vector3d n(normal[0], normal[1], normal[2]);
     int best = 2;  // eigenvalues ascend: the largest is the dominant plane normal
     if (n.squaredNorm() > 0) {
-      double best_dot = -1;
-      for (int i = 0; i < 3; ++i) {
-        const double dd = std::abs(es.eigenvectors().col(i).dot(n));
-        if (dd > best_dot) { best_dot = dd; best = i; }
+      // Which eigenvector is closest to n, without computing the eigenvectors (half of the cost
+      // of the closed-form solver): with distinct eigenvalues l_i and u_i = (A - l_i I) n, the
+      // squared cosine of n with eigenvector i, times |n|^2, is n^T P_i n where
+      // P_i = prod_{j != i} (A - l_j I) / (l_i - l_j) is the projector on it, i.e.
+      // u_j . u_k / ((l_i - l_j)(l_i - l_k)). Eigenvalues closer than 1e-6 trace(A) (their
+      // eigenvectors are then ill-defined and the divisions inaccurate) take the eigenvectors.
+      es.computeDirect(A, Eigen::EigenvaluesOnly);
+      const Eigen::Vector3d& l = es.eigenvalues();
+      const double g01 = l(1) - l(0), g12 = l(2) - l(1);
+      if (g01 > 1e-6 * t && g12 > 1e-6 * t) {
+        const Eigen::Vector3d An = A * n;
+        const Eigen::Vector3d u0 = An - l(0) * n, u1 = An - l(1) * n, u2 = An - l(2) * n;
+        const double c[3] = {u1.dot(u2) / (g01 * (g01 + g12)), -u0.dot(u2) / (g01 * g12),
+                             u0.dot(u1) / ((g01 + g12) * g12)};
+        double best_c = -1;
+        for (int i = 0; i < 3; ++i)
+          if (c[i] > best_c) { best_c = c[i]; best = i; }
+      } else {
+        es.computeDirect(A);
+        double best_dot = -1;
+        for (int i = 0; i < 3; ++i) {
+          const double dd = std::abs(es.eigenvectors().col(i).dot(n));
+          if (dd > best_dot) { best_dot = dd; best = i; }
+        }
       }
+    } else {
+      es.computeDirect(A, Eigen::EigenvaluesOnly);
     }
     const double lambda = std::clamp(es.eigenvalues()(best), 0.0, t);
     return (t - lambda) / (t + lambda);
