@@ -4,7 +4,7 @@
 // OpenMesh's Decimater + ModQuadric. Prints one Markdown table (and writes it with --out).
 //
 //   bench_simplify [--data DIR] [--tmp DIR] [--models a,b,...] [--ratios 0.1,0.01]
-//                  [--tools t1,t2,...] [--samples N] [--out FILE]
+//                  [--tools t1,t2,...] [--samples N] [--min-weight w] [--out FILE]
 //
 // Timing: process CPU seconds of the simplification call alone (set-up of the policy included,
 // mesh IO and format conversion excluded), one run per configuration. Error: Metro convention —
@@ -205,6 +205,10 @@ void measure(const Model& in, const Mesh& out, std::size_t n_samples, Row& r) {
 
 // ------------------------------------------------------------------------- the tools
 
+// --min-weight: the floor of the weights (Quadric_options::min_weight) for CMGeom's weighted
+// policies on CMGeom's engine; 0 keeps the default.
+double g_min_weight = 0;
+
 Mesh run_cmgeom(const Mesh& in, std::size_t target, bool weighted, bool flips, double& secs,
                 TS::Quadric_merge merge = TS::Quadric_merge::weighted_average) {
   Mesh m = in;
@@ -212,6 +216,7 @@ Mesh run_cmgeom(const Mesh& in, std::size_t target, bool weighted, bool flips, d
   TS::Quadric_options o;
   o.weighted = weighted;
   o.merge = merge;
+  if (g_min_weight > 0) o.min_weight = g_min_weight;
   TS::Area_weighted_quadric_policies<Mesh> policy(m, o);
   TS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target),
                     CMGeom::parameters::edge_flips(flips, CGAL::parameters::get_cost(policy).get_placement(policy)));
@@ -338,6 +343,7 @@ int main(int argc, char** argv) {
     else if (a == "--models") models = split(next());
     else if (a == "--tools") tools = split(next());
     else if (a == "--samples") n_samples = std::stoul(next());
+    else if (a == "--min-weight") g_min_weight = std::stod(next());
     else if (a == "--out") out_file = next();
     else if (a == "--ratios") {
       ratios.clear();
