@@ -43,16 +43,16 @@ public:
                             std::to_string(sys_.description().cages[c].rest.vertices.size()));
     leaf_pose_ = sys_.deformed_leaf_vertices(deformed_cages);
   }
-  void bind(const std::vector<Vec3>& rest) {
+  void bind(const std::vector<CM::Vec3>& rest) {
     std::vector<Cage_deformation::Vec3> pts(rest.size());
     for (std::size_t i = 0; i < rest.size(); ++i) pts[i] = {rest[i].x, rest[i].y, rest[i].z};
     binding_ = sys_.template bind<Weight>(pts, f_, fh_);
   }
-  void deform(std::vector<Vec3>& out) const {
+  void deform(std::vector<CM::Vec3>& out) const {
     std::vector<Cage_deformation::Vec3> moved;
     binding_.deform(sys_.basis(leaf_pose_), moved);
     out.resize(moved.size());
-    for (std::size_t i = 0; i < moved.size(); ++i) out[i] = Vec3(moved[i][0], moved[i][1], moved[i][2]);
+    for (std::size_t i = 0; i < moved.size(); ++i) out[i] = CM::Vec3(moved[i][0], moved[i][1], moved[i][2]);
   }
   std::size_t weights_bytes() const { return binding_.weights_bytes(); }
   const Cage_deformation::Cage_system_binding<Weight>& binding() const { return binding_; }
