@@ -146,6 +146,7 @@ struct Symmetric_quadric {
     Eigen::Matrix3d A;
     A << a00, a01, a02, a01, a11, a12, a02, a12, a22;
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(A, Eigen::EigenvaluesOnly);
     const Eigen::Vector3d n(normal[0], normal[1], normal[2]);
     int best = 2;  // eigenvalues ascend: the largest is the dominant plane normal
     if (n.squaredNorm() > 0) {
@@ -155,7 +156,6 @@ struct Symmetric_quadric {
       // P_i = prod_{j != i} (A - l_j I) / (l_i - l_j) is the projector on it, i.e.
       // u_j . u_k / ((l_i - l_j)(l_i - l_k)). Eigenvalues closer than 1e-6 trace(A) (their
       // eigenvectors are then ill-defined and the divisions inaccurate) take the eigenvectors.
-      es.computeDirect(A, Eigen::EigenvaluesOnly);
       const Eigen::Vector3d& l = es.eigenvalues();
       const double g01 = l(1) - l(0), g12 = l(2) - l(1);
       if (g01 > 1e-6 * t && g12 > 1e-6 * t) {
@@ -167,15 +167,13 @@ struct Symmetric_quadric {
         for (int i = 0; i < 3; ++i)
           if (c[i] > best_c) { best_c = c[i]; best = i; }
       } else {
-        es.computeDirect(A);
+        es.computeDirect(A);  // same eigenvalues, now with eigenvectors
         double best_dot = -1;
         for (int i = 0; i < 3; ++i) {
           const double dd = std::abs(es.eigenvectors().col(i).dot(n));
           if (dd > best_dot) { best_dot = dd; best = i; }
         }
       }
-    } else {
-      es.computeDirect(A, Eigen::EigenvaluesOnly);
     }
     const double lambda = std::clamp(es.eigenvalues()(best), 0.0, t);
     return (t - lambda) / (t + lambda);
