@@ -33,6 +33,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -338,16 +339,36 @@ int main(int argc, char** argv) {
       if (i + 1 >= argc) { std::cerr << "missing value after " << a << "\n"; std::exit(2); }
       return argv[++i];
     };
+    // whole-string numbers only; anything else is a usage error, not an exception
+    auto number = [&](double lo, double hi) -> double {
+      const std::string v = next();
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (v.empty() || end != v.c_str() + v.size() || !(x >= lo && x <= hi)) {
+        std::cerr << "bad value '" << v << "' for " << a << ": expected a number in [" << lo << ", " << hi << "]\n";
+        std::exit(2);
+      }
+      return x;
+    };
     if (a == "--data") data = next();
     else if (a == "--tmp") tmp = next();
     else if (a == "--models") models = split(next());
     else if (a == "--tools") tools = split(next());
-    else if (a == "--samples") n_samples = std::stoul(next());
-    else if (a == "--min-weight") g_min_weight = std::stod(next());
+    else if (a == "--samples") n_samples = static_cast<std::size_t>(number(1, 1e9));
+    else if (a == "--min-weight") g_min_weight = number(1e-300, 1);
     else if (a == "--out") out_file = next();
     else if (a == "--ratios") {
       ratios.clear();
-      for (const auto& r : split(next())) ratios.push_back(std::stod(r));
+      const std::string list = next();
+      for (const auto& r : split(list)) {
+        char* end = nullptr;
+        const double x = std::strtod(r.c_str(), &end);
+        if (r.empty() || end != r.c_str() + r.size() || !(x > 0 && x <= 1)) {
+          std::cerr << "bad ratio '" << r << "' in --ratios " << list << ": expected numbers in (0, 1]\n";
+          return 2;
+        }
+        ratios.push_back(x);
+      }
     } else {
       std::cerr << "unknown option " << a << "\n";
       return 2;

@@ -31,6 +31,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -488,6 +489,31 @@ TEST(TexturedSimplificationPolicy, FlatGridHasClampedWeightsAndStaysPlanar) {
   }
   // boundary quadrics keep the square: its area is unchanged
   EXPECT_NEAR(PMP::area(m), 1.0, 1e-9);
+}
+
+TEST(TexturedSimplificationPolicy, RejectsOutOfRangeOptions) {
+  Mesh m = make_flat_grid(4);
+  const double bad_floor[] = {0.0, -1e-3, 1.5, std::numeric_limits<double>::quiet_NaN(),
+                              std::numeric_limits<double>::infinity()};
+  for (double mw : bad_floor) {
+    TS::Quadric_options o;
+    o.min_weight = mw;
+    EXPECT_THROW(Policy(m, o), std::invalid_argument) << "min_weight " << mw;
+  }
+  const double bad_boundary[] = {-1.0, std::numeric_limits<double>::quiet_NaN(),
+                                 std::numeric_limits<double>::infinity()};
+  for (double bw : bad_boundary) {
+    TS::Quadric_options o;
+    o.boundary_weight = bw;
+    EXPECT_THROW(Policy(m, o), std::invalid_argument) << "boundary_weight " << bw;
+  }
+  // the ends of the valid ranges are accepted, and a floor of 1 makes every weight 1
+  TS::Quadric_options o;
+  o.min_weight = 1.0;
+  o.boundary_weight = 0.0;
+  Policy p(m, o);
+  p.initialize(m, get(CGAL::vertex_point, m));
+  for (vertex_descriptor v : m.vertices()) EXPECT_EQ(p.weight(v), 1.0);
 }
 
 TEST(TexturedSimplificationPolicy, RunsUnderCgalEngineWithUpdateHook) {

@@ -63,7 +63,10 @@
 #include <CGAL/tags.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace CMGeom {
@@ -81,9 +84,11 @@ enum class Quadric_merge {
 struct Quadric_options {
   /// true: the thesis' weighted quadrics (§3.4.2); false: plain Garland-Heckbert.
   bool weighted = true;
-  /// Lower clamp of the local area distortion weight (flat regions have weight 0).
+  /// Lower clamp of the local area distortion weight (flat regions have weight 0); must be in
+  /// (0, 1] (the constructor throws std::invalid_argument otherwise).
   double min_weight = 1e-3;
-  /// Multiplier of the boundary-preserving quadric of border edges (0 disables it).
+  /// Multiplier of the boundary-preserving quadric of border edges (0 disables it); must be
+  /// finite and >= 0.
   double boundary_weight = 100.0;
   /// Merge rule in weighted mode (plain mode always sums).
   Quadric_merge merge = Quadric_merge::weighted_average;
@@ -118,6 +123,15 @@ public:
   explicit Area_weighted_quadric_policies(TriangleMesh& tm, const Quadric_options& options = Quadric_options())
       : vim_(CGAL::get_initialized_vertex_index_map(tm)), data_(std::make_shared<std::vector<Record>>()),
         options_(options) {
+    // Checked here because a bad value does not fail loudly later: min_weight > 1 or NaN is
+    // undefined behaviour in std::clamp, min_weight = 0 lets two flat endpoints merge as 0/0.
+    if (!(options.min_weight > 0.0 && options.min_weight <= 1.0))
+      throw std::invalid_argument("Area_weighted_quadric_policies: min_weight must be in (0, 1], got " +
+                                  std::to_string(options.min_weight));
+    if (!(options.boundary_weight >= 0.0 && std::isfinite(options.boundary_weight)))
+      throw std::invalid_argument(
+          "Area_weighted_quadric_policies: boundary_weight must be finite and >= 0, got " +
+          std::to_string(options.boundary_weight));
     resize(tm);
   }
 
