@@ -47,8 +47,16 @@
 // property map on Surface_mesh. The mesh must not gain vertices between initialize() and the end
 // of the simplification (edge collapses only remove vertices).
 //
+// Normals: initialize() sums each vertex's face cross products in its face loop (no second pass
+// over the stars). After a collapse the kept vertex's normal is the sum over its new star;
+// CMGeom's engine already forms exactly these cross products in its fold-over test and passes
+// the sum to update_after_collapse(profile, v, token, normal); under CGAL's engine the policy
+// walks the star itself. The weight depends on the normal only through the choice of the
+// eigenvalue, so the two give the same weights (a test checks they give the same meshes).
+//
 // Complexity: initialize() O(F + V); cost and placement O(1); update_after_collapse()
-// O(deg(v_kept)) for the new normal plus one closed-form 3x3 eigen decomposition.
+// O(deg(v_kept)) for the new normal (O(1) when the engine supplies it) plus the eigenvalues of a
+// 3x3 matrix (Symmetric_quadric::area_distortion).
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_AREA_WEIGHTED_QUADRIC_POLICIES_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_AREA_WEIGHTED_QUADRIC_POLICIES_H
 
@@ -164,12 +172,21 @@ public:
   void initialize(const TriangleMesh& tm, const VertexPointMap& vpm, const GeomTraits& = GeomTraits()) const {
     resize(tm);
     for (vertex_descriptor v : vertices(tm)) record(v) = Record();
+    // Weighted mode: the vertex normals (sums of the incident faces' cross products, as
+    // compute_weight() forms them) are gathered in the face loop rather than by walking every
+    // vertex's star afterwards.
+    std::vector<internal::Vec3> normals(options_.weighted ? data_->size() : 0, internal::Vec3{0, 0, 0});
     for (auto f : faces(tm)) {
       const halfedge_descriptor h = halfedge(f, tm);
       const vertex_descriptor va = source(h, tm), vb = target(h, tm), vc = target(next(h, tm), tm);
       const internal::Vec3 a = internal::to_vec3(get(vpm, va)), b = internal::to_vec3(get(vpm, vb)),
                            c = internal::to_vec3(get(vpm, vc));
       const internal::Vec3 n2 = internal::cross(internal::sub(b, a), internal::sub(c, a));
+      if (options_.weighted)
+        for (vertex_descriptor v : {va, vb, vc}) {
+          internal::Vec3& nv = normals[std::size_t(get(vim_, v))];
+          nv = internal::add(nv, n2);
+        }
       const double len = internal::norm(n2);
       if (!(len > 0)) continue;  // a zero-area face defines no plane and has no area
       const internal::Vec3 n = internal::scale(n2, 1.0 / len);
@@ -193,9 +210,12 @@ public:
         for (vertex_descriptor v : {va, vb}) record(v).q += q;
       }
     }
+    if (!options_.weighted) return;  // the records' weights are 1
     for (vertex_descriptor v : vertices(tm)) {
       Record& r = record(v);
-      r.w = compute_weight(tm, vpm, v, r.q);
+      r.w = halfedge(v, tm) == boost::graph_traits<TriangleMesh>::null_halfedge()
+                ? 1.0  // isolated
+                : weight_of(r.q, normals[std::size_t(get(vim_, v))]);
     }
   }
 
@@ -222,18 +242,21 @@ public:
 
   template <class Profile>
   void update_after_collapse(const Profile& profile, vertex_descriptor v_kept, const Collapse_token& t) const {
-    const Record& r0 = (*data_)[t.id0];
-    const Record& r1 = (*data_)[t.id1];
-    const double w0 = r0.w, w1 = r1.w;
-    Quadric q;
-    if (options_.weighted && options_.merge == Quadric_merge::weighted_average) {
-      q = Quadric::combine(r0.q, w0 / (w0 + w1), r1.q, w1 / (w0 + w1));
-    } else {
-      q = Quadric::combine(r0.q, 1.0, r1.q, 1.0);
-    }
-    Record& kept = record(v_kept);
-    kept.q = q;
-    kept.w = compute_weight(profile.surface_mesh(), profile.vertex_point_map(), v_kept, q);
+    Record& kept = merge(v_kept, t);
+    kept.w = compute_weight(profile.surface_mesh(), profile.vertex_point_map(), v_kept, kept.q);
+  }
+
+  /// As above, with the kept vertex's normal already known: `star_normal` is the sum of the
+  /// cross products of the triangles around `v_kept` at its new position (CMGeom's engine has
+  /// it from its fold-over test, which visits exactly those triangles; see
+  /// internal::collapse_flips_a_face). The weight depends on the normal only through the choice
+  /// of the eigenvalue, so a normal summed in another order gives the same weight (but for a
+  /// tie between two eigenvectors).
+  template <class Profile>
+  void update_after_collapse(const Profile&, vertex_descriptor v_kept, const Collapse_token& t,
+                             const internal::Vec3& star_normal) const {
+    Record& kept = merge(v_kept, t);
+    kept.w = weight_of(kept.q, star_normal);
   }
 
   /// GetPlacement: the minimiser of w0 Q0 + w1 Q1 (singular-safe, see the file comment).
@@ -243,7 +266,6 @@ public:
     const internal::Vec3 u = q.minimiser_on_edge(internal::to_vec3(profile.p0()), internal::to_vec3(profile.p1()));
     return Point_3(u[0], u[1], u[2]);
   }
-
   /// GetCost: (w0 Q0 + w1 Q1)(placement); absent placement gives absent cost.
   template <class Profile>
   CMGeom::internal::optional<FT> operator()(const Profile& profile,
@@ -284,6 +306,28 @@ private:
     if (data_->size() < n) data_->resize(n);
   }
 
+  /// Stores the merged quadric of the collapsed edge (§3.4.2) in v_kept's record.
+  Record& merge(vertex_descriptor v_kept, const Collapse_token& t) const {
+    const Record& r0 = (*data_)[t.id0];
+    const Record& r1 = (*data_)[t.id1];
+    const double w0 = r0.w, w1 = r1.w;
+    Quadric q;
+    if (options_.weighted && options_.merge == Quadric_merge::weighted_average) {
+      q = Quadric::combine(r0.q, w0 / (w0 + w1), r1.q, w1 / (w0 + w1));
+    } else {
+      q = Quadric::combine(r0.q, 1.0, r1.q, 1.0);
+    }
+    Record& kept = record(v_kept);
+    kept.q = q;
+    return kept;
+  }
+
+  /// The clamped weight of a vertex with quadric q and (unnormalised) normal n; 1 in plain mode.
+  double weight_of(const Quadric& q, const internal::Vec3& n) const {
+    if (!options_.weighted) return 1.0;
+    return std::clamp(q.area_distortion(n), options_.min_weight, 1.0);
+  }
+
   template <class VertexPointMap>
   double compute_weight(const TriangleMesh& tm, const VertexPointMap& vpm, vertex_descriptor v,
                         const Quadric& q) const {
@@ -298,8 +342,7 @@ private:
       const internal::Vec3 b = internal::to_vec3(get(vpm, target(next(h, tm), tm)));
       n = internal::add(n, internal::cross(internal::sub(b, pv), internal::sub(a, pv)));
     }
-    const double w = q.area_distortion(n);
-    return std::clamp(w, options_.min_weight, 1.0);
+    return weight_of(q, n);
   }
 
   Vertex_index_map vim_;

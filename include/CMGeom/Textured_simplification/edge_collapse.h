@@ -22,6 +22,10 @@
 //     topological/geometric rejection had taken them out. Other policies get CGAL's treatment
 //     (every edge around every neighbour of the kept vertex is re-evaluated).
 //   * The profile is CMGeom's light Collapse_profile (no triangles()/link()).
+//   * A cost policy whose update_after_collapse also takes a normal (the quadric policies) gets
+//     the kept vertex's area-weighted normal from the fold-over test, which forms the cross
+//     products of exactly the triangles of the kept vertex's new star (unless the filter moved
+//     the placement: then the policy computes it itself).
 //   * A cost policy with `cost_at_own_placement(profile)` and `shares_state_with(placement)` (the
 //     quadric policies) is asked for the cost at its own placement in one call when the cost and
 //     placement objects share their state (same value as cost(profile, placement(profile)), the
@@ -54,6 +58,7 @@
 #include <CMGeom/Textured_simplification/parameters.h>
 
 #include <CGAL/Named_function_parameters.h>
+#include <CGAL/Surface_mesh/Surface_mesh_fwd.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/boost/graph/named_params_helper.h>
 #include <CGAL/property_map.h>
@@ -117,6 +122,21 @@ struct has_fused_cost<
                 decltype(std::declval<const C&>().shares_state_with(std::declval<const P&>()))>>
     : std::true_type {};
 
+template <class TM>
+struct is_surface_mesh : std::false_type {};
+template <class P>
+struct is_surface_mesh<CGAL::Surface_mesh<P>> : std::true_type {};
+
+// A cost policy whose update_after_collapse can take the kept vertex's star normal, which the
+// engine's fold-over test computes anyway (see Area_weighted_quadric_policies).
+template <class C, class P, class V, class T, class = void>
+struct has_normal_hint : std::false_type {};
+template <class C, class P, class V, class T>
+struct has_normal_hint<C, P, V, T,
+                       std::void_t<decltype(std::declval<const C&>().update_after_collapse(
+                           std::declval<const P&>(), std::declval<V>(), std::declval<const T&>(),
+                           std::declval<const Vec3&>()))>> : std::true_type {};
+
 // A cost policy with a prefetch(vertex) hint (see Area_weighted_quadric_policies::prefetch).
 template <class C, class V, class = void>
 struct has_prefetch : std::false_type {};
@@ -179,6 +199,12 @@ private:
   void after_collapse(const Profile& p, vertex_descriptor v, std::true_type) { get_cost_.update_after_collapse(p, v); }
 
   std::uint32_t id(edge_descriptor e) const { return static_cast<std::uint32_t>(get(eim_, e)); }
+  /// The edge of index i. On Surface_mesh the index is the edge's position, so no table (whose
+  /// lookup would add one cache miss to the chain of dependent loads behind every pop).
+  edge_descriptor edge_at(std::uint32_t i) const {
+    if constexpr (edge_index_is_position) return edge_descriptor(i);
+    else return edge_of_[i];
+  }
   std::uint32_t& flags(std::uint32_t i) { return heap_.user(i); }
 
   Profile profile_of(edge_descriptor e) const { return Profile(halfedge(e, tm_), tm_, vpm_, gt_); }
@@ -233,14 +259,15 @@ private:
     std::size_t max_e = 0, max_v = 0;
     for (edge_descriptor e : edges(tm_)) max_e = (std::max)(max_e, std::size_t(get(eim_, e)) + 1);
     for (vertex_descriptor v : vertices(tm_)) max_v = (std::max)(max_v, std::size_t(get(vim_, v)) + 1);
-    edge_of_.assign(max_e, edge_descriptor());
+    if constexpr (!edge_index_is_position) edge_of_.assign(max_e, edge_descriptor());
     mark_.assign(max_v, 0u);
     rejected_near_.assign((max_v + 63) / 64, 0u);
     heap_.reset(max_e);
     initial_edges_ = 0;
     for (edge_descriptor e : edges(tm_)) {
       const std::uint32_t i = id(e);
-      edge_of_[i] = e;
+      if constexpr (!edge_index_is_position) edge_of_[i] = e;
+      CGAL_assertion(edge_at(i) == e);
       ++initial_edges_;
       if (get(ecm_, e)) { flags(i) |= CONSTRAINED; continue; }
       evaluate(e);
@@ -260,7 +287,7 @@ private:
   void loop() {
     while (!heap_.empty()) {
       const std::uint32_t i = heap_.pop();
-      const edge_descriptor e = edge_of_[i];
+      const edge_descriptor e = edge_at(i);
       const Profile p = profile_of(e);
       const Cost c = Cost(FT(heap_.key(i)));
       visitor_.OnSelected(p, c, initial_edges_, current_edges_);
@@ -272,7 +299,7 @@ private:
       // which the fold-over test reads next, and walks the stars of the edge now on top of the
       // queue alongside (most often the next one popped; see is_collapse_topologically_valid)
       const halfedge_descriptor next_top =
-          heap_.empty() ? GTraits::null_halfedge() : halfedge(edge_of_[heap_.top()], tm_);
+          heap_.empty() ? GTraits::null_halfedge() : halfedge(edge_at(heap_.top()), tm_);
       const bool ok_topo =
           internal::is_collapse_topologically_valid(tm_, vim_, p.v0_v1(), mark_, stamp_,
                                                     [this](vertex_descriptor n) { prefetch_point(n); }, next_top) &&
@@ -295,7 +322,9 @@ private:
         reject(i, p);
         continue;
       }
-      if (internal::collapse_flips_a_face(tm_, vpm_, p.v0_v1(), internal::to_vec3(*pl))) {
+      const internal::Vec3 x = internal::to_vec3(*pl);
+      internal::Vec3 star_normal;
+      if (internal::collapse_flips_a_face(tm_, vpm_, p.v0_v1(), x, normal_hint ? &star_normal : nullptr)) {
         reject(i, p);
         continue;
       }
@@ -305,7 +334,8 @@ private:
         visitor_.OnNonCollapsable(p);
         continue;
       }
-      collapse(p, *pl);
+      // the normal holds for the tested placement only (a filter may move it)
+      collapse(p, *pl, normal_hint && internal::to_vec3(*pl) == x ? &star_normal : nullptr);
     }
   }
 
@@ -328,7 +358,8 @@ private:
     flags(i) |= DEAD;
   }
 
-  void collapse(const Profile& p, const Point& placement) {
+  /// `star_normal`: the kept vertex's normal at `placement` from the fold-over test, or null.
+  void collapse(const Profile& p, const Point& placement, const internal::Vec3* star_normal) {
     p.load_apexes();  // the halfedges they come from are about to disappear
     visitor_.OnCollapsing(p, Placement(placement));
     const edge_descriptor e = edge(p.v0_v1(), tm_);
@@ -357,7 +388,13 @@ private:
     }
     put(vpm_, v_kept, placement);
     visitor_.OnCollapsed(p, v_kept);
-    after_collapse(p, v_kept, token);
+    if constexpr (normal_hint) {
+      if (star_normal) get_cost_.update_after_collapse(p, v_kept, token, *star_normal);
+      else after_collapse(p, v_kept, token);
+    } else {
+      (void)star_normal;
+      after_collapse(p, v_kept, token);
+    }
     update_neighbours(v_kept, std::integral_constant<bool, endpoint_cost<GetCost>::value>());
     if (flips_) flip_around(v_kept);
   }
@@ -457,6 +494,12 @@ private:
   Visitor& visitor_;
   bool flips_;
   static constexpr bool fused_cost = has_fused_cost<GetCost, GetPlacement, Profile>::value;
+  static constexpr bool edge_index_is_position = is_surface_mesh<TM>::value;
+  using Token_type = decltype(std::declval<const Edge_collapse_engine&>().before_collapse(
+      std::declval<const Profile&>(),
+      std::integral_constant<bool, has_update<GetCost>::value && has_before_collapse<GetCost, Profile>::value>()));
+  static constexpr bool normal_hint =
+      has_update<GetCost>::value && has_normal_hint<GetCost, Profile, vertex_descriptor, Token_type>::value;
   bool fused_ = false;  // the cost policy computes the placement policy's placement itself
   bool has_constraints_ = !std::is_same<ECM, CGAL::Constant_property_map<edge_descriptor, bool>>::value;
   typename CGAL::GetInitializedVertexIndexMap<TM>::const_type vim_;

@@ -27,16 +27,21 @@ inline Vec3 to_vec3(const Point& p) {
 /// product between the triangle's normal before and after the move (§3.4.2: "fold-overs" are
 /// rejected; the thesis does not fix a threshold, we use the sign, as CGAL's
 /// Bounded_normal_change_filter does).
+/// If `star_normal` is not null and the answer is false, it receives the sum of the new normals of
+/// the triangles tested (each twice the triangle's area long): they are the star of the kept vertex
+/// once it sits at `x`, so this is the area-weighted normal of the kept vertex after the collapse,
+/// the same sum as over its star then, up to the order of the additions.
 template <class TriangleMesh, class VertexPointMap>
 bool collapse_flips_a_face(const TriangleMesh& tm, const VertexPointMap& vpm,
                            typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h_v0v1,
-                           const Vec3& x) {
+                           const Vec3& x, Vec3* star_normal = nullptr) {
   using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
   using face_descriptor = typename boost::graph_traits<TriangleMesh>::face_descriptor;
   const auto v0 = source(h_v0v1, tm);
   const auto v1 = target(h_v0v1, tm);
   const face_descriptor fL = face(h_v0v1, tm);
   const face_descriptor fR = face(opposite(h_v0v1, tm), tm);
+  Vec3 sum{0, 0, 0};
   for (int side = 0; side < 2; ++side) {
     const auto v = side == 0 ? v0 : v1;
     const Vec3 pv = to_vec3(get(vpm, v));
@@ -52,8 +57,10 @@ bool collapse_flips_a_face(const TriangleMesh& tm, const VertexPointMap& vpm,
       const double d = dot(n_old, n_new);
       const double nn = dot(n_new, n_new);
       if (!(d > 0) || !(nn > 1e-24 * dot(n_old, n_old))) return true;
+      sum = add(sum, n_new);
     }
   }
+  if (star_normal) *star_normal = sum;
   return false;
 }
 
