@@ -4,10 +4,11 @@
 // OpenMesh's Decimater + ModQuadric. Prints one Markdown table (and writes it with --out).
 //
 //   bench_simplify [--data DIR] [--tmp DIR] [--models a,b,...] [--ratios 0.1,0.01]
-//                  [--tools t1,t2,...] [--samples N] [--min-weight w] [--out FILE]
+//                  [--tools t1,t2,...] [--samples N] [--min-weight w] [--repeat R] [--out FILE]
 //
 // Timing: process CPU seconds of the simplification call alone (set-up of the policy included,
-// mesh IO and format conversion excluded), one run per configuration. Error: Metro convention —
+// mesh IO and format conversion excluded); with --repeat R each configuration runs R times and
+// the median time is reported (the outputs are deterministic). Error: Metro convention —
 // N uniform area samples (fixed seed) on each surface, distance to the other surface (AABB tree),
 // symmetric Hausdorff = max of both directions, RMS = the larger of the two directional RMS, both
 // divided by the input's bounding-box diagonal.
@@ -332,7 +333,7 @@ int main(int argc, char** argv) {
                                     "cmgeom-weighted-flips", "cgal-engine-weighted", "cgal-engine-plain",
                                     "cgal-gh",              "cgal-lt",             "meshopt",
                                     "openmesh"};
-  std::size_t n_samples = 100000;
+  std::size_t n_samples = 100000, repeat = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -356,6 +357,7 @@ int main(int argc, char** argv) {
     else if (a == "--tools") tools = split(next());
     else if (a == "--samples") n_samples = static_cast<std::size_t>(number(1, 1e9));
     else if (a == "--min-weight") g_min_weight = number(1e-300, 1);
+    else if (a == "--repeat") repeat = static_cast<std::size_t>(number(1, 99));
     else if (a == "--out") out_file = next();
     else if (a == "--ratios") {
       ratios.clear();
@@ -401,6 +403,8 @@ int main(int argc, char** argv) {
         r.target = target;
         r.ratio = ratio;
         Mesh out;
+        std::vector<double> times;
+        for (std::size_t rep = 0; rep < repeat; ++rep) {
         if (tool == "cmgeom-weighted") out = run_cmgeom(md.mesh, target, true, false, r.seconds);
         else if (tool == "cmgeom-plain") out = run_cmgeom(md.mesh, target, false, false, r.seconds);
         else if (tool == "cmgeom-weighted-flips") out = run_cmgeom(md.mesh, target, true, true, r.seconds);
@@ -417,6 +421,11 @@ int main(int argc, char** argv) {
           std::cerr << "unknown tool " << tool << "\n";
           return 2;
         }
+        times.push_back(r.seconds);
+        }
+        // the median run: the machine may be shared, and every tool is repeated alike
+        std::sort(times.begin(), times.end());
+        r.seconds = times[times.size() / 2];
         r.faces_out = out.number_of_faces();
         measure(md, out, n_samples, r);
         std::cerr << name << " " << ratio << " " << tool << ": " << r.faces_out << " faces, " << r.seconds

@@ -11,6 +11,6 @@ if [[ "${2:-}" == "--quick" ]]; then
   sh "$here/run_bench.sh" "$build" --models bunny,max-planck
   sh "$here/run_textured_bench.sh" "$build" --models spot,bob --fractions 0.1
 else
-  sh "$here/run_bench.sh" "$build"
+  sh "$here/run_bench.sh" "$build" --repeat 3
   sh "$here/run_textured_bench.sh" "$build"
 fi
