@@ -4,9 +4,8 @@
 // A quadric error function Q(u) = u^T A u + 2 b^T u + c stored as its 10 distinct coefficients
 // (thesis §3.4: Q = (A, b, c)), with the operations the simplification policies need: the
 // fundamental quadric of a plane, weighted sums, evaluation, a singular-safe minimiser on an edge
-// and the local area distortion weight of §3.4.1. Every operation is O(1); the eigenvalues of
-// the 3x3 block come from Newton's method on its characteristic polynomial (no trigonometric
-// calls), with Eigen's closed-form solver as the fallback and for eigenvectors.
+// and the local area distortion weight of §3.4.1. Every operation is O(1); the eigen
+// decomposition of the 3x3 block uses Eigen's closed-form solver.
 //
 // Why 10 doubles instead of CGAL's 4x4 Eigen matrix: 80 bytes instead of 128 per vertex and no
 // redundant arithmetic on the symmetric half; the policies touch these in their hot loop.
@@ -146,12 +145,8 @@ struct Symmetric_quadric {
     if (!(t > 0)) return 1.0;
     Eigen::Matrix3d A;
     A << a00, a01, a02, a01, a11, a12, a02, a12, a22;
-    Eigen::Vector3d l;
-    if (!eigenvalues_without_trigonometry(l)) {
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-      es.computeDirect(A, Eigen::EigenvaluesOnly);
-      l = es.eigenvalues();
-    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(A, Eigen::EigenvaluesOnly);
     const Eigen::Vector3d n(normal[0], normal[1], normal[2]);
     int best = 2;  // eigenvalues ascend: the largest is the dominant plane normal
     if (n.squaredNorm() > 0) {
@@ -161,6 +156,7 @@ struct Symmetric_quadric {
       // P_i = prod_{j != i} (A - l_j I) / (l_i - l_j) is the projector on it, i.e.
       // u_j . u_k / ((l_i - l_j)(l_i - l_k)). Eigenvalues closer than 1e-6 trace(A) (their
       // eigenvectors are then ill-defined and the divisions inaccurate) take the eigenvectors.
+      const Eigen::Vector3d& l = es.eigenvalues();
       const double g01 = l(1) - l(0), g12 = l(2) - l(1);
       if (g01 > 1e-6 * t && g12 > 1e-6 * t) {
         const Eigen::Vector3d An = A * n;
@@ -171,9 +167,7 @@ struct Symmetric_quadric {
         for (int i = 0; i < 3; ++i)
           if (c[i] > best_c) { best_c = c[i]; best = i; }
       } else {
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-        es.computeDirect(A);  // eigenvectors too
-        l = es.eigenvalues();
+        es.computeDirect(A);  // same eigenvalues, now with eigenvectors
         double best_dot = -1;
         for (int i = 0; i < 3; ++i) {
           const double dd = std::abs(es.eigenvectors().col(i).dot(n));
@@ -181,48 +175,8 @@ struct Symmetric_quadric {
         }
       }
     }
-    const double lambda = std::clamp(l(best), 0.0, t);
+    const double lambda = std::clamp(es.eigenvalues()(best), 0.0, t);
     return (t - lambda) / (t + lambda);
-  }
-
-  /// The eigenvalues of A in ascending order, for A positive semi-definite (as every sum of plane
-  /// quadrics is). The largest is the largest root of the characteristic polynomial
-  /// p(x) = x^3 - t x^2 + c1 x - c0, found by Newton's method from x = t = trace(A): above its
-  /// largest root a cubic with real roots is increasing and convex, so the iterates decrease
-  /// monotonically to it, in one to three steps when it dominates (smooth surfaces: the normals
-  /// of a vertex's faces are close). The other two are the roots of p(x) / (x - l2). This replaces
-  /// the closed form's atan2, sin and cos (half of the weight's cost in profiles); when Newton's
-  /// method is slow (a near-double largest root) it gives up, returns false and the caller uses
-  /// the closed form. Accuracy: about 1e-8 of the trace for eigenvalues near zero, as the closed
-  /// form (cancellation in c0 and c1).
-  bool eigenvalues_without_trigonometry(Eigen::Vector3d& l) const {
-    const double t = trace();
-    const double c1 = a00 * a11 + a00 * a22 + a11 * a22 - a01 * a01 - a02 * a02 - a12 * a12;
-    const double c0 = a00 * (a11 * a22 - a12 * a12) - a01 * (a01 * a22 - a12 * a02) + a02 * (a01 * a12 - a11 * a02);
-    double x = t;
-    bool converged = false;
-    for (int it = 0; it < 8; ++it) {
-      const double p = ((x - t) * x + c1) * x - c0;
-      const double dp = (3.0 * x - 2.0 * t) * x + c1;
-      if (!(dp > 0)) return false;
-      const double step = p / dp;
-      x -= step;
-      if (std::abs(step) <= 1e-12 * t) {
-        converged = true;
-        break;
-      }
-    }
-    if (!converged) return false;
-    // the other two: sum t - x, product c1 - x (t - x)
-    const double sum = t - x;
-    const double prod = c1 - x * sum;
-    const double disc = (std::max)(0.0, sum * sum - 4.0 * prod);
-    const double r = std::sqrt(disc);
-    l(0) = 0.5 * (sum - r);
-    l(1) = 0.5 * (sum + r);
-    l(2) = x;
-    if (!(l(1) <= l(2))) return false;  // not the largest root after all (rounding): closed form
-    return std::isfinite(l(0));
   }
 };
 
