@@ -161,7 +161,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         j["output"] = o->output;
         j["engine"] = o->engine;
         j["policy"] = o->policy;
-        j["merge"] = o->merge;
+        j["merge"] = o->policy == "plain" ? std::string("sum") : o->merge;  // plain quadrics always sum
         j["textured"] = true;
         j["texture_backend"] = o->texture_backend;
         j["faces_in"] = r.faces_in;
@@ -221,7 +221,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["output"] = o->output;
       j["engine"] = o->engine;
       j["policy"] = o->policy;
-      j["merge"] = o->merge;
+      j["merge"] = o->policy == "plain" ? std::string("sum") : o->merge;  // plain quadrics always sum
       j["flips"] = o->flips;
       j["faces_in"] = faces_in;
       j["target_faces"] = target;

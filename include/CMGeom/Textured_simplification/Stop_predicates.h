@@ -16,6 +16,7 @@
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_STOP_PREDICATES_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_STOP_PREDICATES_H
 
+#include <CGAL/Surface_mesh/Surface_mesh_fwd.h>
 #include <CGAL/boost/graph/iterator.h>
 #include <CGAL/number_utils.h>
 #include <boost/graph/graph_traits.hpp>
@@ -38,11 +39,9 @@ public:
   void update(std::size_t current_edge_count) const {
     State& s = *state_;
     if (!s.started) {
-      // first call: count the live elements once (Surface_mesh's num_faces() includes removed ones)
-      const auto fr = faces(*s.tm);
-      const auto vr = vertices(*s.tm);
-      s.faces = static_cast<std::size_t>(std::distance(fr.begin(), fr.end()));
-      s.vertices = static_cast<std::size_t>(std::distance(vr.begin(), vr.end()));
+      // first call: count the live elements once
+      s.faces = live_faces(*s.tm);
+      s.vertices = live_vertices(*s.tm);
       s.edges = current_edge_count;
       s.started = true;
       return;
@@ -58,6 +57,23 @@ public:
   std::size_t vertex_count() const { return state_->vertices; }
 
 private:
+  // Surface_mesh knows its live counts (number_of_faces() excludes removed elements, while BGL's
+  // num_faces() does not); other graphs are counted by iteration.
+  template <class P>
+  static std::size_t live_faces(const CGAL::Surface_mesh<P>& m) { return m.number_of_faces(); }
+  template <class P>
+  static std::size_t live_vertices(const CGAL::Surface_mesh<P>& m) { return m.number_of_vertices(); }
+  template <class G>
+  static std::size_t live_faces(const G& g) {
+    const auto r = faces(g);
+    return static_cast<std::size_t>(std::distance(r.begin(), r.end()));
+  }
+  template <class G>
+  static std::size_t live_vertices(const G& g) {
+    const auto r = vertices(g);
+    return static_cast<std::size_t>(std::distance(r.begin(), r.end()));
+  }
+
   struct State {
     const TriangleMesh* tm = nullptr;
     std::size_t faces = 0, vertices = 0, edges = 0;
