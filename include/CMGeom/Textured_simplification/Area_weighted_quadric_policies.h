@@ -266,6 +266,7 @@ public:
     const internal::Vec3 u = q.minimiser_on_edge(internal::to_vec3(profile.p0()), internal::to_vec3(profile.p1()));
     return Point_3(u[0], u[1], u[2]);
   }
+
   /// GetCost: (w0 Q0 + w1 Q1)(placement); absent placement gives absent cost.
   template <class Profile>
   CMGeom::internal::optional<FT> operator()(const Profile& profile,
