@@ -40,6 +40,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <random>
 #include <sstream>
@@ -294,6 +295,29 @@ Mesh run_openmesh(const Soup& s, std::size_t target, double& secs) {
   return from_indices(o, o.tris.data(), o.tris.size());
 }
 
+// The tools by name (the default list and "cmgeom-plain-flips").
+const char* const all_tools[] = {"cmgeom-weighted",      "cmgeom-weighted-sum",  "cmgeom-plain",
+                                 "cmgeom-weighted-flips", "cmgeom-plain-flips",   "cgal-engine-weighted",
+                                 "cgal-engine-plain",     "cgal-gh",              "cgal-lt",
+                                 "meshopt",               "openmesh"};
+
+/// Runs `tool` once on `md` down to `target` faces; false if the name is not one of all_tools.
+bool run_tool(const std::string& tool, const Model& md, std::size_t target, Mesh& out, double& secs) {
+  if (tool == "cmgeom-weighted") out = run_cmgeom(md.mesh, target, true, false, secs);
+  else if (tool == "cmgeom-plain") out = run_cmgeom(md.mesh, target, false, false, secs);
+  else if (tool == "cmgeom-weighted-flips") out = run_cmgeom(md.mesh, target, true, true, secs);
+  else if (tool == "cmgeom-weighted-sum") out = run_cmgeom(md.mesh, target, true, false, secs, TS::Quadric_merge::sum);
+  else if (tool == "cmgeom-plain-flips") out = run_cmgeom(md.mesh, target, false, true, secs);
+  else if (tool == "cgal-engine-weighted") out = run_cmgeom_policy_on_cgal(md.mesh, target, true, secs);
+  else if (tool == "cgal-engine-plain") out = run_cmgeom_policy_on_cgal(md.mesh, target, false, secs);
+  else if (tool == "cgal-gh") out = run_cgal_gh(md.mesh, target, secs);
+  else if (tool == "cgal-lt") out = run_cgal_lt(md.mesh, target, secs);
+  else if (tool == "meshopt") out = run_meshopt(md.soup, target, secs);
+  else if (tool == "openmesh") out = run_openmesh(md.soup, target, secs);
+  else return false;
+  return true;
+}
+
 bool load(const std::string& data, const std::string& tmp, const std::string& name, Mesh& m) {
   std::map<std::string, std::string> files = {
       {"bunny", "classic/stanford-bunny.obj.gz"}, {"armadillo", "classic/armadillo.obj.gz"},
@@ -340,12 +364,11 @@ int main(int argc, char** argv) {
       if (i + 1 >= argc) { std::cerr << "missing value after " << a << "\n"; std::exit(2); }
       return argv[++i];
     };
-    // whole-string numbers only; anything else is a usage error, not an exception
+    // a number in [lo, hi], or a usage error (exit 2), not an exception
     auto number = [&](double lo, double hi) -> double {
       const std::string v = next();
-      char* end = nullptr;
-      const double x = std::strtod(v.c_str(), &end);
-      if (v.empty() || end != v.c_str() + v.size() || !(x >= lo && x <= hi)) {
+      double x = 0;
+      if (!cmgeom_bench::parse_number(v, lo, hi, x)) {
         std::cerr << "bad value '" << v << "' for " << a << ": expected a number in [" << lo << ", " << hi << "]\n";
         std::exit(2);
       }
@@ -354,7 +377,14 @@ int main(int argc, char** argv) {
     if (a == "--data") data = next();
     else if (a == "--tmp") tmp = next();
     else if (a == "--models") models = split(next());
-    else if (a == "--tools") tools = split(next());
+    else if (a == "--tools") {
+      tools = split(next());
+      for (const std::string& t : tools)
+        if (std::find(std::begin(all_tools), std::end(all_tools), t) == std::end(all_tools)) {
+          std::cerr << "unknown tool '" << t << "' in --tools\n";
+          return 2;
+        }
+    }
     else if (a == "--samples") n_samples = static_cast<std::size_t>(number(1, 1e9));
     else if (a == "--min-weight") g_min_weight = number(1e-300, 1);
     else if (a == "--repeat") repeat = static_cast<std::size_t>(number(1, 99));
@@ -363,9 +393,8 @@ int main(int argc, char** argv) {
       ratios.clear();
       const std::string list = next();
       for (const auto& r : split(list)) {
-        char* end = nullptr;
-        const double x = std::strtod(r.c_str(), &end);
-        if (r.empty() || end != r.c_str() + r.size() || !(x > 0 && x <= 1)) {
+        double x = 0;
+        if (!cmgeom_bench::parse_number(r, 0, 1, x) || x == 0) {
           std::cerr << "bad ratio '" << r << "' in --ratios " << list << ": expected numbers in (0, 1]\n";
           return 2;
         }
@@ -403,27 +432,10 @@ int main(int argc, char** argv) {
         r.target = target;
         r.ratio = ratio;
         Mesh out;
-        std::vector<double> times;
-        for (std::size_t rep = 0; rep < repeat; ++rep) {
-        if (tool == "cmgeom-weighted") out = run_cmgeom(md.mesh, target, true, false, r.seconds);
-        else if (tool == "cmgeom-plain") out = run_cmgeom(md.mesh, target, false, false, r.seconds);
-        else if (tool == "cmgeom-weighted-flips") out = run_cmgeom(md.mesh, target, true, true, r.seconds);
-        else if (tool == "cmgeom-weighted-sum")
-          out = run_cmgeom(md.mesh, target, true, false, r.seconds, TS::Quadric_merge::sum);
-        else if (tool == "cmgeom-plain-flips") out = run_cmgeom(md.mesh, target, false, true, r.seconds);
-        else if (tool == "cgal-engine-weighted") out = run_cmgeom_policy_on_cgal(md.mesh, target, true, r.seconds);
-        else if (tool == "cgal-engine-plain") out = run_cmgeom_policy_on_cgal(md.mesh, target, false, r.seconds);
-        else if (tool == "cgal-gh") out = run_cgal_gh(md.mesh, target, r.seconds);
-        else if (tool == "cgal-lt") out = run_cgal_lt(md.mesh, target, r.seconds);
-        else if (tool == "meshopt") out = run_meshopt(md.soup, target, r.seconds);
-        else if (tool == "openmesh") out = run_openmesh(md.soup, target, r.seconds);
-        else {
-          std::cerr << "unknown tool " << tool << "\n";
-          return 2;
-        }
-        times.push_back(r.seconds);
-        }
-        // the median run: the machine may be shared, and every tool is repeated alike
+        // the median of `repeat` runs: the machine may be shared, and every tool is repeated alike
+        std::vector<double> times(repeat);
+        for (double& secs : times)
+          if (!run_tool(tool, md, target, out, secs)) return 2;  // not reached: --tools is checked
         std::sort(times.begin(), times.end());
         r.seconds = times[times.size() / 2];
         r.faces_out = out.number_of_faces();

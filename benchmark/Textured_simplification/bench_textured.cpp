@@ -16,6 +16,8 @@
 //                 (seams are kept because split vertices are borders), original texture
 // Prints one Markdown table row per (model, fraction, tool) on stdout.
 //   bench_textured [--models a,b] [--fractions 0.1,0.02] [--size 256]
+// A bad option value, an unknown option or model name: one line on stderr, exit code 2, before any
+// work; a model that cannot be read is skipped with a line on stderr.
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 #include <CMGeom/Metrics/soup_metrics.h>
 #include <CMGeom/Rendering/Renderer.h>
@@ -25,17 +27,22 @@
 #include <CMGeom/Textured_simplification.h>
 #include <CMGeom/Textured_simplification/Osmesa_index_texture_resampler.h>
 
+#include "cmgeom_bench_support.h"
+
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include <meshoptimizer.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <exception>
 #include <iostream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace TS = CMGeom::Textured_simplification;
@@ -203,11 +210,23 @@ double image_rmse(R::Renderer& renderer, const R::Render_mesh& ref, const CMGeom
 int main(int argc, char** argv) {
   std::string models = "bunny10k_textured,DamagedHelmet,spot,bob", fractions = "0.1,0.02";
   int size = 256;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  for (int i = 1; i < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--models") models = argv[i + 1];
-    else if (a == "--fractions") fractions = argv[i + 1];
-    else if (a == "--size") size = std::stoi(argv[i + 1]);
+    if (i + 1 >= argc) {
+      std::cerr << "missing value after " << a << "\n";
+      return 2;
+    }
+    const std::string v = argv[i + 1];
+    double x = 0;
+    if (a == "--models") models = v;
+    else if (a == "--fractions") fractions = v;
+    else if (a == "--size" && cmgeom_bench::parse_number(v, 16, 16384, x) && x == std::floor(x)) size = int(x);
+    else {
+      std::cerr << (a == "--size" ? "bad value '" + v + "' for --size: expected an integer in [16, 16384]"
+                                  : "unknown option " + a)
+                << "\n";
+      return 2;
+    }
   }
   const std::map<std::string, std::pair<std::string, std::string>> files{
       {"bunny10k_textured", {"bunny10k_textured/bunny10k_textured.obj", ""}},
@@ -216,6 +235,21 @@ int main(int argc, char** argv) {
       {"bob", {"bob/bob_tri.obj", ""}},
       {"Duck", {"Duck/Duck.obj", ""}},
       {"fuze", {"fuze/fuze.obj", ""}}};
+  // every model name and fraction checked before any work
+  std::vector<std::pair<std::string, double>> fraction_values;  // as written, as a number
+  for (const std::string& fs : split(fractions)) {
+    double x = 0;
+    if (!cmgeom_bench::parse_number(fs, 0, 1, x) || x == 0) {
+      std::cerr << "bad fraction '" << fs << "' in --fractions " << fractions << ": expected numbers in (0, 1]\n";
+      return 2;
+    }
+    fraction_values.emplace_back(fs, x);
+  }
+  for (const std::string& name : split(models))
+    if (!files.count(name)) {
+      std::cerr << "unknown model '" << name << "' in --models\n";
+      return 2;
+    }
   R::Renderer renderer;
   std::cout << "| model | faces in | target | tool | faces out | charts in → out | seconds | Hausdorff | RMS | image RMSE |\n"
                "|---|---:|---:|---|---:|---|---:|---:|---:|---:|\n";
@@ -225,7 +259,12 @@ int main(int argc, char** argv) {
     CMGeom::Textured_mesh in;
     CMGeom::IO::Read_options ro;
     ro.repair = true;
-    CMGeom::IO::read_mesh(path, in, ro);
+    try {
+      CMGeom::IO::read_mesh(path, in, ro);
+    } catch (const std::exception& e) {
+      std::cerr << "skipping " << name << ": " << e.what() << "\n";
+      continue;
+    }
     if (!f.second.empty()) {
       in.materials().resize(1);
       in.materials()[0].name = "m";
@@ -239,8 +278,8 @@ int main(int argc, char** argv) {
     const CMGeom::Polygon_soup ref_soup = to_soup(in, in.materials()[0].diffuse_image);
     const R::Render_mesh ref = R::make_render_mesh(ref_soup);
     const std::size_t faces_in = in.mesh().number_of_faces();
-    for (const std::string& fs : split(fractions)) {
-      const std::size_t target = std::size_t(std::llround(std::stod(fs) * double(faces_in)));
+    for (const auto& [fs, fraction] : fraction_values) {
+      const std::size_t target = std::size_t(std::llround(fraction * double(faces_in)));
       {
         // reference time: our geometry-only simplification of the same mesh (same policy, no UVs)
         CMGeom::Textured_mesh g = in;

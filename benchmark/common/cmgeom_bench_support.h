@@ -33,6 +33,17 @@ inline std::string readable_model(const std::string& path, const std::string& di
   return ec ? std::string() : out;
 }
 
+/// Parses the whole of `text` as a number in [lo, hi] into `out`; false (out unchanged) for an
+/// empty string, trailing characters, NaN or a value out of range. For command-line options:
+/// std::stod would throw, and std::atof would read "0.1x" as 0.1.
+inline bool parse_number(const std::string& text, double lo, double hi, double& out) {
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !(x >= lo && x <= hi)) return false;
+  out = x;
+  return true;
+}
+
 }  // namespace cmgeom_bench
 
 #endif  // CMGEOM_BENCH_SUPPORT_H
