@@ -124,6 +124,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     TS::Quadric_options qo;
     qo.weighted = o->policy == "weighted";
     qo.merge = o->merge == "sum" ? TS::Quadric_merge::sum : TS::Quadric_merge::weighted_average;
+    // the merge actually used, for the report: plain quadrics always sum
+    const std::string merge_used = qo.weighted ? o->merge : std::string("sum");
     cmgeom_cli::Progress bar("simplify");
     if (textured) {
       if (o->engine != "cmgeom") throw CMGeom::Invalid_input("textured simplification runs on --engine cmgeom only");
@@ -161,7 +163,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         j["output"] = o->output;
         j["engine"] = o->engine;
         j["policy"] = o->policy;
-        j["merge"] = o->policy == "plain" ? std::string("sum") : o->merge;  // plain quadrics always sum
+        j["merge"] = merge_used;
         j["textured"] = true;
         j["texture_backend"] = o->texture_backend;
         j["faces_in"] = r.faces_in;
@@ -221,7 +223,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["output"] = o->output;
       j["engine"] = o->engine;
       j["policy"] = o->policy;
-      j["merge"] = o->policy == "plain" ? std::string("sum") : o->merge;  // plain quadrics always sum
+      j["merge"] = merge_used;
       j["flips"] = o->flips;
       j["faces_in"] = faces_in;
       j["target_faces"] = target;
