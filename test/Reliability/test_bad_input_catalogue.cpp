@@ -367,6 +367,14 @@ TEST_F(Bad_input, CmBuildBadSharpAngle) {
   expect_rejected("cm build " + q(m) + " -o " + q(output("m.cm")) + " --faces 10 --sharp-angle 200", {"--sharp-angle"});
 }
 
+TEST_F(Bad_input, CmBuildBadErrorControl) {
+  const std::string m = input("sphere.obj", cmgeom_test::icosphere_obj(1));
+  const std::string head = "cm build " + q(m) + " -o " + q(output("m.cm")) + " --faces 10 --error-bound 0.01";
+  expect_rejected(head + " --error-rounds -1", {"--error-rounds"});
+  expect_rejected(head + " --error-level 9", {"--error-level"});
+  expect_rejected("cm build " + q(m) + " -o " + q(output("m.cm")) + " --faces 10 --error-bound -1", {"--error-bound"});
+}
+
 // ------------------------------------------------------------------ cm reconstruct
 TEST_F(Bad_input, CmReconstructEmptyFile) {
   const std::string cm = input("empty.cm", "");

@@ -1,5 +1,5 @@
 // cmgeom cm build <in> -o <model.cm> (--faces N | --ratio r) [--sharp-angle deg] [--cubic]
-//                 [--joint-fit] [--error-bound x] [--json]
+//                 [--joint-fit] [--error-bound x [--error-rounds n] [--error-level L]] [--json]
 // cmgeom cm reconstruct <model.cm> -o <out> [--level L | --edge-length x | --roi x,y,z,r |
 //                       --silhouette x,y,z] [--max-level L] [--projection normal|closest] [--json]
 // cmgeom cm deform <model.cm> (--cages <system.json> | --affine a11,...,a34) -o <out>
@@ -61,6 +61,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     std::string input, output;
     std::size_t faces = 0;
     double ratio = 0, sharp_angle = 40, error_bound = 0;
+    int error_rounds = 2, error_level = 2;
     bool cubic = false, joint_fit = false, json = false;
   };
   auto b = std::make_shared<Build_args>();
@@ -74,6 +75,10 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
   build->add_option("--sharp-angle", b->sharp_angle, "Sharp-edge threshold in degrees (thesis 4.4.2; default 40)");
   build->add_option("--error-bound", b->error_bound,
                     "Error control (thesis 4.5.3): absolute distance bound, 0 = off (default)");
+  build->add_option("--error-rounds", b->error_rounds,
+                    "Most rounds of error control (default 2; a round that does not lower the error is undone)");
+  build->add_option("--error-level", b->error_level,
+                    "Reconstruction level at which error control measures (default 2; use the level you will reconstruct at)");
   build->add_flag("--cubic", b->cubic, "Cubic local surfaces instead of the thesis' quadrics");
   build->add_flag("--joint-fit", b->joint_fit,
                   "Refit all local surfaces together so that their blend follows the input (CMGeom addition; "
@@ -257,6 +262,8 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       if (!(b->sharp_angle > 0 && b->sharp_angle < 180))
         throw CMGeom::Invalid_input("--sharp-angle must be in (0, 180) degrees");
       if (!(b->error_bound >= 0)) throw CMGeom::Invalid_input("--error-bound must be >= 0");
+      if (b->error_rounds < 0 || b->error_rounds > 100) throw CMGeom::Invalid_input("--error-rounds must be in [0, 100]");
+      if (b->error_level < 0 || b->error_level > 8) throw CMGeom::Invalid_input("--error-level must be in [0, 8]");
       CMGeom::Textured_mesh tm;
       CMGeom::IO::read_mesh(b->input, tm);
       CMGeom::Surface_mesh& mesh = tm.mesh();
@@ -268,6 +275,8 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       CM::Build_options opt;
       opt.sharp_angle = b->sharp_angle;
       opt.error_bound = b->error_bound;
+      opt.error_control_rounds = b->error_rounds;
+      opt.error_control_level = b->error_level;
       opt.joint_fit = b->joint_fit;
       CM::Build_statistics st;
       const double t0 = cmgeom_cli::now_seconds();
@@ -289,6 +298,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
         j["dart_promotions"] = st.dart_promotions;
         j["cone_vertices"] = st.cone_vertices;
         j["error_control_points"] = st.error_control_points;
+        j["error_control_rejected_rounds"] = st.error_control_rejected_rounds;
         j["joint_fit"] = st.joint_fit;
         j["bytes"] = bytes;
         j["seconds"] = seconds;
