@@ -3,8 +3,10 @@
 // along N and closest point), Metro error (Hausdorff and RMS, % of the bounding-box diagonal)
 // against the original; side by side with the plain simplified mesh of equal storage in bytes
 // (float32 coordinates + uint32 indices, 12 V + 12 F bytes) and with PN triangles (Vlachos et al.
-// 2001) on the same base, same level. Each model is built twice: with the thesis' independent
-// local fits (fit `thesis`) and with CMGeom's joint refit (fit `joint`, Build_options::joint_fit).
+// 2001) on the same base, same level. Each model is built three times: with the thesis' independent
+// local fits (fit `thesis`), with CMGeom's joint refit (fit `joint`, Build_options::joint_fit), and
+// with the joint refit, cubic surfaces and error control at level 3 with a bound of 0.3 % of the
+// diagonal (fit `joint+cubic+ec`: the Fandisk target of 0.3 %).
 // Prints a Markdown table. Never run by CTest.
 //
 // Usage: bench_compact_model [data_dir] [model:faces ...]   (default: the six models below)
@@ -174,14 +176,26 @@ int main(int argc, char** argv) {
     CMGeom::Textured_mesh tm;
     CMGeom::IO::read_mesh(path, tm);
     const CMGeom::Surface_mesh& mesh = tm.mesh();
-    for (const bool joint : {false, true}) {
+    const auto box = CGAL::Polygon_mesh_processing::bbox(mesh);
+    const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                      CGAL::square(box.zmax() - box.zmin()));
+    for (const char* fit : {"thesis", "joint", "joint+cubic+ec"}) {
+      const bool controlled = std::string(fit) == "joint+cubic+ec";
       CM::Build_statistics st;
       auto t0 = Clock::now();
       CM::Build_options bo;
-      bo.joint_fit = joint;
+      bo.joint_fit = std::string(fit) != "thesis";
+      if (controlled) {
+        bo.error_bound = 0.003 * diagonal;
+        bo.error_control_level = 3;
+        bo.error_control_rounds = 4;
+      }
       if (const char* r = std::getenv("CMGEOM_CM_CONE_RATIO")) bo.cone_error_ratio = std::atof(r);
-      const CM::Compact_model model = CM::build_compact_model(mesh, md.base_faces, bo,
-                                                              CM::Quadric_surface_traits(), CM::Weighted_quadric_simplifier(), &st);
+      const CM::Compact_model model =
+          controlled ? CM::build_compact_model(mesh, md.base_faces, bo, CM::Cubic_surface_traits(),
+                                               CM::Weighted_quadric_simplifier(), &st)
+                     : CM::build_compact_model(mesh, md.base_faces, bo, CM::Quadric_surface_traits(),
+                                               CM::Weighted_quadric_simplifier(), &st);
       const double build_s = seconds_since(t0);
       const std::size_t bytes = CM::cm_bytes(model).size();
       // Plain mesh of equal bytes: 12 V + 12 F with F ~ 2 V on closed meshes -> F = bytes / 18.
@@ -216,7 +230,7 @@ int main(int argc, char** argv) {
         const auto err = metro(mesh, CM::to_surface_mesh(rc));
         const auto pn = metro(mesh, pn_triangles(model, level));
         std::printf("| %s | %s | %zu/%zu | %zu/%zu | %zu | %zu | %.2f | %zu | %d | %.4f | %.1f | %.4f | %zu | %.3f | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n",
-                    name.c_str(), joint ? "joint" : "thesis", mesh.number_of_vertices(), mesh.number_of_faces(), st.base_vertices, st.base_faces,
+                    name.c_str(), fit, mesh.number_of_vertices(), mesh.number_of_faces(), st.base_vertices, st.base_faces,
                     st.sharp_edges, st.cone_vertices, build_s, bytes, level, tn, double(rn.points.size()) / tn / 1e6, tc,
                     rc.points.size(), 100 * err.hausdorff, 100 * err.rms, 100 * pn.hausdorff, 100 * pn.rms,
                     plain.number_of_faces(), 100 * plain_err.hausdorff, 100 * plain_err.rms);
