@@ -993,7 +993,7 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
   // 6. Error control (§4.5.3), in both directions: reconstructed points far from the input
   // (their foot points are added, as the thesis says) and input vertices far from the
   // reconstruction (added themselves: "the original points whose error exceeds the bound").
-  // A round that does not lower the largest of these distances is undone, and control stops.
+  // A round that does not lower the largest of these distances is undone (see step 6 above).
   if (opt.error_bound > 0. && opt.error_control_rounds > 0) {
     using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
     using Tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Primitive>>;
@@ -1036,14 +1036,19 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
     for (int round = 0;; ++round) {
       const Reconstruction rec = reconstruct_regular(model, opt.error_control_level, Reconstruction_options(), traits);
       std::vector<Offender> off;
+      // Largest distance; a distance that is not a number (a broken reconstruction) makes it NaN,
+      // which no round can beat, so that round is undone.
       double max_d = 0.;
+      auto note = [&max_d](double d) {
+        if (!std::isnan(max_d) && !(d <= max_d)) max_d = d;
+      };
       // Reconstruction -> input: every reconstructed point that is not a base vertex (those are
       // input points) and every reconstructed triangle's centroid.
       auto to_input = [&](const Vec3& x, std::uint32_t bf, bool may_add) {
         const auto hit = tree.closest_point_and_primitive(pt(x));
         const Vec3 foot_point = to_vec3(hit.first);
         const double d = length(foot_point - x);
-        max_d = std::max(max_d, d);
+        note(d);
         if (may_add && d > opt.error_bound) off.push_back({foot_point, face_unit_normal(hit.second), d, sector_near(bf, x)});
       };
       std::vector<std::uint8_t> done(rec.points.size(), 0);
@@ -1066,7 +1071,7 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
         auto to_reconstruction = [&](const Vec3& x, const Vec3& n) {
           const auto hit = rec_tree.closest_point_and_primitive(pt(x));
           const double d = length(to_vec3(hit.first) - x);
-          max_d = std::max(max_d, d);
+          note(d);
           if (d > opt.error_bound && squared_length(n) > 0.)
             off.push_back({x, normalized(n), d, sector_near(rec.base_face[std::size_t(hit.second - tris.cbegin())], x)});
         };
