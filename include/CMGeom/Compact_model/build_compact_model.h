@@ -270,6 +270,22 @@ struct Joint_sample {
   double w;
 };
 
+// A sample located on the base mesh (see joint_refit()).
+struct Joint_located {
+  std::size_t f;
+  Vec3 q, x, nr;
+  double w, wk[3];
+};
+
+// The input's samples located on the base mesh and their mean weight, kept between calls of
+// joint_refit() with the same base, input and starting surfaces (error control's rounds); the
+// caller sets `valid` to false when any of these changes.
+struct Joint_fit_cache {
+  std::vector<Joint_located> located;
+  double mean_w = 0.;
+  bool valid = false;
+};
+
 // What the joint refit reads from the build (all indexed as in build_compact_model()).
 struct Joint_fit_input {
   const std::vector<Vec3>& base;                                   // base vertices
@@ -305,7 +321,7 @@ struct Joint_fit_input {
 // whether the surfaces were replaced.
 template <class Mesh, class Traits>
 bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locality, double stiffness,
-                 int guard_rounds, const Traits& traits, Compact_model& model) {
+                 int guard_rounds, const Traits& traits, Compact_model& model, Joint_fit_cache* cache = nullptr) {
   using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Primitive>>;
   const std::size_t ns = in.kind.size(), nf = in.faces.size();
@@ -319,74 +335,85 @@ bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locali
   };
   if (count_unknowns() == 0) return false;
 
-  // Samples of the input: (point, unit normal, weight).
+  // Samples of the input: (point, unit normal, weight), each located on the base mesh: face f,
+  // closest point x, blend weights W_k and the unit normal of the current blend at x (none of
+  // which depends on the guard's choices). With a valid cache the input's samples are taken
+  // from it and only error control's points are located.
   using Sample = Joint_sample;
-  std::vector<Sample> samples;
-  samples.reserve(in.triangles.size() + in.points.size() + in.extra_samples.size());
-  std::vector<double> vertex_area(in.points.size(), 0.);
-  for (const auto& t : in.triangles) {
-    const Vec3 c = cross(in.points[t[1]] - in.points[t[0]], in.points[t[2]] - in.points[t[0]]);
-    const double a = 0.5 * length(c);
-    if (!(a > 0.)) continue;
-    samples.push_back({(1. / 3.) * (in.points[t[0]] + in.points[t[1]] + in.points[t[2]]), normalized(c), a});
-    for (std::uint32_t v : t) vertex_area[v] += a / 3.;
-  }
-  for (std::size_t v = 0; v < in.points.size(); ++v)
-    if (vertex_area[v] > 0.) samples.push_back({in.points[v], in.point_normal[v], vertex_area[v]});
-  if (samples.empty()) return false;
-  double total_w = 0.;
-  for (const Sample& smp : samples) total_w += smp.w;
-  const double mean_w = total_w / double(samples.size());
-  for (const Sample& smp : in.extra_samples) samples.push_back({smp.q, smp.n, smp.w * mean_w});
-
-  // Each sample located once on the base mesh: face f, closest point x, blend weights W_k and
-  // the unit normal of the current blend at x (none of which depends on the guard's choices).
-  struct Located {
-    std::size_t f;
-    Vec3 q, x, nr;
-    double w, wk[3];
-  };
-  std::vector<Located> located;
-  located.reserve(samples.size());
-  {
-    Tree tree(faces(base_mesh).first, faces(base_mesh).second, base_mesh);
-    tree.accelerate_distance_queries();
-    for (const Sample& smp : samples) {
-      const auto hit = tree.closest_point_and_primitive(CMGeom::Point_3(smp.q.x, smp.q.y, smp.q.z));
-      const std::size_t f = std::size_t(hit.second.idx());
-      const double n2 = squared_length(in.face_normal[f]);
-      if (!(n2 > 0.)) continue;
-      const Vec3 nf_ = normalized(in.face_normal[f]);
-      if (dot(nf_, smp.n) < 0.5) continue;
-      const Vec3 x = to_vec3(hit.first);
-      const Vec3 &A = in.base[in.faces[f][0]], &B = in.base[in.faces[f][1]], &C = in.base[in.faces[f][2]];
-      double al[3] = {dot(cross(C - B, x - B), in.face_normal[f]) / n2, dot(cross(A - C, x - C), in.face_normal[f]) / n2,
-                      dot(cross(B - A, x - A), in.face_normal[f]) / n2};
-      double W[3], sw = 0.;
-      for (int k = 0; k < 3; ++k) {
-        al[k] = std::max(0., al[k]);
-        W[k] = al[k] * al[k] * al[k];
-        sw += W[k];
-      }
-      if (!(sw > 0.)) continue;
-      // The residual is measured along the normal of the current blend at p (the sectors' own
-      // fits): Phi(p) and q are two points of nearly the same surface, and their difference along
-      // any other direction would count their tangential offset as error.
-      Vec3 normal_at_p;
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t s = in.face_sector[f][k];
-        const Local_frame fr(in.base[in.faces[f][k]], model.normals[s]);
-        const Vec3 l = fr.to_local(x);
-        double d[5];
-        traits.height(model.surfaces[s], l.x, l.y, d);
-        const Vec3 g = std::isfinite(d[0]) && std::isfinite(d[1]) ? fr.N - d[0] * fr.U - d[1] * fr.V : fr.N;
-        normal_at_p += (W[k] / sw) * normalized(g);
-      }
-      const Vec3 nr = squared_length(normal_at_p) > 0. ? normalized(normal_at_p) : nf_;
-      located.push_back({f, smp.q, x, nr, smp.w, {W[0] / sw, W[1] / sw, W[2] / sw}});
+  using Located = Joint_located;
+  std::unique_ptr<Tree> tree;
+  auto locate = [&](const Sample& smp, std::vector<Located>& out) {
+    if (!tree) {
+      tree = std::make_unique<Tree>(faces(base_mesh).first, faces(base_mesh).second, base_mesh);
+      tree->accelerate_distance_queries();
     }
+    const auto hit = tree->closest_point_and_primitive(CMGeom::Point_3(smp.q.x, smp.q.y, smp.q.z));
+    const std::size_t f = std::size_t(hit.second.idx());
+    const double n2 = squared_length(in.face_normal[f]);
+    if (!(n2 > 0.)) return;
+    const Vec3 nf_ = normalized(in.face_normal[f]);
+    if (dot(nf_, smp.n) < 0.5) return;
+    const Vec3 x = to_vec3(hit.first);
+    const Vec3 &A = in.base[in.faces[f][0]], &B = in.base[in.faces[f][1]], &C = in.base[in.faces[f][2]];
+    double al[3] = {dot(cross(C - B, x - B), in.face_normal[f]) / n2, dot(cross(A - C, x - C), in.face_normal[f]) / n2,
+                    dot(cross(B - A, x - A), in.face_normal[f]) / n2};
+    double W[3], sw = 0.;
+    for (int k = 0; k < 3; ++k) {
+      al[k] = std::max(0., al[k]);
+      W[k] = al[k] * al[k] * al[k];
+      sw += W[k];
+    }
+    if (!(sw > 0.)) return;
+    // The residual is measured along the normal of the current blend at p (the sectors' own
+    // fits): Phi(p) and q are two points of nearly the same surface, and their difference along
+    // any other direction would count their tangential offset as error.
+    Vec3 normal_at_p;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t s = in.face_sector[f][k];
+      const Local_frame fr(in.base[in.faces[f][k]], model.normals[s]);
+      const Vec3 l = fr.to_local(x);
+      double d[5];
+      traits.height(model.surfaces[s], l.x, l.y, d);
+      const Vec3 g = std::isfinite(d[0]) && std::isfinite(d[1]) ? fr.N - d[0] * fr.U - d[1] * fr.V : fr.N;
+      normal_at_p += (W[k] / sw) * normalized(g);
+    }
+    const Vec3 nr = squared_length(normal_at_p) > 0. ? normalized(normal_at_p) : nf_;
+    out.push_back({f, smp.q, x, nr, smp.w, {W[0] / sw, W[1] / sw, W[2] / sw}});
+  };
+  Joint_fit_cache local_cache;
+  Joint_fit_cache& cached = cache ? *cache : local_cache;
+  if (!cached.valid) {
+    std::vector<Sample> samples;
+    samples.reserve(in.triangles.size() + in.points.size());
+    std::vector<double> vertex_area(in.points.size(), 0.);
+    for (const auto& t : in.triangles) {
+      const Vec3 c = cross(in.points[t[1]] - in.points[t[0]], in.points[t[2]] - in.points[t[0]]);
+      const double a = 0.5 * length(c);
+      if (!(a > 0.)) continue;
+      samples.push_back({(1. / 3.) * (in.points[t[0]] + in.points[t[1]] + in.points[t[2]]), normalized(c), a});
+      for (std::uint32_t v : t) vertex_area[v] += a / 3.;
+    }
+    for (std::size_t v = 0; v < in.points.size(); ++v)
+      if (vertex_area[v] > 0.) samples.push_back({in.points[v], in.point_normal[v], vertex_area[v]});
+    if (samples.empty()) return false;
+    double total_w = 0.;
+    for (const Sample& smp : samples) total_w += smp.w;
+    cached.mean_w = total_w / double(samples.size());
+    cached.located.clear();
+    cached.located.reserve(samples.size());
+    for (const Sample& smp : samples) locate(smp, cached.located);
+    cached.valid = true;
   }
-  samples = std::vector<Sample>();
+  const double mean_w = cached.mean_w;
+  std::vector<Located> extra_located;
+  for (const Sample& smp : in.extra_samples) locate({smp.q, smp.n, smp.w * mean_w}, extra_located);
+  std::vector<Located> located_storage;
+  if (!extra_located.empty()) {
+    located_storage.reserve(cached.located.size() + extra_located.size());
+    located_storage = cached.located;
+    located_storage.insert(located_storage.end(), extra_located.begin(), extra_located.end());
+  }
+  const std::vector<Located>& located = extra_located.empty() ? cached.located : located_storage;
 
   // The sharp-edge guard's distance to the input (built when the guard first runs).
   using Triangle = CMGeom::Kernel::Triangle_3;
@@ -975,12 +1002,15 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
   std::vector<Local_surface> local_fit;
   std::vector<double> sector_scale(sectors.size(), 0.);
   std::vector<Joint_sample> error_samples;  // error control's points (step 6)
+  // The joint refit always starts from the same sector fits here (error control's rounds only add
+  // points in joint mode), so the input's samples are located on the base once.
+  Joint_fit_cache joint_cache;
   auto joint = [&]() {
     if (!opt.joint_fit) return;
     local_fit = model.surfaces;
     const Joint_fit_input in{base, BF, face_normal, face_sector, P, Nrm, input_triangles, sector_kind, sector_points,
                              sector_scale, error_samples};
-    st.joint_fit = joint_refit(work, in, opt.joint_fit_locality, opt.joint_fit_stiffness, 2, traits, model);
+    st.joint_fit = joint_refit(work, in, opt.joint_fit_locality, opt.joint_fit_stiffness, 2, traits, model, &joint_cache);
   };
   if (opt.joint_fit)
     for (std::size_t s = 0; s < sectors.size(); ++s)
