@@ -317,8 +317,9 @@ struct Joint_fit_input {
 //     face / twice its area: where few samples land, the surface keeps its own fit.
 // The system is sparse (a dense block per base face), solved by sparse LDLT; if that fails the
 // surfaces stay as fitted. Then the sharp-edge guard (below) may hold some sectors at their own
-// fits and solve again; the samples are located on the base mesh once for all rounds. Returns
-// whether the surfaces were replaced.
+// fits and solve again; the samples are located on the base mesh once for all rounds, and with
+// `cache` once for all calls (the input's samples; error control's extra samples each call).
+// Returns whether the surfaces were replaced.
 template <class Mesh, class Traits>
 bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locality, double stiffness,
                  int guard_rounds, const Traits& traits, Compact_model& model, Joint_fit_cache* cache = nullptr) {
