@@ -137,9 +137,7 @@ Error metro(const CMGeom::Surface_mesh& ref, const CMGeom::Surface_mesh& app) {
       ++n;
     }
   }
-  const auto box = CGAL::Polygon_mesh_processing::bbox(ref);
-  const double diag = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                CGAL::square(box.zmax() - box.zmin()));
+  const double diag = cmgeom_bench::diagonal(CGAL::Polygon_mesh_processing::bbox(ref));
   return {std::sqrt(mx) / diag, std::sqrt(sum / double(n)) / diag};
 }
 
@@ -176,9 +174,7 @@ int main(int argc, char** argv) {
     CMGeom::Textured_mesh tm;
     CMGeom::IO::read_mesh(path, tm);
     const CMGeom::Surface_mesh& mesh = tm.mesh();
-    const auto box = CGAL::Polygon_mesh_processing::bbox(mesh);
-    const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                      CGAL::square(box.zmax() - box.zmin()));
+    const double diagonal = cmgeom_bench::diagonal(CGAL::Polygon_mesh_processing::bbox(mesh));
     for (const char* fit : {"thesis", "joint", "joint+cubic+ec"}) {
       const bool controlled = std::string(fit) == "joint+cubic+ec";
       CM::Build_statistics st;

@@ -47,9 +47,7 @@ int main(int argc, char** argv) {
   CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Primitive>> tree(faces(input).first, faces(input).second, input);
   tree.accelerate_distance_queries();
   auto distance = [&](const CM::Vec3& p) { return std::sqrt(tree.squared_distance(CMGeom::Point_3(p.x, p.y, p.z))); };
-  const auto box = CGAL::Polygon_mesh_processing::bbox(input);
-  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                    CGAL::square(box.zmax() - box.zmin()));
+  const double diagonal = cmgeom_bench::diagonal(CGAL::Polygon_mesh_processing::bbox(input));
 
   const CM::Compact_model m = CM::build_compact_model(input, base_faces);
   struct Corner_row {

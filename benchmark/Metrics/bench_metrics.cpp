@@ -60,9 +60,7 @@ void bench_error(const std::string& name, const std::string& path, int reps) {
   const CMGeom::Textured_mesh tm = load(path);
   const CMGeom::Surface_mesh& ref = tm.mesh();
   CMGeom::Surface_mesh app = ref;
-  const auto box = CGAL::Polygon_mesh_processing::bbox(ref);
-  const double diag = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                CGAL::square(box.zmax() - box.zmin()));
+  const double diag = cmgeom_bench::diagonal(CGAL::Polygon_mesh_processing::bbox(ref));
   for (auto v : app.vertices()) {
     const auto p = app.point(v);
     const double s = 0.002 * diag * std::sin(40 * p.x() / diag) * std::sin(40 * p.y() / diag) * std::sin(40 * p.z() / diag);

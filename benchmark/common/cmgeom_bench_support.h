@@ -5,6 +5,9 @@
 #ifndef CMGEOM_BENCH_SUPPORT_H
 #define CMGEOM_BENCH_SUPPORT_H
 
+#include <CGAL/Bbox_3.h>
+
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -42,6 +45,12 @@ inline bool parse_number(const std::string& text, double lo, double hi, double& 
   if (text.empty() || end != text.c_str() + text.size() || !(x >= lo && x <= hi)) return false;
   out = x;
   return true;
+}
+
+/// Length of the diagonal of `box` (errors are reported as fractions of it).
+inline double diagonal(const CGAL::Bbox_3& box) {
+  const double dx = box.xmax() - box.xmin(), dy = box.ymax() - box.ymin(), dz = box.zmax() - box.zmin();
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
 }  // namespace cmgeom_bench

@@ -180,6 +180,13 @@ double max_radius_error(const Reconstruction& r, double radius = 1.0) {
 }
 
 
+// Length of the bounding-box diagonal of `m`.
+double bbox_diagonal(const Surface_mesh& m) {
+  const auto box = CGAL::Polygon_mesh_processing::bbox(m);
+  return std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                   CGAL::square(box.zmax() - box.zmin()));
+}
+
 // Symmetric RMS of vertex-to-surface distances (each mesh's vertices against the other mesh),
 // an independent reference measure computed with CGAL's AABB tree.
 double symmetric_vertex_rms(const Surface_mesh& a, const Surface_mesh& b) {
@@ -565,9 +572,7 @@ TEST(CompactModelBuild, FandiskSharpEdgesAndAccuracy) {
   std::string why;
   EXPECT_TRUE(is_closed_and_shared(r, &why)) << why;
   // RMS vertex distance within 0.2 % of the bounding-box diagonal.
-  const auto box = CGAL::Polygon_mesh_processing::bbox(tm.mesh());
-  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                    CGAL::square(box.zmax() - box.zmin()));
+  const double diagonal = bbox_diagonal(tm.mesh());
   EXPECT_LT(symmetric_vertex_rms(tm.mesh(), to_surface_mesh(r)), 0.002 * diagonal);
 }
 
@@ -591,9 +596,7 @@ TEST(CompactModelBuild, SupportCheckKeepsCoarseBasesOnTheSurface) {
   CMGEOM_REQUIRE_SHARED_DATA();
   CMGeom::Textured_mesh tm;
   CMGeom::IO::read_mesh(cmgeom_test::shared_data("classic/joint.off"), tm);
-  const auto box = CGAL::Polygon_mesh_processing::bbox(tm.mesh());
-  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                    CGAL::square(box.zmax() - box.zmin()));
+  const double diagonal = bbox_diagonal(tm.mesh());
   Build_options unchecked;
   unchecked.max_surface_departure = 0.;
   Build_statistics st;
@@ -695,9 +698,7 @@ TEST(CompactModelBuild, ErrorControlNeverRaisesTheMaximumError) {
 TEST(CompactModelBuild, ErrorControlWithTheJointRefitLowersTheFandiskMaximum) {
   CMGEOM_REQUIRE_SHARED_DATA();
   const CMGeom::Textured_mesh tm = shared_model("classic/fandisk.obj");
-  const auto box = CGAL::Polygon_mesh_processing::bbox(tm.mesh());
-  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                    CGAL::square(box.zmax() - box.zmin()));
+  const double diagonal = bbox_diagonal(tm.mesh());
   Build_options controlled = joint_fit_options();
   controlled.error_bound = 0.003 * diagonal;
   controlled.error_control_level = 3;
