@@ -281,7 +281,8 @@ struct Joint_located {
 // joint_refit() with the same base, input and starting surfaces (error control's rounds); the
 // caller sets `valid` to false when any of these changes.
 struct Joint_fit_cache {
-  std::vector<Joint_located> located;
+  std::vector<Joint_located> located;  // the input's samples first, then the last call's extras
+  std::size_t input_count = 0;         // how many of `located` are the input's
   double mean_w = 0.;
   bool valid = false;
 };
@@ -403,18 +404,14 @@ bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locali
     cached.located.clear();
     cached.located.reserve(samples.size());
     for (const Sample& smp : samples) locate(smp, cached.located);
+    cached.input_count = cached.located.size();
     cached.valid = true;
   }
   const double mean_w = cached.mean_w;
-  std::vector<Located> extra_located;
-  for (const Sample& smp : in.extra_samples) locate({smp.q, smp.n, smp.w * mean_w}, extra_located);
-  std::vector<Located> located_storage;
-  if (!extra_located.empty()) {
-    located_storage.reserve(cached.located.size() + extra_located.size());
-    located_storage = cached.located;
-    located_storage.insert(located_storage.end(), extra_located.begin(), extra_located.end());
-  }
-  const std::vector<Located>& located = extra_located.empty() ? cached.located : located_storage;
+  // The input's samples, then error control's (those of an earlier call are dropped first).
+  cached.located.resize(cached.input_count);
+  for (const Sample& smp : in.extra_samples) locate({smp.q, smp.n, smp.w * mean_w}, cached.located);
+  const std::vector<Located>& located = cached.located;
 
   // The sharp-edge guard's distance to the input (built when the guard first runs).
   using Triangle = CMGeom::Kernel::Triangle_3;
