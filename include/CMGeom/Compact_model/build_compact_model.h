@@ -217,6 +217,7 @@ struct Garland_heckbert_simplifier {
 namespace internal {
 
 inline Vec3 to_vec3(const CMGeom::Point_3& p) { return Vec3(p.x(), p.y(), p.z()); }
+inline CMGeom::Point_3 to_point(const Vec3& v) { return CMGeom::Point_3(v.x, v.y, v.z); }
 
 // Closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
 inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -349,7 +350,7 @@ bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locali
       tree = std::make_unique<Tree>(faces(base_mesh).first, faces(base_mesh).second, base_mesh);
       tree->accelerate_distance_queries();
     }
-    const auto hit = tree->closest_point_and_primitive(CMGeom::Point_3(smp.q.x, smp.q.y, smp.q.z));
+    const auto hit = tree->closest_point_and_primitive(to_point(smp.q));
     const std::size_t f = std::size_t(hit.second.idx());
     const double n2 = squared_length(in.face_normal[f]);
     if (!(n2 > 0.)) return;
@@ -419,16 +420,15 @@ bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locali
   using Input_tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Tri_primitive>>;
   std::vector<Triangle> input_tris;
   std::unique_ptr<Input_tree> input_tree;
-  auto pt = [](const Vec3& v) { return CMGeom::Point_3(v.x, v.y, v.z); };
   auto distance = [&](const Vec3& x) {
     if (!input_tree) {
       input_tris.reserve(in.triangles.size());
       for (const auto& t : in.triangles)
-        input_tris.emplace_back(pt(in.points[t[0]]), pt(in.points[t[1]]), pt(in.points[t[2]]));
+        input_tris.emplace_back(to_point(in.points[t[0]]), to_point(in.points[t[1]]), to_point(in.points[t[2]]));
       input_tree = std::make_unique<Input_tree>(input_tris.begin(), input_tris.end());
       input_tree->accelerate_distance_queries();
     }
-    return std::sqrt(CGAL::to_double(input_tree->squared_distance(pt(x))));
+    return std::sqrt(CGAL::to_double(input_tree->squared_distance(to_point(x))));
   };
 
   std::vector<Local_surface> refit;
@@ -711,7 +711,7 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
   for (vertex_descriptor v : work.vertices()) {
     const std::uint32_t best = base_original[v.idx()];
     base[v.idx()] = P[best];
-    work.point(v) = CMGeom::Point_3(P[best].x, P[best].y, P[best].z);
+    work.point(v) = to_point(P[best]);
   }
 
   // 2. Redistribution, from a snapshot of the sets (order independent).
@@ -1008,7 +1008,8 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
     local_fit = model.surfaces;
     const Joint_fit_input in{base, BF, face_normal, face_sector, P, Nrm, input_triangles, sector_kind, sector_points,
                              sector_scale, error_samples};
-    st.joint_fit = joint_refit(work, in, opt.joint_fit_locality, opt.joint_fit_stiffness, 2, traits, model, &joint_cache);
+    st.joint_fit =
+        joint_refit(work, in, opt.joint_fit_locality, opt.joint_fit_stiffness, 2, traits, model, &joint_cache);
   };
   if (opt.joint_fit)
     for (std::size_t s = 0; s < sectors.size(); ++s)
@@ -1028,13 +1029,13 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
     using Triangle = CMGeom::Kernel::Triangle_3;
     using Tri_primitive = CGAL::AABB_triangle_primitive<CMGeom::Kernel, std::vector<Triangle>::const_iterator>;
     using Rec_tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, Tri_primitive>>;
-    auto pt = [](const Vec3& v) { return CMGeom::Point_3(v.x, v.y, v.z); };
     Tree tree(faces(input).first, faces(input).second, input);
     tree.accelerate_distance_queries();
     auto face_unit_normal = [&](face_descriptor f) {  // a face of the input
       const auto h = input.halfedge(f);
       const Vec3 a = to_vec3(input.point(input.source(h)));
-      return normalized(cross(to_vec3(input.point(input.target(h))) - a, to_vec3(input.point(input.target(input.next(h)))) - a));
+      const Vec3 b = to_vec3(input.point(input.target(h))), c = to_vec3(input.point(input.target(input.next(h))));
+      return normalized(cross(b - a, c - a));
     };
     // The sector a point near base face bf goes to: that of the nearest corner, whose surface
     // dominates the blend there (W_i = alpha_i^3 / sum).
@@ -1073,7 +1074,7 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
       // Reconstruction -> input: every reconstructed point that is not a base vertex (those are
       // input points) and every reconstructed triangle's centroid.
       auto to_input = [&](const Vec3& x, std::uint32_t bf, bool may_add) {
-        const auto hit = tree.closest_point_and_primitive(pt(x));
+        const auto hit = tree.closest_point_and_primitive(to_point(x));
         const Vec3 foot_point = to_vec3(hit.first);
         const double d = length(foot_point - x);
         note(d);
@@ -1093,11 +1094,11 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
       {
         std::vector<Triangle> tris;
         tris.reserve(rec.triangles.size());
-        for (const auto& t : rec.triangles) tris.emplace_back(pt(rec.points[t[0]]), pt(rec.points[t[1]]), pt(rec.points[t[2]]));
+        for (const auto& t : rec.triangles) tris.emplace_back(to_point(rec.points[t[0]]), to_point(rec.points[t[1]]), to_point(rec.points[t[2]]));
         Rec_tree rec_tree(tris.begin(), tris.end());
         rec_tree.accelerate_distance_queries();
         auto to_reconstruction = [&](const Vec3& x, const Vec3& n) {
-          const auto hit = rec_tree.closest_point_and_primitive(pt(x));
+          const auto hit = rec_tree.closest_point_and_primitive(to_point(x));
           const double d = length(to_vec3(hit.first) - x);
           note(d);
           if (d > opt.error_bound && squared_length(n) > 0.)
