@@ -740,6 +740,32 @@ TEST(CompactModelBuild, JointFitKeepsSharpEdgesOnTheTrimStar) {
   EXPECT_LT(eb.rms, ea.rms);
 }
 
+// Error-control options outside their ranges are refused before any work, with the range named.
+TEST(CompactModelBuild, RejectsBadErrorControlOptions) {
+  const Surface_mesh s = make_sphere(2);
+  auto refused = [&](void (*set)(Build_options&)) {
+    Build_options o;
+    o.error_bound = 1e-3;
+    set(o);
+    try {
+      build_compact_model(s, 40, o);
+    } catch (const CMGeom::Invalid_input& e) {
+      return std::string(e.what()).find("error_control") != std::string::npos;
+    }
+    return false;
+  };
+  EXPECT_TRUE(refused([](Build_options& o) { o.error_bound = -1.; }));
+  EXPECT_TRUE(refused([](Build_options& o) { o.error_bound = std::nan(""); }));
+  EXPECT_TRUE(refused([](Build_options& o) { o.error_control_rounds = -1; }));
+  EXPECT_TRUE(refused([](Build_options& o) { o.error_control_level = 9; }));
+  EXPECT_TRUE(refused([](Build_options& o) { o.error_control_level = -1; }));
+  EXPECT_TRUE(refused([](Build_options& o) { o.error_control_weight = 0.; }));
+  EXPECT_TRUE(refused([](Build_options& o) { o.error_control_weight = std::numeric_limits<double>::infinity(); }));
+  // the range ends are accepted
+  EXPECT_FALSE(refused([](Build_options& o) { o.error_control_level = 0; }));
+  EXPECT_FALSE(refused([](Build_options& o) { o.error_control_rounds = 0; }));
+}
+
 TEST(CompactModelBuild, ErrorControlLowersTheMaximumError) {
   const Surface_mesh s = make_sphere(4);
   Build_options plain, controlled;
