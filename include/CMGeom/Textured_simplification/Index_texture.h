@@ -18,7 +18,8 @@
 //    PM_{t'} = P_{t'} ∘ M_{t'}⁻¹; the old triangle t_j whose projection contains that point is
 //    found (the projections tile π, bijectivity checked by Chart_constraints), and the texel gets
 //    the chart-aware bilinear sample (§3.6) of the old index texture at (PM_{t_j}⁻¹ ∘ PM_{t'})(p̄'),
-//    read from a copy of the old region (no read/write feedback). The composed map is one 2x3
+//    read as from a copy of the old region (no read/write feedback: the new values are written
+//    once the whole collapse is resampled). The composed map is one 2x3
 //    affine map per (t', t_j) pair, computed in double and evaluated in float as
 //    (m00·x + m01·y) + m02 — the form a GL backend evaluates at gl_FragCoord with `precise`.
 //  * generate_texture(): the output texture, looked up in the original texture through the final
@@ -379,6 +380,12 @@ private:
 /// IndexTextureResampler concept: constructible from an Index_texture&, called with every
 /// Collapse_record, and synchronize() leaves the Index_texture up to date (a no-op here: this
 /// backend writes it in place).
+///
+/// §3.6 reads the old region from a copy. This backend reads the index texture itself, clamped to
+/// the wedge's region as a copy of that region would be, and holds the collapse's new values
+/// back until every new triangle is resampled: the same values as reading a copy, without
+/// copying the region (the bounding rectangle of the old star, many times the texels written)
+/// or looking up the chart of every copied value (only those of the texels actually read).
 class Index_texture_resampler {
 public:
   explicit Index_texture_resampler(Index_texture& it) : it_(&it) {}
@@ -387,25 +394,24 @@ public:
     Index_texture& it = *it_;
     const int W = it.width(), H = it.height();
     plan_.build(rec, it.domain(), W, H);
-    for (int w = 0; w < 2; ++w) {
-      const auto& r = plan_.rects[w];
-      copies_[w].clear();
-      copy_charts_[w].clear();
-      if (r.empty()) continue;
-      for (int y = r.y0; y <= r.y1; ++y) {
-        copies_[w].insert(copies_[w].end(), it.at(r.x0, y), it.at(r.x1, y) + 2);
-        // chart of every copied index value, looked up once instead of at each of its ~5 reads
-        for (int x = r.x0; x <= r.x1; ++x) copy_charts_[w].push_back(it.chart_of(it.at(x, y)[0], it.at(x, y)[1]));
-      }
-    }
+    pending_.clear();
     for (std::size_t k = 0; k < plan_.added.size(); ++k) {
       rasterize_triangle(plan_.added[k].dst, W, H, [&](int x, int y) {
         const std::size_t j = plan_.select_old_triangle(k, x, y);
         if (j == plan_.old.size()) return;
         float sx, sy;
         internal::Resampling_plan::map_to_old(plan_.map(k, j), x, y, sx, sy);
-        sample(plan_.old[j].wedge, sx, sy, it.at(x, y));
+        Pending p;
+        if (!sample(plan_.old[j].wedge, sx, sy, p.value)) return;
+        p.x = x;
+        p.y = y;
+        pending_.push_back(p);
       });
+    }
+    for (const Pending& p : pending_) {
+      float* out = it.at(p.x, p.y);
+      out[0] = p.value[0];
+      out[1] = p.value[1];
     }
   }
 
@@ -413,38 +419,49 @@ public:
   void synchronize() {}
 
 private:
-  std::size_t copy_index(int w, int x, int y) const {
-    const auto& r = plan_.rects[w];
-    x = (std::min)((std::max)(x, r.x0), r.x1);
-    y = (std::min)((std::max)(y, r.y0), r.y1);
-    return std::size_t(y - r.y0) * std::size_t(r.x1 - r.x0 + 1) + std::size_t(x - r.x0);
-  }
+  struct Pending {
+    int x, y;
+    float value[2];
+  };
 
-  /// Chart-aware bilinear lookup (§3.6) of the old index texture at (sx, sy) (texel units): only
-  /// the four nearest texels whose stored index lies in the chart of the nearest one's are blended.
-  void sample(int w, float sx, float sy, float* out) const {
+  /// Chart-aware bilinear lookup (§3.6) of the old index texture at (sx, sy) (texel units),
+  /// confined to wedge w's region: only the four nearest texels whose stored index lies in the
+  /// chart of the nearest one's are blended. False when the wedge reads nothing (empty region).
+  bool sample(int w, float sx, float sy, float* out) const {
     const auto& r = plan_.rects[w];
-    if (copies_[w].empty()) return;
-    // stay inside the copied region (the source point is inside an old triangle, up to rounding)
+    if (r.empty()) return false;
+    const Index_texture& it = *it_;
+    // stay inside the region (the source point is inside an old triangle, up to rounding)
     sx = (std::min)((std::max)(sx, float(r.x0)), float(r.x1) + 1.f);
     sy = (std::min)((std::max)(sy, float(r.y0)), float(r.y1) + 1.f);
-    const std::size_t in = copy_index(w, int(std::floor(sx)), int(std::floor(sy)));
-    const float* an = &copies_[w][2 * in];
-    const std::uint32_t cn = copy_charts_[w][in];
+    const int nx = int(std::floor(sx)), ny = int(std::floor(sy));
     const float px = sx - 0.5f, py = sy - 0.5f;
     const float flx = std::floor(px), fly = std::floor(py);
     const float fx = px - flx, fy = py - fly;
     const int ix = int(flx), iy = int(fly);
+    // the four texels, clamped to the region; the nearest one is among them
+    const float* q[4];
+    std::uint32_t cq[4];
+    std::uint32_t cn = 0u;
+    const float* an = nullptr;
+    for (int k = 0; k < 4; ++k) {
+      const int qx = (std::min)((std::max)(ix + (k & 1), r.x0), r.x1);
+      const int qy = (std::min)((std::max)(iy + (k >> 1), r.y0), r.y1);
+      q[k] = it.at(qx, qy);
+      cq[k] = it.chart_of(q[k][0], q[k][1]);
+      if (qx == (std::min)((std::max)(nx, r.x0), r.x1) && qy == (std::min)((std::max)(ny, r.y0), r.y1)) {
+        an = q[k];
+        cn = cq[k];
+      }
+    }
     float a0 = 0.f, a1 = 0.f, ws = 0.f;
     if (cn != 0u) {
       for (int k = 0; k < 4; ++k) {
         const int ox = k & 1, oy = k >> 1;
-        const std::size_t iq = copy_index(w, ix + ox, iy + oy);
-        const float* q = &copies_[w][2 * iq];
         const float wt = (ox ? fx : 1.f - fx) * (oy ? fy : 1.f - fy);
-        if (copy_charts_[w][iq] == cn) {
-          a0 += wt * q[0];
-          a1 += wt * q[1];
+        if (cq[k] == cn) {
+          a0 += wt * q[k][0];
+          a1 += wt * q[k][1];
           ws += wt;
         }
       }
@@ -456,12 +473,12 @@ private:
       out[0] = an[0];
       out[1] = an[1];
     }
+    return true;
   }
 
   Index_texture* it_;
   internal::Resampling_plan plan_;
-  std::vector<float> copies_[2];
-  std::vector<std::uint32_t> copy_charts_[2];
+  std::vector<Pending> pending_;
 };
 
 /// Chart-aware bilinear lookup of `original` (any size; UVs outside [0,1] repeat) at the
