@@ -24,8 +24,8 @@
 //    (m00·x + m01·y) + m02 — the form a GL backend evaluates at gl_FragCoord with `precise`.
 //  * generate_texture(): the output texture, looked up in the original texture through the final
 //    index texture for every texel covered by a final texture triangle, then dilated into the
-//    gutters (breadth-first, average of the already-filled 8-neighbours) so bilinear sampling at
-//    chart borders never reads background.
+//    gutters (ring by ring in chessboard distance, each texel the average of its 8-neighbours of
+//    the previous ring) so bilinear sampling at chart borders never reads background.
 //
 // Floating point: float arithmetic in a fixed order, no fused multiply-add (x86-64 builds
 // without -mfma do not contract; compile with -ffp-contract=off elsewhere).
@@ -35,6 +35,7 @@
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INDEX_TEXTURE_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_INDEX_TEXTURE_H
 
+#include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/Image.h>
 #include <CMGeom/Textured_simplification/Chart_constraints.h>
 
@@ -42,7 +43,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <deque>
+#include <string>
 #include <vector>
 
 namespace CMGeom {
@@ -519,6 +520,9 @@ inline void sample_original(const Index_texture& it, const Image& original, floa
 inline Image generate_texture(const Index_texture& it, const Image& original,
                               const std::vector<std::array<UV2, 3>>& final_triangles) {
   const int W = it.width(), H = it.height(), C = original.channels();
+  if (std::uint64_t(W) * std::uint64_t(H) >= (std::uint64_t(1) << 32))
+    throw Invalid_input("generate_texture: " + std::to_string(W) + " x " + std::to_string(H) +
+                        " texels is more than this function handles (2^32 - 1)");
   Image out(W, H, C, Image::Format::UInt8);
   std::vector<char> filled(std::size_t(W) * std::size_t(H), 0);
   std::vector<float> acc(std::size_t(W) * std::size_t(H) * std::size_t(C), 0.f);
@@ -535,32 +539,51 @@ inline Image generate_texture(const Index_texture& it, const Image& original,
       filled[i] = 1;
     });
   }
-  // dilation: breadth-first from the covered texels
-  std::deque<std::size_t> queue;
-  for (std::size_t i = 0; i < filled.size(); ++i)
-    if (filled[i]) queue.push_back(i);
-  std::vector<char> queued = filled;
-  std::size_t head_level_end = queue.size();
-  std::vector<std::size_t> level;
-  while (!queue.empty()) {
-    // collect the next ring: unfilled neighbours of the current frontier
-    level.clear();
-    for (std::size_t q = 0; q < head_level_end; ++q) {
-      const std::size_t i = queue.front();
-      queue.pop_front();
-      const int x = int(i % std::size_t(W)), y = int(i / std::size_t(W));
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int qx = x + dx, qy = y + dy;
-          if (qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
-          const std::size_t j = std::size_t(qy) * W + qx;
-          if (queued[j]) continue;
-          queued[j] = 1;
-          level.push_back(j);
-        }
+  // Dilation, ring by ring: a texel at chessboard distance d from the covered texels gets the
+  // average of its 8-neighbours at distance d - 1 (the rings of a breadth-first growth). The
+  // distances come from a two-pass distance transform, the rings from a counting sort by
+  // distance; a ring only reads inner rings, so the order within a ring does not matter.
+  const std::size_t n = std::size_t(W) * std::size_t(H);
+  constexpr std::uint32_t far = 0xffffffffu;
+  std::vector<std::uint32_t> dist(n, far);
+  for (std::size_t i = 0; i < n; ++i)
+    if (filled[i]) dist[i] = 0;
+  auto relax = [&](std::size_t i, int qx, int qy) {
+    if (qx < 0 || qy < 0 || qx >= W || qy >= H) return;
+    const std::uint32_t dq = dist[std::size_t(qy) * W + qx];
+    if (dq != far && dq + 1 < dist[i]) dist[i] = dq + 1;
+  };
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const std::size_t i = std::size_t(y) * W + x;
+      relax(i, x - 1, y);
+      relax(i, x - 1, y - 1);
+      relax(i, x, y - 1);
+      relax(i, x + 1, y - 1);
     }
-    std::sort(level.begin(), level.end());
-    for (std::size_t j : level) {
+  std::uint32_t max_d = 0;
+  for (int y = H - 1; y >= 0; --y)
+    for (int x = W - 1; x >= 0; --x) {
+      const std::size_t i = std::size_t(y) * W + x;
+      relax(i, x + 1, y);
+      relax(i, x + 1, y + 1);
+      relax(i, x, y + 1);
+      relax(i, x - 1, y + 1);
+      if (dist[i] != far) max_d = (std::max)(max_d, dist[i]);
+    }
+  std::vector<std::size_t> ring_start(std::size_t(max_d) + 2, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (dist[i] != far && dist[i] > 0) ++ring_start[dist[i] + 1];
+  for (std::size_t d = 1; d < ring_start.size(); ++d) ring_start[d] += ring_start[d - 1];
+  std::vector<std::uint32_t> by_ring(ring_start.back());
+  {
+    std::vector<std::size_t> fill = ring_start;
+    for (std::size_t i = 0; i < n; ++i)
+      if (dist[i] != far && dist[i] > 0) by_ring[fill[dist[i]]++] = std::uint32_t(i);
+  }
+  for (std::uint32_t d = 1; d <= max_d; ++d)
+    for (std::size_t r = ring_start[d]; r < ring_start[d + 1]; ++r) {
+      const std::size_t j = by_ring[r];
       const int x = int(j % std::size_t(W)), y = int(j / std::size_t(W));
       float s[4] = {0, 0, 0, 0};
       int cnt = 0;
@@ -569,16 +592,12 @@ inline Image generate_texture(const Index_texture& it, const Image& original,
           const int qx = x + dx, qy = y + dy;
           if (qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
           const std::size_t k = std::size_t(qy) * W + qx;
-          if (filled[k] != 1) continue;
+          if (dist[k] >= d) continue;
           for (int c = 0; c < C; ++c) s[c] += acc[k * C + c];
           ++cnt;
         }
       for (int c = 0; c < C; ++c) acc[j * C + c] = cnt ? s[c] / float(cnt) : 0.f;
     }
-    for (std::size_t j : level) filled[j] = 1;  // after the ring: a ring only reads inner rings
-    for (std::size_t j : level) queue.push_back(j);
-    head_level_end = level.size();
-  }
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)
       for (int c = 0; c < C; ++c) out.set_value(x, H - 1 - y, c, acc[(std::size_t(y) * W + x) * C + c]);
