@@ -403,6 +403,79 @@ TEST(TexturedSimplification, ResamplingIsIdentityOnAFlatIsometricPatch) {
   EXPECT_LT(worst, 1e-3) << "index texture drifted from the identity (texels)";
 }
 
+// generate_texture: covered texels hold the original looked up through the index texture, and
+// the gutters are filled ring by ring, each texel with the mean of its 8-neighbours filled by an
+// earlier ring. The reference grows the rings by scanning the whole image once per ring.
+TEST(TexturedSimplification, GeneratedTextureDilatesRingByRing) {
+  const int W = 23, H = 17;
+  const std::vector<std::array<UV2, 3>> layout_tris = {{{{{0.0, 0.0}}, {{1.0, 0.0}}, {{0.0, 1.0}}}}};
+  TS::Texture_domain dom;
+  dom.width = W;
+  dom.height = H;
+  const TS::Index_texture it(dom, layout_tris, {0});
+  CMGeom::Image original(W, H, 3);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      for (int c = 0; c < 3; ++c) original.set_value(x, y, c, float((7 * x + 13 * y + 29 * c) % 256) / 255.f);
+  // two small triangles far apart, so rings from both meet
+  const std::vector<std::array<UV2, 3>> final_tris = {{{{{0.05, 0.1}}, {{0.3, 0.1}}, {{0.1, 0.35}}}},
+                                                      {{{{0.6, 0.7}}, {{0.8, 0.65}}, {{0.75, 0.9}}}}};
+  const CMGeom::Image out = TS::generate_texture(it, original, final_tris);
+  ASSERT_EQ(out.width(), W);
+  ASSERT_EQ(out.height(), H);
+  // reference, in index-texture rows (row 0 at the bottom)
+  std::vector<float> acc(std::size_t(W) * H * 3, 0.f);
+  std::vector<int> filled(std::size_t(W) * H, 0);
+  std::size_t covered = 0;
+  for (const auto& tri : final_tris) {
+    std::array<UV2, 3> t;
+    for (int c = 0; c < 3; ++c) t[c] = dom.to_texel(tri[c]);
+    TS::rasterize_triangle(t, W, H, [&](int x, int y) {
+      const std::size_t i = std::size_t(y) * W + x;
+      if (filled[i]) return;
+      float v[4];
+      TS::sample_original(it, original, it.at(x, y)[0], it.at(x, y)[1], v);
+      for (int c = 0; c < 3; ++c) acc[i * 3 + c] = v[c];
+      filled[i] = 1;
+      ++covered;
+    });
+  }
+  ASSERT_GT(covered, 4u);
+  ASSERT_LT(covered, std::size_t(W) * H / 4);
+  int rings = 0;
+  for (bool grew = true; grew; ++rings) {
+    grew = false;
+    std::vector<int> next = filled;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const std::size_t i = std::size_t(y) * W + x;
+        if (filled[i]) continue;
+        float s[3] = {0, 0, 0};
+        int cnt = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = x + dx, qy = y + dy;
+            if (qx < 0 || qy < 0 || qx >= W || qy >= H || !filled[std::size_t(qy) * W + qx]) continue;
+            for (int c = 0; c < 3; ++c) s[c] += acc[(std::size_t(qy) * W + qx) * 3 + c];
+            ++cnt;
+          }
+        if (cnt == 0) continue;
+        for (int c = 0; c < 3; ++c) acc[i * 3 + c] = s[c] / float(cnt);
+        next[i] = 1;
+        grew = true;
+      }
+    filled.swap(next);
+  }
+  EXPECT_GT(rings, 5);
+  CMGeom::Image expected(W, H, 3);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      ASSERT_TRUE(filled[std::size_t(y) * W + x]) << "texel (" << x << ", " << y << ") never reached";
+      for (int c = 0; c < 3; ++c) expected.set_value(x, H - 1 - y, c, acc[(std::size_t(y) * W + x) * 3 + c]);
+    }
+  EXPECT_TRUE(out == expected);
+}
+
 #ifdef CMGEOM_HAS_OSMESA
 // The two resampling backends see the same collapse records in lockstep (one simplification, the
 // record handed to both) and must leave bit-identical index textures, coverage included; the GL
