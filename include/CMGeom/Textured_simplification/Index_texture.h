@@ -386,10 +386,19 @@ private:
 /// the wedge's region as a copy of that region would be, and holds the collapse's new values
 /// back until every new triangle is resampled: the same values as reading a copy, without
 /// copying the region (the bounding rectangle of the old star, many times the texels written)
-/// or looking up the chart of every copied value (only those of the texels actually read).
+/// or looking up the chart of every copied value.
+/// It also keeps, per texel, the chart of the stored index value (Index_texture::chart_of), set
+/// at construction and with every value it writes: the chart-aware lookup then reads the charts of
+/// its four texels beside their values instead of looking each up in the chart map. So nothing
+/// else may write the Index_texture while the resampler lives.
+/// Memory: 4 bytes per texel besides the Index_texture.
 class Index_texture_resampler {
 public:
-  explicit Index_texture_resampler(Index_texture& it) : it_(&it) {}
+  explicit Index_texture_resampler(Index_texture& it)
+      : it_(&it), value_chart_(std::size_t(it.width()) * std::size_t(it.height())) {
+    for (int y = 0; y < it.height(); ++y)
+      for (int x = 0; x < it.width(); ++x) value_chart_[texel(x, y)] = it.chart_of(it.at(x, y)[0], it.at(x, y)[1]);
+  }
 
   void operator()(const Collapse_record& rec) {
     Index_texture& it = *it_;
@@ -413,6 +422,7 @@ public:
       float* out = it.at(p.x, p.y);
       out[0] = p.value[0];
       out[1] = p.value[1];
+      value_chart_[texel(p.x, p.y)] = it.chart_of(out[0], out[1]);
     }
   }
 
@@ -424,6 +434,7 @@ private:
     int x, y;
     float value[2];
   };
+  std::size_t texel(int x, int y) const { return std::size_t(y) * std::size_t(it_->width()) + std::size_t(x); }
 
   /// Chart-aware bilinear lookup (§3.6) of the old index texture at (sx, sy) (texel units),
   /// confined to wedge w's region: only the four nearest texels whose stored index lies in the
@@ -449,7 +460,7 @@ private:
       const int qx = (std::min)((std::max)(ix + (k & 1), r.x0), r.x1);
       const int qy = (std::min)((std::max)(iy + (k >> 1), r.y0), r.y1);
       q[k] = it.at(qx, qy);
-      cq[k] = it.chart_of(q[k][0], q[k][1]);
+      cq[k] = value_chart_[texel(qx, qy)];
       if (qx == (std::min)((std::max)(nx, r.x0), r.x1) && qy == (std::min)((std::max)(ny, r.y0), r.y1)) {
         an = q[k];
         cn = cq[k];
@@ -478,6 +489,7 @@ private:
   }
 
   Index_texture* it_;
+  std::vector<std::uint32_t> value_chart_;  ///< chart_of() of each texel's stored value
   internal::Resampling_plan plan_;
   std::vector<Pending> pending_;
 };
