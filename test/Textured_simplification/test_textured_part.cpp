@@ -24,6 +24,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -401,6 +402,58 @@ TEST(TexturedSimplification, ResamplingIsIdentityOnAFlatIsometricPatch) {
       worst = std::max({worst, std::abs(p[0] - (x + 0.5)), std::abs(p[1] - (y + 0.5))});
     }
   EXPECT_LT(worst, 1e-3) << "index texture drifted from the identity (texels)";
+}
+
+// rasterize_triangle draws exactly the texels whose centre passes the three edge tests (8
+// sub-texel bits, top-left rule), each once: against a reference that tests every texel of the
+// image, on random triangles of all shapes (slivers, both orientations, partly off the image,
+// corners on the sub-texel grid so that centres fall on edges).
+TEST(TexturedSimplification, RasterizerCoversExactlyTheTexelsWhoseCentrePassesTheEdgeTests) {
+  const int W = 37, H = 29;
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> coord(-8.0, 45.0);
+  std::uniform_int_distribution<int> grid(-4, 44);
+  std::size_t drawn = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    std::array<UV2, 3> t;
+    for (int c = 0; c < 3; ++c) {
+      if (trial % 3 == 0) t[c] = {{grid(rng) + 0.5, grid(rng) + 0.5}};  // corners on texel centres
+      else t[c] = {{coord(rng), coord(rng)}};
+    }
+    if (trial % 5 == 0) t[2] = {{t[0][0] + 1e-3 * (t[1][0] - t[0][0]) + 0.01, t[0][1] + 1e-3 * (t[1][1] - t[0][1])}};
+    std::vector<int> count(std::size_t(W) * H, 0);
+    TS::rasterize_triangle(t, W, H, [&](int x, int y) {
+      ASSERT_TRUE(x >= 0 && y >= 0 && x < W && y < H);
+      ++count[std::size_t(y) * W + x];
+    });
+    // reference: snap to 1/256, orient counter-clockwise, test every texel centre
+    long long X[3], Y[3];
+    for (int c = 0; c < 3; ++c) {
+      X[c] = std::llround(t[c][0] * 256.0);
+      Y[c] = std::llround(t[c][1] * 256.0);
+    }
+    const long long area = (X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]);
+    if (area < 0) {
+      std::swap(X[1], X[2]);
+      std::swap(Y[1], Y[2]);
+    }
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        bool inside = area != 0;
+        for (int i = 0; i < 3 && inside; ++i) {
+          const int j = (i + 1) % 3;
+          const long long dx = X[j] - X[i], dy = Y[j] - Y[i];
+          const long long px = 256LL * x + 128, py = 256LL * y + 128;
+          const long long e = dx * (py - Y[i]) - dy * (px - X[i]);
+          const bool top_left = (dy == 0 && dx < 0) || dy < 0;
+          inside = top_left ? e >= 0 : e > 0;
+        }
+        ASSERT_EQ(count[std::size_t(y) * W + x], inside ? 1 : 0)
+            << "trial " << trial << ", texel (" << x << ", " << y << ")";
+        drawn += inside;
+      }
+  }
+  EXPECT_GT(drawn, 10000u);
 }
 
 // generate_texture: covered texels hold the original looked up through the index texture, and

@@ -110,14 +110,20 @@ void rasterize_triangle(const std::array<UV2, 3>& t, int W, int H, F&& f) {
     const bool top_left = (dy == 0 && dx < 0) || dy < 0;
     C[i] = dy * X[i] - dx * Y[i] + (top_left ? 0 : -1);
   }
+  // Per row, the covered texels are an interval: edge function i at texel x is
+  // e_i(xlo) + A_i S (x - xlo), so e_i >= 0 bounds x from below (A_i > 0) or above (A_i < 0),
+  // in exact integer arithmetic (the same texels as testing every texel of the bounding box).
   for (int y = ylo; y <= yhi; ++y) {
     const std::int64_t py = std::int64_t(y) * S + HALF;
-    std::int64_t e[3];
-    for (int i = 0; i < 3; ++i) e[i] = A[i] * (std::int64_t(xlo) * S + HALF) + B[i] * py + C[i];
-    for (int x = xlo; x <= xhi; ++x) {
-      if ((e[0] | e[1] | e[2]) >= 0) f(x, y);
-      for (int i = 0; i < 3; ++i) e[i] += A[i] * S;
+    std::int64_t lo = xlo, hi = xhi;
+    for (int i = 0; i < 3 && lo <= hi; ++i) {
+      const std::int64_t e0 = A[i] * (std::int64_t(xlo) * S + HALF) + B[i] * py + C[i];
+      const std::int64_t step = A[i] * S;
+      if (step > 0) lo = (std::max)(lo, xlo + (e0 >= 0 ? 0 : ceil_div(-e0, step)));
+      else if (step < 0) hi = (std::min)(hi, xlo + (e0 < 0 ? -1 : e0 / -step));
+      else if (e0 < 0) hi = lo - 1;
     }
+    for (std::int64_t x = lo; x <= hi; ++x) f(int(x), y);
   }
 }
 
