@@ -9,8 +9,10 @@
 #                      their common arguments (src/Compact_model/CMakeLists.txt); optional for users,
 #                      it only saves compile time.
 #
-# OpenImageIO costs ~0.3 s start-up and ~270 shared libraries per binary, so only targets that
-# really touch images link CMGeom::Image_IO.
+# OpenImageIO costs ~0.35 s start-up and ~260 shared libraries per binary: CMGeom::Image_IO loads
+# it as a module on the first image read or written (cmgeom_image_io_oiio below).
+
+include(GNUInstallDirs)
 
 add_library(CMGeom INTERFACE)
 add_library(CMGeom::CMGeom ALIAS CMGeom)
@@ -63,12 +65,26 @@ target_include_directories(CMGeom_Mesh_IO PRIVATE ${PROJECT_SOURCE_DIR}/src)
 set_target_properties(CMGeom_Mesh_IO PROPERTIES EXPORT_NAME Mesh_IO)
 cmgeom_use_pch(CMGeom_Mesh_IO)
 
+# The pixels are read and written by a module linked with OpenImageIO and loaded on first use
+# (src/Mesh_IO/image_io_backend.h): programs linking CMGeom::Image_IO do not load OpenImageIO's
+# ~260 libraries at start-up, only when they touch an image.
+add_library(cmgeom_image_io_oiio MODULE ${PROJECT_SOURCE_DIR}/src/Mesh_IO/image_io_oiio.cpp)
+target_link_libraries(cmgeom_image_io_oiio PRIVATE PkgConfig::OIIO)
+target_include_directories(cmgeom_image_io_oiio PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR}/src)
+target_compile_features(cmgeom_image_io_oiio PRIVATE cxx_std_17)
+set_target_properties(cmgeom_image_io_oiio PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/lib/cmgeom
+                                                      CXX_VISIBILITY_PRESET hidden)
+
 add_library(CMGeom_Image_IO STATIC
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/image_io.cpp
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/textured_mesh_io.cpp)
 add_library(CMGeom::Image_IO ALIAS CMGeom_Image_IO)
-target_link_libraries(CMGeom_Image_IO PUBLIC CMGeom::Mesh_IO PRIVATE PkgConfig::OIIO)
+target_link_libraries(CMGeom_Image_IO PUBLIC CMGeom::Mesh_IO ${CMAKE_DL_LIBS})
 target_include_directories(CMGeom_Image_IO PRIVATE ${PROJECT_SOURCE_DIR}/src)
+target_compile_definitions(CMGeom_Image_IO PRIVATE
+  CMGEOM_IMAGE_IO_MODULE_BUILD_PATH="$<TARGET_FILE:cmgeom_image_io_oiio>"
+  CMGEOM_IMAGE_IO_MODULE_INSTALL_PATH="${CMAKE_INSTALL_FULL_LIBDIR}/cmgeom/$<TARGET_FILE_NAME:cmgeom_image_io_oiio>")
+add_dependencies(CMGeom_Image_IO cmgeom_image_io_oiio)
 set_target_properties(CMGeom_Image_IO PROPERTIES EXPORT_NAME Image_IO)
 cmgeom_use_pch(CMGeom_Image_IO)
 

@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <map>
 
@@ -346,6 +347,29 @@ TEST(Mesh_IO_image, RgbaPngRoundTripIsLossless) {
   IO::write_image(path, img);
   EXPECT_TRUE(IO::read_image(path) == img);
   EXPECT_EQ(IO::image_size(path), std::make_pair(7, 5));
+}
+
+// OpenImageIO (about 260 shared libraries) is loaded by the first image read or written, not at
+// program start: whether it was mapped is recorded while this program initialises, before main().
+namespace {
+bool oiio_mapped() {
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  while (std::getline(maps, line))
+    if (line.find("libOpenImageIO") != std::string::npos) return true;
+  return false;
+}
+const bool oiio_mapped_at_start = oiio_mapped();
+}  // namespace
+
+TEST(Mesh_IO_image, OpenImageIOIsLoadedOnFirstUseOnly) {
+  EXPECT_FALSE(oiio_mapped_at_start) << "OpenImageIO was loaded at program start";
+  const std::string path = (fs::path(scratch_dir()) / "lazy.png").string();
+  Image img(3, 2, 3);
+  img.bytes()[img.index(2, 1, 0)] = 200;
+  IO::write_image(path, img);
+  EXPECT_TRUE(oiio_mapped()) << "writing an image did not go through OpenImageIO";
+  EXPECT_TRUE(IO::read_image(path) == img);
 }
 
 // ------------------------------------------------------------------ malformed input catalogue
