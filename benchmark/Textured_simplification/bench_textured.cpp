@@ -326,7 +326,7 @@ int main(int argc, char** argv) {
         if (std::max(a, b) <= std::min(a, b) + std::min(a, b) / 100) continue;  // within 1 %
         const std::string tool = a < b ? "ours" : peer, other = a < b ? peer : "ours";
         const std::size_t tgt = std::max(a, b);
-        if (!equal_count_done.insert(name + "/" + tool + "/" + std::to_string(tgt)).second) continue;
+        if (!equal_count_done.insert(tool + "/" + std::to_string(tgt)).second) continue;
         report(run(tool, tgt), tgt, other + "'s count", tool);
       }
     }

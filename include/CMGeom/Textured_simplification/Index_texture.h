@@ -457,17 +457,19 @@ private:
     const float flx = std::floor(px), fly = std::floor(py);
     const float fx = px - flx, fy = py - fly;
     const int ix = int(flx), iy = int(fly);
-    // the four texels, clamped to the region; the nearest one is among them
+    // the four texels, clamped to the region; the nearest one (also clamped) is among them
+    auto clamp_x = [&](int x) { return (std::min)((std::max)(x, r.x0), r.x1); };
+    auto clamp_y = [&](int y) { return (std::min)((std::max)(y, r.y0), r.y1); };
+    const int cnx = clamp_x(nx), cny = clamp_y(ny);
     const float* q[4];
     std::uint32_t cq[4];
     std::uint32_t cn = 0u;
     const float* an = nullptr;
     for (int k = 0; k < 4; ++k) {
-      const int qx = (std::min)((std::max)(ix + (k & 1), r.x0), r.x1);
-      const int qy = (std::min)((std::max)(iy + (k >> 1), r.y0), r.y1);
+      const int qx = clamp_x(ix + (k & 1)), qy = clamp_y(iy + (k >> 1));
       q[k] = it.at(qx, qy);
       cq[k] = value_chart_[texel(qx, qy)];
-      if (qx == (std::min)((std::max)(nx, r.x0), r.x1) && qy == (std::min)((std::max)(ny, r.y0), r.y1)) {
+      if (qx == cnx && qy == cny) {
         an = q[k];
         cn = cq[k];
       }
@@ -542,30 +544,29 @@ inline Image generate_texture(const Index_texture& it, const Image& original,
     throw Invalid_input("generate_texture: " + std::to_string(W) + " x " + std::to_string(H) +
                         " texels is more than this function handles (2^32 - 1)");
   Image out(W, H, C, Image::Format::UInt8);
-  std::vector<char> filled(std::size_t(W) * std::size_t(H), 0);
-  std::vector<float> acc(std::size_t(W) * std::size_t(H) * std::size_t(C), 0.f);
+  const std::size_t n = std::size_t(W) * std::size_t(H);
+  // chessboard distance to the covered texels: 0 on them (set while they are looked up), the
+  // rest from the distance transform below; `far` where no texel is covered at all
+  constexpr std::uint32_t far = 0xffffffffu;
+  std::vector<std::uint32_t> dist(n, far);
+  std::vector<float> acc(n * std::size_t(C), 0.f);
   float v[4];
   for (const auto& tri : final_triangles) {
     std::array<UV2, 3> t;
     for (int c = 0; c < 3; ++c) t[c] = it.domain().to_texel(tri[c]);
     rasterize_triangle(t, W, H, [&](int x, int y) {
       const std::size_t i = std::size_t(y) * W + x;
-      if (filled[i]) return;
+      if (dist[i] == 0) return;
       const float* a = it.at(x, y);
       sample_original(it, original, a[0], a[1], v);
       for (int c = 0; c < C; ++c) acc[i * C + c] = v[c];
-      filled[i] = 1;
+      dist[i] = 0;
     });
   }
   // Dilation, ring by ring: a texel at chessboard distance d from the covered texels gets the
   // average of its 8-neighbours at distance d - 1 (the rings of a breadth-first growth). The
   // distances come from a two-pass distance transform, the rings from a counting sort by
   // distance; a ring only reads inner rings, so the order within a ring does not matter.
-  const std::size_t n = std::size_t(W) * std::size_t(H);
-  constexpr std::uint32_t far = 0xffffffffu;
-  std::vector<std::uint32_t> dist(n, far);
-  for (std::size_t i = 0; i < n; ++i)
-    if (filled[i]) dist[i] = 0;
   auto relax = [&](std::size_t i, int qx, int qy) {
     if (qx < 0 || qy < 0 || qx >= W || qy >= H) return;
     const std::uint32_t dq = dist[std::size_t(qy) * W + qx];
