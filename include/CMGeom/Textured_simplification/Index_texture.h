@@ -537,6 +537,8 @@ inline void sample_original(const Index_texture& it, const Image& original, floa
 /// Output texture (same size as the index texture, covering the domain; row 0 at the top as in
 /// image files): the original looked up through the index texture on every texel covered by
 /// `final_triangles` (UVs in the domain), then dilated into the gutters.
+/// Throws Invalid_input for an index texture of 2^32 texels or more (its texels are indexed in 32
+/// bits; simplify_textured_mesh caps sides at 8192 by default).
 inline Image generate_texture(const Index_texture& it, const Image& original,
                               const std::vector<std::array<UV2, 3>>& final_triangles) {
   const int W = it.width(), H = it.height(), C = original.channels();
