@@ -8,7 +8,10 @@
 //
 // Timing: process CPU seconds of the simplification call alone (set-up of the policy included,
 // mesh IO and format conversion excluded); with --repeat R each configuration runs R times and
-// the median time is reported (the outputs are deterministic). Error: Metro convention —
+// the median time is reported (the outputs are deterministic). The R repetitions are interleaved
+// (all tools once, then all tools again), and the last column is the median over repetitions of
+// GH's time divided by the tool's time in the same repetition: a drift of the machine's load
+// between repetitions cancels in it. Error: Metro convention —
 // N uniform area samples (fixed seed) on each surface, distance to the other surface (AABB tree),
 // symmetric Hausdorff = max of both directions, RMS = the larger of the two directional RMS, both
 // divided by the input's bounding-box diagonal.
@@ -174,6 +177,7 @@ struct Row {
   std::string model, tool;
   std::size_t faces_in = 0, target = 0, faces_out = 0;
   double ratio = 0, seconds = 0, hausdorff = 0, rms = 0;
+  double paired_speedup = 0;  // median over repetitions of (cgal-gh's time / this tool's time); 0: no GH
 };
 
 struct Model {
@@ -424,6 +428,22 @@ int main(int argc, char** argv) {
     const std::size_t faces_in = md.mesh.number_of_faces();
     for (double ratio : ratios) {
       const std::size_t target = static_cast<std::size_t>(std::llround(ratio * double(faces_in)));
+      // Repetitions are interleaved (every tool once, then every tool again, ...), so that a
+      // change of machine load hits all tools alike; each repetition pairs a tool's time with GH's.
+      std::map<std::string, std::vector<double>> times;
+      std::map<std::string, Mesh> outs;
+      for (std::size_t rep = 0; rep < repeat; ++rep)
+        for (const std::string& tool : tools) {
+          Mesh out;
+          double secs = 0;
+          if (!run_tool(tool, md, target, out, secs)) return 2;  // not reached: --tools is checked
+          times[tool].push_back(secs);
+          if (rep == 0) outs[tool] = std::move(out);  // outputs are deterministic
+        }
+      auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+      };
       for (const std::string& tool : tools) {
         Row r;
         r.model = name;
@@ -431,13 +451,13 @@ int main(int argc, char** argv) {
         r.faces_in = faces_in;
         r.target = target;
         r.ratio = ratio;
-        Mesh out;
-        // the median of `repeat` runs: the machine may be shared, and every tool is repeated alike
-        std::vector<double> times(repeat);
-        for (double& secs : times)
-          if (!run_tool(tool, md, target, out, secs)) return 2;  // not reached: --tools is checked
-        std::sort(times.begin(), times.end());
-        r.seconds = times[times.size() / 2];
+        const Mesh& out = outs[tool];
+        r.seconds = median(times[tool]);
+        if (times.count("cgal-gh")) {
+          std::vector<double> q;
+          for (std::size_t k = 0; k < repeat; ++k) q.push_back(times["cgal-gh"][k] / std::max(times[tool][k], 1e-9));
+          r.paired_speedup = median(q);
+        }
         r.faces_out = out.number_of_faces();
         measure(md, out, n_samples, r);
         std::cerr << name << " " << ratio << " " << tool << ": " << r.faces_out << " faces, " << r.seconds
@@ -449,7 +469,7 @@ int main(int argc, char** argv) {
 
   std::ostringstream t;
   t << "| model (faces) | target | tool | faces out | CPU s | M input tri/s | Hausdorff | RMS | time / GH | "
-       "Hausdorff / GH | RMS / GH |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+       "Hausdorff / GH | RMS / GH | GH / tool, paired |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const Row& r : rows) {
     const Row* gh = nullptr;
     for (const Row& g : rows)
@@ -458,7 +478,8 @@ int main(int argc, char** argv) {
       << " | " << r.faces_out << " | " << fmt(r.seconds) << " | " << fmt(r.faces_in / std::max(r.seconds, 1e-9) / 1e6)
       << " | " << sci(r.hausdorff) << " | " << sci(r.rms) << " | "
       << (gh ? fmt(r.seconds / gh->seconds) : "-") << " | " << (gh ? fmt(r.hausdorff / gh->hausdorff) : "-")
-      << " | " << (gh ? fmt(r.rms / gh->rms) : "-") << " |\n";
+      << " | " << (gh ? fmt(r.rms / gh->rms) : "-") << " | " << (r.paired_speedup > 0 ? fmt(r.paired_speedup) : "-")
+      << " |\n";
   }
   std::cout << t.str();
   if (!out_file.empty()) {

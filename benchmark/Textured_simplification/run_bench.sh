@@ -33,7 +33,7 @@ tail -n +3 "$table2" >> "$table"
   echo
   echo "- Machine: $(lscpu | sed -n 's/^Model name: *//p') ($(nproc) cores, shared with other jobs: timings are noisy), $(free -g | awk '/Mem:/{print $2}') GiB RAM"
   echo "- Compiler: $(c++ --version | head -1); flags: $(grep -m1 '^CMAKE_CXX_FLAGS_RELEASE' "$build/CMakeCache.txt" | cut -d= -f2) (CMake Release), CGAL $(grep -m1 'CGAL_VERSION ' /usr/include/CGAL/version.h | awk '{print $3}'), meshoptimizer 0.18, OpenMesh 9"
-  echo "- Command: \`bench_simplify --models bunny,armadillo,igea,nefertiti,max-planck $*\` and, concurrently, \`bench_simplify --models igea-sub $*\` (\`--repeat R\`: median of R runs per configuration)"
+  echo "- Command: \`bench_simplify --models bunny,armadillo,igea,nefertiti,max-planck $*\` and, concurrently, \`bench_simplify --models igea-sub $*\` (\`--repeat R\`: median of R interleaved runs per configuration; last column: median over the runs of GH's time / the tool's time in the same run)"
   echo "- Time: process CPU seconds of the simplification call only (policy set-up included; IO, conversion and garbage collection excluded)."
   echo "- Error: Metro convention, 100k uniform area samples per surface (fixed seeds), distance to the other surface;"
   echo "  Hausdorff = max of both directions, RMS = larger of the two directional RMS; both divided by the input's bounding-box diagonal."

@@ -437,17 +437,21 @@ private:
     if (n <= ring_max) {
       // costs first (they do not depend on the queue), asking for each edge's heap node on the
       // way; then the queue updates, in the same order as evaluate() would do them
-      Cost costs[ring_max];
+      // (plain arrays: 64 default-constructed optionals cost more than the degree-6 loop below)
+      FT costs[ring_max];
+      bool has_cost[ring_max];
       std::uint32_t ids[ring_max];
       for (int k = 0; k < n; ++k) {
         const edge_descriptor e = edge(ring[k], tm_);
         ids[k] = id(e);
         if (flags(ids[k]) & (DEAD | CONSTRAINED)) continue;
-        costs[k] = cost_of(profile_of(e));
+        const Cost c = cost_of(profile_of(e));
+        has_cost[k] = bool(c);
+        if (c) costs[k] = *c;
         heap_.prefetch_node(ids[k]);
       }
       for (int k = 0; k < n; ++k)
-        if (!(flags(ids[k]) & (DEAD | CONSTRAINED))) requeue(ids[k], costs[k]);
+        if (!(flags(ids[k]) & (DEAD | CONSTRAINED))) requeue(ids[k], has_cost[k] ? Cost(costs[k]) : Cost());
     } else {
       for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) evaluate(edge(h, tm_));
     }
