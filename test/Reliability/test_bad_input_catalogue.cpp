@@ -412,11 +412,23 @@ TEST_F(Bad_input, CmReconstructHugeDeclaredCount) {
 // A face corner naming a vertex past the end, with a valid checksum.
 TEST_F(Bad_input, CmReconstructIndexOutOfRange) {
   std::string bytes = read_bytes(good_cm());
-  const std::uint64_t nv = get_u64(bytes, 16), nn = get_u64(bytes, 24), nf = get_u64(bytes, 48);
+  const std::uint64_t nv = get_u64(bytes, 16), nn = get_u64(bytes, 24), ns = get_u64(bytes, 32),
+                      nc = get_u64(bytes, 40), nf = get_u64(bytes, 48);
   ASSERT_GT(nf, 0u);
-  // The faces are the last 36 F bytes before the checksum (the model is not textured).
-  const std::size_t faces_at = bytes.size() - 8 - 36 * std::size_t(nf);
-  put_u32(bytes, faces_at, std::uint32_t(nv + nn + 5));
+  // Walk version 2's sections (doc/Compact_model/README.md) to the faces' vertex indices.
+  ASSERT_EQ(std::uint8_t(bytes[8]), 2u);
+  std::size_t at = 56 + 12 * std::size_t(nv + nn);
+  for (std::uint64_t i = 0; i < ns; ++i) {
+    const int model_id = std::uint8_t(bytes[at]);
+    ASSERT_LE(model_id, 2);
+    at += 1 + 4 * std::size_t(model_id == 0 ? 5 : model_id == 1 ? 6 : 9);
+  }
+  at += 4 * std::size_t(nc);
+  std::size_t sectors = 0;
+  for (std::uint64_t v = 0; v < nv; ++v) sectors += std::uint8_t(bytes[at + v]);
+  at += std::size_t(nv);
+  if (!(std::uint8_t(bytes[12]) & 2u)) at += 8 * sectors;  // explicit sector table
+  put_u32(bytes, at, std::uint32_t(nv + nn + 5));  // first corner's vertex index
   fix_checksum(bytes);
   const std::string cm = input("index.cm", bytes);
   expect_rejected("cm reconstruct " + q(cm) + " -o " + q(output("r.ply")), {"index.cm"});

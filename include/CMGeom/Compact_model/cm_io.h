@@ -3,28 +3,48 @@
 //
 // The CM file format (thesis §4.4.3: "storing vertices, least-squares coefficient list, normal
 // vectors, cone-type vertex list and ... the faces by three sets of three indices: vertex,
-// coefficient list and normal vector"), binary, little-endian, version 1:
+// coefficient list and normal vector"), binary, little-endian. Version 2 is written, versions 1
+// and 2 are read.
 //
 //   offset  size            content
 //   0       8               magic "CMGEOMCM"
-//   8       4   u32         version (1)
-//   12      4   u32         flags: bit 0 = textured (uv section present); other bits must be 0
+//   8       4   u32         version (1 or 2)
+//   12      4   u32         flags: bit 0 = textured (uv section present); version 2, bit 1 = implicit
+//                           sector table (see below); other bits must be 0
 //   16      8*5 u64         counts: vertices V, normals N, coefficient lists S, cone vertices C, faces F
 //   56      12V f32         vertices (x, y, z)
 //           12N f32         unit frame normals
 //           S lists         per list: u8 model id (0 quadric, 1 cone, 2 cubic), then 5, 6 or 9 f32
 //           4C  u32         cone-type vertex indices (ascending; must match the conical lists)
+//   version 1:
 //           36F u32         faces: 3 x (vertex, coefficient list, normal)
+//   version 2 (the same information, smaller: a corner's (coefficient list, normal) pair is one of
+//   its vertex's sectors, and most vertices have one sector):
+//           V   u8          number of sectors k_v of each vertex (distinct pairs among its corners)
+//           8K  u32 pairs   unless flag bit 1: (coefficient list, normal) of each sector, vertex by
+//                           vertex, K = sum of k_v. With bit 1 the table is implicit: sector j of
+//                           vertex v is pair (s_v + j, s_v + j), s_v = k_0 + ... + k_{v-1}, N = S = K
+//                           (the layout build_compact_model produces).
+//           12F u32         faces: 3 vertex indices each
+//           M   u8          for every corner (in face order) whose vertex has more than one
+//                           sector, its sector number j < k_v (M such corners)
+//   both:
 //   [textured] u32 length + bytes of the texture path, then 24F f32 (u, v per corner)
 //   end-8   8   u64         FNV-1a 64-bit hash of every preceding byte
 //
+// Version 2 is a CMGeom change to the thesis' layout (same model, same numbers): the faces take
+// 12 + (corners at multi-sector vertices) bytes instead of 36, e.g. the horse's 1000-face base
+// goes from 67,561 to 45,184 bytes. A model with a vertex of more than 255 sectors is written as version 1.
+// Explicit tables list a vertex's pairs in increasing order. Reading then writing gives the same
+// model; the bytes are the same from the second writing on (a version 1 file becomes version 2).
+//
 // Reading checks, in this order, and throws CMGeom::IO_error (file, what) on the first failure:
 // size and magic, version, flags, counts against the file size (before allocating anything),
-// section sizes and model ids while parsing, the checksum, then every index and number
-// (Compact_model::validate) and the cone list. No partial model is returned. write_cm() is atomic
-// (temporary file + rename, never a truncated file).
+// section sizes, model ids and sector numbers while parsing, the checksum, then every index and
+// number (Compact_model::validate) and the cone list. No partial model is returned. write_cm() is
+// atomic (temporary file + rename, never a truncated file).
 //
-// Complexity: O(file size).
+// Complexity: O(file size) (writing: O(F log F)).
 #ifndef CMGEOM_COMPACT_MODEL_CM_IO_H
 #define CMGEOM_COMPACT_MODEL_CM_IO_H
 
@@ -32,12 +52,15 @@
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/Atomic_output.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace CMGeom {
 namespace CM {
@@ -45,7 +68,7 @@ namespace CM {
 namespace internal {
 
 constexpr char cm_magic[8] = {'C', 'M', 'G', 'E', 'O', 'M', 'C', 'M'};
-constexpr std::uint32_t cm_version = 1;
+constexpr std::uint32_t cm_version = 2;  // the version written
 constexpr std::size_t cm_header_size = 56;
 
 inline std::uint64_t fnv1a64(const unsigned char* data, std::size_t n) {
@@ -108,14 +131,69 @@ struct Le_reader {
 
 }  // namespace internal
 
-/// The bytes of a CM file for `m` (see the file comment). Throws Invalid_input if `m` is invalid.
+namespace internal {
+
+/// Version 2's sector layout of a model (see the file comment): per vertex, its distinct
+/// (coefficient list, normal) pairs in increasing order, and each corner's number in its vertex's
+/// list. False when a vertex has more than 255 (the model is then written as version 1).
+struct Cm_sectors {
+  std::vector<std::uint8_t> count;                             // k_v
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // vertex by vertex
+  std::vector<std::uint8_t> corner;                            // 3F sector numbers
+  bool implicit = false;                                       // pairs[k] == (k, k), N = S = K
+};
+
+inline bool cm_sectors(const Compact_model& m, Cm_sectors& out) {
+  struct Item {
+    std::uint32_t v, s, n, corner;
+  };
+  std::vector<Item> items;
+  items.reserve(3 * m.faces.size());
+  for (std::size_t f = 0; f < m.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Corner& c = m.faces[f][k];
+      items.push_back({c.vertex, c.surface, c.normal, std::uint32_t(3 * f + std::size_t(k))});
+    }
+  std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
+    return a.v != b.v ? a.v < b.v : (a.s != b.s ? a.s < b.s : (a.n != b.n ? a.n < b.n : a.corner < b.corner));
+  });
+  out.count.assign(m.vertices.size(), 0);
+  out.corner.assign(3 * m.faces.size(), 0);
+  out.pairs.clear();
+  for (std::size_t i = 0; i < items.size();) {
+    const std::uint32_t v = items[i].v;
+    unsigned local = 0;
+    while (i < items.size() && items[i].v == v) {
+      std::size_t j = i;
+      while (j < items.size() && items[j].v == v && items[j].s == items[i].s && items[j].n == items[i].n) ++j;
+      if (local == 255) return false;
+      out.pairs.emplace_back(items[i].s, items[i].n);
+      for (std::size_t t = i; t < j; ++t) out.corner[items[t].corner] = std::uint8_t(local);
+      ++local;
+      i = j;
+    }
+    out.count[v] = std::uint8_t(local);
+  }
+  out.implicit = m.normals.size() == out.pairs.size() && m.surfaces.size() == out.pairs.size();
+  for (std::size_t k = 0; out.implicit && k < out.pairs.size(); ++k)
+    out.implicit = out.pairs[k].first == k && out.pairs[k].second == k;
+  return true;
+}
+
+}  // namespace internal
+
+/// The bytes of a CM file for `m` (see the file comment): version 2, or version 1 when a vertex
+/// has more than 255 sectors. Throws Invalid_input if `m` is invalid.
 inline std::string cm_bytes(const Compact_model& m) {
   m.validate();
+  internal::Cm_sectors sec;
+  const bool v2 = internal::cm_sectors(m, sec);
   internal::Le_writer w;
-  w.out.reserve(64 + m.vertices.size() * 12 + m.normals.size() * 12 + m.surfaces.size() * 40 + m.faces.size() * 60);
+  w.out.reserve(64 + m.vertices.size() * 13 + m.normals.size() * 12 + m.surfaces.size() * 40 + m.faces.size() * 40 +
+                (m.has_uvs() ? m.faces.size() * 24 + m.texture.size() : 0));
   w.out.append(internal::cm_magic, 8);
-  w.u32(internal::cm_version);
-  w.u32(m.has_uvs() ? 1u : 0u);
+  w.u32(v2 ? internal::cm_version : 1u);
+  w.u32((m.has_uvs() ? 1u : 0u) | (v2 && sec.implicit ? 2u : 0u));
   const std::vector<std::uint32_t> cones = m.cone_vertices();
   w.u64(m.vertices.size());
   w.u64(m.normals.size());
@@ -137,12 +215,26 @@ inline std::string cm_bytes(const Compact_model& m) {
     for (int k = 0; k < number_of_coefficients(s.model); ++k) w.f32(s.c[k]);
   }
   for (std::uint32_t c : cones) w.u32(c);
-  for (const auto& f : m.faces)
-    for (const Corner& c : f) {
-      w.u32(c.vertex);
-      w.u32(c.surface);
-      w.u32(c.normal);
-    }
+  if (v2) {
+    for (std::uint8_t k : sec.count) w.u8(k);
+    if (!sec.implicit)
+      for (const auto& pr : sec.pairs) {
+        w.u32(pr.first);
+        w.u32(pr.second);
+      }
+    for (const auto& f : m.faces)
+      for (const Corner& c : f) w.u32(c.vertex);
+    for (std::size_t f = 0; f < m.faces.size(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (sec.count[m.faces[f][k].vertex] > 1) w.u8(sec.corner[3 * f + std::size_t(k)]);
+  } else {
+    for (const auto& f : m.faces)
+      for (const Corner& c : f) {
+        w.u32(c.vertex);
+        w.u32(c.surface);
+        w.u32(c.normal);
+      }
+  }
   if (m.has_uvs()) {
     w.u32(std::uint32_t(m.texture.size()));
     w.out.append(m.texture);
@@ -156,7 +248,7 @@ inline std::string cm_bytes(const Compact_model& m) {
   return w.out;
 }
 
-/// Parses the bytes of a CM file; `file` names it in error messages.
+/// Parses the bytes of a CM file (version 1 or 2); `file` names it in error messages.
 inline Compact_model parse_cm(const std::string& bytes, const std::string& file = "<memory>") {
   using internal::Le_reader;
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -167,10 +259,12 @@ inline Compact_model parse_cm(const std::string& bytes, const std::string& file 
                              std::to_string(internal::cm_header_size + 8));
   Le_reader r{data, bytes.size() - 8, 8, file};  // the trailing checksum is not content
   const std::uint32_t version = r.u32();
-  if (version != internal::cm_version)
-    throw IO_error(file, "unsupported CM version " + std::to_string(version) + " (this reader knows 1)");
+  if (version != 1 && version != 2)
+    throw IO_error(file, "unsupported CM version " + std::to_string(version) + " (this reader knows 1 and 2)");
   const std::uint32_t flags = r.u32();
-  if (flags & ~1u) throw IO_error(file, "unknown flags " + std::to_string(flags));
+  const std::uint32_t known_flags = version == 1 ? 1u : 3u;
+  if (flags & ~known_flags) throw IO_error(file, "unknown flags " + std::to_string(flags));
+  const bool implicit = (flags & 2u) != 0;
   const std::uint64_t nv = r.u64(), nn = r.u64(), ns = r.u64(), nc = r.u64(), nf = r.u64();
   // Check every count against the bytes left before allocating (a corrupt count must not make us
   // allocate gigabytes); lists have at least 21 bytes each.
@@ -180,11 +274,11 @@ inline Compact_model parse_cm(const std::string& bytes, const std::string& file 
       throw IO_error(file, std::string("corrupt or truncated file: ") + std::to_string(count) + " " + what +
                                " do not fit in the remaining " + std::to_string(left) + " bytes");
   };
-  check(nv, 12, "vertices");
+  check(nv, version == 1 ? 12 : 13, "vertices");
   check(nn, 12, "normals");
   check(ns, 21, "coefficient lists");
   check(nc, 4, "cone vertices");
-  check(nf, 36, "faces");
+  check(nf, version == 1 ? 36 : 12, "faces");
   const std::uint64_t stored = [&] {
     Le_reader t{data, bytes.size(), bytes.size() - 8, file};
     return t.u64();
@@ -218,14 +312,64 @@ inline Compact_model parse_cm(const std::string& bytes, const std::string& file 
   r.need(nc * 4, "cone vertex list");
   std::vector<std::uint32_t> cones(nc);
   for (auto& c : cones) c = r.u32();
-  r.need(nf * 36, "faces");
   m.faces.resize(nf);
-  for (auto& f : m.faces)
-    for (Corner& c : f) {
-      c.vertex = r.u32();
-      c.surface = r.u32();
-      c.normal = r.u32();
+  if (version == 1) {
+    r.need(nf * 36, "faces");
+    for (auto& f : m.faces)
+      for (Corner& c : f) {
+        c.vertex = r.u32();
+        c.surface = r.u32();
+        c.normal = r.u32();
+      }
+  } else {
+    r.need(nv, "sector counts");
+    std::vector<std::uint64_t> first(nv + 1, 0);  // first[v]: number of v's first sector
+    for (std::uint64_t v = 0; v < nv; ++v) first[v + 1] = first[v] + r.u8();
+    const std::uint64_t nk = first[nv];
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    if (implicit) {
+      if (nk != nn || nk != ns)
+        throw IO_error(file, "implicit sector table: " + std::to_string(nk) + " sectors for " + std::to_string(nn) +
+                                 " normals and " + std::to_string(ns) + " coefficient lists");
+    } else {
+      if (nk > (r.n - r.pos) / 8)
+        throw IO_error(file, "corrupt or truncated file: " + std::to_string(nk) + " sectors do not fit in the remaining " +
+                                 std::to_string(r.n - r.pos) + " bytes");
+      pairs.resize(nk);
+      for (auto& pr : pairs) {
+        pr.first = r.u32();
+        pr.second = r.u32();
+      }
     }
+    r.need(nf * 12, "faces");
+    for (std::uint64_t f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = r.u32();
+        if (v >= nv)
+          throw IO_error(file, "face " + std::to_string(f) + " corner " + std::to_string(k) + ": vertex index " +
+                                   std::to_string(v) + " out of range");
+        if (first[v + 1] == first[v])
+          throw IO_error(file, "face " + std::to_string(f) + " corner " + std::to_string(k) + ": vertex " +
+                                   std::to_string(v) + " has no sector");
+        m.faces[f][k].vertex = v;
+      }
+    for (std::uint64_t f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) {
+        Corner& c = m.faces[f][k];
+        const std::uint64_t kv = first[c.vertex + 1] - first[c.vertex];
+        std::uint64_t j = 0;
+        if (kv > 1) {
+          r.need(1, "corner sector numbers");
+          j = r.u8();
+          if (j >= kv)
+            throw IO_error(file, "face " + std::to_string(f) + " corner " + std::to_string(k) + ": sector " +
+                                     std::to_string(j) + " of a vertex with " + std::to_string(kv));
+        }
+        const std::uint64_t g = first[c.vertex] + j;
+        c.surface = implicit ? std::uint32_t(g) : pairs[g].first;
+        c.normal = implicit ? std::uint32_t(g) : pairs[g].second;
+      }
+  }
   if (flags & 1u) {
     r.need(4, "texture path length");
     const std::uint32_t len = r.u32();
