@@ -733,14 +733,21 @@ TEST(TexturedSimplificationEngine, SameQualityAsCgalEngine) {
   }
 }
 
+// A sphere (n x n grid) with random radial noise of relative amplitude `amplitude`: distinct
+// collapse costs, no ties.
+Mesh make_noisy_sphere(int n, unsigned seed, double amplitude) {
+  Mesh m = make_sphere_with_horn(0.0, n, n);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-amplitude, amplitude);
+  for (vertex_descriptor v : m.vertices()) m.point(v) = CGAL::ORIGIN + (m.point(v) - CGAL::ORIGIN) * (1 + U(rng));
+  return m;
+}
+
 TEST(TexturedSimplificationEngine, IdenticalToCgalEngineOnASmallMesh) {
   // Both engines run the same policy, pop edges by cost and refuse the same fold-overs, so on a
   // small smooth mesh with distinct costs (a sphere with random radial noise: no ties) they make
   // the same collapses: same vertex positions, same connectivity size.
-  Mesh m = make_sphere_with_horn(0.0, 24, 24);
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> U(-0.01, 0.01);
-  for (vertex_descriptor v : m.vertices()) m.point(v) = CGAL::ORIGIN + (m.point(v) - CGAL::ORIGIN) * (1 + U(rng));
+  const Mesh m = make_noisy_sphere(24, 3, 0.01);
   for (bool weighted : {true, false}) {
     TS::Quadric_options o;
     o.weighted = weighted;
@@ -999,10 +1006,7 @@ TEST(TexturedSimplificationEngine, CollapsesInOrderOfTheCostAtTheFilteredPlaceme
   // holds costs at the policy's placement; the engine re-costs an edge whose placement the filter
   // moved, and collapses it only if it is still the cheapest. So every collapse is the cheapest
   // one at the placement actually used, checked here against all edges, brute force.
-  Mesh m = make_sphere_with_horn(0.0, 16, 16);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> U(-0.02, 0.02);
-  for (vertex_descriptor v : m.vertices()) m.point(v) = CGAL::ORIGIN + (m.point(v) - CGAL::ORIGIN) * (1 + U(rng));
+  const Mesh m = make_noisy_sphere(16, 5, 0.02);
   for (bool weighted : {true, false}) {
     TS::Quadric_options o;
     o.weighted = weighted;
