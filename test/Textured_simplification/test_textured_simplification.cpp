@@ -969,6 +969,7 @@ struct Greedy_order_checker : TS::Edge_collapse_visitor_base {
   std::size_t* collapses = nullptr;
   std::size_t* moved = nullptr;
   std::size_t* not_cheapest_by_queue_cost = nullptr;
+  std::size_t* folding = nullptr;
   std::vector<std::string>* failures = nullptr;
 
   template <class Profile, class OP>
@@ -976,6 +977,9 @@ struct Greedy_order_checker : TS::Edge_collapse_visitor_base {
     const Mesh& m = p.surface_mesh();
     const double cost = CGAL::to_double(*(*policy)(p, placement));
     ++*collapses;
+    // the engine's fold-over guarantee holds at the placement used, moved or not
+    if (TS::internal::collapse_flips_a_face(m, get(CGAL::vertex_point, m), p.v0_v1(), TS::internal::to_vec3(*placement)))
+      ++*folding;
     const auto own = (*policy)(p);
     if (*own != *placement) ++*moved;
     double best_real = std::numeric_limits<double>::infinity(), best_queue = best_real;
@@ -990,7 +994,9 @@ struct Greedy_order_checker : TS::Edge_collapse_visitor_base {
       const auto x = (*policy)(q);
       if (TS::internal::collapse_flips_a_face(m, get(CGAL::vertex_point, m), h, TS::internal::to_vec3(*x))) continue;
       best_queue = (std::min)(best_queue, CGAL::to_double(*(*policy)(q, x)));
-      best_real = (std::min)(best_real, CGAL::to_double(*(*policy)(q, Snap_to_even_endpoint_filter()(q, x))));
+      const auto y = Snap_to_even_endpoint_filter()(q, x);
+      if (TS::internal::collapse_flips_a_face(m, get(CGAL::vertex_point, m), h, TS::internal::to_vec3(*y))) continue;
+      best_real = (std::min)(best_real, CGAL::to_double(*(*policy)(q, y)));
     }
     if (cost > best_real) {
       std::ostringstream msg;
@@ -1012,13 +1018,14 @@ TEST(TexturedSimplificationEngine, CollapsesInOrderOfTheCostAtTheFilteredPlaceme
     o.weighted = weighted;
     Mesh a = m;
     Policy policy(a, o);
-    std::size_t collapses = 0, moved = 0, reordered = 0;
+    std::size_t collapses = 0, moved = 0, reordered = 0, folding = 0;
     std::vector<std::string> failures;
     Greedy_order_checker checker;
     checker.policy = &policy;
     checker.collapses = &collapses;
     checker.moved = &moved;
     checker.not_cheapest_by_queue_cost = &reordered;
+    checker.folding = &folding;
     checker.failures = &failures;
     const std::size_t target = live_faces(a) / 3;
     TS::edge_collapse(a, TS::Face_count_stop_predicate<Mesh>(a, target),
@@ -1027,10 +1034,46 @@ TEST(TexturedSimplificationEngine, CollapsesInOrderOfTheCostAtTheFilteredPlaceme
     EXPECT_EQ(live_faces(a), target);
     EXPECT_TRUE(CGAL::is_valid_polygon_mesh(a));
     EXPECT_TRUE(failures.empty()) << failures.size() << " collapses out of order, first: " << failures.front();
+    EXPECT_EQ(folding, 0u) << "collapses that fold a face at the placement used, weighted=" << weighted;
     // not vacuous: placements were moved, and the order differs from the queue costs' order
     EXPECT_GT(moved, collapses / 4) << "weighted=" << weighted;
     EXPECT_GT(reordered, 0u) << "weighted=" << weighted;
   }
+}
+
+// A filter that, for edges whose lower-index endpoint has an even index, puts the kept vertex
+// one edge length beyond the other endpoint (on a flat grid this folds the faces on that side).
+struct Overshoot_filter {
+  template <class Profile, class Placement>
+  Placement operator()(const Profile& p, const Placement& pl) const {
+    if (!pl) return pl;
+    const vertex_descriptor low = (std::min)(p.v0(), p.v1());
+    if (std::size_t(low) % 2 != 0) return pl;
+    const Point a = low == p.v0() ? p.p0() : p.p1(), b = low == p.v0() ? p.p1() : p.p0();
+    return Placement(b + (b - a));
+  }
+};
+
+TEST(TexturedSimplificationEngine, FoldOverTestAppliesToThePlacementTheFilterReturns) {
+  // The fold-over test runs at the policy's placement; when the filter moves it, the engine tests
+  // the new one too. On a flat grid in the z = 0 plane (normals +z) every face must keep a
+  // positive z normal, whatever the filter does.
+  Mesh m = make_flat_grid(16);
+  const std::size_t before = live_faces(m);
+  Policy policy(m);
+  TS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, before / 4),
+                    CGAL::parameters::get_cost(policy).get_placement(policy).filter(Overshoot_filter()));
+  m.collect_garbage();
+  EXPECT_TRUE(CGAL::is_valid_polygon_mesh(m));
+  EXPECT_LT(live_faces(m), before / 2);  // collapses happened
+  std::size_t flipped = 0;
+  for (face_descriptor f : m.faces()) {
+    const halfedge_descriptor h = m.halfedge(f);
+    const Vector n = CGAL::cross_product(m.point(m.target(h)) - m.point(m.source(h)),
+                                         m.point(m.target(m.next(h))) - m.point(m.source(h)));
+    flipped += !(n.z() > 0);
+  }
+  EXPECT_EQ(flipped, 0u) << "faces folded over";
 }
 
 TEST(TexturedSimplificationEngine, MaxCostStopsEarly) {

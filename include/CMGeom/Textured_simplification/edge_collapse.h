@@ -9,7 +9,8 @@
 // Sequence per popped edge (same order and visitor calls as CGAL 5.5.1's engine):
 //   OnSelected -> stop predicate (OnStopConditionReached) -> link condition (OnNonCollapsable)
 //   -> placement (absent: skipped silently) -> fold-over test -> filter (OnNonCollapsable)
-//   -> [filter moved the placement: re-cost, maybe back to the queue] -> OnCollapsing -> Euler::collapse_edge -> put(vpm) -> OnCollapsed
+//   -> [filter moved the placement: fold-over test again, re-cost, maybe back to the queue]
+//   -> OnCollapsing -> Euler::collapse_edge -> put(vpm) -> OnCollapsed
 //   -> cost.update_after_collapse (Update_tag) -> neighbour costs -> optional flips.
 // Differences from CGAL's engine, all deliberate:
 //   * Zero-length edges are not collapsed during set-up; their cost is minimal anyway, so they go
@@ -22,12 +23,14 @@
 //     topological/geometric rejection had taken them out. Other policies get CGAL's treatment
 //     (every edge around every neighbour of the kept vertex is re-evaluated).
 //   * A filter may move the placement (CGAL 5.5.1's engine ignores the filter's placement and
-//     only uses it as a veto). The queue holds the cost at the policy's placement, so when the
-//     filter moves it (the chart constraints' half-edge collapses onto a chart boundary), the edge
-//     is re-costed at the new placement; if that cost exceeds the next edge's key, the edge goes
-//     back to the queue with it instead of being collapsed. Collapses thus follow the cost at the
-//     placement actually used (test CollapsesInOrderOfTheCostAtTheFilteredPlacement). Filters
-//     that never move the placement (Identity_filter: skipped at compile time) change nothing.
+//     only uses it as a veto). When it does (the chart constraints' half-edge collapses onto a
+//     chart boundary), the fold-over test runs again at the new placement (test
+//     FoldOverTestAppliesToThePlacementTheFilterReturns), and since the queue held the cost at
+//     the policy's placement, the edge is re-costed: if the new cost exceeds the next edge's key,
+//     the edge goes back to the queue with it instead of being collapsed. Collapses thus follow
+//     the cost at the placement actually used (test
+//     CollapsesInOrderOfTheCostAtTheFilteredPlacement). Filters that never move the placement
+//     (Identity_filter: skipped at compile time) change nothing.
 //   * The profile is CMGeom's light Collapse_profile (no triangles()/link()).
 //   * A cost policy whose update_after_collapse also takes a normal (the quadric policies) gets
 //     the kept vertex's area-weighted normal from the fold-over test, which forms the cross
@@ -343,10 +346,16 @@ private:
       }
       if constexpr (!std::is_same<Filter, Identity_filter>::value) {
         // The filter moved the placement (e.g. a half-edge collapse onto a chart boundary): the
-        // queue held the cost at the policy's placement. If the cost at the new one is higher than
-        // the next edge's, the edge goes back with it and comes up again in its turn (its key
-        // then equals its cost and it is collapsed, so this cannot repeat without a change).
+        // fold-over test above was for the policy's placement, so it is run again at the new one;
+        // and the queue held the cost at the policy's placement. If the cost at the new one is
+        // higher than the next edge's, the edge goes back with it and comes up again in its turn
+        // (its key then equals its cost and it is collapsed, so this cannot repeat without a
+        // change).
         if (internal::to_vec3(*pl) != x) {
+          if (internal::collapse_flips_a_face(tm_, vpm_, p.v0_v1(), internal::to_vec3(*pl))) {
+            reject(i, p);
+            continue;
+          }
           const Cost moved = get_cost_(p, pl);
           if (moved && !heap_.empty()) {
             const double m = CGAL::to_double(*moved);
