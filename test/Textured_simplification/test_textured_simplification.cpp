@@ -945,16 +945,26 @@ TEST(TexturedSimplificationEngine, ConstrainedEdgesSurvive) {
   EXPECT_NEAR(PMP::area(m), 1.0, 1e-9);
 }
 
-// A filter that turns some collapses into half-edge collapses: for edges whose lower-index
-// endpoint has an even index, the kept vertex goes to that endpoint's position (as the chart
-// constraints do onto a chart boundary). The rule depends on the edge only, not on its orientation.
+// The test filters below move the placement of the edges whose lower-index endpoint has an even
+// index (a rule that depends on the edge only, not on its orientation). True for such an edge,
+// with its endpoints' points, lower index first.
+template <class Profile>
+bool is_even_edge(const Profile& p, Point& low, Point& high) {
+  const bool v0_low = p.v0() < p.v1();
+  if (std::size_t(v0_low ? p.v0() : p.v1()) % 2 != 0) return false;
+  low = v0_low ? p.p0() : p.p1();
+  high = v0_low ? p.p1() : p.p0();
+  return true;
+}
+
+// Half-edge collapses, as the chart constraints make onto a chart boundary: the kept vertex goes
+// to the lower-index endpoint.
 struct Snap_to_even_endpoint_filter {
   template <class Profile, class Placement>
   Placement operator()(const Profile& p, const Placement& pl) const {
-    if (!pl) return pl;
-    const vertex_descriptor low = (std::min)(p.v0(), p.v1());
-    if (std::size_t(low) % 2 != 0) return pl;
-    return Placement(low == p.v0() ? p.p0() : p.p1());
+    Point low, high;
+    if (!pl || !is_even_edge(p, low, high)) return pl;
+    return Placement(low);
   }
 };
 
@@ -1041,16 +1051,14 @@ TEST(TexturedSimplificationEngine, CollapsesInOrderOfTheCostAtTheFilteredPlaceme
   }
 }
 
-// A filter that, for edges whose lower-index endpoint has an even index, puts the kept vertex
-// one edge length beyond the other endpoint (on a flat grid this folds the faces on that side).
+// The kept vertex one edge length beyond the higher-index endpoint (on a flat grid this folds the
+// faces on that side).
 struct Overshoot_filter {
   template <class Profile, class Placement>
   Placement operator()(const Profile& p, const Placement& pl) const {
-    if (!pl) return pl;
-    const vertex_descriptor low = (std::min)(p.v0(), p.v1());
-    if (std::size_t(low) % 2 != 0) return pl;
-    const Point a = low == p.v0() ? p.p0() : p.p1(), b = low == p.v0() ? p.p1() : p.p0();
-    return Placement(b + (b - a));
+    Point low, high;
+    if (!pl || !is_even_edge(p, low, high)) return pl;
+    return Placement(high + (high - low));
   }
 };
 
