@@ -332,9 +332,7 @@ inline Compact_model parse_cm(const std::string& bytes, const std::string& file 
         throw IO_error(file, "implicit sector table: " + std::to_string(nk) + " sectors for " + std::to_string(nn) +
                                  " normals and " + std::to_string(ns) + " coefficient lists");
     } else {
-      if (nk > (r.n - r.pos) / 8)
-        throw IO_error(file, "corrupt or truncated file: " + std::to_string(nk) + " sectors do not fit in the remaining " +
-                                 std::to_string(r.n - r.pos) + " bytes");
+      r.need(nk * 8, "sector table");  // nk <= 255 nv, nv bounded by the file size: no overflow
       pairs.resize(nk);
       for (auto& pr : pairs) {
         pr.first = r.u32();

@@ -344,6 +344,7 @@ private:
         visitor_.OnNonCollapsable(p);
         continue;
       }
+      const bool moved_placement = internal::to_vec3(*pl) != x;
       if constexpr (!std::is_same<Filter, Identity_filter>::value) {
         // The filter moved the placement (e.g. a half-edge collapse onto a chart boundary): the
         // fold-over test above was for the policy's placement, so it is run again at the new one;
@@ -351,7 +352,7 @@ private:
         // higher than the next edge's, the edge goes back with it and comes up again in its turn
         // (its key then equals its cost and it is collapsed, so this cannot repeat without a
         // change).
-        if (internal::to_vec3(*pl) != x) {
+        if (moved_placement) {
           if (internal::collapse_flips_a_face(tm_, vpm_, p.v0_v1(), internal::to_vec3(*pl))) {
             reject(i, p);
             continue;
@@ -367,7 +368,7 @@ private:
         }
       }
       // the normal holds for the tested placement only (a filter may move it)
-      collapse(p, *pl, normal_hint && internal::to_vec3(*pl) == x ? &star_normal : nullptr);
+      collapse(p, *pl, normal_hint && !moved_placement ? &star_normal : nullptr);
     }
   }
 
