@@ -71,13 +71,14 @@ if [[ "${1:-}" != "--no-sanitizers" ]]; then
 
   if [[ "${CMGEOM_TSAN:-1}" != "0" ]]; then
     # ThreadSanitizer on the test programs whose code runs in parallel (TBB): Metrics,
-    # Compact_model, Cage_deformation. Only these targets are built (a whole second sanitizer
+    # Compact_model, Cage_deformation, and the texture work of Textured_simplification (its
+    # thread tests, a small program of their own). Only these targets are built (a whole second sanitizer
     # build does not fit the CI time budget); the single-threaded code is covered by ASan above.
     # oneTBB's scheduler is replaced by test/Reliability/tsan_tbb_runtime.cpp in this build (the
     # system libtbb is not instrumented; see that file), and the check below makes sure no call
     # falls through to libtbb. Known races outside CMGeom: test/Reliability/tsan.supp.
     echo "== build (ThreadSanitizer: the multi-threaded tests) =="
-    tsan_targets=(test_Metrics test_Compact_model test_Cage_deformation)
+    tsan_targets=(test_Metrics test_Compact_model test_Cage_deformation test_Textured_simplification_threads)
     cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMGEOM_SANITIZE=thread \
           -DCMGEOM_BUILD_TESTS=ON -DCMGEOM_BUILD_EXAMPLES=OFF -DCMGEOM_BUILD_TOOLS=OFF
     cmake --build build-tsan -j "$jobs" --target "${tsan_targets[@]}"

@@ -2,7 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // The index texture of thesis §3.3 and its per-collapse resampling through the bijective
-// mappings of §3.6, CPU backend (the reference: deterministic, single-threaded, no dependency).
+// mappings of §3.6, CPU backend (the reference: deterministic, no dependency beyond TBB).
 //
 //  * Texture_domain: the rectangle of UV space the textures cover ([0,1]² extended to the UV
 //    bounding box when UVs leave it, e.g. tiled textures) and its size in texels.
@@ -44,10 +44,27 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace CMGeom {
 namespace Textured_simplification {
+
+namespace internal {
+
+/// f(y_begin, y_end) over rows [0, height) in parallel (TBB); every texel pass of this file
+/// computes each texel from data the pass does not write, so the result does not depend on the
+/// number of threads.
+template <class F>
+void parallel_rows(int height, const F& f) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 16),
+                    [&](const tbb::blocked_range<int>& r) { f(r.begin(), r.end()); });
+}
+
+}  // namespace internal
 
 /// The UV rectangle [u0, u0 + du] x [v0, v0 + dv] covered by width x height texels.
 struct Texture_domain {
@@ -76,9 +93,10 @@ inline bool rasterizable(const std::array<UV2, 3>& t) {
 inline std::int64_t snap_to_subtexel(double x) { return std::llround(x * double(rasterizer_subtexel_steps)); }
 
 /// Calls f(x, y) for every texel whose centre (x + .5, y + .5) is covered by triangle `t` (texel
-/// coordinates), with 8 sub-texel bits and the top-left rule, clipped to [0,W) x [0,H).
+/// coordinates), with 8 sub-texel bits and the top-left rule, clipped to [0,W) x [0,H) and to
+/// the rows [y_begin, y_end), row by row upwards, each row left to right.
 template <class F>
-void rasterize_triangle(const std::array<UV2, 3>& t, int W, int H, F&& f) {
+void rasterize_triangle(const std::array<UV2, 3>& t, int W, int H, int y_begin, int y_end, F&& f) {
   constexpr std::int64_t S = rasterizer_subtexel_steps, HALF = S / 2;
   if (!rasterizable(t)) return;
   std::int64_t X[3], Y[3];
@@ -98,8 +116,8 @@ void rasterize_triangle(const std::array<UV2, 3>& t, int W, int H, F&& f) {
   auto floor_div = [](std::int64_t a, std::int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
   const int xlo = int((std::max<std::int64_t>)(ceil_div(minx - HALF, S), 0));
   const int xhi = int((std::min<std::int64_t>)(floor_div(maxx - HALF, S), W - 1));
-  const int ylo = int((std::max<std::int64_t>)(ceil_div(miny - HALF, S), 0));
-  const int yhi = int((std::min<std::int64_t>)(floor_div(maxy - HALF, S), H - 1));
+  const int ylo = int((std::max<std::int64_t>)(ceil_div(miny - HALF, S), (std::max)(y_begin, 0)));
+  const int yhi = int((std::min<std::int64_t>)(floor_div(maxy - HALF, S), (std::min)(y_end, H) - 1));
   if (xlo > xhi || ylo > yhi) return;
   std::int64_t A[3], B[3], C[3];
   for (int i = 0; i < 3; ++i) {
@@ -127,6 +145,12 @@ void rasterize_triangle(const std::array<UV2, 3>& t, int W, int H, F&& f) {
   }
 }
 
+/// Every row: the texels whose centre is covered by triangle `t` (see above).
+template <class F>
+void rasterize_triangle(const std::array<UV2, 3>& t, int W, int H, F&& f) {
+  rasterize_triangle(t, W, H, 0, H, std::forward<F>(f));
+}
+
 /// Index texture (§3.3) and the chart map of the original layout.
 class Index_texture {
 public:
@@ -140,12 +164,14 @@ public:
                 const std::vector<int>& chart_ids, int chart_margin = 2, bool mark_overlaps = false)
       : domain_(domain), w_(domain.width), h_(domain.height),
         idx_(std::size_t(2) * std::size_t(w_) * std::size_t(h_)), chart_(std::size_t(w_) * std::size_t(h_), 0u) {
-    for (int y = 0; y < h_; ++y)
-      for (int x = 0; x < w_; ++x) {
-        float* p = at(x, y);
-        p[0] = float(x) + 0.5f;
-        p[1] = float(y) + 0.5f;
-      }
+    internal::parallel_rows(h_, [&](int y0, int y1) {
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < w_; ++x) {
+          float* p = at(x, y);
+          p[0] = float(x) + 0.5f;
+          p[1] = float(y) + 0.5f;
+        }
+    });
     for (std::size_t i = 0; i < triangles.size(); ++i) {
       std::array<UV2, 3> t;
       for (int c = 0; c < 3; ++c) t[c] = domain.to_texel(triangles[i][c]);
@@ -156,21 +182,24 @@ public:
       });
     }
     // grow the charts into the gutters (first ring first; ties: smallest neighbour id)
+    std::vector<std::uint32_t> next;
     for (int ring = 0; ring < chart_margin; ++ring) {
-      std::vector<std::uint32_t> next = chart_;
-      for (int y = 0; y < h_; ++y)
-        for (int x = 0; x < w_; ++x) {
-          if (chart_[std::size_t(y) * w_ + x] != 0) continue;
-          std::uint32_t best = 0;
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int qx = x + dx, qy = y + dy;
-              if (qx < 0 || qy < 0 || qx >= w_ || qy >= h_) continue;
-              const std::uint32_t c = chart_[std::size_t(qy) * w_ + qx];
-              if (c != 0 && (best == 0 || c < best)) best = c;
-            }
-          next[std::size_t(y) * w_ + x] = best;
-        }
+      next = chart_;
+      internal::parallel_rows(h_, [&](int y0, int y1) {
+        for (int y = y0; y < y1; ++y)
+          for (int x = 0; x < w_; ++x) {
+            if (chart_[std::size_t(y) * w_ + x] != 0) continue;
+            std::uint32_t best = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dx = -1; dx <= 1; ++dx) {
+                const int qx = x + dx, qy = y + dy;
+                if (qx < 0 || qy < 0 || qx >= w_ || qy >= h_) continue;
+                const std::uint32_t c = chart_[std::size_t(qy) * w_ + qx];
+                if (c != 0 && (best == 0 || c < best)) best = c;
+              }
+            next[std::size_t(y) * w_ + x] = best;
+          }
+      });
       chart_.swap(next);
     }
   }
@@ -402,17 +431,40 @@ class Index_texture_resampler {
 public:
   explicit Index_texture_resampler(Index_texture& it)
       : it_(&it), value_chart_(std::size_t(it.width()) * std::size_t(it.height())) {
-    for (int y = 0; y < it.height(); ++y)
-      for (int x = 0; x < it.width(); ++x) value_chart_[texel(x, y)] = it.chart_of(it.at(x, y)[0], it.at(x, y)[1]);
+    internal::parallel_rows(it.height(), [&](int y0, int y1) {
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < it.width(); ++x) value_chart_[texel(x, y)] = it.chart_of(it.at(x, y)[0], it.at(x, y)[1]);
+    });
   }
 
   void operator()(const Collapse_record& rec) {
     Index_texture& it = *it_;
     const int W = it.width(), H = it.height();
     plan_.build(rec, it.domain(), W, H);
-    pending_.clear();
-    for (std::size_t k = 0; k < plan_.added.size(); ++k) {
-      rasterize_triangle(plan_.added[k].dst, W, H, [&](int x, int y) {
+    const std::size_t n = plan_.added.size();
+    // Work items: blocks of `rows_per_task` texel rows of each new triangle, in triangle order
+    // then upwards (the order in which one rasterisation after the other visits the texels).
+    items_.clear();
+    double box_texels = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto& d = plan_.added[k].dst;
+      const double x0 = (std::min)({d[0][0], d[1][0], d[2][0]}), x1 = (std::max)({d[0][0], d[1][0], d[2][0]});
+      const double y0 = (std::min)({d[0][1], d[1][1], d[2][1]}), y1 = (std::max)({d[0][1], d[1][1], d[2][1]});
+      if (!(y1 >= y0) || !(x1 >= x0)) continue;  // not finite: rasterize_triangle draws nothing
+      box_texels += (x1 - x0) * (y1 - y0);
+      // every row the rasteriser may cover (texel centres y + 0.5 in [y0, y1]), clipped to [0, H)
+      const double fr = std::floor(y0 - 0.5) - 1.0, lr = std::ceil(y1 - 0.5) + 1.0;
+      if (lr < 0.0 || fr > double(H - 1)) continue;
+      const int first = int((std::max)(fr, 0.0)), last = int((std::min)(lr, double(H - 1)));
+      for (int r = first; r <= last; r += rows_per_task) items_.push_back({k, r, (std::min)(r + rows_per_task, last + 1)});
+    }
+    if (pending_.size() < items_.size()) pending_.resize(items_.size());
+    auto resample_item = [&](std::size_t i) {
+      const Item& item = items_[i];
+      const std::size_t k = item.triangle;
+      std::vector<Pending>& out = pending_[i];
+      out.clear();
+      rasterize_triangle(plan_.added[k].dst, W, H, item.y_begin, item.y_end, [&](int x, int y) {
         const std::size_t j = plan_.select_old_triangle(k, x, y);
         if (j == plan_.old.size()) return;
         float sx, sy;
@@ -421,25 +473,45 @@ public:
         if (!sample(plan_.old[j].wedge, sx, sy, p.value)) return;
         p.x = x;
         p.y = y;
-        pending_.push_back(p);
+        out.push_back(p);
       });
+    };
+    // Every value depends on the old index texture only, and they are written once all are
+    // computed, in item order: the same writes whether the items are resampled in turn or by
+    // several threads, which pays off for collapses covering many texels (large textures).
+    ++collapses_;
+    if (items_.size() > 1 && box_texels >= parallel_box_texels) {
+      ++parallel_collapses_;
+      tbb::parallel_for(std::size_t(0), items_.size(), resample_item);
+    } else {
+      for (std::size_t i = 0; i < items_.size(); ++i) resample_item(i);
     }
-    for (const Pending& p : pending_) {
-      float* out = it.at(p.x, p.y);
-      out[0] = p.value[0];
-      out[1] = p.value[1];
-      value_chart_[texel(p.x, p.y)] = it.chart_of(out[0], out[1]);
-    }
+    for (std::size_t i = 0; i < items_.size(); ++i)
+      for (const Pending& p : pending_[i]) {
+        float* out = it.at(p.x, p.y);
+        out[0] = p.value[0];
+        out[1] = p.value[1];
+        value_chart_[texel(p.x, p.y)] = it.chart_of(out[0], out[1]);
+      }
   }
 
   /// Nothing to do: the index texture is written in place.
   void synchronize() {}
+
+  /// Collapses resampled so far, and how many of them as parallel tasks (one per new triangle).
+  std::size_t collapses() const { return collapses_; }
+  std::size_t parallel_collapses() const { return parallel_collapses_; }
 
 private:
   struct Pending {
     int x, y;
     float value[2];
   };
+  struct Item {
+    std::size_t triangle;
+    int y_begin, y_end;
+  };
+  static constexpr int rows_per_task = 8;
   std::size_t texel(int x, int y) const { return std::size_t(y) * std::size_t(it_->width()) + std::size_t(x); }
 
   /// Chart-aware bilinear lookup (§3.6) of the old index texture at (sx, sy) (texel units),
@@ -496,10 +568,16 @@ private:
     return true;
   }
 
+  /// Sum of the new triangles' bounding boxes (texels) from which a collapse is resampled in
+  /// parallel (below it, task hand-over costs more than it saves).
+  static constexpr double parallel_box_texels = 2048;
+
   Index_texture* it_;
   std::vector<std::uint32_t> value_chart_;  ///< chart_of() of each texel's stored value
   internal::Resampling_plan plan_;
-  std::vector<Pending> pending_;
+  std::vector<Item> items_;
+  std::vector<std::vector<Pending>> pending_;  ///< per item, reused across collapses
+  std::size_t collapses_ = 0, parallel_collapses_ = 0;
 };
 
 /// Chart-aware bilinear lookup of `original` (any size; UVs outside [0,1] repeat) at the
@@ -515,15 +593,23 @@ inline void sample_original(const Index_texture& it, const Image& original, floa
   const double fx = px - flx, fy = py - fly;
   double acc[4] = {0, 0, 0, 0}, ws = 0;
   double acc_all[4] = {0, 0, 0, 0};
+  // the two columns and two rows of the four taps: wrapped image texel, and the index-texture
+  // texel coordinate of the tap's centre in the (unwrapped) domain (for its chart)
+  int wxs[2], wys[2];
+  float ctx[2], cty[2];
+  for (int o = 0; o < 2; ++o) {
+    const long long ix = (long long)flx + o, iy = (long long)fly + o;
+    wxs[o] = int(((ix % W0) + W0) % W0);
+    wys[o] = int(((iy % H0) + H0) % H0);
+    const UV2 ct = dom.to_texel(UV2{{(double(ix) + 0.5) / W0, 1.0 - (double(iy) + 0.5) / H0}});
+    ctx[o] = float(ct[0]);
+    cty[o] = float(ct[1]);
+  }
   for (int k = 0; k < 4; ++k) {
     const int ox = k & 1, oy = k >> 1;
-    const long long ix = (long long)flx + ox, iy = (long long)fly + oy;
-    const int wx = int(((ix % W0) + W0) % W0), wy = int(((iy % H0) + H0) % H0);
+    const int wx = wxs[ox], wy = wys[oy];
     const double wt = (ox ? fx : 1 - fx) * (oy ? fy : 1 - fy);
-    // chart of this texel's centre, in the (unwrapped) domain
-    const UV2 c_uv{{(double(ix) + 0.5) / W0, 1.0 - (double(iy) + 0.5) / H0}};
-    const UV2 ct = dom.to_texel(c_uv);
-    const bool same = cn == 0u || it.chart_of(float(ct[0]), float(ct[1])) == cn;
+    const bool same = cn == 0u || it.chart_of(ctx[ox], cty[oy]) == cn;
     for (int c = 0; c < C; ++c) {
       const double v = original.value(wx, wy, c);
       acc_all[c] += wt * v;
@@ -552,19 +638,23 @@ inline Image generate_texture(const Index_texture& it, const Image& original,
   constexpr std::uint32_t far = 0xffffffffu;
   std::vector<std::uint32_t> dist(n, far);
   std::vector<float> acc(n * std::size_t(C), 0.f);
-  float v[4];
   for (const auto& tri : final_triangles) {
     std::array<UV2, 3> t;
     for (int c = 0; c < 3; ++c) t[c] = it.domain().to_texel(tri[c]);
-    rasterize_triangle(t, W, H, [&](int x, int y) {
-      const std::size_t i = std::size_t(y) * W + x;
-      if (dist[i] == 0) return;
-      const float* a = it.at(x, y);
-      sample_original(it, original, a[0], a[1], v);
-      for (int c = 0; c < C; ++c) acc[i * C + c] = v[c];
-      dist[i] = 0;
-    });
+    rasterize_triangle(t, W, H, [&](int x, int y) { dist[std::size_t(y) * W + x] = 0; });
   }
+  // a covered texel's value depends on its index only: looked up row by row, in parallel
+  internal::parallel_rows(H, [&](int y0, int y1) {
+    float v[4];
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < W; ++x) {
+        const std::size_t i = std::size_t(y) * W + x;
+        if (dist[i] != 0) continue;
+        const float* a = it.at(x, y);
+        sample_original(it, original, a[0], a[1], v);
+        for (int c = 0; c < C; ++c) acc[i * C + c] = v[c];
+      }
+  });
   // Dilation, ring by ring: a texel at chessboard distance d from the covered texels gets the
   // average of its 8-neighbours at distance d - 1 (the rings of a breadth-first growth). The
   // distances come from a two-pass distance transform, the rings from a counting sort by
@@ -602,26 +692,37 @@ inline Image generate_texture(const Index_texture& it, const Image& original,
     for (std::size_t i = 0; i < n; ++i)
       if (dist[i] != far && dist[i] > 0) by_ring[fill[dist[i]]++] = std::uint32_t(i);
   }
-  for (std::uint32_t d = 1; d <= max_d; ++d)
-    for (std::size_t r = ring_start[d]; r < ring_start[d + 1]; ++r) {
-      const std::size_t j = by_ring[r];
-      const int x = int(j % std::size_t(W)), y = int(j / std::size_t(W));
-      float s[4] = {0, 0, 0, 0};
-      int cnt = 0;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int qx = x + dx, qy = y + dy;
-          if (qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
-          const std::size_t k = std::size_t(qy) * W + qx;
-          if (dist[k] >= d) continue;
-          for (int c = 0; c < C; ++c) s[c] += acc[k * C + c];
-          ++cnt;
-        }
-      for (int c = 0; c < C; ++c) acc[j * C + c] = cnt ? s[c] / float(cnt) : 0.f;
+  auto dilate = [&](std::uint32_t d, std::size_t r) {
+    const std::size_t j = by_ring[r];
+    const int x = int(j % std::size_t(W)), y = int(j / std::size_t(W));
+    float s[4] = {0, 0, 0, 0};
+    int cnt = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int qx = x + dx, qy = y + dy;
+        if (qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
+        const std::size_t k = std::size_t(qy) * W + qx;
+        if (dist[k] >= d) continue;
+        for (int c = 0; c < C; ++c) s[c] += acc[k * C + c];
+        ++cnt;
+      }
+    for (int c = 0; c < C; ++c) acc[j * C + c] = cnt ? s[c] / float(cnt) : 0.f;
+  };
+  for (std::uint32_t d = 1; d <= max_d; ++d) {
+    const std::size_t b = ring_start[d], e = ring_start[d + 1];
+    if (e - b < 4096) {
+      for (std::size_t r = b; r < e; ++r) dilate(d, r);
+    } else {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(b, e, 1024), [&](const tbb::blocked_range<std::size_t>& rr) {
+        for (std::size_t r = rr.begin(); r < rr.end(); ++r) dilate(d, r);
+      });
     }
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x)
-      for (int c = 0; c < C; ++c) out.set_value(x, H - 1 - y, c, acc[(std::size_t(y) * W + x) * C + c]);
+  }
+  internal::parallel_rows(H, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < W; ++x)
+        for (int c = 0; c < C; ++c) out.set_value(x, H - 1 - y, c, acc[(std::size_t(y) * W + x) * C + c]);
+  });
   return out;
 }
 

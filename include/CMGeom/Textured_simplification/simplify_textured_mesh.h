@@ -35,6 +35,8 @@
 #include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/edge_collapse.h>
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -59,6 +61,9 @@ struct Textured_simplification_options {
   /// within this many texels of the chart's original texels (and in no other chart's): 0 = charts
   /// only shrink. Texel size: the index texture's, or 1/1024 of UV when there is no texture.
   int chart_growth_texels = 2;
+  /// Worker threads of the texture work (index texture set-up, resampling of large collapses,
+  /// output texture generation); 0 lets TBB choose (all cores). The result does not depend on it.
+  int threads = 0;
 };
 
 struct Textured_simplification_result {
@@ -130,7 +135,13 @@ inline Texture_domain make_texture_domain(const std::vector<std::array<UV2, 3>>&
 /// Index_texture up to date); it is created only when there is a texture to resample.
 template <class Resampler = Index_texture_resampler, class Visitor = Edge_collapse_visitor_base>
 Textured_simplification_result simplify_textured_mesh(Textured_mesh& tm, const Textured_simplification_options& options,
-                                                      Visitor visitor = Visitor()) {
+                                                      Visitor visitor = Visitor());
+
+namespace internal {
+
+template <class Resampler, class Visitor>
+Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm, const Textured_simplification_options& options,
+                                                           Visitor visitor) {
   using Mesh = Surface_mesh;
   Mesh& mesh = tm.mesh();
   if (!tm.has_uvs()) throw Invalid_input("simplify_textured_mesh: the mesh has no texture coordinates");
@@ -241,6 +252,18 @@ Textured_simplification_result simplify_textured_mesh(Textured_mesh& tm, const T
   }
   res.charts_out = internal::uv_layout(tm, tris, chart_ids);
   res.seconds_collapse = total;
+  return res;
+}
+
+}  // namespace internal
+
+template <class Resampler, class Visitor>
+Textured_simplification_result simplify_textured_mesh(Textured_mesh& tm, const Textured_simplification_options& options,
+                                                      Visitor visitor) {
+  if (options.threads <= 0) return internal::simplify_textured_mesh_impl<Resampler>(tm, options, visitor);
+  Textured_simplification_result res;
+  tbb::task_arena arena(options.threads);
+  arena.execute([&] { res = internal::simplify_textured_mesh_impl<Resampler>(tm, options, visitor); });
   return res;
 }
 

@@ -1,0 +1,182 @@
+// The texture work of Textured_simplification runs on several threads (TBB): index texture
+// set-up, resampling of collapses covering many texels, output texture generation and dilation.
+// These tests check that the results are bit-identical whatever the number of threads. They are a
+// program of their own, small enough to be built and run under ThreadSanitizer in CI
+// (scripts/test.sh), on a synthetic model so that they never depend on the shared data.
+#include <CMGeom/Textured_simplification.h>
+#include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace {
+
+namespace TS = CMGeom::Textured_simplification;
+using TS::UV2;
+
+// A bumpy N x N grid with two charts: the left half maps to [0.02, 0.47] x [0.02, 0.98] of the
+// atlas, the right half, mirrored, to [0.53, 0.98] x [0.02, 0.98]; a procedural texture of
+// `texels`² texels (smooth colour ramps with a checker, so that resampling changes values).
+CMGeom::Textured_mesh make_model(int N, int texels) {
+  CMGeom::Textured_mesh tm;
+  auto& m = tm.mesh();
+  std::vector<CMGeom::Surface_mesh::Vertex_index> v;
+  for (int j = 0; j <= N; ++j)
+    for (int i = 0; i <= N; ++i) {
+      const double x = double(i) / N, y = double(j) / N;
+      v.push_back(m.add_vertex(CMGeom::Point_3(x, y, 0.08 * std::sin(7 * x) * std::cos(5 * y))));
+    }
+  for (int j = 0; j < N; ++j)
+    for (int i = 0; i < N; ++i) {
+      const auto a = v[std::size_t(j * (N + 1) + i)], b = v[std::size_t(j * (N + 1) + i + 1)],
+                 c = v[std::size_t((j + 1) * (N + 1) + i + 1)], d = v[std::size_t((j + 1) * (N + 1) + i)];
+      const bool right = 2 * i >= N;
+      for (auto f : {m.add_face(a, b, c), m.add_face(a, c, d)})
+        for (auto h : CGAL::halfedges_around_face(halfedge(f, m), m)) {
+          const auto p = m.point(target(h, m));
+          const double u = right ? 0.98 - (p.x() - 0.5) * 0.9 : 0.02 + p.x() * 0.9;
+          tm.set_uv(h, CMGeom::Point_2(u, 0.02 + 0.96 * p.y()));
+        }
+    }
+  tm.set_has_uvs(true);
+  CMGeom::Image img(texels, texels, 3);
+  for (int y = 0; y < texels; ++y)
+    for (int x = 0; x < texels; ++x) {
+      const float checker = ((x / 16 + y / 16) & 1) ? 0.25f : 0.f;
+      img.set_value(x, y, 0, 0.5f * float(x) / float(texels) + checker);
+      img.set_value(x, y, 1, 0.7f * float(y) / float(texels) + checker);
+      img.set_value(x, y, 2, 0.5f + 0.4f * std::sin(0.05f * float(x + 2 * y)));
+    }
+  tm.materials().resize(1);
+  tm.materials()[0].name = "synthetic";
+  tm.materials()[0].diffuse_image = img;
+  return tm;
+}
+
+template <class F>
+auto with_threads(int threads, const F& f) {
+  tbb::task_arena arena(threads);
+  return arena.execute(f);
+}
+
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
+}
+
+bool same_image(const CMGeom::Image& a, const CMGeom::Image& b) {
+  if (a.width() != b.width() || a.height() != b.height() || a.channels() != b.channels()) return false;
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x)
+      for (int c = 0; c < a.channels(); ++c)
+        if (a.value(x, y, c) != b.value(x, y, c)) return false;
+  return true;
+}
+
+struct Resampled {
+  std::vector<float> index;
+  CMGeom::Image texture;
+  std::size_t collapses = 0, parallel = 0;
+};
+
+// Collapses `tm` to a quarter of its faces under the chart constraints, resampling an index
+// texture of the atlas' size with the CPU backend, then generates the output texture.
+Resampled resample(CMGeom::Textured_mesh tm) {
+  auto& m = tm.mesh();
+  std::vector<std::array<UV2, 3>> tris;
+  std::vector<int> ids;
+  TS::internal::uv_layout(tm, tris, ids);
+  const CMGeom::Image& atlas = tm.materials()[0].diffuse_image;
+  TS::Index_texture it(TS::make_texture_domain(tris, atlas.width(), atlas.height(), 8192), tris, ids);
+  using VPM = boost::property_map<CMGeom::Surface_mesh, CGAL::vertex_point_t>::type;
+  using CC = TS::Chart_constraints<CMGeom::Surface_mesh, VPM, CMGeom::Textured_mesh::UV_map>;
+  CC cc(m, get(CGAL::vertex_point, m), tm.uv_map());
+  Resampled out;
+  {
+    TS::Index_texture_resampler resampler(it);
+    TS::Area_weighted_quadric_policies<CMGeom::Surface_mesh> policy(m);
+    TS::edge_collapse(m, TS::Face_count_stop_predicate<CMGeom::Surface_mesh>(m, m.number_of_faces() / 4),
+                      CGAL::parameters::get_cost(policy).get_placement(policy).filter(TS::Chart_constraint_filter<CC>(cc)).visitor(
+                          TS::Chart_constraint_visitor<CC, TS::Index_texture_resampler>(cc, &resampler)));
+    out.collapses = resampler.collapses();
+    out.parallel = resampler.parallel_collapses();
+  }
+  m.collect_garbage();
+  out.index = it.data();
+  std::vector<std::array<UV2, 3>> final_tris;
+  TS::internal::uv_layout(tm, final_tris, ids);
+  out.texture = TS::generate_texture(it, atlas, final_tris);
+  return out;
+}
+
+TEST(TextureThreads, IndexTextureSetUpIsTheSameOnOneAndTwoThreads) {
+  const CMGeom::Textured_mesh tm = make_model(24, 512);
+  std::vector<std::array<UV2, 3>> tris;
+  std::vector<int> ids;
+  TS::internal::uv_layout(tm, tris, ids);
+  const TS::Texture_domain dom = TS::make_texture_domain(tris, 512, 512, 8192);
+  auto build = [&] { return TS::Index_texture(dom, tris, ids, 3, true); };
+  const TS::Index_texture one = with_threads(1, build), two = with_threads(2, build);
+  EXPECT_TRUE(same_bits(one.data(), two.data()));
+  std::size_t charted = 0, differ = 0;
+  for (int y = 0; y < dom.height; ++y)
+    for (int x = 0; x < dom.width; ++x) {
+      charted += one.chart(x, y) != 0;
+      differ += one.chart(x, y) != two.chart(x, y);
+    }
+  EXPECT_EQ(differ, 0u);
+  // two charts of 0.45 x 0.96 of the atlas, grown by 3 texels
+  EXPECT_GT(charted, std::size_t(0.85 * 512 * 512));
+}
+
+TEST(TextureThreads, ResamplingAndGeneratedTextureAreTheSameOnOneAndTwoThreads) {
+  const CMGeom::Textured_mesh tm = make_model(24, 1024);
+  const Resampled one = with_threads(1, [&] { return resample(tm); });
+  const Resampled two = with_threads(2, [&] { return resample(tm); });
+  ASSERT_GT(one.collapses, 300u);
+  EXPECT_EQ(one.collapses, two.collapses);
+  // at 1024² texels for ~1150 faces, collapses cover thousands of texels: most take the parallel
+  // path (the same decision on one thread, where its tasks simply run in turn)
+  EXPECT_GT(two.parallel * 2, two.collapses);
+  EXPECT_EQ(one.parallel, two.parallel);
+  EXPECT_TRUE(same_bits(one.index, two.index)) << "index textures differ";
+  EXPECT_TRUE(same_image(one.texture, two.texture)) << "generated textures differ";
+  // the resampling did change the index texture (it is not the identity any more)
+  const CMGeom::Textured_mesh fresh = make_model(24, 1024);
+  std::vector<std::array<UV2, 3>> tris;
+  std::vector<int> ids;
+  TS::internal::uv_layout(fresh, tris, ids);
+  const TS::Index_texture identity(TS::make_texture_domain(tris, 1024, 1024, 8192), tris, ids);
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < identity.data().size(); ++i) changed += identity.data()[i] != one.index[i];
+  EXPECT_GT(changed, identity.data().size() / 20);
+}
+
+TEST(TextureThreads, SimplifyTexturedMeshOptionThreadsDoesNotChangeTheResult) {
+  const CMGeom::Textured_mesh input = make_model(20, 512);
+  auto run = [&](int threads) {
+    CMGeom::Textured_mesh tm = input;
+    TS::Textured_simplification_options o;
+    o.target_faces = tm.mesh().number_of_faces() / 5;
+    o.threads = threads;
+    const TS::Textured_simplification_result r = TS::simplify_textured_mesh(tm, o);
+    EXPECT_EQ(r.charts_out, 2u);
+    EXPECT_LE(r.faces_out, std::size_t(o.target_faces + 2));
+    return tm;
+  };
+  const CMGeom::Textured_mesh one = run(1), two = run(2);
+  const auto& a = one.mesh();
+  const auto& b = two.mesh();
+  ASSERT_EQ(a.number_of_faces(), b.number_of_faces());
+  ASSERT_EQ(a.number_of_vertices(), b.number_of_vertices());
+  for (auto v : a.vertices()) EXPECT_EQ(a.point(v), b.point(v));
+  for (auto h : a.halfedges())
+    if (!a.is_border(h)) EXPECT_EQ(one.uv(h), two.uv(h));
+  EXPECT_TRUE(same_image(one.materials()[0].diffuse_image, two.materials()[0].diffuse_image));
+}
+
+}  // namespace
