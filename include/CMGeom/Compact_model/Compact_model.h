@@ -120,11 +120,13 @@ struct Compact_model {
     for (std::size_t i = 0; i < faces.size(); ++i)
       for (int k = 0; k < 3; ++k) {
         const Corner& c = faces[i][k];
+        if (c.vertex < vertices.size() && c.surface < surfaces.size() && c.normal < normals.size()) continue;
+        // the message is only built for a bad corner (this runs before every reconstruction)
         const std::string at = "face " + std::to_string(i) + " corner " + std::to_string(k) + ": ";
         if (c.vertex >= vertices.size()) fail(at + "vertex index " + std::to_string(c.vertex) + " out of range");
         if (c.surface >= surfaces.size())
           fail(at + "coefficient list index " + std::to_string(c.surface) + " out of range");
-        if (c.normal >= normals.size()) fail(at + "normal index " + std::to_string(c.normal) + " out of range");
+        fail(at + "normal index " + std::to_string(c.normal) + " out of range");
       }
     for (std::size_t i = 0; i < faces.size(); ++i)
       if (faces[i][0].vertex == faces[i][1].vertex || faces[i][1].vertex == faces[i][2].vertex ||

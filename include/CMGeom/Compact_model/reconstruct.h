@@ -170,7 +170,28 @@ struct Base_topology {
         for (int i = 0; i < 3; ++i)
           corner_local[3 * f + k][i] = frames[3 * f + k].to_local(m.vertices[m.faces[f][i].vertex]);
       }
-    std::sort(sides.begin(), sides.end());
+    // (a, b, face, side) in lexicographic order, in linear time (this runs before every
+    // reconstruction): a counting sort on a keeps the (face, side) order of generation, then each
+    // vertex's few sides are put in order of b by a stable insertion sort.
+    {
+      const std::size_t V = m.vertices.size();
+      std::vector<std::uint32_t> start(V + 1, 0u);
+      for (const auto& sd : sides) ++start[sd[0] + 1];
+      for (std::size_t v = 0; v < V; ++v) start[v + 1] += start[v];
+      std::vector<std::array<std::uint32_t, 4>> sorted(sides.size());
+      {
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (const auto& sd : sides) sorted[fill[sd[0]]++] = sd;
+      }
+      for (std::size_t v = 0; v < V; ++v)
+        for (std::uint32_t i = start[v] + 1; i < start[v + 1]; ++i) {
+          const std::array<std::uint32_t, 4> x = sorted[i];
+          std::uint32_t j = i;
+          for (; j > start[v] && sorted[j - 1][1] > x[1]; --j) sorted[j] = sorted[j - 1];
+          sorted[j] = x;
+        }
+      sides.swap(sorted);
+    }
     for (std::size_t i = 0; i < sides.size();) {
       Edge e{sides[i][0], sides[i][1], {sides[i][2], npos}, {sides[i][3], 0}};
       std::size_t j = i + 1;
