@@ -11,6 +11,7 @@
 #include <CMGeom/Compact_model/Local_surface_traits.h>
 #include <CMGeom/Compact_model/Point_gathering_visitor.h>
 #include <CMGeom/Compact_model/build_compact_model.h>
+#include <CMGeom/Compact_model/build_textured_compact_model.h>
 #include <CMGeom/Compact_model/cm_io.h>
 #include <CMGeom/Compact_model/local_surface_projection.h>
 #include <CMGeom/Compact_model/reconstruct.h>

@@ -21,9 +21,14 @@
 #include <CMGeom/Deformable_compact_model.h>
 #include <CMGeom/Deformable_compact_model/Cage_system_deformer.h>
 #include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/Atomic_output.h>
+#include <CMGeom/Mesh_IO/image_io.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
+#include <CMGeom/Mesh_IO/textured_mesh_io.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -62,7 +67,8 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     std::size_t faces = 0;
     double ratio = 0, sharp_angle = 40, error_bound = 0;
     int error_rounds = 2, error_level = 2;
-    bool cubic = false, joint_fit = false, json = false;
+    bool cubic = false, joint_fit = false, json = false, no_texture = false, repair = false;
+    int texture_size = 0;
   };
   auto b = std::make_shared<Build_args>();
   CLI::App* build = app.add_subcommand("build", "Build the Compact Model of a triangle mesh (thesis 4.3-4.4)");
@@ -83,6 +89,10 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
   build->add_flag("--joint-fit", b->joint_fit,
                   "Refit all local surfaces together so that their blend follows the input (CMGeom addition; "
                   "default: the thesis' independent fits)");
+  build->add_flag("--no-texture", b->no_texture, "Geometry only even for an input with texture coordinates");
+  build->add_flag("--repair", b->repair, "Split non-manifold edges/vertices and fix orientation while reading");
+  build->add_option("--texture-size", b->texture_size,
+                    "Textured input: texels per UV unit of the base's new atlas (default: the input texture's size)");
   build->add_flag("--json", b->json, "Print a JSON report on stdout");
 
   // ------------------------------------------------------------------ cm reconstruct
@@ -141,7 +151,9 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       if (d_cages->count() == 0 && d_affine->count() == 0) throw CMGeom::Invalid_input("one of --cages or --affine is required");
       if (d->max_level < 0 || d->max_level > 20) throw CMGeom::Invalid_input("--max-level must be in [0, 20]");
       if (!(d->flatness >= 0 && d->flatness <= 1)) throw CMGeom::Invalid_input("--flatness must be in [0, 1]");
-      const CM::Compact_model model = CM::read_cm(d->input);
+      CM::Compact_model model = CM::read_cm(d->input);
+      if (!model.texture.empty() && std::filesystem::path(model.texture).is_relative())
+        model.texture = (std::filesystem::path(d->input).parent_path() / model.texture).string();
       DCM::Local_deformation_options lo;
       lo.flatness = d->flatness;
       DCM::Deformable_compact_model dcm(model, lo);
@@ -264,12 +276,19 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       if (!(b->error_bound >= 0)) throw CMGeom::Invalid_input("--error-bound must be >= 0");
       if (b->error_rounds < 0 || b->error_rounds > 100) throw CMGeom::Invalid_input("--error-rounds must be in [0, 100]");
       if (b->error_level < 0 || b->error_level > 8) throw CMGeom::Invalid_input("--error-level must be in [0, 8]");
+      if (b->texture_size < 0 || b->texture_size > 16384)
+        throw CMGeom::Invalid_input("--texture-size must be in [0, 16384]");
       CMGeom::Textured_mesh tm;
-      CMGeom::IO::read_mesh(b->input, tm);
+      CMGeom::IO::Read_options read_options;
+      read_options.repair = b->repair;
+      CMGeom::IO::read_mesh(b->input, tm, read_options);
       CMGeom::Surface_mesh& mesh = tm.mesh();
       if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(b->input + ": not a triangle mesh");
-      if (tm.has_uvs())
-        std::cerr << "cmgeom cm build: note: texture coordinates are not carried into the CM (geometry only)\n";
+      // A textured input gives a textured CM (thesis 4.5.4): the base is simplified under the
+      // chart constraints of chapter 3 and, when the texture can be decoded, gets a new atlas
+      // written next to the CM file as <output stem>.png.
+      const bool textured = tm.has_uvs() && !b->no_texture;
+      if (textured) CMGeom::IO::load_textures(tm);
       const std::size_t target =
           faces->count() ? b->faces : std::size_t(std::max(2.0, std::round(b->ratio * double(mesh.number_of_faces()))));
       CM::Build_options opt;
@@ -279,12 +298,39 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       opt.error_control_level = b->error_level;
       opt.joint_fit = b->joint_fit;
       CM::Build_statistics st;
+      CM::Textured_build_result tr;
       const double t0 = cmgeom_cli::now_seconds();
-      const CM::Compact_model model =
-          b->cubic ? CM::build_compact_model(mesh, target, opt, CM::Cubic_surface_traits(), CM::Weighted_quadric_simplifier(), &st)
-                   : CM::build_compact_model(mesh, target, opt, CM::Quadric_surface_traits(), CM::Weighted_quadric_simplifier(), &st);
+      CM::Compact_model model;
+      if (textured) {
+        CMGeom::Textured_simplification::Textured_simplification_options to;
+        to.texture_size = b->texture_size;
+        model = b->cubic ? CM::build_textured_compact_model(tm, target, opt, CM::Cubic_surface_traits(), &tr, &st, to)
+                         : CM::build_textured_compact_model(tm, target, opt, CM::Quadric_surface_traits(), &tr, &st, to);
+      } else {
+        model = b->cubic ? CM::build_compact_model(mesh, target, opt, CM::Cubic_surface_traits(), CM::Weighted_quadric_simplifier(), &st)
+                         : CM::build_compact_model(mesh, target, opt, CM::Quadric_surface_traits(), CM::Weighted_quadric_simplifier(), &st);
+      }
       const double seconds = cmgeom_cli::now_seconds() - t0;
-      const std::size_t bytes = CM::write_cm(b->output, model);
+      std::size_t bytes = 0;
+      std::string atlas;
+      {
+        // the CM and its atlas appear together or not at all
+        CMGeom::IO::Atomic_output out;
+        if (!tr.texture.empty()) {
+          const std::filesystem::path cm_path(b->output);
+          atlas = (cm_path.parent_path() / (cm_path.stem().string() + ".png")).string();
+          CMGeom::IO::write_image(atlas, tr.texture, out);
+          model.texture = cm_path.stem().string() + ".png";  // relative to the CM file's directory
+        }
+        const std::string bytes_of_cm = CM::cm_bytes(model);
+        const std::string tmp = out.add(b->output);
+        std::ofstream os(tmp, std::ios::binary);
+        os << bytes_of_cm;
+        os.close();
+        if (!os) throw CMGeom::IO_error(tmp, "write failed");
+        out.commit();
+        bytes = bytes_of_cm.size();
+      }
       if (b->json) {
         nlohmann::ordered_json j;
         j["input"] = b->input;
@@ -300,6 +346,13 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
         j["error_control_points"] = st.error_control_points;
         j["error_control_rejected_rounds"] = st.error_control_rejected_rounds;
         j["joint_fit"] = st.joint_fit;
+        j["textured"] = model.has_uvs();
+        if (textured) {
+          j["charts_in"] = tr.simplification.charts_in;
+          j["charts_out"] = tr.simplification.charts_out;
+          j["texture"] = model.texture;
+          if (!atlas.empty()) j["atlas"] = atlas;
+        }
         j["bytes"] = bytes;
         j["seconds"] = seconds;
         cmgeom_cli::print_json(j);
@@ -308,7 +361,9 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     }
     // reconstruct
     if (r->max_level < 0 || r->max_level > 20) throw CMGeom::Invalid_input("--max-level must be in [0, 20]");
-    const CM::Compact_model model = CM::read_cm(r->input);
+    CM::Compact_model model = CM::read_cm(r->input);
+    if (!model.texture.empty() && std::filesystem::path(model.texture).is_relative())
+      model.texture = (std::filesystem::path(r->input).parent_path() / model.texture).string();
     CM::Reconstruction_options ro;
     ro.projection = r->projection == "normal" ? CM::Projection::along_normal : CM::Projection::closest_point;
     std::string mode = "regular";

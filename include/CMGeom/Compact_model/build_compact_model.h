@@ -78,6 +78,7 @@
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/Textured_mesh.h>
 #include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
+#include <CMGeom/Textured_simplification/Endpoint_placement.h>
 #include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/edge_collapse.h>
 
@@ -98,6 +99,7 @@
 #include <cstdint>
 #include <memory>
 #include <numeric>
+#include <type_traits>
 #include <vector>
 
 namespace CMGeom {
@@ -159,26 +161,14 @@ struct Build_statistics {
   bool joint_fit = false;                ///< the joint refit ran and replaced the surfaces
 };
 
-/// Placement wrapper (GetPlacement concept) that keeps base vertices on input vertices: of the
-/// two endpoints, the one with the lower cost under `Cost` (evaluated by the wrapped cost
-/// policy). Why: §4.3 snaps a new vertex to the closest gathered point afterwards, but snapping
-/// can fold or flatten base triangles (measured: collinear base triangles on the flat faces of a
-/// box, whose quadrics are degenerate, so their optimal placements are arbitrary); choosing an
-/// input vertex during the collapse lets the engine's fold-over test see the final position.
+/// Placement wrapper that keeps base vertices on input vertices (see
+/// Textured_simplification/Endpoint_placement.h). Why: §4.3 snaps a new vertex to the closest
+/// gathered point afterwards, but snapping can fold or flatten base triangles (measured:
+/// collinear base triangles on the flat faces of a box, whose quadrics are degenerate, so their
+/// optimal placements are arbitrary); choosing an input vertex during the collapse lets the
+/// engine's fold-over test see the final position.
 template <class Cost>
-struct Endpoint_placement {
-  Cost cost;
-  template <class Profile>
-  auto operator()(const Profile& profile) const -> CMGeom::internal::optional<typename Profile::Point> {
-    using Point = typename Profile::Point;
-    const auto c0 = cost(profile, CMGeom::internal::optional<Point>(profile.p0()));
-    const auto c1 = cost(profile, CMGeom::internal::optional<Point>(profile.p1()));
-    if (!c0 && !c1) return CMGeom::internal::optional<Point>();
-    if (!c1 || (c0 && *c0 <= *c1)) return CMGeom::internal::optional<Point>(profile.p0());
-    return CMGeom::internal::optional<Point>(profile.p1());
-  }
-};
-
+using Endpoint_placement = CMGeom::Textured_simplification::Endpoint_placement<Cost>;
 /// Weighted quadric simplification (thesis §3.4) on CMGeom's engine; base vertices stay on input
 /// vertices unless `optimal_placement` (then §4.3's snapping moves them).
 struct Weighted_quadric_simplifier {
@@ -215,6 +205,13 @@ struct Garland_heckbert_simplifier {
 };
 
 namespace internal {
+
+// A Simplifier whose `keeps_uvs` is true leaves valid corner uvs in the mesh's "h:uv" map (e.g.
+// Textured_quadric_simplifier): the model then carries them (§4.5.4).
+template <class S, class = void>
+struct simplifier_keeps_uvs : std::false_type {};
+template <class S>
+struct simplifier_keeps_uvs<S, std::void_t<decltype(S::keeps_uvs)>> : std::integral_constant<bool, S::keeps_uvs> {};
 
 inline Vec3 to_vec3(const CMGeom::Point_3& p) { return Vec3(p.x(), p.y(), p.z()); }
 inline CMGeom::Point_3 to_point(const Vec3& v) { return CMGeom::Point_3(v.x, v.y, v.z); }
@@ -661,15 +658,20 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
   }
   for (Vec3& n : Nrm) n = normalized(n);
 
-  // 1. Simplification with point gathering.
+  // 1. Simplification with point gathering. Every vertex keeps its input index in
+  // "v:cm_original" (a simplifier may collect garbage, which renumbers vertices; the gathering
+  // visitor sees the indices of the collapses, input indices until garbage is collected).
+  {
+    auto id = work.add_property_map<vertex_descriptor, std::uint32_t>("v:cm_original", 0).first;
+    for (vertex_descriptor v : work.vertices()) id[v] = std::uint32_t(v.idx());
+  }
   auto vim = get(CGAL::vertex_index, work);
   Gathered_points gathered(work, vim);
   st.gathering_nodes = gathered.number_of_nodes();
   if (target_faces < work.number_of_faces())
     simplify(work, target_faces, Point_gathering_visitor<decltype(vim)>(&gathered, vim));
-  auto original_id = work.add_property_map<vertex_descriptor, std::uint32_t>("v:cm_original", 0).first;
-  for (vertex_descriptor v : work.vertices()) original_id[v] = std::uint32_t(v.idx());
   work.collect_garbage();
+  auto original_id = work.property_map<vertex_descriptor, std::uint32_t>("v:cm_original").first;
 
   const std::size_t nb = work.number_of_vertices();
   std::vector<Vec3> base(nb);
@@ -994,6 +996,17 @@ Compact_model build_compact_model(const CMGeom::Surface_mesh& input, std::size_t
   for (std::size_t f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k)
       model.faces[f][k] = Corner{BF[f][k], face_sector[f][k], face_sector[f][k]};
+  if constexpr (simplifier_keeps_uvs<Simplifier>::value) {
+    // §4.5.4: the simplified mesh's corner uvs ("h:uv"), in the corner order of BF
+    const auto uv = work.property_map<Mesh::Halfedge_index, CMGeom::Point_2>("h:uv");
+    if (!uv.second) throw Invalid_input("build_compact_model: the simplifier kept no texture coordinates");
+    model.uvs.resize(nf);
+    for (face_descriptor f : work.faces()) {
+      auto h = work.halfedge(f);
+      for (int k = 0; k < 3; ++k, h = work.next(h))
+        model.uvs[f.idx()][k] = {float(uv.first[h].x()), float(uv.first[h].y())};
+    }
+  }
 
   // 5b. Joint refit (CMGeom addition). It starts from the sectors' own fits, kept in local_fit
   // (error control refits some of them and runs it again).

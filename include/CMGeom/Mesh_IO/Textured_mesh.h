@@ -25,6 +25,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace CMGeom {
@@ -68,6 +69,10 @@ public:
   using Material_map = Mesh::Property_map<face_descriptor, int>;
 
   Textured_mesh() { bind_maps(); }
+  /// Takes `mesh` with its property maps: an "h:uv" or "f:material" map it already has becomes
+  /// this mesh's (e.g. a Surface_mesh copied from another Textured_mesh's mesh()); has_uvs() is
+  /// false until set.
+  explicit Textured_mesh(Mesh mesh) : mesh_(std::move(mesh)) { bind_maps(); }
   Textured_mesh(const Textured_mesh& other)
       : mesh_(other.mesh_), materials_(other.materials_), has_uvs_(other.has_uvs_),
         source_(other.source_) {

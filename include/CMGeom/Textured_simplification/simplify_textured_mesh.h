@@ -31,6 +31,7 @@
 #include <CMGeom/Mesh_IO/charts.h>
 #include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
 #include <CMGeom/Textured_simplification/Chart_constraints.h>
+#include <CMGeom/Textured_simplification/Endpoint_placement.h>
 #include <CMGeom/Textured_simplification/Index_texture.h>
 #include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/edge_collapse.h>
@@ -61,6 +62,9 @@ struct Textured_simplification_options {
   /// within this many texels of the chart's original texels (and in no other chart's): 0 = charts
   /// only shrink. Texel size: the index texture's, or 1/1024 of UV when there is no texture.
   int chart_growth_texels = 2;
+  /// Keep every vertex on an input vertex (Endpoint_placement: the cheaper endpoint of each
+  /// collapsed edge) instead of the quadric's optimal placement; Compact Model bases need it.
+  bool endpoint_placement = false;
   /// Worker threads of the texture work (index texture set-up, resampling of large collapses,
   /// output texture generation); 0 lets TBB choose (all cores). The result does not depend on it.
   int threads = 0;
@@ -217,8 +221,15 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm, co
     Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
     Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
     Chart_constraint_visitor<CC, Resampler, Visitor> vis(cc, resampler ? &*resampler : nullptr, visitor);
-    edge_collapse(mesh, stop,
-                  CGAL::parameters::get_cost(policy).get_placement(policy).filter(Chart_constraint_filter<CC>(cc)).visitor(vis));
+    if (options.endpoint_placement)
+      edge_collapse(mesh, stop,
+                    CGAL::parameters::get_cost(policy)
+                        .get_placement(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy})
+                        .filter(Chart_constraint_filter<CC>(cc))
+                        .visitor(vis));
+    else
+      edge_collapse(mesh, stop,
+                    CGAL::parameters::get_cost(policy).get_placement(policy).filter(Chart_constraint_filter<CC>(cc)).visitor(vis));
   }
   if (resampler) resampler->synchronize();
   resampler.reset();

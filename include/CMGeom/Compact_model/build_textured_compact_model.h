@@ -1,0 +1,122 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// build_textured_compact_model(): the Compact Model of a textured mesh (thesis §4.5.4: texture
+// coordinates per face corner and a texture reference). The base comes from the texture-preserving
+// simplification of chapter 3 (simplify_textured_mesh: chart constraints of §3.5, UV placement,
+// index texture of §3.3/§3.6) with the point gathering of §4.3 as its visitor and base vertices
+// kept on input vertices (Endpoint_placement); the rest of the build (redistribution, sharp
+// edges, local surfaces, error control) is build_compact_model()'s. The base faces' uvs are the
+// simplified mesh's; when the input's texture is decoded, the new atlas generated through the
+// index texture (§3.6) is returned with them (the output uvs cover it, [0,1]²), so a
+// reconstruction interpolating these uvs over the base triangles shows the input's appearance.
+// Without a decoded texture the uvs are kept under the same constraints and point into the
+// input's own texture.
+//
+// Choice (the thesis gives the CM file's texture fields, not how the base's uvs are made): the
+// base is simplified exactly as a textured mesh is in chapter 3, so every base face lies in one
+// chart and the charts survive; the reconstruction interpolates uvs linearly over a base face
+// while its points are projected onto the blended local surfaces, so a texel lands at most the
+// projection's displacement away from where the chapter 3 mapping puts it.
+//
+// Complexity: simplify_textured_mesh()'s plus build_compact_model()'s.
+#ifndef CMGEOM_COMPACT_MODEL_BUILD_TEXTURED_COMPACT_MODEL_H
+#define CMGEOM_COMPACT_MODEL_BUILD_TEXTURED_COMPACT_MODEL_H
+
+#include <CMGeom/Compact_model/build_compact_model.h>
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/Textured_mesh.h>
+#include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
+
+#include <utility>
+#include <vector>
+
+namespace CMGeom {
+namespace CM {
+
+/// What build_textured_compact_model() returns besides the model.
+struct Textured_build_result {
+  /// The base's atlas (diffuse), generated through the index texture; empty when the input's
+  /// texture was not decoded (then the uvs point into the input's texture).
+  Image texture;
+  /// The texture-preserving simplification's report (charts, refusals, times).
+  CMGeom::Textured_simplification::Textured_simplification_result simplification;
+};
+
+/// Simplifier (see build_compact_model.h) running the textured simplification of chapter 3 on
+/// the build's working copy, whose "h:uv" map it keeps up to date (`keeps_uvs`). The materials
+/// (with their decoded images) are the input's; the new atlas goes to `result`.
+struct Textured_quadric_simplifier {
+  static constexpr bool keeps_uvs = true;
+  const std::vector<Material>* materials = nullptr;
+  CMGeom::Textured_simplification::Textured_simplification_options options;
+  Textured_build_result* result = nullptr;
+
+  template <class Visitor>
+  void operator()(CMGeom::Surface_mesh& mesh, std::size_t target_faces, Visitor visitor) const {
+    namespace TS = CMGeom::Textured_simplification;
+    Textured_mesh tm(std::move(mesh));
+    tm.set_has_uvs(true);
+    if (materials) tm.materials() = *materials;
+    TS::Textured_simplification_options o = options;
+    o.target_faces = target_faces;
+    o.endpoint_placement = true;
+    TS::Textured_simplification_result r;
+    try {
+      r = TS::simplify_textured_mesh(tm, o, visitor);
+    } catch (...) {
+      mesh = std::move(tm.mesh());
+      throw;
+    }
+    mesh = std::move(tm.mesh());
+    if (result) {
+      result->simplification = r;
+      result->texture = Image();
+      for (const Material& m : tm.materials())
+        if (!m.diffuse_image.empty()) {
+          result->texture = m.diffuse_image;
+          break;
+        }
+    }
+  }
+};
+
+/// The Compact Model of a textured mesh (see the file comment): `input` must have uvs
+/// (Invalid_input otherwise) and at most one texture atlas. `texture_options` tunes the
+/// simplification's texture work (texture size, threads, ...; its target and placement are set
+/// here). The returned model's `texture` is the input material's texture path when the atlas was
+/// not regenerated, empty otherwise (the caller names the file it writes `result->texture` to).
+template <class Traits = Quadric_surface_traits>
+Compact_model build_textured_compact_model(
+    const Textured_mesh& input, std::size_t target_faces, const Build_options& opt = Build_options(),
+    const Traits& traits = Traits(), Textured_build_result* result = nullptr, Build_statistics* stats = nullptr,
+    const CMGeom::Textured_simplification::Textured_simplification_options& texture_options =
+        CMGeom::Textured_simplification::Textured_simplification_options()) {
+  if (!input.has_uvs())
+    throw Invalid_input("build_textured_compact_model: '" + input.source() + "' has no texture coordinates");
+  Textured_build_result local;
+  Textured_build_result& res = result ? *result : local;
+  Textured_quadric_simplifier simplify;
+  simplify.materials = &input.materials();
+  simplify.options = texture_options;
+  simplify.result = &res;
+  res = Textured_build_result();
+  Compact_model model = build_compact_model(input.mesh(), target_faces, opt, traits, simplify, stats);
+  if (target_faces >= input.mesh().number_of_faces()) {
+    // nothing was simplified: the uvs are the input's, and so is the texture
+    res.texture = Image();
+  }
+  if (res.texture.empty()) {
+    for (const Material& m : input.materials())
+      if (!m.diffuse_texture.empty()) {
+        model.texture = m.diffuse_texture;
+        break;
+      }
+  }
+  return model;
+}
+
+}  // namespace CM
+}  // namespace CMGeom
+
+#endif  // CMGEOM_COMPACT_MODEL_BUILD_TEXTURED_COMPACT_MODEL_H
