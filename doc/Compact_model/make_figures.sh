@@ -4,7 +4,8 @@
 # Usage: make_figures.sh <path/to/cmgeom> [shared data dir]   (writes into images/ next to this file)
 set -e
 B=${1:?path to the cmgeom executable}
-D=${2:-$(dirname "$0")/../../../shared/data}/classic
+R=${2:-$(dirname "$0")/../../../shared/data}
+D=$R/classic
 OUT=$(cd "$(dirname "$0")" && pwd)/images
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
@@ -46,3 +47,12 @@ for mode in regular length roi silhouette; do
   "$B" render "$T/max_$mode.off" -o "$OUT/max_$mode.png" --field "$T/max_$mode.ply" --range 0,1.5 \
     --views "back;left" --size 400x400 --wireframe --caption "$mode"
 done
+
+# bob (textured, §4.5.4): a 1068-face textured CM (new atlas) and its level-2 reconstruction,
+# next to the input.
+"$B" cm build "$R/textured/bob/bob_tri.obj" -o "$T/bob.cm" --ratio 0.1 --json > "$OUT/bob_build.json"
+"$B" cm reconstruct "$T/bob.cm" -o "$T/bob_l2.obj" --level 2 --json > "$OUT/bob_l2.json"
+"$B" render "$R/textured/bob/bob_tri.obj" -o "$OUT/bob_input.png" --views "left;back" --size 320x320 \
+  --caption "input, 10,688 faces"
+"$B" render "$T/bob_l2.obj" -o "$OUT/bob_cm_l2.png" --views "left;back" --size 320x320 \
+  --caption "textured CM (1,068 base faces), level 2"
