@@ -2,7 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Reconstruction throughput of Compact Models (thesis §4.5.2; never run by CTest): output
-// vertices per second of reconstruct_regular() at levels 3-6, projection along N and closest
+// vertices per second of reconstruct_regular() at levels 1-6, projection along N and closest
 // point, 1 and 2 threads, into a fresh Reconstruction (what a one-off call pays: allocation and
 // first touch of the output) and into a reused one (what a per-frame call pays, e.g. a deformable
 // CM: no allocation). Best of several runs. Prints Markdown.
@@ -59,10 +59,10 @@ int main(int argc, char** argv) {
     for (CM::Projection proj : {CM::Projection::along_normal, CM::Projection::closest_point})
       for (int threads : {1, 2}) {
         tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-        for (int level = 3; level <= 6; ++level) {
+        for (int level = 1; level <= 6; ++level) {
           CM::Reconstruction_options o;
           o.projection = proj;
-          const int runs = level <= 4 ? 15 : 5;
+          const int runs = level <= 2 ? 60 : level <= 4 ? 15 : 5;
           double fresh = 1e300, reused = 1e300;
           std::size_t n = 0;
           CM::Reconstruction buffer;
