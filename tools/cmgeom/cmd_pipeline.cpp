@@ -302,7 +302,13 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
         auto& s = section(p.end());
         s.text = "Base: " + num(jb["base_vertices"]) + " vertices, " + num(jb["base_faces"]) + " faces, " +
                  num(jb["sharp_edges"]) + " sharp edges, " + num(jb["cone_vertices"]) + " cone vertices; " +
-                 num(jb["bytes"]) + " bytes; built in " + num(jb["seconds"]) + " s.";
+                 num(jb["bytes"]) + " bytes; built in " + num(jb["seconds"]) + " s." +
+                 (jb.value("textured", false)
+                      ? " A textured CM (thesis 4.5.4): the base was simplified under the chart constraints of "
+                        "chapter 3 (" + num(jb["charts_out"]) + " charts kept) and carries per-corner texture "
+                        "coordinates" + std::string(jb.contains("atlas") ? " and a new atlas, model.png" : "") +
+                        "; the deformable CM below wears the texture."
+                      : std::string());
         s.table = table;
         s.pictures = pictures;
       }
