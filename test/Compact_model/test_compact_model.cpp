@@ -3,6 +3,7 @@
 // (crack-free, shared vertices, parallel == serial, error decreasing with level), point
 // gathering, sharp-edge detection (box: all crease edges, sphere: none), error control.
 #include "cmgeom_test_support.h"
+#include "cmgeom_test_textured_grid.h"
 
 #include <CMGeom/Compact_model.h>
 #include <CMGeom/Metrics/approximation_error.h>
@@ -964,50 +965,11 @@ TEST(CompactModelFile, CorruptOrTruncatedFilesGiveOneLineErrors) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// Textured Compact Models (§4.5.4): a bumpy grid with two charts (left half to the left half of
-// the atlas, right half mirrored to the right half, both stretched quadratically) and a
-// procedural texture.
+// Textured Compact Models (§4.5.4), on cmgeom_test::two_chart_grid (two charts, a quadratically
+// stretched map, a procedural texture).
 namespace {
 
-CMGeom::Textured_mesh two_chart_grid(int N, int texels) {
-  CMGeom::Textured_mesh tm;
-  auto& m = tm.mesh();
-  std::vector<Vtx> v;
-  for (int j = 0; j <= N; ++j)
-    for (int i = 0; i <= N; ++i) {
-      const double x = double(i) / N, y = double(j) / N;
-      v.push_back(m.add_vertex(Point_3(x, y, 0.1 * std::sin(6 * x) * std::cos(4 * y))));
-    }
-  for (int j = 0; j < N; ++j)
-    for (int i = 0; i < N; ++i) {
-      const Vtx a = v[std::size_t(j * (N + 1) + i)], b = v[std::size_t(j * (N + 1) + i + 1)],
-                c = v[std::size_t((j + 1) * (N + 1) + i + 1)], d = v[std::size_t((j + 1) * (N + 1) + i)];
-      const bool right = 2 * i >= N;
-      for (auto f : {m.add_face(a, b, c), m.add_face(a, c, d)})
-        for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
-          // a non-uniform (quadratic) map, so that interpolating uvs over large base triangles
-          // moves texels unless the atlas is regenerated
-          const Point_3 p = m.point(m.target(h));
-          const double s = right ? 2 * (p.x() - 0.5) : 2 * p.x();
-          const double u = right ? 0.98 - 0.45 * s * s : 0.02 + 0.45 * s * s;
-          tm.set_uv(h, CMGeom::Point_2(u, 0.02 + 0.96 * p.y() * p.y()));
-        }
-    }
-  tm.set_has_uvs(true);
-  CMGeom::Image img(texels, texels, 3);
-  for (int y = 0; y < texels; ++y)
-    for (int x = 0; x < texels; ++x) {
-      // smooth ramps (a texel's colour says where it is) plus a coarse checker
-      const float checker = ((x / 32 + y / 32) & 1) ? 0.2f : 0.f;
-      img.set_value(x, y, 0, 0.7f * float(x) / float(texels) + checker);
-      img.set_value(x, y, 1, 0.7f * float(y) / float(texels) + checker);
-      img.set_value(x, y, 2, 0.5f);
-    }
-  tm.materials().resize(1);
-  tm.materials()[0].name = "grid";
-  tm.materials()[0].diffuse_image = img;
-  return tm;
-}
+using cmgeom_test::two_chart_grid;
 
 // Bilinear look-up (uv in [0,1]², v up; image row 0 at the top), clamped.
 std::array<double, 3> look_up(const CMGeom::Image& img, double u, double v) {

@@ -3,6 +3,8 @@
 // These tests check that the results are bit-identical whatever the number of threads. They are a
 // program of their own, small enough to be built and run under ThreadSanitizer in CI
 // (scripts/test.sh), on a synthetic model so that they never depend on the shared data.
+#include "cmgeom_test_textured_grid.h"
+
 #include <CMGeom/Textured_simplification.h>
 #include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
 
@@ -19,44 +21,7 @@ namespace {
 namespace TS = CMGeom::Textured_simplification;
 using TS::UV2;
 
-// A bumpy N x N grid with two charts: the left half maps to [0.02, 0.47] x [0.02, 0.98] of the
-// atlas, the right half, mirrored, to [0.53, 0.98] x [0.02, 0.98]; a procedural texture of
-// `texels`² texels (smooth colour ramps with a checker, so that resampling changes values).
-CMGeom::Textured_mesh make_model(int N, int texels) {
-  CMGeom::Textured_mesh tm;
-  auto& m = tm.mesh();
-  std::vector<CMGeom::Surface_mesh::Vertex_index> v;
-  for (int j = 0; j <= N; ++j)
-    for (int i = 0; i <= N; ++i) {
-      const double x = double(i) / N, y = double(j) / N;
-      v.push_back(m.add_vertex(CMGeom::Point_3(x, y, 0.08 * std::sin(7 * x) * std::cos(5 * y))));
-    }
-  for (int j = 0; j < N; ++j)
-    for (int i = 0; i < N; ++i) {
-      const auto a = v[std::size_t(j * (N + 1) + i)], b = v[std::size_t(j * (N + 1) + i + 1)],
-                 c = v[std::size_t((j + 1) * (N + 1) + i + 1)], d = v[std::size_t((j + 1) * (N + 1) + i)];
-      const bool right = 2 * i >= N;
-      for (auto f : {m.add_face(a, b, c), m.add_face(a, c, d)})
-        for (auto h : CGAL::halfedges_around_face(halfedge(f, m), m)) {
-          const auto p = m.point(target(h, m));
-          const double u = right ? 0.98 - (p.x() - 0.5) * 0.9 : 0.02 + p.x() * 0.9;
-          tm.set_uv(h, CMGeom::Point_2(u, 0.02 + 0.96 * p.y()));
-        }
-    }
-  tm.set_has_uvs(true);
-  CMGeom::Image img(texels, texels, 3);
-  for (int y = 0; y < texels; ++y)
-    for (int x = 0; x < texels; ++x) {
-      const float checker = ((x / 16 + y / 16) & 1) ? 0.25f : 0.f;
-      img.set_value(x, y, 0, 0.5f * float(x) / float(texels) + checker);
-      img.set_value(x, y, 1, 0.7f * float(y) / float(texels) + checker);
-      img.set_value(x, y, 2, 0.5f + 0.4f * std::sin(0.05f * float(x + 2 * y)));
-    }
-  tm.materials().resize(1);
-  tm.materials()[0].name = "synthetic";
-  tm.materials()[0].diffuse_image = img;
-  return tm;
-}
+using cmgeom_test::two_chart_grid;
 
 template <class F>
 auto with_threads(int threads, const F& f) {
@@ -114,7 +79,7 @@ Resampled resample(CMGeom::Textured_mesh tm) {
 }
 
 TEST(TextureThreads, IndexTextureSetUpIsTheSameOnOneAndTwoThreads) {
-  const CMGeom::Textured_mesh tm = make_model(24, 512);
+  const CMGeom::Textured_mesh tm = two_chart_grid(24, 512);
   std::vector<std::array<UV2, 3>> tris;
   std::vector<int> ids;
   TS::internal::uv_layout(tm, tris, ids);
@@ -134,7 +99,7 @@ TEST(TextureThreads, IndexTextureSetUpIsTheSameOnOneAndTwoThreads) {
 }
 
 TEST(TextureThreads, ResamplingAndGeneratedTextureAreTheSameOnOneAndTwoThreads) {
-  const CMGeom::Textured_mesh tm = make_model(24, 1024);
+  const CMGeom::Textured_mesh tm = two_chart_grid(24, 1024);
   const Resampled one = with_threads(1, [&] { return resample(tm); });
   const Resampled two = with_threads(2, [&] { return resample(tm); });
   ASSERT_GT(one.collapses, 300u);
@@ -146,7 +111,7 @@ TEST(TextureThreads, ResamplingAndGeneratedTextureAreTheSameOnOneAndTwoThreads) 
   EXPECT_TRUE(same_bits(one.index, two.index)) << "index textures differ";
   EXPECT_TRUE(same_image(one.texture, two.texture)) << "generated textures differ";
   // the resampling did change the index texture (it is not the identity any more)
-  const CMGeom::Textured_mesh fresh = make_model(24, 1024);
+  const CMGeom::Textured_mesh fresh = two_chart_grid(24, 1024);
   std::vector<std::array<UV2, 3>> tris;
   std::vector<int> ids;
   TS::internal::uv_layout(fresh, tris, ids);
@@ -157,7 +122,7 @@ TEST(TextureThreads, ResamplingAndGeneratedTextureAreTheSameOnOneAndTwoThreads) 
 }
 
 TEST(TextureThreads, SimplifyTexturedMeshOptionThreadsDoesNotChangeTheResult) {
-  const CMGeom::Textured_mesh input = make_model(20, 512);
+  const CMGeom::Textured_mesh input = two_chart_grid(20, 512);
   auto run = [&](int threads) {
     CMGeom::Textured_mesh tm = input;
     TS::Textured_simplification_options o;
