@@ -56,16 +56,19 @@ void Atomic_output::rollback() noexcept {
   files_.clear();
 }
 
+std::string write_file(const std::string& path, const std::string& content, Atomic_output& out) {
+  const std::string tmp = out.add(path);
+  std::ofstream os(tmp, std::ios::binary);
+  if (!os) throw IO_error(path, std::string("cannot write: ") + std::strerror(errno));
+  os.write(content.data(), std::streamsize(content.size()));
+  os.flush();
+  if (!os) throw IO_error(path, "write failed (disk full?)");
+  return tmp;
+}
+
 void write_file_atomically(const std::string& path, const std::string& content) {
   Atomic_output out;
-  const std::string tmp = out.add(path);
-  {
-    std::ofstream os(tmp, std::ios::binary);
-    if (!os) throw IO_error(path, std::string("cannot write: ") + std::strerror(errno));
-    os.write(content.data(), std::streamsize(content.size()));
-    os.flush();
-    if (!os) throw IO_error(path, "write failed (disk full?)");
-  }
+  write_file(path, content, out);
   out.commit();
 }
 

@@ -1104,3 +1104,42 @@ TEST(CompactModelTextured, InputWithoutUvsIsRejected) {
   tm.set_has_uvs(false);
   EXPECT_THROW(build_textured_compact_model(tm, 20), CMGeom::Invalid_input);
 }
+
+// A CM and its atlas are written together (write_cm and write_file into one Atomic_output) and a relative
+// texture path is read relative to the CM file (texture_path), as `cmgeom cm build` writes them.
+TEST(CompactModelTextured, WriteWithAtlasAndTexturePathRelativeToTheFile) {
+  const CMGeom::Textured_mesh input = two_chart_grid(6, 16);
+  Textured_build_result tr;
+  Compact_model m = build_textured_compact_model(input, 40, Build_options(), Quadric_surface_traits(), &tr);
+  ASSERT_FALSE(tr.texture.empty());
+  m.texture = "grid.png";
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string cm = dir + "/grid.cm", png = dir + "/grid.png";
+  std::size_t bytes = 0;
+  {
+    CMGeom::IO::Atomic_output out;
+    CMGeom::IO::write_file(png, "atlas bytes", out);  // stands for the atlas (no image codec here)
+    bytes = write_cm(cm, m, out);
+    // nothing appears before the commit
+    EXPECT_FALSE(std::filesystem::exists(cm));
+    EXPECT_FALSE(std::filesystem::exists(png));
+    out.commit();
+  }
+  EXPECT_EQ(bytes, cm_bytes(m).size());
+  EXPECT_EQ(std::filesystem::file_size(cm), bytes);
+  const Compact_model back = read_cm(cm);
+  EXPECT_EQ(back.texture, "grid.png");  // stored as given
+  EXPECT_EQ(texture_path(back, cm), (std::filesystem::path(dir) / "grid.png").string());
+  EXPECT_TRUE(std::filesystem::exists(texture_path(back, cm)));
+  Compact_model absolute = back;
+  absolute.texture = "/textures/a.png";
+  EXPECT_EQ(texture_path(absolute, cm), "/textures/a.png");
+  absolute.texture.clear();
+  EXPECT_EQ(texture_path(absolute, cm), "");
+  // a write that is never committed leaves nothing
+  {
+    CMGeom::IO::Atomic_output out;
+    write_cm(dir + "/uncommitted.cm", m, out);
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/uncommitted.cm"));
+}

@@ -28,7 +28,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -152,8 +151,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       if (d->max_level < 0 || d->max_level > 20) throw CMGeom::Invalid_input("--max-level must be in [0, 20]");
       if (!(d->flatness >= 0 && d->flatness <= 1)) throw CMGeom::Invalid_input("--flatness must be in [0, 1]");
       CM::Compact_model model = CM::read_cm(d->input);
-      if (!model.texture.empty() && std::filesystem::path(model.texture).is_relative())
-        model.texture = (std::filesystem::path(d->input).parent_path() / model.texture).string();
+      model.texture = CM::texture_path(model, d->input);
       DCM::Local_deformation_options lo;
       lo.flatness = d->flatness;
       DCM::Deformable_compact_model dcm(model, lo);
@@ -322,14 +320,8 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
           CMGeom::IO::write_image(atlas, tr.texture, out);
           model.texture = cm_path.stem().string() + ".png";  // relative to the CM file's directory
         }
-        const std::string bytes_of_cm = CM::cm_bytes(model);
-        const std::string tmp = out.add(b->output);
-        std::ofstream os(tmp, std::ios::binary);
-        os << bytes_of_cm;
-        os.close();
-        if (!os) throw CMGeom::IO_error(tmp, "write failed");
+        bytes = CM::write_cm(b->output, model, out);
         out.commit();
-        bytes = bytes_of_cm.size();
       }
       if (b->json) {
         nlohmann::ordered_json j;
@@ -362,8 +354,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     // reconstruct
     if (r->max_level < 0 || r->max_level > 20) throw CMGeom::Invalid_input("--max-level must be in [0, 20]");
     CM::Compact_model model = CM::read_cm(r->input);
-    if (!model.texture.empty() && std::filesystem::path(model.texture).is_relative())
-      model.texture = (std::filesystem::path(r->input).parent_path() / model.texture).string();
+    model.texture = CM::texture_path(model, r->input);
     CM::Reconstruction_options ro;
     ro.projection = r->projection == "normal" ? CM::Projection::along_normal : CM::Projection::closest_point;
     std::string mode = "regular";

@@ -61,13 +61,7 @@ struct Textured_quadric_simplifier {
     TS::Textured_simplification_options o = options;
     o.target_faces = target_faces;
     o.endpoint_placement = true;
-    TS::Textured_simplification_result r;
-    try {
-      r = TS::simplify_textured_mesh(tm, o, visitor);
-    } catch (...) {
-      mesh = std::move(tm.mesh());
-      throw;
-    }
+    const TS::Textured_simplification_result r = TS::simplify_textured_mesh(tm, o, visitor);
     mesh = std::move(tm.mesh());
     if (result) {
       result->simplification = r;
@@ -101,11 +95,9 @@ Compact_model build_textured_compact_model(
   simplify.options = texture_options;
   simplify.result = &res;
   res = Textured_build_result();
+  // (when nothing is simplified the simplifier does not run: the uvs are the input's, and so is
+  // the texture)
   Compact_model model = build_compact_model(input.mesh(), target_faces, opt, traits, simplify, stats);
-  if (target_faces >= input.mesh().number_of_faces()) {
-    // nothing was simplified: the uvs are the input's, and so is the texture
-    res.texture = Image();
-  }
   if (res.texture.empty()) {
     for (const Material& m : input.materials())
       if (!m.diffuse_texture.empty()) {

@@ -55,6 +55,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -408,6 +409,22 @@ inline std::size_t write_cm(const std::string& path, const Compact_model& m) {
   const std::string bytes = cm_bytes(m);
   IO::write_file_atomically(path, bytes);
   return bytes.size();
+}
+
+/// Same, but the file is registered in `out` and appears when `out` is committed, with the other
+/// files registered there (e.g. a textured model's atlas).
+inline std::size_t write_cm(const std::string& path, const Compact_model& m, IO::Atomic_output& out) {
+  const std::string bytes = cm_bytes(m);
+  IO::write_file(path, bytes, out);
+  return bytes.size();
+}
+
+/// The texture image of `m` as a path usable from the current directory: a relative texture path
+/// is relative to the directory of the CM file `cm_path` the model was read from (what `cmgeom cm
+/// build` stores for the atlas it writes beside the CM); "" for an untextured model.
+inline std::string texture_path(const Compact_model& m, const std::string& cm_path) {
+  if (m.texture.empty() || std::filesystem::path(m.texture).is_absolute()) return m.texture;
+  return (std::filesystem::path(cm_path).parent_path() / m.texture).string();
 }
 
 }  // namespace CM

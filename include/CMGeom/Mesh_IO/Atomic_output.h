@@ -41,6 +41,10 @@ private:
 /// Writes `content` to `path` atomically.
 void write_file_atomically(const std::string& path, const std::string& content);
 
+/// Same, but the file is registered in `out` (committed with its other files) instead of
+/// committed at once; returns the temporary path that was written.
+std::string write_file(const std::string& path, const std::string& content, Atomic_output& out);
+
 }  // namespace IO
 }  // namespace CMGeom
 

@@ -498,7 +498,8 @@ public:
   /// Nothing to do: the index texture is written in place.
   void synchronize() {}
 
-  /// Collapses resampled so far, and how many of them as parallel tasks (one per new triangle).
+  /// Collapses resampled so far, and how many of them as parallel tasks (blocks of rows of the
+  /// new triangles).
   std::size_t collapses() const { return collapses_; }
   std::size_t parallel_collapses() const { return parallel_collapses_; }
 
