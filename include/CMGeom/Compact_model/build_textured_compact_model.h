@@ -61,6 +61,7 @@ struct Textured_quadric_simplifier {
     TS::Textured_simplification_options o = options;
     o.target_faces = target_faces;
     o.endpoint_placement = true;
+    o.keep_charts = true;  // the base keeps the input's charts (§4.5.4): its UVs address the input's atlas
     const TS::Textured_simplification_result r = TS::simplify_textured_mesh(tm, o, visitor);
     mesh = std::move(tm.mesh());
     if (result) {

@@ -78,6 +78,30 @@ struct Texture_domain {
   UV2 to_output_uv(const UV2& uv) const { return {{(uv[0] - u0) / du, (uv[1] - v0) / dv}}; }
 };
 
+/// Texture domain of a UV layout: [0,1]² grown to the UVs' bounding box; `size` texels per UV
+/// unit horizontally (`size_v` vertically), capped at `max_side`.
+inline Texture_domain make_texture_domain(const std::vector<std::array<UV2, 3>>& tris, int size_u, int size_v,
+                                          int max_side) {
+  double umin = 0, vmin = 0, umax = 1, vmax = 1;
+  for (const auto& t : tris)
+    for (const auto& p : t) {
+      umin = (std::min)(umin, p[0]);
+      umax = (std::max)(umax, p[0]);
+      vmin = (std::min)(vmin, p[1]);
+      vmax = (std::max)(vmax, p[1]);
+    }
+  Texture_domain d;
+  d.u0 = umin;
+  d.v0 = vmin;
+  d.du = umax - umin;
+  d.dv = vmax - vmin;
+  double w = d.du * size_u, h = d.dv * size_v;
+  const double s = (std::max)(w, h) > max_side ? max_side / (std::max)(w, h) : 1.0;
+  d.width = (std::max)(1, int(std::lround(w * s)));
+  d.height = (std::max)(1, int(std::lround(h * s)));
+  return d;
+}
+
 /// Sub-texel steps per texel of rasterize_triangle (8 bits, as GL rasterisers snap).
 constexpr std::int64_t rasterizer_subtexel_steps = 256;
 
@@ -583,11 +607,15 @@ private:
 
 /// Chart-aware bilinear lookup of `original` (any size; UVs outside [0,1] repeat) at the
 /// original-atlas position `a` (index-texture texel units of `it`); channel values in [0,1].
-inline void sample_original(const Index_texture& it, const Image& original, float ax, float ay, float* out) {
+/// With `chart` (chart id + 1, as Index_texture::chart() gives) the lookup keeps to that chart's
+/// texels instead of the chart found at `a`; when none of the four taps is in it (a chart too
+/// small to cover a texel centre), the nearest of its texels within 4 rings is read instead.
+inline void sample_original(const Index_texture& it, const Image& original, float ax, float ay, float* out,
+                            std::uint32_t chart) {
   const Texture_domain& dom = it.domain();
   const int W0 = original.width(), H0 = original.height(), C = original.channels();
   const UV2 uv = dom.from_texel(ax, ay);
-  const std::uint32_t cn = it.chart_of(ax, ay);
+  const std::uint32_t cn = chart;
   // image row 0 is the top row (v = 1)
   const double px = uv[0] * W0 - 0.5, py = (1.0 - uv[1]) * H0 - 0.5;
   const double flx = std::floor(px), fly = std::floor(py);
@@ -618,47 +646,43 @@ inline void sample_original(const Index_texture& it, const Image& original, floa
     }
     if (same) ws += wt;
   }
+  if (ws == 0 && cn != 0u && std::isfinite(ax) && std::isfinite(ay)) {
+    const int cx = int(std::floor(ax)), cy = int(std::floor(ay));
+    for (int r = 1; r <= 4; ++r)
+      for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+          if ((std::max)(std::abs(dx), std::abs(dy)) != r) continue;
+          const int x = cx + dx, y = cy + dy;
+          if (x < 0 || y < 0 || x >= it.width() || y >= it.height() || it.chart(x, y) != cn) continue;
+          const UV2 q = dom.from_texel(x + 0.5, y + 0.5);
+          const long long ix = (long long)std::floor(q[0] * W0), iy = (long long)std::floor((1.0 - q[1]) * H0);
+          const int wx = int(((ix % W0) + W0) % W0), wy = int(((iy % H0) + H0) % H0);
+          for (int c = 0; c < C; ++c) out[c] = original.value(wx, wy, c);
+          return;
+        }
+  }
   for (int c = 0; c < C; ++c) out[c] = float(ws > 0 ? acc[c] / ws : acc_all[c]);
 }
 
-/// Output texture (same size as the index texture, covering the domain; row 0 at the top as in
-/// image files): the original looked up through the index texture on every texel covered by
-/// `final_triangles` (UVs in the domain), then dilated into the gutters.
-/// Throws Invalid_input for an index texture of 2^32 texels or more (its texels are indexed in 32
-/// bits; simplify_textured_mesh caps sides at 8192 by default).
-inline Image generate_texture(const Index_texture& it, const Image& original,
-                              const std::vector<std::array<UV2, 3>>& final_triangles) {
-  const int W = it.width(), H = it.height(), C = original.channels();
-  if (std::uint64_t(W) * std::uint64_t(H) >= (std::uint64_t(1) << 32))
-    throw Invalid_input("generate_texture: " + std::to_string(W) + " x " + std::to_string(H) +
-                        " texels is more than this function handles (2^32 - 1)");
+/// The same, keeping to the chart found at `a` (the index texture only stores positions inside
+/// charts).
+inline void sample_original(const Index_texture& it, const Image& original, float ax, float ay, float* out) {
+  sample_original(it, original, ax, ay, out, it.chart_of(ax, ay));
+}
+
+namespace internal {
+
+/// The gutter dilation shared by every generated atlas: `dist` holds 0 on the covered texels
+/// (whose `C` channel values are in `acc`, rows upwards) and 0xffffffff elsewhere. A texel at
+/// chessboard distance d from the covered ones gets the average of its 8-neighbours at distance
+/// d - 1 (the rings of a breadth-first growth), so every texel of the image ends up with a value;
+/// returns the 8-bit image, row 0 at the top as in image files. The result does not depend on the
+/// number of threads.
+inline Image dilate_into_image(int W, int H, int C, std::vector<std::uint32_t>& dist, std::vector<float>& acc) {
   Image out(W, H, C, Image::Format::UInt8);
   const std::size_t n = std::size_t(W) * std::size_t(H);
-  // chessboard distance to the covered texels: 0 on them (set while they are looked up), the
-  // rest from the distance transform below; `far` where no texel is covered at all
   constexpr std::uint32_t far = 0xffffffffu;
-  std::vector<std::uint32_t> dist(n, far);
-  std::vector<float> acc(n * std::size_t(C), 0.f);
-  for (const auto& tri : final_triangles) {
-    std::array<UV2, 3> t;
-    for (int c = 0; c < 3; ++c) t[c] = it.domain().to_texel(tri[c]);
-    rasterize_triangle(t, W, H, [&](int x, int y) { dist[std::size_t(y) * W + x] = 0; });
-  }
-  // a covered texel's value depends on its index only: looked up row by row, in parallel
-  internal::parallel_rows(H, [&](int y0, int y1) {
-    float v[4];
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < W; ++x) {
-        const std::size_t i = std::size_t(y) * W + x;
-        if (dist[i] != 0) continue;
-        const float* a = it.at(x, y);
-        sample_original(it, original, a[0], a[1], v);
-        for (int c = 0; c < C; ++c) acc[i * C + c] = v[c];
-      }
-  });
-  // Dilation, ring by ring: a texel at chessboard distance d from the covered texels gets the
-  // average of its 8-neighbours at distance d - 1 (the rings of a breadth-first growth). The
-  // distances come from a two-pass distance transform, the rings from a counting sort by
+  // The distances come from a two-pass distance transform, the rings from a counting sort by
   // distance; a ring only reads inner rings, so the order within a ring does not matter.
   auto relax = [&](std::size_t i, int qx, int qy) {
     if (qx < 0 || qy < 0 || qx >= W || qy >= H) return;
@@ -725,6 +749,45 @@ inline Image generate_texture(const Index_texture& it, const Image& original,
         for (int c = 0; c < C; ++c) out.set_value(x, H - 1 - y, c, acc[(std::size_t(y) * W + x) * C + c]);
   });
   return out;
+}
+
+}  // namespace internal
+
+/// Output texture (same size as the index texture, covering the domain; row 0 at the top as in
+/// image files): the original looked up through the index texture on every texel covered by
+/// `final_triangles` (UVs in the domain), then dilated into the gutters.
+/// Throws Invalid_input for an index texture of 2^32 texels or more (its texels are indexed in 32
+/// bits; simplify_textured_mesh caps sides at 8192 by default).
+inline Image generate_texture(const Index_texture& it, const Image& original,
+                              const std::vector<std::array<UV2, 3>>& final_triangles) {
+  const int W = it.width(), H = it.height(), C = original.channels();
+  if (std::uint64_t(W) * std::uint64_t(H) >= (std::uint64_t(1) << 32))
+    throw Invalid_input("generate_texture: " + std::to_string(W) + " x " + std::to_string(H) +
+                        " texels is more than this function handles (2^32 - 1)");
+  const std::size_t n = std::size_t(W) * std::size_t(H);
+  // chessboard distance to the covered texels: 0 on them (set while they are looked up), the
+  // rest from the distance transform below; `far` where no texel is covered at all
+  constexpr std::uint32_t far = 0xffffffffu;
+  std::vector<std::uint32_t> dist(n, far);
+  std::vector<float> acc(n * std::size_t(C), 0.f);
+  for (const auto& tri : final_triangles) {
+    std::array<UV2, 3> t;
+    for (int c = 0; c < 3; ++c) t[c] = it.domain().to_texel(tri[c]);
+    rasterize_triangle(t, W, H, [&](int x, int y) { dist[std::size_t(y) * W + x] = 0; });
+  }
+  // a covered texel's value depends on its index only: looked up row by row, in parallel
+  internal::parallel_rows(H, [&](int y0, int y1) {
+    float v[4];
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < W; ++x) {
+        const std::size_t i = std::size_t(y) * W + x;
+        if (dist[i] != 0) continue;
+        const float* a = it.at(x, y);
+        sample_original(it, original, a[0], a[1], v);
+        for (int c = 0; c < C; ++c) acc[i * C + c] = v[c];
+      }
+  });
+  return internal::dilate_into_image(W, H, C, dist, acc);
 }
 
 }  // namespace Textured_simplification

@@ -1,0 +1,486 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// rebuild_atlas(): a new texture atlas for a simplified mesh, baked from the original. This is
+// what lets the textured simplification reach any face count: charts of the input no longer
+// constrain the collapses (manual: Textured_simplification, "Rebuilt atlas"; it extends the
+// thesis, whose charts never merge, §3.5 and §3.7).
+//   1. Charts: grown over the simplified surface as topological disks whose normals stay within
+//      a cone (`chart_cone_degrees`), each parameterised by LSCM (CGAL Surface_mesh_
+//      parameterization) and checked one to one (no folded triangle, simple boundary); a chart
+//      that fails is grown again with a narrower cone, down to lone triangles.
+//   2. Packing: charts turned to their smallest bounding rectangle and shelf-packed at one common
+//      texel density, `gutter_texels` of padding around each.
+//   3. Baking: every texel covered by a simplified triangle is mapped to its 3D point, which is
+//      mapped to the nearest point of the original surface among the faces turned the same way as
+//      the simplified face (normals less than 90° apart; CGAL AABB tree with its own traversal),
+//      so that on a thin part the nearer opposite side is not taken; a texel with no such face
+//      within 10 % of the bounding-box diagonal takes the nearest point. The colour is read there
+//      (bilinear, UVs repeating) — or the material's colour for an untextured material — and the
+//      gutters are dilated ring by ring (as generate_texture does).
+//   Tangent-space normal maps are carried through object space: the original's normal (its
+//   per-face tangent frame from the UV gradients, orthonormalised) is re-expressed in the new
+//   face's frame, so a renderer using per-face frames sees the same normals.
+// Output: per-corner UVs in [0,1]² (seams at chart boundaries), one material with the baked
+// diffuse (and normal) image; a single-material input keeps its material's name and colour,
+// a multi-material one is merged into one material (colour 1, each face's colour baked in).
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_REBUILD_ATLAS_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_REBUILD_ATLAS_H
+
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/Textured_mesh.h>
+#include <CMGeom/Mesh_IO/charts.h>
+#include <CMGeom/Textured_simplification/Index_texture.h>
+#include <CMGeom/Textured_simplification/internal/atlas_charts.h>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace CMGeom {
+namespace Textured_simplification {
+
+struct Atlas_options {
+  /// Size of the output textures in texels; 0: the size of the input's first used texture.
+  int texture_width = 0, texture_height = 0;
+  /// Padding texels around each chart (then filled by dilation).
+  int gutter_texels = 2;
+  /// Half-angle of the normal cone of a chart, in degrees (0, 90).
+  double chart_cone_degrees = 60.0;
+};
+
+struct Atlas_result {
+  std::size_t charts = 0;
+  int texture_width = 0, texture_height = 0;
+  double texels_per_unit = 0;        ///< texel density of the packing (texels per length unit)
+  double coverage = 0;               ///< fraction of the texels covered by triangles
+  std::size_t texels_baked = 0;      ///< texels looked up on the original
+  std::size_t texels_unmatched = 0;  ///< of which had no facing original point within reach
+  double seconds_charts = 0, seconds_bake = 0;
+};
+
+namespace internal {
+
+inline Vector_3 unit_or_zero(const Vector_3& v) {
+  const double l = std::sqrt(v.squared_length());
+  return l > 0 ? v / l : Vector_3(0, 0, 0);
+}
+
+/// Orthonormal tangent frame (T, B, N) of a triangle with corner positions p and UVs t: T and B
+/// follow the UV gradients (orthonormalised against the face normal N, B's handedness kept).
+inline std::array<Vector_3, 3> tangent_frame(const std::array<Point_3, 3>& p, const std::array<Atlas_uv, 3>& t) {
+  const Vector_3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+  const Vector_3 n = unit_or_zero(CGAL::cross_product(e1, e2));
+  const double du1 = t[1][0] - t[0][0], dv1 = t[1][1] - t[0][1], du2 = t[2][0] - t[0][0], dv2 = t[2][1] - t[0][1];
+  const double det = du1 * dv2 - du2 * dv1;
+  Vector_3 tu = det != 0 ? (e1 * dv2 - e2 * dv1) / det : e1;
+  Vector_3 tv = det != 0 ? (e2 * du1 - e1 * du2) / det : CGAL::cross_product(n, e1);
+  Vector_3 T = unit_or_zero(tu - n * (n * tu));
+  if (T == Vector_3(0, 0, 0)) T = unit_or_zero(e1);
+  const double hand = (CGAL::cross_product(n, T) * tv) < 0 ? -1.0 : 1.0;
+  return {{T, hand * CGAL::cross_product(n, T), n}};
+}
+
+/// Closest point to `p` on triangle (a, b, c) (the Voronoi-region walk of Ericson, "Real-Time
+/// Collision Detection", §5.1.5), in plain doubles.
+inline std::array<double, 3> closest_on_triangle(const double* p, const double* a, const double* b, const double* c) {
+  auto sub = [](const double* x, const double* y) { return std::array<double, 3>{{x[0] - y[0], x[1] - y[1], x[2] - y[2]}}; };
+  auto dot = [](const std::array<double, 3>& x, const std::array<double, 3>& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+  auto at = [&](double s, double t) {
+    return std::array<double, 3>{{a[0] + s * (b[0] - a[0]) + t * (c[0] - a[0]), a[1] + s * (b[1] - a[1]) + t * (c[1] - a[1]),
+                                  a[2] + s * (b[2] - a[2]) + t * (c[2] - a[2])}};
+  };
+  const auto ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return at(0, 0);
+  const auto bp = sub(p, b);
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return at(1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return at(d1 / (d1 - d3), 0);
+  const auto cp = sub(p, c);
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return at(0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return at(0, d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return at(1 - w, w);
+  }
+  const double den = va + vb + vc;
+  if (!(den > 0)) return at(0, 0);
+  return at(vb / den, vc / den);
+}
+
+/// The original surface as an AABB tree (CGAL) of plain-double triangles, with the query the
+/// baking needs: the closest point among the faces whose normal makes an angle below 90° with a
+/// given direction (the simplified face's normal), within a given distance.
+class Facing_closest_point {
+public:
+  using SC = CGAL::Simple_cartesian<double>;
+  using Triangles = std::vector<SC::Triangle_3>;
+  using Primitive = CGAL::AABB_triangle_primitive<SC, Triangles::const_iterator>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<SC, Primitive>>;
+
+  struct Hit {
+    std::size_t face = std::size_t(-1);
+    std::array<double, 3> point{{0, 0, 0}};
+    double squared_distance = std::numeric_limits<double>::infinity();
+    bool found() const { return face != std::size_t(-1); }
+  };
+
+  /// Faces whose `usable` entry is 0 are never returned.
+  Facing_closest_point(Triangles triangles, std::vector<Vector_3> normals, std::vector<char> usable)
+      : tris_(std::move(triangles)), normals_(std::move(normals)), usable_(std::move(usable)),
+        tree_(tris_.cbegin(), tris_.cend()) {
+    tree_.build();
+  }
+
+  /// Face `f` tested alone (a hint: tightens the bound before a search); a zero `n` accepts
+  /// faces of any orientation.
+  void test(std::size_t f, const double* p, const Vector_3& n, Hit& best) const {
+    if (!usable_[f] || (normals_[f] * n <= 0 && n != CGAL::NULL_VECTOR)) return;
+    const auto& t = tris_[f];
+    const double a[3] = {t[0].x(), t[0].y(), t[0].z()}, b[3] = {t[1].x(), t[1].y(), t[1].z()},
+                 c[3] = {t[2].x(), t[2].y(), t[2].z()};
+    const auto q = closest_on_triangle(p, a, b, c);
+    const double d = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
+    if (d < best.squared_distance) best = {f, q, d};
+  }
+
+  /// The closest facing point nearer than sqrt(best.squared_distance) (best is kept if none).
+  void search(const double* p, const Vector_3& n, Hit& best) const {
+    Traits traits{this, p, n, &best};
+    tree_.traversal_with_priority(0, traits);
+  }
+
+private:
+  struct Traits {
+    using Priority = double;
+    const Facing_closest_point* self;
+    const double* p;
+    Vector_3 n;
+    Hit* best;
+    bool go_further() const { return true; }
+    template <class Query>
+    void intersection(const Query&, const Primitive& prim) const {
+      self->test(std::size_t(prim.id() - self->tris_.cbegin()), p, n, *best);
+    }
+    double box_distance(const CGAL::Bbox_3& b) const {
+      double d = 0;
+      for (int i = 0; i < 3; ++i) {
+        const double lo = b.min(i), hi = b.max(i);
+        const double e = p[i] < lo ? lo - p[i] : (p[i] > hi ? p[i] - hi : 0.0);
+        d += e * e;
+      }
+      return d;
+    }
+    template <class Query, class Node>
+    bool do_intersect(const Query&, const Node& node) const {
+      return box_distance(node.bbox()) < best->squared_distance;
+    }
+    template <class Query, class Node>
+    std::pair<bool, double> do_intersect_with_priority(const Query&, const Node& node) const {
+      const double d = box_distance(node.bbox());
+      return {d < best->squared_distance, -d};
+    }
+  };
+
+  Triangles tris_;
+  std::vector<Vector_3> normals_;
+  std::vector<char> usable_;
+  Tree tree_;
+};
+
+}  // namespace internal
+
+/// Replaces the UVs and materials of `simplified` (a garbage-free triangle mesh) by a new atlas
+/// baked from `original` (UVs and decoded textures, IO::load_textures); see the file comment.
+/// Throws Invalid_input when `original` has no UVs or no decoded image, or for option values
+/// out of range.
+inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& simplified, const Atlas_options& options = {}) {
+  using Clock = std::chrono::steady_clock;
+  namespace I = internal;
+  const Surface_mesh& om = original.mesh();
+  Surface_mesh& sm = simplified.mesh();
+  if (!original.has_uvs()) throw Invalid_input("rebuild_atlas: the original mesh has no texture coordinates");
+  if (!(options.chart_cone_degrees > 0 && options.chart_cone_degrees < 90))
+    throw Invalid_input("rebuild_atlas: chart_cone_degrees must be in (0, 90), got " + std::to_string(options.chart_cone_degrees));
+  if (options.gutter_texels < 1 || options.gutter_texels > 64)
+    throw Invalid_input("rebuild_atlas: gutter_texels must be in [1, 64], got " + std::to_string(options.gutter_texels));
+  if (sm.has_garbage() || !CGAL::is_triangle_mesh(sm) || sm.number_of_faces() == 0)
+    throw Invalid_input("rebuild_atlas: the simplified mesh must be a garbage-free, non-empty triangle mesh");
+  const auto& mats = original.materials();
+  // materials in use, and the images the new atlas needs
+  std::vector<char> used(mats.size(), 0);
+  for (auto f : om.faces()) {
+    const int m = original.material(f);
+    if (m >= 0 && std::size_t(m) < mats.size()) used[std::size_t(m)] = 1;
+  }
+  int W = options.texture_width, H = options.texture_height, colour_channels = 3;
+  bool any_image = false, any_normal = false;
+  for (std::size_t i = 0; i < mats.size(); ++i) {
+    if (!used[i]) continue;
+    const Image& d = mats[i].diffuse_image;
+    const Image& n = mats[i].normal_image;
+    if (!d.empty()) colour_channels = (std::max)(colour_channels, d.channels());
+    any_normal |= !n.empty();
+    const Image& ref = !d.empty() ? d : n;
+    if (!ref.empty() && !any_image && W <= 0) {
+      W = ref.width();
+      H = ref.height();
+    }
+    any_image |= !ref.empty();
+  }
+  std::size_t used_count = 0, first_used = 0;
+  for (std::size_t i = 0; i < used.size(); ++i)
+    if (used[i] && used_count++ == 0) first_used = i;
+  const bool bake_colour = used_count > 1;  // materials merged: their colours go into the texels
+  if (!any_image) throw Invalid_input("rebuild_atlas: '" + original.source() + "' has no decoded texture to bake from");
+  if (H <= 0) H = W;
+  if (W < 8 || H < 8 || W > 16384 || H > 16384)
+    throw Invalid_input("rebuild_atlas: texture size " + std::to_string(W) + " x " + std::to_string(H) + " out of [8, 16384]");
+  Atlas_result res;
+  res.texture_width = W;
+  res.texture_height = H;
+
+  // 1-2. charts of the simplified mesh, parameterised and packed
+  const auto t0 = Clock::now();
+  const std::size_t nf = sm.number_of_faces();
+  std::vector<Vector_3> normal(nf);
+  std::vector<double> area(nf);
+  std::vector<std::array<Point_3, 3>> corner_point(nf);
+  for (auto f : sm.faces()) {
+    const std::size_t i = std::size_t(f);
+    for (int k = 0; k < 3; ++k) corner_point[i][std::size_t(k)] = sm.point(sm.target(I::corner_halfedge(sm, f, k)));
+    const Vector_3 c = CGAL::cross_product(corner_point[i][1] - corner_point[i][0], corner_point[i][2] - corner_point[i][0]);
+    area[i] = 0.5 * std::sqrt(c.squared_length());
+    normal[i] = I::unit_or_zero(c);
+  }
+  std::vector<I::Atlas_chart> charts = I::make_charts(sm, normal, area, options.chart_cone_degrees);
+  res.texels_per_unit = I::pack_charts(charts, W, H, options.gutter_texels);
+  res.charts = charts.size();
+  std::vector<std::array<I::Atlas_uv, 3>> face_uv(nf);
+  for (const auto& c : charts)
+    for (std::size_t i = 0; i < c.faces.size(); ++i) face_uv[c.faces[i]] = c.uvs[i];
+  res.seconds_charts = std::chrono::duration<double>(Clock::now() - t0).count();
+
+  // 3. baking
+  const auto t1 = Clock::now();
+  struct Source {
+    std::array<Point_3, 3> p;
+    std::array<I::Atlas_uv, 3> uv;
+    std::array<Vector_3, 3> frame;  // tangent frame (normal maps only)
+    int material = -1;
+    std::uint32_t chart = 0;  // chart id + 1 in the original layout
+  };
+  std::vector<Source> source(om.number_of_faces());
+  for (auto f : om.faces()) {
+    Source& s = source[std::size_t(f)];
+    for (int k = 0; k < 3; ++k) {
+      const auto h = I::corner_halfedge(om, f, k);
+      s.p[std::size_t(k)] = om.point(om.target(h));
+      const Point_2 t = original.uv(h);
+      s.uv[std::size_t(k)] = {{t.x(), t.y()}};
+    }
+    s.material = original.material(f);
+    if (any_normal) s.frame = I::tangent_frame(s.p, s.uv);
+    else s.frame[2] = I::unit_or_zero(CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]));
+  }
+  // the original layout's chart map (texels of each chart grown by two rings), so that a lookup
+  // never blends texels of another chart or of the gutters (sample_original, as the chart-keeping
+  // path does)
+  Index_texture region;
+  {
+    std::vector<std::array<UV2, 3>> uv_tris(source.size());
+    std::vector<int> ids(source.size());
+    auto chart = get(CGAL::dynamic_face_property_t<int>(), om);
+    compute_chart_ids(om, original.uv_map(), chart);
+    for (auto f : om.faces()) {
+      for (int k = 0; k < 3; ++k) uv_tris[std::size_t(f)][std::size_t(k)] = {{source[std::size_t(f)].uv[std::size_t(k)][0], source[std::size_t(f)].uv[std::size_t(k)][1]}};
+      ids[std::size_t(f)] = get(chart, f);
+      source[std::size_t(f)].chart = std::uint32_t(get(chart, f) + 1);
+    }
+    int rw = 0, rh = 0;
+    for (std::size_t i = 0; i < mats.size() && rw == 0; ++i)
+      if (used[i] && !mats[i].diffuse_image.empty()) {
+        rw = mats[i].diffuse_image.width();
+        rh = mats[i].diffuse_image.height();
+      }
+    if (rw == 0) {
+      rw = W;
+      rh = H;
+    }
+    region = Index_texture(make_texture_domain(uv_tris, rw, rh, 8192), uv_tris, ids);
+  }
+  std::unique_ptr<I::Facing_closest_point> finder;
+  {
+    I::Facing_closest_point::Triangles tris;
+    std::vector<Vector_3> fn;
+    tris.reserve(source.size());
+    fn.reserve(source.size());
+    for (const Source& s : source) {
+      auto pt = [](const Point_3& q) { return I::Facing_closest_point::SC::Point_3(q.x(), q.y(), q.z()); };
+      tris.emplace_back(pt(s.p[0]), pt(s.p[1]), pt(s.p[2]));
+      fn.push_back(s.frame[2]);
+    }
+    // faces of charts too small to cover a texel of the chart map have no texels to show
+    std::vector<char> chart_has_texels(1, 0), usable(source.size(), 1);
+    for (int y = 0; y < region.height(); ++y)
+      for (int x = 0; x < region.width(); ++x) {
+        const std::uint32_t c = region.chart(x, y);
+        if (c >= chart_has_texels.size()) chart_has_texels.resize(std::size_t(c) + 1, 0);
+        chart_has_texels[c] = 1;
+      }
+    bool any = false;
+    for (std::size_t f = 0; f < source.size(); ++f) {
+      const std::uint32_t c = source[f].chart;
+      usable[f] = c < chart_has_texels.size() && chart_has_texels[c];
+      any |= usable[f] != 0;
+    }
+    if (!any) std::fill(usable.begin(), usable.end(), 1);
+    finder = std::make_unique<I::Facing_closest_point>(std::move(tris), std::move(fn), std::move(usable));
+  }
+  double diag = 0;
+  {
+    const auto bb = CGAL::Polygon_mesh_processing::bbox(om);
+    diag = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
+                     CGAL::square(bb.zmax() - bb.zmin()));
+  }
+  const double reach2 = CGAL::square(0.1 * diag);  // farther than this, a facing point is no match
+  const std::size_t n = std::size_t(W) * std::size_t(H);
+  constexpr std::uint32_t far = 0xffffffffu;
+  std::vector<std::uint32_t> dist(n, far), dist_normal;
+  std::vector<float> colour(n * std::size_t(colour_channels), 0.f), normal_acc;
+  if (any_normal) normal_acc.assign(n * 3, 0.f);
+  std::vector<std::size_t> baked_per_face(nf, 0), fixed_per_face(nf, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t fi = range.begin(); fi < range.end(); ++fi) {
+      const auto& P = corner_point[fi];
+      const auto& T = face_uv[fi];
+      std::array<UV2, 3> tex;
+      for (int k = 0; k < 3; ++k) tex[std::size_t(k)] = {{T[std::size_t(k)][0] * W, T[std::size_t(k)][1] * H}};
+      const double det = (tex[1][0] - tex[0][0]) * (tex[2][1] - tex[0][1]) - (tex[2][0] - tex[0][0]) * (tex[1][1] - tex[0][1]);
+      if (det == 0) continue;
+      std::array<Vector_3, 3> new_frame;
+      if (any_normal) new_frame = I::tangent_frame(P, T);
+      const Vector_3 nf_dir = normal[fi];
+      std::size_t hint = std::size_t(-1);
+      rasterize_triangle(tex, W, H, [&](int x, int y) {
+        const double cx = x + 0.5, cy = y + 0.5;
+        const double b1 = ((cx - tex[0][0]) * (tex[2][1] - tex[0][1]) - (tex[2][0] - tex[0][0]) * (cy - tex[0][1])) / det;
+        const double b2 = ((tex[1][0] - tex[0][0]) * (cy - tex[0][1]) - (cx - tex[0][0]) * (tex[1][1] - tex[0][1])) / det;
+        const double b0 = 1 - b1 - b2;
+        const Point_3 p = CGAL::ORIGIN + (b0 * (P[0] - CGAL::ORIGIN) + b1 * (P[1] - CGAL::ORIGIN) + b2 * (P[2] - CGAL::ORIGIN));
+        const double pq[3] = {p.x(), p.y(), p.z()};
+        // the closest facing original point: the previous texel's face first (a tight bound),
+        // then the tree within that bound; if nothing faces this way within reach, the closest
+        // point whatever its side
+        I::Facing_closest_point::Hit hit;
+        hit.squared_distance = reach2;
+        if (hint != std::size_t(-1)) finder->test(hint, pq, nf_dir, hit);
+        finder->search(pq, nf_dir, hit);
+        if (!hit.found()) {
+          hit.squared_distance = std::numeric_limits<double>::infinity();
+          finder->search(pq, CGAL::NULL_VECTOR, hit);
+          ++fixed_per_face[fi];
+        }
+        hint = hit.face;
+        const Source* s = &source[hit.face];
+        const Point_3 hit_point(hit.point[0], hit.point[1], hit.point[2]);
+        // barycentric coordinates of the hit in the original face
+        const Vector_3 e1 = s->p[1] - s->p[0], e2 = s->p[2] - s->p[0], e = hit_point - s->p[0];
+        const double d11 = e1 * e1, d12 = e1 * e2, d22 = e2 * e2, d1 = e * e1, d2 = e * e2;
+        const double den = d11 * d22 - d12 * d12;
+        double w1 = den > 0 ? (d22 * d1 - d12 * d2) / den : 0, w2 = den > 0 ? (d11 * d2 - d12 * d1) / den : 0;
+        w1 = (std::min)((std::max)(w1, 0.0), 1.0);
+        w2 = (std::min)((std::max)(w2, 0.0), 1.0 - w1);
+        const double w0 = 1 - w1 - w2;
+        const double u = w0 * s->uv[0][0] + w1 * s->uv[1][0] + w2 * s->uv[2][0];
+        const double v = w0 * s->uv[0][1] + w1 * s->uv[1][1] + w2 * s->uv[2][1];
+        const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+        float c[4] = {1, 1, 1, 1};
+        const Material* mat = s->material >= 0 && std::size_t(s->material) < mats.size() ? &mats[std::size_t(s->material)] : nullptr;
+        const UV2 a = region.domain().to_texel({{u, v}});
+        if (mat && !mat->diffuse_image.empty()) {
+          sample_original(region, mat->diffuse_image, float(a[0]), float(a[1]), c, s->chart);
+          if (mat->diffuse_image.channels() < 3)  // grey (and alpha): spread to RGB
+            c[3] = mat->diffuse_image.channels() == 2 ? c[1] : 1.f, c[1] = c[2] = c[0];
+          if (bake_colour)
+            for (int k = 0; k < 3; ++k) c[k] *= float(mat->diffuse_color[std::size_t(k)]);
+        } else if (mat) {
+          for (int k = 0; k < 3; ++k) c[k] = float(mat->diffuse_color[std::size_t(k)]);
+        }
+        for (int k = 0; k < colour_channels; ++k) colour[i * std::size_t(colour_channels) + std::size_t(k)] = c[k];
+        if (any_normal) {
+          Vector_3 nobj = s->frame[2];
+          if (mat && !mat->normal_image.empty()) {
+            float t[4] = {0.5f, 0.5f, 1.f, 1.f};
+            sample_original(region, mat->normal_image, float(a[0]), float(a[1]), t, s->chart);
+            nobj = I::unit_or_zero((2.0 * t[0] - 1.0) * s->frame[0] + (2.0 * t[1] - 1.0) * s->frame[1] +
+                                   (2.0 * t[2] - 1.0) * s->frame[2]);
+          }
+          const double a = nobj * new_frame[0], b = nobj * new_frame[1], z = nobj * new_frame[2];
+          normal_acc[i * 3 + 0] = float(0.5 * a + 0.5);
+          normal_acc[i * 3 + 1] = float(0.5 * b + 0.5);
+          normal_acc[i * 3 + 2] = float(0.5 * z + 0.5);
+        }
+        dist[i] = 0;
+        ++baked_per_face[fi];
+      });
+    }
+  });
+  for (std::size_t i = 0; i < nf; ++i) {
+    res.texels_baked += baked_per_face[i];
+    res.texels_unmatched += fixed_per_face[i];
+  }
+  res.coverage = double(res.texels_baked) / double(n);
+  if (any_normal) dist_normal = dist;
+  Image diffuse = internal::dilate_into_image(W, H, colour_channels, dist, colour);
+  Image normal_map;
+  if (any_normal) normal_map = internal::dilate_into_image(W, H, 3, dist_normal, normal_acc);
+  res.seconds_bake = std::chrono::duration<double>(Clock::now() - t1).count();
+
+  // the new UVs and the one material
+  for (auto f : sm.faces())
+    for (int k = 0; k < 3; ++k) {
+      const auto& t = face_uv[std::size_t(f)][std::size_t(k)];
+      simplified.set_uv(I::corner_halfedge(sm, f, k), Point_2(t[0], t[1]));
+    }
+  Material out;
+  if (used_count == 1) {
+    out.name = mats[first_used].name;
+    out.diffuse_color = mats[first_used].diffuse_color;
+  } else {
+    out.name = "atlas";
+    out.diffuse_color = {{1, 1, 1}};
+  }
+  if (out.name.empty()) out.name = "atlas";
+  out.diffuse_image = std::move(diffuse);
+  out.normal_image = std::move(normal_map);
+  simplified.materials().assign(1, std::move(out));
+  for (auto f : sm.faces()) simplified.material_map()[f] = 0;
+  simplified.set_has_uvs(true);
+  return res;
+}
+
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_REBUILD_ATLAS_H
