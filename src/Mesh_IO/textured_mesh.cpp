@@ -170,6 +170,21 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     if (!CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(pv))
       throw IO_error(src, "repair could not make the mesh manifold (duplicated or otherwise "
                           "irreparable faces around non-manifold edges)");
+    if (options.warnings) {
+      std::string what;
+      auto add = [&](std::size_t n, const char* one, const char* many) {
+        if (!n) return;
+        if (!what.empty()) what += ", ";
+        what += plural(n, one, many);
+      };
+      add(st.non_manifold_edges, "non-manifold edge split", "non-manifold edges split");
+      add(st.non_manifold_vertices, "non-manifold vertex duplicated", "non-manifold vertices duplicated");
+      add(st.inconsistent_edges, "inconsistently oriented edge re-oriented", "inconsistently oriented edges re-oriented");
+      const std::size_t added = points.size() - original.size();
+      if (added) what += (what.empty() ? "" : "; ") + plural(added, "vertex added", "vertices added");
+      if (what.empty()) what = "faces re-oriented";
+      options.warnings->push_back(src + ": repaired: " + what);
+    }
     original.resize(points.size());
     for (std::size_t i = 0; i < pv.size(); ++i) {
       std::array<std::size_t, 3> t{pv[i][0], pv[i][1], pv[i][2]};

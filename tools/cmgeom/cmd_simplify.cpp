@@ -1,12 +1,15 @@
 // cmgeom simplify <in> -o <out> (--faces N | --ratio r) [--policy weighted|plain]
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
-//                 [--no-texture] [--freeze-seams]
+//                 [--no-texture] [--keep-charts] [--freeze-seams] [--no-repair]
 // Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
-// CMGeom's engine or CGAL's. A textured input (UVs and a texture image) goes through the texture
-// part of chapter 3 (chart constraints §3.5, index texture §3.3/§3.6) and is written as
-// OBJ + MTL + PNG; anything else is simplified as geometry only, UVs dropped. Outputs are
-// written atomically.
+// CMGeom's engine or CGAL's. A textured input (UVs and a texture image) is written as
+// OBJ + MTL + PNG: by default its collapses ignore the charts (any target is reached) and a new
+// atlas is baked from the input (rebuild_atlas.h); with --keep-charts it goes through the
+// texture part of chapter 3 (chart constraints §3.5, index texture §3.3/§3.6), which stops where
+// the charts allow no more collapses. Anything else is simplified as geometry only, UVs dropped.
+// A non-manifold or inconsistently oriented input is repaired (a one-line warning says what
+// changed) unless --no-repair. Outputs are written atomically.
 #include "cli_common.h"
 
 #include <CMGeom/Error.h>
@@ -20,11 +23,13 @@
 
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -52,12 +57,13 @@ struct Progress_visitor : TS::Edge_collapse_visitor_base {
 
 CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge collapse (thesis 3.4)") {
   struct Options {
-    std::string input, output, policy = "weighted", engine = "cmgeom", merge = "thesis";
+    std::string input, output, policy = "plain", engine = "cmgeom", merge = "thesis";
     std::string texture_backend = "cpu", texture;
     std::size_t faces = 0;
     double ratio = 0;
     int texture_size = 0;
-    bool flips = false, json = false, repair = false, no_texture = false, freeze_seams = false;
+    bool flips = false, json = false, repair = false, no_repair = false, no_texture = false, freeze_seams = false;
+    bool keep_charts = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("input", o->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
@@ -66,7 +72,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   auto* ratio = app.add_option("--ratio", o->ratio, "Target fraction of the input faces, in (0, 1]");
   faces->excludes(ratio);
   ratio->excludes(faces);
-  app.add_option("--policy", o->policy, "Cost: weighted (thesis 3.4.2) or plain (Garland-Heckbert)")
+  app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default: lowest measured error) or weighted (thesis 3.4.2)")
       ->check(CLI::IsMember({"weighted", "plain"}));
   app.add_option("--merge", o->merge,
                  "Weighted policy's quadric merge: thesis ((w_i Q_i + w_j Q_j)/(w_i + w_j), 3.4.2) or sum "
@@ -76,7 +82,10 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       ->check(CLI::IsMember({"cmgeom", "cgal"}));
   app.add_flag("--flips", o->flips, "Flip-test the edges around each collapse (thesis 3.5.1; cmgeom engine)");
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
-  app.add_flag("--repair", o->repair, "Split non-manifold edges/vertices and fix orientation while reading");
+  auto* repair = app.add_flag("--repair", o->repair, "Repair while reading (the default; kept for compatibility)");
+  auto* no_repair = app.add_flag("--no-repair", o->no_repair,
+                                 "Refuse non-manifold or inconsistently oriented input instead of repairing it");
+  repair->excludes(no_repair);
   auto* backend = app.add_option("--texture-backend", o->texture_backend,
                                  "Index-texture resampling backend (textured input): cpu (reference) or osmesa")
                       ->check(CLI::IsMember({"cpu", "osmesa"}));
@@ -84,8 +93,11 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
                                "Texels per UV unit of the index and output textures (default: the input texture's size)");
   app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
   app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input (UVs dropped)");
+  app.add_flag("--keep-charts", o->keep_charts,
+               "Textured input: keep the input's charts (thesis 3.5; stops where no collapse keeps them) instead of "
+               "baking a new atlas");
   app.add_flag("--freeze-seams", o->freeze_seams,
-               "Textured input: never move chart-boundary vertices (baseline; the thesis simplifies them)");
+               "Textured input, with --keep-charts: never move chart-boundary vertices (baseline)");
 
   return [o, faces, ratio, backend, tsize]() -> int {
     if (faces->count() == 0 && ratio->count() == 0) throw CMGeom::Invalid_input("one of --faces or --ratio is required");
@@ -97,8 +109,11 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
 
     CMGeom::Textured_mesh tm;
     CMGeom::IO::Read_options ro;
-    ro.repair = o->repair;
+    ro.repair = !o->no_repair;
+    std::vector<std::string> warnings;
+    ro.warnings = &warnings;
     CMGeom::IO::read_mesh(o->input, tm, ro);
+    for (const auto& w : warnings) std::cerr << "cmgeom simplify: warning: " << w << "\n";
     Mesh& mesh = tm.mesh();
     if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
     if (!o->texture.empty() && !o->no_texture) {
@@ -113,7 +128,27 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     }
     bool has_texture = false;
     for (const auto& m : tm.materials()) has_texture |= m.has_diffuse_texture() || !m.normal_texture.empty();
+    if (tm.has_uvs() && !has_texture && !o->no_texture) {
+      // never guess a texture: name the images beside the file and the option that takes one
+      std::string beside;
+      std::error_code ec;
+      const auto dir = std::filesystem::absolute(o->input).parent_path();
+      for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+        std::string ext = e.path().extension().string();
+        for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tga" || ext == ".bmp")
+          beside += (beside.empty() ? "" : ", ") + e.path().filename().string();
+      }
+      if (!beside.empty())
+        throw CMGeom::Invalid_input(o->input + ": has texture coordinates but names no texture (its folder holds " + beside +
+                                    "); pass --texture FILE to simplify it textured, or --no-texture for geometry only");
+    }
     const bool textured = tm.has_uvs() && has_texture && !o->no_texture;
+    if (o->keep_charts && !textured)
+      throw CMGeom::Invalid_input(o->input + ": --keep-charts needs a textured input (UVs and a texture; see --texture)");
+    if (o->freeze_seams && !o->keep_charts) throw CMGeom::Invalid_input("--freeze-seams needs --keep-charts");
+    if (backend->count() && !o->keep_charts)
+      throw CMGeom::Invalid_input("--texture-backend selects the index-texture resampler of --keep-charts");
     if ((backend->count() || tsize->count() || o->freeze_seams) && !textured)
       throw CMGeom::Invalid_input(o->input + ": texture options need a textured input (UVs and a texture; see --texture)");
 
@@ -144,6 +179,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       to.quadric = qo;
       to.texture_size = o->texture_size;
       to.constraints.freeze_chart_boundaries = o->freeze_seams;
+      to.keep_charts = o->keep_charts;
       Progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
       const double t0 = cmgeom_cli::now_seconds();
 #ifdef CMGEOM_HAS_OSMESA
@@ -157,6 +193,12 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       const double seconds = cmgeom_cli::now_seconds() - t0;
       bar.done();
       CMGeom::IO::write_textured_mesh(o->output, tm);
+      if (r.stopped_by != TS::Stop_reason::target)
+        std::cerr << "cmgeom simplify: stopped at " << r.faces_out << " faces for a target of " << target << " ("
+                  << (r.stopped_by == TS::Stop_reason::chart_limit
+                          ? "chart limit: no collapse left that keeps the input's charts; drop --keep-charts to go further"
+                          : "no valid collapse left")
+                  << ")\n";
       if (o->json) {
         nlohmann::ordered_json j;
         j["input"] = o->input;
@@ -165,25 +207,35 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         j["policy"] = o->policy;
         j["merge"] = merge_used;
         j["textured"] = true;
-        j["texture_backend"] = o->texture_backend;
+        j["charts"] = r.charts_kept ? "kept" : "rebuilt";
+        if (r.charts_kept) j["texture_backend"] = o->texture_backend;
         j["faces_in"] = r.faces_in;
         j["target_faces"] = target;
         j["faces_out"] = r.faces_out;
+        j["stopped_by"] = TS::to_string(r.stopped_by);
         j["vertices_out"] = mesh.number_of_vertices();
         j["charts_in"] = r.charts_in;
         j["charts_out"] = r.charts_out;
         j["texture_width"] = r.texture_width;
         j["texture_height"] = r.texture_height;
-        j["refused_topology"] = r.statistics.topology;
-        j["refused_uv_fold"] = r.statistics.uv_fold;
-        j["refused_projection_overlap"] = r.statistics.projection_overlap;
+        if (r.charts_kept) {
+          j["refused_topology"] = r.statistics.topology;
+          j["refused_uv_fold"] = r.statistics.uv_fold;
+          j["refused_projection_overlap"] = r.statistics.projection_overlap;
+        } else {
+          j["atlas_coverage"] = r.atlas.coverage;
+          j["texels_per_unit"] = r.atlas.texels_per_unit;
+          j["seconds_charts"] = r.atlas.seconds_charts;
+          j["seconds_bake"] = r.atlas.seconds_bake;
+        }
         j["seconds"] = seconds;
         j["seconds_collapse"] = r.seconds_collapse;
         j["seconds_texture"] = r.seconds_texture;
         cmgeom_cli::print_json(j);
       } else {
         std::cout << o->input << ": " << r.faces_in << " -> " << r.faces_out << " faces, " << r.charts_in << " -> "
-                  << r.charts_out << " charts in " << seconds << " s (textured, " << o->policy << " policy)\n";
+                  << r.charts_out << " charts in " << seconds << " s (textured, " << (r.charts_kept ? "charts kept" : "new atlas")
+                  << ", " << o->policy << " policy)\n";
       }
       return 0;
     }
@@ -212,6 +264,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     bar.done();
     mesh.collect_garbage();
     const std::size_t faces_out = mesh.number_of_faces();
+    if (faces_out > target)
+      std::cerr << "cmgeom simplify: stopped at " << faces_out << " faces for a target of " << target
+                << " (no valid collapse left)\n";
 
     tm.set_has_uvs(false);  // geometry only: no UVs, no materials
     tm.materials().clear();
@@ -228,6 +283,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["faces_in"] = faces_in;
       j["target_faces"] = target;
       j["faces_out"] = faces_out;
+      j["stopped_by"] = faces_out > target ? "no_collapse" : "target";
       j["vertices_out"] = mesh.number_of_vertices();
       j["seconds"] = seconds;
       cmgeom_cli::print_json(j);
