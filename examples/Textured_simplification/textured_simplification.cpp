@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   CMGeom::Textured_mesh simplified = input;
   TS::Textured_simplification_options options;
   options.target_faces = target;
+  options.keep_charts = true;  // the thesis' method; the default instead bakes a new atlas (rebuild_atlas.h)
   TS::Textured_simplification_result r;
   try {
     r = TS::simplify_textured_mesh(simplified, options);
