@@ -19,6 +19,12 @@ cd "$(dirname "$0")"
     echo "---"
     echo
     sed 's/^# /## /' "$f"
+    # further sections of the same package, written by its other scripts (RESULTS-<part>.md)
+    for g in "$(dirname "$f")"/RESULTS-*.md; do
+      [ -f "$g" ] || continue
+      echo
+      sed 's/^# /## /' "$g"
+    done
   done
 } > RESULTS.md
-echo "wrote benchmark/RESULTS.md from: $(ls */RESULTS.md | tr '\n' ' ')"
+echo "wrote benchmark/RESULTS.md from: $(ls */RESULTS.md */RESULTS-*.md 2>/dev/null | tr '\n' ' ')"

@@ -2,7 +2,10 @@
 # Writes benchmark/Textured_simplification/RESULTS.md: the geometry part (run_bench.sh: our engine
 # and policies against CGAL, meshoptimizer and OpenMesh) and the texture part
 # (run_textured_bench.sh: chart-aware simplification against meshoptimizer and CGAL with frozen
-# seams, image RMSE over 26 views).
+# seams, image RMSE over 26 views); RESULTS-peers.md (run_textured_peers.sh: the default textured
+# simplification, new atlas, against meshoptimizer 0.18 and 1.3.0 at equal face counts) and
+# RESULTS-scale.md (run_textured_scale.sh: a 989k-face textured mesh, time against geometry only
+# and one thread against two).
 #   bash benchmark/Textured_simplification/run.sh <build-dir> [--quick]   (called by benchmark/run.sh)
 set -euo pipefail
 build=${1:?usage: run.sh <build-dir> [--quick]}
@@ -10,7 +13,11 @@ here=$(cd "$(dirname "$0")" && pwd)
 if [[ "${2:-}" == "--quick" ]]; then
   sh "$here/run_bench.sh" "$build" --models bunny,max-planck
   sh "$here/run_textured_bench.sh" "$build" --models spot,bob --fractions 0.1
+  bash "$here/run_textured_peers.sh" "$build" --quick
+  bash "$here/run_textured_scale.sh" "$build" --repeat 1
 else
   sh "$here/run_bench.sh" "$build" --repeat 3
   sh "$here/run_textured_bench.sh" "$build"
+  bash "$here/run_textured_peers.sh" "$build"
+  bash "$here/run_textured_scale.sh" "$build"
 fi

@@ -3,7 +3,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 #
 # CMGeom's textured simplification side by side with meshoptimizer peers (0.18 from Debian, 1.3.0
-# from npm in three variants): writes benchmark/Textured_simplification/PEERS.md through
+# from npm in three variants): writes benchmark/Textured_simplification/RESULTS-peers.md through
 # run_textured_peers.py (see its header for what is measured and how).
 #
 # Usage: bash benchmark/Textured_simplification/run_textured_peers.sh <build-dir> [--quick] [--peer-build DIR]
@@ -61,4 +61,4 @@ fi
 args=()
 if [ "$quick" = 1 ]; then args+=(--models spot,fuze --ratios 0.1); fi
 exec python3 "$here/run_textured_peers.py" "$build" --meshopt018 "$peer_build/bin/meshopt018_simplify" \
-  --out "$here/PEERS.md" "${args[@]}"
+  --out "$here/RESULTS-peers.md" "${args[@]}"

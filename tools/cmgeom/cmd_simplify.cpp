@@ -164,7 +164,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     cmgeom_cli::Progress bar("simplify");
     if (textured) {
       if (o->engine != "cmgeom") throw CMGeom::Invalid_input("textured simplification runs on --engine cmgeom only");
-      if (o->flips) throw CMGeom::Invalid_input("--flips is not supported on textured input (flips would need UV flips)");
+      if (o->flips && o->keep_charts)
+        throw CMGeom::Invalid_input("--flips is not supported with --keep-charts (flips would need UV rules); drop "
+                                    "--keep-charts: the new atlas is made after the flips");
 #ifndef CMGEOM_HAS_OSMESA
       if (o->texture_backend == "osmesa")
         throw CMGeom::Invalid_input("--texture-backend osmesa is not available in this build (no OSMesa); use cpu");
@@ -180,6 +182,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       to.texture_size = o->texture_size;
       to.constraints.freeze_chart_boundaries = o->freeze_seams;
       to.keep_charts = o->keep_charts;
+      to.flips = o->flips;
       Progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
       const double t0 = cmgeom_cli::now_seconds();
 #ifdef CMGEOM_HAS_OSMESA
@@ -208,6 +211,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         j["merge"] = merge_used;
         j["textured"] = true;
         j["charts"] = r.charts_kept ? "kept" : "rebuilt";
+        j["flips"] = o->flips;
         if (r.charts_kept) j["texture_backend"] = o->texture_backend;
         j["faces_in"] = r.faces_in;
         j["target_faces"] = target;

@@ -56,7 +56,8 @@ namespace CMGeom {
 namespace Textured_simplification {
 
 struct Atlas_options {
-  /// Size of the output textures in texels; 0: the size of the input's first used texture.
+  /// Size of the output textures in texels; 0: the input's texel density (its first used texture's
+  /// size times the UV range its UVs span, for UVs that repeat the texture), 64 to 8192 a side.
   int texture_width = 0, texture_height = 0;
   /// Padding texels around each chart (then filled by dilation).
   int gutter_texels = 2;
@@ -233,6 +234,7 @@ inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& 
     const int m = original.material(f);
     if (m >= 0 && std::size_t(m) < mats.size()) used[std::size_t(m)] = 1;
   }
+  const bool derived_size = options.texture_width <= 0;
   int W = options.texture_width, H = options.texture_height, colour_channels = 3;
   bool any_image = false, any_normal = false;
   for (std::size_t i = 0; i < mats.size(); ++i) {
@@ -253,7 +255,25 @@ inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& 
     if (used[i] && used_count++ == 0) first_used = i;
   const bool bake_colour = used_count > 1;  // materials merged: their colours go into the texels
   if (!any_image) throw Invalid_input("rebuild_atlas: '" + original.source() + "' has no decoded texture to bake from");
-  if (H <= 0) H = W;
+  if (derived_size) {
+    // the input texture's texel density over the UV range the input uses: UVs that repeat the
+    // texture (tiling) get as many texels as the tiles they cover, up to 8192 a side, 64 at least
+    double u0 = 0, v0 = 0, u1 = 1, v1 = 1;
+    for (auto h : om.halfedges()) {
+      if (om.is_border(h)) continue;
+      const Point_2 t = original.uv(h);
+      u0 = (std::min)(u0, t.x());
+      u1 = (std::max)(u1, t.x());
+      v0 = (std::min)(v0, t.y());
+      v1 = (std::max)(v1, t.y());
+    }
+    const double w = double(W) * (u1 - u0), h = double(H) * (v1 - v0);
+    const double shrink = (std::max)(w, h) > 8192 ? 8192 / (std::max)(w, h) : 1.0;
+    W = (std::max)(64, int(std::lround(w * shrink)));
+    H = (std::max)(64, int(std::lround(h * shrink)));
+  } else if (H <= 0) {
+    H = W;
+  }
   if (W < 8 || H < 8 || W > 16384 || H > 16384)
     throw Invalid_input("rebuild_atlas: texture size " + std::to_string(W) + " x " + std::to_string(H) + " out of [8, 16384]");
   Atlas_result res;

@@ -58,6 +58,9 @@ struct Textured_simplification_options {
   /// a new atlas is baked from the input (rebuild_atlas.h). Without a decoded texture there is
   /// nothing to bake and the charts are kept whatever this says.
   bool keep_charts = false;
+  /// Edge flips after each collapse (§3.5.1) when the charts are not kept (the new atlas is made
+  /// after the collapses, so flips need no UV rules); refused with keep_charts (Invalid_input).
+  bool flips = false;
   /// The new atlas when the charts are not kept (texture size 0: options' `texture_size`, else
   /// the input texture's size).
   Atlas_options atlas;
@@ -168,11 +171,14 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
     Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
     if (options.endpoint_placement)
       edge_collapse(mesh, stop,
-                    CGAL::parameters::get_cost(policy)
-                        .get_placement(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy})
-                        .visitor(visitor));
+                    CMGeom::parameters::edge_flips(options.flips,
+                                           CGAL::parameters::get_cost(policy)
+                                               .get_placement(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy})
+                                               .visitor(visitor)));
     else
-      edge_collapse(mesh, stop, CGAL::parameters::get_cost(policy).get_placement(policy).visitor(visitor));
+      edge_collapse(mesh, stop,
+                    CMGeom::parameters::edge_flips(options.flips,
+                                           CGAL::parameters::get_cost(policy).get_placement(policy).visitor(visitor)));
   }
   mesh.collect_garbage();
   res.seconds_collapse = internal::seconds_since(t0);
@@ -196,6 +202,9 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm, co
   Mesh& mesh = tm.mesh();
   if (!tm.has_uvs()) throw Invalid_input("simplify_textured_mesh: the mesh has no texture coordinates");
   if (!CGAL::is_triangle_mesh(mesh)) throw Invalid_input("simplify_textured_mesh: not a triangle mesh");
+  if (options.flips && options.keep_charts)
+    throw Invalid_input("simplify_textured_mesh: edge flips need a new atlas (keep_charts = false): a flip across a "
+                        "chart would need UV rules the chart constraints do not have");
   Textured_simplification_result res;
   res.faces_in = mesh.number_of_faces();
 
