@@ -6,13 +6,14 @@
 # the cmgeom tool: each model as it is, simplified to 2 % of its faces by `cmgeom simplify`
 # (default: new atlas), and by meshoptimizer at the same face count (0.18 seam-aware, and 1.3.0
 # Permissive without seam protection, which reaches any count), rendered by `cmgeom render`.
-#   make_peer_figures.sh <build-dir> <shared data dir>
-# The build dir must hold bin/cmgeom and bin/meshopt018_simplify (configured with
-# -DCMGEOM_BUILD_BENCHMARKS=ON); meshoptimizer 1.3.0 comes from npm (run_textured_peers.sh
-# installs it in benchmark/Textured_simplification/peers).
+#   make_peer_figures.sh <build-dir> <shared data dir> [<peer build-dir>]
+# The build dir holds bin/cmgeom; the peer build dir (default: the build dir), configured with
+# -DCMGEOM_BUILD_BENCHMARKS=ON, holds bin/meshopt018_simplify; meshoptimizer 1.3.0 comes from npm
+# (run_textured_peers.sh installs it in benchmark/Textured_simplification/peers).
 set -euo pipefail
 build="$(cd "${1:?usage: make_peer_figures.sh <build-dir> <data dir>}" && pwd)"
 data="$(cd "${2:?usage: make_peer_figures.sh <build-dir> <data dir>}" && pwd)"
+peer_build="$(cd "${3:-$build}" && pwd)"
 here="$(cd "$(dirname "$0")" && pwd)"
 fig="$here/fig"
 peers="$here/../../benchmark/Textured_simplification/peers"
@@ -39,7 +40,7 @@ for spec in "DamagedHelmet/DamagedHelmet.obj:helmet" "spot/spot.obj:spot" "bob/b
   faces=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["faces_out"])' "$tmp/$name.json")
   "$cmgeom" render "$tmp/$name.obj" -o "$fig/peers_${name}_ours.png" --views "$views" --size "$size" \
     --caption "CMGeom, $faces faces"
-  "$build/bin/meshopt018_simplify" "$in" "$tmp/${name}_mo018.obj" --faces "$faces" "${mtl[@]}" > "$tmp/mo018.json"
+  "$peer_build/bin/meshopt018_simplify" "$in" "$tmp/${name}_mo018.obj" --faces "$faces" "${mtl[@]}" > "$tmp/mo018.json"
   f018=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["faces_out"])' "$tmp/mo018.json")
   "$cmgeom" render "$tmp/${name}_mo018.obj" -o "$fig/peers_${name}_meshopt018.png" --views "$views" --size "$size" \
     --caption "meshopt 0.18, $f018 faces"

@@ -374,3 +374,76 @@ TEST(RebuiltAtlas, CommandLineReportsRepairStopReasonAndMissingTexture) {
 }
 
 }  // namespace
+
+namespace {
+
+// Smallest angle (degrees) over the triangles of a mesh.
+double min_angle(const CMGeom::Surface_mesh& m) {
+  double best = 180;
+  for (auto f : m.faces()) {
+    std::array<Point_3, 3> p;
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) p[std::size_t(k++)] = m.point(v);
+    for (int i = 0; i < 3; ++i) {
+      const Vector_3 a = p[std::size_t((i + 1) % 3)] - p[std::size_t(i)], b = p[std::size_t((i + 2) % 3)] - p[std::size_t(i)];
+      const double c = (a * b) / std::sqrt(a.squared_length() * b.squared_length());
+      best = std::min(best, std::acos(std::clamp(c, -1.0, 1.0)) * 180 / 3.14159265358979);
+    }
+  }
+  return best;
+}
+
+TEST(RebuiltAtlas, FlipsOnTexturedInputKeepAValidAtlas) {
+  const int spot = 0;
+  CMGeom::Textured_mesh base;
+  if (!read_textured(spot, base)) GTEST_SKIP() << "shared data not found: " << textured_path(spot);
+  double angle[2];
+  for (int flips = 0; flips < 2; ++flips) {
+    CMGeom::Textured_mesh tm = base;
+    TS::Textured_simplification_options o;
+    o.target_faces = base.mesh().number_of_faces() / 10;
+    o.flips = flips == 1;
+    const auto r = TS::simplify_textured_mesh(tm, o);
+    EXPECT_EQ(r.stopped_by, TS::Stop_reason::target);
+    EXPECT_LE(r.faces_out, o.target_faces);
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(tm.mesh()));
+    const CMGeom::Image& img = tm.materials()[0].diffuse_image;
+    const Layout_check c = check_layout(tm, img.width(), img.height());
+    EXPECT_EQ(c.outside + c.folded + c.overlapping_texels, 0u) << "flips " << flips;
+    angle[flips] = min_angle(tm.mesh());
+  }
+  std::cout << "spot at 10 %: smallest angle " << angle[0] << " degrees without flips, " << angle[1] << " with\n";
+  // flips only replace an edge when the opposite angles sum clearly above 180 degrees
+  EXPECT_GE(angle[1], angle[0] * 0.999);
+  TS::Textured_simplification_options o;
+  o.keep_charts = true;
+  o.flips = true;
+  CMGeom::Textured_mesh tm = base;
+  EXPECT_THROW(TS::simplify_textured_mesh(tm, o), CMGeom::Invalid_input);
+}
+
+TEST(RebuiltAtlas, ATetrahedronStopsWithNoCollapseLeft) {
+  CMGeom::Textured_mesh tm;
+  auto& m = tm.mesh();
+  const auto a = m.add_vertex(Point_3(0, 0, 0)), b = m.add_vertex(Point_3(1, 0, 0)), c = m.add_vertex(Point_3(0, 1, 0)),
+             d = m.add_vertex(Point_3(0, 0, 1));
+  for (auto f : {m.add_face(a, c, b), m.add_face(a, b, d), m.add_face(b, c, d), m.add_face(a, d, c)}) {
+    int k = 0;
+    for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+      tm.set_uv(h, Point_2(k == 0 ? 0.1 : (k == 1 ? 0.9 : 0.5), k == 2 ? 0.9 : 0.1));
+      ++k;
+    }
+  }
+  tm.set_has_uvs(true);
+  CMGeom::Image img(64, 64, 3);
+  tm.materials().resize(1);
+  tm.materials()[0].diffuse_image = img;
+  TS::Textured_simplification_options o;
+  o.target_faces = 2;
+  const auto r = TS::simplify_textured_mesh(tm, o);
+  EXPECT_EQ(r.faces_out, 4u);
+  EXPECT_EQ(r.stopped_by, TS::Stop_reason::no_collapse);
+  EXPECT_STREQ(TS::to_string(r.stopped_by), "no_collapse");
+}
+
+}  // namespace

@@ -608,8 +608,9 @@ private:
 /// Chart-aware bilinear lookup of `original` (any size; UVs outside [0,1] repeat) at the
 /// original-atlas position `a` (index-texture texel units of `it`); channel values in [0,1].
 /// With `chart` (chart id + 1, as Index_texture::chart() gives) the lookup keeps to that chart's
-/// texels instead of the chart found at `a`; when none of the four taps is in it (a chart too
-/// small to cover a texel centre), the nearest of its texels within 4 rings is read instead.
+/// texels instead of the chart found at `a`. When none of the four taps is in it, the taps in any
+/// chart are used (charts sharing texels: mirrored halves), else the nearest texel of the chart
+/// within 4 rings (a chart too small to cover a texel centre), else all four taps.
 inline void sample_original(const Index_texture& it, const Image& original, float ax, float ay, float* out,
                             std::uint32_t chart) {
   const Texture_domain& dom = it.domain();
@@ -621,7 +622,7 @@ inline void sample_original(const Index_texture& it, const Image& original, floa
   const double flx = std::floor(px), fly = std::floor(py);
   const double fx = px - flx, fy = py - fly;
   double acc[4] = {0, 0, 0, 0}, ws = 0;
-  double acc_all[4] = {0, 0, 0, 0};
+  double acc_all[4] = {0, 0, 0, 0}, acc_any[4] = {0, 0, 0, 0}, ws_any = 0;
   // the two columns and two rows of the four taps: wrapped image texel, and the index-texture
   // texel coordinate of the tap's centre in the (unwrapped) domain (for its chart)
   int wxs[2], wys[2];
@@ -638,13 +639,20 @@ inline void sample_original(const Index_texture& it, const Image& original, floa
     const int ox = k & 1, oy = k >> 1;
     const int wx = wxs[ox], wy = wys[oy];
     const double wt = (ox ? fx : 1 - fx) * (oy ? fy : 1 - fy);
-    const bool same = cn == 0u || it.chart_of(ctx[ox], cty[oy]) == cn;
+    const std::uint32_t tap_chart = it.chart_of(ctx[ox], cty[oy]);
+    const bool same = cn == 0u || tap_chart == cn;
     for (int c = 0; c < C; ++c) {
       const double v = original.value(wx, wy, c);
       acc_all[c] += wt * v;
       if (same) acc[c] += wt * v;
+      if (tap_chart != 0u) acc_any[c] += wt * v;
     }
     if (same) ws += wt;
+    if (tap_chart != 0u) ws_any += wt;
+  }
+  if (ws == 0 && ws_any > 0) {
+    for (int c = 0; c < C; ++c) out[c] = float(acc_any[c] / ws_any);
+    return;
   }
   if (ws == 0 && cn != 0u && std::isfinite(ax) && std::isfinite(ay)) {
     const int cx = int(std::floor(ax)), cy = int(std::floor(ay));

@@ -360,14 +360,18 @@ inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& 
       tris.emplace_back(pt(s.p[0]), pt(s.p[1]), pt(s.p[2]));
       fn.push_back(s.frame[2]);
     }
-    // faces of charts too small to cover a texel of the chart map have no texels to show
-    std::vector<char> chart_has_texels(1, 0), usable(source.size(), 1);
-    for (int y = 0; y < region.height(); ++y)
-      for (int x = 0; x < region.width(); ++x) {
-        const std::uint32_t c = region.chart(x, y);
-        if (c >= chart_has_texels.size()) chart_has_texels.resize(std::size_t(c) + 1, 0);
-        chart_has_texels[c] = 1;
-      }
+    // faces of charts too small to cover a texel centre of the chart map have no texels to show
+    // (tested face by face: where charts share texels the map holds only one of them)
+    std::vector<char> chart_has_texels, usable(source.size(), 1);
+    for (std::size_t f = 0; f < source.size(); ++f) {
+      const std::uint32_t c = source[f].chart;
+      if (c >= chart_has_texels.size()) chart_has_texels.resize(std::size_t(c) + 1, 0);
+      if (chart_has_texels[c]) continue;
+      std::array<UV2, 3> t;
+      for (int k = 0; k < 3; ++k)
+        t[std::size_t(k)] = region.domain().to_texel({{source[f].uv[std::size_t(k)][0], source[f].uv[std::size_t(k)][1]}});
+      rasterize_triangle(t, region.width(), region.height(), [&](int, int) { chart_has_texels[c] = 1; });
+    }
     bool any = false;
     for (std::size_t f = 0; f < source.size(); ++f) {
       const std::uint32_t c = source[f].chart;
