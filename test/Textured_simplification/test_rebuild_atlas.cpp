@@ -4,13 +4,13 @@
 // flat model, whose simplification keeps the geometry), the chart-keeping mode's stop reason, and
 // the command line's stop report, repair warning and missing-texture message.
 #include "cmgeom_test_config.h"
+#include "cmgeom_test_support.h"
 
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 #include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
@@ -318,31 +318,22 @@ TEST(RebuiltAtlas, KeepChartsStopsAtTheChartLimitAndSaysSo) {
   EXPECT_EQ(r.stopped_by, TS::Stop_reason::chart_limit);
 }
 
-int run(const std::string& cmd, std::string* out, std::string* err) {
-  const std::string err_file = std::string(CMGEOM_TEST_TMP_DIR) + "/rebuild_atlas_stderr.txt";
-  FILE* p = popen((cmd + " 2>'" + err_file + "'").c_str(), "r");
-  std::string text;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) text.append(buf, n);
-  const int status = pclose(p);
-  if (out) *out = text;
-  std::ifstream e(err_file);
-  if (err) *err = std::string((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+// cmgeom with `args` (shell-quoted), its output in `out` and `err`; returns the exit code.
+int run(const std::string& args, std::string* out, std::string* err, const std::string& dir) {
+  const cmgeom_test::Cli_result r = cmgeom_test::run_cli(args, dir);
+  *out = r.out;
+  *err = r.err;
+  return r.exit_code;
 }
 
 TEST(RebuiltAtlas, CommandLineReportsRepairStopReasonAndMissingTexture) {
   const std::string helmet = textured_path(3), spot = textured_path(0);
   if (!fs::exists(helmet) || !fs::exists(spot)) GTEST_SKIP() << "shared data not found: " << helmet;
-  const std::string exe = CMGEOM_CMGEOM_EXE;
-  const std::string dir = std::string(CMGEOM_TEST_TMP_DIR) + "/rebuild_atlas_cli";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const std::string dir = cmgeom_test::scratch_dir();
   std::string out, err;
   // repaired by default, one warning line saying what changed; the chart-keeping mode stops
   // above the target and says why on stderr and in the JSON
-  ASSERT_EQ(run("'" + exe + "' simplify '" + helmet + "' -o '" + dir + "/k.obj' --ratio 0.1 --keep-charts --json", &out, &err), 0)
+  ASSERT_EQ(run("simplify '" + helmet + "' -o '" + dir + "/k.obj' --ratio 0.1 --keep-charts --json", &out, &err, dir), 0)
       << err;
   EXPECT_NE(err.find("warning: " + helmet + ": repaired: 7 non-manifold edges split"), std::string::npos) << err;
   EXPECT_NE(err.find("chart limit"), std::string::npos) << err;
@@ -351,18 +342,18 @@ TEST(RebuiltAtlas, CommandLineReportsRepairStopReasonAndMissingTexture) {
   EXPECT_EQ(j["charts"], "kept");
   EXPECT_GT(j["faces_out"].get<int>(), j["target_faces"].get<int>());
   // --no-repair refuses, with the file and what is wrong; nothing written
-  EXPECT_EQ(run("'" + exe + "' simplify '" + helmet + "' -o '" + dir + "/n.obj' --ratio 0.1 --no-repair", &out, &err), 1);
+  EXPECT_EQ(run("simplify '" + helmet + "' -o '" + dir + "/n.obj' --ratio 0.1 --no-repair", &out, &err, dir), 1);
   EXPECT_NE(err.find("non-manifold edges"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(dir + "/n.obj"));
   // an OBJ naming no texture with an image beside it: no guess, a message naming --texture
-  EXPECT_EQ(run("'" + exe + "' simplify '" + spot + "' -o '" + dir + "/s.obj' --ratio 0.1", &out, &err), 1);
+  EXPECT_EQ(run("simplify '" + spot + "' -o '" + dir + "/s.obj' --ratio 0.1", &out, &err, dir), 1);
   EXPECT_NE(err.find("--texture"), std::string::npos) << err;
   EXPECT_NE(err.find("spot_texture.png"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(dir + "/s.obj"));
   // with it: the default bakes a new atlas and reaches the target
-  ASSERT_EQ(run("'" + exe + "' simplify '" + spot + "' -o '" + dir + "/s.obj' --ratio 0.02 --json --texture '" +
+  ASSERT_EQ(run("simplify '" + spot + "' -o '" + dir + "/s.obj' --ratio 0.02 --json --texture '" +
                     std::string(CMGEOM_DATA_DIR) + "/textured/spot/spot_texture.png'",
-                &out, &err),
+                &out, &err, dir),
             0)
       << err;
   j = nlohmann::json::parse(out);
