@@ -211,71 +211,198 @@ private:
 
 }  // namespace internal
 
+class Atlas_source;
+inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simplified, const Atlas_options& options);
+
+/// What the baking reads from the original mesh, extracted once: its triangles with their UVs,
+/// materials and chart ids, the texture size of the new atlas, and — after prepare() — the chart
+/// map of the original layout and the closest-point tree. simplify_textured_mesh() extracts it
+/// before the collapses and prepares it while they run (a second core builds the tree and the
+/// chart map). The original's materials are referred to, not copied: they must outlive it.
+class Atlas_source {
+public:
+  /// Throws Invalid_input when `original` has no UVs or no decoded image, or for option values
+  /// out of range.
+  Atlas_source(const Textured_mesh& original, const Atlas_options& options) : mats_(&original.materials()) {
+    namespace I = internal;
+    const Surface_mesh& om = original.mesh();
+    if (!original.has_uvs()) throw Invalid_input("rebuild_atlas: the original mesh has no texture coordinates");
+    if (!(options.chart_cone_degrees > 0 && options.chart_cone_degrees < 90))
+      throw Invalid_input("rebuild_atlas: chart_cone_degrees must be in (0, 90), got " +
+                          std::to_string(options.chart_cone_degrees));
+    if (options.gutter_texels < 1 || options.gutter_texels > 64)
+      throw Invalid_input("rebuild_atlas: gutter_texels must be in [1, 64], got " + std::to_string(options.gutter_texels));
+    if (om.has_garbage()) throw Invalid_input("rebuild_atlas: the original mesh must be garbage-free");
+    const auto& mats = *mats_;
+    // materials in use, and the images the new atlas needs
+    used_.assign(mats.size(), 0);
+    for (auto f : om.faces()) {
+      const int m = original.material(f);
+      if (m >= 0 && std::size_t(m) < mats.size()) used_[std::size_t(m)] = 1;
+    }
+    const bool derived_size = options.texture_width <= 0;
+    W_ = options.texture_width;
+    H_ = options.texture_height;
+    bool any_image = false;
+    for (std::size_t i = 0; i < mats.size(); ++i) {
+      if (!used_[i]) continue;
+      const Image& d = mats[i].diffuse_image;
+      const Image& n = mats[i].normal_image;
+      if (!d.empty()) colour_channels_ = (std::max)(colour_channels_, d.channels());
+      any_normal_ |= !n.empty();
+      const Image& ref = !d.empty() ? d : n;
+      if (!ref.empty() && !any_image && W_ <= 0) {
+        W_ = ref.width();
+        H_ = ref.height();
+      }
+      any_image |= !ref.empty();
+    }
+    for (std::size_t i = 0; i < used_.size(); ++i)
+      if (used_[i] && used_count_++ == 0) first_used_ = i;
+    if (!any_image) throw Invalid_input("rebuild_atlas: '" + original.source() + "' has no decoded texture to bake from");
+    int W = W_, H = H_;
+    if (derived_size) {
+      // the input texture's texel density over the UV range the input uses: UVs that repeat the
+      // texture (tiling) get as many texels as the tiles they cover, up to 8192 a side, 64 at least
+      double u0 = 0, v0 = 0, u1 = 1, v1 = 1;
+      for (auto h : om.halfedges()) {
+        if (om.is_border(h)) continue;
+        const Point_2 t = original.uv(h);
+        u0 = (std::min)(u0, t.x());
+        u1 = (std::max)(u1, t.x());
+        v0 = (std::min)(v0, t.y());
+        v1 = (std::max)(v1, t.y());
+      }
+      const double w = double(W) * (u1 - u0), h = double(H) * (v1 - v0);
+      const double shrink = (std::max)(w, h) > 8192 ? 8192 / (std::max)(w, h) : 1.0;
+      W = (std::max)(64, int(std::lround(w * shrink)));
+      H = (std::max)(64, int(std::lround(h * shrink)));
+    } else if (H <= 0) {
+      H = W;
+    }
+    if (W < 8 || H < 8 || W > 16384 || H > 16384)
+      throw Invalid_input("rebuild_atlas: texture size " + std::to_string(W) + " x " + std::to_string(H) + " out of [8, 16384]");
+    W_ = W;
+    H_ = H;
+    // the triangles, with tangent frames when a normal map is carried, and their chart ids
+    source_.resize(om.number_of_faces());
+    for (auto f : om.faces()) {
+      Source& s = source_[std::size_t(f)];
+      for (int k = 0; k < 3; ++k) {
+        const auto h = I::corner_halfedge(om, f, k);
+        s.p[std::size_t(k)] = om.point(om.target(h));
+        const Point_2 t = original.uv(h);
+        s.uv[std::size_t(k)] = {{t.x(), t.y()}};
+      }
+      s.material = original.material(f);
+      if (any_normal_) s.frame = I::tangent_frame(s.p, s.uv);
+      else s.frame[2] = I::unit_or_zero(CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]));
+    }
+    auto chart = get(CGAL::dynamic_face_property_t<int>(), om);
+    compute_chart_ids(om, original.uv_map(), chart);
+    for (auto f : om.faces()) source_[std::size_t(f)].chart = std::uint32_t(get(chart, f) + 1);
+    const auto bb = CGAL::Polygon_mesh_processing::bbox(om);
+    diag_ = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
+                      CGAL::square(bb.zmax() - bb.zmin()));
+  }
+
+  /// Builds the chart map and the closest-point tree (reads only this object: may run while the
+  /// original mesh changes).
+  void prepare() {
+    namespace I = internal;
+    const auto& mats = *mats_;
+    // the original layout's chart map (texels of each chart grown by two rings), so that a lookup
+    // never blends texels of another chart or of the gutters (sample_original, as the
+    // chart-keeping path does)
+    {
+      std::vector<std::array<UV2, 3>> uv_tris(source_.size());
+      std::vector<int> ids(source_.size());
+      for (std::size_t f = 0; f < source_.size(); ++f) {
+        for (int k = 0; k < 3; ++k) uv_tris[f][std::size_t(k)] = {{source_[f].uv[std::size_t(k)][0], source_[f].uv[std::size_t(k)][1]}};
+        ids[f] = int(source_[f].chart) - 1;
+      }
+      int rw = 0, rh = 0;
+      for (std::size_t i = 0; i < mats.size() && rw == 0; ++i)
+        if (used_[i] && !mats[i].diffuse_image.empty()) {
+          rw = mats[i].diffuse_image.width();
+          rh = mats[i].diffuse_image.height();
+        }
+      if (rw == 0) {
+        rw = W_;
+        rh = H_;
+      }
+      region_ = Index_texture(make_texture_domain(uv_tris, rw, rh, 8192), uv_tris, ids);
+    }
+    I::Facing_closest_point::Triangles tris;
+    std::vector<Vector_3> fn;
+    tris.reserve(source_.size());
+    fn.reserve(source_.size());
+    for (const Source& s : source_) {
+      auto pt = [](const Point_3& q) { return I::Facing_closest_point::SC::Point_3(q.x(), q.y(), q.z()); };
+      tris.emplace_back(pt(s.p[0]), pt(s.p[1]), pt(s.p[2]));
+      fn.push_back(s.frame[2]);
+    }
+    // faces of charts too small to cover a texel centre of the chart map have no texels to show
+    // (tested face by face: where charts share texels the map holds only one of them)
+    std::vector<char> chart_has_texels, usable(source_.size(), 1);
+    for (std::size_t f = 0; f < source_.size(); ++f) {
+      const std::uint32_t c = source_[f].chart;
+      if (c >= chart_has_texels.size()) chart_has_texels.resize(std::size_t(c) + 1, 0);
+      if (chart_has_texels[c]) continue;
+      std::array<UV2, 3> t;
+      for (int k = 0; k < 3; ++k)
+        t[std::size_t(k)] = region_.domain().to_texel({{source_[f].uv[std::size_t(k)][0], source_[f].uv[std::size_t(k)][1]}});
+      rasterize_triangle(t, region_.width(), region_.height(), [&](int, int) { chart_has_texels[c] = 1; });
+    }
+    bool any = false;
+    for (std::size_t f = 0; f < source_.size(); ++f) {
+      const std::uint32_t c = source_[f].chart;
+      usable[f] = c < chart_has_texels.size() && chart_has_texels[c];
+      any |= usable[f] != 0;
+    }
+    if (!any) std::fill(usable.begin(), usable.end(), 1);
+    finder_ = std::make_unique<I::Facing_closest_point>(std::move(tris), std::move(fn), std::move(usable));
+  }
+
+  bool prepared() const { return finder_ != nullptr; }
+
+private:
+  friend Atlas_result rebuild_atlas(const Atlas_source&, Textured_mesh&, const Atlas_options&);
+  struct Source {
+    std::array<Point_3, 3> p;
+    std::array<internal::Atlas_uv, 3> uv;
+    std::array<Vector_3, 3> frame;  // tangent frame (normal maps only; frame[2] always the normal)
+    int material = -1;
+    std::uint32_t chart = 0;  // chart id + 1 in the original layout
+  };
+  const std::vector<Material>* mats_;
+  std::vector<char> used_;
+  std::size_t used_count_ = 0, first_used_ = 0;
+  int W_ = 0, H_ = 0, colour_channels_ = 3;
+  bool any_normal_ = false;
+  double diag_ = 0;
+  std::vector<Source> source_;
+  Index_texture region_;
+  std::unique_ptr<internal::Facing_closest_point> finder_;
+};
+
 /// Replaces the UVs and materials of `simplified` (a garbage-free triangle mesh) by a new atlas
-/// baked from `original` (UVs and decoded textures, IO::load_textures); see the file comment.
-/// Throws Invalid_input when `original` has no UVs or no decoded image, or for option values
-/// out of range.
-inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& simplified, const Atlas_options& options = {}) {
+/// baked from the original `src` was made from (prepared: prepare()); see the file comment.
+inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simplified, const Atlas_options& options) {
   using Clock = std::chrono::steady_clock;
   namespace I = internal;
-  const Surface_mesh& om = original.mesh();
   Surface_mesh& sm = simplified.mesh();
-  if (!original.has_uvs()) throw Invalid_input("rebuild_atlas: the original mesh has no texture coordinates");
-  if (!(options.chart_cone_degrees > 0 && options.chart_cone_degrees < 90))
-    throw Invalid_input("rebuild_atlas: chart_cone_degrees must be in (0, 90), got " + std::to_string(options.chart_cone_degrees));
-  if (options.gutter_texels < 1 || options.gutter_texels > 64)
-    throw Invalid_input("rebuild_atlas: gutter_texels must be in [1, 64], got " + std::to_string(options.gutter_texels));
   if (sm.has_garbage() || !CGAL::is_triangle_mesh(sm) || sm.number_of_faces() == 0)
     throw Invalid_input("rebuild_atlas: the simplified mesh must be a garbage-free, non-empty triangle mesh");
-  const auto& mats = original.materials();
-  // materials in use, and the images the new atlas needs
-  std::vector<char> used(mats.size(), 0);
-  for (auto f : om.faces()) {
-    const int m = original.material(f);
-    if (m >= 0 && std::size_t(m) < mats.size()) used[std::size_t(m)] = 1;
-  }
-  const bool derived_size = options.texture_width <= 0;
-  int W = options.texture_width, H = options.texture_height, colour_channels = 3;
-  bool any_image = false, any_normal = false;
-  for (std::size_t i = 0; i < mats.size(); ++i) {
-    if (!used[i]) continue;
-    const Image& d = mats[i].diffuse_image;
-    const Image& n = mats[i].normal_image;
-    if (!d.empty()) colour_channels = (std::max)(colour_channels, d.channels());
-    any_normal |= !n.empty();
-    const Image& ref = !d.empty() ? d : n;
-    if (!ref.empty() && !any_image && W <= 0) {
-      W = ref.width();
-      H = ref.height();
-    }
-    any_image |= !ref.empty();
-  }
-  std::size_t used_count = 0, first_used = 0;
-  for (std::size_t i = 0; i < used.size(); ++i)
-    if (used[i] && used_count++ == 0) first_used = i;
-  const bool bake_colour = used_count > 1;  // materials merged: their colours go into the texels
-  if (!any_image) throw Invalid_input("rebuild_atlas: '" + original.source() + "' has no decoded texture to bake from");
-  if (derived_size) {
-    // the input texture's texel density over the UV range the input uses: UVs that repeat the
-    // texture (tiling) get as many texels as the tiles they cover, up to 8192 a side, 64 at least
-    double u0 = 0, v0 = 0, u1 = 1, v1 = 1;
-    for (auto h : om.halfedges()) {
-      if (om.is_border(h)) continue;
-      const Point_2 t = original.uv(h);
-      u0 = (std::min)(u0, t.x());
-      u1 = (std::max)(u1, t.x());
-      v0 = (std::min)(v0, t.y());
-      v1 = (std::max)(v1, t.y());
-    }
-    const double w = double(W) * (u1 - u0), h = double(H) * (v1 - v0);
-    const double shrink = (std::max)(w, h) > 8192 ? 8192 / (std::max)(w, h) : 1.0;
-    W = (std::max)(64, int(std::lround(w * shrink)));
-    H = (std::max)(64, int(std::lround(h * shrink)));
-  } else if (H <= 0) {
-    H = W;
-  }
-  if (W < 8 || H < 8 || W > 16384 || H > 16384)
-    throw Invalid_input("rebuild_atlas: texture size " + std::to_string(W) + " x " + std::to_string(H) + " out of [8, 16384]");
+  CGAL_precondition(src.prepared());
+  const auto& mats = *src.mats_;
+  const auto& source = src.source_;
+  const auto& region = src.region_;
+  const auto* finder = src.finder_.get();
+  const int W = src.W_, H = src.H_, colour_channels = src.colour_channels_;
+  const bool any_normal = src.any_normal_;
+  const bool bake_colour = src.used_count_ > 1;  // materials merged: their colours go into the texels
+  const double diag = src.diag_;
   Atlas_result res;
   res.texture_width = W;
   res.texture_height = H;
@@ -303,90 +430,6 @@ inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& 
 
   // 3. baking
   const auto t1 = Clock::now();
-  struct Source {
-    std::array<Point_3, 3> p;
-    std::array<I::Atlas_uv, 3> uv;
-    std::array<Vector_3, 3> frame;  // tangent frame (normal maps only)
-    int material = -1;
-    std::uint32_t chart = 0;  // chart id + 1 in the original layout
-  };
-  std::vector<Source> source(om.number_of_faces());
-  for (auto f : om.faces()) {
-    Source& s = source[std::size_t(f)];
-    for (int k = 0; k < 3; ++k) {
-      const auto h = I::corner_halfedge(om, f, k);
-      s.p[std::size_t(k)] = om.point(om.target(h));
-      const Point_2 t = original.uv(h);
-      s.uv[std::size_t(k)] = {{t.x(), t.y()}};
-    }
-    s.material = original.material(f);
-    if (any_normal) s.frame = I::tangent_frame(s.p, s.uv);
-    else s.frame[2] = I::unit_or_zero(CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]));
-  }
-  // the original layout's chart map (texels of each chart grown by two rings), so that a lookup
-  // never blends texels of another chart or of the gutters (sample_original, as the chart-keeping
-  // path does)
-  Index_texture region;
-  {
-    std::vector<std::array<UV2, 3>> uv_tris(source.size());
-    std::vector<int> ids(source.size());
-    auto chart = get(CGAL::dynamic_face_property_t<int>(), om);
-    compute_chart_ids(om, original.uv_map(), chart);
-    for (auto f : om.faces()) {
-      for (int k = 0; k < 3; ++k) uv_tris[std::size_t(f)][std::size_t(k)] = {{source[std::size_t(f)].uv[std::size_t(k)][0], source[std::size_t(f)].uv[std::size_t(k)][1]}};
-      ids[std::size_t(f)] = get(chart, f);
-      source[std::size_t(f)].chart = std::uint32_t(get(chart, f) + 1);
-    }
-    int rw = 0, rh = 0;
-    for (std::size_t i = 0; i < mats.size() && rw == 0; ++i)
-      if (used[i] && !mats[i].diffuse_image.empty()) {
-        rw = mats[i].diffuse_image.width();
-        rh = mats[i].diffuse_image.height();
-      }
-    if (rw == 0) {
-      rw = W;
-      rh = H;
-    }
-    region = Index_texture(make_texture_domain(uv_tris, rw, rh, 8192), uv_tris, ids);
-  }
-  std::unique_ptr<I::Facing_closest_point> finder;
-  {
-    I::Facing_closest_point::Triangles tris;
-    std::vector<Vector_3> fn;
-    tris.reserve(source.size());
-    fn.reserve(source.size());
-    for (const Source& s : source) {
-      auto pt = [](const Point_3& q) { return I::Facing_closest_point::SC::Point_3(q.x(), q.y(), q.z()); };
-      tris.emplace_back(pt(s.p[0]), pt(s.p[1]), pt(s.p[2]));
-      fn.push_back(s.frame[2]);
-    }
-    // faces of charts too small to cover a texel centre of the chart map have no texels to show
-    // (tested face by face: where charts share texels the map holds only one of them)
-    std::vector<char> chart_has_texels, usable(source.size(), 1);
-    for (std::size_t f = 0; f < source.size(); ++f) {
-      const std::uint32_t c = source[f].chart;
-      if (c >= chart_has_texels.size()) chart_has_texels.resize(std::size_t(c) + 1, 0);
-      if (chart_has_texels[c]) continue;
-      std::array<UV2, 3> t;
-      for (int k = 0; k < 3; ++k)
-        t[std::size_t(k)] = region.domain().to_texel({{source[f].uv[std::size_t(k)][0], source[f].uv[std::size_t(k)][1]}});
-      rasterize_triangle(t, region.width(), region.height(), [&](int, int) { chart_has_texels[c] = 1; });
-    }
-    bool any = false;
-    for (std::size_t f = 0; f < source.size(); ++f) {
-      const std::uint32_t c = source[f].chart;
-      usable[f] = c < chart_has_texels.size() && chart_has_texels[c];
-      any |= usable[f] != 0;
-    }
-    if (!any) std::fill(usable.begin(), usable.end(), 1);
-    finder = std::make_unique<I::Facing_closest_point>(std::move(tris), std::move(fn), std::move(usable));
-  }
-  double diag = 0;
-  {
-    const auto bb = CGAL::Polygon_mesh_processing::bbox(om);
-    diag = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
-                     CGAL::square(bb.zmax() - bb.zmin()));
-  }
   const double reach2 = CGAL::square(0.1 * diag);  // farther than this, a facing point is no match
   const std::size_t n = std::size_t(W) * std::size_t(H);
   constexpr std::uint32_t far = 0xffffffffu;
@@ -426,7 +469,7 @@ inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& 
           ++fixed_per_face[fi];
         }
         hint = hit.face;
-        const Source* s = &source[hit.face];
+        const auto* s = &source[hit.face];
         const Point_3 hit_point(hit.point[0], hit.point[1], hit.point[2]);
         // barycentric coordinates of the hit in the original face
         const Vector_3 e1 = s->p[1] - s->p[0], e2 = s->p[2] - s->p[0], e = hit_point - s->p[0];
@@ -488,9 +531,9 @@ inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& 
       simplified.set_uv(I::corner_halfedge(sm, f, k), Point_2(t[0], t[1]));
     }
   Material out;
-  if (used_count == 1) {
-    out.name = mats[first_used].name;
-    out.diffuse_color = mats[first_used].diffuse_color;
+  if (src.used_count_ == 1) {
+    out.name = mats[src.first_used_].name;
+    out.diffuse_color = mats[src.first_used_].diffuse_color;
   } else {
     out.name = "atlas";
     out.diffuse_color = {{1, 1, 1}};
@@ -502,6 +545,16 @@ inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& 
   for (auto f : sm.faces()) simplified.material_map()[f] = 0;
   simplified.set_has_uvs(true);
   return res;
+}
+
+/// Replaces the UVs and materials of `simplified` (a garbage-free triangle mesh) by a new atlas
+/// baked from `original` (UVs and decoded textures, IO::load_textures); see the file comment.
+/// Throws Invalid_input when `original` has no UVs or no decoded image, or for option values
+/// out of range.
+inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& simplified, const Atlas_options& options = {}) {
+  Atlas_source src(original, options);
+  src.prepare();
+  return rebuild_atlas(src, simplified, options);
 }
 
 }  // namespace Textured_simplification

@@ -38,6 +38,7 @@
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
 
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <chrono>
@@ -164,31 +165,43 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
     std::vector<int> ids;
     res.charts_in = internal::uv_layout(tm, tris, ids);
   }
-  const Textured_mesh original = tm;
+  Atlas_options ao = options.atlas;
+  if (ao.texture_width <= 0 && options.texture_size > 0) ao.texture_width = ao.texture_height = options.texture_size;
+  // what the baking needs from the input, taken before the collapses change it; its tree and
+  // chart map are built on another core while the collapses run
+  const auto t_source = std::chrono::steady_clock::now();
+  Atlas_source source(tm, ao);
+  res.seconds_texture = internal::seconds_since(t_source);
+  tbb::task_group prepare;
+  prepare.run([&source] { source.prepare(); });
   const auto t0 = std::chrono::steady_clock::now();
-  if (options.target_faces < res.faces_in) {
-    Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
-    Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
-    if (options.endpoint_placement)
-      edge_collapse(mesh, stop,
-                    CMGeom::parameters::edge_flips(options.flips,
-                                           CGAL::parameters::get_cost(policy)
-                                               .get_placement(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy})
-                                               .visitor(visitor)));
-    else
-      edge_collapse(mesh, stop,
-                    CMGeom::parameters::edge_flips(options.flips,
-                                           CGAL::parameters::get_cost(policy).get_placement(policy).visitor(visitor)));
+  try {
+    if (options.target_faces < res.faces_in) {
+      Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
+      Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
+      if (options.endpoint_placement)
+        edge_collapse(mesh, stop,
+                      CMGeom::parameters::edge_flips(options.flips,
+                                                     CGAL::parameters::get_cost(policy)
+                                                         .get_placement(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy})
+                                                         .visitor(visitor)));
+      else
+        edge_collapse(mesh, stop,
+                      CMGeom::parameters::edge_flips(options.flips,
+                                                     CGAL::parameters::get_cost(policy).get_placement(policy).visitor(visitor)));
+    }
+  } catch (...) {
+    prepare.wait();  // `source` must outlive the task
+    throw;
   }
   mesh.collect_garbage();
   res.seconds_collapse = internal::seconds_since(t0);
   res.faces_out = mesh.number_of_faces();
   res.stopped_by = res.faces_out > options.target_faces ? Stop_reason::no_collapse : Stop_reason::target;
-  Atlas_options ao = options.atlas;
-  if (ao.texture_width <= 0 && options.texture_size > 0) ao.texture_width = ao.texture_height = options.texture_size;
   const auto t1 = std::chrono::steady_clock::now();
-  res.atlas = rebuild_atlas(original, tm, ao);
-  res.seconds_texture = internal::seconds_since(t1);
+  prepare.wait();
+  res.atlas = rebuild_atlas(source, tm, ao);
+  res.seconds_texture += internal::seconds_since(t1);
   res.texture_width = res.atlas.texture_width;
   res.texture_height = res.atlas.texture_height;
   res.charts_out = res.atlas.charts;
