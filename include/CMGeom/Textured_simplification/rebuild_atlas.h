@@ -286,20 +286,23 @@ public:
     H_ = H;
     // the triangles, with tangent frames when a normal map is carried, and their chart ids
     source_.resize(om.number_of_faces());
-    for (auto f : om.faces()) {
-      Source& s = source_[std::size_t(f)];
-      for (int k = 0; k < 3; ++k) {
-        const auto h = I::corner_halfedge(om, f, k);
-        s.p[std::size_t(k)] = om.point(om.target(h));
-        const Point_2 t = original.uv(h);
-        s.uv[std::size_t(k)] = {{t.x(), t.y()}};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, source_.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+        const Surface_mesh::Face_index f(static_cast<Surface_mesh::size_type>(i));
+        Source& s = source_[i];
+        for (int k = 0; k < 3; ++k) {
+          const auto h = I::corner_halfedge(om, f, k);
+          s.p[std::size_t(k)] = om.point(om.target(h));
+          const Point_2 t = original.uv(h);
+          s.uv[std::size_t(k)] = {{t.x(), t.y()}};
+        }
+        s.material = original.material(f);
+        if (any_normal_) s.frame = I::tangent_frame(s.p, s.uv);
+        else s.frame[2] = I::unit_or_zero(CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]));
       }
-      s.material = original.material(f);
-      if (any_normal_) s.frame = I::tangent_frame(s.p, s.uv);
-      else s.frame[2] = I::unit_or_zero(CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]));
-    }
+    });
     auto chart = get(CGAL::dynamic_face_property_t<int>(), om);
-    compute_chart_ids(om, original.uv_map(), chart);
+    charts_ = compute_chart_ids(om, original.uv_map(), chart);
     for (auto f : om.faces()) source_[std::size_t(f)].chart = std::uint32_t(get(chart, f) + 1);
     const auto bb = CGAL::Polygon_mesh_processing::bbox(om);
     diag_ = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
@@ -365,6 +368,8 @@ public:
   }
 
   bool prepared() const { return finder_ != nullptr; }
+  /// Number of charts of the original layout.
+  std::size_t charts() const { return charts_; }
 
 private:
   friend Atlas_result rebuild_atlas(const Atlas_source&, Textured_mesh&, const Atlas_options&);
@@ -381,6 +386,7 @@ private:
   int W_ = 0, H_ = 0, colour_channels_ = 3;
   bool any_normal_ = false;
   double diag_ = 0;
+  std::size_t charts_ = 0;
   std::vector<Source> source_;
   Index_texture region_;
   std::unique_ptr<internal::Facing_closest_point> finder_;

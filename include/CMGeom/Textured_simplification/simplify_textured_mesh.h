@@ -160,17 +160,13 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   Textured_simplification_result res;
   res.charts_kept = false;
   res.faces_in = mesh.number_of_faces();
-  {
-    std::vector<std::array<UV2, 3>> tris;
-    std::vector<int> ids;
-    res.charts_in = internal::uv_layout(tm, tris, ids);
-  }
   Atlas_options ao = options.atlas;
   if (ao.texture_width <= 0 && options.texture_size > 0) ao.texture_width = ao.texture_height = options.texture_size;
   // what the baking needs from the input, taken before the collapses change it; its tree and
   // chart map are built on another core while the collapses run
   const auto t_source = std::chrono::steady_clock::now();
   Atlas_source source(tm, ao);
+  res.charts_in = source.charts();
   res.seconds_texture = internal::seconds_since(t_source);
   tbb::task_group prepare;
   prepare.run([&source] { source.prepare(); });
