@@ -6,14 +6,14 @@
 # run of the same mesh to the same count, and on one thread against two: DamagedHelmet subdivided
 # three times (subdivide_textured.py: 988,928 faces) simplified to 2 %. Writes
 # benchmark/Textured_simplification/RESULTS-scale.md.
-#   run_textured_scale.sh <build-dir> [--repeat N]     (N runs of each configuration, default 3)
+#   run_textured_scale.sh <build-dir> [--repeat N]     (N runs of each configuration, default 5)
 # Figures: `seconds` of `cmgeom simplify --json` (the simplification call: collapses, and for the
 # textured run the new atlas; file IO excluded) and the whole command's wall time (IO included).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 build="$(cd "${1:?usage: run_textured_scale.sh <build-dir> [--repeat N]}" && pwd)"
 shift
-repeat=3
+repeat=5
 if [ "${1:-}" = "--repeat" ]; then repeat="${2:?--repeat needs a number}"; fi
 data="${CMGEOM_DATA_DIR:-$here/../../../shared/data}"
 input="$data/textured/DamagedHelmet/DamagedHelmet.obj"
