@@ -5,7 +5,8 @@
 # seams, image RMSE over 26 views); RESULTS-peers.md (run_textured_peers.sh: the default textured
 # simplification, new atlas, against meshoptimizer 0.18 and 1.3.0 at equal face counts) and
 # RESULTS-scale.md (run_textured_scale.sh: a 989k-face textured mesh, time against geometry only
-# and one thread against two).
+# and one thread against two) and RESULTS-policy.md (run_policy_comparison.sh: weighted against plain
+# quadrics on the textured models).
 #   bash benchmark/Textured_simplification/run.sh <build-dir> [--quick]   (called by benchmark/run.sh)
 set -euo pipefail
 build=${1:?usage: run.sh <build-dir> [--quick]}
@@ -20,4 +21,5 @@ else
   sh "$here/run_textured_bench.sh" "$build"
   bash "$here/run_textured_peers.sh" "$build"
   bash "$here/run_textured_scale.sh" "$build"
+  bash "$here/run_policy_comparison.sh" "$build"
 fi
