@@ -3,8 +3,8 @@
 //
 // rebuild_atlas(): a new texture atlas for a simplified mesh, baked from the original. This is
 // what lets the textured simplification reach any face count: charts of the input no longer
-// constrain the collapses (manual: Textured_simplification, "Rebuilt atlas"; it extends the
-// thesis, whose charts never merge, §3.5 and §3.7).
+// constrain the collapses (manual: Textured_simplification, "Any target: a new atlas"; it extends
+// the thesis, whose charts never merge, §3.5 and §3.7).
 //   1. Charts: grown over the simplified surface as topological disks whose normals stay within
 //      a cone (`chart_cone_degrees`), each parameterised by LSCM (CGAL Surface_mesh_
 //      parameterization) and checked one to one (no folded triangle, simple boundary); a chart
@@ -16,8 +16,11 @@
 //      the simplified face (normals less than 90° apart; CGAL AABB tree with its own traversal),
 //      so that on a thin part the nearer opposite side is not taken; a texel with no such face
 //      within 10 % of the bounding-box diagonal takes the nearest point. The colour is read there
-//      (bilinear, UVs repeating) — or the material's colour for an untextured material — and the
-//      gutters are dilated ring by ring (as generate_texture does).
+//      (sample_original: bilinear, UVs repeating, taps kept within the original face's chart so
+//      that the input's gutters never bleed in) — or the material's colour for an untextured
+//      material — and the gutters are dilated ring by ring (as generate_texture does). The
+//      original's tree and chart map live in an Atlas_source, which can be prepared while the
+//      collapses run.
 //   Tangent-space normal maps are carried through object space: the original's normal (its
 //   per-face tangent frame from the UV gradients, orthonormalised) is re-expressed in the new
 //   face's frame, so a renderer using per-face frames sees the same normals.
