@@ -29,12 +29,13 @@ int main(int argc, char** argv) {
   }
   const std::size_t target = std::size_t(ratio * double(input.mesh().number_of_faces()));
 
-  // 1. Chart-constrained simplification with texture resampling (the defaults: weighted quadric,
+  // 1. Chart-constrained simplification with texture resampling (the thesis' method: weighted quadric,
   //    bijectivity test, chart boundaries simplified within their charts' UV regions).
   CMGeom::Textured_mesh simplified = input;
   TS::Textured_simplification_options options;
   options.target_faces = target;
   options.keep_charts = true;  // the thesis' method; the default instead bakes a new atlas (rebuild_atlas.h)
+  options.quadric.weighted = true;  // and its weighted quadrics (§3.4.2; the default is plain)
   TS::Textured_simplification_result r;
   try {
     r = TS::simplify_textured_mesh(simplified, options);

@@ -300,7 +300,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       const double t0 = cmgeom_cli::now_seconds();
       CM::Compact_model model;
       if (textured) {
-        CMGeom::Textured_simplification::Textured_simplification_options to;
+        CMGeom::Textured_simplification::Textured_simplification_options to = CM::textured_base_options();
         to.texture_size = b->texture_size;
         model = b->cubic ? CM::build_textured_compact_model(tm, target, opt, CM::Cubic_surface_traits(), &tr, &st, to)
                          : CM::build_textured_compact_model(tm, target, opt, CM::Quadric_surface_traits(), &tr, &st, to);

@@ -76,8 +76,18 @@ struct Textured_quadric_simplifier {
   }
 };
 
+/// The simplification options of a textured CM base: the weighted quadrics of §3.4.2 (as
+/// Weighted_quadric_simplifier, the geometry-only base's simplifier), charts kept.
+inline CMGeom::Textured_simplification::Textured_simplification_options textured_base_options() {
+  CMGeom::Textured_simplification::Textured_simplification_options o;
+  o.quadric.weighted = true;
+  o.keep_charts = true;
+  return o;
+}
+
 /// The Compact Model of a textured mesh (see the file comment): `input` must have uvs
-/// (Invalid_input otherwise) and at most one texture atlas. `texture_options` tunes the
+/// (Invalid_input otherwise) and at most one texture atlas. `texture_options` (default:
+/// textured_base_options(), the weighted quadrics of §3.4.2 as the geometry-only CM base uses) tunes the
 /// simplification's texture work (texture size, threads, ...; its target and placement are set
 /// here). The returned model's `texture` is the input material's texture path when the atlas was
 /// not regenerated, empty otherwise (the caller names the file it writes `result->texture` to).
@@ -86,7 +96,7 @@ Compact_model build_textured_compact_model(
     const Textured_mesh& input, std::size_t target_faces, const Build_options& opt = Build_options(),
     const Traits& traits = Traits(), Textured_build_result* result = nullptr, Build_statistics* stats = nullptr,
     const CMGeom::Textured_simplification::Textured_simplification_options& texture_options =
-        CMGeom::Textured_simplification::Textured_simplification_options()) {
+        textured_base_options()) {
   if (!input.has_uvs())
     throw Invalid_input("build_textured_compact_model: '" + input.source() + "' has no texture coordinates");
   Textured_build_result local;
