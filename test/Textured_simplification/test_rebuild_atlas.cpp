@@ -411,6 +411,10 @@ TEST(RebuiltAtlas, FlipsOnTexturedInputKeepAValidAtlas) {
   o.flips = true;
   CMGeom::Textured_mesh tm = base;
   EXPECT_THROW(TS::simplify_textured_mesh(tm, o), CMGeom::Invalid_input);
+  // no texture to bake: the charts are kept, and flips are refused rather than dropped
+  o.keep_charts = false;
+  o.resample_textures = false;
+  EXPECT_THROW(TS::simplify_textured_mesh(tm, o), CMGeom::Invalid_input);
 }
 
 TEST(RebuiltAtlas, ATetrahedronStopsWithNoCollapseLeft) {

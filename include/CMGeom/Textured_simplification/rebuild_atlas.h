@@ -30,6 +30,7 @@
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_REBUILD_ATLAS_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_REBUILD_ATLAS_H
 
+#include <CMGeom/Compact_model/internal/Vec3.h>
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/Textured_mesh.h>
 #include <CMGeom/Mesh_IO/charts.h>
@@ -100,38 +101,6 @@ inline std::array<Vector_3, 3> tangent_frame(const std::array<Point_3, 3>& p, co
   return {{T, hand * CGAL::cross_product(n, T), n}};
 }
 
-/// Closest point to `p` on triangle (a, b, c) (the Voronoi-region walk of Ericson, "Real-Time
-/// Collision Detection", §5.1.5), in plain doubles.
-inline std::array<double, 3> closest_on_triangle(const double* p, const double* a, const double* b, const double* c) {
-  auto sub = [](const double* x, const double* y) { return std::array<double, 3>{{x[0] - y[0], x[1] - y[1], x[2] - y[2]}}; };
-  auto dot = [](const std::array<double, 3>& x, const std::array<double, 3>& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
-  auto at = [&](double s, double t) {
-    return std::array<double, 3>{{a[0] + s * (b[0] - a[0]) + t * (c[0] - a[0]), a[1] + s * (b[1] - a[1]) + t * (c[1] - a[1]),
-                                  a[2] + s * (b[2] - a[2]) + t * (c[2] - a[2])}};
-  };
-  const auto ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
-  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return at(0, 0);
-  const auto bp = sub(p, b);
-  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return at(1, 0);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return at(d1 / (d1 - d3), 0);
-  const auto cp = sub(p, c);
-  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return at(0, 1);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return at(0, d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return at(1 - w, w);
-  }
-  const double den = va + vb + vc;
-  if (!(den > 0)) return at(0, 0);
-  return at(vb / den, vc / den);
-}
-
 /// The original surface as an AABB tree (CGAL) of plain-double triangles, with the query the
 /// baking needs: the closest point among the faces whose normal makes an angle below 90° with a
 /// given direction (the simplified face's normal), within a given distance.
@@ -160,12 +129,12 @@ public:
   /// faces of any orientation.
   void test(std::size_t f, const double* p, const Vector_3& n, Hit& best) const {
     if (!usable_[f] || (normals_[f] * n <= 0 && n != CGAL::NULL_VECTOR)) return;
+    using CM::internal::Vec3;
     const auto& t = tris_[f];
-    const double a[3] = {t[0].x(), t[0].y(), t[0].z()}, b[3] = {t[1].x(), t[1].y(), t[1].z()},
-                 c[3] = {t[2].x(), t[2].y(), t[2].z()};
-    const auto q = closest_on_triangle(p, a, b, c);
-    const double d = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
-    if (d < best.squared_distance) best = {f, q, d};
+    auto v = [](const SC::Point_3& x) { return Vec3(x.x(), x.y(), x.z()); };
+    const Vec3 q = CM::internal::closest_on_triangle(Vec3(p[0], p[1], p[2]), v(t[0]), v(t[1]), v(t[2]));
+    const double d = CM::internal::squared_length(q - Vec3(p[0], p[1], p[2]));
+    if (d < best.squared_distance) best = {f, {{q.x, q.y, q.z}}, d};
   }
 
   /// The closest facing point nearer than sqrt(best.squared_distance) (best is kept if none).

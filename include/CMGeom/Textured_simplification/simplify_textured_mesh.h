@@ -63,7 +63,7 @@ struct Textured_simplification_options {
   /// after the collapses, so flips need no UV rules); refused with keep_charts (Invalid_input).
   bool flips = false;
   /// The new atlas when the charts are not kept (texture size 0: options' `texture_size`, else
-  /// the input texture's size).
+  /// the input's texel density, see Atlas_options).
   Atlas_options atlas;
   /// Cost and placement: plain Garland-Heckbert quadrics by default (measured on the textured
   /// models: lower image, Hausdorff and RMS error than the weighted quadrics of §3.4.2; manual,
@@ -151,7 +151,8 @@ Textured_simplification_result simplify_textured_mesh(Textured_mesh& tm, const T
 
 namespace internal {
 
-/// The default path: collapses free of the charts, then a new atlas baked from a copy of the input.
+/// The default path: collapses free of the charts, then a new atlas baked from the input (an
+/// Atlas_source taken before the collapses).
 template <class Visitor>
 Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_simplification_options& options,
                                             Visitor visitor) {
@@ -235,6 +236,9 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm, co
   }
   const bool resample = options.resample_textures && textured != nullptr;
   if (!options.keep_charts && resample) return rebuild_path(tm, options, visitor);
+  if (options.flips)  // the chart-keeping path below has no flips: never drop them silently
+    throw Invalid_input("simplify_textured_mesh: edge flips need a new atlas, which needs a decoded texture and "
+                        "resample_textures");
 
   std::vector<std::array<UV2, 3>> tris;
   std::vector<int> chart_ids;

@@ -41,6 +41,30 @@ inline Vec3 normalized(const Vec3& a) {
   return l > 0. ? a * (1. / l) : a;
 }
 
+// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5); used by the
+// Compact_model fits and by Textured_simplification's atlas baking.
+inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double sum = va + vb + vc;
+  if (!(sum > 0.)) return a;  // a degenerate triangle: every region test failed
+  const double den = 1. / sum;
+  return a + (vb * den) * ab + (vc * den) * ac;
+}
+
 }  // namespace internal
 }  // namespace CM
 }  // namespace CMGeom
