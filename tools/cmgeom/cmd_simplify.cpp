@@ -1,9 +1,10 @@
 // cmgeom simplify <in> -o <out> (--faces N | --ratio r) [--policy weighted|plain]
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
-//                 [--no-texture] [--keep-charts] [--freeze-seams] [--no-repair]
+//                 [--no-texture] [--keep-charts] [--freeze-seams] [--no-repair] [--memoryless]
 // Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
-// CMGeom's engine or CGAL's. A textured input (UVs and a texture image) is written as
+// CMGeom's engine or CGAL's; on CMGeom's engine the quadric cost is completed by the memoryful
+// term of Surface_memory.h (the input's points kept on the faces) unless --memoryless. A textured input (UVs and a texture image) is written as
 // OBJ + MTL + PNG: by default its collapses ignore the charts (any target is reached) and a new
 // atlas is baked from the input (rebuild_atlas.h); with --keep-charts it goes through the
 // texture part of chapter 3 (chart constraints §3.5, index texture §3.3/§3.6), which stops where
@@ -24,6 +25,7 @@
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include <cctype>
+#include <optional>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -62,7 +64,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     std::size_t faces = 0;
     double ratio = 0;
     int texture_size = 0;
-    bool flips = false, json = false, repair = false, no_repair = false, no_texture = false, freeze_seams = false;
+    bool flips = false, json = false, repair = false, no_repair = false, no_texture = false, freeze_seams = false,
+         memoryless = false;
     bool keep_charts = false;
   };
   auto o = std::make_shared<Options>();
@@ -93,6 +96,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
                                "Texels per UV unit of the index and output textures (default: the input texture's size)");
   app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
   app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input (UVs dropped)");
+  app.add_flag("--memoryless", o->memoryless,
+               "Quadric cost alone: no memoryful term (the input's points kept on the faces, Surface_memory.h)");
   app.add_flag("--keep-charts", o->keep_charts,
                "Textured input: keep the input's charts (thesis 3.5; stops where no collapse keeps them) instead of "
                "baking a new atlas");
@@ -183,6 +188,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       to.constraints.freeze_chart_boundaries = o->freeze_seams;
       to.keep_charts = o->keep_charts;
       to.flips = o->flips;
+      to.surface_memory = !o->memoryless;
       Progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
       const double t0 = cmgeom_cli::now_seconds();
 #ifdef CMGEOM_HAS_OSMESA
@@ -212,6 +218,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         j["textured"] = true;
         j["charts"] = r.charts_kept ? "kept" : "rebuilt";
         j["flips"] = o->flips;
+        j["surface_memory"] = !o->memoryless && !r.charts_kept;
         if (r.charts_kept) j["texture_backend"] = o->texture_backend;
         j["faces_in"] = r.faces_in;
         j["target_faces"] = target;
@@ -252,10 +259,15 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       TS::Area_weighted_quadric_policies<Mesh> policy(mesh, qo);
       TS::Face_count_stop_predicate<Mesh> stop(mesh, target);
       if (o->engine == "cmgeom") {
+        using VPM = typename boost::property_map<Mesh, CGAL::vertex_point_t>::type;
+        std::optional<TS::Surface_memory<Mesh, VPM>> memory;
+        if (!o->memoryless) memory.emplace(mesh, get(CGAL::vertex_point, mesh));
         TS::edge_collapse(mesh, stop,
-                          CMGeom::parameters::edge_flips(o->flips, CGAL::parameters::get_cost(policy)
-                                                                       .get_placement(policy)
-                                                                       .visitor(Progress_visitor(&state))));
+                          CMGeom::parameters::surface_memory(
+                              memory ? &*memory : nullptr,
+                              CMGeom::parameters::edge_flips(o->flips, CGAL::parameters::get_cost(policy)
+                                                                           .get_placement(policy)
+                                                                           .visitor(Progress_visitor(&state)))));
       } else {
         CGAL::Surface_mesh_simplification::edge_collapse(mesh, stop,
                                                          CGAL::parameters::get_cost(policy)
@@ -284,6 +296,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["policy"] = o->policy;
       j["merge"] = merge_used;
       j["flips"] = o->flips;
+      j["surface_memory"] = !o->memoryless && o->engine == "cmgeom";
       j["faces_in"] = faces_in;
       j["target_faces"] = target;
       j["faces_out"] = faces_out;

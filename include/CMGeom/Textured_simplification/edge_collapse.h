@@ -75,6 +75,7 @@
 
 #include <boost/mpl/has_xxx.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 #include <utility>
@@ -161,7 +162,7 @@ struct has_on_flipped<V, TM, H, std::void_t<decltype(std::declval<V&>().OnFlippe
     : std::true_type {};
 
 template <class TM, class VPM, class GT, class ECM, class GetCost, class GetPlacement, class Filter,
-          class Visitor, class StopPredicate>
+          class Visitor, class StopPredicate, class Memory = std::nullptr_t>
 class Edge_collapse_engine {
   using GTraits = boost::graph_traits<TM>;
   using vertex_descriptor = typename GTraits::vertex_descriptor;
@@ -178,9 +179,9 @@ class Edge_collapse_engine {
 public:
   Edge_collapse_engine(TM& tm, const StopPredicate& stop, const VPM& vpm, const GT& gt, const ECM& ecm,
                        const GetCost& cost, const GetPlacement& placement, const Filter& filter,
-                       Visitor& visitor, bool flips)
+                       Visitor& visitor, bool flips, Memory memory = Memory())
       : tm_(tm), stop_(stop), vpm_(vpm), gt_(gt), ecm_(ecm), get_cost_(cost), get_placement_(placement),
-        filter_(filter), visitor_(visitor), flips_(flips),
+        filter_(filter), visitor_(visitor), flips_(flips), memory_(memory),
         vim_(CGAL::get_initialized_vertex_index_map(tm)), eim_(CGAL::get_initialized_edge_index_map(tm)) {
     if constexpr (fused_cost) fused_ = get_cost_.shares_state_with(get_placement_);
   }
@@ -244,6 +245,9 @@ private:
   void evaluate(edge_descriptor e) {
     const std::uint32_t i = id(e);
     if (flags(i) & (DEAD | CONSTRAINED)) return;
+    if constexpr (has_memory) {
+      if (memory_) memory_cost_[i] = 0.f;  // the edge's surroundings changed (see update_neighbours)
+    }
     requeue(i, cost_of(profile_of(e)));
   }
 
@@ -253,7 +257,12 @@ private:
     f &= ~std::uint32_t(REJECTED);
     if (c) {
       f |= HAS_COST;
-      const double cost = CGAL::to_double(*c);
+      double cost = CGAL::to_double(*c);
+      if constexpr (has_memory) {
+        // the memoryful cost last found for this edge stands in for the current one until the
+        // edge comes up again (see loop())
+        if (memory_ && memory_->active()) cost = (std::max)(cost, double(memory_cost_[i]));
+      }
       if (!heap_.contains(i) || cost != heap_.key(i)) heap_.set(i, cost);
     } else {
       f &= ~std::uint32_t(HAS_COST);
@@ -273,6 +282,7 @@ private:
     mark_.assign(max_v, 0u);
     rejected_near_.assign((max_v + 63) / 64, 0u);
     heap_.reset(max_e);
+    if constexpr (has_memory) memory_cost_.assign(memory_ ? max_e : 0, 0.f);
     initial_edges_ = 0;
     for (edge_descriptor e : edges(tm_)) {
       const std::uint32_t i = id(e);
@@ -305,6 +315,25 @@ private:
         visitor_.OnStopConditionReached(p);
         break;
       }
+      Placement pl;
+      bool have_placement = false;
+      if constexpr (has_memory) {
+        if (memory_) {
+          // the memoryful cost (Surface_memory.h) at the policy's placement, before the tests
+          // (an edge it sends back to the queue needs none): if it ranks the edge behind the
+          // next one, the edge goes back with it
+          pl = get_placement_(p);
+          have_placement = true;
+          if (pl) {
+            const double m = memory_->cost(tm_, p.v0_v1(), *pl);
+            memory_cost_[i] = float(m);
+            if (m > heap_.key(i) && !heap_.empty() && m > heap_.key(heap_.top())) {
+              requeue(i, Cost(FT(m)));
+              continue;
+            }
+          }
+        }
+      }
       // the link test walks the stars of v0 and v1: it asks for the neighbours' points on the way,
       // which the fold-over test reads next, and walks the stars of the edge now on top of the
       // queue alongside (most often the next one popped; see is_collapse_topologically_valid)
@@ -327,7 +356,7 @@ private:
         visitor_.OnNonCollapsable(p);
         continue;
       }
-      Placement pl = get_placement_(p);
+      if (!have_placement) pl = get_placement_(p);
       if (!pl) {
         reject(i, p);
         continue;
@@ -413,6 +442,9 @@ private:
     const std::size_t id0 = std::size_t(get(vim_, p.v0())), id1 = std::size_t(get(vim_, p.v1()));
     auto token = before_collapse(p, std::integral_constant<bool, has_update<GetCost>::value &&
                                                               has_before_collapse<GetCost, Profile>::value>());
+    if constexpr (has_memory) {
+      if (memory_) memory_->before_collapse(tm_, p.v0_v1());
+    }
     vertex_descriptor v_kept = has_constraints_ ? CGAL::Euler::collapse_edge(e, tm_, ecm_)
                                                 : CGAL::Euler::collapse_edge(e, tm_);
     {
@@ -420,6 +452,9 @@ private:
       if (rejected_near(kept_v0 ? id1 : id0)) set_rejected_near(kept_v0 ? id0 : id1);
     }
     put(vpm_, v_kept, placement);
+    if constexpr (has_memory) {
+      if (memory_) memory_->after_collapse(tm_, v_kept);
+    }
     visitor_.OnCollapsed(p, v_kept);
     if constexpr (normal_hint) {
       if (star_normal) get_cost_.update_after_collapse(p, v_kept, token, *star_normal);
@@ -460,8 +495,14 @@ private:
         if (c) costs[k] = *c;
         heap_.prefetch_node(ids[k]);
       }
-      for (int k = 0; k < n; ++k)
-        if (!(flags(ids[k]) & (DEAD | CONSTRAINED))) requeue(ids[k], has_cost[k] ? Cost(costs[k]) : Cost());
+      for (int k = 0; k < n; ++k) {
+        if (flags(ids[k]) & (DEAD | CONSTRAINED)) continue;
+        if constexpr (has_memory) {
+          // its surroundings changed: the memoryful cost found before no longer holds
+          if (memory_) memory_cost_[ids[k]] = 0.f;
+        }
+        requeue(ids[k], has_cost[k] ? Cost(costs[k]) : Cost());
+      }
     } else {
       for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) evaluate(edge(h, tm_));
     }
@@ -507,6 +548,9 @@ private:
       if (flags(i) & (DEAD | CONSTRAINED)) continue;
       if (!internal::should_flip(tm_, vpm_, h, get_cost_, vim_, mark_, stamp_)) continue;
       CGAL::Euler::flip_edge(h, tm_);
+      if constexpr (has_memory) {
+        if (memory_) memory_->after_flip(tm_, h);
+      }
       if constexpr (has_on_flipped<Visitor, TM, halfedge_descriptor>::value) visitor_.OnFlipped(tm_, h);
       // the flipped edge has new endpoints; rim edges are re-evaluated for policies whose cost
       // depends on more than the endpoints
@@ -530,6 +574,8 @@ private:
   const Filter& filter_;
   Visitor& visitor_;
   bool flips_;
+  Memory memory_;
+  static constexpr bool has_memory = !std::is_same<Memory, std::nullptr_t>::value;
   static constexpr bool fused_cost = has_fused_cost<GetCost, GetPlacement, Profile>::value;
   static constexpr bool edge_index_is_position = is_surface_mesh<TM>::value;
   using Token_type = decltype(std::declval<const Edge_collapse_engine&>().before_collapse(
@@ -545,6 +591,7 @@ private:
   std::vector<edge_descriptor> edge_of_;
   std::vector<unsigned> mark_;
   std::vector<std::uint64_t> rejected_near_;  // one bit per vertex, see reject()
+  std::vector<float> memory_cost_;            // per edge: its memoryful cost when last popped
   unsigned stamp_ = 0;
   Indexed_heap heap_;
   std::size_t initial_edges_ = 0, current_edges_ = 0;
@@ -600,10 +647,13 @@ int edge_collapse(TriangleMesh& tm, const StopPredicate& should_stop,
   const Filter filter = choose_parameter<Filter>(get_parameter(np, CGAL::internal_np::filter));
   Visitor visitor = choose_parameter<Visitor>(get_parameter(np, CGAL::internal_np::visitor));
   using ECM = std::decay_t<decltype(ecm)>;
+  using Memory = typename CGAL::internal_np::Lookup_named_param_def<CMGeom::internal_np::surface_memory_t,
+                                                                    NamedParameters, std::nullptr_t>::type;
+  const Memory memory = choose_parameter<Memory>(get_parameter(np, CMGeom::internal_np::surface_memory));
   auto run = [&](const auto& cost, const auto& placement) {
     internal::Edge_collapse_engine<TriangleMesh, VPM, GT, ECM, std::decay_t<decltype(cost)>,
-                                   std::decay_t<decltype(placement)>, Filter, Visitor, StopPredicate>
-        engine(tm, should_stop, vpm, gt, ecm, cost, placement, filter, visitor, flips);
+                                   std::decay_t<decltype(placement)>, Filter, Visitor, StopPredicate, Memory>
+        engine(tm, should_stop, vpm, gt, ecm, cost, placement, filter, visitor, flips, memory);
     return engine.run();
   };
 

@@ -14,6 +14,7 @@
 namespace CMGeom {
 namespace internal_np {
 enum edge_flips_t { edge_flips };
+enum surface_memory_t { surface_memory };
 }  // namespace internal_np
 
 namespace parameters {
@@ -27,6 +28,20 @@ CGAL::Named_function_parameters<bool, internal_np::edge_flips_t, CGAL::Named_fun
 edge_flips(bool b, const CGAL::Named_function_parameters<T, Tag, Base>& base) {
   return CGAL::Named_function_parameters<bool, internal_np::edge_flips_t,
                                          CGAL::Named_function_parameters<T, Tag, Base>>(b, base);
+}
+
+/// A `Surface_memory` (Surface_memory.h) that CMGeom's engine consults before each collapse:
+/// its memoryful cost re-orders the collapses and its bound, if any, refuses those that break it
+/// (default: none). The object must outlive the call.
+template <class Memory>
+CGAL::Named_function_parameters<Memory*, internal_np::surface_memory_t> surface_memory(Memory* m) {
+  return CGAL::Named_function_parameters<Memory*, internal_np::surface_memory_t>(m);
+}
+template <class Memory, class T, class Tag, class Base>
+CGAL::Named_function_parameters<Memory*, internal_np::surface_memory_t, CGAL::Named_function_parameters<T, Tag, Base>>
+surface_memory(Memory* m, const CGAL::Named_function_parameters<T, Tag, Base>& base) {
+  return CGAL::Named_function_parameters<Memory*, internal_np::surface_memory_t,
+                                         CGAL::Named_function_parameters<T, Tag, Base>>(m, base);
 }
 
 }  // namespace parameters

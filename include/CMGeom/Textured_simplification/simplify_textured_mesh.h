@@ -36,6 +36,7 @@
 #include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/edge_collapse.h>
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
+#include <CMGeom/Textured_simplification/Surface_memory.h>
 
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
@@ -69,6 +70,9 @@ struct Textured_simplification_options {
   /// models: lower image, Hausdorff and RMS error than the weighted quadrics of §3.4.2; manual,
   /// Textured_simplification, "Which policy"); `quadric.weighted = true` for the thesis' weighting.
   Quadric_options quadric = Quadric_options{false};
+  /// The memoryful cost of Surface_memory.h (the input's vertices stay attached to the faces
+  /// and price the collapses that move them away) when the charts are not kept.
+  bool surface_memory = true;
   Chart_constraint_options constraints;
   /// Rewrite the index texture and generate output textures (when the input has a texture).
   bool resample_textures = true;
@@ -165,27 +169,45 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   if (ao.texture_width <= 0 && options.texture_size > 0) ao.texture_width = ao.texture_height = options.texture_size;
   // what the baking needs from the input, taken before the collapses change it; its tree and
   // chart map are built on another core while the collapses run
+  // the memoryful cost's points are taken from the input on another core meanwhile
+  using VPM = typename boost::property_map<Mesh, CGAL::vertex_point_t>::type;
+  std::optional<Surface_memory<Mesh, VPM>> memory;
+  const bool collapses = options.target_faces < res.faces_in;
+  tbb::task_group take_points;
+  if (collapses && options.surface_memory)
+    take_points.run([&memory, &mesh] { memory.emplace(mesh, get(CGAL::vertex_point, mesh)); });
   const auto t_source = std::chrono::steady_clock::now();
-  Atlas_source source(tm, ao);
+  std::optional<Atlas_source> source_holder;
+  try {
+    source_holder.emplace(tm, ao);
+  } catch (...) {
+    take_points.wait();
+    throw;
+  }
+  take_points.wait();
+  Atlas_source& source = *source_holder;
   res.charts_in = source.charts();
   res.seconds_texture = internal::seconds_since(t_source);
   tbb::task_group prepare;
   prepare.run([&source] { source.prepare(); });
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    if (options.target_faces < res.faces_in) {
+    if (collapses) {
       Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
       Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
+      Surface_memory<Mesh, VPM>* m = memory ? &*memory : nullptr;
       if (options.endpoint_placement)
         edge_collapse(mesh, stop,
-                      CMGeom::parameters::edge_flips(options.flips,
-                                                     CGAL::parameters::get_cost(policy)
-                                                         .get_placement(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy})
-                                                         .visitor(visitor)));
+                      CMGeom::parameters::surface_memory(
+                          m, CMGeom::parameters::edge_flips(
+                                 options.flips, CGAL::parameters::get_cost(policy)
+                                                    .get_placement(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy})
+                                                    .visitor(visitor))));
       else
         edge_collapse(mesh, stop,
-                      CMGeom::parameters::edge_flips(options.flips,
-                                                     CGAL::parameters::get_cost(policy).get_placement(policy).visitor(visitor)));
+                      CMGeom::parameters::surface_memory(
+                          m, CMGeom::parameters::edge_flips(
+                                 options.flips, CGAL::parameters::get_cost(policy).get_placement(policy).visitor(visitor))));
     }
   } catch (...) {
     prepare.wait();  // `source` must outlive the task
