@@ -123,6 +123,14 @@ public:
   /// Number of original points kept.
   std::size_t number_of_points() const { return items_.size(); }
 
+  /// Calls `fn(face, point, area)` for every original point, `face` the face it is attached to
+  /// (a live face of the mesh, or null_face() for none), `point` a CM::internal::Vec3.
+  template <class Fn>
+  void for_each_point(Fn fn) const {
+    for (std::size_t f = 0; f < head_.size(); ++f)
+      for (std::uint32_t i = head_[f]; i != nil; i = items_[i].next) fn(face_descriptor(typename face_descriptor::size_type(f)), items_[i].p, items_[i].area);
+  }
+
   /// Whether cost() prices collapses yet: from the start when the points are the input's vertices,
   /// and on a large input once there are at most 4 faces per point (the earlier collapses are
   /// local and the quadric sees them well; a closed mesh of genus g has 2V + 4g - 4 faces).
