@@ -1,4 +1,6 @@
-// OFF (own reader: errors carry line numbers) and PLY (CGAL's reader) geometry, and their writers.
+// OFF (own reader: errors carry line numbers) and PLY (CGAL's PLY_reader for the header and the
+// numbers; faces and triangle strips, `element tristrips` as MeshLab's samples store them) geometry,
+// and their writers.
 #include "io_internal.h"
 
 #include <CMGeom/Error.h>
@@ -6,12 +8,14 @@
 #include <CGAL/IO/PLY.h>
 
 #include <charconv>
+#include <cstdint>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iostream>
 #include <new>
 #include <sstream>
+#include <tuple>
 
 namespace CMGeom {
 namespace IO {
@@ -182,13 +186,14 @@ void check_ply_header(const std::string& data, const std::string& path) {
       if (tok.size() != 3 || !number(tok[2], n)) throw IO_error(path, line_no, "bad PLY element line");
       element = std::string(tok[1]);
       if (element == "vertex") vertices = n;
-      if (element == "face") faces = n;
+      if (element == "face" || element == "tristrips") faces += n;
       have_element = true;
     } else if (tok[0] == "property") {
       if (!have_element) throw IO_error(path, line_no, "PLY property before any element");
       if (tok.size() == 5 && tok[1] == "list") {
         if (!is_type(tok[2]) || !is_type(tok[3])) throw IO_error(path, line_no, "bad PLY list property type");
-        if (element == "face" && (tok[4] == "vertex_indices" || tok[4] == "vertex_index")) face_list = true;
+        if ((element == "face" || element == "tristrips") && (tok[4] == "vertex_indices" || tok[4] == "vertex_index"))
+          face_list = true;
       } else if (tok.size() == 3 && is_type(tok[1])) {
         if (element == "vertex") {
           vertex_x |= tok[2] == "x";
@@ -207,13 +212,90 @@ void check_ply_header(const std::string& data, const std::string& path) {
   if (!ended) throw IO_error(path, "truncated PLY header (no end_header)");
   if (!have_format) throw IO_error(path, "PLY header without a format line");
   if (!vertex_x || !vertex_y || !vertex_z) throw IO_error(path, "PLY file without vertex x, y, z properties");
-  if (!face_list) throw IO_error(path, "PLY file without a face element with vertex_indices");
+  if (!face_list) throw IO_error(path, "PLY file without a face or tristrips element with vertex_indices");
   // Every vertex takes at least 3 bytes (binary) or 6 characters (ASCII "0 0 0\n"), every face 4.
   const unsigned long long body = data.size() - std::min<std::size_t>(pos, data.size());
   const unsigned long long need = vertices * (binary ? 3ull : 6ull) + faces * 4ull;
   if (vertices > body || faces > body || need > body)
     throw IO_error(path, "header declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
                              " faces, more than the file can hold (truncated or corrupt)");
+}
+
+namespace PLY = CGAL::IO::internal;
+
+// The list `vertex_indices` (or `vertex_index`) of the current item of `el`, whatever its integer
+// type; false if the element has no such list.
+template <class Int>
+bool take_list(PLY::PLY_element& el, const char* tag, std::vector<long long>& out) {
+  if (!el.has_property<std::vector<Int>>(tag)) return false;
+  std::vector<Int> v;
+  el.assign(v, tag);
+  out.assign(v.begin(), v.end());
+  return true;
+}
+bool take_indices(PLY::PLY_element& el, std::vector<long long>& out) {
+  for (const char* tag : {"vertex_indices", "vertex_index"})
+    if (take_list<std::int32_t>(el, tag, out) || take_list<std::uint32_t>(el, tag, out) ||
+        take_list<std::int16_t>(el, tag, out) || take_list<std::uint16_t>(el, tag, out) ||
+        take_list<std::int8_t>(el, tag, out) || take_list<std::uint8_t>(el, tag, out))
+      return true;
+  return false;
+}
+
+// Reads the vertices, faces and triangle strips of a PLY stream (other elements are skipped).
+// A strip is a list of vertex indices where -1 starts a new strip; its k-th triangle is
+// (s[k], s[k+1], s[k+2]), every other one reversed to keep the orientation; triangles with a
+// repeated vertex (the joins of stitched strips) are dropped.
+void read_ply_elements(std::istream& in, const std::string& path, std::vector<Point_3>& points,
+                       std::vector<std::vector<std::size_t>>& polygons) {
+  PLY::PLY_reader reader(false);
+  if (!reader.init(in)) throw IO_error(path, "malformed PLY header");
+  std::vector<long long> idx;
+  for (std::size_t e = 0; e < reader.number_of_elements(); ++e) {
+    PLY::PLY_element& el = reader.element(e);
+    const std::string name = el.name();
+    const bool vertex = name == "vertex" || name == "vertices";
+    const bool face = name == "face" || name == "faces";
+    const bool strips = name == "tristrips";
+    for (std::size_t j = 0; j < el.number_of_items(); ++j) {
+      for (std::size_t k = 0; k < el.number_of_properties(); ++k) {
+        el.property(k)->get(in);
+        if (in.fail())
+          throw IO_error(path, "truncated PLY: element '" + name + "' item " + std::to_string(j) + " of " +
+                                   std::to_string(el.number_of_items()));
+      }
+      if (vertex) {
+        std::tuple<Point_3> v;
+        PLY::process_properties(el, v, CGAL::IO::make_ply_point_reader(CGAL::make_nth_of_tuple_property_map<0>(v)));
+        points.push_back(std::get<0>(v));
+      } else if (face || strips) {
+        if (!take_indices(el, idx)) throw IO_error(path, "PLY element '" + name + "' without an integer vertex_indices list");
+        if (face) {
+          std::vector<std::size_t> poly;
+          for (long long i : idx) {
+            if (i < 0) throw IO_error(path, "face " + std::to_string(polygons.size()) + ": negative vertex index " + std::to_string(i));
+            poly.push_back(std::size_t(i));
+          }
+          polygons.push_back(std::move(poly));
+          continue;
+        }
+        std::size_t start = 0;  // first index of the current strip
+        for (std::size_t k = 0; k < idx.size(); ++k) {
+          if (idx[k] == -1) {
+            start = k + 1;
+            continue;
+          }
+          if (idx[k] < 0)
+            throw IO_error(path, "tristrips item " + std::to_string(j) + ": negative vertex index " + std::to_string(idx[k]));
+          if (k < start + 2) continue;
+          const long long a = idx[k - 2], b = idx[k - 1], c = idx[k];
+          if (a == b || b == c || a == c) continue;
+          if ((k - start) % 2 == 0) polygons.push_back({std::size_t(a), std::size_t(b), std::size_t(c)});
+          else polygons.push_back({std::size_t(b), std::size_t(a), std::size_t(c)});
+        }
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -229,26 +311,14 @@ void read_ply(const std::string& path, Polygon_soup& soup) {
   std::ifstream in(path, std::ios::binary);
   std::vector<Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
-  bool ok = false;
-  // CGAL's reader reports problems on std::cerr: capture them for our one-line error.
-  std::ostringstream cgal_messages;
-  std::streambuf* old = std::cerr.rdbuf(cgal_messages.rdbuf());
   try {
-    ok = CGAL::IO::read_PLY(in, points, polygons);
+    read_ply_elements(in, path, points, polygons);
   } catch (const std::bad_alloc&) {
-    std::cerr.rdbuf(old);
     throw IO_error(path, "header declares more elements than can be allocated (corrupt file)");
+  } catch (const IO_error&) {
+    throw;
   } catch (const std::exception& e) {
-    std::cerr.rdbuf(old);
     throw IO_error(path, std::string("malformed PLY: ") + e.what());
-  }
-  std::cerr.rdbuf(old);
-  if (!ok) {
-    std::string why = cgal_messages.str();
-    while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
-    const std::size_t last = why.rfind('\n');
-    if (last != std::string::npos) why = why.substr(last + 1);
-    throw IO_error(path, "malformed or truncated PLY" + (why.empty() ? std::string() : " (" + why + ")"));
   }
   if (polygons.empty()) throw IO_error(path, "no faces in file");
   soup.positions.reserve(points.size());
