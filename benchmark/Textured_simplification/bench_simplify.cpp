@@ -39,6 +39,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <ctime>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -217,7 +218,7 @@ void measure(const Model& in, const Mesh& out, std::size_t n_samples, Row& r) {
 double g_min_weight = 0;
 
 Mesh run_cmgeom(const Mesh& in, std::size_t target, bool weighted, bool flips, double& secs,
-                TS::Quadric_merge merge = TS::Quadric_merge::weighted_average) {
+                TS::Quadric_merge merge = TS::Quadric_merge::weighted_average, bool memoryful = false) {
   Mesh m = in;
   const double t0 = cpu_seconds();
   TS::Quadric_options o;
@@ -225,8 +226,13 @@ Mesh run_cmgeom(const Mesh& in, std::size_t target, bool weighted, bool flips, d
   o.merge = merge;
   if (g_min_weight > 0) o.min_weight = g_min_weight;
   TS::Area_weighted_quadric_policies<Mesh> policy(m, o);
+  using VPM = boost::property_map<Mesh, CGAL::vertex_point_t>::type;
+  std::optional<TS::Surface_memory<Mesh, VPM>> memory;
+  if (memoryful) memory.emplace(m, get(CGAL::vertex_point, m));
   TS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target),
-                    CMGeom::parameters::edge_flips(flips, CGAL::parameters::get_cost(policy).get_placement(policy)));
+                    CMGeom::parameters::surface_memory(
+                        memory ? &*memory : nullptr,
+                        CMGeom::parameters::edge_flips(flips, CGAL::parameters::get_cost(policy).get_placement(policy))));
   secs = cpu_seconds() - t0;
   m.collect_garbage();
   return m;
@@ -299,15 +305,18 @@ Mesh run_openmesh(const Soup& s, std::size_t target, double& secs) {
   return from_indices(o, o.tris.data(), o.tris.size());
 }
 
-// The tools by name (the default list and "cmgeom-plain-flips").
-const char* const all_tools[] = {"cmgeom-weighted",      "cmgeom-weighted-sum",  "cmgeom-plain",
+// The tools by name (the default list and "cmgeom-plain-flips"). cmgeom-default is what
+// `cmgeom simplify` does without options: plain quadrics and the memoryful cost (Surface_memory.h).
+const char* const all_tools[] = {"cmgeom-default",       "cmgeom-weighted",      "cmgeom-weighted-sum",  "cmgeom-plain",
                                  "cmgeom-weighted-flips", "cmgeom-plain-flips",   "cgal-engine-weighted",
                                  "cgal-engine-plain",     "cgal-gh",              "cgal-lt",
                                  "meshopt",               "openmesh"};
 
 /// Runs `tool` once on `md` down to `target` faces; false if the name is not one of all_tools.
 bool run_tool(const std::string& tool, const Model& md, std::size_t target, Mesh& out, double& secs) {
-  if (tool == "cmgeom-weighted") out = run_cmgeom(md.mesh, target, true, false, secs);
+  if (tool == "cmgeom-default")
+    out = run_cmgeom(md.mesh, target, false, false, secs, TS::Quadric_merge::weighted_average, true);
+  else if (tool == "cmgeom-weighted") out = run_cmgeom(md.mesh, target, true, false, secs);
   else if (tool == "cmgeom-plain") out = run_cmgeom(md.mesh, target, false, false, secs);
   else if (tool == "cmgeom-weighted-flips") out = run_cmgeom(md.mesh, target, true, true, secs);
   else if (tool == "cmgeom-weighted-sum") out = run_cmgeom(md.mesh, target, true, false, secs, TS::Quadric_merge::sum);
@@ -357,7 +366,7 @@ int main(int argc, char** argv) {
   std::string data = CMGEOM_BENCH_DATA_DIR, tmp = "/tmp/cmgeom-bench-simplify", out_file;
   std::vector<std::string> models = {"bunny", "armadillo", "igea", "nefertiti", "max-planck", "igea-sub"};
   std::vector<double> ratios = {0.1, 0.01};
-  std::vector<std::string> tools = {"cmgeom-weighted",      "cmgeom-weighted-sum", "cmgeom-plain",
+  std::vector<std::string> tools = {"cmgeom-default", "cmgeom-weighted", "cmgeom-weighted-sum", "cmgeom-plain",
                                     "cmgeom-weighted-flips", "cgal-engine-weighted", "cgal-engine-plain",
                                     "cgal-gh",              "cgal-lt",             "meshopt",
                                     "openmesh"};

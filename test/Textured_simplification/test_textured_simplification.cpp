@@ -1084,12 +1084,51 @@ TEST(TexturedSimplificationEngine, FoldOverTestAppliesToThePlacementTheFilterRet
   EXPECT_EQ(flipped, 0u) << "faces folded over";
 }
 
-TEST(TexturedSimplificationEngine, MaxCostStopsEarly) {
-  Mesh m = make_sphere_with_horn(0.0, 30, 30);
-  const std::size_t before = live_faces(m);
-  TS::edge_collapse(m, TS::Max_cost_stop_predicate(0.0));
-  // a sphere has no zero-cost collapse: nothing happens
-  EXPECT_EQ(live_faces(m), before);
+// Records the cost of every collapsed edge and the cost at which the stop predicate fired.
+struct Cost_recorder : TS::Edge_collapse_visitor_base {
+  struct State {
+    double last = -1, stop_cost = -1;
+    std::vector<double> collapsed;
+  };
+  State* s;
+  explicit Cost_recorder(State* st) : s(st) {}
+  template <class Profile, class OFT, class S>
+  void OnSelected(const Profile&, const OFT& cost, S, S) const { s->last = cost ? CGAL::to_double(*cost) : -1; }
+  template <class Profile, class OP>
+  void OnCollapsing(const Profile&, const OP&) const { s->collapsed.push_back(s->last); }
+  template <class Profile>
+  void OnStopConditionReached(const Profile&) const { s->stop_cost = s->last; }
+};
+
+TEST(TexturedSimplificationEngine, MaxCostStopsAtTheFirstEdgeAboveTheThreshold) {
+  // A reference run without the predicate gives the sequence of collapse costs (the engine is
+  // deterministic); the threshold is the 100th of them. The run with Max_cost_stop_predicate must
+  // then make exactly the collapses of the sequence up to the first cost above the threshold, each
+  // at most the threshold, and stop on a cost above it.
+  const Mesh base = make_sphere_with_horn(0.0, 30, 30);
+  Cost_recorder::State ref;
+  {
+    Mesh m = base;
+    TS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, live_faces(base) / 4),
+                      CGAL::parameters::visitor(Cost_recorder(&ref)));
+  }
+  ASSERT_GT(ref.collapsed.size(), 200u);
+  const double threshold = ref.collapsed[99];
+  std::size_t expected = 0;
+  while (expected < ref.collapsed.size() && ref.collapsed[expected] <= threshold) ++expected;
+  ASSERT_GE(expected, 100u);
+  ASSERT_LT(expected, ref.collapsed.size()) << "the threshold must stop the run before the reference's end";
+  Cost_recorder::State run;
+  Mesh m = base;
+  TS::edge_collapse(m, TS::Max_cost_stop_predicate(threshold), CGAL::parameters::visitor(Cost_recorder(&run)));
+  EXPECT_EQ(run.collapsed.size(), expected);
+  for (double c : run.collapsed) EXPECT_LE(c, threshold);
+  EXPECT_GT(run.stop_cost, threshold);
+  EXPECT_EQ(live_faces(m), live_faces(base) - 2 * expected);  // a closed mesh: two faces per collapse
+  // and the other side: a threshold below every cost (the sphere has no zero-cost collapse) stops at once
+  Mesh untouched = base;
+  TS::edge_collapse(untouched, TS::Max_cost_stop_predicate(0.0));
+  EXPECT_EQ(live_faces(untouched), live_faces(base));
 }
 
 // ------------------------------------------------------------------------- command line

@@ -1,0 +1,593 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// internal::Edge_collapse_engine, the engine behind CMGeom::Textured_simplification::edge_collapse
+// (edge_collapse.h): an edge-collapse engine for the policy concepts
+// of CGAL's Surface_mesh_simplification (GetCost, GetPlacement, PlacementFilter, StopPredicate,
+// EdgeCollapseSimplificationVisitor, and the Update_tag hook of cost policies), built for speed.
+// It drives the weighted quadric simplification of thesis §3.4 and the edge flips of §3.5.1.
+//
+// Sequence per popped edge (same order and visitor calls as CGAL 5.5.1's engine):
+//   OnSelected -> stop predicate (OnStopConditionReached) -> [with a Surface_memory: its cost at
+//   the placement; higher than the next edge's key: back to the queue with it] -> link condition
+//   (OnNonCollapsable)
+//   -> placement (absent: skipped silently) -> fold-over test -> filter (OnNonCollapsable)
+//   -> [filter moved the placement: fold-over test again, re-cost, maybe back to the queue]
+//   -> OnCollapsing -> Euler::collapse_edge -> put(vpm) -> OnCollapsed
+//   -> cost.update_after_collapse (Update_tag) -> neighbour costs -> optional flips.
+// Differences from CGAL's engine, all deliberate:
+//   * Zero-length edges are not collapsed during set-up; their cost is minimal anyway, so they go
+//     first through the normal path (and therefore do get OnCollapsing).
+//   * The fold-over test rejects a collapse when a surviving star triangle flips or loses its
+//     area (CGAL's bounds dihedral angles between link triangles instead).
+//   * Cost updates: a cost policy declaring `Cost_depends_on_endpoints_only = CGAL::Tag_true`
+//     (the quadric policies do) only gets the edges around the kept vertex re-evaluated; edges one
+//     ring farther, whose cost is unchanged, are only put back in the queue if a previous
+//     topological/geometric rejection had taken them out. Other policies get CGAL's treatment
+//     (every edge around every neighbour of the kept vertex is re-evaluated).
+//   * A filter may move the placement (CGAL 5.5.1's engine ignores the filter's placement and
+//     only uses it as a veto). When it does (the chart constraints' half-edge collapses onto a
+//     chart boundary), the fold-over test runs again at the new placement (test
+//     FoldOverTestAppliesToThePlacementTheFilterReturns), and since the queue held the cost at
+//     the policy's placement, the edge is re-costed: if the new cost exceeds the next edge's key,
+//     the edge goes back to the queue with it instead of being collapsed. Collapses thus follow
+//     the cost at the placement actually used (test
+//     CollapsesInOrderOfTheCostAtTheFilteredPlacement). Filters that never move the placement
+//     (Identity_filter: skipped at compile time) change nothing.
+//   * The profile is CMGeom's light Collapse_profile (no triangles()/link()).
+//   * A cost policy whose update_after_collapse also takes a normal (the quadric policies) gets
+//     the kept vertex's area-weighted normal from the fold-over test, which forms the cross
+//     products of exactly the triangles of the kept vertex's new star (unless the filter moved
+//     the placement: then the policy computes it itself).
+//   * A cost policy with `cost_at_own_placement(profile)` and `shares_state_with(placement)` (the
+//     quadric policies) is asked for the cost at its own placement in one call when the cost and
+//     placement objects share their state (same value as cost(profile, placement(profile)), the
+//     edge quadric formed once instead of twice).
+//
+// Data layout: one 16-byte record per edge, indexed by the edge index map: the heap slot (exact
+// cost, heap position) with the edge's flags beside it, so an evaluation touches one cache line
+// for its bookkeeping; per vertex, one bit "an edge around it may have been rejected" (so
+// re-queueing rejected edges costs nothing where there are none; a bit array stays in cache) and
+// a mark array used by the link condition only for degrees above 64. Everything is allocated
+// once at set-up; the collapse loop allocates nothing.
+// The queue is an indexed 8-ary heap updated in place (no stale entries, no lazy deletion).
+// After a collapse the edges around the kept vertex are re-evaluated in three passes — prefetch
+// of their records and of the policy's data of the neighbours (`prefetch(v)` when the cost policy
+// has it), costs, then queue updates in circulation order — so that their cache misses overlap;
+// the results are those of evaluating the edges one by one (costs do not depend on the queue).
+//
+// Complexity: O(E log E) for set-up, O(d log E) per collapse (d = vertex degree), O(1) stop tests
+// with the predicates of Stop_predicates.h.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_EDGE_COLLAPSE_ENGINE_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_EDGE_COLLAPSE_ENGINE_H
+
+#include <CMGeom/config.h>
+#include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
+#include <CMGeom/Textured_simplification/Collapse_profile.h>
+#include <CMGeom/Textured_simplification/No_normal_flip_filter.h>
+#include <CMGeom/Textured_simplification/internal/Indexed_heap.h>
+#include <CMGeom/Textured_simplification/internal/collapse_checks.h>
+#include <CMGeom/Textured_simplification/internal/edge_flip.h>
+#include <CMGeom/Textured_simplification/Edge_collapse_visitor_base.h>
+
+#include <CGAL/Named_function_parameters.h>
+#include <CGAL/Surface_mesh/Surface_mesh_fwd.h>
+#include <CGAL/boost/graph/Euler_operations.h>
+#include <CGAL/boost/graph/named_params_helper.h>
+#include <CGAL/property_map.h>
+
+#include <boost/mpl/has_xxx.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace CMGeom {
+namespace Textured_simplification {
+
+namespace internal {
+
+BOOST_MPL_HAS_XXX_TRAIT_DEF(Update_tag)
+BOOST_MPL_HAS_XXX_TRAIT_DEF(Cost_depends_on_endpoints_only)
+
+template <class C, bool = has_Update_tag<C>::value>
+struct has_update : std::false_type {};
+template <class C>
+struct has_update<C, true> : std::integral_constant<bool, C::Update_tag::value> {};
+
+// Policies that must read the endpoints' data before the collapse frees a vertex provide
+// before_collapse(profile) -> token and update_after_collapse(profile, v_kept, token).
+template <class C, class P, class = void>
+struct has_before_collapse : std::false_type {};
+template <class C, class P>
+struct has_before_collapse<C, P, std::void_t<decltype(std::declval<const C&>().before_collapse(std::declval<const P&>()))>>
+    : std::true_type {};
+
+template <class C, bool = has_Cost_depends_on_endpoints_only<C>::value>
+struct endpoint_cost : std::false_type {};
+template <class C>
+struct endpoint_cost<C, true> : std::integral_constant<bool, C::Cost_depends_on_endpoints_only::value> {};
+
+// A cost policy that can also compute its own placement's cost in one pass (see
+// Area_weighted_quadric_policies::cost_at_own_placement).
+template <class C, class P, class Profile, class = void>
+struct has_fused_cost : std::false_type {};
+template <class C, class P, class Profile>
+struct has_fused_cost<
+    C, P, Profile,
+    std::void_t<decltype(std::declval<const C&>().cost_at_own_placement(std::declval<const Profile&>())),
+                decltype(std::declval<const C&>().shares_state_with(std::declval<const P&>()))>>
+    : std::true_type {};
+
+template <class TM>
+struct is_surface_mesh : std::false_type {};
+template <class P>
+struct is_surface_mesh<CGAL::Surface_mesh<P>> : std::true_type {};
+
+// A cost policy whose update_after_collapse can take the kept vertex's star normal, which the
+// engine's fold-over test computes anyway (see Area_weighted_quadric_policies).
+template <class C, class P, class V, class T, class = void>
+struct has_normal_hint : std::false_type {};
+template <class C, class P, class V, class T>
+struct has_normal_hint<C, P, V, T,
+                       std::void_t<decltype(std::declval<const C&>().update_after_collapse(
+                           std::declval<const P&>(), std::declval<V>(), std::declval<const T&>(),
+                           std::declval<const Vec3&>()))>> : std::true_type {};
+
+// A cost policy with a prefetch(vertex) hint (see Area_weighted_quadric_policies::prefetch).
+template <class C, class V, class = void>
+struct has_prefetch : std::false_type {};
+template <class C, class V>
+struct has_prefetch<C, V, std::void_t<decltype(std::declval<const C&>().prefetch(std::declval<V>()))>>
+    : std::true_type {};
+
+template <class V, class TM, class H, class = void>
+struct has_on_flipped : std::false_type {};
+template <class V, class TM, class H>
+struct has_on_flipped<V, TM, H, std::void_t<decltype(std::declval<V&>().OnFlipped(std::declval<const TM&>(), std::declval<H>()))>>
+    : std::true_type {};
+
+template <class TM, class VPM, class GT, class ECM, class GetCost, class GetPlacement, class Filter,
+          class Visitor, class StopPredicate, class Memory = std::nullptr_t>
+class Edge_collapse_engine {
+  using GTraits = boost::graph_traits<TM>;
+  using vertex_descriptor = typename GTraits::vertex_descriptor;
+  using halfedge_descriptor = typename GTraits::halfedge_descriptor;
+  using edge_descriptor = typename GTraits::edge_descriptor;
+  using Profile = Collapse_profile<TM, VPM, GT>;
+  using FT = typename GT::FT;
+  using Point = typename boost::property_traits<VPM>::value_type;
+  using Cost = CMGeom::internal::optional<FT>;
+  using Placement = CMGeom::internal::optional<Point>;
+
+  enum : std::uint8_t { HAS_COST = 1, DEAD = 2, CONSTRAINED = 4, REJECTED = 8 };
+
+public:
+  Edge_collapse_engine(TM& tm, const StopPredicate& stop, const VPM& vpm, const GT& gt, const ECM& ecm,
+                       const GetCost& cost, const GetPlacement& placement, const Filter& filter,
+                       Visitor& visitor, bool flips, Memory memory = Memory())
+      : tm_(tm), stop_(stop), vpm_(vpm), gt_(gt), ecm_(ecm), get_cost_(cost), get_placement_(placement),
+        filter_(filter), visitor_(visitor), flips_(flips), memory_(memory),
+        vim_(CGAL::get_initialized_vertex_index_map(tm)), eim_(CGAL::get_initialized_edge_index_map(tm)) {
+    if constexpr (fused_cost) fused_ = get_cost_.shares_state_with(get_placement_);
+  }
+
+  int run() {
+    visitor_.OnStarted(tm_);
+    initialize_cost(std::integral_constant<bool, has_update<GetCost>::value>());
+    collect();
+    loop();
+    visitor_.OnFinished(tm_);
+    return static_cast<int>(initial_edges_ - current_edges_);
+  }
+
+private:
+  template <class B> void initialize_cost(B) {}
+  void initialize_cost(std::true_type) { get_cost_.initialize(tm_, vpm_, gt_); }
+  void after_collapse(const Profile&, vertex_descriptor, std::false_type) {}
+  struct No_token {};
+  No_token before_collapse(const Profile&, std::false_type) const { return {}; }
+  auto before_collapse(const Profile& p, std::true_type) const { return get_cost_.before_collapse(p); }
+  void after_collapse(const Profile& p, vertex_descriptor v, No_token) {
+    after_collapse(p, v, std::integral_constant<bool, has_update<GetCost>::value>());
+  }
+  template <class Token>
+  void after_collapse(const Profile& p, vertex_descriptor v, const Token& t) { get_cost_.update_after_collapse(p, v, t); }
+  void after_collapse(const Profile& p, vertex_descriptor v, std::true_type) { get_cost_.update_after_collapse(p, v); }
+
+  std::uint32_t id(edge_descriptor e) const { return static_cast<std::uint32_t>(get(eim_, e)); }
+  /// The edge of index i. On Surface_mesh the index is the edge's position, so no table (whose
+  /// lookup would add one cache miss to the chain of dependent loads behind every pop).
+  edge_descriptor edge_at(std::uint32_t i) const {
+    if constexpr (edge_index_is_position) return edge_descriptor(i);
+    else return edge_of_[i];
+  }
+  std::uint32_t& flags(std::uint32_t i) { return heap_.user(i); }
+
+  Profile profile_of(edge_descriptor e) const { return Profile(halfedge(e, tm_), tm_, vpm_, gt_); }
+
+  void prefetch_point(vertex_descriptor v) const {
+#if defined(__GNUC__)
+    if constexpr (std::is_lvalue_reference<decltype(get(vpm_, v))>::value) __builtin_prefetch(&get(vpm_, v));
+    else (void)v;
+#else
+    (void)v;
+#endif
+  }
+  void prefetch_vertex(vertex_descriptor v) const {
+    if constexpr (has_prefetch<GetCost, vertex_descriptor>::value) get_cost_.prefetch(v);
+    else (void)v;
+  }
+
+  /// The cost of the edge at the placement policy's placement.
+  Cost cost_of(const Profile& p) const {
+    if constexpr (fused_cost) {
+      if (fused_) return get_cost_.cost_at_own_placement(p);
+    }
+    return get_cost_(p, get_placement_(p));
+  }
+
+  /// (Re)computes the cost of edge e and puts it in the queue (or takes it out if absent).
+  void evaluate(edge_descriptor e) {
+    const std::uint32_t i = id(e);
+    if (flags(i) & (DEAD | CONSTRAINED)) return;
+    if constexpr (has_memory) {
+      if (memory_) memory_cost_[i] = 0.f;  // the edge's surroundings changed (see update_neighbours)
+    }
+    requeue(i, cost_of(profile_of(e)));
+  }
+
+  /// Stores the new cost (or its absence) of live edge i and updates the queue.
+  void requeue(std::uint32_t i, const Cost& c) {
+    std::uint32_t& f = flags(i);
+    f &= ~std::uint32_t(REJECTED);
+    if (c) {
+      f |= HAS_COST;
+      double cost = CGAL::to_double(*c);
+      if constexpr (has_memory) {
+        // the memoryful cost last found for this edge stands in for the current one until the
+        // edge comes up again (see loop())
+        if (memory_ && memory_->active()) cost = (std::max)(cost, double(memory_cost_[i]));
+      }
+      if (!heap_.contains(i) || cost != heap_.key(i)) heap_.set(i, cost);
+    } else {
+      f &= ~std::uint32_t(HAS_COST);
+      heap_.remove(i);
+    }
+  }
+
+  void collect() {
+    // Graphs whose edge index is derived from halfedge ids (Polyhedron_3 with ids) need those
+    // initialised first; on Surface_mesh this is a no-op.
+    (void)CGAL::get_initialized_halfedge_index_map(tm_);
+    eim_ = CGAL::get_initialized_edge_index_map(tm_);
+    std::size_t max_e = 0, max_v = 0;
+    for (edge_descriptor e : edges(tm_)) max_e = (std::max)(max_e, std::size_t(get(eim_, e)) + 1);
+    for (vertex_descriptor v : vertices(tm_)) max_v = (std::max)(max_v, std::size_t(get(vim_, v)) + 1);
+    if constexpr (!edge_index_is_position) edge_of_.assign(max_e, edge_descriptor());
+    mark_.assign(max_v, 0u);
+    rejected_near_.assign((max_v + 63) / 64, 0u);
+    heap_.reset(max_e);
+    if constexpr (has_memory) memory_cost_.assign(memory_ ? max_e : 0, 0.f);
+    initial_edges_ = 0;
+    for (edge_descriptor e : edges(tm_)) {
+      const std::uint32_t i = id(e);
+      if constexpr (!edge_index_is_position) edge_of_[i] = e;
+      CGAL_assertion(edge_at(i) == e);
+      ++initial_edges_;
+      if (get(ecm_, e)) { flags(i) |= CONSTRAINED; continue; }
+      evaluate(e);
+      if (std::is_same<Visitor, Edge_collapse_visitor_base>::value) continue;
+      const Profile p = profile_of(e);
+      visitor_.OnCollected(p, (flags(i) & HAS_COST) ? Cost(FT(heap_.key(i))) : Cost());
+    }
+    current_edges_ = initial_edges_;
+  }
+
+  bool is_constrained_vertex(vertex_descriptor v) const {
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_))
+      if (get(ecm_, edge(h, tm_))) return true;
+    return false;
+  }
+
+  void loop() {
+    while (!heap_.empty()) {
+      const std::uint32_t i = heap_.pop();
+      const edge_descriptor e = edge_at(i);
+      const Profile p = profile_of(e);
+      const Cost c = Cost(FT(heap_.key(i)));
+      visitor_.OnSelected(p, c, initial_edges_, current_edges_);
+      if (stop_(*c, p, initial_edges_, current_edges_)) {
+        visitor_.OnStopConditionReached(p);
+        break;
+      }
+      Placement pl;
+      bool have_placement = false;
+      if constexpr (has_memory) {
+        if (memory_) {
+          // the memoryful cost (Surface_memory.h) at the policy's placement, before the tests
+          // (an edge it sends back to the queue needs none): if it ranks the edge behind the
+          // next one, the edge goes back with it
+          pl = get_placement_(p);
+          have_placement = true;
+          if (pl) {
+            const double m = memory_->cost(tm_, p.v0_v1(), *pl);
+            memory_cost_[i] = float(m);
+            if (m > heap_.key(i) && !heap_.empty() && m > heap_.key(heap_.top())) {
+              requeue(i, Cost(FT(m)));
+              continue;
+            }
+          }
+        }
+      }
+      // the link test walks the stars of v0 and v1: it asks for the neighbours' points on the way,
+      // which the fold-over test reads next, and walks the stars of the edge now on top of the
+      // queue alongside (most often the next one popped; see is_collapse_topologically_valid)
+      const halfedge_descriptor next_top =
+          heap_.empty() ? GTraits::null_halfedge() : halfedge(edge_at(heap_.top()), tm_);
+      const bool ok_topo =
+          internal::is_collapse_topologically_valid(tm_, vim_, p.v0_v1(), mark_, stamp_,
+                                                    [this](vertex_descriptor n) { prefetch_point(n); }, next_top) &&
+          !(has_constraints_ && is_constrained_vertex(p.v0()) && is_constrained_vertex(p.v1()));
+      if (next_top != GTraits::null_halfedge()) {
+        // its halfedge records are in the cache now: ask for its endpoints' points and data
+        const vertex_descriptor a = source(next_top, tm_), b = target(next_top, tm_);
+        prefetch_point(a);
+        prefetch_point(b);
+        prefetch_vertex(a);
+        prefetch_vertex(b);
+      }
+      if (!ok_topo) {
+        reject(i, p);
+        visitor_.OnNonCollapsable(p);
+        continue;
+      }
+      if (!have_placement) pl = get_placement_(p);
+      if (!pl) {
+        reject(i, p);
+        continue;
+      }
+      const internal::Vec3 x = internal::to_vec3(*pl);
+      internal::Vec3 star_normal;
+      if (internal::collapse_flips_a_face(tm_, vpm_, p.v0_v1(), x, normal_hint ? &star_normal : nullptr)) {
+        reject(i, p);
+        continue;
+      }
+      pl = filter_(p, pl);
+      if (!pl) {
+        reject(i, p);
+        visitor_.OnNonCollapsable(p);
+        continue;
+      }
+      const bool moved_placement = internal::to_vec3(*pl) != x;
+      if constexpr (!std::is_same<Filter, Identity_filter>::value) {
+        // The filter moved the placement (e.g. a half-edge collapse onto a chart boundary): the
+        // fold-over test above was for the policy's placement, so it is run again at the new one;
+        // and the queue held the cost at the policy's placement. If the cost at the new one is
+        // higher than the next edge's, the edge goes back with it and comes up again in its turn
+        // (its key then equals its cost and it is collapsed, so this cannot repeat without a
+        // change).
+        if (moved_placement) {
+          if (internal::collapse_flips_a_face(tm_, vpm_, p.v0_v1(), internal::to_vec3(*pl))) {
+            reject(i, p);
+            continue;
+          }
+          const Cost moved = get_cost_(p, pl);
+          if (moved && !heap_.empty()) {
+            const double m = CGAL::to_double(*moved);
+            if (m > heap_.key(i) && m > heap_.key(heap_.top())) {
+              requeue(i, moved);
+              continue;
+            }
+          }
+        }
+      }
+      // the normal holds for the tested placement only (a filter may move it)
+      collapse(p, *pl, normal_hint && !moved_placement ? &star_normal : nullptr);
+    }
+  }
+
+  /// A popped edge that cannot be collapsed now leaves the queue; it comes back when a collapse
+  /// next to it changes its neighbourhood (see update_neighbours). The per-vertex bits let that
+  /// test skip vertices with no rejected edge around them (a bit may be set with none, never
+  /// clear with one).
+  void reject(std::uint32_t i, const Profile& p) {
+    flags(i) |= REJECTED;
+    set_rejected_near(std::size_t(get(vim_, p.v0())));
+    set_rejected_near(std::size_t(get(vim_, p.v1())));
+  }
+  bool rejected_near(std::size_t v) const { return (rejected_near_[v >> 6] >> (v & 63)) & 1u; }
+  void set_rejected_near(std::size_t v) { rejected_near_[v >> 6] |= std::uint64_t(1) << (v & 63); }
+  void clear_rejected_near(std::size_t v) { rejected_near_[v >> 6] &= ~(std::uint64_t(1) << (v & 63)); }
+
+  void kill(edge_descriptor e) {
+    const std::uint32_t i = id(e);
+    heap_.remove(i);
+    flags(i) |= DEAD;
+  }
+
+  /// `star_normal`: the kept vertex's normal at `placement` from the fold-over test, or null.
+  void collapse(const Profile& p, const Point& placement, const internal::Vec3* star_normal) {
+    p.load_apexes();  // the halfedges they come from are about to disappear
+    visitor_.OnCollapsing(p, Placement(placement));
+    const edge_descriptor e = edge(p.v0_v1(), tm_);
+    const halfedge_descriptor h = halfedge(e, tm_);
+    const halfedge_descriptor o = opposite(h, tm_);
+    // Euler::collapse_edge(e) removes e and, for each incident face, the edge of prev() of
+    // halfedge(e) / of its opposite (see its documentation) — or, with constraints, the
+    // unconstrained edge of the pair; the other edges survive.
+    kill(e);
+    for (halfedge_descriptor side : {h, o}) {
+      if (is_border(side, tm_)) continue;
+      const edge_descriptor ep = edge(prev(side, tm_), tm_);
+      kill(has_constraints_ && get(ecm_, ep) ? edge(next(side, tm_), tm_) : ep);
+    }
+    current_edges_ -= 1 + std::size_t(p.left_face_exists()) + std::size_t(p.right_face_exists());
+    // Vertex ids are read before the collapse: graphs such as Polyhedron_3 free the removed
+    // vertex, and its id lives in the vertex record.
+    const std::size_t id0 = std::size_t(get(vim_, p.v0())), id1 = std::size_t(get(vim_, p.v1()));
+    auto token = before_collapse(p, std::integral_constant<bool, has_update<GetCost>::value &&
+                                                              has_before_collapse<GetCost, Profile>::value>());
+    if constexpr (has_memory) {
+      if (memory_) memory_->before_collapse(tm_, p.v0_v1());
+    }
+    vertex_descriptor v_kept = has_constraints_ ? CGAL::Euler::collapse_edge(e, tm_, ecm_)
+                                                : CGAL::Euler::collapse_edge(e, tm_);
+    {
+      const bool kept_v0 = v_kept == p.v0();
+      if (rejected_near(kept_v0 ? id1 : id0)) set_rejected_near(kept_v0 ? id0 : id1);
+    }
+    put(vpm_, v_kept, placement);
+    if constexpr (has_memory) {
+      if (memory_) memory_->after_collapse(tm_, v_kept);
+    }
+    visitor_.OnCollapsed(p, v_kept);
+    if constexpr (normal_hint) {
+      if (star_normal) get_cost_.update_after_collapse(p, v_kept, token, *star_normal);
+      else after_collapse(p, v_kept, token);
+    } else {
+      (void)star_normal;
+      after_collapse(p, v_kept, token);
+    }
+    update_neighbours(v_kept, std::integral_constant<bool, endpoint_cost<GetCost>::value>());
+    if (flips_) flip_around(v_kept);
+  }
+
+  void update_neighbours(vertex_descriptor v, std::true_type) {
+    // The records of the edges around v and the policy's data of v's neighbours are scattered in
+    // memory: request them all first, so that their cache misses overlap, then evaluate.
+    constexpr int ring_max = 64;
+    halfedge_descriptor ring[ring_max];
+    int n = 0;
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
+      if (n < ring_max) ring[n] = h;
+      ++n;
+      heap_.prefetch(id(edge(h, tm_)));
+      prefetch_vertex(source(h, tm_));
+    }
+    if (n <= ring_max) {
+      // costs first (they do not depend on the queue), asking for each edge's heap node on the
+      // way; then the queue updates, in the same order as evaluate() would do them
+      // (plain arrays: 64 default-constructed optionals cost more than the degree-6 loop below)
+      FT costs[ring_max];
+      bool has_cost[ring_max];
+      std::uint32_t ids[ring_max];
+      for (int k = 0; k < n; ++k) {
+        const edge_descriptor e = edge(ring[k], tm_);
+        ids[k] = id(e);
+        if (flags(ids[k]) & (DEAD | CONSTRAINED)) continue;
+        const Cost c = cost_of(profile_of(e));
+        has_cost[k] = bool(c);
+        if (c) costs[k] = *c;
+        heap_.prefetch_node(ids[k]);
+      }
+      for (int k = 0; k < n; ++k) {
+        if (flags(ids[k]) & (DEAD | CONSTRAINED)) continue;
+        if constexpr (has_memory) {
+          // its surroundings changed: the memoryful cost found before no longer holds
+          if (memory_) memory_cost_[ids[k]] = 0.f;
+        }
+        requeue(ids[k], has_cost[k] ? Cost(costs[k]) : Cost());
+      }
+    } else {
+      for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) evaluate(edge(h, tm_));
+    }
+    // one ring farther: costs are unchanged, but edges rejected earlier may have become valid
+    clear_rejected_near(std::size_t(get(vim_, v)));
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
+      const std::size_t n = std::size_t(get(vim_, source(h, tm_)));
+      if (!rejected_near(n)) continue;
+      clear_rejected_near(n);
+      const vertex_descriptor vn = source(h, tm_);
+      for (halfedge_descriptor h2 : CGAL::halfedges_around_target(vn, tm_)) {
+        const std::uint32_t i = id(edge(h2, tm_));
+        std::uint32_t& f = flags(i);
+        if ((f & (REJECTED | DEAD | CONSTRAINED)) == REJECTED) {
+          f &= ~std::uint32_t(REJECTED);
+          if (f & HAS_COST) heap_.restore(i);
+        }
+      }
+    }
+  }
+  void update_neighbours(vertex_descriptor v, std::false_type) {
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
+      const vertex_descriptor n = source(h, tm_);
+      for (halfedge_descriptor h2 : CGAL::halfedges_around_target(n, tm_)) evaluate(edge(h2, tm_));
+    }
+  }
+
+  /// §3.5.1: flip-tests the edges of the triangles around the kept vertex.
+  void flip_around(vertex_descriptor v) {
+    // Edges opposite to v (the link) and the edges incident to v. Collect first: flipping
+    // changes the circulation around v. A fixed-size buffer: vertex degrees above 64 skip flips.
+    halfedge_descriptor buf[128];
+    int n = 0;
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm_)) {
+      if (n + 2 > 128) return;
+      buf[n++] = h;
+      if (!is_border(h, tm_)) buf[n++] = prev(h, tm_);  // the link edge of face(h)
+    }
+    for (int k = 0; k < n; ++k) {
+      const halfedge_descriptor h = buf[k];
+      const edge_descriptor e = edge(h, tm_);
+      const std::uint32_t i = id(e);
+      if (flags(i) & (DEAD | CONSTRAINED)) continue;
+      if (!internal::should_flip(tm_, vpm_, h, get_cost_, vim_, mark_, stamp_)) continue;
+      CGAL::Euler::flip_edge(h, tm_);
+      if constexpr (has_memory) {
+        if (memory_) memory_->after_flip(tm_, h);
+      }
+      if constexpr (has_on_flipped<Visitor, TM, halfedge_descriptor>::value) visitor_.OnFlipped(tm_, h);
+      // the flipped edge has new endpoints; rim edges are re-evaluated for policies whose cost
+      // depends on more than the endpoints
+      evaluate(e);
+      if constexpr (!endpoint_cost<GetCost>::value) {
+        evaluate(edge(next(h, tm_), tm_));
+        evaluate(edge(prev(h, tm_), tm_));
+        evaluate(edge(next(opposite(h, tm_), tm_), tm_));
+        evaluate(edge(prev(opposite(h, tm_), tm_), tm_));
+      }
+    }
+  }
+
+  TM& tm_;
+  const StopPredicate& stop_;
+  VPM vpm_;
+  const GT& gt_;
+  ECM ecm_;
+  const GetCost& get_cost_;
+  const GetPlacement& get_placement_;
+  const Filter& filter_;
+  Visitor& visitor_;
+  bool flips_;
+  Memory memory_;
+  static constexpr bool has_memory = !std::is_same<Memory, std::nullptr_t>::value;
+  static constexpr bool fused_cost = has_fused_cost<GetCost, GetPlacement, Profile>::value;
+  static constexpr bool edge_index_is_position = is_surface_mesh<TM>::value;
+  using Token_type = decltype(std::declval<const Edge_collapse_engine&>().before_collapse(
+      std::declval<const Profile&>(),
+      std::integral_constant<bool, has_update<GetCost>::value && has_before_collapse<GetCost, Profile>::value>()));
+  static constexpr bool normal_hint =
+      has_update<GetCost>::value && has_normal_hint<GetCost, Profile, vertex_descriptor, Token_type>::value;
+  bool fused_ = false;  // the cost policy computes the placement policy's placement itself
+  bool has_constraints_ = !std::is_same<ECM, CGAL::Constant_property_map<edge_descriptor, bool>>::value;
+  typename CGAL::GetInitializedVertexIndexMap<TM>::const_type vim_;
+  typename CGAL::GetInitializedEdgeIndexMap<TM>::const_type eim_;
+
+  std::vector<edge_descriptor> edge_of_;
+  std::vector<unsigned> mark_;
+  std::vector<std::uint64_t> rejected_near_;  // one bit per vertex, see reject()
+  std::vector<float> memory_cost_;            // per edge: its memoryful cost when last popped
+  unsigned stamp_ = 0;
+  Indexed_heap heap_;
+  std::size_t initial_edges_ = 0, current_edges_ = 0;
+};
+
+}  // namespace internal
+
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_EDGE_COLLAPSE_ENGINE_H
