@@ -5,8 +5,9 @@
 # seams, image RMSE over 26 views); RESULTS-peers.md (run_textured_peers.sh: the default textured
 # simplification, new atlas, against meshoptimizer 0.18 and 1.3.0 at equal face counts) and
 # RESULTS-scale.md (run_textured_scale.sh: a 989k-face textured mesh, time against geometry only
-# and one thread against two) and RESULTS-policy.md (run_policy_comparison.sh: weighted against plain
-# quadrics on the textured models).
+# and one thread against two), RESULTS-policy.md (run_policy_comparison.sh: weighted against plain
+# quadrics on the textured models) and RESULTS-memory.md (run_memory_comparison.sh: geometry-only
+# simplification with and without the memoryful cost against CGAL and meshoptimizer).
 #   bash benchmark/Textured_simplification/run.sh <build-dir> [--quick]   (called by benchmark/run.sh)
 set -euo pipefail
 build=${1:?usage: run.sh <build-dir> [--quick]}
@@ -22,4 +23,5 @@ else
   bash "$here/run_textured_peers.sh" "$build"
   bash "$here/run_textured_scale.sh" "$build"
   bash "$here/run_policy_comparison.sh" "$build"
+  bash "$here/run_memory_comparison.sh" "$build"
 fi
