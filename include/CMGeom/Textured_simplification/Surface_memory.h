@@ -249,14 +249,20 @@ private:
   };
   struct Tri {
     V3 a, b, c, n;  // n: unit normal (zero for a degenerate triangle)
+    V3 centre;      // centroid, and radius: the largest distance from it to a corner
+    double radius;
   };
 
   static Tri make_tri(const V3& a, const V3& b, const V3& c) {
-    return Tri{a, b, c, CM::internal::normalized(CM::internal::cross(b - a, c - a))};
+    const V3 g = (1. / 3.) * (a + b + c);
+    const double r = std::sqrt((std::max)({CM::internal::squared_length(a - g), CM::internal::squared_length(b - g),
+                                           CM::internal::squared_length(c - g)}));
+    return Tri{a, b, c, CM::internal::normalized(CM::internal::cross(b - a, c - a)), g, r};
   }
 
   /// (squared distance, index) of the triangle of tris_ nearest to q, starting from tris_[hint];
-  /// a triangle whose plane is already farther than the best so far is skipped.
+  /// a triangle whose plane, or whose bounding sphere, is already farther than the best so far is
+  /// skipped (both are lower bounds of the distance: the result is the exact minimum).
   std::pair<double, std::size_t> nearest(const V3& q, std::size_t hint) const {
     auto dist = [&](const Tri& t) {
       return CM::internal::squared_length(q - CM::internal::closest_on_triangle(q, t.a, t.b, t.c));
@@ -268,6 +274,8 @@ private:
       const Tri& t = tris_[k];
       const double plane = CM::internal::dot(q - t.a, t.n);
       if (plane * plane >= best) continue;
+      const double out = CM::internal::length(q - t.centre) - t.radius;
+      if (out > 0 && out * out >= best) continue;
       const double d = dist(t);
       if (d < best) {
         best = d;
