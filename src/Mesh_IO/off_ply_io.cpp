@@ -16,6 +16,7 @@
 #include <new>
 #include <sstream>
 #include <tuple>
+#include <utility>
 
 namespace CMGeom {
 namespace IO {
@@ -223,23 +224,27 @@ void check_ply_header(const std::string& data, const std::string& path) {
 
 namespace PLY = CGAL::IO::internal;
 
-// The list `vertex_indices` (or `vertex_index`) of the current item of `el`, whatever its integer
-// type; false if the element has no such list.
+// The list `tag` of the current item of `el`, read as Int (the list's declared type).
 template <class Int>
-bool take_list(PLY::PLY_element& el, const char* tag, std::vector<long long>& out) {
-  if (!el.has_property<std::vector<Int>>(tag)) return false;
+void take_list(PLY::PLY_element& el, const char* tag, std::vector<long long>& out) {
   std::vector<Int> v;
   el.assign(v, tag);
   out.assign(v.begin(), v.end());
-  return true;
 }
-bool take_indices(PLY::PLY_element& el, std::vector<long long>& out) {
-  for (const char* tag : {"vertex_indices", "vertex_index"})
-    if (take_list<std::int32_t>(el, tag, out) || take_list<std::uint32_t>(el, tag, out) ||
-        take_list<std::int16_t>(el, tag, out) || take_list<std::uint16_t>(el, tag, out) ||
-        take_list<std::int8_t>(el, tag, out) || take_list<std::uint8_t>(el, tag, out))
-      return true;
-  return false;
+using List_taker = void (*)(PLY::PLY_element&, const char*, std::vector<long long>&);
+
+// How to read the vertex index list of element `el` (`vertex_indices` or `vertex_index`, any
+// integer type), found once per element; a null taker if it has none.
+std::pair<List_taker, const char*> index_list_of(PLY::PLY_element& el) {
+  for (const char* tag : {"vertex_indices", "vertex_index"}) {
+    if (el.has_property<std::vector<std::int32_t>>(tag)) return {&take_list<std::int32_t>, tag};
+    if (el.has_property<std::vector<std::uint32_t>>(tag)) return {&take_list<std::uint32_t>, tag};
+    if (el.has_property<std::vector<std::int16_t>>(tag)) return {&take_list<std::int16_t>, tag};
+    if (el.has_property<std::vector<std::uint16_t>>(tag)) return {&take_list<std::uint16_t>, tag};
+    if (el.has_property<std::vector<std::int8_t>>(tag)) return {&take_list<std::int8_t>, tag};
+    if (el.has_property<std::vector<std::uint8_t>>(tag)) return {&take_list<std::uint8_t>, tag};
+  }
+  return {nullptr, nullptr};
 }
 
 // Reads the vertices, faces and triangle strips of a PLY stream (other elements are skipped).
@@ -257,6 +262,9 @@ void read_ply_elements(std::istream& in, const std::string& path, std::vector<Po
     const bool vertex = name == "vertex" || name == "vertices";
     const bool face = name == "face" || name == "faces";
     const bool strips = name == "tristrips";
+    const auto [take, tag] = face || strips ? index_list_of(el) : std::pair<List_taker, const char*>{nullptr, nullptr};
+    if ((face || strips) && !take && el.number_of_items() > 0)
+      throw IO_error(path, "PLY element '" + name + "' without an integer vertex_indices list");
     for (std::size_t j = 0; j < el.number_of_items(); ++j) {
       for (std::size_t k = 0; k < el.number_of_properties(); ++k) {
         el.property(k)->get(in);
@@ -269,7 +277,7 @@ void read_ply_elements(std::istream& in, const std::string& path, std::vector<Po
         PLY::process_properties(el, v, CGAL::IO::make_ply_point_reader(CGAL::make_nth_of_tuple_property_map<0>(v)));
         points.push_back(std::get<0>(v));
       } else if (face || strips) {
-        if (!take_indices(el, idx)) throw IO_error(path, "PLY element '" + name + "' without an integer vertex_indices list");
+        take(el, tag, idx);
         if (face) {
           std::vector<std::size_t> poly;
           for (long long i : idx) {

@@ -480,12 +480,12 @@ std::vector<Bad_case> bad_cases() {
   v.push_back({"range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "out of range", 6});
   v.push_back({"nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", "not finite", 4});
   v.push_back({"notply.ply", "this is not a ply file\n", "not a PLY file", 1});
-  v.push_back({"truncated.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                                "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                                "end_header\n0 0 0\n1 0 0\n", "", 0});
-  v.push_back({"range.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                            "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n", "out of range", 0});
+  // an ASCII PLY of three vertices, then its face or strip element
+  const std::string ply3 = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  const std::string ply3_face = ply3 + "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string ply3_strip = ply3 + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n";
+  v.push_back({"truncated.ply", ply3_face + "0 0 0\n1 0 0\n", "", 0});
+  v.push_back({"range.ply", ply3_face + "0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n", "out of range", 0});
   // Regression (fuzzing): CGAL's PLY reader crashed on a property declared before any element.
   v.push_back({"prop_first.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 1\nend_header\n0\n",
                "property before any element", 3});
@@ -493,12 +493,8 @@ std::vector<Bad_case> bad_cases() {
                            "property float y\nproperty float z\nelement face 1\n"
                            "property list uchar int vertex_indices\nend_header\n", "more than the file can hold", 0});
   v.push_back({"no_end.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "no end_header", 0});
-  v.push_back({"strip_negative.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                                     "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
-                                     "end_header\n0 0 0\n1 0 0\n0 1 0\n4 0 1 -2 2\n", "negative vertex index", 0});
-  v.push_back({"strip_range.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                                  "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
-                                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n", "out of range", 0});
+  v.push_back({"strip_negative.ply", ply3_strip + "0 0 0\n1 0 0\n0 1 0\n4 0 1 -2 2\n", "negative vertex index", 0});
+  v.push_back({"strip_range.ply", ply3_strip + "0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n", "out of range", 0});
   v.push_back({"garbage.gltf", "{ this is not json", "", 0});
   v.push_back({"empty.glb", "", "empty file", 0});
   v.push_back({"mesh.stl", "solid x\nendsolid x\n", "unsupported file type", 0});

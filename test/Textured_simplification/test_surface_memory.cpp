@@ -19,7 +19,6 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <string>
 
 namespace {
@@ -84,12 +83,10 @@ TEST(SurfaceMemory, EveryPointStaysOnALiveFaceThroughASimplification) {
                         &memory, CMGeom::parameters::edge_flips(true, CGAL::parameters::get_cost(policy).get_placement(policy))));
   std::size_t count = 0, dead = 0;
   double area = 0;
-  std::map<std::size_t, int> per_face;
   memory.for_each_point([&](Mesh::Face_index f, const auto&, double a) {
     ++count;
     area += a;
     if (f == Mesh::null_face() || m.is_removed(f)) ++dead;
-    ++per_face[std::size_t(f)];
   });
   EXPECT_EQ(count, memory.number_of_points());
   EXPECT_EQ(dead, 0u);

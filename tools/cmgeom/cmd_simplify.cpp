@@ -4,9 +4,10 @@
 //                 [--no-texture] [--keep-charts] [--freeze-seams] [--no-repair] [--memoryless]
 // Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
 // CMGeom's engine or CGAL's; on CMGeom's engine the quadric cost is completed by the memoryful
-// term of Surface_memory.h (the input's points kept on the faces) unless --memoryless. A textured input (UVs and a texture image) is written as
-// OBJ + MTL + PNG: by default its collapses ignore the charts (any target is reached) and a new
-// atlas is baked from the input (rebuild_atlas.h); with --keep-charts it goes through the
+// term of Surface_memory.h (the input's points kept on the faces) unless --memoryless. A
+// textured input (UVs and a texture image) is written as OBJ + MTL + PNG: by default its
+// collapses ignore the charts (any target is reached) and a new atlas is baked from the input
+// (rebuild_atlas.h); with --keep-charts it goes through the
 // texture part of chapter 3 (chart constraints §3.5, index texture §3.3/§3.6), which stops where
 // the charts allow no more collapses. Anything else is simplified as geometry only, UVs dropped.
 // A non-manifold or inconsistently oriented input is repaired (a one-line warning says what
@@ -25,11 +26,11 @@
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include <cctype>
-#include <optional>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 

@@ -1,40 +1,24 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Surface_memory: a memoryful error for edge collapses. Every vertex of the input is an
-// "original point"; each point belongs to one current face (at the start, a face of its star).
-// A collapse is priced not only by the quadric (the distance from the new vertex to the planes
-// of the input, which forgets where the input was) but also by the distance from the original
-// points of the faces it changes to the faces it creates: the quantity a Hausdorff distance
-// from the input to the output measures, and which a quadric underestimates where a thin
-// feature, a rim or a bump is flattened (its planes stay close to the new vertex while its
-// points end far from the new faces). After a collapse the points of the changed faces move
-// to the nearest face of the kept vertex's new star.
+// Surface_memory: a memoryful cost for edge collapses (manual: Textured_simplification, "The
+// memoryful cost"). The input's vertices (at most Surface_memory_options::max_points of them) are
+// "points", each attached to one current face and weighted by the area of its input star. A
+// quadric prices the distance from the new vertex to the input's planes and forgets where the
+// input was; this object prices a collapse by the sum over the points of the faces around the edge
+// of area x (distance to the new star)^2, the quadric's own unit, which sees a flattened rim, bump
+// or thin part. After a collapse (or flip) the detached points join the nearest face of the new
+// star. It is the thesis' point gathering (§4.3) turned into a cost, in the spirit of
+// Lindstrom-Turk's memoryful simplification and of the point-to-face energy of progressive meshes.
 //
-// It is the idea of the thesis' point gathering (§4.3: the input points a simplified vertex
-// stands for) turned into a cost term, in the spirit of Lindstrom-Turk's memoryful
-// simplification and of Hoppe's progressive-mesh energy (points assigned to faces), used here
-// lazily: CMGeom's engine orders the queue by the quadric cost, and when an edge comes to the
-// top it asks this object for the memory cost at the placement; if that is higher than the
-// queue's next key, the edge goes back to the queue with it (the quadric cost is a lower bound
-// of the combined cost, so collapses still happen in order of the combined cost, up to the
-// neighbours' costs that a collapse changed since they were queued).
+// CMGeom's engine uses it lazily (parameters::surface_memory): the queue is ordered by the quadric
+// cost; an edge that reaches the top gets its memoryful cost, and goes back to the queue with it
+// if that ranks it behind the next edge; the cost stays its key until a collapse next to it
+// changes its surroundings. It is a cost, not a bound: no Hausdorff guarantee.
 //
-// Cost (same dimension as the area-weighted quadric cost, area x squared distance):
-//   memory_cost = A * d_max^2, A the sum of the areas (of their input stars) of the points
-//   concerned, d_max the largest distance from one of them to the new star.
-// Weighing the largest distance by the whole area is conservative on purpose: the quadric
-// already prices the mean deviation; this term is there for the worst one, which is what a
-// Hausdorff distance sees.
-//
-// Optional bound: with `max_distance` set (> 0), a collapse that would leave an original point
-// farther than it from its face is refused (the engine treats it as an invalid collapse). The
-// bound covers the input's vertices, each measured to the face it is assigned to (an upper
-// bound of its distance to the output).
-//
-// Memory: per original point its position, area and a list link (40 bytes); per face a list
-// head. Complexity: O(V + F) set-up; a cost or an update costs O(k * d), k the points of the
-// faces around the edge, d the size of the new star.
+// Memory: per point its position, area and a list link (40 bytes); per face a list head.
+// Complexity: O(V + F) set-up; a cost or an update O(k * d), k the points of the faces around
+// the edge, d the size of the new star.
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_SURFACE_MEMORY_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_SURFACE_MEMORY_H
 
@@ -128,12 +112,13 @@ public:
   template <class Fn>
   void for_each_point(Fn fn) const {
     for (std::size_t f = 0; f < head_.size(); ++f)
-      for (std::uint32_t i = head_[f]; i != nil; i = items_[i].next) fn(face_descriptor(typename face_descriptor::size_type(f)), items_[i].p, items_[i].area);
+      for (std::uint32_t i = head_[f]; i != nil; i = items_[i].next)
+        fn(face_descriptor(typename face_descriptor::size_type(f)), items_[i].p, items_[i].area);
   }
 
-  /// Whether cost() prices collapses yet: from the start when the points are the input's vertices,
-  /// and on a large input once there are at most 4 faces per point (the earlier collapses are
-  /// local and the quadric sees them well; a closed mesh of genus g has 2V + 4g - 4 faces).
+  /// Whether cost() prices collapses yet: once there are at most two faces per point (plus 8, for
+  /// genus: a closed mesh of genus g has 2V + 4g - 4 faces), i.e. from the start when every vertex
+  /// is a point; on a larger input the earlier collapses are local and the quadric sees them well.
   bool active() const { return faces_alive_ <= 2 * items_.size() + 8; }
 
   /// The memory cost of collapsing halfedge `h` (v0 -> v1) to `placement`: the sum over the
@@ -165,28 +150,19 @@ public:
     return sum;
   }
 
-  /// Call before the collapse of `h`: detaches the points of the faces around the edge.
+  /// Call before the collapse of `h`: detaches the points of the faces around the edge (only of
+  /// the two that disappear while the memory is not active yet).
   void before_collapse(const TriangleMesh& tm, halfedge_descriptor h) {
     moving_.clear();
     faces_alive_ -= std::size_t(!is_border(h, tm)) + std::size_t(!is_border(opposite(h, tm), tm));
     if (!active()) {
-      // only the points of the two faces that disappear need a new face until the memory starts
-      for (halfedge_descriptor g : {h, opposite(h, tm)}) {
-        if (is_border(g, tm)) continue;
-        std::uint32_t& head = head_[std::size_t(face(g, tm))];
-        for (std::uint32_t i = head; i != nil; i = items_[i].next) moving_.emplace_back(i, GT::null_face());
-        head = nil;
-      }
+      for (halfedge_descriptor g : {h, opposite(h, tm)})
+        if (!is_border(g, tm)) detach(face(g, tm));
       return;
     }
     for (int side = 0; side < 2; ++side)
-      for (halfedge_descriptor g : CGAL::halfedges_around_target(side == 0 ? source(h, tm) : target(h, tm), tm)) {
-        if (is_border(g, tm)) continue;
-        const face_descriptor f = face(g, tm);
-        std::uint32_t& head = head_[std::size_t(f)];
-        for (std::uint32_t i = head; i != nil; i = items_[i].next) moving_.emplace_back(i, f);
-        head = nil;
-      }
+      for (halfedge_descriptor g : CGAL::halfedges_around_target(side == 0 ? source(h, tm) : target(h, tm), tm))
+        if (!is_border(g, tm)) detach(face(g, tm));
   }
 
   /// Call after the collapse, `v` the kept vertex at its new place: the detached points join the
@@ -210,10 +186,7 @@ public:
         hint = std::size_t(std::find(faces_.begin(), faces_.end(), from) - faces_.begin());
         if (hint == faces_.size()) hint = 0;  // a face the collapse removed
       }
-      Item& r = items_[i];
-      std::uint32_t& head = head_[std::size_t(faces_[nearest(r.p, hint).second])];
-      r.next = head;
-      head = i;
+      attach(i, hint);
     }
   }
 
@@ -224,20 +197,11 @@ public:
     tris_.clear();
     for (halfedge_descriptor g : {h, opposite(h, tm)}) {
       if (is_border(g, tm)) continue;
-      const face_descriptor f = face(g, tm);
-      std::uint32_t& head = head_[std::size_t(f)];
-      for (std::uint32_t i = head; i != nil; i = items_[i].next) moving_.emplace_back(i, f);
-      head = nil;
-      faces_.push_back(f);
+      detach(face(g, tm));
+      faces_.push_back(face(g, tm));
       tris_.push_back(make_tri(point(source(g, tm)), point(target(g, tm)), point(target(next(g, tm), tm))));
     }
-    for (const auto& [i, from] : moving_) {
-      Item& r = items_[i];
-      const std::size_t hint = faces_.size() > 1 && faces_[1] == from ? 1 : 0;
-      std::uint32_t& head = head_[std::size_t(faces_[nearest(r.p, hint).second])];
-      r.next = head;
-      head = i;
-    }
+    for (const auto& [i, from] : moving_) attach(i, faces_.size() > 1 && faces_[1] == from ? 1 : 0);
     moving_.clear();
   }
 
@@ -252,6 +216,20 @@ private:
     V3 centre;      // centroid, and radius: the largest distance from it to a corner
     double radius;
   };
+
+  /// Moves the points of face f to moving_ (with f), leaving f without points.
+  void detach(face_descriptor f) {
+    std::uint32_t& head = head_[std::size_t(f)];
+    for (std::uint32_t i = head; i != nil; i = items_[i].next) moving_.emplace_back(i, f);
+    head = nil;
+  }
+
+  /// Attaches point i to the face of faces_ whose triangle in tris_ is nearest (tris_[hint] first).
+  void attach(std::uint32_t i, std::size_t hint) {
+    std::uint32_t& head = head_[std::size_t(faces_[nearest(items_[i].p, hint).second])];
+    items_[i].next = head;
+    head = i;
+  }
 
   static Tri make_tri(const V3& a, const V3& b, const V3& c) {
     const V3 g = (1. / 3.) * (a + b + c);
@@ -316,7 +294,7 @@ private:
   std::size_t faces_alive_ = 0;
   std::vector<Item> items_;
   std::vector<std::uint32_t> head_;    // per face: its first point, or nil
-  std::vector<std::pair<std::uint32_t, face_descriptor>> moving_;  // points detached by before_collapse, and their face
+  std::vector<std::pair<std::uint32_t, face_descriptor>> moving_;  // detached points and their former face
   mutable std::vector<face_descriptor> faces_;
   mutable std::vector<Tri> tris_;
   mutable std::size_t removed_ = 0;

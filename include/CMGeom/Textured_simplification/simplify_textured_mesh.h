@@ -167,9 +167,9 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   res.faces_in = mesh.number_of_faces();
   Atlas_options ao = options.atlas;
   if (ao.texture_width <= 0 && options.texture_size > 0) ao.texture_width = ao.texture_height = options.texture_size;
-  // what the baking needs from the input, taken before the collapses change it; its tree and
-  // chart map are built on another core while the collapses run
-  // the memoryful cost's points are taken from the input on another core meanwhile
+  // the memoryful cost's points are taken from the input on another core while the atlas source
+  // (what the baking needs from the input, taken before the collapses change it) is extracted;
+  // the source's tree and chart map are then built on another core while the collapses run
   using VPM = typename boost::property_map<Mesh, CGAL::vertex_point_t>::type;
   std::optional<Surface_memory<Mesh, VPM>> memory;
   const bool collapses = options.target_faces < res.faces_in;
@@ -196,18 +196,15 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
       Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
       Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
       Surface_memory<Mesh, VPM>* m = memory ? &*memory : nullptr;
-      if (options.endpoint_placement)
+      auto collapse_with = [&](const auto& placement) {
         edge_collapse(mesh, stop,
                       CMGeom::parameters::surface_memory(
                           m, CMGeom::parameters::edge_flips(
-                                 options.flips, CGAL::parameters::get_cost(policy)
-                                                    .get_placement(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy})
-                                                    .visitor(visitor))));
-      else
-        edge_collapse(mesh, stop,
-                      CMGeom::parameters::surface_memory(
-                          m, CMGeom::parameters::edge_flips(
-                                 options.flips, CGAL::parameters::get_cost(policy).get_placement(policy).visitor(visitor))));
+                                 options.flips,
+                                 CGAL::parameters::get_cost(policy).get_placement(placement).visitor(visitor))));
+      };
+      if (options.endpoint_placement) collapse_with(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy});
+      else collapse_with(policy);
     }
   } catch (...) {
     prepare.wait();  // `source` must outlive the task
@@ -313,15 +310,12 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm, co
     Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
     Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
     Chart_constraint_visitor<CC, Resampler, Visitor> vis(cc, resampler ? &*resampler : nullptr, visitor);
-    if (options.endpoint_placement)
+    auto collapse_with = [&](const auto& placement) {
       edge_collapse(mesh, stop,
-                    CGAL::parameters::get_cost(policy)
-                        .get_placement(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy})
-                        .filter(Chart_constraint_filter<CC>(cc))
-                        .visitor(vis));
-    else
-      edge_collapse(mesh, stop,
-                    CGAL::parameters::get_cost(policy).get_placement(policy).filter(Chart_constraint_filter<CC>(cc)).visitor(vis));
+                    CGAL::parameters::get_cost(policy).get_placement(placement).filter(Chart_constraint_filter<CC>(cc)).visitor(vis));
+    };
+    if (options.endpoint_placement) collapse_with(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy});
+    else collapse_with(policy);
   }
   if (resampler) resampler->synchronize();
   resampler.reset();

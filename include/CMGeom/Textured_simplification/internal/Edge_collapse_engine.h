@@ -233,10 +233,18 @@ private:
   void evaluate(edge_descriptor e) {
     const std::uint32_t i = id(e);
     if (flags(i) & (DEAD | CONSTRAINED)) return;
-    if constexpr (has_memory) {
-      if (memory_) memory_cost_[i] = 0.f;  // the edge's surroundings changed (see update_neighbours)
-    }
+    forget_memory_cost(i);
     requeue(i, cost_of(profile_of(e)));
+  }
+
+  /// Edge i is about to be re-costed because its surroundings changed: the memoryful cost found
+  /// when it was last popped no longer holds.
+  void forget_memory_cost(std::uint32_t i) {
+    if constexpr (has_memory) {
+      if (memory_) memory_cost_[i] = 0.f;
+    } else {
+      (void)i;
+    }
   }
 
   /// Stores the new cost (or its absence) of live edge i and updates the queue.
@@ -485,10 +493,7 @@ private:
       }
       for (int k = 0; k < n; ++k) {
         if (flags(ids[k]) & (DEAD | CONSTRAINED)) continue;
-        if constexpr (has_memory) {
-          // its surroundings changed: the memoryful cost found before no longer holds
-          if (memory_) memory_cost_[ids[k]] = 0.f;
-        }
+        forget_memory_cost(ids[k]);
         requeue(ids[k], has_cost[k] ? Cost(costs[k]) : Cost());
       }
     } else {
