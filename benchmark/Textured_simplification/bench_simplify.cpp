@@ -218,7 +218,7 @@ void measure(const Model& in, const Mesh& out, std::size_t n_samples, Row& r) {
 double g_min_weight = 0;
 
 Mesh run_cmgeom(const Mesh& in, std::size_t target, bool weighted, bool flips, double& secs,
-                TS::Quadric_merge merge = TS::Quadric_merge::weighted_average, bool memoryful = false) {
+                TS::Quadric_merge merge = TS::Quadric_merge::weighted_average) {
   Mesh m = in;
   const double t0 = cpu_seconds();
   TS::Quadric_options o;
@@ -226,15 +226,23 @@ Mesh run_cmgeom(const Mesh& in, std::size_t target, bool weighted, bool flips, d
   o.merge = merge;
   if (g_min_weight > 0) o.min_weight = g_min_weight;
   TS::Area_weighted_quadric_policies<Mesh> policy(m, o);
-  using VPM = boost::property_map<Mesh, CGAL::vertex_point_t>::type;
-  std::optional<TS::Surface_memory<Mesh, VPM>> memory;
-  if (memoryful) memory.emplace(m, get(CGAL::vertex_point, m));
   TS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target),
-                    CMGeom::parameters::surface_memory(
-                        memory ? &*memory : nullptr,
-                        CMGeom::parameters::edge_flips(flips, CGAL::parameters::get_cost(policy).get_placement(policy))));
+                    CMGeom::parameters::edge_flips(flips, CGAL::parameters::get_cost(policy).get_placement(policy)));
   secs = cpu_seconds() - t0;
   m.collect_garbage();
+  return m;
+}
+
+// What `cmgeom simplify` runs (simplify_mesh: plain quadrics, the memoryful cost, large inputs in
+// parts on all cores); `parts` false: the whole mesh at once whatever its size.
+Mesh run_cmgeom_default(const Mesh& in, std::size_t target, bool parts, double& secs) {
+  Mesh m = in;
+  const double t0 = cpu_seconds();
+  TS::Mesh_simplification_options o;
+  o.quadric.weighted = false;
+  if (!parts) o.parts_min_faces = 0;
+  TS::simplify_mesh(m, target, o);
+  secs = cpu_seconds() - t0;
   return m;
 }
 
@@ -307,15 +315,15 @@ Mesh run_openmesh(const Soup& s, std::size_t target, double& secs) {
 
 // The tools by name (the default list and "cmgeom-plain-flips"). cmgeom-default is what
 // `cmgeom simplify` does without options: plain quadrics and the memoryful cost (Surface_memory.h).
-const char* const all_tools[] = {"cmgeom-default",       "cmgeom-weighted",      "cmgeom-weighted-sum",  "cmgeom-plain",
+const char* const all_tools[] = {"cmgeom-default",       "cmgeom-default-whole", "cmgeom-weighted",      "cmgeom-weighted-sum",  "cmgeom-plain",
                                  "cmgeom-weighted-flips", "cmgeom-plain-flips",   "cgal-engine-weighted",
                                  "cgal-engine-plain",     "cgal-gh",              "cgal-lt",
                                  "meshopt",               "openmesh"};
 
 /// Runs `tool` once on `md` down to `target` faces; false if the name is not one of all_tools.
 bool run_tool(const std::string& tool, const Model& md, std::size_t target, Mesh& out, double& secs) {
-  if (tool == "cmgeom-default")
-    out = run_cmgeom(md.mesh, target, false, false, secs, TS::Quadric_merge::weighted_average, true);
+  if (tool == "cmgeom-default") out = run_cmgeom_default(md.mesh, target, true, secs);
+  else if (tool == "cmgeom-default-whole") out = run_cmgeom_default(md.mesh, target, false, secs);
   else if (tool == "cmgeom-weighted") out = run_cmgeom(md.mesh, target, true, false, secs);
   else if (tool == "cmgeom-plain") out = run_cmgeom(md.mesh, target, false, false, secs);
   else if (tool == "cmgeom-weighted-flips") out = run_cmgeom(md.mesh, target, true, true, secs);

@@ -9,6 +9,8 @@
 #   run_textured_scale.sh <build-dir> [--repeat N]     (N runs of each configuration, default 5)
 # Figures: `seconds` of `cmgeom simplify --json` (the simplification call: collapses, and for the
 # textured run the new atlas; file IO excluded) and the whole command's wall time (IO included).
+# Then, when the build has bench_simplify, the errors of the first stage in parts against the whole
+# mesh at once (simplify_mesh.h) on a scan above a million faces.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 build="$(cd "${1:?usage: run_textured_scale.sh <build-dir> [--repeat N]}" && pwd)"
@@ -82,4 +84,24 @@ gw, t2w = stat('geometry', 1)[1], stat('textured-2', 1)[1]
 print(f'- textured ÷ geometry only (medians): {t2 / g:.2f}× in `seconds`, {t2w / gw:.2f}× in wall time (target ≤ 5×).')
 print(f'- 1 thread ÷ 2 threads, textured (medians of `seconds`): {t1 / t2:.2f}× (target ≥ 1.6×).')
 EOF
+
+# What the first stage in parts (simplify_mesh.h) costs in error: the same simplification with the
+# whole mesh at once, on a scan above a million faces, meshoptimizer 0.18 beside them.
+if [ -x "$build/bin/bench_simplify" ]; then
+  "$build/bin/bench_simplify" --models igea-sub --ratios 0.1,0.05,0.02,0.01 \
+    --tools cmgeom-default,cmgeom-default-whole,meshopt --out "$work/parts.md" >/dev/null 2>&1
+  {
+    echo
+    echo '### The first stage in parts against the whole mesh at once'
+    echo
+    echo 'igea subdivided once (1,074,744 faces), geometry only: `cmgeom-default` is `cmgeom simplify` (simplify_mesh: the'
+    echo 'first collapses in parts on all cores, here 8 parts), `cmgeom-default-whole` the same with the parts switched off;'
+    echo 'CPU seconds of the call (all threads added up), Metro errors as a fraction of the bounding-box diagonal'
+    echo '(`bench_simplify --models igea-sub --ratios 0.1,0.05,0.02,0.01 --tools cmgeom-default,cmgeom-default-whole,meshopt`).'
+    echo
+    echo '| target | tool | faces out | CPU s | Hausdorff | RMS |'
+    echo '|---|---|--:|--:|--:|--:|'
+    awk -F'|' '/^\| igea-sub/ { printf "|%s|%s|%s|%s|%s|%s|\n", $3, $4, $5, $6, $8, $9 }' "$work/parts.md"
+  } >> "$here/RESULTS-scale.md"
+fi
 echo "wrote $here/RESULTS-scale.md" >&2

@@ -18,6 +18,7 @@
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/edge_collapse.h>
 #include <CMGeom/Textured_simplification/parameters.h>
+#include <CMGeom/Textured_simplification/simplify_mesh.h>
 #include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
 
 #endif  // CMGEOM_TEXTURED_SIMPLIFICATION_H

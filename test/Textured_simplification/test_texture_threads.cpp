@@ -145,4 +145,28 @@ TEST(TextureThreads, SimplifyTexturedMeshOptionThreadsDoesNotChangeTheResult) {
   EXPECT_TRUE(same_image(one.materials()[0].diffuse_image, two.materials()[0].diffuse_image));
 }
 
+// simplify_mesh's first stage runs its parts at once: the parts are a function of the mesh, so the
+// result is the same on any number of threads (and, under ThreadSanitizer, free of races).
+TEST(TextureThreads, SimplifyMeshInPartsDoesNotDependOnTheThreads) {
+  const CMGeom::Textured_mesh input = two_chart_grid(100, 64);
+  TS::Mesh_simplification_options o;
+  o.parts_min_faces = 4096;
+  o.part_faces = 1024;
+  auto run = [&](int threads) {
+    CMGeom::Surface_mesh m = input.mesh();
+    const TS::Mesh_simplification_result r =
+        with_threads(threads, [&] { return TS::simplify_mesh(m, m.number_of_faces() / 50, o); });
+    EXPECT_GE(r.parts, 8u);
+    return m;
+  };
+  const CMGeom::Surface_mesh one = run(1), two = run(2), four = run(4);
+  ASSERT_GT(one.number_of_faces(), 0u);
+  for (const auto* other : {&two, &four}) {
+    ASSERT_EQ(one.number_of_faces(), other->number_of_faces());
+    ASSERT_EQ(one.number_of_vertices(), other->number_of_vertices());
+    for (auto v : one.vertices()) EXPECT_EQ(one.point(v), other->point(v));
+    for (auto h : one.halfedges()) EXPECT_EQ(one.target(h), other->target(h));
+  }
+}
+
 }  // namespace

@@ -18,6 +18,7 @@
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 #include <CMGeom/Textured_simplification.h>
+#include <CMGeom/Textured_simplification/simplify_mesh.h>
 #include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
 #ifdef CMGEOM_HAS_OSMESA
 #include <CMGeom/Textured_simplification/Osmesa_index_texture_resampler.h>
@@ -257,19 +258,15 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     double seconds = 0;
     if (target < faces_in) {
       const double t0 = cmgeom_cli::now_seconds();
-      TS::Area_weighted_quadric_policies<Mesh> policy(mesh, qo);
-      TS::Face_count_stop_predicate<Mesh> stop(mesh, target);
       if (o->engine == "cmgeom") {
-        using VPM = typename boost::property_map<Mesh, CGAL::vertex_point_t>::type;
-        std::optional<TS::Surface_memory<Mesh, VPM>> memory;
-        if (!o->memoryless) memory.emplace(mesh, get(CGAL::vertex_point, mesh));
-        TS::edge_collapse(mesh, stop,
-                          CMGeom::parameters::surface_memory(
-                              memory ? &*memory : nullptr,
-                              CMGeom::parameters::edge_flips(o->flips, CGAL::parameters::get_cost(policy)
-                                                                           .get_placement(policy)
-                                                                           .visitor(Progress_visitor(&state)))));
+        TS::Mesh_simplification_options so;
+        so.quadric = qo;
+        so.surface_memory = !o->memoryless;
+        so.flips = o->flips;
+        TS::simplify_mesh(mesh, target, so, Progress_visitor(&state));
       } else {
+        TS::Area_weighted_quadric_policies<Mesh> policy(mesh, qo);
+        TS::Face_count_stop_predicate<Mesh> stop(mesh, target);
         CGAL::Surface_mesh_simplification::edge_collapse(mesh, stop,
                                                          CGAL::parameters::get_cost(policy)
                                                              .get_placement(policy)

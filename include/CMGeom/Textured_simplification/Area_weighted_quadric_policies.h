@@ -130,7 +130,7 @@ public:
 
   explicit Area_weighted_quadric_policies(TriangleMesh& tm, const Quadric_options& options = Quadric_options())
       : vim_(CGAL::get_initialized_vertex_index_map(tm)), data_(std::make_shared<std::vector<Record>>()),
-        options_(options) {
+        keep_once_(std::make_shared<bool>(false)), options_(options) {
     // Checked here because a bad value does not fail loudly later: min_weight > 1 or NaN is
     // undefined behaviour in std::clamp, min_weight = 0 lets two flat endpoints merge as 0/0.
     if (!(options.min_weight > 0.0 && options.min_weight <= 1.0))
@@ -167,10 +167,35 @@ public:
   /// placement is this object's, and the engine may use cost_at_own_placement().
   bool shares_state_with(const Self& other) const { return data_ == other.data_; }
 
+  /// Sets the quadric and weight of vertex v, for a simplification that continues one done
+  /// elsewhere (simplify_mesh() does its first collapses in parts of the mesh, then the rest on
+  /// the whole with the parts' quadrics); with keep_vertex_data_once(), the next initialize()
+  /// keeps what was set here instead of computing the quadrics from the faces.
+  void set_vertex_data(vertex_descriptor v, const Quadric& q, double w) const {
+    const std::size_t i = std::size_t(get(vim_, v));
+    if (data_->size() <= i) data_->resize(i + 1);
+    (*data_)[i].q = q;
+    (*data_)[i].w = w;
+  }
+  /// The next initialize() (only that one) keeps the vertex data set by set_vertex_data().
+  void keep_vertex_data_once() const { *keep_once_ = true; }
+
+  /// Recomputes the weight of v from its quadric and its current star (weighted mode; 1 in plain
+  /// mode), e.g. after set_vertex_data() for a vertex whose star changed.
+  template <class VertexPointMap>
+  void recompute_weight(const TriangleMesh& tm, const VertexPointMap& vpm, vertex_descriptor v) const {
+    Record& r = record(v);
+    r.w = compute_weight(tm, vpm, v, r.q);
+  }
+
   /// Builds the vertex quadrics and weights. Called once by the engines before collecting edges.
   template <class VertexPointMap>
   void initialize(const TriangleMesh& tm, const VertexPointMap& vpm, const GeomTraits& = GeomTraits()) const {
     resize(tm);
+    if (*keep_once_) {
+      *keep_once_ = false;
+      return;
+    }
     for (vertex_descriptor v : vertices(tm)) record(v) = Record();
     // Weighted mode: the vertex normals (sums of the incident faces' cross products, as
     // compute_weight() forms them) are gathered in the face loop rather than by walking every
@@ -348,6 +373,7 @@ private:
 
   Vertex_index_map vim_;
   std::shared_ptr<std::vector<Record>> data_;
+  std::shared_ptr<bool> keep_once_;  // shared, as data_, by the copies the engines make
   Quadric_options options_;
 };
 

@@ -64,22 +64,7 @@ public:
   Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm,
                  const Surface_memory_options& options = Surface_memory_options())
       : vpm_(vpm) {
-    std::size_t nf = 0;
-    for (face_descriptor f : faces(tm)) {
-      nf = (std::max)(nf, std::size_t(f) + 1);
-      ++faces_alive_;
-    }
-    head_.assign(nf, nil);
-    std::size_t live = 0;
-    V3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
-    for (vertex_descriptor v : vertices(tm)) {
-      ++live;
-      const V3 p = point(v);
-      lo = V3((std::min)(lo.x, p.x), (std::min)(lo.y, p.y), (std::min)(lo.z, p.z));
-      hi = V3((std::max)(hi.x, p.x), (std::max)(hi.y, p.y), (std::max)(hi.z, p.z));
-    }
-    // distances below a millionth of the bounding-box diagonal are round-off, not deviation
-    if (live > 0) floor_sq_ = 1e-12 * CM::internal::squared_length(hi - lo);
+    const std::size_t live = set_up(tm);
     const std::size_t cap = options.max_points;
     const std::size_t stride = cap > 0 && live > cap ? (live + cap - 1) / cap : 1;
     items_.reserve(live / stride + 1);
@@ -100,6 +85,23 @@ public:
       r.area = area * double(stride);
       r.next = head_[std::size_t(home)];
       head_[std::size_t(home)] = std::uint32_t(items_.size());
+      items_.push_back(r);
+    }
+  }
+
+  /// Takes the given points instead of the mesh's vertices: `points` is a range of
+  /// (face, point, area) triples, `face` a live face of `tm`, `point` a CM::internal::Vec3, as
+  /// for_each_point() gives them (simplify_mesh() gathers the points of the memories of the parts
+  /// it simplified separately into one memory of the whole).
+  template <class PointRange>
+  Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm, const PointRange& points) : vpm_(vpm) {
+    set_up(tm);
+    for (const auto& [f, p, area] : points) {
+      Item r;
+      r.p = p;
+      r.area = area;
+      r.next = head_[std::size_t(f)];
+      head_[std::size_t(f)] = std::uint32_t(items_.size());
       items_.push_back(r);
     }
   }
@@ -216,6 +218,28 @@ private:
     V3 centre;      // centroid, and radius: the largest distance from it to a corner
     double radius;
   };
+
+  /// Sizes the per-face lists, counts the faces and sets the distance floor; returns the number
+  /// of vertices.
+  std::size_t set_up(const TriangleMesh& tm) {
+    std::size_t nf = 0;
+    for (face_descriptor f : faces(tm)) {
+      nf = (std::max)(nf, std::size_t(f) + 1);
+      ++faces_alive_;
+    }
+    head_.assign(nf, nil);
+    std::size_t live = 0;
+    V3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+    for (vertex_descriptor v : vertices(tm)) {
+      ++live;
+      const V3 p = point(v);
+      lo = V3((std::min)(lo.x, p.x), (std::min)(lo.y, p.y), (std::min)(lo.z, p.z));
+      hi = V3((std::max)(hi.x, p.x), (std::max)(hi.y, p.y), (std::max)(hi.z, p.z));
+    }
+    // distances below a millionth of the bounding-box diagonal are round-off, not deviation
+    if (live > 0) floor_sq_ = 1e-12 * CM::internal::squared_length(hi - lo);
+    return live;
+  }
 
   /// Moves the points of face f to moving_ (with f), leaving f without points.
   void detach(face_descriptor f) {

@@ -45,6 +45,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <array>
@@ -497,9 +498,12 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   }
   res.coverage = double(res.texels_baked) / double(n);
   if (any_normal) dist_normal = dist;
-  Image diffuse = internal::dilate_into_image(W, H, colour_channels, dist, colour);
-  Image normal_map;
-  if (any_normal) normal_map = internal::dilate_into_image(W, H, 3, dist_normal, normal_acc);
+  // the two maps' gutters are filled at once (each fill is one pass over the texture)
+  Image diffuse, normal_map;
+  tbb::task_group fill;
+  if (any_normal) fill.run([&] { normal_map = internal::dilate_into_image(W, H, 3, dist_normal, normal_acc); });
+  diffuse = internal::dilate_into_image(W, H, colour_channels, dist, colour);
+  fill.wait();
   res.seconds_bake = std::chrono::duration<double>(Clock::now() - t1).count();
 
   // the new UVs and the one material

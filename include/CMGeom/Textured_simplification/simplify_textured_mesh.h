@@ -36,6 +36,7 @@
 #include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/edge_collapse.h>
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
+#include <CMGeom/Textured_simplification/simplify_mesh.h>
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 
 #include <tbb/task_arena.h>
@@ -167,25 +168,11 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   res.faces_in = mesh.number_of_faces();
   Atlas_options ao = options.atlas;
   if (ao.texture_width <= 0 && options.texture_size > 0) ao.texture_width = ao.texture_height = options.texture_size;
-  // the memoryful cost's points are taken from the input on another core while the atlas source
-  // (what the baking needs from the input, taken before the collapses change it) is extracted;
-  // the source's tree and chart map are then built on another core while the collapses run
-  using VPM = typename boost::property_map<Mesh, CGAL::vertex_point_t>::type;
-  std::optional<Surface_memory<Mesh, VPM>> memory;
+  // the atlas source (what the baking needs from the input, taken before the collapses change it)
+  // first; its tree and chart map are then built on another core while the collapses run
   const bool collapses = options.target_faces < res.faces_in;
-  tbb::task_group take_points;
-  if (collapses && options.surface_memory)
-    take_points.run([&memory, &mesh] { memory.emplace(mesh, get(CGAL::vertex_point, mesh)); });
   const auto t_source = std::chrono::steady_clock::now();
-  std::optional<Atlas_source> source_holder;
-  try {
-    source_holder.emplace(tm, ao);
-  } catch (...) {
-    take_points.wait();
-    throw;
-  }
-  take_points.wait();
-  Atlas_source& source = *source_holder;
+  Atlas_source source(tm, ao);
   res.charts_in = source.charts();
   res.seconds_texture = internal::seconds_since(t_source);
   tbb::task_group prepare;
@@ -193,18 +180,12 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   const auto t0 = std::chrono::steady_clock::now();
   try {
     if (collapses) {
-      Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
-      Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
-      Surface_memory<Mesh, VPM>* m = memory ? &*memory : nullptr;
-      auto collapse_with = [&](const auto& placement) {
-        edge_collapse(mesh, stop,
-                      CMGeom::parameters::surface_memory(
-                          m, CMGeom::parameters::edge_flips(
-                                 options.flips,
-                                 CGAL::parameters::get_cost(policy).get_placement(placement).visitor(visitor))));
-      };
-      if (options.endpoint_placement) collapse_with(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy});
-      else collapse_with(policy);
+      Mesh_simplification_options so;
+      so.quadric = options.quadric;
+      so.surface_memory = options.surface_memory;
+      so.flips = options.flips;
+      so.endpoint_placement = options.endpoint_placement;
+      simplify_mesh(mesh, options.target_faces, so, visitor);
     }
   } catch (...) {
     prepare.wait();  // `source` must outlive the task

@@ -1,0 +1,342 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Internal to simplify_mesh(): cutting a Surface_mesh into parts that are simplified at the same
+// time on separate cores, and putting the simplified parts back together.
+//
+//   * Parts: the faces are split by the median of their centroids along the longest side of
+//     their bounding box, recursively, into 2^k parts (a function of the face count only, so the
+//     result does not depend on the number of threads).
+//   * A part is a Surface_mesh of its own, built straight from the input's halfedges (no polygon
+//     soup, no search): an edge between two faces of the part stays an edge, an edge to another
+//     part becomes a border. Around a vertex whose star the cut splits into several runs of
+//     faces, each run gets a vertex of its own, so every part is a manifold mesh. The vertices
+//     on a cut (those with faces outside the part) are locked: a collapse next to one keeps it
+//     where it is (the half-edge collapse onto it), a collapse between two is refused. The cuts
+//     thus reach the merge unchanged, and the parts' borders along them match vertex for vertex.
+//   * Merge: the locked copies of an input vertex become one vertex again; a border halfedge
+//     a -> b between locked vertices meets the border halfedge b -> a of another part, and the
+//     two become one edge; the mesh is rebuilt from the parts' live faces.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_MESH_PARTS_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_MESH_PARTS_H
+
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+namespace CMGeom {
+namespace Textured_simplification {
+namespace internal {
+
+constexpr std::uint32_t no_index = 0xffffffffu;
+
+/// Gives the empty mesh `m` the triangles `corners` (three vertex indices per face, into
+/// `points`), whose sides are given: side j of face i, from corner j to corner j + 1, lies on edge
+/// `sides[3 i + j]` (< number_of_edges). Every edge must have one side (a border edge) or two of
+/// opposite directions, and the faces around every vertex must form one fan (these hold for the
+/// parts and merges below by construction). Throws std::logic_error when an edge has no side or
+/// more than two, or a border cannot be closed.
+template <class Point>
+void build_triangle_mesh(CGAL::Surface_mesh<Point>& m, const std::vector<Point>& points,
+                         const std::vector<std::uint32_t>& corners, const std::vector<std::uint32_t>& sides,
+                         std::size_t number_of_edges) {
+  using Mesh = CGAL::Surface_mesh<Point>;
+  using V = typename Mesh::Vertex_index;
+  using H = typename Mesh::Halfedge_index;
+  using F = typename Mesh::Face_index;
+  using size_type = typename Mesh::size_type;
+  const std::size_t nf = corners.size() / 3;
+  m.reserve(size_type(points.size()), size_type(number_of_edges), size_type(nf));
+  for (const Point& p : points) m.add_vertex(p);
+  for (std::size_t e = 0; e < number_of_edges; ++e) m.add_edge();
+  std::vector<std::uint8_t> used(number_of_edges, 0);
+  for (std::size_t i = 0; i < nf; ++i) {
+    const F f = m.add_face();
+    std::array<H, 3> hs;
+    for (std::size_t j = 0; j < 3; ++j) {
+      const std::size_t e = sides[3 * i + j];
+      if (used[e] == 2) throw std::logic_error("build_triangle_mesh: an edge with more than two sides");
+      const H h(size_type(2 * e + used[e]++));
+      const V v(size_type(corners[3 * i + (j + 1) % 3]));
+      m.set_target(h, v);
+      m.set_face(h, f);
+      m.set_halfedge(v, h);
+      hs[j] = h;
+    }
+    for (std::size_t j = 0; j < 3; ++j) m.set_next(hs[j], hs[(j + 1) % 3]);
+    m.set_halfedge(f, hs[0]);
+  }
+  // the border halfedges: the unused side of one-sided edges, incoming halfedge of their target
+  for (std::size_t e = 0; e < number_of_edges; ++e) {
+    if (used[e] == 0) throw std::logic_error("build_triangle_mesh: an edge with no side");
+    if (used[e] == 2) continue;
+    const H h(size_type(2 * e)), b(size_type(2 * e + 1));
+    const V s = m.target(m.prev(h));
+    m.set_target(b, s);
+    m.set_face(b, F());
+    m.set_halfedge(s, b);
+  }
+  // next of a border halfedge b (into v): the border halfedge out of v at the other end of v's fan
+  for (std::size_t e = 0; e < number_of_edges; ++e) {
+    if (used[e] == 2) continue;
+    const H b(size_type(2 * e + 1));
+    H x = m.opposite(b);
+    for (std::size_t guard = 0;; ++guard) {
+      if (guard > m.number_of_halfedges()) throw std::logic_error("build_triangle_mesh: a border that does not close");
+      const H y = m.opposite(m.prev(x));
+      if (m.is_border(y)) {
+        m.set_next(b, y);
+        break;
+      }
+      x = y;
+    }
+  }
+}
+
+/// A part of a mesh cut for simplification (see the file comment).
+template <class Point>
+struct Mesh_part {
+  CGAL::Surface_mesh<Point> mesh;
+  std::vector<std::uint32_t> to_input;  ///< part vertex -> input vertex
+  std::vector<std::uint8_t> locked;     ///< part vertex on a cut (kept in place)
+};
+
+/// Labels the live faces of `m` with their part (2^levels parts, median splits along the longest
+/// side of the centroids' box); `label` is indexed by face index, `no_index` for removed faces.
+/// Returns the faces of each part.
+template <class Point>
+std::vector<std::vector<std::uint32_t>> split_faces(const CGAL::Surface_mesh<Point>& m, int levels,
+                                                   std::vector<std::uint32_t>& label) {
+  std::vector<std::array<double, 3>> centre(m.num_faces());
+  std::vector<std::uint32_t> order;
+  order.reserve(m.number_of_faces());
+  for (auto f : m.faces()) {
+    std::array<double, 3> c{0, 0, 0};
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+      const Point& p = m.point(v);
+      c[0] += CGAL::to_double(p.x());
+      c[1] += CGAL::to_double(p.y());
+      c[2] += CGAL::to_double(p.z());
+    }
+    centre[std::size_t(f)] = c;  // three times the centroid: the order is the same
+    order.push_back(std::uint32_t(f));
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> ranges{{0, order.size()}};
+  for (int level = 0; level < levels; ++level) {
+    std::vector<std::pair<std::size_t, std::size_t>> next;
+    for (auto [lo, hi] : ranges) {
+      std::array<double, 3> a{1e300, 1e300, 1e300}, b{-1e300, -1e300, -1e300};
+      for (std::size_t i = lo; i < hi; ++i)
+        for (int k = 0; k < 3; ++k) {
+          a[k] = (std::min)(a[k], centre[order[i]][k]);
+          b[k] = (std::max)(b[k], centre[order[i]][k]);
+        }
+      int axis = 0;
+      for (int k = 1; k < 3; ++k)
+        if (b[k] - a[k] > b[axis] - a[axis]) axis = k;
+      const std::size_t mid = lo + (hi - lo) / 2;
+      // ties broken by face index: the split is a function of the mesh alone
+      std::nth_element(order.begin() + std::ptrdiff_t(lo), order.begin() + std::ptrdiff_t(mid),
+                       order.begin() + std::ptrdiff_t(hi), [&](std::uint32_t x, std::uint32_t y) {
+                         const double cx = centre[x][axis], cy = centre[y][axis];
+                         return cx < cy || (cx == cy && x < y);
+                       });
+      next.emplace_back(lo, mid);
+      next.emplace_back(mid, hi);
+    }
+    ranges.swap(next);
+  }
+  label.assign(m.num_faces(), no_index);
+  std::vector<std::vector<std::uint32_t>> parts(ranges.size());
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    parts[k].assign(order.begin() + std::ptrdiff_t(ranges[k].first), order.begin() + std::ptrdiff_t(ranges[k].second));
+    std::sort(parts[k].begin(), parts[k].end());  // input order inside a part
+    for (std::uint32_t f : parts[k]) label[f] = std::uint32_t(k);
+  }
+  return parts;
+}
+
+/// Builds part k of `m` (faces `faces`, labels `label`). `corner_vertex` and `side_edge`, indexed
+/// by the input's halfedge index and filled with no_index by the caller, are shared by all parts:
+/// part k writes only the entries of halfedges of its own faces, so parts can be built at once.
+template <class Point>
+Mesh_part<Point> make_part(const CGAL::Surface_mesh<Point>& m, std::uint32_t k, const std::vector<std::uint32_t>& faces,
+                           const std::vector<std::uint32_t>& label, std::vector<std::uint32_t>& corner_vertex,
+                           std::vector<std::uint32_t>& side_edge) {
+  using Mesh = CGAL::Surface_mesh<Point>;
+  using H = typename Mesh::Halfedge_index;
+  using F = typename Mesh::Face_index;
+  Mesh_part<Point> part;
+  std::vector<Point> points;
+  auto in_part = [&](H h) { return !m.is_border(h) && label[std::size_t(m.face(h))] == k; };
+  // the run of part faces around target(h) that holds face(h) gets one part vertex
+  auto add_vertex = [&](H h) {
+    const std::uint32_t u = std::uint32_t(points.size());
+    const auto v = m.target(h);
+    points.push_back(m.point(v));
+    part.to_input.push_back(std::uint32_t(v));
+    bool cut = false;
+    H x = h;
+    bool closed = false;
+    for (;;) {  // forwards: the next face around v
+      corner_vertex[std::size_t(x)] = u;
+      const H y = m.opposite(m.next(x));
+      if (m.is_border(y)) break;
+      if (!in_part(y)) {
+        cut = true;
+        break;
+      }
+      if (y == h) {
+        closed = true;
+        break;
+      }
+      x = y;
+    }
+    if (!closed) {
+      x = h;
+      for (;;) {  // backwards
+        const H y = m.opposite(x);
+        if (m.is_border(y)) break;
+        if (!in_part(y)) {
+          cut = true;
+          break;
+        }
+        x = m.prev(y);
+        corner_vertex[std::size_t(x)] = u;
+      }
+    }
+    part.locked.push_back(cut ? 1 : 0);
+  };
+  std::vector<std::uint32_t> corners(3 * faces.size()), sides(3 * faces.size());
+  std::uint32_t edges = 0;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const F f(typename Mesh::size_type(faces[i]));
+    std::array<H, 3> hs;
+    hs[0] = m.halfedge(f);
+    hs[1] = m.next(hs[0]);
+    hs[2] = m.next(hs[1]);
+    for (std::size_t j = 0; j < 3; ++j) {
+      const H h = hs[j];
+      if (corner_vertex[std::size_t(h)] == no_index) add_vertex(h);
+      if (side_edge[std::size_t(h)] == no_index) {
+        const H o = m.opposite(h);
+        side_edge[std::size_t(h)] =
+            in_part(o) && side_edge[std::size_t(o)] != no_index ? side_edge[std::size_t(o)] : edges++;
+      }
+    }
+    for (std::size_t j = 0; j < 3; ++j) {
+      corners[3 * i + j] = corner_vertex[std::size_t(hs[(j + 2) % 3])];  // source of side j
+      sides[3 * i + j] = side_edge[std::size_t(hs[j])];
+    }
+  }
+  build_triangle_mesh(part.mesh, points, corners, sides, edges);
+  return part;
+}
+
+/// The simplified parts put back together (see the file comment) as one list of triangles for
+/// build_triangle_mesh(), with where each part's vertices and faces went.
+template <class Point>
+struct Merged_parts {
+  std::vector<Point> points;
+  std::vector<std::uint32_t> corners, sides;
+  std::size_t edges = 0;
+  std::vector<std::uint32_t> input_vertex;               ///< merged vertex -> input vertex, or no_index
+  std::vector<std::vector<std::uint32_t>> vertex, face;  ///< per part: part vertex / face -> merged
+};
+
+template <class Point>
+Merged_parts<Point> merge_parts(const std::vector<Mesh_part<Point>>& parts, std::size_t input_vertices) {
+  using Mesh = CGAL::Surface_mesh<Point>;
+  using H = typename Mesh::Halfedge_index;
+  Merged_parts<Point> out;
+  std::vector<std::uint32_t> merged_of_input(input_vertices, no_index);
+  out.vertex.resize(parts.size());
+  out.face.resize(parts.size());
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const auto& part = parts[k];
+    auto& vid = out.vertex[k];
+    vid.assign(part.mesh.num_vertices(), no_index);
+    for (auto u : part.mesh.vertices()) {
+      std::uint32_t& to = vid[std::size_t(u)];
+      if (part.locked[std::size_t(u)]) {
+        std::uint32_t& shared = merged_of_input[part.to_input[std::size_t(u)]];
+        if (shared == no_index) {
+          shared = std::uint32_t(out.points.size());
+          out.points.push_back(part.mesh.point(u));
+          out.input_vertex.push_back(part.to_input[std::size_t(u)]);
+        }
+        to = shared;
+      } else {
+        to = std::uint32_t(out.points.size());
+        out.points.push_back(part.mesh.point(u));
+        out.input_vertex.push_back(no_index);
+      }
+    }
+  }
+  // edges: a border halfedge a -> b between locked vertices waits for b -> a from another part
+  std::vector<std::vector<std::uint32_t>> edge_of(parts.size());
+  struct Waiting {
+    std::uint64_t key;
+    std::size_t part;
+    std::uint32_t edge;
+  };
+  std::vector<Waiting> waiting;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const auto& pm = parts[k].mesh;
+    const auto& vid = out.vertex[k];
+    edge_of[k].assign(pm.num_edges(), no_index);
+    for (auto e : pm.edges()) {
+      H h = pm.halfedge(e);
+      if (pm.is_border(h)) h = pm.opposite(h);
+      const bool border = pm.is_border(pm.opposite(h));
+      const auto s = pm.source(h), t = pm.target(h);
+      if (border && parts[k].locked[std::size_t(s)] && parts[k].locked[std::size_t(t)]) {
+        waiting.push_back({(std::uint64_t(vid[std::size_t(s)]) << 32) | vid[std::size_t(t)], k, std::uint32_t(e)});
+        continue;
+      }
+      edge_of[k][std::size_t(e)] = std::uint32_t(out.edges++);
+    }
+  }
+  // pair a -> b with b -> a: sort by the unordered pair, then by part
+  auto unordered = [](std::uint64_t key) {
+    const std::uint64_t a = key >> 32, b = key & 0xffffffffu;
+    return a < b ? (a << 32) | b : (b << 32) | a;
+  };
+  std::sort(waiting.begin(), waiting.end(), [&](const Waiting& x, const Waiting& y) {
+    const std::uint64_t ux = unordered(x.key), uy = unordered(y.key);
+    return ux < uy || (ux == uy && (x.part < y.part || (x.part == y.part && x.edge < y.edge)));
+  });
+  for (std::size_t i = 0; i < waiting.size();) {
+    std::size_t j = i + 1;
+    while (j < waiting.size() && unordered(waiting[j].key) == unordered(waiting[i].key)) ++j;
+    if (j - i > 2 || (j - i == 2 && (waiting[i].key == waiting[i + 1].key || waiting[i].part == waiting[i + 1].part)))
+      throw std::logic_error("merge_parts: the parts' borders do not match");
+    const std::uint32_t id = std::uint32_t(out.edges++);
+    for (std::size_t q = i; q < j; ++q) edge_of[waiting[q].part][waiting[q].edge] = id;
+    i = j;
+  }
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const auto& pm = parts[k].mesh;
+    const auto& vid = out.vertex[k];
+    out.face[k].assign(pm.num_faces(), no_index);
+    for (auto f : pm.faces()) {
+      out.face[k][std::size_t(f)] = std::uint32_t(out.corners.size() / 3);
+      H h = pm.halfedge(f);
+      for (int j = 0; j < 3; ++j, h = pm.next(h)) {
+        out.corners.push_back(vid[std::size_t(pm.source(h))]);
+        out.sides.push_back(edge_of[k][std::size_t(pm.edge(h))]);
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace internal
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_MESH_PARTS_H

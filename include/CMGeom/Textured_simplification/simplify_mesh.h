@@ -1,0 +1,320 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// simplify_mesh(): geometric simplification of a Surface_mesh to a face count in one call, as
+// `cmgeom simplify --no-texture` and the new-atlas path of simplify_textured_mesh() run it: the
+// quadrics of Area_weighted_quadric_policies, completed by the memoryful cost of Surface_memory
+// (unless switched off), on CMGeom's engine (edge_collapse.h), edge flips on request.
+//
+// Large inputs are simplified on all cores (manual: Textured_simplification, "Large meshes and
+// threads"). An input of at least `parts_min_faces` faces asked for at most 1/(4 x parts_stop_factor)
+// of them (1/16 by default) is cut into 2^k parts of at least `part_faces` faces each (median splits of the face
+// centroids; internal/Mesh_parts.h). Each part is simplified on its own core, with the quadrics
+// of the whole input and a memory of its own points, down to `parts_stop_factor` times its share
+// of the target (and at least two faces per cut vertex); the vertices on the cuts stay where they
+// are, and no collapse joins two of them the input does not join, so the parts fit back together.
+// The whole is then rebuilt (its vertices and faces renumbered), its quadrics and memory gathered
+// from the parts (a cut vertex's quadric is its input quadric plus what each part added to it), and
+// the remaining collapses run on the whole, where the cuts' vertices are free again. The parts
+// depend on the mesh alone, not on the number of threads: the result is the same on any number
+// of cores. The price: near the cuts the first collapses are half-edge collapses onto the cut,
+// until the second stage frees them (benchmark/Textured_simplification/RESULTS-scale.md compares
+// the errors with and without parts).
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_MESH_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_MESH_H
+
+#include <CMGeom/config.h>
+#include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
+#include <CMGeom/Textured_simplification/Edge_collapse_visitor_base.h>
+#include <CMGeom/Textured_simplification/Endpoint_placement.h>
+#include <CMGeom/Textured_simplification/Stop_predicates.h>
+#include <CMGeom/Textured_simplification/Surface_memory.h>
+#include <CMGeom/Textured_simplification/edge_collapse.h>
+#include <CMGeom/Textured_simplification/internal/Mesh_parts.h>
+#include <CMGeom/Textured_simplification/parameters.h>
+
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/boost/graph/helpers.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <tuple>
+#include <type_traits>
+#include <vector>
+
+namespace CMGeom {
+namespace Textured_simplification {
+
+/// Options of simplify_mesh().
+struct Mesh_simplification_options {
+  /// The cost and placement policy (Area_weighted_quadric_policies).
+  Quadric_options quadric;
+  /// The memoryful cost (Surface_memory.h) on top of the quadrics.
+  bool surface_memory = true;
+  Surface_memory_options memory;
+  /// Edge flips between collapses (parameters::edge_flips).
+  bool flips = false;
+  /// Placements at an endpoint (Endpoint_placement) instead of the quadric's minimiser.
+  bool endpoint_placement = false;
+  /// Inputs with at least this many faces are simplified in parts first (0: never; see the file
+  /// comment).
+  std::size_t parts_min_faces = 262144;
+  /// Each part has at least this many faces (at most 16 parts).
+  std::size_t part_faces = 131072;
+  /// The parts stop at this many times their share of the target (>= 1); parts are used only
+  /// when the input has at least four times that many faces (the parts do three quarters of the
+  /// collapses or more: below that, rebuilding the whole costs more than the parts save).
+  double parts_stop_factor = 4.0;
+};
+
+/// What simplify_mesh() did.
+struct Mesh_simplification_result {
+  std::size_t faces_in = 0, faces_out = 0;
+  std::size_t parts = 0;               ///< parts simplified at once (0: the whole at once)
+  std::size_t faces_after_parts = 0;   ///< faces when the parts were put back together
+  double seconds_parts = 0;            ///< the parts: cutting, simplifying, putting back
+  double seconds = 0;                  ///< all of it
+};
+
+namespace internal {
+
+/// The placement of a part: none between two locked vertices (the edge never enters the queue),
+/// the locked vertex's point next to one, else the base placement's.
+template <class BasePlacement>
+struct Locked_vertex_placement {
+  BasePlacement base;
+  const std::vector<std::uint8_t>* locked;
+  template <class Profile>
+  auto operator()(const Profile& p) const -> CMGeom::internal::optional<typename Profile::Point> {
+    using Placement = CMGeom::internal::optional<typename Profile::Point>;
+    const bool a = (*locked)[std::size_t(p.v0())] != 0, b = (*locked)[std::size_t(p.v1())] != 0;
+    if (a && b) return Placement();
+    if (a) return Placement(p.p0());
+    if (b) return Placement(p.p1());
+    return base(p);
+  }
+};
+
+/// Refuses a collapse onto a locked vertex that would join it to another locked vertex it has no
+/// edge to: edges between locked vertices stay those of the input, so that two parts cannot make
+/// the same new edge (the whole would have it twice).
+struct Locked_vertex_filter {
+  const std::vector<std::uint8_t>* locked;
+  template <class Profile, class Placement>
+  Placement operator()(const Profile& p, const Placement& placement) const {
+    const auto& tm = p.surface_mesh();
+    const bool a = (*locked)[std::size_t(p.v0())] != 0;
+    if (!a && !(*locked)[std::size_t(p.v1())]) return placement;
+    const auto kept = a ? p.v0() : p.v1(), gone = a ? p.v1() : p.v0();
+    for (auto w : CGAL::vertices_around_target(gone, tm)) {
+      if (w == kept || !(*locked)[std::size_t(w)]) continue;
+      bool adjacent = false;
+      for (auto x : CGAL::vertices_around_target(kept, tm))
+        if (x == w) {
+          adjacent = true;
+          break;
+        }
+      if (!adjacent) return Placement();
+    }
+    return placement;
+  }
+};
+
+/// The collapse may keep either endpoint: the kept one inherits the lock and the input vertex.
+template <class Point>
+struct Locked_vertex_visitor : Edge_collapse_visitor_base {
+  Mesh_part<Point>* part;
+  template <class Profile, class V>
+  void OnCollapsed(const Profile& p, const V& kept) const {
+    const std::size_t a = std::size_t(p.v0()), b = std::size_t(p.v1()), k = std::size_t(kept);
+    if (!part->locked[a] && !part->locked[b]) return;
+    const std::size_t from = part->locked[a] ? a : b;
+    part->locked[k] = 1;
+    part->to_input[k] = part->to_input[from];
+  }
+};
+
+/// Number of halvings of the input into parts (0: none), see the file comment.
+inline int part_levels(std::size_t faces, std::size_t target, const Mesh_simplification_options& o) {
+  if (o.parts_min_faces == 0 || faces < o.parts_min_faces || o.part_faces == 0) return 0;
+  if (4.0 * o.parts_stop_factor * double(target) > double(faces)) return 0;
+  int levels = 0;
+  while (levels < 4 && (faces >> (levels + 1)) >= o.part_faces) ++levels;
+  return levels;
+}
+
+template <class Mesh, class Policy, class Fn>
+void collapse_with_placement(const Policy& policy, bool endpoint, Fn fn) {
+  if (endpoint) fn(Endpoint_placement<Policy>{policy});
+  else fn(policy);
+}
+
+/// The first stage (see the file comment): on return `mesh` is the parts put back together,
+/// `policy` holds their quadrics for the next initialize(), `memory` their points (if asked).
+template <class Point, class Memory>
+void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int levels,
+                       const Mesh_simplification_options& options,
+                       Area_weighted_quadric_policies<CGAL::Surface_mesh<Point>>& policy,
+                       std::optional<Memory>& memory) {
+  using Mesh = CGAL::Surface_mesh<Point>;
+  using Policy = Area_weighted_quadric_policies<Mesh>;
+  using V = typename Mesh::Vertex_index;
+  using Quadric = typename Policy::Quadric;
+  using size_type = typename Mesh::size_type;
+  const std::size_t faces_in = mesh.number_of_faces(), vertices_in = mesh.number_of_vertices();
+  policy.initialize(mesh, mesh.points());  // the input's quadrics, for every part
+  std::vector<std::uint32_t> label;
+  const std::vector<std::vector<std::uint32_t>> faces_of = split_faces(mesh, levels, label);
+  const std::size_t n = faces_of.size();
+  std::vector<std::uint32_t> corner_vertex(mesh.num_halfedges(), no_index), side_edge(mesh.num_halfedges(), no_index);
+  std::vector<Mesh_part<Point>> parts(n);
+  std::vector<std::optional<Policy>> part_policy(n);
+  std::vector<std::optional<Memory>> part_memory(n);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
+    Mesh_part<Point>& part = parts[k];
+    part = make_part(mesh, std::uint32_t(k), faces_of[k], label, corner_vertex, side_edge);
+    Mesh& pm = part.mesh;
+    Policy& pp = part_policy[k].emplace(pm, options.quadric);
+    for (auto u : pm.vertices()) {
+      const V v(size_type(part.to_input[std::size_t(u)]));
+      pp.set_vertex_data(u, policy.quadric(v), policy.weight(v));
+    }
+    pp.keep_vertex_data_once();
+    Memory* pmem = nullptr;
+    if (options.surface_memory) {
+      Surface_memory_options mo = options.memory;
+      if (mo.max_points > 0)
+        mo.max_points = (std::max)(std::size_t(1), std::size_t(std::ceil(double(mo.max_points) *
+                                                                          double(pm.number_of_vertices()) /
+                                                                          double(vertices_in))));
+      pmem = &part_memory[k].emplace(pm, pm.points(), mo);
+    }
+    // its share of the target, but at least two faces per locked vertex: a part emptied down to
+    // its locked border would be a flat fan the second stage cannot repair (measured on the tests'
+    // torus cut into 16 parts: at 2 % Hausdorff 4.6x that of the whole at once without this floor,
+    // within 1.3x with it)
+    const std::size_t locked = std::size_t(std::count(part.locked.begin(), part.locked.end(), std::uint8_t(1)));
+    const std::size_t stop = (std::max)(
+        2 * locked, std::size_t(std::ceil(options.parts_stop_factor * double(target) *
+                                                            double(pm.number_of_faces()) / double(faces_in))));
+    collapse_with_placement<Mesh>(pp, options.endpoint_placement, [&](const auto& placement) {
+      using Base = std::decay_t<decltype(placement)>;
+      edge_collapse(pm, Face_count_stop_predicate<Mesh>(pm, stop),
+                    CMGeom::parameters::surface_memory(
+                        pmem, CGAL::parameters::get_cost(pp)
+                                  .get_placement(Locked_vertex_placement<Base>{placement, &part.locked})
+                                  .filter(Locked_vertex_filter{&part.locked})
+                                  .visitor(Locked_vertex_visitor<Point>{{}, &part})));
+    });
+  });
+
+  Merged_parts<Point> merged = merge_parts(parts, mesh.num_vertices());
+  // the quadrics of the whole: a cut vertex's is its input quadric plus what each part added
+  const std::size_t nv = merged.points.size();
+  std::vector<Quadric> q(nv);
+  std::vector<double> w(nv, 1.0);
+  for (std::size_t i = 0; i < nv; ++i)
+    if (merged.input_vertex[i] != no_index) {
+      const V v(size_type(merged.input_vertex[i]));
+      q[i] = policy.quadric(v);
+      w[i] = policy.weight(v);
+    }
+  for (std::size_t k = 0; k < n; ++k)
+    for (auto u : parts[k].mesh.vertices()) {
+      const std::size_t i = merged.vertex[k][std::size_t(u)];
+      const Quadric& pq = part_policy[k]->quadric(u);
+      if (parts[k].locked[std::size_t(u)]) {
+        const Quadric& input = policy.quadric(V(size_type(merged.input_vertex[i])));
+        q[i] = Quadric::combine(q[i], 1.0, Quadric::combine(pq, 1.0, input, -1.0), 1.0);
+      } else {
+        q[i] = pq;
+        w[i] = part_policy[k]->weight(u);
+      }
+    }
+  // the parts' points, on the faces of the whole
+  std::vector<std::tuple<typename Mesh::Face_index, CM::internal::Vec3, double>> points;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!part_memory[k]) continue;
+    part_memory[k]->for_each_point([&](auto f, const CM::internal::Vec3& p, double area) {
+      if (f == Mesh::null_face() || merged.face[k][std::size_t(f)] == no_index) return;
+      points.emplace_back(typename Mesh::Face_index(size_type(merged.face[k][std::size_t(f)])), p, area);
+    });
+  }
+  {  // the whole is checked before it replaces the input: nothing is lost on a failure
+    Mesh check;
+    build_triangle_mesh(check, merged.points, merged.corners, merged.sides, merged.edges);
+    if (!CGAL::is_valid_polygon_mesh(check) || !CGAL::is_triangle_mesh(check))
+      throw std::logic_error("simplify_mesh: the simplified parts do not make a valid mesh");
+  }
+  parts.clear();
+  mesh.clear_without_removing_property_maps();
+  build_triangle_mesh(mesh, merged.points, merged.corners, merged.sides, merged.edges);
+  for (std::size_t i = 0; i < nv; ++i) policy.set_vertex_data(V(size_type(i)), q[i], w[i]);
+  if (options.quadric.weighted)  // a cut vertex's star has changed in every part
+    for (std::size_t i = 0; i < nv; ++i)
+      if (merged.input_vertex[i] != no_index) policy.recompute_weight(mesh, mesh.points(), V(size_type(i)));
+  policy.keep_vertex_data_once();
+  if (options.surface_memory) memory.emplace(mesh, mesh.points(), points);
+}
+
+}  // namespace internal
+
+/// Simplifies `mesh` to at most `target_faces` faces (fewer only when no valid collapse is left)
+/// with the quadrics of `options.quadric` and, unless switched off, the memoryful cost; large
+/// inputs on all cores (see the file comment). `visitor` sees the collapses on the whole mesh
+/// (those of the parts are not reported). The mesh is garbage-free on return; its property maps
+/// stay, with default values for the elements of a mesh that was simplified in parts (it is then
+/// rebuilt: every vertex, halfedge and face index changes).
+/// \tparam Point a CGAL kernel's Point_3
+/// \tparam Visitor a model of CGAL's `EdgeCollapseSimplificationVisitor`
+template <class Point, class Visitor = Edge_collapse_visitor_base>
+Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, std::size_t target_faces,
+                                         const Mesh_simplification_options& options = Mesh_simplification_options(),
+                                         Visitor visitor = Visitor()) {
+  using Mesh = CGAL::Surface_mesh<Point>;
+  using VPM = typename Mesh::template Property_map<typename Mesh::Vertex_index, Point>;
+  using Policy = Area_weighted_quadric_policies<Mesh>;
+  using Memory = Surface_memory<Mesh, VPM>;
+  using Clock = std::chrono::steady_clock;
+  if (!(options.parts_stop_factor >= 1.0))
+    throw std::invalid_argument("simplify_mesh: parts_stop_factor must be >= 1");
+  const auto t0 = Clock::now();
+  Mesh_simplification_result res;
+  res.faces_in = mesh.number_of_faces();
+  if (target_faces < res.faces_in) {
+    Policy policy(mesh, options.quadric);
+    std::optional<Memory> memory;
+    const int levels = internal::part_levels(res.faces_in, target_faces, options);
+    if (levels > 0) {
+      internal::simplify_in_parts(mesh, target_faces, levels, options, policy, memory);
+      res.parts = std::size_t(1) << levels;
+      res.faces_after_parts = mesh.number_of_faces();
+      res.seconds_parts = std::chrono::duration<double>(Clock::now() - t0).count();
+    } else if (options.surface_memory) {
+      memory.emplace(mesh, mesh.points(), options.memory);
+    }
+    Memory* m = memory ? &*memory : nullptr;
+    internal::collapse_with_placement<Mesh>(policy, options.endpoint_placement, [&](const auto& placement) {
+      edge_collapse(mesh, Face_count_stop_predicate<Mesh>(mesh, target_faces),
+                    CMGeom::parameters::surface_memory(
+                        m, CMGeom::parameters::edge_flips(
+                               options.flips,
+                               CGAL::parameters::get_cost(policy).get_placement(placement).visitor(visitor))));
+    });
+  }
+  mesh.collect_garbage();
+  res.faces_out = mesh.number_of_faces();
+  res.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_MESH_H

@@ -1,0 +1,209 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// simplify_mesh() and its first stage in parts (internal/Mesh_parts.h): cutting a mesh into
+// parts and putting them back gives the input again; the locked vertices are exactly the cut
+// ones; a simplification in parts keeps the mesh valid, its topology and its target, and its
+// error stays close to the simplification of the whole at once.
+#include <CMGeom/Metrics/approximation_error.h>
+#include <CMGeom/Textured_simplification.h>
+
+#include <CGAL/boost/graph/helpers.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iostream>
+#include <set>
+#include <vector>
+
+namespace {
+
+namespace TS = CMGeom::Textured_simplification;
+using Mesh = CMGeom::Surface_mesh;
+using Point_3 = CMGeom::Point_3;
+
+// A rippled torus, n x m quads split in two: closed, genus 1, every vertex of degree 6.
+Mesh rippled_torus(int n, int m) {
+  Mesh t;
+  std::vector<Mesh::Vertex_index> v(std::size_t(n * m));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m;
+      const double r = 0.35 + 0.02 * std::sin(7 * a) * std::cos(5 * b);
+      v[std::size_t(i * m + j)] =
+          t.add_vertex(Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
+    }
+  auto at = [&](int i, int j) { return v[std::size_t(((i + n) % n) * m + (j + m) % m)]; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      t.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      t.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  return t;
+}
+
+// A bumpy height field on an n x n grid: one border loop.
+Mesh bumpy_sheet(int n) {
+  Mesh t;
+  std::vector<Mesh::Vertex_index> v;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double x = double(i) / n, y = double(j) / n;
+      v.push_back(t.add_vertex(Point_3(x, y, 0.05 * std::sin(9 * x) * std::cos(7 * y) + 0.02 * std::sin(31 * x * y))));
+    }
+  auto at = [&](int i, int j) { return v[std::size_t(i * (n + 1) + j)]; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      t.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      t.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  return t;
+}
+
+long euler_characteristic(const Mesh& m) {
+  return long(m.number_of_vertices()) - long(m.number_of_edges()) + long(m.number_of_faces());
+}
+
+std::size_t border_loops(const Mesh& m) {
+  std::set<Mesh::Halfedge_index> seen;
+  std::size_t loops = 0;
+  for (auto h : m.halfedges()) {
+    if (!m.is_border(h) || seen.count(h)) continue;
+    ++loops;
+    for (auto g : CGAL::halfedges_around_face(h, m)) seen.insert(g);
+  }
+  return loops;
+}
+
+// The triangles of a mesh as sorted corner-point triples (a representation free of indices).
+std::multiset<std::array<std::array<double, 3>, 3>> triangles(const Mesh& m) {
+  std::multiset<std::array<std::array<double, 3>, 3>> out;
+  for (auto f : m.faces()) {
+    std::array<std::array<double, 3>, 3> t;
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+      const Point_3& p = m.point(v);
+      t[std::size_t(k++)] = {p.x(), p.y(), p.z()};
+    }
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());  // orientation kept
+    out.insert(t);
+  }
+  return out;
+}
+
+TEST(MeshParts, CuttingAndMergingGivesTheInputBack) {
+  for (const Mesh& input : {rippled_torus(60, 40), bumpy_sheet(50)}) {
+    for (int levels : {1, 2, 3}) {
+      std::vector<std::uint32_t> label;
+      const auto faces_of = TS::internal::split_faces(input, levels, label);
+      ASSERT_EQ(faces_of.size(), std::size_t(1) << levels);
+      std::vector<std::uint32_t> corner(input.num_halfedges(), TS::internal::no_index),
+          side(input.num_halfedges(), TS::internal::no_index);
+      std::vector<TS::internal::Mesh_part<Point_3>> parts;
+      std::size_t faces = 0;
+      for (std::uint32_t k = 0; k < faces_of.size(); ++k) {
+        // the halves differ by one face at most
+        EXPECT_LE(faces_of[k].size(), input.number_of_faces() / faces_of.size() + 1);
+        parts.push_back(TS::internal::make_part(input, k, faces_of[k], label, corner, side));
+        const auto& part = parts.back();
+        ASSERT_TRUE(CGAL::is_valid_polygon_mesh(part.mesh)) << "part " << k;
+        faces += part.mesh.number_of_faces();
+        // a part vertex is locked exactly when its input vertex has faces in another part
+        for (auto u : part.mesh.vertices()) {
+          const Mesh::Vertex_index v(Mesh::size_type(part.to_input[std::size_t(u)]));
+          EXPECT_EQ(part.mesh.point(u), input.point(v));
+          bool elsewhere = false;
+          for (auto f : CGAL::faces_around_target(input.halfedge(v), input))
+            if (f != Mesh::null_face() && label[std::size_t(f)] != k) elsewhere = true;
+          EXPECT_EQ(bool(part.locked[std::size_t(u)]), elsewhere);
+        }
+      }
+      EXPECT_EQ(faces, input.number_of_faces());
+      const auto merged = TS::internal::merge_parts(parts, input.num_vertices());
+      Mesh whole;
+      TS::internal::build_triangle_mesh(whole, merged.points, merged.corners, merged.sides, merged.edges);
+      ASSERT_TRUE(CGAL::is_valid_polygon_mesh(whole));
+      EXPECT_EQ(whole.number_of_vertices(), input.number_of_vertices());
+      EXPECT_EQ(whole.number_of_edges(), input.number_of_edges());
+      EXPECT_EQ(border_loops(whole), border_loops(input));
+      EXPECT_TRUE(triangles(whole) == triangles(input)) << "levels " << levels;
+    }
+  }
+}
+
+TEST(MeshParts, BuildRefusesAnEdgeWithThreeSides) {
+  // three triangles on one edge (0, 1)
+  const std::vector<Point_3> p = {Point_3(0, 0, 0), Point_3(1, 0, 0), Point_3(0, 1, 0), Point_3(0, -1, 0),
+                                  Point_3(0, 0, 1)};
+  const std::vector<std::uint32_t> corners = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+  const std::vector<std::uint32_t> sides = {0, 1, 2, 0, 3, 4, 0, 5, 6};
+  Mesh m;
+  EXPECT_THROW(TS::internal::build_triangle_mesh(m, p, corners, sides, 7), std::logic_error);
+}
+
+// Parts forced on a small mesh (the defaults start at 262,144 faces).
+TS::Mesh_simplification_options small_parts() {
+  TS::Mesh_simplification_options o;
+  o.quadric.weighted = false;
+  o.parts_min_faces = 4096;
+  o.part_faces = 1024;
+  return o;
+}
+
+TEST(SimplifyMesh, InPartsKeepsTopologyTargetAndError) {
+  for (const Mesh& input : {rippled_torus(120, 80), bumpy_sheet(100)}) {
+    for (double ratio : {0.05, 0.02}) {
+      const std::size_t target = std::size_t(ratio * double(input.number_of_faces()));
+      Mesh parts = input, whole = input;
+      const TS::Mesh_simplification_result r = TS::simplify_mesh(parts, target, small_parts());
+      TS::Mesh_simplification_options o = small_parts();
+      o.parts_min_faces = 0;
+      const TS::Mesh_simplification_result w = TS::simplify_mesh(whole, target, o);
+      EXPECT_EQ(r.parts, 16u);  // 19,200 and 20,000 faces: four halvings of at least 1,024
+      EXPECT_EQ(w.parts, 0u);
+      EXPECT_GT(r.faces_after_parts, target);
+      EXPECT_LT(r.faces_after_parts, input.number_of_faces() / 2);  // the parts did most of the work
+      ASSERT_TRUE(CGAL::is_valid_polygon_mesh(parts));
+      EXPECT_TRUE(CGAL::is_triangle_mesh(parts));
+      EXPECT_FALSE(parts.has_garbage());
+      // a collapse removes two faces (one on a border): the target or one below
+      EXPECT_LE(parts.number_of_faces(), target);
+      EXPECT_GE(parts.number_of_faces() + 1, target);
+      EXPECT_EQ(r.faces_out, parts.number_of_faces());
+      EXPECT_LE(whole.number_of_faces(), target);
+      EXPECT_GE(whole.number_of_faces() + 1, target);
+      EXPECT_EQ(euler_characteristic(parts), euler_characteristic(input));
+      EXPECT_EQ(border_loops(parts), border_loops(input));
+      const auto ep = CMGeom::Metrics::approximation_error(input, parts);
+      const auto ew = CMGeom::Metrics::approximation_error(input, whole);
+      // the cuts cost little: measured on these two (16 parts of about 1,200 faces, far smaller than
+      // the defaults allow), Hausdorff 0.71-1.35x, RMS 0.98-1.04x that of the whole at once (printed)
+      std::cout << "in parts / whole, " << input.number_of_faces() << " faces to " << target
+                << ": Hausdorff " << ep.hausdorff / ew.hausdorff << ", RMS " << ep.rms / ew.rms << '\n';
+      EXPECT_LE(ep.hausdorff, 1.5 * ew.hausdorff) << "ratio " << ratio;
+      EXPECT_LE(ep.rms, 1.2 * ew.rms) << "ratio " << ratio;
+    }
+  }
+}
+
+TEST(SimplifyMesh, SmallInputsAndLowRatiosSkipTheParts) {
+  TS::Mesh_simplification_options o = small_parts();
+  // asked for more than 1 / (4 x 4) of the faces: one stage
+  Mesh t = rippled_torus(120, 80);
+  EXPECT_EQ(TS::simplify_mesh(t, t.number_of_faces() / 15, o).parts, 0u);
+  // below parts_min_faces: one stage
+  Mesh s = rippled_torus(40, 40);
+  EXPECT_EQ(TS::simplify_mesh(s, s.number_of_faces() / 20, o).parts, 0u);
+  o.parts_stop_factor = 0.5;
+  EXPECT_THROW(TS::simplify_mesh(s, 10, o), std::invalid_argument);
+  // nothing to do: the mesh is unchanged
+  Mesh u = rippled_torus(20, 10);
+  const auto before = triangles(u);
+  EXPECT_EQ(TS::simplify_mesh(u, u.number_of_faces()).faces_out, u.number_of_faces());
+  EXPECT_TRUE(triangles(u) == before);
+}
+
+}  // namespace
