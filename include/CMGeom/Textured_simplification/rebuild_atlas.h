@@ -43,6 +43,8 @@
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>
 
+#include <boost/property_map/property_map.hpp>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
@@ -274,9 +276,12 @@ public:
         else s.frame[2] = I::unit_or_zero(CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]));
       }
     });
-    auto chart = get(CGAL::dynamic_face_property_t<int>(), om);
-    charts_ = compute_chart_ids(om, original.uv_map(), chart);
-    for (auto f : om.faces()) source_[std::size_t(f)].chart = std::uint32_t(get(chart, f) + 1);
+    // a plain array, not a dynamic property of the mesh: adding one would change the mesh while
+    // simplify_mesh reads it on another core (simplify_textured_mesh takes the source meanwhile)
+    std::vector<int> chart_of(om.num_faces(), -1);
+    charts_ = compute_chart_ids(om, original.uv_map(),
+                                boost::make_iterator_property_map(chart_of.begin(), get(boost::face_index, om)));
+    for (auto f : om.faces()) source_[std::size_t(f)].chart = std::uint32_t(chart_of[std::size_t(f)] + 1);
     const auto bb = CGAL::Polygon_mesh_processing::bbox(om);
     diag_ = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
                       CGAL::square(bb.zmax() - bb.zmin()));

@@ -42,6 +42,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <tuple>
@@ -71,6 +72,10 @@ struct Mesh_simplification_options {
   /// when the input has at least four times that many faces (the parts do three quarters of the
   /// collapses or more: below that, rebuilding the whole costs more than the parts save).
   double parts_stop_factor = 4.0;
+  /// Called once, right before the input mesh is first changed (on a simplification in parts,
+  /// after the parts are simplified): a caller may read the input on another core until then, and
+  /// waits here for that reading to end. An exception it throws leaves the input unchanged.
+  std::function<void()> before_changing_input;
 };
 
 /// What simplify_mesh() did.
@@ -246,6 +251,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
       points.emplace_back(typename Mesh::Face_index(size_type(merged.face[k][std::size_t(f)])), p, area);
     });
   }
+  if (options.before_changing_input) options.before_changing_input();
   {  // the whole is checked before it replaces the input: nothing is lost on a failure
     Mesh check;
     build_triangle_mesh(check, merged.points, merged.corners, merged.sides, merged.edges);
@@ -296,8 +302,9 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, std::s
       res.parts = std::size_t(1) << levels;
       res.faces_after_parts = mesh.number_of_faces();
       res.seconds_parts = std::chrono::duration<double>(Clock::now() - t0).count();
-    } else if (options.surface_memory) {
-      memory.emplace(mesh, mesh.points(), options.memory);
+    } else {
+      if (options.before_changing_input) options.before_changing_input();
+      if (options.surface_memory) memory.emplace(mesh, mesh.points(), options.memory);
     }
     Memory* m = memory ? &*memory : nullptr;
     internal::collapse_with_placement<Mesh>(policy, options.endpoint_placement, [&](const auto& placement) {

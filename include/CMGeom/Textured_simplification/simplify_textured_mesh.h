@@ -112,6 +112,7 @@ struct Textured_simplification_result {
   int texture_width = 0, texture_height = 0;
   double seconds_collapse = 0;  ///< the collapses, including the per-collapse index-texture resampling
   double seconds_texture = 0;   ///< index texture set-up, output texture generation and dilation
+                                ///< (new-atlas path: the input's extraction overlaps the collapses)
   Chart_constraint_statistics statistics;
 };
 
@@ -168,15 +169,18 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   res.faces_in = mesh.number_of_faces();
   Atlas_options ao = options.atlas;
   if (ao.texture_width <= 0 && options.texture_size > 0) ao.texture_width = ao.texture_height = options.texture_size;
-  // the atlas source (what the baking needs from the input, taken before the collapses change it)
-  // first; its tree and chart map are then built on another core while the collapses run
+  // the atlas source (what the baking needs from the input) is taken on another core while the
+  // first collapses run (simplify_mesh changes the input only after its parts are simplified, and
+  // waits for the source there); its tree and chart map are then built beside the collapses
   const bool collapses = options.target_faces < res.faces_in;
-  const auto t_source = std::chrono::steady_clock::now();
-  Atlas_source source(tm, ao);
-  res.charts_in = source.charts();
-  res.seconds_texture = internal::seconds_since(t_source);
-  tbb::task_group prepare;
-  prepare.run([&source] { source.prepare(); });
+  std::optional<Atlas_source> source;
+  tbb::task_group take, prepare;
+  take.run([&] {
+    const auto t_source = std::chrono::steady_clock::now();
+    source.emplace(tm, ao);
+    res.seconds_texture = internal::seconds_since(t_source);
+    prepare.run([&source] { source->prepare(); });
+  });
   const auto t0 = std::chrono::steady_clock::now();
   try {
     if (collapses) {
@@ -185,19 +189,23 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
       so.surface_memory = options.surface_memory;
       so.flips = options.flips;
       so.endpoint_placement = options.endpoint_placement;
+      so.before_changing_input = [&take] { take.wait(); };
       simplify_mesh(mesh, options.target_faces, so, visitor);
     }
+    take.wait();
   } catch (...) {
-    prepare.wait();  // `source` must outlive the task
+    take.wait();  // (a second wait returns at once; an exception of the source was thrown already)
+    prepare.wait();  // `source` must outlive the tasks
     throw;
   }
+  res.charts_in = source->charts();
   mesh.collect_garbage();
   res.seconds_collapse = internal::seconds_since(t0);
   res.faces_out = mesh.number_of_faces();
   res.stopped_by = res.faces_out > options.target_faces ? Stop_reason::no_collapse : Stop_reason::target;
   const auto t1 = std::chrono::steady_clock::now();
   prepare.wait();
-  res.atlas = rebuild_atlas(source, tm, ao);
+  res.atlas = rebuild_atlas(*source, tm, ao);
   res.seconds_texture += internal::seconds_since(t1);
   res.texture_width = res.atlas.texture_width;
   res.texture_height = res.atlas.texture_height;

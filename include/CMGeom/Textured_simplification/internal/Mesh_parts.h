@@ -22,6 +22,9 @@
 
 #include <CGAL/Surface_mesh.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -114,21 +117,26 @@ std::vector<std::vector<std::uint32_t>> split_faces(const CGAL::Surface_mesh<Poi
   std::vector<std::array<double, 3>> centre(m.num_faces());
   std::vector<std::uint32_t> order;
   order.reserve(m.number_of_faces());
-  for (auto f : m.faces()) {
-    std::array<double, 3> c{0, 0, 0};
-    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
-      const Point& p = m.point(v);
-      c[0] += CGAL::to_double(p.x());
-      c[1] += CGAL::to_double(p.y());
-      c[2] += CGAL::to_double(p.z());
+  for (auto f : m.faces()) order.push_back(std::uint32_t(f));
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 8192), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      const typename CGAL::Surface_mesh<Point>::Face_index f(order[i]);
+      std::array<double, 3> c{0, 0, 0};
+      for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+        const Point& p = m.point(v);
+        c[0] += CGAL::to_double(p.x());
+        c[1] += CGAL::to_double(p.y());
+        c[2] += CGAL::to_double(p.z());
+      }
+      centre[order[i]] = c;  // three times the centroid: the order is the same
     }
-    centre[std::size_t(f)] = c;  // three times the centroid: the order is the same
-    order.push_back(std::uint32_t(f));
-  }
+  });
   std::vector<std::pair<std::size_t, std::size_t>> ranges{{0, order.size()}};
   for (int level = 0; level < levels; ++level) {
-    std::vector<std::pair<std::size_t, std::size_t>> next;
-    for (auto [lo, hi] : ranges) {
+    std::vector<std::pair<std::size_t, std::size_t>> next(2 * ranges.size());
+    // the ranges of a level are disjoint: split at once
+    tbb::parallel_for(std::size_t(0), ranges.size(), [&](std::size_t q) {
+      const auto [lo, hi] = ranges[q];
       std::array<double, 3> a{1e300, 1e300, 1e300}, b{-1e300, -1e300, -1e300};
       for (std::size_t i = lo; i < hi; ++i)
         for (int k = 0; k < 3; ++k) {
@@ -145,9 +153,9 @@ std::vector<std::vector<std::uint32_t>> split_faces(const CGAL::Surface_mesh<Poi
                          const double cx = centre[x][axis], cy = centre[y][axis];
                          return cx < cy || (cx == cy && x < y);
                        });
-      next.emplace_back(lo, mid);
-      next.emplace_back(mid, hi);
-    }
+      next[2 * q] = {lo, mid};
+      next[2 * q + 1] = {mid, hi};
+    });
     ranges.swap(next);
   }
   label.assign(m.num_faces(), no_index);
