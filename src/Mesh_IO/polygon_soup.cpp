@@ -2,6 +2,8 @@
 // orientation, genus), degeneracies and UV charts, robust to any input.
 #include <CMGeom/Mesh_IO/Polygon_soup.h>
 
+#include "io_internal.h"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
@@ -110,6 +112,42 @@ std::size_t count_soup_charts(const Polygon_soup& s, std::vector<int>* face_char
   if (face_chart) *face_chart = std::move(id);
   return root_id.size();
 }
+
+namespace IO {
+namespace internal {
+
+bool is_oriented_manifold_soup(const std::vector<std::uint32_t>& face_start,
+                               const std::vector<std::uint32_t>& corner_vertex, std::size_t vertices) {
+  Polygon_soup s;
+  s.face_start = face_start;
+  s.corner_vertex = corner_vertex;
+  for (std::size_t f = 0; f + 1 < face_start.size(); ++f)
+    for (std::uint32_t i = face_start[f]; i < face_start[f + 1]; ++i)
+      for (std::uint32_t j = i + 1; j < face_start[f + 1]; ++j)
+        if (corner_vertex[i] == corner_vertex[j]) return false;  // a repeated vertex
+  const std::vector<Edge_entry> e = edge_entries(s);
+  Union_find corner_uf(corner_vertex.size());
+  bool ok = true;
+  for_each_edge_group(e, [&](std::size_t i, std::size_t j) {
+    if (j - i > 2 || (j - i == 2 && e[i].forward == e[i + 1].forward)) ok = false;
+    if (j - i == 2) {
+      corner_uf.unite(e[i].corner_lo, e[i + 1].corner_lo);
+      corner_uf.unite(e[i].corner_hi, e[i + 1].corner_hi);
+    }
+  });
+  if (!ok) return false;
+  // one fan per vertex: all its corners linked through shared edges
+  std::vector<std::uint32_t> first_root(vertices, Polygon_soup::no_index);
+  for (std::uint32_t c = 0; c < corner_vertex.size(); ++c) {
+    const std::uint32_t v = corner_vertex[c], r = corner_uf.find(c);
+    if (first_root[v] == Polygon_soup::no_index) first_root[v] = r;
+    else if (first_root[v] != r) return false;
+  }
+  return true;
+}
+
+}  // namespace internal
+}  // namespace IO
 
 Mesh_statistics analyze_soup(const Polygon_soup& s) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;

@@ -5,7 +5,6 @@
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 
 #include <algorithm>
 #include <cmath>
@@ -154,17 +153,21 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   std::vector<std::array<std::size_t, 3>> polys = tris;
   // The decision is taken on the triangles: splitting a non-convex polygon into a fan can itself
   // create a non-manifold edge even when the polygon mesh is manifold.
-  auto is_manifold_triangle_soup = [&]() {
-    std::vector<std::vector<std::size_t>> pv;
-    pv.reserve(polys.size());
-    for (const auto& t : polys) pv.push_back({t[0], t[1], t[2]});
-    return CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(pv);
+  auto is_manifold_triangle_soup = [](const auto& triangles, std::size_t vertices) {
+    std::vector<std::uint32_t> start(triangles.size() + 1), corners;
+    corners.reserve(3 * triangles.size());
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      start[i + 1] = std::uint32_t(3 * (i + 1));
+      for (int k = 0; k < 3; ++k) corners.push_back(std::uint32_t(triangles[i][std::size_t(k)]));
+    }
+    return internal::is_oriented_manifold_soup(start, corners, vertices);
   };
-  // A soup of triangles only, none dropped, whose statistics show no defect is a polygon mesh as it
-  // is (the statistics are those of the triangles then): the costly check is skipped.
-  const bool clean_triangles = !polygons && tris.size() == nf && st.non_manifold_edges == 0 &&
-                               st.non_manifold_vertices == 0 && st.inconsistent_edges == 0;
-  if (options.repair && !clean_triangles && !is_manifold_triangle_soup()) {
+  // For a soup of triangles only, none dropped, the statistics are those of the triangles: no
+  // defect means a polygon mesh as it is, a defect means none; otherwise (polygons split into fans,
+  // faces dropped) the triangles are checked.
+  const bool defects = st.non_manifold_edges != 0 || st.non_manifold_vertices != 0 || st.inconsistent_edges != 0;
+  const bool as_read = !polygons && tris.size() == nf;
+  if (options.repair && !(as_read && !defects) && ((as_read && defects) || !is_manifold_triangle_soup(polys, points.size()))) {
     std::vector<std::vector<std::size_t>> pv;
     pv.reserve(polys.size());
     for (const auto& t : polys) pv.push_back({t[0], t[1], t[2]});
@@ -172,7 +175,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     vis.original = &original;
     CGAL::Polygon_mesh_processing::orient_polygon_soup(points, pv, CGAL::parameters::visitor(vis));
     if (pv.size() != polys.size()) throw IO_error(src, "repair changed the number of faces");
-    if (!CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(pv))
+    if (!is_manifold_triangle_soup(pv, points.size()))
       throw IO_error(src, "repair could not make the mesh manifold (duplicated or otherwise "
                           "irreparable faces around non-manifold edges)");
     if (options.warnings) {

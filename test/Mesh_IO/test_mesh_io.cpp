@@ -5,12 +5,15 @@
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 
 #include "cmgeom_test_support.h"
+#include "io_internal.h"  // src/Mesh_IO: the reader's own soup check
 
 #include <nlohmann/json.hpp>
 
 #define TINYOBJLOADER_IMPLEMENTATION
 #define TINYOBJLOADER_USE_DOUBLE
 #include <tiny_obj_loader.h>
+
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 
 #include <algorithm>
 #include <array>
@@ -599,6 +602,41 @@ TEST(Mesh_IO_bad_input, RepairMakesNonManifoldClassicModelsValid) {
     // Without repair the same files are refused with a clear error.
     Textured_mesh plain;
     EXPECT_THROW(IO::read_mesh(cmgeom_test::shared_mesh(name, dir), plain), IO_error);
+  }
+}
+
+TEST(Mesh_IO_bad_input, OrientedManifoldCheckAgreesWithCgal) {
+  // the reader's repair decides with io_internal.h's sort-based check; CGAL's
+  // is_polygon_soup_a_polygon_mesh is the reference, and the expected answer is stated too
+  using Tris = std::vector<std::vector<std::size_t>>;
+  const Tris tetra = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  Tris flipped = tetra, doubled = tetra, bowtie = tetra;
+  std::swap(flipped[0][1], flipped[0][2]);
+  doubled.push_back({0, 2, 1});  // an edge with three faces
+  for (const auto& t : tetra) {  // a second tetrahedron sharing vertex 0 only: two fans there
+    std::vector<std::size_t> u;
+    for (std::size_t v : t) u.push_back(v == 0 ? 0 : v + 3);
+    bowtie.push_back(u);
+  }
+  const Tris repeated = {{0, 1, 1}}, open = {{0, 1, 2}, {0, 2, 3}}, same_direction = {{0, 1, 2}, {0, 1, 3}};
+  const std::vector<std::pair<const Tris*, bool>> cases = {{&tetra, true},   {&flipped, false},  {&doubled, false},
+                                                           {&bowtie, false}, {&repeated, false}, {&open, true},
+                                                           {&same_direction, false}};
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    const auto& [soup, expected] = cases[c];
+    std::vector<std::uint32_t> start{0}, corners;
+    std::size_t vertices = 0;
+    for (const auto& t : *soup) {
+      for (std::size_t v : t) {
+        corners.push_back(std::uint32_t(v));
+        vertices = std::max(vertices, v + 1);
+      }
+      start.push_back(std::uint32_t(corners.size()));
+    }
+    const bool ours = IO::internal::is_oriented_manifold_soup(start, corners, vertices);
+    EXPECT_EQ(ours, expected) << "case " << c;
+    if (std::none_of(soup->begin(), soup->end(), [](const auto& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }))
+      EXPECT_EQ(ours, CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(*soup)) << "case " << c;
   }
 }
 
