@@ -14,14 +14,13 @@ namespace CMGeom {
 namespace IO {
 namespace internal {
 
-/// Whether the polygons (corners [face_start[f], face_start[f+1]) of corner_vertex, vertex ids
-/// below `vertices`) form an oriented manifold polygon mesh: no polygon repeats a vertex, every
+/// Whether the polygons of `soup` (its face_start and corner_vertex; vertex ids below `vertices`,
+/// positions unused) form an oriented manifold polygon mesh: no polygon repeats a vertex, every
 /// edge has at most two polygons, of opposite directions, and the polygons around every vertex
 /// form one fan. The same answer as CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh
 /// for such soups, by sorting the edges instead of a std::set (the reader's repair calls it twice
 /// on every repaired file). O(C log C) for C corners.
-bool is_oriented_manifold_soup(const std::vector<std::uint32_t>& face_start,
-                               const std::vector<std::uint32_t>& corner_vertex, std::size_t vertices);
+bool is_oriented_manifold_soup(const Polygon_soup& soup, std::size_t vertices);
 
 void read_obj(const std::string& path, Polygon_soup& soup);
 void read_off(const std::string& path, Polygon_soup& soup);

@@ -116,11 +116,9 @@ std::size_t count_soup_charts(const Polygon_soup& s, std::vector<int>* face_char
 namespace IO {
 namespace internal {
 
-bool is_oriented_manifold_soup(const std::vector<std::uint32_t>& face_start,
-                               const std::vector<std::uint32_t>& corner_vertex, std::size_t vertices) {
-  Polygon_soup s;
-  s.face_start = face_start;
-  s.corner_vertex = corner_vertex;
+bool is_oriented_manifold_soup(const Polygon_soup& s, std::size_t vertices) {
+  const std::vector<std::uint32_t>& face_start = s.face_start;
+  const std::vector<std::uint32_t>& corner_vertex = s.corner_vertex;
   for (std::size_t f = 0; f + 1 < face_start.size(); ++f)
     for (std::uint32_t i = face_start[f]; i < face_start[f + 1]; ++i)
       for (std::uint32_t j = i + 1; j < face_start[f + 1]; ++j)

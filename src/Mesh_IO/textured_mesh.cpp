@@ -154,20 +154,21 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   // The decision is taken on the triangles: splitting a non-convex polygon into a fan can itself
   // create a non-manifold edge even when the polygon mesh is manifold.
   auto is_manifold_triangle_soup = [](const auto& triangles, std::size_t vertices) {
-    std::vector<std::uint32_t> start(triangles.size() + 1), corners;
-    corners.reserve(3 * triangles.size());
+    Polygon_soup t;
+    t.face_start.resize(triangles.size() + 1);
+    t.corner_vertex.reserve(3 * triangles.size());
     for (std::size_t i = 0; i < triangles.size(); ++i) {
-      start[i + 1] = std::uint32_t(3 * (i + 1));
-      for (int k = 0; k < 3; ++k) corners.push_back(std::uint32_t(triangles[i][std::size_t(k)]));
+      t.face_start[i + 1] = std::uint32_t(3 * (i + 1));
+      for (int k = 0; k < 3; ++k) t.corner_vertex.push_back(std::uint32_t(triangles[i][std::size_t(k)]));
     }
-    return internal::is_oriented_manifold_soup(start, corners, vertices);
+    return internal::is_oriented_manifold_soup(t, vertices);
   };
-  // For a soup of triangles only, none dropped, the statistics are those of the triangles: no
-  // defect means a polygon mesh as it is, a defect means none; otherwise (polygons split into fans,
+  // For a soup of triangles only, none dropped, the statistics are those of the triangles: a
+  // defect means no polygon mesh, none means one as it is; otherwise (polygons split into fans,
   // faces dropped) the triangles are checked.
   const bool defects = st.non_manifold_edges != 0 || st.non_manifold_vertices != 0 || st.inconsistent_edges != 0;
   const bool as_read = !polygons && tris.size() == nf;
-  if (options.repair && !(as_read && !defects) && ((as_read && defects) || !is_manifold_triangle_soup(polys, points.size()))) {
+  if (options.repair && (as_read ? defects : !is_manifold_triangle_soup(polys, points.size()))) {
     std::vector<std::vector<std::size_t>> pv;
     pv.reserve(polys.size());
     for (const auto& t : polys) pv.push_back({t[0], t[1], t[2]});

@@ -624,16 +624,16 @@ TEST(Mesh_IO_bad_input, OrientedManifoldCheckAgreesWithCgal) {
                                                            {&same_direction, false}};
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const auto& [soup, expected] = cases[c];
-    std::vector<std::uint32_t> start{0}, corners;
+    Polygon_soup ps;
     std::size_t vertices = 0;
     for (const auto& t : *soup) {
       for (std::size_t v : t) {
-        corners.push_back(std::uint32_t(v));
+        ps.corner_vertex.push_back(std::uint32_t(v));
         vertices = std::max(vertices, v + 1);
       }
-      start.push_back(std::uint32_t(corners.size()));
+      ps.face_start.push_back(std::uint32_t(ps.corner_vertex.size()));
     }
-    const bool ours = IO::internal::is_oriented_manifold_soup(start, corners, vertices);
+    const bool ours = IO::internal::is_oriented_manifold_soup(ps, vertices);
     EXPECT_EQ(ours, expected) << "case " << c;
     if (std::none_of(soup->begin(), soup->end(), [](const auto& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }))
       EXPECT_EQ(ours, CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(*soup)) << "case " << c;

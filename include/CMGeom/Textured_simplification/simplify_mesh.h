@@ -154,7 +154,8 @@ inline int part_levels(std::size_t faces, std::size_t target, const Mesh_simplif
   return levels;
 }
 
-template <class Mesh, class Policy, class Fn>
+/// Calls fn with the policy's own placement, or with Endpoint_placement over it.
+template <class Policy, class Fn>
 void collapse_with_placement(const Policy& policy, bool endpoint, Fn fn) {
   if (endpoint) fn(Endpoint_placement<Policy>{policy});
   else fn(policy);
@@ -208,7 +209,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     const std::size_t stop = (std::max)(
         2 * locked, std::size_t(std::ceil(options.parts_stop_factor * double(target) *
                                                             double(pm.number_of_faces()) / double(faces_in))));
-    collapse_with_placement<Mesh>(pp, options.endpoint_placement, [&](const auto& placement) {
+    collapse_with_placement(pp, options.endpoint_placement, [&](const auto& placement) {
       using Base = std::decay_t<decltype(placement)>;
       edge_collapse(pm, Face_count_stop_predicate<Mesh>(pm, stop),
                     CMGeom::parameters::surface_memory(
@@ -308,7 +309,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, std::s
       if (options.surface_memory) memory.emplace(mesh, mesh.points(), options.memory);
     }
     Memory* m = memory ? &*memory : nullptr;
-    internal::collapse_with_placement<Mesh>(policy, options.endpoint_placement, [&](const auto& placement) {
+    internal::collapse_with_placement(policy, options.endpoint_placement, [&](const auto& placement) {
       edge_collapse(mesh, Face_count_stop_predicate<Mesh>(mesh, target_faces),
                     CMGeom::parameters::surface_memory(
                         m, CMGeom::parameters::edge_flips(

@@ -299,12 +299,10 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm, co
     Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
     Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
     Chart_constraint_visitor<CC, Resampler, Visitor> vis(cc, resampler ? &*resampler : nullptr, visitor);
-    auto collapse_with = [&](const auto& placement) {
+    internal::collapse_with_placement(policy, options.endpoint_placement, [&](const auto& placement) {
       edge_collapse(mesh, stop,
                     CGAL::parameters::get_cost(policy).get_placement(placement).filter(Chart_constraint_filter<CC>(cc)).visitor(vis));
-    };
-    if (options.endpoint_placement) collapse_with(Endpoint_placement<Area_weighted_quadric_policies<Mesh>>{policy});
-    else collapse_with(policy);
+    });
   }
   if (resampler) resampler->synchronize();
   resampler.reset();
