@@ -199,6 +199,14 @@ TEST(SimplifyMesh, SmallInputsAndLowRatiosSkipTheParts) {
   EXPECT_EQ(TS::simplify_mesh(s, s.number_of_faces() / 20, o).parts, 0u);
   o.parts_stop_factor = 0.5;
   EXPECT_THROW(TS::simplify_mesh(s, 10, o), std::invalid_argument);
+  // a quad is refused, and the mesh is left as it was
+  Mesh q;
+  const auto a = q.add_vertex(Point_3(0, 0, 0)), b = q.add_vertex(Point_3(1, 0, 0)),
+             c = q.add_vertex(Point_3(1, 1, 0)), d = q.add_vertex(Point_3(0, 1, 0));
+  q.add_face(a, b, c, d);
+  EXPECT_THROW(TS::simplify_mesh(q, 1), CMGeom::Invalid_input);
+  EXPECT_EQ(q.number_of_faces(), 1u);
+  EXPECT_EQ(q.number_of_vertices(), 4u);
   // nothing to do: the mesh is unchanged
   Mesh u = rippled_torus(20, 10);
   const auto before = triangles(u);

@@ -24,6 +24,7 @@
 #define CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_MESH_H
 
 #include <CMGeom/config.h>
+#include <CMGeom/Error.h>
 #include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
 #include <CMGeom/Textured_simplification/Edge_collapse_visitor_base.h>
 #include <CMGeom/Textured_simplification/Endpoint_placement.h>
@@ -274,7 +275,8 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
 
 /// Simplifies `mesh` to at most `target_faces` faces (fewer only when no valid collapse is left)
 /// with the quadrics of `options.quadric` and, unless switched off, the memoryful cost; large
-/// inputs on all cores (see the file comment). `visitor` sees the collapses on the whole mesh
+/// inputs on all cores (see the file comment). Throws CMGeom::Invalid_input when `mesh` is not a
+/// triangle mesh, std::invalid_argument for parts_stop_factor < 1. `visitor` sees the collapses on the whole mesh
 /// (those of the parts are not reported). The mesh is garbage-free on return; its property maps
 /// stay, with default values for the elements of a mesh that was simplified in parts (it is then
 /// rebuilt: every vertex, halfedge and face index changes, and isolated vertices, in no part, are
@@ -292,6 +294,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, std::s
   using Clock = std::chrono::steady_clock;
   if (!(options.parts_stop_factor >= 1.0))
     throw std::invalid_argument("simplify_mesh: parts_stop_factor must be >= 1");
+  if (!CGAL::is_triangle_mesh(mesh)) throw Invalid_input("simplify_mesh: not a triangle mesh");
   const auto t0 = Clock::now();
   Mesh_simplification_result res;
   res.faces_in = mesh.number_of_faces();
