@@ -8,8 +8,12 @@
 #include "Mesh_IO/image_io_backend.h"
 
 #include <dlfcn.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <filesystem>
 #include <mutex>
 
@@ -93,6 +97,31 @@ std::string write_image(const std::string& path, const Image& image, Atomic_outp
   const std::string tmp = out.add(path);
   check(path, b.write(tmp, ext, image));
   return tmp;
+}
+
+std::vector<unsigned char> encode_image(const Image& image, const std::string& extension,
+                                        const std::string& name) {
+  if (image.empty()) throw IO_error(name, "refusing to encode an empty image");
+  // The module writes files: encode into a private temporary file and take its bytes.
+  namespace fs = std::filesystem;
+  static std::atomic<unsigned> counter{0};
+  std::error_code ec;
+  const fs::path tmp = fs::temp_directory_path(ec) /
+                       ("cmgeom-encode-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + extension);
+  if (ec) throw IO_error(name, "no temporary directory to encode the image in: " + ec.message());
+  struct Remove {
+    const fs::path& p;
+    ~Remove() {
+      std::error_code e;
+      fs::remove(p, e);
+    }
+  } remove{tmp};
+  check(name, backend(name).write(tmp.string(), extension, image));
+  std::ifstream in(tmp, std::ios::binary);
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw IO_error(name, "cannot read the encoded image back");
+  if (bytes.empty()) throw IO_error(name, "image encoding gave no bytes");
+  return bytes;
 }
 
 void write_image(const std::string& path, const Image& image) {

@@ -3,6 +3,7 @@
 #define CMGEOM_SRC_MESH_IO_IO_INTERNAL_H
 
 #include <CMGeom/Mesh_IO/Atomic_output.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Mesh_IO/Polygon_soup.h>
 #include <CMGeom/Mesh_IO/Textured_mesh.h>
 
@@ -35,6 +36,19 @@ using Texture_emitter = std::function<std::string(const Material& m, std::size_t
 
 void write_obj(const std::string& path, const Textured_mesh& tm, Atomic_output& out,
                const Texture_emitter& emit_texture);
+// An encoded texture image for glTF output: PNG or JPEG bytes (empty: no texture).
+struct Encoded_image {
+  std::vector<unsigned char> bytes;
+  std::string mime_type;  // "image/png" or "image/jpeg"; found from the bytes when empty
+};
+// Gives the encoded diffuse (diffuse = true) or normal texture of a material.
+using Image_encoder = std::function<Encoded_image(const Material& m, bool diffuse)>;
+void write_gltf(const std::string& path, const std::vector<Gltf_level>& levels, const Gltf_options& options,
+                Atomic_output& out, const Image_encoder& encode);
+// The texture file or embedded bytes of a material as they are (no decoding).
+Encoded_image encode_texture_file(const Material& m, bool diffuse);
+// "image/png" or "image/jpeg" from the first bytes, "" for anything else.
+std::string image_mime_type(const std::vector<unsigned char>& bytes);
 void write_off(const std::string& path, const Textured_mesh& tm, Atomic_output& out);
 void write_ply(const std::string& path, const Textured_mesh& tm, Atomic_output& out);
 

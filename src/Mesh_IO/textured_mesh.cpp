@@ -262,13 +262,28 @@ void write_mesh(const std::string& path, const Textured_mesh& mesh) {
                           const std::string& src = kind == "diffuse" ? m.diffuse_texture : m.normal_texture;
                           return internal::copy_texture_file(path, src, stem + "_" + std::to_string(i) + "_" + kind, o);
                         });
+  } else if (ext == ".gltf" || ext == ".glb") {
+    internal::write_gltf(path, {Gltf_level{&mesh, std::string("mesh"), -1, -1}}, Gltf_options(), out,
+                         &internal::encode_texture_file);
   } else if (ext == ".off") {
     internal::write_off(path, mesh, out);
   } else if (ext == ".ply") {
     internal::write_ply(path, mesh, out);
   } else {
-    throw IO_error(path, "unsupported output type '" + ext + "' (expected .obj, .off or .ply)");
+    throw IO_error(path, "unsupported output type '" + ext + "' (expected .obj, .off, .ply, .gltf or .glb)");
   }
+  out.commit();
+}
+
+}  // namespace IO
+}  // namespace CMGeom
+
+namespace CMGeom {
+namespace IO {
+
+void write_gltf(const std::string& path, const std::vector<Gltf_level>& levels, const Gltf_options& options) {
+  Atomic_output out;
+  internal::write_gltf(path, levels, options, out, &internal::encode_texture_file);
   out.commit();
 }
 

@@ -4,6 +4,8 @@
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 
 #include <filesystem>
+#include <functional>
+#include <memory>
 
 namespace CMGeom {
 namespace IO {
@@ -26,8 +28,53 @@ void read_textured_mesh(const std::string& path, Textured_mesh& out, const Read_
   load_textures(out);
 }
 
-void write_textured_mesh(const std::string& path, const Textured_mesh& mesh) {
-  if (extension(path) != ".obj") {
+namespace {
+
+// Encodes material textures for glTF: decoded images as PNG (each distinct image once), files
+// and embedded bytes that are PNG or JPEG as they are, other image files re-encoded as PNG.
+class Gltf_image_encoder {
+public:
+  internal::Encoded_image operator()(const Material& m, bool diffuse) {
+    const Image& img = diffuse ? m.diffuse_image : m.normal_image;
+    if (!img.empty()) return encode(img, m.name);
+    internal::Encoded_image e = internal::encode_texture_file(m, diffuse);
+    if (e.bytes.empty() || !e.mime_type.empty()) return e;
+    const std::string& file = diffuse ? m.diffuse_texture : m.normal_texture;
+    const Image decoded = file.empty() ? read_image_from_memory(e.bytes, m.name) : read_image(file);
+    return encode(decoded, m.name);
+  }
+
+private:
+  internal::Encoded_image encode(const Image& img, const std::string& name) {
+    for (const auto& [image, encoded] : done_)
+      if (*image == img) return encoded;
+    internal::Encoded_image e;
+    e.bytes = encode_image(img, ".png", "texture of material '" + name + "'");
+    e.mime_type = "image/png";
+    done_.emplace_back(std::make_unique<Image>(img), e);
+    return e;
+  }
+
+  std::vector<std::pair<std::unique_ptr<Image>, internal::Encoded_image>> done_;
+};
+
+}  // namespace
+
+void write_textured_gltf(const std::string& path, const std::vector<Gltf_level>& levels,
+                         const Gltf_options& options) {
+  Atomic_output out;
+  Gltf_image_encoder encoder;
+  internal::write_gltf(path, levels, options, out, std::ref(encoder));
+  out.commit();
+}
+
+void write_textured_mesh(const std::string& path, const Textured_mesh& mesh, const Gltf_options& gltf_options) {
+  const std::string ext = extension(path);
+  if (ext == ".gltf" || ext == ".glb") {
+    write_textured_gltf(path, {Gltf_level{&mesh, std::string("mesh"), -1, -1}}, gltf_options);
+    return;
+  }
+  if (ext != ".obj") {
     write_mesh(path, mesh);
     return;
   }

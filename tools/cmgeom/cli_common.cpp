@@ -137,6 +137,11 @@ double now_seconds() {
   return duration<double>(steady_clock::now().time_since_epoch()).count();
 }
 
+void add_gltf_options(CLI::App& app, CMGeom::IO::Gltf_options& options) {
+  app.add_flag("--quantize", options.quantize,
+               "glTF/GLB output: 16-bit positions and texture coordinates, 8-bit normals (KHR_mesh_quantization)");
+}
+
 Progress::Progress(std::string label)
     : label_(std::move(label)), start_(now_seconds()), tty_(::isatty(2) != 0) {}
 

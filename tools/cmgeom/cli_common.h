@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <CMGeom/Mesh_IO/Polygon_soup.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
 #include <nlohmann/json.hpp>
 
 #include <functional>
@@ -47,6 +48,9 @@ Command_result run_captured(const std::vector<std::string>& args);
 // Decodes the diffuse textures of the soup's materials (files or embedded glTF images) that are
 // not decoded yet. Throws IO_error when an image cannot be read.
 void load_soup_textures(CMGeom::Polygon_soup& soup);
+
+// Adds --quantize (KHR_mesh_quantization) to a command that can write glTF.
+void add_gltf_options(CLI::App& app, CMGeom::IO::Gltf_options& options);
 
 // Prints a JSON document on stdout (2-space indentation, keys in insertion order).
 void print_json(const nlohmann::ordered_json& j);

@@ -1,16 +1,18 @@
-// cmgeom convert <in> -o <out>: read, validate, write another format (atomically).
+// cmgeom convert <in> -o <out> [--quantize]: read, validate, write another format (atomically).
 #include "cli_common.h"
 
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 
 #include <iostream>
 
-CMGEOM_CLI_COMMAND(convert, "Convert a mesh between OBJ(+MTL+textures), OFF, PLY and glTF input formats") {
+CMGEOM_CLI_COMMAND(convert, "Convert a mesh between OBJ(+MTL+textures), OFF, PLY, glTF and GLB") {
   auto input = std::make_shared<std::string>();
   auto output = std::make_shared<std::string>();
   auto opts = std::make_shared<CMGeom::IO::Read_options>();
   app.add_option("input", *input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
-  app.add_option("-o,--output", *output, "Output mesh (.obj, .off, .ply)")->required();
+  app.add_option("-o,--output", *output, "Output mesh (.obj, .off, .ply, .gltf, .glb)")->required();
+  auto gltf = std::make_shared<CMGeom::IO::Gltf_options>();
+  cmgeom_cli::add_gltf_options(app, *gltf);
   app.add_flag("--repair", opts->repair, "Repair non-manifold edges/vertices and orientation (CGAL PMP)");
   app.add_flag("--allow-degenerate", opts->allow_degenerate_faces, "Keep zero-area faces");
   app.add_flag("--drop-repeated", opts->drop_repeated_vertex_faces, "Drop faces that repeat a vertex");
@@ -22,7 +24,7 @@ CMGEOM_CLI_COMMAND(convert, "Convert a mesh between OBJ(+MTL+textures), OFF, PLY
     o.warnings = &warnings;
     CMGeom::IO::read_mesh(*input, tm, o);
     for (const std::string& w : warnings) std::cerr << "cmgeom convert: warning: " << w << "\n";
-    CMGeom::IO::write_textured_mesh(*output, tm);
+    CMGeom::IO::write_textured_mesh(*output, tm, *gltf);
     return 0;
   };
 }

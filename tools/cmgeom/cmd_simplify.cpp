@@ -1,11 +1,11 @@
-// cmgeom simplify <in> -o <out> (--faces N | --ratio r) [--policy weighted|plain]
+// cmgeom simplify <in> -o <out> (--faces N | --ratio r) [--quantize] [--policy weighted|plain]
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
 //                 [--no-texture] [--keep-charts] [--freeze-seams] [--no-repair] [--memoryless]
 // Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
 // CMGeom's engine or CGAL's; on CMGeom's engine the quadric cost is completed by the memoryful
 // term of Surface_memory.h (the input's points kept on the faces) unless --memoryless. A
-// textured input (UVs and a texture image) is written as OBJ + MTL + PNG: by default its
+// textured input (UVs and a texture image) is written as OBJ + MTL + PNG or as glTF/GLB: by default its
 // collapses ignore the charts (any target is reached) and a new atlas is baked from the input
 // (rebuild_atlas.h); with --keep-charts it goes through the
 // texture part of chapter 3 (chart constraints §3.5, index texture §3.3/§3.6), which stops where
@@ -68,10 +68,12 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     bool flips = false, json = false, repair = false, no_repair = false, no_texture = false, freeze_seams = false,
          memoryless = false;
     bool keep_charts = false;
+    CMGeom::IO::Gltf_options gltf;
   };
   auto o = std::make_shared<Options>();
   app.add_option("input", o->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
-  app.add_option("-o,--output", o->output, "Output mesh (.obj, .off, .ply)")->required();
+  app.add_option("-o,--output", o->output, "Output mesh (.obj, .off, .ply, .gltf, .glb)")->required();
+  cmgeom_cli::add_gltf_options(app, o->gltf);
   auto* faces = app.add_option("--faces", o->faces, "Target number of faces");
   auto* ratio = app.add_option("--ratio", o->ratio, "Target fraction of the input faces, in (0, 1]");
   faces->excludes(ratio);
@@ -179,8 +181,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
 #endif
       if (tsize->count() && (o->texture_size < 16 || o->texture_size > 16384))
         throw CMGeom::Invalid_input("--texture-size must be in [16, 16384], got " + std::to_string(o->texture_size));
-      const std::string ext = std::filesystem::path(o->output).extension().string();
-      if (ext != ".obj") throw CMGeom::Invalid_input(o->output + ": textured output must be .obj (or pass --no-texture)");
+      const std::string ext = CMGeom::IO::extension(o->output);
+      if (ext != ".obj" && ext != ".gltf" && ext != ".glb")
+        throw CMGeom::Invalid_input(o->output + ": textured output must be .obj, .gltf or .glb (or pass --no-texture)");
       CMGeom::IO::load_textures(tm);
       TS::Textured_simplification_options to;
       to.target_faces = target;
@@ -202,7 +205,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
 #endif
       const double seconds = cmgeom_cli::now_seconds() - t0;
       bar.done();
-      CMGeom::IO::write_textured_mesh(o->output, tm);
+      CMGeom::IO::write_textured_mesh(o->output, tm, o->gltf);
       if (r.stopped_by != TS::Stop_reason::target)
         std::cerr << "cmgeom simplify: stopped at " << r.faces_out << " faces for a target of " << target << " ("
                   << (r.stopped_by == TS::Stop_reason::chart_limit
@@ -283,7 +286,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
 
     tm.set_has_uvs(false);  // geometry only: no UVs, no materials
     tm.materials().clear();
-    CMGeom::IO::write_mesh(o->output, tm);
+    CMGeom::IO::write_textured_mesh(o->output, tm, o->gltf);
 
     if (o->json) {
       nlohmann::ordered_json j;

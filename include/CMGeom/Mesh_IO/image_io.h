@@ -37,6 +37,11 @@ void write_image(const std::string& path, const Image& image);
 class Atomic_output;
 std::string write_image(const std::string& path, const Image& image, Atomic_output& out);
 
+/// Encodes an image in memory in the format of `extension` (".png", ".jpg"): the bytes a file
+/// written by write_image() would hold. `name` appears in error messages.
+std::vector<unsigned char> encode_image(const Image& image, const std::string& extension,
+                                        const std::string& name);
+
 }  // namespace IO
 }  // namespace CMGeom
 

@@ -60,9 +60,44 @@ void read_mesh(const std::string& path, Textured_mesh& out,
                const Read_options& options = Read_options());
 
 /// Writes .obj (with .mtl when there are materials; texture files referenced by the
-/// materials are copied beside it), .off or .ply (binary little-endian), atomically.
-/// Coordinates are printed in the shortest form that reads back to the same double.
+/// materials are copied beside it), .off, .ply (binary little-endian), .gltf (with a .bin and
+/// the texture files beside it) or .glb (one file, textures embedded), atomically.
+/// Coordinates are printed in the shortest form that reads back to the same double (OBJ, OFF);
+/// glTF stores 32-bit floats. Textures are written from their files or embedded bytes as they
+/// are; write_textured_mesh() (textured_mesh_io.h) also encodes decoded images.
 void write_mesh(const std::string& path, const Textured_mesh& mesh);
+
+/// Options of the glTF writer.
+struct Gltf_options {
+  /// NORMAL per vertex: the area-weighted average of the face normals, the same on both sides
+  /// of a UV seam (smooth shading, as the OBJ output is drawn).
+  bool normals = true;
+  /// KHR_mesh_quantization: positions as 16-bit integers on a uniform grid of the level's
+  /// bounding box (the node's scale and translation map them back; at most extent / 131070 off
+  /// per coordinate), normals as 8-bit, texture coordinates in [0, 1] as 16-bit normalised.
+  /// Vertices closer than the grid step become equal, as in any quantised file.
+  bool quantize = false;
+};
+
+/// One level of detail for write_gltf().
+struct Gltf_level {
+  const Textured_mesh* mesh = nullptr;
+  std::string name;    ///< node and mesh name
+  double error = -1;   ///< written in the node's extras ("error") when >= 0
+  double ratio = -1;   ///< written in the node's extras ("ratio") when >= 0
+};
+
+/// Writes a glTF 2.0 scene (.gltf + .bin + images, or a single .glb) atomically: one node and
+/// mesh per level, one primitive per material used, vertices split where texture coordinates
+/// differ (UV seams), 16-bit indices when they fit. Levels after the first are listed by the
+/// first node's MSFT_lod extension (finest first) and are not in the scene: viewers without
+/// MSFT_lod show the first level. Every node's extras hold its level, face count and, when
+/// given, error and ratio. Materials: base colour (factor Kd, texture), normal texture,
+/// metallic 0, roughness 1; identical materials and identical images are written once, so
+/// levels that share a texture share it in the file. Textures must be PNG or JPEG.
+/// Throws IO_error (nothing written) for an empty level, a non-triangle face or another image type.
+void write_gltf(const std::string& path, const std::vector<Gltf_level>& levels,
+                const Gltf_options& options = Gltf_options());
 
 /// Lower-case extension of a path including the dot ("" when none).
 std::string extension(const std::string& path);

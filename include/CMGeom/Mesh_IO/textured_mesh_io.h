@@ -23,7 +23,15 @@ void read_textured_mesh(const std::string& path, Textured_mesh& out,
 /// Writes the mesh; for .obj, textures are written as PNG files named
 /// "<stem>_<material>_<diffuse|normal>.png" beside it (decoded images are encoded again; textures
 /// that were never decoded are copied byte for byte).
-void write_textured_mesh(const std::string& path, const Textured_mesh& mesh);
+/// For .gltf/.glb, decoded images are written as PNG, texture files that are PNG or JPEG as they
+/// are, others re-encoded as PNG (see write_textured_gltf()).
+void write_textured_mesh(const std::string& path, const Textured_mesh& mesh,
+                         const Gltf_options& gltf_options = Gltf_options());
+
+/// write_gltf() for meshes whose textures may exist only as decoded images (a baked atlas):
+/// those are encoded as PNG; identical images (same pixels) are written once.
+void write_textured_gltf(const std::string& path, const std::vector<Gltf_level>& levels,
+                         const Gltf_options& options = Gltf_options());
 
 }  // namespace IO
 }  // namespace CMGeom

@@ -1,0 +1,497 @@
+// glTF 2.0 / GLB writer: the scene is assembled here, tinygltf serialises it (JSON and the GLB
+// container). See write_gltf() in mesh_io.h for what is written.
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>
+
+#include "io_internal.h"
+
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <unordered_map>
+
+namespace CMGeom {
+namespace IO {
+namespace internal {
+
+namespace fs = std::filesystem;
+
+std::string image_mime_type(const std::vector<unsigned char>& bytes) {
+  static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() >= 8 && std::memcmp(bytes.data(), png, 8) == 0) return "image/png";
+  if (bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff) return "image/jpeg";
+  return std::string();
+}
+
+namespace {
+
+using Vertex_index = Surface_mesh::Vertex_index;
+using Face_index = Surface_mesh::Face_index;
+using Halfedge_index = Surface_mesh::Halfedge_index;
+
+// A URI reference for a file name: RFC 3986 unreserved characters kept, the rest percent-encoded.
+std::string uri_of_file_name(const std::string& name) {
+  static const char hex[] = "0123456789ABCDEF";
+  std::string s;
+  for (unsigned char c : name) {
+    if (std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == '~') {
+      s += char(c);
+    } else {
+      s += '%';
+      s += hex[c >> 4];
+      s += hex[c & 15];
+    }
+  }
+  return s;
+}
+
+std::uint64_t fnv1a(const unsigned char* p, std::size_t n) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+// The single binary buffer and its views (each view starts on a 4-byte boundary).
+class Buffer_builder {
+public:
+  explicit Buffer_builder(tinygltf::Model& model) : model_(model) {}
+
+  int add_view(const std::vector<unsigned char>& bytes, int target, std::size_t stride) {
+    while (data_.size() % 4) data_.push_back(0);
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = data_.size();
+    view.byteLength = bytes.size();
+    view.byteStride = stride;
+    view.target = target;
+    data_.insert(data_.end(), bytes.begin(), bytes.end());
+    model_.bufferViews.push_back(view);
+    return int(model_.bufferViews.size() - 1);
+  }
+
+  std::vector<unsigned char>& data() { return data_; }
+
+private:
+  tinygltf::Model& model_;
+  std::vector<unsigned char> data_;
+};
+
+template <class T>
+void put(std::vector<unsigned char>& out, T value) {
+  unsigned char b[sizeof(T)];
+  std::memcpy(b, &value, sizeof(T));
+  out.insert(out.end(), b, b + sizeof(T));
+}
+
+// One vertex of a primitive: a mesh vertex with one texture coordinate (seams split vertices).
+struct Corner_key {
+  std::uint32_t vertex;
+  std::uint64_t u, v;
+  bool operator==(const Corner_key& o) const { return vertex == o.vertex && u == o.u && v == o.v; }
+};
+struct Corner_key_hash {
+  std::size_t operator()(const Corner_key& k) const {
+    std::uint64_t h = k.vertex * 0x9E3779B97F4A7C15ull;
+    h ^= k.u + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h ^= k.v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    return std::size_t(h);
+  }
+};
+
+std::uint64_t bits(double x) {
+  std::uint64_t b;
+  std::memcpy(&b, &x, 8);
+  return b;
+}
+
+// Unit area-weighted vertex normals (a vertex whose faces have no area gets +z).
+std::vector<std::array<double, 3>> vertex_normals(const Surface_mesh& m) {
+  std::vector<std::array<double, 3>> n(m.number_of_vertices() + m.number_of_removed_vertices(), {0, 0, 0});
+  for (Face_index f : m.faces()) {
+    const Halfedge_index h = m.halfedge(f);
+    const Point_3& a = m.point(m.target(h));
+    const Point_3& b = m.point(m.target(m.next(h)));
+    const Point_3& c = m.point(m.source(h));
+    const double ux = b.x() - a.x(), uy = b.y() - a.y(), uz = b.z() - a.z();
+    const double vx = c.x() - a.x(), vy = c.y() - a.y(), vz = c.z() - a.z();
+    const std::array<double, 3> cr = {uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx};
+    for (Halfedge_index g : CGAL::halfedges_around_face(h, m))
+      for (int k = 0; k < 3; ++k) n[std::size_t(m.target(g))][std::size_t(k)] += cr[std::size_t(k)];
+  }
+  for (auto& v : n) {
+    const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0 && std::isfinite(l)) v = {v[0] / l, v[1] / l, v[2] / l};
+    else v = {0, 0, 1};
+  }
+  return n;
+}
+
+class Scene_writer {
+public:
+  Scene_writer(const std::string& path, const Gltf_options& options, const Image_encoder& encode)
+      : path_(path), options_(options), encode_(encode), buffer_(model_) {
+    model_.asset.version = "2.0";
+    model_.asset.generator = "CMGeom " CMGEOM_VERSION_STR;
+  }
+
+  void add_level(const Gltf_level& level, std::size_t index) {
+    if (!level.mesh) throw IO_error(path_, "level " + std::to_string(index) + " has no mesh");
+    const Textured_mesh& tm = *level.mesh;
+    const Surface_mesh& m = tm.mesh();
+    if (m.number_of_faces() == 0) throw IO_error(path_, "refusing to write a mesh without faces");
+    for (Face_index f : m.faces())
+      if (m.degree(f) != 3) throw IO_error(path_, "glTF output needs a triangle mesh");
+
+    // materials of this level, shared with earlier levels when identical
+    // (a texture needs texture coordinates: without them materials keep their colour only)
+    std::vector<int> material_of(tm.materials().size(), -1);
+    for (std::size_t i = 0; i < tm.materials().size(); ++i)
+      material_of[i] = material(tm.materials()[i], tm.has_uvs());
+
+    const std::vector<std::array<double, 3>> normals =
+        options_.normals ? vertex_normals(m) : std::vector<std::array<double, 3>>();
+
+    // uniform quantisation grid of the level (KHR_mesh_quantization), undone by the node transform
+    std::array<double, 3> lo = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+                                std::numeric_limits<double>::max()};
+    std::array<double, 3> hi = {-lo[0], -lo[1], -lo[2]};
+    for (Vertex_index v : m.vertices()) {
+      const Point_3& p = m.point(v);
+      for (int k = 0; k < 3; ++k) {
+        lo[std::size_t(k)] = std::min(lo[std::size_t(k)], p[k]);
+        hi[std::size_t(k)] = std::max(hi[std::size_t(k)], p[k]);
+      }
+    }
+    const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    const double step = extent > 0 ? extent / 65535.0 : 1.0;
+
+    // faces by material, in face order
+    const std::size_t nmat = std::max<std::size_t>(tm.materials().size(), 1);
+    std::vector<std::vector<Face_index>> by_material(nmat);
+    for (Face_index f : m.faces()) {
+      int k = tm.materials().empty() ? 0 : tm.material(f);
+      if (k < 0 || std::size_t(k) >= nmat) k = 0;
+      by_material[std::size_t(k)].push_back(f);
+    }
+
+    tinygltf::Mesh gmesh;
+    gmesh.name = level.name;
+    for (std::size_t k = 0; k < nmat; ++k) {
+      if (by_material[k].empty()) continue;
+      tinygltf::Primitive prim;
+      prim.mode = TINYGLTF_MODE_TRIANGLES;
+      prim.material = tm.materials().empty() ? -1 : material_of[k];
+      add_primitive(tm, by_material[k], normals, lo, step, prim);
+      gmesh.primitives.push_back(std::move(prim));
+    }
+    model_.meshes.push_back(std::move(gmesh));
+
+    tinygltf::Node node;
+    node.name = level.name;
+    node.mesh = int(model_.meshes.size() - 1);
+    if (options_.quantize) {
+      node.translation = {lo[0], lo[1], lo[2]};
+      node.scale = {step, step, step};
+    }
+    tinygltf::Value::Object extras;
+    extras["level"] = tinygltf::Value(int(index));
+    extras["faces"] = tinygltf::Value(int(m.number_of_faces()));
+    if (level.error >= 0) extras["error"] = tinygltf::Value(level.error);
+    if (level.ratio >= 0) extras["ratio"] = tinygltf::Value(level.ratio);
+    node.extras = tinygltf::Value(std::move(extras));
+    model_.nodes.push_back(std::move(node));
+  }
+
+  void finish(Atomic_output& out) {
+    const std::size_t levels = model_.nodes.size();
+    if (levels > 1) {
+      tinygltf::Value::Array ids;
+      for (std::size_t i = 1; i < levels; ++i) ids.emplace_back(int(i));
+      tinygltf::Value::Object lod;
+      lod["ids"] = tinygltf::Value(std::move(ids));
+      model_.nodes[0].extensions["MSFT_lod"] = tinygltf::Value(std::move(lod));
+      model_.extensionsUsed.push_back("MSFT_lod");
+    }
+    if (options_.quantize) {
+      model_.extensionsUsed.push_back("KHR_mesh_quantization");
+      model_.extensionsRequired.push_back("KHR_mesh_quantization");
+    }
+    tinygltf::Scene scene;
+    scene.nodes = {0};  // the finest level; the coarser ones are reached through MSFT_lod
+    model_.scenes.push_back(scene);
+    model_.defaultScene = 0;
+
+    const bool binary = extension(path_) == ".glb";
+    const fs::path dir = fs::path(path_).parent_path();
+    const std::string stem = fs::path(path_).stem().string();
+    // images: embedded in the buffer (GLB) or files beside the .gltf
+    for (std::size_t i = 0; i < images_.size(); ++i) {
+      tinygltf::Image& img = model_.images[i];
+      if (binary) {
+        img.bufferView = buffer_.add_view(images_[i].bytes, 0, 0);
+        img.mimeType = images_[i].mime_type;
+      } else {
+        const std::string name =
+            stem + "_" + std::to_string(i) + (images_[i].mime_type == "image/png" ? ".png" : ".jpg");
+        write_file((dir / name).string(),
+                   std::string(images_[i].bytes.begin(), images_[i].bytes.end()), out);
+        img.uri = uri_of_file_name(name);
+      }
+    }
+    tinygltf::Buffer buffer;
+    buffer.data = std::move(buffer_.data());
+    const std::size_t bytes = buffer.data.size();
+    std::string bin_name = stem + ".bin";
+    if (!binary) {
+      write_file((dir / bin_name).string(), std::string(buffer.data.begin(), buffer.data.end()), out);
+      buffer.data.assign(1, 0);  // the JSON's buffer entry is replaced below
+    }
+    model_.buffers.push_back(std::move(buffer));
+
+    tinygltf::TinyGLTF writer;
+    std::ostringstream s;
+    if (!writer.WriteGltfSceneToStream(&model_, s, !binary, binary))
+      throw IO_error(path_, "glTF serialisation failed");
+    std::string text = s.str();
+    if (!binary) {
+      // tinygltf embeds buffers in a .gltf written to a stream; ours is the .bin file beside it
+      nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
+      j["buffers"] = nlohmann::ordered_json::array(
+          {nlohmann::ordered_json{{"byteLength", bytes}, {"uri", uri_of_file_name(bin_name)}}});
+      text = j.dump(2) + "\n";
+    }
+    write_file(path_, text, out);
+  }
+
+private:
+  // The index of the glTF image of a texture (-1 when the material has none).
+  int texture(const Material& mat, bool diffuse) {
+    Encoded_image e = encode_(mat, diffuse);
+    if (e.bytes.empty()) return -1;
+    if (e.mime_type.empty()) e.mime_type = image_mime_type(e.bytes);
+    if (e.mime_type != "image/png" && e.mime_type != "image/jpeg")
+      throw IO_error(path_, "texture of material '" + mat.name + "' is neither PNG nor JPEG (glTF allows only those)");
+    const std::uint64_t h = fnv1a(e.bytes.data(), e.bytes.size());
+    for (std::size_t i = 0; i < images_.size(); ++i)
+      if (image_hash_[i] == h && images_[i].bytes == e.bytes) return int(i);
+    images_.push_back(std::move(e));
+    image_hash_.push_back(h);
+    model_.images.emplace_back();
+    if (model_.samplers.empty()) {
+      tinygltf::Sampler sampler;
+      sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+      sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+      sampler.wrapS = TINYGLTF_TEXTURE_WRAP_REPEAT;
+      sampler.wrapT = TINYGLTF_TEXTURE_WRAP_REPEAT;
+      model_.samplers.push_back(sampler);
+    }
+    tinygltf::Texture t;
+    t.sampler = 0;
+    t.source = int(images_.size() - 1);
+    model_.textures.push_back(t);
+    return int(model_.textures.size() - 1);
+  }
+
+  // The index of a glTF material equal to `mat` (one is added when none is yet).
+  int material(const Material& mat, bool textured) {
+    const int diffuse = textured ? texture(mat, true) : -1;
+    const int normal = textured ? texture(mat, false) : -1;
+    tinygltf::Material g;
+    g.name = mat.name;
+    g.pbrMetallicRoughness.baseColorFactor = {mat.diffuse_color[0], mat.diffuse_color[1], mat.diffuse_color[2], 1.0};
+    g.pbrMetallicRoughness.metallicFactor = 0.0;  // OBJ/MTL diffuse colours describe dielectrics
+    g.pbrMetallicRoughness.roughnessFactor = 1.0;
+    g.pbrMetallicRoughness.baseColorTexture.index = diffuse;
+    g.normalTexture.index = normal;
+    for (std::size_t i = 0; i < model_.materials.size(); ++i)
+      if (model_.materials[i] == g) return int(i);
+    model_.materials.push_back(std::move(g));
+    return int(model_.materials.size() - 1);
+  }
+
+  int add_accessor(int view, int component, int type, std::size_t count, bool normalized,
+                   std::vector<double> min = {}, std::vector<double> max = {}) {
+    tinygltf::Accessor a;
+    a.bufferView = view;
+    a.componentType = component;
+    a.type = type;
+    a.count = count;
+    a.normalized = normalized;
+    a.minValues = std::move(min);
+    a.maxValues = std::move(max);
+    model_.accessors.push_back(std::move(a));
+    return int(model_.accessors.size() - 1);
+  }
+
+  void add_primitive(const Textured_mesh& tm, const std::vector<Face_index>& faces,
+                     const std::vector<std::array<double, 3>>& normals, const std::array<double, 3>& lo,
+                     double step, tinygltf::Primitive& prim) {
+    const Surface_mesh& m = tm.mesh();
+    const bool uvs = tm.has_uvs();
+    std::unordered_map<Corner_key, std::uint32_t, Corner_key_hash> id;
+    id.reserve(faces.size() * 2);
+    std::vector<Halfedge_index> corner;  // a corner of every glTF vertex
+    std::vector<std::uint32_t> indices;
+    indices.reserve(faces.size() * 3);
+    for (Face_index f : faces) {
+      for (Halfedge_index h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+        Corner_key key{std::uint32_t(m.target(h)), 0, 0};
+        if (uvs) {
+          const Point_2 t = tm.uv(h);
+          key.u = bits(t.x());
+          key.v = bits(t.y());
+        }
+        auto [it, inserted] = id.emplace(key, std::uint32_t(corner.size()));
+        if (inserted) corner.push_back(h);
+        indices.push_back(it->second);
+      }
+    }
+    const std::size_t n = corner.size();
+
+    // POSITION
+    {
+      std::vector<unsigned char> b;
+      std::vector<double> mn(3, std::numeric_limits<double>::max()), mx(3, -std::numeric_limits<double>::max());
+      if (options_.quantize) {
+        b.reserve(n * 8);
+        for (Halfedge_index h : corner) {
+          const Point_3& p = m.point(m.target(h));
+          for (int k = 0; k < 3; ++k) {
+            const double q = std::min(65535.0, std::max(0.0, std::round((p[k] - lo[std::size_t(k)]) / step)));
+            put(b, std::uint16_t(q));
+            mn[std::size_t(k)] = std::min(mn[std::size_t(k)], q);
+            mx[std::size_t(k)] = std::max(mx[std::size_t(k)], q);
+          }
+          put(b, std::uint16_t(0));  // vertex attributes are 4-byte aligned
+        }
+        prim.attributes["POSITION"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 8),
+                                                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC3, n,
+                                                   false, mn, mx);
+      } else {
+        b.reserve(n * 12);
+        for (Halfedge_index h : corner) {
+          const Point_3& p = m.point(m.target(h));
+          for (int k = 0; k < 3; ++k) {
+            const float x = float(p[k]);
+            put(b, x);
+            mn[std::size_t(k)] = std::min(mn[std::size_t(k)], double(x));
+            mx[std::size_t(k)] = std::max(mx[std::size_t(k)], double(x));
+          }
+        }
+        prim.attributes["POSITION"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 12),
+                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, false,
+                                                   mn, mx);
+      }
+    }
+    // NORMAL
+    if (!normals.empty()) {
+      std::vector<unsigned char> b;
+      if (options_.quantize) {
+        for (Halfedge_index h : corner) {
+          const auto& nv = normals[std::size_t(m.target(h))];
+          for (int k = 0; k < 3; ++k) put(b, std::int8_t(std::lround(nv[std::size_t(k)] * 127.0)));
+          put(b, std::int8_t(0));
+        }
+        prim.attributes["NORMAL"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 4),
+                                                 TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC3, n, true);
+      } else {
+        for (Halfedge_index h : corner) {
+          const auto& nv = normals[std::size_t(m.target(h))];
+          for (int k = 0; k < 3; ++k) put(b, float(nv[std::size_t(k)]));
+        }
+        prim.attributes["NORMAL"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 12),
+                                                 TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, false);
+      }
+    }
+    // TEXCOORD_0 (glTF's v points down: v_gltf = 1 - v)
+    if (uvs) {
+      bool unit = options_.quantize;
+      for (Halfedge_index h : corner) {
+        const Point_2 t = tm.uv(h);
+        unit = unit && t.x() >= 0 && t.x() <= 1 && t.y() >= 0 && t.y() <= 1;
+      }
+      std::vector<unsigned char> b;
+      if (unit) {
+        for (Halfedge_index h : corner) {
+          const Point_2 t = tm.uv(h);
+          put(b, std::uint16_t(std::lround(t.x() * 65535.0)));
+          put(b, std::uint16_t(std::lround((1.0 - t.y()) * 65535.0)));
+        }
+        prim.attributes["TEXCOORD_0"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 4),
+                                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC2, n,
+                                                     true);
+      } else {
+        for (Halfedge_index h : corner) {
+          const Point_2 t = tm.uv(h);
+          put(b, float(t.x()));
+          put(b, float(1.0 - t.y()));
+        }
+        prim.attributes["TEXCOORD_0"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 8),
+                                                     TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, n, false);
+      }
+    }
+    // indices: 16 bits while no index reaches 65535 (the primitive-restart value)
+    {
+      std::vector<unsigned char> b;
+      const bool short_indices = n < 65535;
+      for (std::uint32_t i : indices) {
+        if (short_indices) put(b, std::uint16_t(i));
+        else put(b, i);
+      }
+      prim.indices = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0),
+                                  short_indices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
+                                                : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                                  TINYGLTF_TYPE_SCALAR, indices.size(), false);
+    }
+  }
+
+  const std::string& path_;
+  const Gltf_options& options_;
+  const Image_encoder& encode_;
+  tinygltf::Model model_;
+  Buffer_builder buffer_;
+  std::vector<Encoded_image> images_;
+  std::vector<std::uint64_t> image_hash_;
+};
+
+}  // namespace
+
+void write_gltf(const std::string& path, const std::vector<Gltf_level>& levels, const Gltf_options& options,
+                Atomic_output& out, const Image_encoder& encode) {
+  const std::string ext = extension(path);
+  if (ext != ".gltf" && ext != ".glb") throw IO_error(path, "glTF output must end in .gltf or .glb");
+  if (levels.empty()) throw IO_error(path, "nothing to write (no level)");
+  Scene_writer writer(path, options, encode);
+  for (std::size_t i = 0; i < levels.size(); ++i) writer.add_level(levels[i], i);
+  writer.finish(out);
+}
+
+Encoded_image encode_texture_file(const Material& mat, bool diffuse) {
+  Encoded_image e;
+  const std::string& file = diffuse ? mat.diffuse_texture : mat.normal_texture;
+  if (!file.empty()) {
+    const std::string s = slurp(file);
+    e.bytes.assign(s.begin(), s.end());
+  } else if (diffuse && !mat.diffuse_texture_blob.empty()) {
+    e.bytes = mat.diffuse_texture_blob;
+  }
+  e.mime_type = image_mime_type(e.bytes);
+  return e;
+}
+
+}  // namespace internal
+}  // namespace IO
+}  // namespace CMGeom
