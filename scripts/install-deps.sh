@@ -8,6 +8,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libmeshoptimizer-dev libopenmesh-dev time python3
+  nodejs npm  # the Khronos glTF validator of the glTF writer's tests (test/Mesh_IO/gltf_validator)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -32,6 +32,24 @@ bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::st
   return true;
 }
 
+// A URI reference's path with its %XX escapes decoded (glTF image URIs are URI references:
+// "my%20duck.png" names the file "my duck.png"). A '%' not followed by two hex digits is kept.
+std::string percent_decoded(const std::string& uri) {
+  auto hex = [](char c) {
+    return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
+  };
+  std::string s;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
+      s += char(hex(uri[i + 1]) * 16 + hex(uri[i + 2]));
+      i += 2;
+    } else {
+      s += uri[i];
+    }
+  }
+  return s;
+}
+
 using Mat4 = std::array<double, 16>;  // column-major, as glTF stores it
 
 Mat4 multiply(const Mat4& a, const Mat4& b) {
@@ -153,7 +171,7 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
   auto texture_source = [&](const tinygltf::Image* img, std::string& file, std::vector<unsigned char>* blob) {
     if (!img) return;
     if (!img->uri.empty() && img->uri.compare(0, 5, "data:") != 0) {
-      const fs::path p = dir / img->uri;
+      const fs::path p = dir / percent_decoded(img->uri);
       std::error_code ec;
       if (!fs::is_regular_file(p, ec)) throw IO_error(path, "texture image '" + img->uri + "' not found");
       file = fs::absolute(p).lexically_normal().string();

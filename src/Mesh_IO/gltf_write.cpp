@@ -58,6 +58,31 @@ std::string uri_of_file_name(const std::string& name) {
   return s;
 }
 
+// The PNG without its colour-space chunks (iCCP, sRGB, gAMA, cHRM). glTF fixes the colour space
+// of every texture (sRGB for base colour, linear for normal maps): its images should not carry
+// colour-space information (ICC profiles, gamma) and viewers must ignore it (glTF 2.0
+// specification, "Images"), so such a chunk only misleads; the Khronos validator warns about it
+// (IMAGE_FEATURES_UNSUPPORTED; the shared textures of spot and bob carry one). The other chunks,
+// pixel data included, are kept byte for byte; a PNG whose chunks cannot be walked is kept as it is.
+std::vector<unsigned char> without_colour_space_chunks(const std::vector<unsigned char>& png) {
+  auto be32 = [&](std::size_t i) {
+    return std::uint32_t(png[i]) << 24 | std::uint32_t(png[i + 1]) << 16 | std::uint32_t(png[i + 2]) << 8 | png[i + 3];
+  };
+  std::vector<unsigned char> out(png.begin(), png.begin() + 8);
+  std::size_t i = 8;
+  while (i + 12 <= png.size()) {
+    const std::size_t end = i + 12 + std::size_t(be32(i));
+    if (end > png.size() || end < i) return png;
+    const std::string type(png.begin() + std::ptrdiff_t(i + 4), png.begin() + std::ptrdiff_t(i + 8));
+    if (type != "iCCP" && type != "sRGB" && type != "gAMA" && type != "cHRM")
+      out.insert(out.end(), png.begin() + std::ptrdiff_t(i), png.begin() + std::ptrdiff_t(end));
+    i = end;
+    if (type == "IEND") break;
+  }
+  out.insert(out.end(), png.begin() + std::ptrdiff_t(i), png.end());  // bytes after IEND, if any
+  return out;
+}
+
 std::uint64_t fnv1a(const unsigned char* p, std::size_t n) {
   std::uint64_t h = 1469598103934665603ull;
   for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
@@ -139,6 +164,68 @@ std::vector<std::array<double, 3>> vertex_normals(const Surface_mesh& m) {
   return n;
 }
 
+// Unit tangents of the glTF vertices of a primitive (`corner`: a corner of each; `indices`: its
+// triangles) with their handedness, for normal maps: the direction of increasing u on each face,
+// weighted by the face's area, averaged over the faces around each glTF vertex (a vertex split at a
+// UV seam gets the faces of its side), then made orthogonal to the vertex normal. w is the sign
+// that makes cross(normal, tangent) * w point along increasing v as CMGeom stores it (image up,
+// the glTF viewers' convention for a tangent space without mirroring; w = -1 on mirrored charts).
+// A vertex whose faces have no UV area gets any tangent orthogonal to its normal.
+std::vector<std::array<double, 4>> vertex_tangents(const Textured_mesh& tm,
+                                                   const std::vector<Halfedge_index>& corner,
+                                                   const std::vector<std::uint32_t>& indices,
+                                                   const std::vector<std::array<double, 3>>& normals) {
+  using V = std::array<double, 3>;
+  auto sub = [](const V& a, const V& b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  auto dot = [](const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  auto cross = [](const V& a, const V& b) {
+    return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  auto unit = [&](V a) {
+    const double l = std::sqrt(dot(a, a));
+    return l > 0 && std::isfinite(l) ? V{a[0] / l, a[1] / l, a[2] / l} : V{0, 0, 0};
+  };
+  const Surface_mesh& m = tm.mesh();
+  auto position = [&](std::uint32_t i) {
+    const Point_3& p = m.point(m.target(corner[i]));
+    return V{p.x(), p.y(), p.z()};
+  };
+  std::vector<V> tu(corner.size(), V{0, 0, 0}), tv(corner.size(), V{0, 0, 0});
+  for (std::size_t f = 0; f + 2 < indices.size(); f += 3) {
+    const std::uint32_t c[3] = {indices[f], indices[f + 1], indices[f + 2]};
+    const V e1 = sub(position(c[1]), position(c[0])), e2 = sub(position(c[2]), position(c[0]));
+    const Point_2 t0 = tm.uv(corner[c[0]]), t1 = tm.uv(corner[c[1]]), t2 = tm.uv(corner[c[2]]);
+    const double du1 = t1.x() - t0.x(), dv1 = t1.y() - t0.y(), du2 = t2.x() - t0.x(), dv2 = t2.y() - t0.y();
+    const double det = du1 * dv2 - du2 * dv1;
+    if (det == 0 || !std::isfinite(det)) continue;  // no UV area: no direction of u on this face
+    // dP/du and dP/dv of the face, as unit vectors weighted by its area
+    const double area = std::sqrt(dot(cross(e1, e2), cross(e1, e2)));
+    const V su = unit(V{(e1[0] * dv2 - e2[0] * dv1) / det, (e1[1] * dv2 - e2[1] * dv1) / det, (e1[2] * dv2 - e2[2] * dv1) / det});
+    const V sv = unit(V{(e2[0] * du1 - e1[0] * du2) / det, (e2[1] * du1 - e1[1] * du2) / det, (e2[2] * du1 - e1[2] * du2) / det});
+    for (std::uint32_t i : c)
+      for (std::size_t k = 0; k < 3; ++k) {
+        tu[i][k] += area * su[k];
+        tv[i][k] += area * sv[k];
+      }
+  }
+  std::vector<std::array<double, 4>> out(corner.size());
+  for (std::size_t i = 0; i < corner.size(); ++i) {
+    const V& nv = normals[std::size_t(m.target(corner[i]))];
+    V t = unit(sub(tu[i], V{nv[0] * dot(nv, tu[i]), nv[1] * dot(nv, tu[i]), nv[2] * dot(nv, tu[i])}));
+    if (dot(t, t) == 0) {  // any direction orthogonal to the normal: its smallest axis crossed with it
+      const std::size_t a = std::abs(nv[0]) <= std::abs(nv[1]) && std::abs(nv[0]) <= std::abs(nv[2]) ? 0
+                            : std::abs(nv[1]) <= std::abs(nv[2])                                   ? 1
+                                                                                                    : 2;
+      V axis{0, 0, 0};
+      axis[a] = 1;
+      t = unit(cross(nv, axis));
+    }
+    const double w = dot(cross(nv, t), tv[i]) < 0 ? -1.0 : 1.0;
+    out[i] = {t[0], t[1], t[2], w};
+  }
+  return out;
+}
+
 class Scene_writer {
 public:
   Scene_writer(const std::string& path, const Gltf_options& options, const Image_encoder& encode)
@@ -194,7 +281,10 @@ public:
       tinygltf::Primitive prim;
       prim.mode = TINYGLTF_MODE_TRIANGLES;
       prim.material = tm.materials().empty() ? -1 : material_of[k];
-      add_primitive(tm, by_material[k], normals, lo, step, prim);
+      // a normal map needs a tangent space; without TANGENT viewers derive one of their own
+      const bool tangents = !normals.empty() && tm.has_uvs() && prim.material >= 0 &&
+                            model_.materials[std::size_t(prim.material)].normalTexture.index >= 0;
+      add_primitive(tm, by_material[k], normals, tangents, lo, step, prim);
       gmesh.primitives.push_back(std::move(prim));
     }
     model_.meshes.push_back(std::move(gmesh));
@@ -284,6 +374,7 @@ private:
     if (e.mime_type.empty()) e.mime_type = image_mime_type(e.bytes);
     if (e.mime_type != "image/png" && e.mime_type != "image/jpeg")
       throw IO_error(path_, "texture of material '" + mat.name + "' is neither PNG nor JPEG (glTF allows only those)");
+    if (e.mime_type == "image/png") e.bytes = without_colour_space_chunks(e.bytes);
     const std::uint64_t h = fnv1a(e.bytes.data(), e.bytes.size());
     for (std::size_t i = 0; i < images_.size(); ++i)
       if (image_hash_[i] == h && images_[i].bytes == e.bytes) return int(i);
@@ -337,8 +428,8 @@ private:
   }
 
   void add_primitive(const Textured_mesh& tm, const std::vector<Face_index>& faces,
-                     const std::vector<std::array<double, 3>>& normals, const std::array<double, 3>& lo,
-                     double step, tinygltf::Primitive& prim) {
+                     const std::vector<std::array<double, 3>>& normals, bool tangents,
+                     const std::array<double, 3>& lo, double step, tinygltf::Primitive& prim) {
     const Surface_mesh& m = tm.mesh();
     const bool uvs = tm.has_uvs();
     std::unordered_map<Corner_key, std::uint32_t, Corner_key_hash> id;
@@ -414,6 +505,22 @@ private:
         }
         prim.attributes["NORMAL"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 12),
                                                  TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, false);
+      }
+    }
+    // TANGENT (xyz, handedness w)
+    if (tangents) {
+      const std::vector<std::array<double, 4>> t = vertex_tangents(tm, corner, indices, normals);
+      std::vector<unsigned char> b;
+      if (options_.quantize) {
+        for (const auto& tv : t)
+          for (int k = 0; k < 4; ++k) put(b, std::int8_t(std::lround(tv[std::size_t(k)] * 127.0)));
+        prim.attributes["TANGENT"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 4),
+                                                  TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC4, n, true);
+      } else {
+        for (const auto& tv : t)
+          for (int k = 0; k < 4; ++k) put(b, float(tv[std::size_t(k)]));
+        prim.attributes["TANGENT"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 16),
+                                                  TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, n, false);
       }
     }
     // TEXCOORD_0 (glTF's v points down: v_gltf = 1 - v)

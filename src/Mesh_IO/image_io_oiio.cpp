@@ -53,7 +53,12 @@ std::string read(const std::string& path, Image& out) {
 
 std::string read_memory(const std::vector<unsigned char>& bytes, Image& out) {
   OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes.data()), bytes.size());
-  const OIIO::ImageSpec config = unassociated_config();
+  OIIO::ImageSpec config = unassociated_config();
+  // OpenImageIO 2.4 (Debian 12) does not pass the proxy argument of ImageInput::open on to the
+  // format reader (it then looks for a file of the hint's name); the configuration attribute
+  // "oiio:ioproxy" does reach it.
+  void* proxy = &reader;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
   // The format is found from the content; the name only gives a hint.
   std::string hint = "embedded.png";
   if (bytes.size() > 2 && bytes[0] == 0xFF && bytes[1] == 0xD8) hint = "embedded.jpg";
