@@ -14,6 +14,19 @@ trap 'rm -f "$tmp"' EXIT
   echo "never leaves a partial output file, and accepts the global \`--threads N\` (results do not"
   echo "depend on it)."
   echo
+  echo "Progress: every step that can take a while (reading a mesh, simplification, Compact Model build and"
+  echo "reconstruction, cage set-up and binding, deformation, rendering, writing a large output) is a *stage* that"
+  echo "reports on stderr, never on stdout, so \`--json\` output is the same with or without it. When stderr is a"
+  echo "terminal, a stage that has run 0.5 s gets one line redrawn in place (carriage return) with its label,"
+  echo "percentage and rate (\`cm build  42%  96 k faces/s\`; the time left when the stage does not know its count),"
+  echo "and when it ends the line becomes \`<label> done in X s (<count> <unit>)\`. When stderr is a pipe or a file"
+  echo "there is no animation: a stage that took 0.5 s or more writes one line when it ends,"
+  echo "\`cmgeom: <label>: done in X s (<count> <unit>)\`, and shorter stages write nothing, so a log keeps only the"
+  echo "steps worth timing. Reading, writing, cage set-up and single pictures have no hook to follow and report"
+  echo "their end only; the simplification's percentage follows the collapses (it waits while a large input is"
+  echo "simplified in parts and while a new atlas is baked). The global \`--quiet\` turns all progress off (the"
+  echo "pipeline's \`[k/N]\` lines too); warnings and errors are still printed."
+  echo
   echo '```'
   "$cmgeom" --help
   echo '```'

@@ -23,6 +23,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <thread>
 
 namespace {
 
@@ -30,6 +31,30 @@ using namespace CMGeom::CM;
 using CMGeom::Point_3;
 using CMGeom::Surface_mesh;
 using Vtx = Surface_mesh::Vertex_index;
+
+// What a progress hook (CMGeom/Progress.h) received, and from which threads.
+struct Progress_record {
+  std::vector<double> fractions;
+  bool other_thread = false;
+  // The hook; call it on the thread that runs the algorithm.
+  CMGeom::Progress_callback hook() {
+    const std::thread::id caller = std::this_thread::get_id();
+    return [this, caller](double f) {
+      if (std::this_thread::get_id() != caller) other_thread = true;
+      fractions.push_back(f);
+    };
+  }
+  // The contract: called, from the calling thread only, with fractions in [0, 1] that never
+  // decrease and end at 1, at most `max_calls` times.
+  void check(std::size_t max_calls) const {
+    ASSERT_FALSE(fractions.empty());
+    EXPECT_FALSE(other_thread);
+    EXPECT_GE(fractions.front(), 0.);
+    EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+    EXPECT_EQ(fractions.back(), 1.);
+    EXPECT_LE(fractions.size(), max_calls);
+  }
+};
 
 // ------------------------------------------------------------------ synthetic meshes
 // Unit sphere: subdivided octahedron projected on the sphere (closed, genus 0).
@@ -425,6 +450,27 @@ TEST(CompactModelReconstruction, ParallelEqualsSerial) {
   EXPECT_TRUE(same(reconstruct_regular(m, 2, par), reconstruct_regular(m, 2, ser)));
 }
 
+// The progress hook (CMGeom/Progress.h) of the reconstructions: fractions never decreasing and
+// ending at 1, every call from the calling thread although the work runs on TBB workers, far
+// fewer calls than points, and the same bits as without the hook.
+TEST(CompactModelReconstruction, ProgressHookReportsFromTheCallingThreadAndChangesNothing) {
+  const Compact_model& m = sphere_model();
+  for (const bool parallel : {true, false}) {
+    Reconstruction_options plain, hooked;
+    plain.parallel = hooked.parallel = parallel;
+    Progress_record regular, adaptive;
+    hooked.progress = regular.hook();
+    const Reconstruction r = reconstruct_regular(m, 5, hooked);
+    EXPECT_TRUE(same(r, reconstruct_regular(m, 5, plain)));
+    regular.check(2 * 260);  // two phases: edges, faces
+    EXPECT_LT(regular.fractions.size(), r.points.size() / 100);
+    hooked.progress = adaptive.hook();
+    EXPECT_TRUE(same(reconstruct_adaptive(m, Edge_length_criterion{0.02}, 6, hooked),
+                     reconstruct_adaptive(m, Edge_length_criterion{0.02}, 6, plain)));
+    adaptive.check(3 * 260);  // edges, faces, assembly
+  }
+}
+
 // Along N, regular reconstruction evaluates interior points row by row, while a reconstruction
 // with vertex maps goes point by point through interior(); with identity maps both must give the
 // same bits (points and normals).
@@ -744,6 +790,29 @@ TEST(CompactModelBuild, JointFitKeepsSharpEdgesOnTheTrimStar) {
 }
 
 // Error-control options outside their ranges are refused before any work, with the range named.
+// The build's progress hook through every step (simplification, the steps of §4.3-4.4, the joint
+// refit, error control): the contract of CMGeom/Progress.h, and the same model as without it.
+TEST(CompactModelBuild, ProgressHookReportsEveryStepAndChangesNothing) {
+  const Surface_mesh sphere = make_sphere(5);  // 8,192 faces
+  Build_options plain;
+  plain.joint_fit = true;
+  plain.error_bound = 1e-4;
+  plain.error_control_rounds = 1;
+  Build_options hooked = plain;
+  Progress_record record;
+  hooked.progress = record.hook();
+  Build_statistics st;
+  const Compact_model with = build_compact_model(sphere, 200, hooked, Quadric_surface_traits(),
+                                                 Weighted_quadric_simplifier(), &st);
+  EXPECT_TRUE(with == build_compact_model(sphere, 200, plain));
+  EXPECT_GT(st.error_control_points + st.error_control_rejected_rounds, 0u);  // error control ran a refit
+  // Eight steps at most (simplification, gathering, sharp edges, fits, joint refit, two measures,
+  // one refit), about 256 calls each; the simplification alone removes ~8,000 faces.
+  record.check(8 * 260);
+  // Every step moves it: no jump from the simplification's end to 1.
+  EXPECT_GT(std::count_if(record.fractions.begin(), record.fractions.end(), [](double f) { return f > 0.2 && f < 0.9; }), 10);
+}
+
 TEST(CompactModelBuild, RejectsBadErrorControlOptions) {
   const Surface_mesh s = make_sphere(2);
   auto refused = [&](void (*set)(Build_options&)) {

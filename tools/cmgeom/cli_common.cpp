@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -37,12 +38,14 @@ std::string one_line(std::string msg) {
 int run_impl(const std::vector<std::string>& args, std::string* error) {
   CLI::App app{"cmgeom - simplification, approximation and deformation of large models"};
   app.require_subcommand(1);
-  app.fallthrough();  // global options (--threads) may follow the sub-command
+  app.fallthrough();  // global options (--threads, --quiet) may follow the sub-command
   app.set_version_flag("--version", std::string("cmgeom 0.1.0"));
   int threads = 0;
   app.add_option("--threads", threads,
                  "Worker threads for parallel stages (default: all cores); results do not depend on it")
       ->check(CLI::NonNegativeNumber);
+  bool quiet = false;
+  app.add_flag("--quiet", quiet, "No progress output on stderr (warnings and errors are still printed)");
 
   // Sorted by name so that --help lists the sub-commands alphabetically, whatever the link order.
   std::vector<const Registered_command*> commands;
@@ -74,6 +77,13 @@ int run_impl(const std::vector<std::string>& args, std::string* error) {
   if (threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   std::size_t(threads));
+  // --quiet holds for this command and the commands it runs in-process (the pipeline's stages,
+  // whose arguments do not repeat it); the previous setting comes back when it returns.
+  struct Quiet_scope {
+    bool previous = Progress::quiet();
+    explicit Quiet_scope(bool quiet) { Progress::set_quiet(previous || quiet); }
+    ~Quiet_scope() { Progress::set_quiet(previous); }
+  } quiet_scope(quiet);
   for (auto& [sub, named] : runners) {
     if (!sub->parsed()) continue;
     try {
@@ -142,30 +152,131 @@ void add_gltf_options(CLI::App& app, CMGeom::IO::Gltf_options& options) {
                "glTF/GLB output: 16-bit positions and texture coordinates, 8-bit normals (KHR_mesh_quantization)");
 }
 
-Progress::Progress(std::string label)
-    : label_(std::move(label)), start_(now_seconds()), tty_(::isatty(2) != 0) {}
+namespace {
 
-Progress::~Progress() { done(); }
+std::atomic<bool> quiet_progress{false};
+
+// "1.2 M", "850 k", "37", "0.8": at most three significant digits, for the terminal's rate.
+std::string rate_text(double x) {
+  const char* prefix[] = {"", " k", " M", " G"};
+  int p = 0;
+  while (x >= 999.5 && p < 3) {
+    x /= 1000.;
+    ++p;
+  }
+  char buf[32];
+  std::snprintf(buf, sizeof buf, x < 9.95 ? "%.1f%s" : "%.0f%s", x, prefix[p]);
+  return buf;
+}
+
+std::string stage_seconds_text(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f s", s);
+  return buf;
+}
+
+}  // namespace
+
+void Progress::set_quiet(bool quiet) { quiet_progress.store(quiet); }
+bool Progress::quiet() { return quiet_progress.load(); }
+
+Progress::Progress(std::string label)
+    : label_(std::move(label)), start_(now_seconds()), uncaught_(std::uncaught_exceptions()),
+      tty_(::isatty(2) != 0) {}
+
+Progress::Progress(std::string label, double total, std::string unit) : Progress(std::move(label)) {
+  set_total(total, std::move(unit));
+}
+
+Progress::~Progress() {
+  if (std::uncaught_exceptions() > uncaught_) {
+    // Left by an exception: the stage did not finish. Erase a drawn bar so that the error
+    // message that follows starts a clean line.
+    finished_ = true;
+    if (drawn_width_ > 0) std::fprintf(stderr, "\r%*s\r", int(drawn_width_), "");
+    return;
+  }
+  done();
+}
+
+void Progress::set_total(double total, std::string unit) {
+  total_ = total;
+  unit_ = std::move(unit);
+}
+
+std::function<void(double)> Progress::hook() {
+  return [this](double fraction) { update(fraction); };
+}
 
 void Progress::update(double fraction) {
-  // Only long jobs get a bar, and only on a terminal: logs and pipes stay clean.
-  if (!tty_ || now_seconds() - start_ < 0.5) return;
-  int pct = static_cast<int>(fraction * 100.0 + 0.5);
-  pct = pct < 0 ? 0 : (pct > 100 ? 100 : pct);
-  if (pct == last_) return;
-  last_ = pct;
-  const int width = 30, filled = pct * width / 100;
-  std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%", label_.c_str(), filled,
-               "##############################", width - filled, "", pct);
+  // The animation is for terminals and for stages long enough to be waited for: logs, pipes
+  // and short jobs stay clean.
+  if (!tty_ || quiet()) return;
+  const double elapsed = now_seconds() - start_;
+  if (elapsed < 0.5) return;
+  if (busy_.test_and_set(std::memory_order_acquire)) return;  // another thread is drawing
+  if (!finished_) draw(fraction, elapsed);
+  busy_.clear(std::memory_order_release);
+}
+
+void Progress::draw(double fraction, double elapsed) {
+  fraction = fraction < 0 ? 0 : (fraction > 1 ? 1 : fraction);
+  const int percent = static_cast<int>(fraction * 100.0);
+  // At most 20 redraws a second, and one at least every 0.25 s for the rate.
+  const double since = elapsed - last_draw_;
+  if (last_draw_ >= 0 && !(percent != last_percent_ ? since >= 0.05 : since >= 0.25)) return;
+  last_draw_ = elapsed;
+  last_percent_ = percent;
+  std::string rate;
+  if (total_ > 0) {
+    rate = rate_text(fraction * total_ / elapsed) + " " + unit_ + "/s";
+  } else if (fraction >= 0.02) {
+    const double left = elapsed * (1 - fraction) / fraction;
+    rate = left < 1 ? std::string("under 1 s left") : "about " + std::to_string(static_cast<long>(left + 0.5)) + " s left";
+  }
+  char head[32];
+  std::snprintf(head, sizeof head, " %3d%%", percent);
+  std::string line = label_ + head + (rate.empty() ? "" : "  " + rate);
+  const std::size_t width = line.size();
+  if (width < drawn_width_) line.append(drawn_width_ - width, ' ');  // erase the longer line before
+  std::fprintf(stderr, "\r%s", line.c_str());
   std::fflush(stderr);
+  drawn_width_ = width;
 }
 
 void Progress::done() {
   if (finished_) return;
-  finished_ = true;
-  if (last_ >= 0) {
-    std::fprintf(stderr, "\r%s done in %.2f s%*s\n", label_.c_str(), now_seconds() - start_, 30, "");
+  while (busy_.test_and_set(std::memory_order_acquire)) {
   }
+  finished_ = true;
+  busy_.clear(std::memory_order_release);
+  if (quiet()) return;
+  const double elapsed = now_seconds() - start_;
+  if (elapsed < 0.5 && drawn_width_ == 0) return;  // short stages stay silent
+  char count[64] = "";
+  if (total_ >= 0) std::snprintf(count, sizeof count, " (%.0f %s)", total_, unit_.c_str());
+  if (tty_) {
+    std::string line = label_ + " done in " + stage_seconds_text(elapsed) + count;
+    if (line.size() < drawn_width_) line.append(drawn_width_ - line.size(), ' ');
+    std::fprintf(stderr, "\r%s\n", line.c_str());
+  } else {
+    std::fprintf(stderr, "cmgeom: %s: done in %s%s\n", label_.c_str(), stage_seconds_text(elapsed).c_str(), count);
+  }
+  std::fflush(stderr);
+}
+
+void read_mesh_with_progress(const std::string& path, CMGeom::Textured_mesh& out,
+                             const CMGeom::IO::Read_options& options) {
+  Progress stage("read " + std::filesystem::path(path).filename().string());
+  CMGeom::IO::read_mesh(path, out, options);
+  stage.set_total(double(out.mesh().number_of_faces()), "faces");
+}
+
+CMGeom::Polygon_soup read_polygon_soup_with_progress(const std::string& path) {
+  Progress stage("read " + std::filesystem::path(path).filename().string());
+  CMGeom::Polygon_soup soup = CMGeom::IO::read_polygon_soup(path);
+  stage.set_total(double(soup.number_of_faces()), "faces");
+  return soup;
 }
 
 }  // namespace cmgeom_cli

@@ -7,6 +7,7 @@
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -61,21 +62,58 @@ std::pair<int, int> parse_picture_size(const std::string& size);
 // Seconds since an arbitrary origin (steady clock).
 double now_seconds();
 
-// A progress bar on stderr, drawn only when stderr is a terminal and the job is long.
+// The progress of one stage of a command, on stderr only (stdout holds the results and --json):
+//   * stderr is a terminal: once the stage has run 0.5 s, one line redrawn in place ('\r') with
+//     the label, the percentage and the rate ("1.2 M faces/s" when the stage's count is known,
+//     otherwise the time left), at most 20 times a second; when the stage ends, if it
+//     took 0.5 s or more, the line becomes "<label> done in X s (<count> <unit>)";
+//   * stderr is not a terminal (pipe, log file): nothing while the stage runs; when it ends, if
+//     it took 0.5 s or more, one line "cmgeom: <label>: done in X s (<count> <unit>)";
+//   * --quiet (Progress::set_quiet): nothing at all.
+// A stage left by an exception prints no "done" line (a drawn bar is erased, so the error
+// message starts a clean line). update() may be called from any thread; a call made while
+// another one draws is dropped.
 class Progress {
 public:
   explicit Progress(std::string label);
+  // `total`: what the whole stage counts, in `unit` (e.g. 1e6, "faces"), for the rate and the
+  // final line.
+  Progress(std::string label, double total, std::string unit);
   ~Progress();
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
+  // Sets (or corrects, e.g. once an adaptive reconstruction knows its size) the stage's count.
+  void set_total(double total, std::string unit);
   void update(double fraction);  // 0..1
   void done();
+  // The library's progress hook (CMGeom::Progress_callback) forwarding to update().
+  std::function<void(double)> hook();
+
+  // Global switch of the --quiet option (set by run() for the whole command, pipeline stages
+  // included).
+  static void set_quiet(bool quiet);
+  static bool quiet();
 
 private:
-  std::string label_;
+  void draw(double fraction, double elapsed);
+  std::string label_, unit_;
+  double total_ = -1;  // < 0: not known
   double start_;
-  int last_ = -1;
+  double last_draw_ = -1;
+  int last_percent_ = -1;
+  std::size_t drawn_width_ = 0;  // characters of the line on screen, 0 when none
+  int uncaught_;
   bool tty_;
   bool finished_ = false;
+  std::atomic_flag busy_ = ATOMIC_FLAG_INIT;
 };
+
+// Reads a mesh (CMGeom::IO::read_mesh) or a polygon soup as the progress stage "read <file
+// name>", counting its faces (the readers have no progress hook: the stage reports its end only).
+void read_mesh_with_progress(const std::string& path, CMGeom::Textured_mesh& out,
+                             const CMGeom::IO::Read_options& options = CMGeom::IO::Read_options());
+CMGeom::Polygon_soup read_polygon_soup_with_progress(const std::string& path);
 
 }  // namespace cmgeom_cli
 

@@ -56,6 +56,29 @@ std::vector<double> parse_numbers(const std::string& s, std::size_t n, const std
 namespace CD = CMGeom::Cage_deformation;
 namespace DCM = CMGeom::DCM;
 
+// Reconstructs with `run(options)` as the progress stage "reconstruct"; its count is the
+// regular reconstruction's triangles, known in advance (`regular_triangles`, 0 for an adaptive
+// one, which shows the time left and counts its triangles at the end).
+template <class Run>
+CM::Reconstruction reconstruct_with_progress(CM::Reconstruction_options options, std::size_t regular_triangles,
+                                             const Run& run) {
+  cmgeom_cli::Progress stage("reconstruct");
+  if (regular_triangles > 0) stage.set_total(double(regular_triangles), "triangles");
+  options.progress = stage.hook();
+  CM::Reconstruction out = run(options);
+  stage.set_total(double(out.triangles.size()), "triangles");
+  return out;
+}
+
+// Writes a reconstruction as the progress stage "write <file name>".
+void write_reconstruction(const CM::Reconstruction& out, const std::string& texture, const std::string& path) {
+  cmgeom_cli::Progress stage("write " + std::filesystem::path(path).filename().string(), double(out.triangles.size()),
+                             "triangles");
+  CMGeom::Textured_mesh tm;
+  CM::to_textured_mesh(out, tm, texture);
+  CMGeom::IO::write_mesh(path, tm);
+}
+
 }  // namespace
 
 CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 'cm reconstruct' a mesh from it, 'cm deform' it") {
@@ -176,7 +199,10 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
         std::size_t undefined = 0;
         auto run = [&](auto& deformer) {
           double t0 = cmgeom_cli::now_seconds();
-          deformer.bind(dcm.base_vertices());
+          {
+            cmgeom_cli::Progress stage("bind", double(dcm.base_vertices().size()), "base vertices");
+            deformer.bind(dcm.base_vertices());
+          }
           bind_seconds = cmgeom_cli::now_seconds() - t0;
           t0 = cmgeom_cli::now_seconds();
           deformer.deform(deformed);
@@ -191,16 +217,21 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
           cage_vertices += c.rest.vertices.size();
         }
         const double t_setup = cmgeom_cli::now_seconds();
+        // The coordinates' set-up (a grid solve per cage for harmonic coordinates) has no hook:
+        // its stage reports its end only.
+        auto setup_stage = std::make_unique<cmgeom_cli::Progress>("cage setup", double(desc.cages.size()), "cages");
         if (desc.cages.size() == 1) {
           const CD::Cage_description& c = desc.cages[0];
           DCM::Cage_deformer<CD::Any_cage_coordinates> cd(CD::make_cage_coordinates(c.coordinates, c.rest, c.harmonic));
           setup_seconds = cmgeom_cli::now_seconds() - t_setup;
+          setup_stage.reset();
           cd.set_pose(c.deformed);
           run(cd);
           undefined = cd.binding().count(CD::Coordinate_status::undefined);
         } else {
           const CD::Cage_system sys(desc);
           setup_seconds = cmgeom_cli::now_seconds() - t_setup;
+          setup_stage.reset();
           DCM::Cage_system_deformer<> cs(sys);
           run(cs);
           undefined = cs.binding().weights().count(CD::Coordinate_status::undefined);
@@ -225,24 +256,30 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       if (d_edge->count()) {
         if (!(d->edge_length > 0)) throw CMGeom::Invalid_input("--edge-length must be > 0");
         mode = "edge-length";
-        out = dcm.reconstruct_adaptive(CM::Edge_length_criterion{d->edge_length}, d->max_level, ro);
+        out = reconstruct_with_progress(ro, 0, [&](const CM::Reconstruction_options& o) {
+          return dcm.reconstruct_adaptive(CM::Edge_length_criterion{d->edge_length}, d->max_level, o);
+        });
       } else if (d_roi->count()) {
         const auto v = parse_numbers(d->roi, 4, "--roi");
         if (!(v[3] > 0)) throw CMGeom::Invalid_input("--roi radius must be > 0");
         mode = "roi";
-        out = dcm.reconstruct_adaptive(CM::Region_of_interest_criterion{CM::Vec3(v[0], v[1], v[2]), v[3]}, d->max_level, ro);
+        out = reconstruct_with_progress(ro, 0, [&](const CM::Reconstruction_options& o) {
+          return dcm.reconstruct_adaptive(CM::Region_of_interest_criterion{CM::Vec3(v[0], v[1], v[2]), v[3]},
+                                          d->max_level, o);
+        });
       } else if (d_sil->count()) {
         const auto v = parse_numbers(d->silhouette, 3, "--silhouette");
         mode = "silhouette";
-        out = dcm.reconstruct_adaptive(CM::Silhouette_criterion{CM::Vec3(v[0], v[1], v[2]), 0.2}, d->max_level, ro);
+        out = reconstruct_with_progress(ro, 0, [&](const CM::Reconstruction_options& o) {
+          return dcm.reconstruct_adaptive(CM::Silhouette_criterion{CM::Vec3(v[0], v[1], v[2]), 0.2}, d->max_level, o);
+        });
       } else {
         if (d->level < 0 || d->level > 12) throw CMGeom::Invalid_input("--level must be in [0, 12]");
-        out = dcm.reconstruct_regular(d->level, ro);
+        out = reconstruct_with_progress(ro, model.faces.size() << (2 * d->level),
+                                        [&](const CM::Reconstruction_options& o) { return dcm.reconstruct_regular(d->level, o); });
       }
       const double reconstruct_seconds = cmgeom_cli::now_seconds() - t0;
-      CMGeom::Textured_mesh tm;
-      CM::to_textured_mesh(out, tm, model.texture);
-      CMGeom::IO::write_mesh(d->output, tm);
+      write_reconstruction(out, model.texture, d->output);
       if (d->json) {
         j["mode"] = mode;
         j["projection"] = d->projection;
@@ -279,14 +316,17 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       CMGeom::Textured_mesh tm;
       CMGeom::IO::Read_options read_options;
       read_options.repair = b->repair;
-      CMGeom::IO::read_mesh(b->input, tm, read_options);
+      cmgeom_cli::read_mesh_with_progress(b->input, tm, read_options);
       CMGeom::Surface_mesh& mesh = tm.mesh();
       if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(b->input + ": not a triangle mesh");
       // A textured input gives a textured CM (thesis 4.5.4): the base is simplified under the
       // chart constraints of chapter 3 and, when the texture can be decoded, gets a new atlas
       // written next to the CM file as <output stem>.png.
       const bool textured = tm.has_uvs() && !b->no_texture;
-      if (textured) CMGeom::IO::load_textures(tm);
+      if (textured) {
+        cmgeom_cli::Progress stage("load textures", double(tm.materials().size()), "materials");
+        CMGeom::IO::load_textures(tm);
+      }
       const std::size_t target =
           faces->count() ? b->faces : std::size_t(std::max(2.0, std::round(b->ratio * double(mesh.number_of_faces()))));
       CM::Build_options opt;
@@ -297,6 +337,10 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       opt.joint_fit = b->joint_fit;
       CM::Build_statistics st;
       CM::Textured_build_result tr;
+      // The rate counts the input's faces (the build's work grows with them); a textured build
+      // spends part of its simplification share on the index texture, which has no hook of its own.
+      cmgeom_cli::Progress stage("cm build", double(mesh.number_of_faces()), "faces");
+      opt.progress = stage.hook();
       const double t0 = cmgeom_cli::now_seconds();
       CM::Compact_model model;
       if (textured) {
@@ -309,6 +353,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
                          : CM::build_compact_model(mesh, target, opt, CM::Quadric_surface_traits(), CM::Weighted_quadric_simplifier(), &st);
       }
       const double seconds = cmgeom_cli::now_seconds() - t0;
+      stage.done();
       std::size_t bytes = 0;
       std::string atlas;
       {
@@ -363,25 +408,30 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     if (edge->count()) {
       if (!(r->edge_length > 0)) throw CMGeom::Invalid_input("--edge-length must be > 0");
       mode = "edge-length";
-      out = CM::reconstruct_adaptive(model, CM::Edge_length_criterion{r->edge_length}, r->max_level, ro);
+      out = reconstruct_with_progress(ro, 0, [&](const CM::Reconstruction_options& o) {
+        return CM::reconstruct_adaptive(model, CM::Edge_length_criterion{r->edge_length}, r->max_level, o);
+      });
     } else if (roi->count()) {
       const auto v = parse_numbers(r->roi, 4, "--roi");
       if (!(v[3] > 0)) throw CMGeom::Invalid_input("--roi radius must be > 0");
       mode = "roi";
-      out = CM::reconstruct_adaptive(model, CM::Region_of_interest_criterion{CM::Vec3(v[0], v[1], v[2]), v[3]},
-                                     r->max_level, ro);
+      out = reconstruct_with_progress(ro, 0, [&](const CM::Reconstruction_options& o) {
+        return CM::reconstruct_adaptive(model, CM::Region_of_interest_criterion{CM::Vec3(v[0], v[1], v[2]), v[3]},
+                                        r->max_level, o);
+      });
     } else if (sil->count()) {
       const auto v = parse_numbers(r->silhouette, 3, "--silhouette");
       mode = "silhouette";
-      out = CM::reconstruct_adaptive(model, CM::Silhouette_criterion{CM::Vec3(v[0], v[1], v[2]), 0.2}, r->max_level, ro);
+      out = reconstruct_with_progress(ro, 0, [&](const CM::Reconstruction_options& o) {
+        return CM::reconstruct_adaptive(model, CM::Silhouette_criterion{CM::Vec3(v[0], v[1], v[2]), 0.2}, r->max_level, o);
+      });
     } else {
       if (r->level < 0 || r->level > 12) throw CMGeom::Invalid_input("--level must be in [0, 12]");
-      out = CM::reconstruct_regular(model, r->level, ro);
+      out = reconstruct_with_progress(ro, model.faces.size() << (2 * r->level),
+                                      [&](const CM::Reconstruction_options& o) { return CM::reconstruct_regular(model, r->level, o); });
     }
     const double seconds = cmgeom_cli::now_seconds() - t0;
-    CMGeom::Textured_mesh tm;
-    CM::to_textured_mesh(out, tm, model.texture);
-    CMGeom::IO::write_mesh(r->output, tm);
+    write_reconstruction(out, model.texture, r->output);
     if (r->json) {
       nlohmann::ordered_json j;
       j["input"] = r->input;

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 
 namespace {
 
@@ -70,8 +71,8 @@ CMGEOM_CLI_COMMAND(compare, "Image-space error (RMSE, PSNR) between two meshes o
     namespace R = CMGeom::Rendering;
     // Drawn as the files hold them (polygon soups). The approximation wears its own texture when
     // its file names one (a textured simplification has a new atlas), else the reference's.
-    CMGeom::Polygon_soup ref = CMGeom::IO::read_polygon_soup(*reference);
-    CMGeom::Polygon_soup app_mesh = CMGeom::IO::read_polygon_soup(*approximation);
+    CMGeom::Polygon_soup ref = cmgeom_cli::read_polygon_soup_with_progress(*reference);
+    CMGeom::Polygon_soup app_mesh = cmgeom_cli::read_polygon_soup_with_progress(*approximation);
     if (texture->empty()) cmgeom_cli::load_soup_textures(ref);
     if (!*reference_texture) cmgeom_cli::load_soup_textures(app_mesh);
     R::Render_mesh a = R::make_render_mesh(ref);
@@ -88,9 +89,13 @@ CMGEOM_CLI_COMMAND(compare, "Image-space error (RMSE, PSNR) between two meshes o
       opt.approximation_texture = R::Image_space_error_options::Approximation_texture::Reference;
     opt.keep_images = !output->empty();
     R::Renderer renderer;
+    // The views are drawn inside image_space_error(), which has no hook: the stage reports its
+    // end only.
+    auto stage = std::make_unique<cmgeom_cli::Progress>("render views", double(2 * opt.views.size()), "pictures");
     const double t0 = cmgeom_cli::now_seconds();
     const R::Image_space_error e = R::image_space_error(renderer, a, b, opt);
     const double t1 = cmgeom_cli::now_seconds();
+    stage.reset();
     if (!output->empty()) {
       std::vector<CMGeom::Image> cells;
       std::vector<std::string> captions;

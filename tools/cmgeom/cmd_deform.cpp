@@ -16,8 +16,10 @@
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
 #include <cstdio>
-#include <set>
+#include <filesystem>
 #include <iostream>
+#include <memory>
+#include <set>
 
 namespace {
 
@@ -45,13 +47,18 @@ void run_single(const Coords& coords, const std::vector<CD::Vec3>& points,
   CD::Binding_options opt;
   opt.storage = storage;
   double t0 = cmgeom_cli::now_seconds();
+  cmgeom_cli::Progress bind_stage("bind", double(points.size()), "vertices");
+  opt.progress = bind_stage.hook();
   CD::Cage_binding<Weight> b = CD::bind_points<Weight>(coords, points, opt);
   r.bind_seconds = cmgeom_cli::now_seconds() - t0;
+  bind_stage.done();
   std::vector<CD::Vec3> basis;
+  cmgeom_cli::Progress deform_stage("deform", double(points.size()), "vertices");
   t0 = cmgeom_cli::now_seconds();
   coords.deformation_rule()(deformed, std::back_inserter(basis));
   b.deform(basis, r.positions);
   r.deform_seconds = cmgeom_cli::now_seconds() - t0;
+  deform_stage.done();
   r.weights_bytes = b.weights_bytes();
   r.coordinates = b.number_of_coordinates();
   count_status(b, r);
@@ -60,11 +67,16 @@ void run_single(const Coords& coords, const std::vector<CD::Vec3>& points,
 template <class Weight, class Fh>
 void run_system(const CD::Cage_system& sys, const std::vector<CD::Vec3>& points, const Fh& fh, Result& r) {
   double t0 = cmgeom_cli::now_seconds();
-  const CD::Cage_system_binding<Weight> b = sys.template bind<Weight>(points, CD::Sine_smoothing(), fh);
+  cmgeom_cli::Progress bind_stage("bind", double(points.size()), "vertices");
+  const CD::Cage_system_binding<Weight> b =
+      sys.template bind<Weight>(points, CD::Sine_smoothing(), fh, bind_stage.hook());
   r.bind_seconds = cmgeom_cli::now_seconds() - t0;
+  bind_stage.done();
+  cmgeom_cli::Progress deform_stage("deform", double(points.size()), "vertices");
   t0 = cmgeom_cli::now_seconds();
   b.deform(sys.basis(sys.deformed_leaf_vertices()), r.positions);
   r.deform_seconds = cmgeom_cli::now_seconds() - t0;
+  deform_stage.done();
   r.weights_bytes = b.weights_bytes();
   r.coordinates = sys.number_of_coordinates();
   r.joined = b.joined_points();
@@ -106,7 +118,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     if (!(a->h > 0 && a->h <= 1)) throw CMGeom::Invalid_input("--h must be in (0, 1]");
 
     CMGeom::Textured_mesh tm;
-    CMGeom::IO::read_mesh(a->input, tm);
+    cmgeom_cli::read_mesh_with_progress(a->input, tm);
     auto& mesh = tm.mesh();
     std::vector<CD::Vec3> points;
     points.reserve(mesh.number_of_vertices());
@@ -138,6 +150,9 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     Result r;
     std::string coordinates;
     const double t_setup = cmgeom_cli::now_seconds();
+    // The coordinates' set-up (a grid solve per cage for harmonic coordinates) has no hook: its
+    // stage reports its end only.
+    auto setup_stage = std::make_unique<cmgeom_cli::Progress>("cage setup", double(desc.cages.size()), "cages");
     if (single) {
       const CD::Cage_description& c = desc.cages[0];
       coordinates = CD::to_string(c.coordinates);
@@ -146,6 +161,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
                                                 : CD::Weight_storage::dense;
       const CD::Any_cage_coordinates coords = CD::make_cage_coordinates(c.coordinates, c.rest, c.harmonic);
       r.setup_seconds = cmgeom_cli::now_seconds() - t_setup;
+      setup_stage.reset();
       if (use_float)
         run_single<float>(coords, points, c.deformed, st, r);
       else
@@ -156,6 +172,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
       for (const std::string& t : types) coordinates += (coordinates.empty() ? "" : "+") + t;
       const CD::Cage_system sys(desc);
       r.setup_seconds = cmgeom_cli::now_seconds() - t_setup;
+      setup_stage.reset();
       if (use_float && a->piecewise)
         run_system<float>(sys, points, CD::Piecewise_smoothing(), r);
       else if (use_float)
@@ -174,7 +191,11 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
       const CD::Vec3& p = r.positions[i++];
       mesh.point(v) = CMGeom::Point_3(p[0], p[1], p[2]);
     }
-    CMGeom::IO::write_mesh(a->output, tm);
+    {
+      cmgeom_cli::Progress stage("write " + std::filesystem::path(a->output).filename().string(),
+                                 double(mesh.number_of_faces()), "faces");
+      CMGeom::IO::write_mesh(a->output, tm);
+    }
 
     std::size_t cage_vertices = 0, cage_triangles = 0;
     bool reoriented = false;

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 namespace {
@@ -93,8 +94,8 @@ CMGEOM_CLI_COMMAND(error, "Metro-style geometric error (Hausdorff, mean, RMS) be
       const std::string ext = CMGeom::IO::extension(*field);
       if (ext != ".ply" && ext != ".txt") throw CMGeom::IO_error(*field, "unsupported field file extension (use .ply or .txt)");
     }
-    const CMGeom::Polygon_soup ref = CMGeom::IO::read_polygon_soup(*reference);
-    const CMGeom::Polygon_soup app_mesh = CMGeom::IO::read_polygon_soup(*approximation);
+    const CMGeom::Polygon_soup ref = cmgeom_cli::read_polygon_soup_with_progress(*reference);
+    const CMGeom::Polygon_soup app_mesh = cmgeom_cli::read_polygon_soup_with_progress(*approximation);
     for (const auto* s : {&ref, &app_mesh})
       for (const std::string& w : s->warnings) std::cerr << "cmgeom error: warning: " << w << "\n";
     CMGeom::Metrics::Error_options o;
@@ -102,9 +103,13 @@ CMGEOM_CLI_COMMAND(error, "Metro-style geometric error (Hausdorff, mean, RMS) be
     o.seed = *seed;
     o.threads = *threads;
     o.vertex_field = !field->empty();
+    // The measure has no hook: its stage reports its end only.
+    auto stage = std::make_unique<cmgeom_cli::Progress>("measure distances");
     const double t0 = cmgeom_cli::now_seconds();
     const auto e = CMGeom::Metrics::approximation_error(ref, app_mesh, o);
     const double t1 = cmgeom_cli::now_seconds();
+    stage->set_total(double(e.samples), "samples");
+    stage.reset();
     const bool textured = ref.has_uvs() && app_mesh.has_uvs();
     CMGeom::Metrics::Texture_deviation td;
     if (textured) td = CMGeom::Metrics::texture_deviation(ref, app_mesh, o);

@@ -17,6 +17,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 CMGEOM_CLI_COMMAND(influence, "Influence map d_i of a *Cages system on a mesh (PNG and/or values)") {
@@ -48,7 +49,7 @@ CMGEOM_CLI_COMMAND(influence, "Influence map d_i of a *Cages system on a mesh (P
     if (!a->output.empty()) throw CMGeom::Error(CMGeom::Rendering::rendering_unavailable_message());
 #endif
     // Drawn as the file holds it (polygon soup), like `cmgeom render`.
-    const CMGeom::Polygon_soup soup = CMGeom::IO::read_polygon_soup(a->mesh);
+    const CMGeom::Polygon_soup soup = cmgeom_cli::read_polygon_soup_with_progress(a->mesh);
     for (const std::string& s : soup.warnings) std::cerr << "cmgeom influence: warning: " << s << "\n";
     if (soup.positions.empty()) throw CMGeom::Invalid_input(a->mesh + ": no vertices");
     CD::Cage_system_description desc;
@@ -62,9 +63,14 @@ CMGEOM_CLI_COMMAND(influence, "Influence map d_i of a *Cages system on a mesh (P
     } else {
       desc = CD::read_cage_system(a->system);
     }
+    auto setup_stage = std::make_unique<cmgeom_cli::Progress>("cage setup", double(desc.cages.size()), "cages");
     const CD::Cage_system sys(desc);
+    setup_stage.reset();
     // Only d_i is needed: float weights keep the binding small.
-    const CD::Cage_system_binding<float> b = sys.bind<float>(soup.positions);
+    cmgeom_cli::Progress bind_stage("bind", double(soup.positions.size()), "vertices");
+    const CD::Cage_system_binding<float> b =
+        sys.bind<float>(soup.positions, CD::Sine_smoothing(), CD::Sine_h_smoothing(), bind_stage.hook());
+    bind_stage.done();
     std::vector<double> d(b.influence().begin(), b.influence().end());
 
     if (!a->values.empty()) {
@@ -90,6 +96,8 @@ CMGEOM_CLI_COMMAND(influence, "Influence map d_i of a *Cages system on a mesh (P
       o.caption = a->caption;
       const R::View v = R::parse_view(a->view);
       o.view(v.azimuth, v.elevation);
+      // One draw call: the stage reports its end only.
+      cmgeom_cli::Progress stage("render", 1, "pictures");
       R::Renderer renderer;
       CMGeom::IO::write_image(a->output, R::render_picture(renderer, rm, o));
     }

@@ -1,7 +1,8 @@
 // cmgeom pipeline [--model <mesh>] [--cages <system.json>] -o <dir>: the whole framework of the
 // thesis on one model, as the README's main job. Each stage runs the corresponding sub-command
 // in-process (so it gets exactly the validation, atomic output and JSON report of the command a
-// user would type), prints its progress on stderr, and the run ends with report.md and
+// user would type), prints its progress on stderr (unless --quiet; the stages' own progress
+// lines appear under it), and the run ends with report.md and
 // report.html (the same content; the HTML embeds the pictures) listing every command, number
 // and picture. A failing stage stops the run with a one-line message; the outputs of the
 // stages that finished stay in place and the report says where the run stopped.
@@ -87,13 +88,15 @@ public:
     title_ = title;
     commands_.clear();
     start_ = cmgeom_cli::now_seconds();
-    std::cerr << "[" << current_ << "/" << stages_ << "] " << title << " ..." << std::endl;
+    if (!cmgeom_cli::Progress::quiet())
+      std::cerr << "[" << current_ << "/" << stages_ << "] " << title << " ..." << std::endl;
   }
   double end() {
     const double s = cmgeom_cli::now_seconds() - start_;
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.2f", s);
-    std::cerr << "[" << current_ << "/" << stages_ << "] " << title_ << ": done in " << buf << " s" << std::endl;
+    if (!cmgeom_cli::Progress::quiet())
+      std::cerr << "[" << current_ << "/" << stages_ << "] " << title_ << ": done in " << buf << " s" << std::endl;
     return s;
   }
   const std::vector<std::string>& commands() const { return commands_; }
@@ -187,7 +190,7 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
     cmgeom_cli::parse_picture_size(o->size);  // checked before anything is written
     // Read once here (before anything is created) for the facts the stages' parameters depend on.
     CMGeom::Textured_mesh mesh;
-    CMGeom::IO::read_mesh(model, mesh);
+    cmgeom_cli::read_mesh_with_progress(model, mesh);
     const fs::path out = o->output;
     std::error_code ec;
     fs::create_directories(out, ec);
@@ -424,7 +427,8 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
       throw std::runtime_error("stage '" + p.title() + "' failed; outputs of the finished stages are in " +
                                out.string() + ": " + e.what());
     }
-    std::cerr << "results: " << (out / "report.md").string() << ", " << (out / "report.html").string() << std::endl;
+    if (!cmgeom_cli::Progress::quiet())
+      std::cerr << "results: " << (out / "report.md").string() << ", " << (out / "report.html").string() << std::endl;
     return 0;
   };
 }

@@ -122,7 +122,7 @@ CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wi
     namespace R = CMGeom::Rendering;
     const auto [w, h] = cmgeom_cli::parse_picture_size(a->size);
     // Drawn as the file holds it (polygon soup): non-manifold input needs no repair.
-    CMGeom::Polygon_soup tm = CMGeom::IO::read_polygon_soup(a->mesh);
+    CMGeom::Polygon_soup tm = cmgeom_cli::read_polygon_soup_with_progress(a->mesh);
     for (const std::string& w : tm.warnings) std::cerr << "cmgeom render: warning: " << w << "\n";
     if (a->texture.empty() && !a->no_texture) cmgeom_cli::load_soup_textures(tm);
     std::vector<double> field;
@@ -156,11 +156,14 @@ CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wi
       o.field_max = parse_number(a->range.substr(comma + 1), "--range", 0);
     }
     if (!field.empty()) o.legend_label = a->label;
+    // A picture is one draw call, which has no hook: the stage advances by views.
+    cmgeom_cli::Progress stage("render");
     R::Renderer renderer;
     if (a->views.empty()) {
       const R::View v = R::parse_view(a->view);
       o.view(v.azimuth, v.elevation);
       o.caption = a->caption;
+      stage.set_total(1, "pictures");
       CMGeom::IO::write_image(a->output, R::render_picture(renderer, rm, o));
     } else {
       std::vector<std::string> names;
@@ -168,18 +171,22 @@ CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wi
       std::string item;
       while (std::getline(ss, item, ';'))
         if (!item.empty()) names.push_back(item);
+      stage.set_total(double(names.size()), "pictures");
       std::vector<CMGeom::Image> cells;
       for (const std::string& n : names) {
         const R::View v = R::parse_view(n);
         o.view(v.azimuth, v.elevation);
         cells.push_back(R::render_picture(renderer, rm, o));
+        stage.update(double(cells.size()) / double(names.size()));
       }
       if (!a->caption.empty())
         for (auto& n : names) n = a->caption + " " + n;
       CMGeom::IO::write_image(a->output, R::make_grid(cells, names, int(std::ceil(std::sqrt(double(cells.size()))))));
     }
+    stage.done();
     if (!a->atlas.empty()) {
       if (!tm.has_uvs()) throw CMGeom::Invalid_input(a->mesh + ": --atlas needs texture coordinates");
+      cmgeom_cli::Progress atlas_stage("render atlas", 1, "pictures");
       CMGeom::IO::write_image(a->atlas, R::to_rgb(renderer.render_uv_atlas(rm, std::min(w, h))));
     }
     return 0;

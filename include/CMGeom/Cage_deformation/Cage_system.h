@@ -387,9 +387,12 @@ public:
     return x;
   }
 
-  /// Binds every point (TBB-parallel; results do not depend on the thread count).
+  /// Binds every point (TBB-parallel; results do not depend on the thread count). `progress`
+  /// (optional, CMGeom/Progress.h) is called from the calling thread with the fraction of the
+  /// points bound, at most about 256 times; it must be cheap.
   template <class Weight = double, class PointRange, class F = Sine_smoothing, class Fh = Sine_h_smoothing>
-  Cage_system_binding<Weight> bind(const PointRange& points, const F& f = F(), const Fh& fh = Fh()) const;
+  Cage_system_binding<Weight> bind(const PointRange& points, const F& f = F(), const Fh& fh = Fh(),
+                                   const Progress_callback& progress = Progress_callback()) const;
 
 private:
   static constexpr std::size_t npos = std::size_t(-1);
@@ -738,9 +741,13 @@ private:
 };
 
 template <class Weight, class PointRange, class F, class Fh>
-Cage_system_binding<Weight> Cage_system::bind(const PointRange& points, const F& f, const Fh& fh) const {
+Cage_system_binding<Weight> Cage_system::bind(const PointRange& points, const F& f, const Fh& fh,
+                                              const Progress_callback& progress_callback) const {
   const std::size_t N = std::size_t(std::distance(std::begin(points), std::end(points)));
   auto first = std::begin(points);
+  // The rows' share of the time; the rest groups them (Cage_binding::from_sparse_rows).
+  CMGeom::internal::Progress_reporter progress(progress_callback);
+  progress.phase(0., 0.95, N);
   constexpr std::size_t block = 256;
   const std::size_t nb = (N + block - 1) / block;
   std::vector<std::vector<Weight>> vals(nb);
@@ -764,6 +771,7 @@ Cage_system_binding<Weight> Cage_system::bind(const PointRange& points, const F&
       }
       counts[bi].push_back(r.entries.size());
     }
+    progress.add(std::min(N, (bi + 1) * block) - bi * block);
   });
   std::vector<std::size_t> row_start{0};
   std::vector<std::uint32_t> columns;
@@ -780,6 +788,7 @@ Cage_system_binding<Weight> Cage_system::bind(const PointRange& points, const F&
   out.b_ = Cage_binding<Weight>::from_sparse_rows(K_, std::move(row_start), std::move(columns),
                                                   std::move(values), std::move(status),
                                                   Weight_storage::grouped);
+  progress.finish();
   return out;
 }
 
