@@ -169,7 +169,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     qo.merge = o->merge == "sum" ? TS::Quadric_merge::sum : TS::Quadric_merge::weighted_average;
     // the merge actually used, for the report: plain quadrics always sum
     const std::string merge_used = qo.weighted ? o->merge : std::string("sum");
-    cmgeom_cli::Progress bar("simplify");
+    cmgeom_cli::Progress bar("simplify", double(faces_in > target ? faces_in - target : 0), "faces removed");
     if (textured) {
       if (o->engine != "cmgeom") throw CMGeom::Invalid_input("textured simplification runs on --engine cmgeom only");
       if (o->flips && o->keep_charts)

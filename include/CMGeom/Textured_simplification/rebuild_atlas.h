@@ -348,6 +348,37 @@ public:
   bool prepared() const { return finder_ != nullptr; }
   /// Number of charts of the original layout.
   std::size_t charts() const { return charts_; }
+  /// Number of colour channels of the baked atlas (1 to 4).
+  int colour_channels() const { return colour_channels_; }
+
+  /// The colour the baking gives a point of the original's face `face` (face order of the
+  /// original) at barycentric coordinates (w0, w1, w2) (clamped onto the face): the material's
+  /// texture there (bilinear, taps kept in the face's chart; grey spread to RGB), times the
+  /// material's colour when several materials are merged into one atlas, or the material's colour
+  /// for an untextured material. Writes colour_channels() values. Needs prepared().
+  void colour_at(std::size_t face, double w0, double w1, double w2, float* out) const {
+    CGAL_precondition(prepared() && face < source_.size());
+    const Source& s = source_[face];
+    w1 = (std::min)((std::max)(w1, 0.0), 1.0);
+    w2 = (std::min)((std::max)(w2, 0.0), 1.0 - w1);
+    w0 = 1 - w1 - w2;
+    const double u = w0 * s.uv[0][0] + w1 * s.uv[1][0] + w2 * s.uv[2][0];
+    const double v = w0 * s.uv[0][1] + w1 * s.uv[1][1] + w2 * s.uv[2][1];
+    const auto& mats = *mats_;
+    float c[4] = {1, 1, 1, 1};
+    const Material* mat = s.material >= 0 && std::size_t(s.material) < mats.size() ? &mats[std::size_t(s.material)] : nullptr;
+    if (mat && !mat->diffuse_image.empty()) {
+      const UV2 a = region_.domain().to_texel({{u, v}});
+      sample_original(region_, mat->diffuse_image, float(a[0]), float(a[1]), c, s.chart);
+      if (mat->diffuse_image.channels() < 3)  // grey (and alpha): spread to RGB
+        c[3] = mat->diffuse_image.channels() == 2 ? c[1] : 1.f, c[1] = c[2] = c[0];
+      if (used_count_ > 1)
+        for (int k = 0; k < 3; ++k) c[k] *= float(mat->diffuse_color[std::size_t(k)]);
+    } else if (mat) {
+      for (int k = 0; k < 3; ++k) c[k] = float(mat->diffuse_color[std::size_t(k)]);
+    }
+    for (int k = 0; k < colour_channels_; ++k) out[k] = c[k];
+  }
 
 private:
   friend Atlas_result rebuild_atlas(const Atlas_source&, Textured_mesh&, const Atlas_options&);
@@ -385,7 +416,6 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   const auto* finder = src.finder_.get();
   const int W = src.W_, H = src.H_, colour_channels = src.colour_channels_;
   const bool any_normal = src.any_normal_;
-  const bool bake_colour = src.used_count_ > 1;  // materials merged: their colours go into the texels
   const double diag = src.diag_;
   Atlas_result res;
   res.texture_width = W;
@@ -463,27 +493,17 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
         w1 = (std::min)((std::max)(w1, 0.0), 1.0);
         w2 = (std::min)((std::max)(w2, 0.0), 1.0 - w1);
         const double w0 = 1 - w1 - w2;
-        const double u = w0 * s->uv[0][0] + w1 * s->uv[1][0] + w2 * s->uv[2][0];
-        const double v = w0 * s->uv[0][1] + w1 * s->uv[1][1] + w2 * s->uv[2][1];
         const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-        float c[4] = {1, 1, 1, 1};
-        const Material* mat = s->material >= 0 && std::size_t(s->material) < mats.size() ? &mats[std::size_t(s->material)] : nullptr;
-        const UV2 a = region.domain().to_texel({{u, v}});
-        if (mat && !mat->diffuse_image.empty()) {
-          sample_original(region, mat->diffuse_image, float(a[0]), float(a[1]), c, s->chart);
-          if (mat->diffuse_image.channels() < 3)  // grey (and alpha): spread to RGB
-            c[3] = mat->diffuse_image.channels() == 2 ? c[1] : 1.f, c[1] = c[2] = c[0];
-          if (bake_colour)
-            for (int k = 0; k < 3; ++k) c[k] *= float(mat->diffuse_color[std::size_t(k)]);
-        } else if (mat) {
-          for (int k = 0; k < 3; ++k) c[k] = float(mat->diffuse_color[std::size_t(k)]);
-        }
-        for (int k = 0; k < colour_channels; ++k) colour[i * std::size_t(colour_channels) + std::size_t(k)] = c[k];
+        src.colour_at(hit.face, w0, w1, w2, &colour[i * std::size_t(colour_channels)]);
         if (any_normal) {
+          const double u = w0 * s->uv[0][0] + w1 * s->uv[1][0] + w2 * s->uv[2][0];
+          const double v = w0 * s->uv[0][1] + w1 * s->uv[1][1] + w2 * s->uv[2][1];
+          const UV2 tx = region.domain().to_texel({{u, v}});
+          const Material* mat = s->material >= 0 && std::size_t(s->material) < mats.size() ? &mats[std::size_t(s->material)] : nullptr;
           Vector_3 nobj = s->frame[2];
           if (mat && !mat->normal_image.empty()) {
             float t[4] = {0.5f, 0.5f, 1.f, 1.f};
-            sample_original(region, mat->normal_image, float(a[0]), float(a[1]), t, s->chart);
+            sample_original(region, mat->normal_image, float(tx[0]), float(tx[1]), t, s->chart);
             nobj = I::unit_or_zero((2.0 * t[0] - 1.0) * s->frame[0] + (2.0 * t[1] - 1.0) * s->frame[1] +
                                    (2.0 * t[2] - 1.0) * s->frame[2]);
           }

@@ -1,0 +1,195 @@
+#!/usr/bin/env python3
+# Copyright (c) 2026 CMGeom contributors.
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Level-of-detail chains of `cmgeom lod` on every textured model, side by side:
+
+  per-level   cmgeom lod IN --ratios R              (an atlas baked for every level)
+  shared      cmgeom lod IN --ratios R --shared-texture   (one atlas for every level)
+  mo13        meshoptimizer 1.3.0 (npm) at each level's face count, Permissive with the UV-seam
+              vertices protected (gltfpack's way): kept vertices keep their UVs, every level wears
+              the original texture (peers/meshopt_simplify.mjs --variant permissive-protected)
+
+For every level: image RMSE against the input (`cmgeom compare IN LEVEL.obj --json --size N`: 26
+views, 8-bit units; each mesh wears its own texture). Targets: shared <= 1.25 x per-level and
+shared < mo13 at every simplified level. Timing (wall clock, median of --reps runs, interleaved):
+`cmgeom lod --no-error` (the chain written as GLB) against `cmgeom simplify --ratio <smallest>`
+(that level alone, OBJ + PNG); target: lod <= 1.2 x simplify. Every GLB is run through the Khronos
+validator when it is installed (test/Mesh_IO/gltf_validator).
+
+Usage: run_lod.py --build DIR [--ratios 1,0.25,0.05,0.01] [--size 256] [--reps 3] [--out FILE]
+Writes one Markdown section (stdout, or --out FILE); progress on stderr.
+"""
+import argparse
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.normpath(os.path.join(HERE, "..", ".."))
+sys.path.insert(0, HERE)
+import run_textured_peers as P  # noqa: E402  (model discovery, meshoptimizer status, helpers)
+
+VALIDATOR = os.path.join(REPO, "test", "Mesh_IO", "gltf_validator", "validate.js")
+
+
+def log(msg):
+    print(msg, file=sys.stderr, flush=True)
+
+
+def run(cmd):
+    t0 = time.monotonic()
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return p.returncode, p.stdout, p.stderr, time.monotonic() - t0
+
+
+def must(cmd):
+    rc, so, se, dt = run(cmd)
+    if rc != 0:
+        raise RuntimeError("%s failed (%d): %s" % (" ".join(cmd[:3]), rc, se.strip().splitlines()[-1:] or ""))
+    return so, dt
+
+
+def last_json(text):
+    return json.loads(text[text.index("{"):])
+
+
+def validate(glb):
+    if not shutil.which("node") or not os.path.isdir(os.path.join(os.path.dirname(VALIDATOR), "node_modules")):
+        return "n/a"
+    rc, so, se, _ = run(["node", VALIDATOR, glb])
+    if rc != 0:
+        return "failed: " + se.strip()
+    return so.splitlines()[0]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", required=True)
+    ap.add_argument("--ratios", default="1,0.25,0.05,0.01")
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--out")
+    ap.add_argument("--models", help="comma-separated subset of the model names")
+    a = ap.parse_args()
+    cmgeom = os.path.join(os.path.abspath(a.build), "bin", "cmgeom")
+    root, _ = P.data_dir()
+    models = P.find_models(root)
+    if a.models:
+        models = {k: v for k, v in models.items() if k in a.models.split(",")}
+    mo_ok, mo_desc = P.node_status()
+    ratios = [float(r) for r in a.ratios.split(",")]
+    work = tempfile.mkdtemp(prefix="cmgeom-lod-")
+    rows, times, checks = [], [], []
+    try:
+        for name, m in models.items():
+            log("lod: %s" % name)
+            d = os.path.join(work, name)
+            os.makedirs(d)
+            tex = ["--texture", m["texture"]] if m["texture"] else []
+            chains = {}
+            for mode, extra in (("per", []), ("shared", ["--shared-texture"])):
+                so, _ = must([cmgeom, "lod", m["obj"], "-o", os.path.join(d, mode + ".glb"), "--ratios", a.ratios,
+                              "--obj-prefix", os.path.join(d, mode), "--json"] + extra + tex)
+                chains[mode] = last_json(so)
+                checks.append((name, mode, validate(os.path.join(d, mode + ".glb"))))
+            levels = chains["per"]["levels"]
+            for i, lv in enumerate(levels):
+                row = {"model": name, "level": i, "ratio": ratios[i], "faces": lv["faces"],
+                       "faces_shared": chains["shared"]["levels"][i]["faces"]}
+                for mode in ("per", "shared"):
+                    out = os.path.join(d, "%s_%d.obj" % (mode, i))
+                    so, _ = must([cmgeom, "compare", m["obj"], out, "--json", "--size", str(a.size)] + tex)
+                    row[mode] = float(last_json(so)["rmse"])
+                    row[mode + "_h"] = chains[mode]["levels"][i].get("hausdorff")
+                row["mo13"] = None
+                if mo_ok and not lv["is_input"]:
+                    out = os.path.join(d, "mo13_%d.obj" % i)
+                    rc, so, se, _ = run(["node", P.NODE_SCRIPT, m["obj"], out, "--faces", str(lv["faces"]),
+                                         "--variant", "permissive-protected"])
+                    if rc == 0:
+                        cmp = [cmgeom, "compare", m["obj"], out, "--json", "--size", str(a.size)] + tex
+                        so, _ = must(cmp)
+                        row["mo13"] = float(last_json(so)["rmse"])
+                        rc2, so2, _, _ = run(["python3", "-c", "import sys;print(sum(1 for l in open(sys.argv[1]) if l.startswith('f ')))", out])
+                        row["mo13_faces"] = int(so2.strip()) if rc2 == 0 else None
+                    else:
+                        row["mo13_error"] = se.strip()
+                rows.append(row)
+            # timing: the chain against its smallest level alone, interleaved
+            t_lod, t_lod_shared, t_simp = [], [], []
+            for _ in range(a.reps):
+                _, dt = must([cmgeom, "lod", m["obj"], "-o", os.path.join(d, "t.glb"), "--ratios", a.ratios, "--no-error"] + tex)
+                t_lod.append(dt)
+                _, dt = must([cmgeom, "lod", m["obj"], "-o", os.path.join(d, "ts.glb"), "--ratios", a.ratios, "--no-error",
+                              "--shared-texture"] + tex)
+                t_lod_shared.append(dt)
+                _, dt = must([cmgeom, "simplify", m["obj"], "-o", os.path.join(d, "t.obj"), "--ratio", str(ratios[-1])] + tex)
+                t_simp.append(dt)
+            times.append((name, statistics.median(t_simp), statistics.median(t_lod), statistics.median(t_lod_shared)))
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+    L = []
+    L.append("## Level-of-detail chains: per-level atlases, one shared texture, meshoptimizer-style LODs")
+    L.append("")
+    L.append("Generated by `python3 benchmark/Textured_simplification/run_lod.py --build <build-dir>` "
+             "(ratios %s, compare size %d, %d timing runs). Machine: %s. meshoptimizer: %s." %
+             (a.ratios, a.size, a.reps, P.machine_line() if hasattr(P, "machine_line") else os.uname().nodename, mo_desc))
+    L.append("")
+    L.append("Image RMSE (8-bit units, 26 views) of each level against the input; *shared/per* is the price of one "
+             "texture for all levels (target <= 1.25); *mo13*: meshoptimizer 1.3.0 at the level's face count, "
+             "kept vertices keep their UVs, original texture (target: shared below it).")
+    L.append("")
+    L.append("| model | level | faces | per-level atlas | shared texture | shared/per | mo13 (faces) | shared < mo13 |")
+    L.append("|---|---:|---:|---:|---:|---:|---:|:---:|")
+    price, wins, n_cmp, n_mo = [], 0, 0, 0
+    for r in rows:
+        ratio = r["shared"] / r["per"] if r["per"] > 0 else float("nan")
+        simplified = r["level"] > 0 or r["ratio"] < 1
+        mo = "n/a" if r["mo13"] is None else "%.2f (%s)" % (r["mo13"], r.get("mo13_faces"))
+        win = ""
+        if r["mo13"] is not None:
+            n_mo += 1
+            win = "yes" if r["shared"] < r["mo13"] else "**no**"
+            wins += r["shared"] < r["mo13"]
+        if simplified and r["per"] > 0:
+            price.append(ratio)
+            n_cmp += 1
+        L.append("| %s | %d | %d | %.2f | %.2f | %s | %s | %s |" % (
+            r["model"], r["level"], r["faces"], r["per"], r["shared"],
+            ("%.2f" % ratio) if r["per"] > 0 else "-", mo, win))
+    L.append("")
+    within = sum(1 for x in price if x <= 1.25)
+    L.append("- shared/per <= 1.25 at %d of %d simplified levels (median %.2f, worst %.2f)." % (
+        within, len(price), statistics.median(price) if price else float("nan"), max(price) if price else float("nan")))
+    L.append("- shared texture below meshoptimizer-style LODs at %d of %d levels." % (wins, n_mo))
+    L.append("")
+    L.append("| model | simplify to the smallest level (s) | lod, atlas per level (s) | ratio | lod, shared texture (s) | ratio |")
+    L.append("|---|---:|---:|---:|---:|---:|")
+    for name, s, l, ls in times:
+        L.append("| %s | %.2f | %.2f | %.2f | %.2f | %.2f |" % (name, s, l, l / s, ls, ls / s))
+    if times:
+        L.append("")
+        L.append("- chain / smallest level alone, median: atlas per level %.2f, shared texture %.2f (target <= 1.2)." % (
+            statistics.median([l / s for _, s, l, _ in times]), statistics.median([ls / s for _, s, _, ls in times])))
+    L.append("")
+    L.append("Validator (Khronos glTF validator on each chain's GLB): " + "; ".join(
+        "%s %s: %s" % c for c in checks))
+    text = "\n".join(L) + "\n"
+    if a.out:
+        tmp = a.out + ".tmp"
+        with open(tmp, "w") as f:
+            f.write(text)
+        os.replace(tmp, a.out)
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,185 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// simplify_to_levels(): the levels are snapshots of one collapse sequence (each equal, vertex for
+// vertex, to the same simplification run to that level alone), their errors grow level by level,
+// bad targets are refused, and in shared-texture mode every level addresses one atlas in which the
+// original's texture coordinates read the original's colours.
+#include "cmgeom_test_config.h"
+
+#include <CMGeom/Mesh_IO/textured_mesh_io.h>
+#include <CMGeom/Textured_simplification/level_of_detail.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace TS = CMGeom::Textured_simplification;
+using CMGeom::Point_2;
+using CMGeom::Point_3;
+using Mesh = CMGeom::Surface_mesh;
+
+// A rippled torus, n x m quads split in two (closed, so every collapse removes two faces).
+Mesh lod_torus(int n, int m) {
+  Mesh t;
+  std::vector<Mesh::Vertex_index> v(std::size_t(n * m));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m;
+      const double r = 0.35 + 0.03 * std::sin(5 * a) * std::cos(3 * b);
+      v[std::size_t(i * m + j)] =
+          t.add_vertex(Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
+    }
+  auto at = [&](int i, int j) { return v[std::size_t(((i + n) % n) * m + (j + m) % m)]; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      t.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      t.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  return t;
+}
+
+// The faces of a mesh as triangles of points, each rotated to start at its smallest point, sorted.
+std::vector<std::array<Point_3, 3>> sorted_triangles(const Mesh& m) {
+  std::vector<std::array<Point_3, 3>> out;
+  for (auto f : m.faces()) {
+    std::array<Point_3, 3> t;
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) t[std::size_t(k++)] = m.point(v);
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    out.push_back(t);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(LevelOfDetail, LevelsAreSnapshotsOfOneRun) {
+  const CMGeom::Textured_mesh input(lod_torus(80, 60));  // 9600 faces
+  TS::Level_of_detail_options o;
+  o.target_faces = {9600, 2400, 480, 96};
+  const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
+  ASSERT_EQ(r.levels.size(), 4u);
+  EXPECT_TRUE(r.levels[0].is_input);
+  EXPECT_EQ(r.levels[0].mesh.mesh().number_of_faces(), 9600u);
+  EXPECT_EQ(r.levels[0].hausdorff, 0.0);
+  double previous_error = 0;
+  for (std::size_t i = 1; i < r.levels.size(); ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    const Mesh& level = r.levels[i].mesh.mesh();
+    EXPECT_FALSE(r.levels[i].is_input);
+    EXPECT_FALSE(level.has_garbage());
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(level));
+    EXPECT_TRUE(CGAL::is_closed(level));
+    // a closed mesh loses two faces per collapse: the level is the first state at or below its target
+    EXPECT_LE(level.number_of_faces(), o.target_faces[i]);
+    EXPECT_GE(level.number_of_faces() + 2, o.target_faces[i] + 1);
+    // the same simplification run to this level alone gives the same mesh, vertex for vertex
+    Mesh alone = input.mesh();
+    TS::Mesh_simplification_options so;
+    so.parts_min_faces = 0;
+    so.quadric = o.quadric;
+    TS::simplify_mesh(alone, o.target_faces[i], so);
+    ASSERT_EQ(alone.number_of_vertices(), level.number_of_vertices());
+    ASSERT_EQ(alone.number_of_faces(), level.number_of_faces());
+    // (vertex order aside: the snapshot is a copy, the run's mesh is garbage-collected)
+    EXPECT_EQ(sorted_triangles(level), sorted_triangles(alone)) << "not the mesh of the run to this level alone";
+    // coarser levels are farther from the input
+    EXPECT_GT(r.levels[i].hausdorff, previous_error);
+    EXPECT_GT(r.levels[i].rms, 0.0);
+    previous_error = r.levels[i].hausdorff;
+  }
+}
+
+TEST(LevelOfDetail, TargetsMustDecreaseStrictly) {
+  const CMGeom::Textured_mesh input(lod_torus(20, 16));
+  TS::Level_of_detail_options o;
+  o.target_faces = {400, 400};
+  EXPECT_THROW(TS::simplify_to_levels(input, o), CMGeom::Invalid_input);
+  o.target_faces = {100, 200};
+  EXPECT_THROW(TS::simplify_to_levels(input, o), CMGeom::Invalid_input);
+  o.target_faces = {100, 0};
+  EXPECT_THROW(TS::simplify_to_levels(input, o), CMGeom::Invalid_input);
+  o.target_faces = {};
+  EXPECT_THROW(TS::simplify_to_levels(input, o), CMGeom::Invalid_input);
+}
+
+// The colour of an image at a texture coordinate (nearest texel; rows run down, v up).
+std::array<float, 3> colour_at(const CMGeom::Image& img, const Point_2& uv) {
+  const double u = uv.x() - std::floor(uv.x()), v = uv.y() - std::floor(uv.y());
+  const int x = std::min(img.width() - 1, int(u * img.width()));
+  const int y = std::min(img.height() - 1, int((1.0 - v) * img.height()));
+  std::array<float, 3> c{};
+  for (int k = 0; k < 3; ++k) c[std::size_t(k)] = img.value(x, y, std::min(k, img.channels() - 1));
+  return c;
+}
+
+// Mean over the faces of |colour at the centroid of the face's UV triangle in `a` - same in `b`|.
+double mean_colour_difference(const CMGeom::Textured_mesh& a, const CMGeom::Textured_mesh& b) {
+  const Mesh& m = a.mesh();
+  double sum = 0;
+  std::size_t n = 0;
+  auto fb = b.mesh().faces().begin();
+  for (auto f : m.faces()) {
+    auto centroid = [](const CMGeom::Textured_mesh& tm, Mesh::Face_index g) {
+      double u = 0, v = 0;
+      for (auto h : CGAL::halfedges_around_face(tm.mesh().halfedge(g), tm.mesh())) {
+        u += tm.uv(h).x() / 3;
+        v += tm.uv(h).y() / 3;
+      }
+      return Point_2(u, v);
+    };
+    const auto ca = colour_at(a.materials()[std::size_t(a.material(f))].diffuse_image, centroid(a, f));
+    const auto cb = colour_at(b.materials()[std::size_t(b.material(*fb))].diffuse_image, centroid(b, *fb));
+    ++fb;
+    for (int k = 0; k < 3; ++k) sum += std::abs(ca[std::size_t(k)] - cb[std::size_t(k)]) / 3;
+    ++n;
+  }
+  return sum / double(n);
+}
+
+TEST(LevelOfDetail, SharedTextureLevelsAddressOneAtlasThatShowsTheOriginal) {
+  const std::string path = std::string(CMGEOM_DATA_DIR) + "/textured/Duck/Duck.obj";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
+  CMGeom::Textured_mesh input;
+  CMGeom::IO::read_textured_mesh(path, input);
+  const std::size_t n = input.mesh().number_of_faces();
+  TS::Level_of_detail_options o;
+  o.target_faces = {n, n / 4, n / 20};
+  o.shared_texture = true;
+  o.measure_error = false;
+  const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
+  ASSERT_EQ(r.levels.size(), 3u);
+  const CMGeom::Image& atlas = r.levels.back().mesh.materials().at(0).diffuse_image;
+  ASSERT_FALSE(atlas.empty());
+  for (const auto& l : r.levels) {
+    ASSERT_EQ(l.mesh.materials().size(), 1u);
+    EXPECT_TRUE(l.mesh.materials()[0].diffuse_image == atlas) << "a level does not address the shared atlas";
+    EXPECT_TRUE(l.mesh.has_uvs());
+    for (auto h : l.mesh.mesh().halfedges()) {
+      if (l.mesh.mesh().is_border(h)) continue;
+      const Point_2 t = l.mesh.uv(h);
+      ASSERT_TRUE(t.x() > -0.01 && t.x() < 1.01 && t.y() > -0.01 && t.y() < 1.01) << "UV " << t << " off the atlas";
+    }
+  }
+  // the finest level (the input, remapped) reads in the shared atlas the colours the input reads in
+  // its own texture (mean difference per channel in 0..1 at the faces' UV centroids; measured 0.008)
+  const double d = mean_colour_difference(r.levels[0].mesh, input);
+  std::cout << "Duck, shared atlas against the original texture at the faces' centroids: mean difference " << d << "\n";
+  EXPECT_LT(d, 0.02) << "the shared atlas does not show the original's colours at the original's points";
+  // the geometry of every level is that of the per-level chain (the texture mode changes UVs only)
+  TS::Level_of_detail_options per = o;
+  per.shared_texture = false;
+  const TS::Level_of_detail_result q = TS::simplify_to_levels(input, per);
+  for (std::size_t i = 0; i < r.levels.size(); ++i)
+    EXPECT_EQ(r.levels[i].mesh.mesh().number_of_faces(), q.levels[i].mesh.mesh().number_of_faces());
+}
+
+}  // namespace

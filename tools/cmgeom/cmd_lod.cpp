@@ -1,0 +1,215 @@
+// cmgeom lod <in> -o <out.glb|out.gltf> (--ratios r1,r2,... | --faces n1,n2,...) [--shared-texture]
+//           [--policy plain|weighted] [--texture FILE] [--no-texture] [--quantize] [--no-error]
+//           [--obj-prefix PREFIX] [--json]
+// A level-of-detail chain from one simplification run (Textured_simplification/level_of_detail.h):
+// every level is a snapshot of the same collapse sequence, written as one glTF node per level
+// (the finest in the scene, the others listed by its MSFT_lod extension, each node's error in its
+// extras). A textured input gets an atlas per level, or with --shared-texture one atlas that every
+// level addresses. --obj-prefix also writes each level as PREFIX_<k>.obj (with its MTL and PNG).
+#include "cli_common.h"
+
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
+#include <CMGeom/Mesh_IO/textured_mesh_io.h>
+#include <CMGeom/Textured_simplification/level_of_detail.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace TS = CMGeom::Textured_simplification;
+
+struct Lod_progress_visitor : TS::Edge_collapse_visitor_base {
+  struct State {
+    cmgeom_cli::Progress* bar;
+    double faces_to_remove;
+    std::size_t removed = 0, calls = 0;
+  };
+  State* s;
+  explicit Lod_progress_visitor(State* st) : s(st) {}
+  template <class Profile, class V>
+  void OnCollapsed(const Profile& p, const V&) const {
+    s->removed += std::size_t(p.left_face_exists()) + std::size_t(p.right_face_exists());
+    if ((++s->calls & 1023u) == 0 && s->faces_to_remove > 0) s->bar->update(double(s->removed) / s->faces_to_remove);
+  }
+};
+
+template <class T>
+std::vector<T> parse_list(const std::string& text, const char* option) {
+  std::vector<T> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::istringstream is(item);
+    T v;
+    if (!(is >> v) || !(is >> std::ws).eof())
+      throw CMGeom::Invalid_input(std::string(option) + ": '" + item + "' is not a number");
+    out.push_back(v);
+  }
+  if (out.empty()) throw CMGeom::Invalid_input(std::string(option) + ": no value");
+  return out;
+}
+
+}  // namespace
+
+CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per level) from one simplification run") {
+  struct Options {
+    std::string input, output, ratios, faces, policy = "plain", texture, obj_prefix;
+    bool shared_texture = false, no_texture = false, no_error = false, json = false, no_repair = false;
+    CMGeom::IO::Gltf_options gltf;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("input", o->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
+  app.add_option("-o,--output", o->output, "Output scene (.glb or .gltf)")->required();
+  auto* ratios = app.add_option("--ratios", o->ratios,
+                                "Levels as fractions of the input's faces, decreasing, comma-separated (e.g. 1,0.25,0.05,0.01)");
+  auto* faces = app.add_option("--faces", o->faces, "Levels as face counts, decreasing, comma-separated");
+  ratios->excludes(faces);
+  faces->excludes(ratios);
+  app.add_flag("--shared-texture", o->shared_texture,
+               "Textured input: one atlas (made for the coarsest level) that every level addresses");
+  app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default) or weighted (thesis 3.4.2)")
+      ->check(CLI::IsMember({"weighted", "plain"}));
+  app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
+  app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input");
+  app.add_flag("--no-error", o->no_error, "Do not measure the levels' errors (no 'error' in the nodes' extras)");
+  app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");
+  app.add_flag("--no-repair", o->no_repair, "Refuse non-manifold or inconsistently oriented input instead of repairing it");
+  app.add_flag("--json", o->json, "Print a JSON report on stdout");
+  cmgeom_cli::add_gltf_options(app, o->gltf);
+
+  return [o, ratios, faces]() -> int {
+    if (ratios->count() == 0 && faces->count() == 0) throw CMGeom::Invalid_input("one of --ratios or --faces is required");
+    const std::string ext = CMGeom::IO::extension(o->output);
+    if (ext != ".glb" && ext != ".gltf")
+      throw CMGeom::Invalid_input(o->output + ": a level-of-detail chain is written as .glb or .gltf");
+
+    CMGeom::Textured_mesh tm;
+    CMGeom::IO::Read_options ro;
+    ro.repair = !o->no_repair;
+    std::vector<std::string> warnings;
+    ro.warnings = &warnings;
+    CMGeom::IO::read_mesh(o->input, tm, ro);
+    for (const auto& w : warnings) std::cerr << "cmgeom lod: warning: " << w << "\n";
+    if (!CGAL::is_triangle_mesh(tm.mesh())) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
+    if (!o->texture.empty() && !o->no_texture) {
+      if (!tm.has_uvs()) throw CMGeom::Invalid_input(o->input + ": --texture given but the mesh has no texture coordinates");
+      if (tm.materials().empty()) tm.materials().emplace_back();
+      for (auto& m : tm.materials()) {
+        if (m.name.empty()) m.name = "material";
+        m.diffuse_texture = std::filesystem::absolute(o->texture).string();
+        m.diffuse_texture_blob.clear();
+      }
+      for (auto f : tm.mesh().faces()) tm.material_map()[f] = 0;
+    }
+    if (o->no_texture) {
+      tm.set_has_uvs(false);
+      tm.materials().clear();
+    } else {
+      CMGeom::IO::load_textures(tm);
+    }
+    bool has_image = false;
+    for (const auto& m : tm.materials()) has_image |= !m.diffuse_image.empty();
+    const bool textured = tm.has_uvs() && has_image;
+    if (o->shared_texture && !textured)
+      throw CMGeom::Invalid_input(o->input + ": --shared-texture needs a textured input (UVs and a texture; see --texture)");
+    if (tm.has_uvs() && !textured)
+      std::cerr << "cmgeom lod: note: the input names no texture: texture coordinates are dropped\n";
+
+    const std::size_t faces_in = tm.mesh().number_of_faces();
+    TS::Level_of_detail_options lo;
+    std::vector<double> ratio_list;
+    if (ratios->count()) {
+      ratio_list = parse_list<double>(o->ratios, "--ratios");
+      for (double r : ratio_list) {
+        if (!(r > 0 && r <= 1)) throw CMGeom::Invalid_input("--ratios: every ratio must be in (0, 1], got " + std::to_string(r));
+        lo.target_faces.push_back(std::max<std::size_t>(1, std::size_t(std::llround(r * double(faces_in)))));
+      }
+    } else {
+      for (long long n : parse_list<long long>(o->faces, "--faces")) {
+        if (n < 1) throw CMGeom::Invalid_input("--faces: every face count must be at least 1");
+        lo.target_faces.push_back(std::min<std::size_t>(std::size_t(n), faces_in));
+      }
+    }
+    for (std::size_t i = 1; i < lo.target_faces.size(); ++i)
+      if (lo.target_faces[i] >= lo.target_faces[i - 1])
+        throw CMGeom::Invalid_input("the levels must decrease strictly (in faces: " + std::to_string(lo.target_faces[i - 1]) +
+                                    " then " + std::to_string(lo.target_faces[i]) + ")");
+    lo.quadric.weighted = o->policy == "weighted";
+    lo.shared_texture = o->shared_texture;
+    lo.measure_error = !o->no_error;
+
+    cmgeom_cli::Progress bar("lod", double(faces_in > lo.target_faces.back() ? faces_in - lo.target_faces.back() : 0),
+                             "faces removed");
+    Lod_progress_visitor::State state{&bar, double(faces_in > lo.target_faces.back() ? faces_in - lo.target_faces.back() : 0)};
+    const double t0 = cmgeom_cli::now_seconds();
+    TS::Level_of_detail_result r = TS::simplify_to_levels(tm, lo, Lod_progress_visitor(&state));
+    bar.done();
+    const double seconds = cmgeom_cli::now_seconds() - t0;
+
+    std::vector<CMGeom::IO::Gltf_level> levels;
+    for (std::size_t i = 0; i < r.levels.size(); ++i) {
+      CMGeom::IO::Gltf_level g;
+      g.mesh = &r.levels[i].mesh;
+      g.name = "lod" + std::to_string(i);
+      g.error = r.levels[i].hausdorff;
+      g.ratio = double(r.levels[i].mesh.mesh().number_of_faces()) / double(faces_in);
+      levels.push_back(g);
+    }
+    const double tw = cmgeom_cli::now_seconds();
+    CMGeom::IO::write_textured_gltf(o->output, levels, o->gltf);
+    if (!o->obj_prefix.empty())
+      for (std::size_t i = 0; i < r.levels.size(); ++i)
+        CMGeom::IO::write_textured_mesh(o->obj_prefix + "_" + std::to_string(i) + ".obj", r.levels[i].mesh);
+    const double seconds_write = cmgeom_cli::now_seconds() - tw;
+
+    if (o->json) {
+      nlohmann::ordered_json j;
+      j["input"] = o->input;
+      j["output"] = o->output;
+      j["faces_in"] = faces_in;
+      j["textured"] = textured;
+      j["shared_texture"] = o->shared_texture;
+      j["policy"] = o->policy;
+      auto& arr = j["levels"] = nlohmann::ordered_json::array();
+      for (std::size_t i = 0; i < r.levels.size(); ++i) {
+        const auto& l = r.levels[i];
+        nlohmann::ordered_json e;
+        e["level"] = i;
+        e["target_faces"] = l.target_faces;
+        e["faces"] = l.mesh.mesh().number_of_faces();
+        e["vertices"] = l.mesh.mesh().number_of_vertices();
+        e["is_input"] = l.is_input;
+        if (l.hausdorff >= 0) {
+          e["hausdorff"] = l.hausdorff;
+          e["rms"] = l.rms;
+        }
+        if (textured) {
+          e["texture_width"] = l.is_input && !o->shared_texture ? 0 : l.atlas.texture_width;
+          e["charts"] = l.atlas.charts;
+        }
+        arr.push_back(e);
+      }
+      j["seconds"] = seconds;
+      j["seconds_collapse"] = r.seconds_collapse;
+      j["seconds_texture"] = r.seconds_texture;
+      j["seconds_error"] = r.seconds_error;
+      j["seconds_write"] = seconds_write;
+      cmgeom_cli::print_json(j);
+    } else {
+      std::cout << o->input << ": " << r.levels.size() << " levels (";
+      for (std::size_t i = 0; i < r.levels.size(); ++i)
+        std::cout << (i ? ", " : "") << r.levels[i].mesh.mesh().number_of_faces();
+      std::cout << " faces) in " << seconds << " s" << (textured ? (o->shared_texture ? ", one shared atlas" : ", an atlas per level") : "")
+                << " -> " << o->output << "\n";
+    }
+    return 0;
+  };
+}
