@@ -60,26 +60,37 @@ private:
 
 }  // namespace
 
+void write_textured_gltf(const std::string& path, const std::vector<Gltf_level>& levels, Atomic_output& out,
+                         const Gltf_options& options) {
+  Gltf_image_encoder encoder;
+  internal::write_gltf(path, levels, options, out, std::ref(encoder));
+}
+
 void write_textured_gltf(const std::string& path, const std::vector<Gltf_level>& levels,
                          const Gltf_options& options) {
   Atomic_output out;
-  Gltf_image_encoder encoder;
-  internal::write_gltf(path, levels, options, out, std::ref(encoder));
+  write_textured_gltf(path, levels, out, options);
   out.commit();
 }
 
-void write_textured_mesh(const std::string& path, const Textured_mesh& mesh, const Gltf_options& gltf_options) {
+void write_textured_mesh(const std::string& path, const Textured_mesh& mesh, Atomic_output& out,
+                         const Gltf_options& gltf_options) {
   const std::string ext = extension(path);
   if (ext == ".gltf" || ext == ".glb") {
-    write_textured_gltf(path, {Gltf_level{&mesh, std::string("mesh"), -1, -1}}, gltf_options);
-    return;
-  }
-  if (ext != ".obj") {
-    write_mesh(path, mesh);
+    write_textured_gltf(path, {Gltf_level{&mesh, std::string("mesh"), -1, -1}}, out, gltf_options);
     return;
   }
   if (mesh.mesh().number_of_faces() == 0) throw IO_error(path, "refusing to write a mesh without faces");
-  Atomic_output out;
+  if (ext == ".off") {
+    internal::write_off(path, mesh, out);
+    return;
+  }
+  if (ext == ".ply") {
+    internal::write_ply(path, mesh, out);
+    return;
+  }
+  if (ext != ".obj")
+    throw IO_error(path, "unsupported output type '" + ext + "' (expected .obj, .off, .ply, .gltf or .glb)");
   const std::string stem = fs::path(path).stem().string();
   const fs::path dir = fs::path(path).parent_path();
   internal::write_obj(path, mesh, out,
@@ -99,6 +110,11 @@ void write_textured_mesh(const std::string& path, const Textured_mesh& mesh, con
                         return internal::copy_texture_file(path, diffuse ? m.diffuse_texture : m.normal_texture,
                                                            name, o);
                       });
+}
+
+void write_textured_mesh(const std::string& path, const Textured_mesh& mesh, const Gltf_options& gltf_options) {
+  Atomic_output out;
+  write_textured_mesh(path, mesh, out, gltf_options);
   out.commit();
 }
 

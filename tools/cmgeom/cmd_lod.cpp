@@ -9,6 +9,7 @@
 #include "cli_common.h"
 
 #include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/Atomic_output.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 #include <CMGeom/Textured_simplification/level_of_detail.h>
@@ -129,13 +130,17 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     if (ratios->count()) {
       ratio_list = parse_list<double>(o->ratios, "--ratios");
       for (double r : ratio_list) {
-        if (!(r > 0 && r <= 1)) throw CMGeom::Invalid_input("--ratios: every ratio must be in (0, 1], got " + std::to_string(r));
+        if (!(r > 0 && r <= 1)) {
+          std::ostringstream m;
+          m << "--ratios: every ratio must be in (0, 1], got " << r;
+          throw CMGeom::Invalid_input(m.str());
+        }
         lo.target_faces.push_back(std::max<std::size_t>(1, std::size_t(std::llround(r * double(faces_in)))));
       }
     } else {
       for (long long n : parse_list<long long>(o->faces, "--faces")) {
         if (n < 1) throw CMGeom::Invalid_input("--faces: every face count must be at least 1");
-        lo.target_faces.push_back(std::min<std::size_t>(std::size_t(n), faces_in));
+        lo.target_faces.push_back(std::size_t(n));  // at least the input's count: the input itself
       }
     }
     for (std::size_t i = 1; i < lo.target_faces.size(); ++i)
@@ -153,6 +158,10 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     TS::Level_of_detail_result r = TS::simplify_to_levels(tm, lo, Lod_progress_visitor(&state));
     bar.done();
     const double seconds = cmgeom_cli::now_seconds() - t0;
+    if (o->shared_texture && r.shared_texture_hidden > 0.05)
+      std::cerr << "cmgeom lod: warning: the shared atlas hides " << std::lround(100 * r.shared_texture_hidden)
+                << " % of the input's texture (parts of the input fold onto one place of the coarsest level, which is too "
+                   "coarse for one atlas): raise the smallest ratio, or drop --shared-texture\n";
 
     std::vector<CMGeom::IO::Gltf_level> levels;
     for (std::size_t i = 0; i < r.levels.size(); ++i) {
@@ -164,10 +173,16 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       levels.push_back(g);
     }
     const double tw = cmgeom_cli::now_seconds();
-    CMGeom::IO::write_textured_gltf(o->output, levels, o->gltf);
-    if (!o->obj_prefix.empty())
-      for (std::size_t i = 0; i < r.levels.size(); ++i)
-        CMGeom::IO::write_textured_mesh(o->obj_prefix + "_" + std::to_string(i) + ".obj", r.levels[i].mesh);
+    {
+      // the scene and the OBJ levels appear together or not at all (a missing --obj-prefix
+      // directory must not leave the scene behind)
+      CMGeom::IO::Atomic_output out;
+      CMGeom::IO::write_textured_gltf(o->output, levels, out, o->gltf);
+      if (!o->obj_prefix.empty())
+        for (std::size_t i = 0; i < r.levels.size(); ++i)
+          CMGeom::IO::write_textured_mesh(o->obj_prefix + "_" + std::to_string(i) + ".obj", r.levels[i].mesh, out);
+      out.commit();
+    }
     const double seconds_write = cmgeom_cli::now_seconds() - tw;
 
     if (o->json) {
@@ -178,6 +193,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       j["textured"] = textured;
       j["shared_texture"] = o->shared_texture;
       j["policy"] = o->policy;
+      if (o->shared_texture) j["shared_texture_hidden"] = r.shared_texture_hidden;
       auto& arr = j["levels"] = nlohmann::ordered_json::array();
       for (std::size_t i = 0; i < r.levels.size(); ++i) {
         const auto& l = r.levels[i];

@@ -63,8 +63,9 @@ void read_mesh(const std::string& path, Textured_mesh& out,
 /// materials are copied beside it), .off, .ply (binary little-endian), .gltf (with a .bin and
 /// the texture files beside it) or .glb (one file, textures embedded), atomically.
 /// Coordinates are printed in the shortest form that reads back to the same double (OBJ, OFF);
-/// glTF stores 32-bit floats. Textures are written from their files or embedded bytes as they
-/// are; write_textured_mesh() (textured_mesh_io.h) also encodes decoded images.
+/// glTF stores 32-bit floats. Textures are written from their files or embedded bytes (a PNG
+/// without its colour-space chunks in glTF, see write_gltf()); write_textured_mesh()
+/// (textured_mesh_io.h) also encodes decoded images.
 void write_mesh(const std::string& path, const Textured_mesh& mesh);
 
 /// Options of the glTF writer.
@@ -94,7 +95,10 @@ struct Gltf_level {
 /// MSFT_lod show the first level. Every node's extras hold its level, face count and, when
 /// given, error and ratio. Materials: base colour (factor Kd, texture), normal texture,
 /// metallic 0, roughness 1; identical materials and identical images are written once, so
-/// levels that share a texture share it in the file. Textures must be PNG or JPEG.
+/// levels that share a texture share it in the file. A primitive whose material has a normal
+/// map gets TANGENT (unit, along the UV layout's u, w = handedness). Textures must be PNG or
+/// JPEG; a PNG loses its colour-space chunks (iCCP, sRGB, gAMA, cHRM: glTF fixes the colour
+/// space of its textures, viewers must ignore them), every other byte is kept.
 /// Throws IO_error (nothing written) for an empty level, a non-triangle face or another image type.
 void write_gltf(const std::string& path, const std::vector<Gltf_level>& levels,
                 const Gltf_options& options = Gltf_options());

@@ -33,6 +33,14 @@ void write_textured_mesh(const std::string& path, const Textured_mesh& mesh,
 void write_textured_gltf(const std::string& path, const std::vector<Gltf_level>& levels,
                          const Gltf_options& options = Gltf_options());
 
+/// write_textured_mesh() and write_textured_gltf() with their files registered in `out` (see
+/// Atomic_output) instead of committed at once: a caller writing several meshes commits them
+/// together, so that a failure leaves none of them.
+void write_textured_mesh(const std::string& path, const Textured_mesh& mesh, Atomic_output& out,
+                         const Gltf_options& gltf_options = Gltf_options());
+void write_textured_gltf(const std::string& path, const std::vector<Gltf_level>& levels, Atomic_output& out,
+                         const Gltf_options& options = Gltf_options());
+
 }  // namespace IO
 }  // namespace CMGeom
 

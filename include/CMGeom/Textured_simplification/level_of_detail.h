@@ -44,6 +44,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -91,6 +92,10 @@ struct Level_of_detail_result {
   double seconds_collapse = 0;  ///< the collapse run, snapshots included
   double seconds_texture = 0;   ///< atlas extraction, baking, mapping through the shared atlas
   double seconds_error = 0;     ///< the error measures
+  /// Shared texture: the fraction of the original's texels in the atlas that another part of the
+  /// original took (parts that fold onto one place of the coarsest level, e.g. a label over a
+  /// bottle on a 45-face bottle); those parts show the other part's colours at every level.
+  double shared_texture_hidden = 0;
   double seconds = 0;
 };
 
@@ -277,13 +282,15 @@ inline void map_through_atlas(const Textured_mesh& coarse, Textured_mesh& fine, 
 /// faces of the chart it belongs to (texels outside every chart, the gutters, by any). Texels no
 /// original face covers keep the coarse bake. So the finest level reads the original's colours
 /// almost exactly, and a coarser level, whose points map to the same atlas points as the original
-/// points they stand for, reads those colours too. Rows are painted in parallel bands.
-inline void paint_atlas_from_original(const Atlas_source& source, const Textured_mesh& coarse,
+/// points they stand for, reads those colours too. Rows are painted in parallel bands. Returns
+/// the fraction of the texels the original's faces cover that went to another face (hidden:
+/// parts of the original that fold onto the same place of the coarse surface).
+inline double paint_atlas_from_original(const Atlas_source& source, const Textured_mesh& coarse,
                                       const Textured_mesh& original_mapped, const std::vector<int>& chart_of_face,
                                       const std::vector<double>& depth_of_face, Image& image) {
   using Face = Surface_mesh::Face_index;
   const int W = image.width(), H = image.height(), C = image.channels();
-  if (W <= 0 || H <= 0 || C != source.colour_channels()) return;
+  if (W <= 0 || H <= 0 || C != source.colour_channels()) return 0.0;
   // the chart of every texel of the coarse atlas (-1: none)
   const Surface_mesh& cm = coarse.mesh();
   auto chart_map = get(CGAL::dynamic_face_property_t<int>(), cm);
@@ -319,31 +326,46 @@ inline void paint_atlas_from_original(const Atlas_source& source, const Textured
     rows[i] = {int(std::floor(lo)) - 1, int(std::ceil(hi)) + 1};
   }
   const int band = 16;
+  std::atomic<std::size_t> covered{0}, won{0};
   tbb::parallel_for(0, (H + band - 1) / band, [&](int b) {
     const int y0 = b * band, y1 = (std::min)(H, y0 + band);
-    std::vector<double> best(std::size_t(y1 - y0) * std::size_t(W), std::numeric_limits<double>::infinity());
-    float c[4];
+    const std::size_t texels = std::size_t(y1 - y0) * std::size_t(W);
+    std::vector<double> best(texels, std::numeric_limits<double>::infinity());
+    std::vector<std::size_t> winner(texels, std::size_t(-1));
+    std::size_t band_covered = 0;
     for (std::size_t i = 0; i < nf; ++i) {
       if (rows[i].second < y0 || rows[i].first >= y1) continue;
-      const auto& t = tri[i];
-      const double det = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
-      if (det == 0) continue;
       const int k = chart_of_face[i];
       const double depth = depth_of_face[i];
-      rasterize_triangle(t, W, H, y0, y1, [&](int x, int y) {
+      rasterize_triangle(tri[i], W, H, y0, y1, [&](int x, int y) {
         const std::size_t at = std::size_t(y) * std::size_t(W) + std::size_t(x);
         if (owner[at] != -1 && owner[at] != k) return;
-        double& d = best[std::size_t(y - y0) * std::size_t(W) + std::size_t(x)];
-        if (depth >= d) return;
-        d = depth;
-        const double cx = x + 0.5, cy = y + 0.5;
-        const double b1 = ((cx - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (cy - t[0][1])) / det;
-        const double b2 = ((t[1][0] - t[0][0]) * (cy - t[0][1]) - (cx - t[0][0]) * (t[1][1] - t[0][1])) / det;
-        source.colour_at(i, 1 - b1 - b2, b1, b2, c);
-        for (int ch = 0; ch < C; ++ch) image.set_value(x, H - 1 - y, ch, c[ch]);  // image rows run down
+        ++band_covered;
+        const std::size_t j = std::size_t(y - y0) * std::size_t(W) + std::size_t(x);
+        if (depth >= best[j]) return;
+        best[j] = depth;
+        winner[j] = i;
       });
     }
+    std::size_t band_won = 0;
+    float c[4];
+    for (std::size_t j = 0; j < texels; ++j) {
+      const std::size_t i = winner[j];
+      if (i == std::size_t(-1)) continue;
+      ++band_won;
+      const auto& t = tri[i];
+      const int x = int(j % std::size_t(W)), y = y0 + int(j / std::size_t(W));
+      const double det = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
+      const double cx = x + 0.5, cy = y + 0.5;
+      const double b1 = ((cx - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (cy - t[0][1])) / det;
+      const double b2 = ((t[1][0] - t[0][0]) * (cy - t[0][1]) - (cx - t[0][0]) * (t[1][1] - t[0][1])) / det;
+      source.colour_at(i, 1 - b1 - b2, b1, b2, c);
+      for (int ch = 0; ch < C; ++ch) image.set_value(x, H - 1 - y, ch, c[ch]);  // image rows run down
+    }
+    covered += band_covered;
+    won += band_won;
   });
+  return covered > 0 ? 1.0 - double(won) / double(covered) : 0.0;
 }
 
 inline double seconds_since_lod(std::chrono::steady_clock::time_point t0) {
@@ -444,8 +466,8 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       std::vector<int> chart_of_face;
       std::vector<double> depth_of_face;
       internal::map_through_atlas(coarsest.mesh, original, options.max_extrapolation, &chart_of_face, &depth_of_face);
-      internal::paint_atlas_from_original(*source, coarsest.mesh, original, chart_of_face, depth_of_face,
-                                          coarsest.mesh.materials().front().diffuse_image);
+      res.shared_texture_hidden = internal::paint_atlas_from_original(
+          *source, coarsest.mesh, original, chart_of_face, depth_of_face, coarsest.mesh.materials().front().diffuse_image);
       original.materials() = coarsest.mesh.materials();
       for (std::size_t i = 1; i < kept; ++i) res.levels[i].mesh = original;
       tbb::parallel_for(kept, res.levels.size() - 1, [&](std::size_t i) {
