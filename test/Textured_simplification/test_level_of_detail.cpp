@@ -111,6 +111,33 @@ TEST(LevelOfDetail, TargetsMustDecreaseStrictly) {
   EXPECT_THROW(TS::simplify_to_levels(input, o), CMGeom::Invalid_input);
 }
 
+TEST(LevelOfDetail, ErrorBoundsGiveTheSmallestSnapshotWithinEach) {
+  const CMGeom::Textured_mesh input(lod_torus(80, 60));  // 9600 faces
+  TS::Level_of_detail_options o;
+  o.max_errors = {0.0, 0.002, 0.01, 0.04};
+  const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
+  ASSERT_EQ(r.levels.size(), 4u);
+  EXPECT_TRUE(r.levels[0].is_input);  // no simplified snapshot has error 0
+  for (std::size_t i = 1; i < r.levels.size(); ++i) {
+    SCOPED_TRACE("bound " + std::to_string(o.max_errors[i]));
+    const auto& l = r.levels[i];
+    EXPECT_FALSE(l.is_input);
+    EXPECT_LE(l.hausdorff, o.max_errors[i]);
+    EXPECT_LT(l.mesh.mesh().number_of_faces(), r.levels[i - 1].mesh.mesh().number_of_faces());
+    // the error the run measured is the level's (same measure, taken again on the copy)
+    CMGeom::Metrics::Error_options eo;
+    eo.samples = 2 * input.mesh().number_of_faces();
+    eo.vertex_field = false;
+    EXPECT_DOUBLE_EQ(CMGeom::Metrics::approximation_error(input.mesh(), l.mesh.mesh(), eo).hausdorff, l.hausdorff);
+  }
+  // the largest bound allows a level well below the input
+  EXPECT_LT(r.levels.back().mesh.mesh().number_of_faces(), 9600u / 4);
+  o.max_errors = {0.01, 0.01};
+  EXPECT_THROW(TS::simplify_to_levels(input, o), CMGeom::Invalid_input);
+  o.max_errors = {-0.01};
+  EXPECT_THROW(TS::simplify_to_levels(input, o), CMGeom::Invalid_input);
+}
+
 // The colour of an image at a texture coordinate (nearest texel; rows run down, v up).
 std::array<float, 3> colour_at(const CMGeom::Image& img, const Point_2& uv) {
   const double u = uv.x() - std::floor(uv.x()), v = uv.y() - std::floor(uv.y());

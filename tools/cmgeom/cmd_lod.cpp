@@ -1,4 +1,5 @@
-// cmgeom lod <in> -o <out.glb|out.gltf> (--ratios r1,r2,... | --faces n1,n2,...) [--shared-texture]
+// cmgeom lod <in> -o <out.glb|out.gltf> (--ratios r1,r2,... | --faces n1,n2,... | --max-errors e1,e2,...)
+//           [--shared-texture]
 //           [--policy plain|weighted] [--texture FILE] [--no-texture] [--quantize] [--no-error]
 //           [--obj-prefix PREFIX] [--json]
 // A level-of-detail chain from one simplification run (Textured_simplification/level_of_detail.h):
@@ -62,7 +63,7 @@ std::vector<T> parse_list(const std::string& text, const char* option) {
 
 CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per level) from one simplification run") {
   struct Options {
-    std::string input, output, ratios, faces, policy = "plain", texture, obj_prefix;
+    std::string input, output, ratios, faces, max_errors, policy = "plain", texture, obj_prefix;
     bool shared_texture = false, no_texture = false, no_error = false, json = false, no_repair = false;
     CMGeom::IO::Gltf_options gltf;
   };
@@ -72,8 +73,16 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   auto* ratios = app.add_option("--ratios", o->ratios,
                                 "Levels as fractions of the input's faces, decreasing, comma-separated (e.g. 1,0.25,0.05,0.01)");
   auto* faces = app.add_option("--faces", o->faces, "Levels as face counts, decreasing, comma-separated");
+  auto* errors = app.add_option("--max-errors", o->max_errors,
+                                "Levels by error bound instead: symmetric Hausdorff distances as fractions of the bounding-box "
+                                "diagonal, increasing, comma-separated (e.g. 0,0.002,0.01,0.05; 0 is the input); each level is "
+                                "the smallest snapshot of the run within its bound");
   ratios->excludes(faces);
   faces->excludes(ratios);
+  errors->excludes(ratios);
+  errors->excludes(faces);
+  ratios->excludes(errors);
+  faces->excludes(errors);
   app.add_flag("--shared-texture", o->shared_texture,
                "Textured input: one atlas (made for the coarsest level) that every level addresses");
   app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default) or weighted (thesis 3.4.2)")
@@ -86,8 +95,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
   cmgeom_cli::add_gltf_options(app, o->gltf);
 
-  return [o, ratios, faces]() -> int {
-    if (ratios->count() == 0 && faces->count() == 0) throw CMGeom::Invalid_input("one of --ratios or --faces is required");
+  return [o, ratios, faces, errors]() -> int {
+    if (ratios->count() == 0 && faces->count() == 0 && errors->count() == 0)
+      throw CMGeom::Invalid_input("one of --ratios, --faces or --max-errors is required");
     const std::string ext = CMGeom::IO::extension(o->output);
     if (ext != ".glb" && ext != ".gltf")
       throw CMGeom::Invalid_input(o->output + ": a level-of-detail chain is written as .glb or .gltf");
@@ -137,6 +147,13 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
         }
         lo.target_faces.push_back(std::max<std::size_t>(1, std::size_t(std::llround(r * double(faces_in)))));
       }
+    } else if (errors->count()) {
+      lo.max_errors = parse_list<double>(o->max_errors, "--max-errors");
+      for (std::size_t i = 0; i < lo.max_errors.size(); ++i) {
+        if (!(lo.max_errors[i] >= 0)) throw CMGeom::Invalid_input("--max-errors: every bound must be >= 0");
+        if (i > 0 && lo.max_errors[i] <= lo.max_errors[i - 1])
+          throw CMGeom::Invalid_input("--max-errors: the bounds must increase strictly");
+      }
     } else {
       for (long long n : parse_list<long long>(o->faces, "--faces")) {
         if (n < 1) throw CMGeom::Invalid_input("--faces: every face count must be at least 1");
@@ -151,9 +168,10 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     lo.shared_texture = o->shared_texture;
     lo.measure_error = !o->no_error;
 
-    cmgeom_cli::Progress bar("lod", double(faces_in > lo.target_faces.back() ? faces_in - lo.target_faces.back() : 0),
-                             "faces removed");
-    Lod_progress_visitor::State state{&bar, double(faces_in > lo.target_faces.back() ? faces_in - lo.target_faces.back() : 0)};
+    // (levels by error: the run's end is not known in advance; the bar counts towards one face)
+    const std::size_t last = lo.max_errors.empty() ? lo.target_faces.back() : 1;
+    cmgeom_cli::Progress bar("lod", double(faces_in > last ? faces_in - last : 0), "faces removed");
+    Lod_progress_visitor::State state{&bar, double(faces_in > last ? faces_in - last : 0)};
     const double t0 = cmgeom_cli::now_seconds();
     TS::Level_of_detail_result r = TS::simplify_to_levels(tm, lo, Lod_progress_visitor(&state));
     bar.done();
@@ -194,12 +212,14 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       j["shared_texture"] = o->shared_texture;
       j["policy"] = o->policy;
       if (o->shared_texture) j["shared_texture_hidden"] = r.shared_texture_hidden;
+      if (!lo.max_errors.empty()) j["max_errors"] = lo.max_errors;
       auto& arr = j["levels"] = nlohmann::ordered_json::array();
       for (std::size_t i = 0; i < r.levels.size(); ++i) {
         const auto& l = r.levels[i];
         nlohmann::ordered_json e;
         e["level"] = i;
-        e["target_faces"] = l.target_faces;
+        if (lo.max_errors.empty()) e["target_faces"] = l.target_faces;
+        else e["max_error"] = lo.max_errors[i];
         e["faces"] = l.mesh.mesh().number_of_faces();
         e["vertices"] = l.mesh.mesh().number_of_vertices();
         e["is_input"] = l.is_input;
