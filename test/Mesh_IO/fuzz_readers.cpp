@@ -1,4 +1,4 @@
-// Fuzz target for every mesh reader (OBJ+MTL, OFF, PLY, glTF, GLB).
+// Fuzz target for every mesh reader (OBJ, MTL, OFF, PLY, glTF, GLB).
 //
 // The first input byte selects the format, the rest is the file content. Each input goes through
 // read_polygon_soup -> analyze_soup -> build_textured_mesh (with and without repair); the only
@@ -29,8 +29,19 @@
 
 namespace {
 
-const char* const formats[] = {".obj", ".off", ".ply", ".gltf", ".glb"};
-constexpr int n_formats = 5;
+// ".mtl": the input is a material library, read through a fixed OBJ that names it (mtllib,
+// usemtl of several names, texture coordinates), so the MTL parser is fuzzed as the OBJ reader uses it.
+const char* const formats[] = {".obj", ".off", ".ply", ".gltf", ".glb", ".mtl"};
+constexpr int n_formats = 6;
+constexpr int mtl_format = 5;
+
+const char* const mtl_host_obj =
+    "mtllib input.mtl\n"
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n"
+    "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n"
+    "usemtl material\nf 1/1 2/2 5/5\nf 2/2 3/3 5/5\n"
+    "usemtl Material_MR\nf 3/3 4/4 5/5\n"
+    "usemtl spot\nf 4/4 1/1 5/5\nf 1/1 4/4 3/3 2/2\n";
 
 std::string scratch_path(int format) {
   static const std::string dir = [] {
@@ -44,10 +55,14 @@ std::string scratch_path(int format) {
 int run_one(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   const int format = data[0] % n_formats;
-  const std::string path = scratch_path(format);
+  std::string path = scratch_path(format);
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data + 1), std::streamsize(size - 1));
+  }
+  if (format == mtl_format) {  // read the OBJ that names the fuzzed MTL
+    path = (std::filesystem::path(path).parent_path() / "mtl_host.obj").string();
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << mtl_host_obj;
   }
   try {
     const CMGeom::Polygon_soup soup = CMGeom::IO::read_polygon_soup(path);
