@@ -711,4 +711,61 @@ TEST(TexturedSimplification, CommandLineWritesObjMtlPng) {
   EXPECT_FALSE(fs::exists(dir + "/c.ply"));
 }
 
+// The tangent-plane bijectivity test of §3.5 (Chart_constraints::projections_are_bijective), on an
+// interior edge of a flat 5 x 5 grid collapsed to its midpoint. Flat, the star's projections onto
+// its plane tile the star: accepted. With one ring vertex of the star pulled over the edge's first
+// vertex and lifted (an overhang: its triangles project reversed onto the star's plane) the test
+// refuses and counts a projection overlap; the same collapse passes when only that test is switched
+// off (the texture coordinates stay those of the flat grid, so no other rule refuses it).
+TEST(TexturedSimplification, BijectivityTestRefusesAnOverhangingStarAndPassesAFlatOne) {
+  auto grid = [](bool overhang) {
+    CMGeom::Textured_mesh tm;
+    auto& m = tm.mesh();
+    std::vector<CMGeom::Surface_mesh::Vertex_index> v;
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 5; ++i) {
+        CMGeom::Point_3 p(i, j, 0);
+        if (overhang && i == 1 && j == 2) p = CMGeom::Point_3(2.3, 2.2, 0.5);
+        v.push_back(m.add_vertex(p));
+      }
+    auto at = [&](int i, int j) { return v[std::size_t(j * 5 + i)]; };
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        m.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+        m.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+      }
+    for (auto h : m.halfedges()) {  // UVs: the flat grid's, whatever the 3D positions
+      if (m.is_border(h)) continue;
+      const std::size_t k = std::size_t(m.target(h));
+      tm.set_uv(h, CMGeom::Point_2(double(k % 5) / 4, double(k / 5) / 4));
+    }
+    tm.set_has_uvs(true);
+    return tm;
+  };
+  using VPM = boost::property_map<CMGeom::Surface_mesh, CGAL::vertex_point_t>::type;
+  using CC = TS::Chart_constraints<CMGeom::Surface_mesh, VPM, CMGeom::Textured_mesh::UV_map>;
+  auto try_collapse = [](CMGeom::Textured_mesh& tm, bool bijectivity, TS::Chart_constraint_statistics& stats) {
+    auto& m = tm.mesh();
+    const CMGeom::Surface_mesh::Vertex_index v0(12), v1(13);  // grid points (2,2) and (3,2): interior
+    const auto h = m.halfedge(v0, v1);
+    EXPECT_TRUE(h != CMGeom::Surface_mesh::null_halfedge());
+    TS::Chart_constraint_options o;
+    o.bijectivity = bijectivity;
+    o.boundary_half_edge_collapses = false;
+    CC cc(m, get(CGAL::vertex_point, m), tm.uv_map(), o);
+    const bool ok = cc.test(h, {{2.5, 2.0, 0.0}});
+    stats = cc.statistics();
+    return ok;
+  };
+  TS::Chart_constraint_statistics st;
+  CMGeom::Textured_mesh flat = grid(false);
+  EXPECT_TRUE(try_collapse(flat, true, st)) << "a flat star's collapse must pass the bijectivity test";
+  EXPECT_EQ(st.projection_overlap, 0u);
+  CMGeom::Textured_mesh folded = grid(true);
+  EXPECT_FALSE(try_collapse(folded, true, st)) << "an overhanging star must be refused";
+  EXPECT_EQ(st.projection_overlap, 1u);
+  EXPECT_EQ(st.uv_fold + st.topology + st.degenerate, 0u) << "refused for another reason than bijectivity";
+  EXPECT_TRUE(try_collapse(folded, false, st)) << "without the bijectivity test nothing else refuses it";
+}
+
 }  // namespace
