@@ -31,8 +31,8 @@ edge_flips(bool b, const CGAL::Named_function_parameters<T, Tag, Base>& base) {
 }
 
 /// A `Surface_memory` (Surface_memory.h) that CMGeom's engine consults before each collapse:
-/// its memoryful cost re-orders the collapses and its bound, if any, refuses those that break it
-/// (default: none). The object must outlive the call.
+/// its memoryful cost re-orders the collapses (a cost, not a bound: it refuses none; default: no
+/// memory). The object must outlive the call.
 template <class Memory>
 CGAL::Named_function_parameters<Memory*, internal_np::surface_memory_t> surface_memory(Memory* m) {
   return CGAL::Named_function_parameters<Memory*, internal_np::surface_memory_t>(m);
