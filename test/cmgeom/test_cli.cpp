@@ -611,7 +611,8 @@ TEST(cmgeom_cli, LodRefusalsNameTheProblemAndWriteNothing) {
       {duck, "-o {out}/x.glb --faces 1000,0", 1, "--faces: every face count must be at least 1"},
       {duck, "-o {out}/x.obj --ratios 1,0.25", 1, "x.obj: a level-of-detail chain is written as .glb or .gltf"},
       {duck, "-o {out}/x --ratios 1,0.25", 1, "a level-of-detail chain is written as .glb or .gltf"},
-      {duck, "-o {out}/x.glb", 1, "one of --ratios or --faces is required"},
+      {duck, "-o {out}/x.glb", 1, "one of --ratios, --faces or --max-errors is required"},
+      {duck, "-o {out}/x.glb --max-errors 0.01,0.01", 1, "--max-errors: the bounds must increase strictly"},
       {duck, "-o {out}/x.glb --ratios 1,0.25 --faces 1000", 2, "--ratios excludes --faces"},
       {sphere, "-o {out}/x.glb --ratios 1,0.25 --shared-texture", 1, "--shared-texture needs a textured input"},
       // every file is written or none: an --obj-prefix in a missing folder leaves no GLB behind
