@@ -8,6 +8,7 @@
 // extras). A textured input gets an atlas per level, or with --shared-texture one atlas that every
 // level addresses. --obj-prefix also writes each level as PREFIX_<k>.obj (with its MTL and PNG).
 #include "cli_common.h"
+#include "collapse_progress.h"
 
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/Atomic_output.h>
@@ -27,21 +28,6 @@
 namespace {
 
 namespace TS = CMGeom::Textured_simplification;
-
-struct Lod_progress_visitor : TS::Edge_collapse_visitor_base {
-  struct State {
-    cmgeom_cli::Progress* bar;
-    double faces_to_remove;
-    std::size_t removed = 0, calls = 0;
-  };
-  State* s;
-  explicit Lod_progress_visitor(State* st) : s(st) {}
-  template <class Profile, class V>
-  void OnCollapsed(const Profile& p, const V&) const {
-    s->removed += std::size_t(p.left_face_exists()) + std::size_t(p.right_face_exists());
-    if ((++s->calls & 1023u) == 0 && s->faces_to_remove > 0) s->bar->update(double(s->removed) / s->faces_to_remove);
-  }
-};
 
 template <class T>
 std::vector<T> parse_list(const std::string& text, const char* option) {
@@ -171,9 +157,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     // (levels by error: the run's end is not known in advance; the bar counts towards one face)
     const std::size_t last = lo.max_errors.empty() ? lo.target_faces.back() : 1;
     cmgeom_cli::Progress bar("lod", double(faces_in > last ? faces_in - last : 0), "faces removed");
-    Lod_progress_visitor::State state{&bar, double(faces_in > last ? faces_in - last : 0)};
+    cmgeom_cli::Collapse_progress_visitor::State state{&bar, double(faces_in > last ? faces_in - last : 0)};
     const double t0 = cmgeom_cli::now_seconds();
-    TS::Level_of_detail_result r = TS::simplify_to_levels(tm, lo, Lod_progress_visitor(&state));
+    TS::Level_of_detail_result r = TS::simplify_to_levels(tm, lo, cmgeom_cli::Collapse_progress_visitor(&state));
     bar.done();
     const double seconds = cmgeom_cli::now_seconds() - t0;
     if (o->shared_texture && r.shared_texture_hidden > 0.05)

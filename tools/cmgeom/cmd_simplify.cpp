@@ -13,6 +13,7 @@
 // A non-manifold or inconsistently oriented input is repaired (a one-line warning says what
 // changed) unless --no-repair. Outputs are written atomically.
 #include "cli_common.h"
+#include "collapse_progress.h"
 
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
@@ -38,23 +39,6 @@ namespace {
 
 namespace TS = CMGeom::Textured_simplification;
 using Mesh = CMGeom::Surface_mesh;
-
-// Draws the progress bar from the collapses (faces removed so far / faces to remove).
-struct Progress_visitor : TS::Edge_collapse_visitor_base {
-  struct State {
-    cmgeom_cli::Progress* bar;
-    double faces_to_remove;
-    std::size_t removed = 0, calls = 0;
-  };
-  State* s;
-  explicit Progress_visitor(State* st) : s(st) {}
-  template <class Profile, class V>
-  void OnCollapsed(const Profile& p, const V&) const {
-    s->removed += std::size_t(p.left_face_exists()) + std::size_t(p.right_face_exists());
-    if ((++s->calls & 1023u) == 0 && s->faces_to_remove > 0) s->bar->update(double(s->removed) / s->faces_to_remove);
-  }
-  // CGAL's visitor concept has these too; the base class covers the rest.
-};
 
 }  // namespace
 
@@ -193,15 +177,15 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       to.keep_charts = o->keep_charts;
       to.flips = o->flips;
       to.surface_memory = !o->memoryless;
-      Progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
+      cmgeom_cli::Collapse_progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
       const double t0 = cmgeom_cli::now_seconds();
 #ifdef CMGEOM_HAS_OSMESA
       const TS::Textured_simplification_result r =
           o->texture_backend == "osmesa"
-              ? TS::simplify_textured_mesh<TS::Osmesa_index_texture_resampler>(tm, to, Progress_visitor(&state))
-              : TS::simplify_textured_mesh(tm, to, Progress_visitor(&state));
+              ? TS::simplify_textured_mesh<TS::Osmesa_index_texture_resampler>(tm, to, cmgeom_cli::Collapse_progress_visitor(&state))
+              : TS::simplify_textured_mesh(tm, to, cmgeom_cli::Collapse_progress_visitor(&state));
 #else
-      const TS::Textured_simplification_result r = TS::simplify_textured_mesh(tm, to, Progress_visitor(&state));
+      const TS::Textured_simplification_result r = TS::simplify_textured_mesh(tm, to, cmgeom_cli::Collapse_progress_visitor(&state));
 #endif
       const double seconds = cmgeom_cli::now_seconds() - t0;
       bar.done();
@@ -256,7 +240,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     }
     if (tm.has_uvs())
       std::cerr << "cmgeom simplify: note: texture coordinates are dropped (geometry-only simplification)\n";
-    Progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
+    cmgeom_cli::Collapse_progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
     double seconds = 0;
     if (target < faces_in) {
       const double t0 = cmgeom_cli::now_seconds();
@@ -265,7 +249,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         so.quadric = qo;
         so.surface_memory = !o->memoryless;
         so.flips = o->flips;
-        TS::simplify_mesh(mesh, target, so, Progress_visitor(&state));
+        TS::simplify_mesh(mesh, target, so, cmgeom_cli::Collapse_progress_visitor(&state));
       } else {
         TS::Area_weighted_quadric_policies<Mesh> policy(mesh, qo);
         TS::Face_count_stop_predicate<Mesh> stop(mesh, target);
@@ -273,7 +257,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
                                                          CGAL::parameters::get_cost(policy)
                                                              .get_placement(policy)
                                                              .filter(TS::No_normal_flip_filter<>())
-                                                             .visitor(Progress_visitor(&state)));
+                                                             .visitor(cmgeom_cli::Collapse_progress_visitor(&state)));
       }
       seconds = cmgeom_cli::now_seconds() - t0;
     }

@@ -123,18 +123,11 @@ inline Surface_mesh compact_copy(const Surface_mesh& from) {
   return to;
 }
 
-/// Visitor that copies the mesh each time the face count reaches the next level's target, and
-/// forwards every call to the caller's visitor.
+/// Forwards every engine call to the caller's visitor; the snapshot visitors below derive from it
+/// and add to OnCollapsed.
 template <class Visitor>
-struct Snapshot_visitor {
-  struct State {
-    const std::vector<std::size_t>* targets;  // the collapsed levels' targets, decreasing
-    std::size_t next = 0;
-    std::vector<Surface_mesh> snapshots;
-  };
-  State* state;
+struct Forwarding_visitor {
   Visitor visitor;
-
   template <class TM> void OnStarted(TM& tm) const { visitor.OnStarted(tm); }
   template <class TM> void OnFinished(TM& tm) const { visitor.OnFinished(tm); }
   template <class P> void OnStopConditionReached(const P& p) const { visitor.OnStopConditionReached(p); }
@@ -143,8 +136,25 @@ struct Snapshot_visitor {
     visitor.OnSelected(p, c, i, n);
   }
   template <class P, class Pl> void OnCollapsing(const P& p, const Pl& pl) const { visitor.OnCollapsing(p, pl); }
+  template <class P, class V> void OnCollapsed(const P& p, const V& v) const { visitor.OnCollapsed(p, v); }
+  template <class P> void OnNonCollapsable(const P& p) const { visitor.OnNonCollapsable(p); }
+  template <class TM, class H> void OnFlipped(const TM& tm, const H& h) const { visitor.OnFlipped(tm, h); }
+};
+
+/// Visitor that copies the mesh each time the face count reaches the next level's target, and
+/// forwards every call to the caller's visitor.
+template <class Visitor>
+struct Snapshot_visitor : Forwarding_visitor<Visitor> {
+  struct State {
+    const std::vector<std::size_t>* targets;  // the collapsed levels' targets, decreasing
+    std::size_t next = 0;
+    std::vector<Surface_mesh> snapshots;
+  };
+  State* state;
+  Snapshot_visitor(State* s, const Visitor& v) : Forwarding_visitor<Visitor>{v}, state(s) {}
+
   template <class P, class V> void OnCollapsed(const P& p, const V& v) const {
-    visitor.OnCollapsed(p, v);
+    this->visitor.OnCollapsed(p, v);
     const auto& mesh = p.surface_mesh();
     // (the last target is the run's stop: the mesh left at the end is that level)
     while (state->next + 1 < state->targets->size() && mesh.number_of_faces() <= (*state->targets)[state->next]) {
@@ -152,15 +162,13 @@ struct Snapshot_visitor {
       ++state->next;
     }
   }
-  template <class P> void OnNonCollapsable(const P& p) const { visitor.OnNonCollapsable(p); }
-  template <class TM, class H> void OnFlipped(const TM& tm, const H& h) const { visitor.OnFlipped(tm, h); }
 };
 
 /// Visitor of the error-bound mode: each time the face count falls to the next threshold it copies
 /// the mesh, measures its error against the input, keeps it, and asks the run to stop once an error
 /// exceeds the largest bound.
 template <class Visitor>
-struct Error_snapshot_visitor {
+struct Error_snapshot_visitor : Forwarding_visitor<Visitor> {
   struct Candidate {
     Surface_mesh mesh;
     double hausdorff, rms;
@@ -174,18 +182,10 @@ struct Error_snapshot_visitor {
     std::vector<Candidate> candidates;
   };
   State* state;
-  Visitor visitor;
+  Error_snapshot_visitor(State* s, const Visitor& v) : Forwarding_visitor<Visitor>{v}, state(s) {}
 
-  template <class TM> void OnStarted(TM& tm) const { visitor.OnStarted(tm); }
-  template <class TM> void OnFinished(TM& tm) const { visitor.OnFinished(tm); }
-  template <class P> void OnStopConditionReached(const P& p) const { visitor.OnStopConditionReached(p); }
-  template <class P, class C> void OnCollected(const P& p, const C& c) const { visitor.OnCollected(p, c); }
-  template <class P, class C, class S> void OnSelected(const P& p, const C& c, S i, S n) const {
-    visitor.OnSelected(p, c, i, n);
-  }
-  template <class P, class Pl> void OnCollapsing(const P& p, const Pl& pl) const { visitor.OnCollapsing(p, pl); }
   template <class P, class V> void OnCollapsed(const P& p, const V& v) const {
-    visitor.OnCollapsed(p, v);
+    this->visitor.OnCollapsed(p, v);
     const auto& mesh = p.surface_mesh();
     if (state->stop || double(mesh.number_of_faces()) > state->next) return;
     Surface_mesh copy = compact_copy(mesh);
@@ -197,8 +197,6 @@ struct Error_snapshot_visitor {
     state->candidates.push_back({std::move(copy), e.hausdorff, e.rms});
     state->next = double(mesh.number_of_faces()) * state->step;
   }
-  template <class P> void OnNonCollapsable(const P& p) const { visitor.OnNonCollapsable(p); }
-  template <class TM, class H> void OnFlipped(const TM& tm, const H& h) const { visitor.OnFlipped(tm, h); }
 };
 
 /// Stops at a face count or when a flag is raised (the error-bound mode's run).
