@@ -7,7 +7,9 @@
 // first touch of the output) and into a reused one (what a per-frame call pays, e.g. a deformable
 // CM: no allocation). Best of several runs. Prints Markdown.
 //
-//   bench_reconstruction_speed [data dir] [model:base_faces ...]   (default: horse 1000, igea 2000)
+//   bench_reconstruction_speed [data dir] [model:base_faces ...] [--levels A-B] [--along-n]
+//                              [--threads T] [--runs R]
+//   (default: horse 1000, igea 2000, levels 1-6, both projections, 1 and 2 threads)
 #include <CMGeom/Compact_model.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
@@ -34,10 +36,25 @@ double seconds(const std::chrono::steady_clock::time_point& t0) {
 int main(int argc, char** argv) {
   std::string data = CMGEOM_BENCH_DATA_DIR;
   std::vector<std::pair<std::string, int>> models;
+  int level_min = 1, level_max = 6;
+  bool along_n_only = false;
+  std::vector<int> thread_counts = {1, 2};
+  int forced_runs = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const auto colon = a.rfind(':');
-    if (colon == std::string::npos)
+    if (a == "--threads" && i + 1 < argc) {
+      thread_counts = {std::atoi(argv[++i])};
+    } else if (a == "--runs" && i + 1 < argc) {
+      forced_runs = std::atoi(argv[++i]);
+    } else if (a == "--along-n") {
+      along_n_only = true;
+    } else if (a == "--levels" && i + 1 < argc) {
+      const std::string r = argv[++i];
+      const auto dash = r.find('-');
+      level_min = std::atoi(r.c_str());
+      level_max = dash == std::string::npos ? level_min : std::atoi(r.c_str() + dash + 1);
+    } else if (colon == std::string::npos)
       data = a;
     else
       models.push_back({a.substr(0, colon), std::atoi(a.c_str() + colon + 1)});
@@ -57,12 +74,13 @@ int main(int argc, char** argv) {
     CMGeom::IO::read_mesh(path, tm);
     const CM::Compact_model model = CM::build_compact_model(tm.mesh(), std::size_t(faces));
     for (CM::Projection proj : {CM::Projection::along_normal, CM::Projection::closest_point})
-      for (int threads : {1, 2}) {
+      for (int threads : thread_counts) {
+        if (along_n_only && proj != CM::Projection::along_normal) continue;
         tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-        for (int level = 1; level <= 6; ++level) {
+        for (int level = level_min; level <= level_max; ++level) {
           CM::Reconstruction_options o;
           o.projection = proj;
-          const int runs = level <= 2 ? 60 : level <= 4 ? 15 : 5;
+          const int runs = forced_runs > 0 ? forced_runs : level <= 2 ? 60 : level <= 4 ? 15 : 5;
           double fresh = 1e300, reused = 1e300;
           std::size_t n = 0;
           CM::Reconstruction buffer;

@@ -483,6 +483,44 @@ TEST(CompactModelReconstruction, IdentityVertexMapsAlongNormalGiveThePlainRecons
   for (int level : {2, 4}) EXPECT_TRUE(same(reconstruct_regular(m, level, plain), reconstruct_regular(m, level, mapped)));
 }
 
+// The same with every kind of local surface: the row kernel evaluates quadrics and cones itself
+// (several points at once) and cubics through the traits, and must still give interior()'s bits,
+// also where a cone's quadric form is negative (derivatives NaN: the normal falls back to N) and
+// on rows whose length is not a multiple of the kernel's width (levels 1 to 5).
+TEST(CompactModelReconstruction, AlongNormalRowsGiveThePointwiseBitsForEverySurfaceModel) {
+  Compact_model m = sphere_model();
+  std::size_t cones = 0, negative = 0;
+  for (std::size_t k = 0; k < m.surfaces.size(); ++k) {
+    Local_surface& s = m.surfaces[k];
+    if (k % 3 == 1) {  // cone on the quadric form, apex side alternating; half with q < 0 near v
+      s.model = CONE_MODEL;
+      s.c[5] = k % 2 ? 1. : -1.;
+      if (k % 4 == 1) {
+        for (int i = 0; i < 5; ++i) s.c[i] = -s.c[i];
+        ++negative;
+      }
+      ++cones;
+    } else if (k % 3 == 2) {
+      s.model = CUBIC_MODEL;
+      for (int i = 5; i < 9; ++i) s.c[i] = 0.05 * double(int(k % 7) - 3 + i);
+    }
+  }
+  ASSERT_GT(cones, 10u);
+  ASSERT_GT(negative, 5u);
+  const std::vector<CMGeom::CM::Vertex_affine_map> maps(m.vertices.size());
+  Reconstruction_options plain, mapped;
+  plain.projection = mapped.projection = Projection::along_normal;
+  mapped.vertex_maps = &maps;
+  for (int level = 1; level <= 5; ++level) {
+    const Reconstruction rows = reconstruct_regular(m, level, plain);
+    EXPECT_TRUE(same(rows, reconstruct_regular(m, level, mapped))) << "level " << level;
+    std::size_t non_finite = 0;
+    for (std::size_t i = 0; i < rows.points.size(); ++i)
+      non_finite += !std::isfinite(rows.points[i].x) || !std::isfinite(rows.normals[i].x);
+    EXPECT_EQ(non_finite, 0u) << "level " << level;
+  }
+}
+
 TEST(CompactModelReconstruction, ReusedBufferGivesTheFreshResult) {
   const Compact_model& m = sphere_model();
   Compact_model textured = m;

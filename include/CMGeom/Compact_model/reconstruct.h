@@ -62,11 +62,25 @@
 
 #include <algorithm>
 #include <array>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
+
+// The row kernel of regular reconstruction along N evaluates four grid points at once in AVX
+// registers (GCC/Clang vector types on x86-64, when the processor has AVX, checked at run time;
+// the scalar kernel otherwise). Each lane performs exactly the scalar operations, in the same
+// order (no FMA: the project compiles with -ffp-contract=off and the kernel enables AVX only), so
+// the results are bit-identical to the scalar kernel's, whichever runs.
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__) && defined(__SSE2__) && \
+    !defined(CMGEOM_NO_SIMD)
+#define CMGEOM_CM_SIMD_ROWS 1
+#include <immintrin.h>
+#endif
 
 namespace CMGeom {
 namespace CM {
@@ -248,6 +262,24 @@ inline void apply_vertex_maps(const std::vector<Vertex_affine_map>& maps, int n,
   if (squared_length(cn) > 0.) s.normal = normalized(cn);
 }
 
+#ifdef CMGEOM_CM_SIMD_ROWS
+// Four-lane vectors for the AVX row kernel (see the note at the includes); every function that
+// takes or returns one is compiled for AVX and inlined into the kernel.
+namespace simd {
+typedef double d4 __attribute__((vector_size(32)));
+typedef long long m4 __attribute__((vector_size(32)));
+#define CMGEOM_CM_AVX __attribute__((target("avx"))) CMGEOM_ALWAYS_INLINE
+CMGEOM_CM_AVX d4 splat(double s) { return d4{s, s, s, s}; }
+CMGEOM_CM_AVX d4 sqrt(d4 a) { return (d4)_mm256_sqrt_pd((__m256d)a); }
+// m ? a : b per lane (m: all ones or zero).
+CMGEOM_CM_AVX d4 select(m4 m, d4 a, d4 b) { return (d4)(((m4)a & m) | ((m4)b & ~m)); }
+inline bool has_avx() {
+  static const bool avx = __builtin_cpu_supports("avx");
+  return avx;
+}
+}  // namespace simd
+#endif
+
 template <class Traits>
 class Evaluator {
 public:
@@ -314,6 +346,13 @@ public:
   // frames, surfaces and local corner coordinates read once per row (the kernel of regular
   // reconstruction); the results are bit-identical to interior()'s.
   void along_normal_row(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts, Vec3* nrm) const {
+#ifdef CMGEOM_CM_SIMD_ROWS
+    if (simd::has_avx()) return along_normal_row_avx(f, j, n, pts, nrm);
+#endif
+    along_normal_row_scalar(f, j, n, pts, nrm);
+  }
+
+  void along_normal_row_scalar(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts, Vec3* nrm) const {
     const Local_frame* fr[3] = {&topo_.frames[3 * f], &topo_.frames[3 * f + 1], &topo_.frames[3 * f + 2]};
     const Local_surface* sf[3] = {&m_.surfaces[m_.faces[f][0].surface], &m_.surfaces[m_.faces[f][1].surface],
                                   &m_.surfaces[m_.faces[f][2].surface]};
@@ -331,6 +370,100 @@ public:
       nrm[i - 1] = normalized(q);
     }
   }
+
+#ifdef CMGEOM_CM_SIMD_ROWS
+  // along_normal_row_scalar() on 4 consecutive points at a time: the same operations in the
+  // same order in every lane (Vec3 arithmetic spelled out component-wise, left to right). Lanes
+  // past the end of the row repeat its last point and are not stored.
+  __attribute__((target("avx"))) void along_normal_row_avx(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts,
+                                                            Vec3* nrm) const {
+    using D = simd::d4;
+    using M = simd::m4;
+    constexpr int W = 4;
+    constexpr bool quadric_traits =
+        std::is_same<Traits, Quadric_surface_traits>::value || std::is_same<Traits, Cubic_surface_traits>::value;
+    const std::size_t last = n - 1 - j;  // points i = 1 .. last
+    const double step = 1. / double(n);
+    const D a2 = simd::splat(double(j) * step), vstep = simd::splat(step);
+    const D zero = simd::splat(0.), one = simd::splat(1.), big = simd::splat(DBL_MAX);
+    const D w2 = a2 * a2 * a2;
+    for (std::size_t i0 = 1; i0 <= last; i0 += W) {
+      D a0, a1;
+      for (int l = 0; l < W; ++l) {
+        const std::size_t i = std::min(i0 + std::size_t(l), last);
+        a1[l] = double(i);
+        a0[l] = double(n - i - j);
+      }
+      a1 = a1 * vstep;
+      a0 = a0 * vstep;
+      const D w[3] = {a0 * a0 * a0, a1 * a1 * a1, w2};
+      const D inv = one / (w[0] + w[1] + w[2]);
+      D px = zero, py = zero, pz = zero, qx = zero, qy = zero, qz = zero;
+      for (int c = 0; c < 3; ++c) {
+        const Local_frame& fr = topo_.frames[3 * f + c];
+        const Local_surface& s = m_.surfaces[m_.faces[f][c].surface];
+        const std::array<Vec3, 3>& L = topo_.corner_local[3 * f + c];
+        const D x = a0 * simd::splat(L[0].x) + a1 * simd::splat(L[1].x) + a2 * simd::splat(L[2].x);
+        const D y = a0 * simd::splat(L[0].y) + a1 * simd::splat(L[1].y) + a2 * simd::splat(L[2].y);
+        D h, d0, d1;
+        if (quadric_traits && (s.model == QUADRIC_MODEL || s.model == CONE_MODEL)) {
+          // evaluate_height()'s quadric, lane-wise; a cone is s sqrt of that quadric, with
+          // derivatives s q_x / (2 sqrt q) (NaN where q <= 0, as evaluate_height() gives).
+          const auto& k = s.c;
+          h = simd::splat(k[0]) * x * x + simd::splat(k[1]) * x * y + simd::splat(k[2]) * y * y +
+              simd::splat(k[3]) * x + simd::splat(k[4]) * y;
+          d0 = simd::splat(2 * k[0]) * x + simd::splat(k[1]) * y + simd::splat(k[3]);
+          d1 = simd::splat(k[1]) * x + simd::splat(2 * k[2]) * y + simd::splat(k[4]);
+          if (s.model == CONE_MODEL) {
+            const D sgn = simd::splat(k[5] < 0 ? -1. : 1.), two = simd::splat(2.);
+            const D nan = simd::splat(std::numeric_limits<double>::quiet_NaN());
+            const M inside = ~(h <= zero);  // NaN stays NaN, as in evaluate_height()
+            const D r = simd::sqrt(simd::select(inside, h, one));
+            d0 = simd::select(inside, sgn * d0 / (two * r), nan);
+            d1 = simd::select(inside, sgn * d1 / (two * r), nan);
+            h = simd::select(inside, sgn * r, zero);
+          }
+        } else {
+          for (int l = 0; l < W; ++l) {
+            double d[5];
+            h[l] = traits_.height(s, x[l], y[l], d);
+            d0[l] = d[0];
+            d1[l] = d[1];
+          }
+        }
+        // p += (w inv) to_world(x, y, h); to_world = ((origin + x U) + y V) + h N.
+        const D wi = w[c] * inv;
+        px = px + wi * (((simd::splat(fr.origin.x) + x * simd::splat(fr.U.x)) + y * simd::splat(fr.V.x)) +
+                        h * simd::splat(fr.N.x));
+        py = py + wi * (((simd::splat(fr.origin.y) + x * simd::splat(fr.U.y)) + y * simd::splat(fr.V.y)) +
+                        h * simd::splat(fr.N.y));
+        pz = pz + wi * (((simd::splat(fr.origin.z) + x * simd::splat(fr.U.z)) + y * simd::splat(fr.V.z)) +
+                        h * simd::splat(fr.N.z));
+        // g = (N - d0 U) - d1 V; q += (w / |g|) g, or w N when |g|^2 is not finite and positive.
+        const D Nx = simd::splat(fr.N.x), Ny = simd::splat(fr.N.y), Nz = simd::splat(fr.N.z);
+        const D gx = (Nx - d0 * simd::splat(fr.U.x)) - d1 * simd::splat(fr.V.x);
+        const D gy = (Ny - d0 * simd::splat(fr.U.y)) - d1 * simd::splat(fr.V.y);
+        const D gz = (Nz - d0 * simd::splat(fr.U.z)) - d1 * simd::splat(fr.V.z);
+        const D g2 = gx * gx + gy * gy + gz * gz;
+        const M ok = (g2 > zero) & (g2 <= big);
+        const D scale = simd::select(ok, w[c] / simd::sqrt(g2), w[c]);
+        qx = qx + scale * simd::select(ok, gx, Nx);
+        qy = qy + scale * simd::select(ok, gy, Ny);
+        qz = qz + scale * simd::select(ok, gz, Nz);
+      }
+      // normalized(q) = q * (1 / |q|) when |q| > 0.
+      const D len = simd::sqrt(qx * qx + qy * qy + qz * qz);
+      const M pos = len > zero;
+      const D r = simd::select(pos, one / len, one);
+      const D nx = simd::select(pos, qx * r, qx), ny = simd::select(pos, qy * r, qy), nz = simd::select(pos, qz * r, qz);
+      const int valid = int(std::min<std::size_t>(W, last + 1 - i0));
+      for (int l = 0; l < valid; ++l) {
+        pts[i0 + l - 1] = Vec3(px[l], py[l], pz[l]);
+        nrm[i0 + l - 1] = Vec3(nx[l], ny[l], nz[l]);
+      }
+    }
+  }
+#endif
 
   // Phi at barycentric (a0, a1, a2) of face f (a point not on a base edge, or on a smooth one).
   Sample interior(std::uint32_t f, double a0, double a1, double a2) const {
@@ -563,30 +696,48 @@ void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
       // The output id (and texture coordinates) of every grid point, computed once, then the
       // triangles: grid point (i, j) is entry row(j) + i.
       auto row = [n](std::size_t j) { return j * (n + 1) - j * (j - 1) / 2; };
-      for (std::size_t j = 0; j <= n; ++j)
-        for (std::size_t i = 0; i + j <= n; ++i) grid[row(j) + i] = index(i, j);
+      for (std::size_t j = 0; j <= n; ++j) {
+        std::uint32_t* g = grid.data() + row(j);
+        const std::size_t last = n - j;  // row j holds i = 0 .. last
+        g[0] = index(0, j);
+        g[last] = index(last, j);
+        if (j == 0) {
+          for (std::size_t i = 1; i < last; ++i) g[i] = index(i, 0);
+        } else if (last >= 2) {  // interior ids of a row are consecutive
+          const std::uint32_t first = index(1, j);
+          for (std::size_t i = 1; i < last; ++i) g[i] = first + std::uint32_t(i - 1);
+        }
+      }
+      // Triangles (i,j) (i+1,j) (i,j+1) and (i+1,j) (i+1,j+1) (i,j+1), row by row.
+      std::array<std::uint32_t, 3>* T = r.triangles.data() + f * n * n;
+      for (std::size_t j = 0; j < n; ++j) {
+        const std::uint32_t* g0 = grid.data() + row(j);
+        const std::uint32_t* g1 = grid.data() + row(j + 1);
+        const std::size_t last = n - 1 - j;  // i = 0 .. last
+        for (std::size_t i = 0; i < last; ++i) {
+          *T++ = {g0[i], g0[i + 1], g1[i]};
+          *T++ = {g0[i + 1], g1[i + 1], g1[i]};
+        }
+        *T++ = {g0[last], g0[last + 1], g1[last]};
+      }
+      std::fill_n(r.base_face.data() + f * n * n, n * n, std::uint32_t(f));
       if (m.has_uvs()) {
         for (std::size_t j = 0; j <= n; ++j)
           for (std::size_t i = 0; i + j <= n; ++i)
             grid_uv[row(j) + i] = internal::interpolate_uv(m.uvs[f], double(n - i - j) / double(n), double(i) / double(n),
                                                            double(j) / double(n));
-      }
-      std::size_t t = f * n * n;
-      auto emit = [&](std::size_t g0, std::size_t g1, std::size_t g2) {
-        r.triangles[t] = {grid[g0], grid[g1], grid[g2]};
-        r.base_face[t] = std::uint32_t(f);
-        if (m.has_uvs()) {
-          r.corner_uvs[3 * t] = grid_uv[g0];
-          r.corner_uvs[3 * t + 1] = grid_uv[g1];
-          r.corner_uvs[3 * t + 2] = grid_uv[g2];
-        }
-        ++t;
-      };
-      for (std::size_t j = 0; j < n; ++j) {
-        const std::size_t r0 = row(j), r1 = row(j + 1);
-        for (std::size_t i = 0; i + j < n; ++i) {
-          emit(r0 + i, r0 + i + 1, r1 + i);                          // (i,j) (i+1,j) (i,j+1)
-          if (i + j + 2 <= n) emit(r0 + i + 1, r1 + i + 1, r1 + i);  // (i+1,j) (i+1,j+1) (i,j+1)
+        std::array<float, 2>* U = r.corner_uvs.data() + 3 * f * n * n;
+        auto put = [&](std::size_t a, std::size_t b, std::size_t c) {
+          *U++ = grid_uv[a];
+          *U++ = grid_uv[b];
+          *U++ = grid_uv[c];
+        };
+        for (std::size_t j = 0; j < n; ++j) {
+          const std::size_t r0 = row(j), r1 = row(j + 1);
+          for (std::size_t i = 0; i + j < n; ++i) {
+            put(r0 + i, r0 + i + 1, r1 + i);
+            if (i + j + 2 <= n) put(r0 + i + 1, r1 + i + 1, r1 + i);
+          }
         }
       }
     }
