@@ -3,8 +3,9 @@
 //
 // The CM file format (thesis §4.4.3: "storing vertices, least-squares coefficient list, normal
 // vectors, cone-type vertex list and ... the faces by three sets of three indices: vertex,
-// coefficient list and normal vector"), binary, little-endian. Version 2 is written, versions 1
-// and 2 are read.
+// coefficient list and normal vector"), binary, little-endian. Version 2 is written here,
+// versions 1 and 2 are read here; version 3, the compact quantized file written by
+// write_compact_cm(), is described in cm_compact_io.h and read by parse_cm()/read_cm() too.
 //
 //   offset  size            content
 //   0       8               magic "CMGEOMCM"
@@ -249,19 +250,34 @@ inline std::string cm_bytes(const Compact_model& m) {
   return w.out;
 }
 
-/// Parses the bytes of a CM file (version 1 or 2); `file` names it in error messages.
+#ifdef CMGEOM_COMPACT_MODEL_PRECOMPILED
+namespace internal {
+// Version 3 (cm_compact_io.h), compiled in the CMGeom::Compact_model library.
+Compact_model parse_compact_cm(const std::string& bytes, const std::string& file);
+}  // namespace internal
+#endif
+
+/// Parses the bytes of a CM file (version 1, 2 or 3); `file` names it in error messages. Version
+/// 3 (the compact, quantized file of cm_compact_io.h) needs the CMGeom::Compact_model library.
 inline Compact_model parse_cm(const std::string& bytes, const std::string& file = "<memory>") {
   using internal::Le_reader;
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   if (bytes.size() < 8 || std::memcmp(bytes.data(), internal::cm_magic, 8) != 0)
     throw IO_error(file, "not a CM file (bad magic number)");
+  if (bytes.size() >= 12 && data[8] == 3 && data[9] == 0 && data[10] == 0 && data[11] == 0) {
+#ifdef CMGEOM_COMPACT_MODEL_PRECOMPILED
+    return internal::parse_compact_cm(bytes, file);
+#else
+    throw IO_error(file, "a version 3 (compact) CM file: reading it needs the CMGeom::Compact_model library");
+#endif
+  }
   if (bytes.size() < internal::cm_header_size + 8)
     throw IO_error(file, "truncated file: " + std::to_string(bytes.size()) + " bytes, header needs " +
                              std::to_string(internal::cm_header_size + 8));
   Le_reader r{data, bytes.size() - 8, 8, file};  // the trailing checksum is not content
   const std::uint32_t version = r.u32();
   if (version != 1 && version != 2)
-    throw IO_error(file, "unsupported CM version " + std::to_string(version) + " (this reader knows 1 and 2)");
+    throw IO_error(file, "unsupported CM version " + std::to_string(version) + " (this reader knows 1, 2 and 3)");
   const std::uint32_t flags = r.u32();
   const std::uint32_t known_flags = version == 1 ? 1u : 3u;
   if (flags & ~known_flags) throw IO_error(file, "unknown flags " + std::to_string(flags));
