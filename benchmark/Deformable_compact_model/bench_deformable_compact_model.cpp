@@ -313,6 +313,110 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
   }
 }
 
+// --scale: a large mesh (e.g. igea subdivided once, >= 1M faces) posed by the lattice cage
+// (grid 4 x 4 x 4, Green and mean value coordinates); the deformable CM with `base_faces` base
+// faces reconstructed at `level` against the full mesh deformed by the same cage. Per pose: (a)
+// every vertex of the mesh; (d) base deformed, local maps, deformed reconstruction along N into a
+// reused buffer; (e) base deformed, local maps, blend of the kept rest reconstruction. Memory:
+// (a) mesh + coordinates of every vertex + posed points; (d) CM file + base coordinates + local-map data +
+// output; (e) also the kept rest points, normals, triangles, corners and weights.
+void run_scale(const std::string& path, std::size_t base_faces, int level) {
+  CMGeom::Textured_mesh tm;
+  CMGeom::IO::read_mesh(path, tm);
+  const CMGeom::Surface_mesh& mesh = tm.mesh();
+  std::vector<CD::Vec3> pts;
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  for (auto v : mesh.vertices()) pts.push_back({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
+  for (auto f : mesh.faces()) {
+    std::array<std::uint32_t, 3> t;
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) t[k++] = std::uint32_t(v);
+    tris.push_back(t);
+  }
+  double t0 = now();
+  const CM::Compact_model model = CM::build_compact_model(mesh, base_faces);
+  const double build_s = now() - t0;
+  const std::size_t cm_bytes = CM::cm_bytes(model).size();
+  std::printf("Scale: %s, %zu vertices, %zu faces; CM %zu base faces (build %.1f s, file %.3f MB), level %d\n\n",
+              fs::path(path).filename().string().c_str(), pts.size(), tris.size(), model.faces.size(), build_s,
+              cm_bytes / 1e6, level);
+  std::printf("| cage | method | points | memory MB | bind s | s per pose | speed-up vs (a) | memory ratio (a)/row | "
+              "Hausdorff %% vs (a) | RMS %% vs (a) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  const Box b = box_of(pts);
+  std::vector<std::array<double, 3>> P;
+  std::vector<std::vector<std::uint32_t>> Q;
+  grid_cage(b, 4, P, Q);
+  CD::Triangle_cage cage = CD::make_triangle_cage(P, Q);
+  CD::validate_cage(cage, "lattice");
+  std::vector<CD::Vec3> posed;
+  for (const auto& p : cage.vertices) posed.push_back(pose(b, p));
+  CMGeom::Metrics::Error_options eo;
+  eo.vertex_field = false;
+  eo.sample_edges = false;
+  eo.samples = 2000000;
+  auto one = [&](const std::string& cage_name, const auto& setup) {
+    const auto& basis = setup.basis();
+    // (a) every vertex.
+    t0 = now();
+    std::size_t a_bytes, a_K;
+    double a_bind, a_pose;
+    std::vector<CD::Vec3> da;
+    {
+      const auto ba = setup.bind(pts);
+      a_bind = now() - t0;
+      a_bytes = 2 * pts.size() * 24 + tris.size() * 12 + ba.weights_bytes();  // rest and posed points
+      a_K = setup.K();
+      a_pose = best_of(3, [&] { ba.deform(basis, da); });
+    }  // the coordinates of every vertex are freed here
+    const CMGeom::Surface_mesh ref = mesh_of(da, tris);
+    std::printf("| %s (K=%zu) | (a) full mesh, direct | %zu | %.1f | %.2f | %.4f | 1.00 | 1.0 | - | - |\n",
+                cage_name.c_str(), a_K, pts.size(), a_bytes / 1e6, a_bind, a_pose);
+    std::fflush(stdout);
+    DCM::Deformable_compact_model dcm(model);
+    auto cd = setup.deformer();
+    t0 = now();
+    cd.bind(dcm.base_vertices());
+    const double d_bind = now() - t0;
+    auto report = [&](const std::string& method, const CM::Reconstruction& out, std::size_t bytes, double bind,
+                      double per_pose) {
+      const auto e = CMGeom::Metrics::approximation_error(ref, mesh_of(to_cd(out.points), out.triangles), eo);
+      std::printf("| %s (K=%zu) | %s | %zu | %.1f | %.2f | %.4f | %.2f | %.1f | %.3f | %.4f |\n", cage_name.c_str(),
+                  a_K, method.c_str(), out.points.size(), bytes / 1e6, bind, per_pose, a_pose / per_pose,
+                  double(a_bytes) / double(bytes), 100 * e.hausdorff, 100 * e.rms);
+      std::fflush(stdout);
+    };
+    {
+      CM::Reconstruction out;
+      CM::Reconstruction_options ro;
+      ro.projection = CM::Projection::along_normal;
+      const double per_pose = best_of(3, [&] {
+        dcm.deform(cd);
+        dcm.reconstruct_regular(level, out, ro);
+      });
+      const std::size_t out_bytes = out.points.size() * 48 + out.triangles.size() * 16;
+      report("(d) deformable CM level " + std::to_string(level) + ", along N", out,
+             cm_bytes + cd.weights_bytes() + dcm.bytes() + out_bytes, d_bind, per_pose);
+    }
+    {
+      t0 = now();
+      const DCM::Deformable_reconstruction cache(model, level);
+      const double bind = d_bind + now() - t0;
+      CM::Reconstruction out;
+      const double per_pose = best_of(3, [&] {
+        dcm.deform(cd);
+        cache.deform(dcm, out);
+      });
+      const std::size_t out_bytes = out.points.size() * 48 + out.triangles.size() * 16;
+      // cache.bytes(): rest points, normals, corners, weights; plus its triangles and base faces.
+      report("(e) deformable CM level " + std::to_string(level) + ", rest reconstruction kept", out,
+             cm_bytes + cd.weights_bytes() + dcm.bytes() + cache.bytes() + out.triangles.size() * 16 + out_bytes, bind,
+             per_pose);
+    }
+  };
+  one("lattice 4x4x4 Green", Single_cage_setup<CD::Green_coordinates_3>(CD::Green_coordinates_3(cage), posed));
+  one("lattice 4x4x4 MVC", Single_cage_setup<CD::Mean_value_coordinates_3>(CD::Mean_value_coordinates_3(cage), posed));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -321,7 +425,13 @@ int main(int argc, char** argv) {
   std::vector<std::pair<std::string, std::size_t>> models;
   for (int i = 1; i < argc; ++i) {
     const std::string s = argv[i];
-    if (s == "--write-cages" && i + 1 < argc) {
+    if (s == "--scale" && i + 1 < argc) {  // --scale <mesh file>:<base faces>:<level>
+      const std::string a = argv[++i];
+      const auto c2 = a.rfind(':'), c1 = a.rfind(':', c2 - 1);
+      std::printf("Threads: %d (TBB default concurrency)\n\n", tbb::info::default_concurrency());
+      run_scale(a.substr(0, c1), std::stoul(a.substr(c1 + 1, c2 - c1 - 1)), std::stoi(a.substr(c2 + 1)));
+      return 0;
+    } else if (s == "--write-cages" && i + 1 < argc) {
       cage_dir = argv[++i];
     } else if (s == "--cages" && i + 1 < argc) {  // comma-separated subset of box,grid,system
       cages.clear();

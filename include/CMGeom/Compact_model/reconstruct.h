@@ -345,11 +345,29 @@ public:
   // regular grid of step 1/n, written to pts[i - 1] and nrm[i - 1]: interior() with the corner
   // frames, surfaces and local corner coordinates read once per row (the kernel of regular
   // reconstruction); the results are bit-identical to interior()'s.
+  // With vertex maps, every point of the row is then mapped as interior() maps it (same
+  // normalised weights), so mapped rows also give interior()'s bits.
   void along_normal_row(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts, Vec3* nrm) const {
 #ifdef CMGEOM_CM_SIMD_ROWS
-    if (simd::has_avx()) return along_normal_row_avx(f, j, n, pts, nrm);
+    if (simd::has_avx())
+      along_normal_row_avx(f, j, n, pts, nrm);
+    else
 #endif
-    along_normal_row_scalar(f, j, n, pts, nrm);
+      along_normal_row_scalar(f, j, n, pts, nrm);
+    if (!maps_) return;
+    const auto& F = m_.faces[f];
+    const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
+    const double a2 = double(j) / double(n);
+    for (std::size_t i = 1; i + j < n; ++i) {
+      const double a1 = double(i) / double(n), a0 = double(n - i - j) / double(n);
+      const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
+      const double sum = w[0] + w[1] + w[2];
+      const double wn[3] = {w[0] / sum, w[1] / sum, w[2] / sum};
+      Sample s{pts[i - 1], nrm[i - 1]};
+      apply_vertex_maps(*maps_, 3, v, wn, s);
+      pts[i - 1] = s.point;
+      nrm[i - 1] = s.normal;
+    }
   }
 
   void along_normal_row_scalar(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts, Vec3* nrm) const {
@@ -656,7 +674,7 @@ void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
       },
       &progress);
   progress.phase(edge_share, 1., F);
-  const bool along_n_rows = opt.projection == Projection::along_normal && opt.vertex_maps == nullptr;
+  const bool along_n_rows = opt.projection == Projection::along_normal;
   internal::for_blocks(F, opt.parallel, [&](std::size_t f_begin, std::size_t f_end) {
     std::vector<std::uint32_t> grid((n + 1) * (n + 2) / 2);
     std::vector<std::array<float, 2>> grid_uv(m.has_uvs() ? grid.size() : 0);
