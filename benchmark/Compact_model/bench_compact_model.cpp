@@ -10,8 +10,15 @@
 // Prints a Markdown table. Never run by CTest.
 //
 // Usage: bench_compact_model [data_dir] [model:faces ...]   (default: the six models below)
+//        bench_compact_model --adaptive [data_dir] [model:faces ...]
+// The second form compares, at equal output vertex counts, the regular reconstruction of levels
+// 2-4 with the adaptive one driven by Chord_error_criterion (error_criterion.h: the tolerance
+// chosen by reconstruct_to_vertex_budget for the regular level's vertex count, at most 3 more
+// halvings) and with the length criterion of §4.5.2 (its threshold bisected to the same budget);
+// the CM is built with the default Build_options.
 // Environment: CMGEOM_CM_CONE_RATIO overrides Build_options::cone_error_ratio.
 #include <CMGeom/Compact_model.h>
+#include <CMGeom/Compact_model/error_criterion.h>
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -141,9 +148,66 @@ Error metro(const CMGeom::Surface_mesh& ref, const CMGeom::Surface_mesh& app) {
   return {std::sqrt(mx) / diag, std::sqrt(sum / double(n)) / diag};
 }
 
+
+// Regular against adaptive reconstructions at equal output vertex counts (see the file comment).
+int adaptive_table(const std::string& data, const std::vector<Model>& models, const std::string& tmp) {
+  std::printf("| model | base V/F | level | regular V | regular Hausdorff %% | regular RMS %% | chord-error V | tolerance %% | "
+              "chord-error Hausdorff %% | chord-error RMS %% | length V | length Hausdorff %% | length RMS %% |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Model& md : models) {
+    std::string path = data + "/" + md.file;
+    if (!std::filesystem::exists(path)) {
+      std::fprintf(stderr, "skipping %s (not found)\n", path.c_str());
+      continue;
+    }
+    path = cmgeom_bench::readable_model(path, tmp);
+    if (path.empty()) continue;
+    CMGeom::Textured_mesh tm;
+    CMGeom::IO::read_mesh(path, tm);
+    const CMGeom::Surface_mesh& mesh = tm.mesh();
+    const double diagonal = cmgeom_bench::diagonal(CGAL::Polygon_mesh_processing::bbox(mesh));
+    const CM::Compact_model model = CM::build_compact_model(mesh, md.base_faces);
+    CM::Reconstruction_options ro;
+    ro.projection = CM::Projection::closest_point;
+    const std::string name = std::filesystem::path(md.file).filename().string();
+    for (int level = 2; level <= 4; ++level) {
+      const CM::Reconstruction reg = CM::reconstruct_regular(model, level, ro);
+      const std::size_t budget = reg.points.size();
+      const auto er = metro(mesh, CM::to_surface_mesh(reg));
+      const CM::Vertex_budget_result ad = CM::reconstruct_to_vertex_budget(model, budget, level + 3, ro);
+      const auto ea = metro(mesh, CM::to_surface_mesh(ad.reconstruction));
+      // Length criterion at the same budget: bisection on log(length).
+      double lo = 1e-6 * diagonal, hi = diagonal;
+      CM::Reconstruction len;
+      for (int i = 0; i < 30 && hi / lo > 1.0005; ++i) {
+        const double mid = std::sqrt(lo * hi);
+        CM::Reconstruction r = CM::reconstruct_adaptive(model, CM::Edge_length_criterion{mid}, level + 3, ro);
+        if (r.points.size() <= budget) {
+          hi = mid;
+          if (r.points.size() > len.points.size()) len = std::move(r);
+        } else {
+          lo = mid;
+        }
+      }
+      const auto el = metro(mesh, CM::to_surface_mesh(len));
+      std::printf("| %s | %zu/%zu | %d | %zu | %.3f | %.4f | %zu | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n", name.c_str(),
+                  model.vertices.size(), model.faces.size(), level, budget, 100 * er.hausdorff, 100 * er.rms,
+                  ad.reconstruction.points.size(), 100 * ad.tolerance / diagonal, 100 * ea.hausdorff, 100 * ea.rms,
+                  len.points.size(), 100 * el.hausdorff, 100 * el.rms);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  const bool adaptive = argc > 1 && std::string(argv[1]) == "--adaptive";
+  if (adaptive) {
+    --argc;
+    ++argv;
+  }
   const std::string data = argc > 1 ? argv[1] : CMGEOM_BENCH_DATA_DIR;
   std::vector<Model> models = {{"classic/fandisk.obj", 250},      {"classic/trim-star.off", 1000},
                                {"classic/camel.off", 1000},       {"classic/horse.ply", 1000},
@@ -158,6 +222,7 @@ int main(int argc, char** argv) {
   }
   const std::string tmp = (std::filesystem::temp_directory_path() / "cmgeom_bench_cm").string();
   std::filesystem::create_directories(tmp);
+  if (adaptive) return adaptive_table(data, models, tmp);
   std::printf("Threads: %d (TBB default concurrency)\n\n", tbb::info::default_concurrency());
   std::printf("| model | fit | input V/F | base V/F | sharp | cones | build s | CM bytes | level | rec s (normal) | Mvert/s (normal) | "
               "rec s (closest) | out V | CM Hausdorff %% | CM RMS %% | PN Hausdorff %% | PN RMS %% | plain F (equal bytes) | "
