@@ -18,9 +18,12 @@
 #include <CMGeom/Cage_deformation/Cage_system.h>
 #include <CMGeom/Cage_deformation/Cage_system_io.h>
 #include <CMGeom/Compact_model.h>
+#include <CMGeom/Compact_model/cm_compact_io.h>
+#include <CMGeom/Compact_model/rate_distortion.h>
 #include <CMGeom/Deformable_compact_model.h>
 #include <CMGeom/Deformable_compact_model/Cage_system_deformer.h>
 #include <CMGeom/Error.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CMGeom/Mesh_IO/Atomic_output.h>
 #include <CMGeom/Mesh_IO/image_io.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
@@ -89,8 +92,10 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     std::size_t faces = 0;
     double ratio = 0, sharp_angle = 40, error_bound = 0;
     int error_rounds = 2, error_level = 2;
-    bool cubic = false, joint_fit = false, json = false, no_texture = false, repair = false;
-    int texture_size = 0;
+    bool cubic = false, joint_fit = false, json = false, no_texture = false, repair = false, compact = false;
+    int texture_size = 0, normal_bits = 12, max_level = 3;
+    double tolerance = 0, max_error = 0;
+    std::size_t max_bytes = 0;
   };
   auto b = std::make_shared<Build_args>();
   CLI::App* build = app.add_subcommand("build", "Build the Compact Model of a triangle mesh (thesis 4.3-4.4)");
@@ -98,8 +103,21 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
   build->add_option("-o,--output", b->output, "Output CM file")->required();
   auto* faces = build->add_option("--faces", b->faces, "Faces of the base (simplified) mesh");
   auto* ratio = build->add_option("--ratio", b->ratio, "Base faces as a fraction of the input faces, in (0, 1]");
+  auto* max_error = build->add_option("--max-error", b->max_error,
+                                      "Rate-distortion: the smallest model whose reconstruction is within this symmetric "
+                                      "Hausdorff distance, a fraction of the bounding-box diagonal (chooses base size, "
+                                      "quantization and level; writes the compact file)");
+  auto* max_bytes = build->add_option("--bytes", b->max_bytes,
+                                      "Rate-distortion: the lowest-error model whose compact file fits in this many bytes "
+                                      "(with --max-error: the smallest within both)");
+  auto* rate_level = build->add_option("--max-level", b->max_level,
+                                       "Rate-distortion: highest reconstruction level considered, 1-6 (default 3)");
   faces->excludes(ratio);
   ratio->excludes(faces);
+  for (CLI::Option* o : {max_error, max_bytes}) {
+    o->excludes(faces);
+    o->excludes(ratio);
+  }
   build->add_option("--sharp-angle", b->sharp_angle, "Sharp-edge threshold in degrees (thesis 4.4.2; default 40)");
   build->add_option("--error-bound", b->error_bound,
                     "Error control (thesis 4.5.3): absolute distance bound, 0 = off (default)");
@@ -115,6 +133,14 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
   build->add_flag("--repair", b->repair, "Split non-manifold edges/vertices and fix orientation while reading");
   build->add_option("--texture-size", b->texture_size,
                     "Textured input: texels per UV unit of the base's new atlas (default: the input texture's size)");
+  build->add_flag("--compact", b->compact,
+                  "Write the compact, quantized CM file (format version 3: positions on a grid, normals and "
+                  "coefficients quantized, entropy coded; CMGeom addition)");
+  auto* tolerance = build->add_option("--tolerance", b->tolerance,
+                                      "Compact file: grid step of the positions and twice the coefficient tolerance, as a "
+                                      "fraction of the input's bounding-box diagonal (default 1e-4)");
+  auto* normal_bits = build->add_option("--normal-bits", b->normal_bits,
+                                        "Compact file: bits per octahedral coordinate of the frame normals, 6-20 (default 12)");
   build->add_flag("--json", b->json, "Print a JSON report on stdout");
 
   // ------------------------------------------------------------------ cm reconstruct
@@ -168,8 +194,9 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
   def->add_option("--flatness", d->flatness, "Local maps: regularise 1-rings flatter than this (default 0.01; 0 = never, planar 1-rings then only translate)");
   def->add_flag("--json", d->json, "Print a JSON report on stdout");
 
-  return [build, rec, def, b, r, d, faces, ratio, level, edge, roi, sil, d_cages, d_affine, d_edge, d_roi, d_sil]() -> int {
+  return [build, rec, def, b, r, d, faces, ratio, level, edge, roi, sil, d_cages, d_affine, d_edge, d_roi, d_sil, tolerance, normal_bits, max_error, max_bytes, rate_level]() -> int {
     if (def->parsed()) {
+      const double t_command = cmgeom_cli::now_seconds();
       if (d_cages->count() == 0 && d_affine->count() == 0) throw CMGeom::Invalid_input("one of --cages or --affine is required");
       if (d->max_level < 0 || d->max_level > 20) throw CMGeom::Invalid_input("--max-level must be in [0, 20]");
       if (!(d->flatness >= 0 && d->flatness <= 1)) throw CMGeom::Invalid_input("--flatness must be in [0, 1]");
@@ -278,8 +305,9 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
         out = reconstruct_with_progress(ro, model.faces.size() << (2 * d->level),
                                         [&](const CM::Reconstruction_options& o) { return dcm.reconstruct_regular(d->level, o); });
       }
-      const double reconstruct_seconds = cmgeom_cli::now_seconds() - t0;
+      const double reconstruct_seconds = cmgeom_cli::now_seconds() - t0;  // the library call alone
       write_reconstruction(out, model.texture, d->output);
+      const double command_seconds = cmgeom_cli::now_seconds() - t_command;  // reading and writing included
       if (d->json) {
         j["mode"] = mode;
         j["projection"] = d->projection;
@@ -295,6 +323,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
         j["local_maps_seconds"] = maps_seconds;
         j["deform_seconds"] = deform_seconds + maps_seconds;
         j["reconstruct_seconds"] = reconstruct_seconds;
+        j["seconds"] = command_seconds;
         j["weights_bytes"] = weights_bytes;
         j["local_maps_bytes"] = dcm.bytes();
         cmgeom_cli::print_json(j);
@@ -302,7 +331,18 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       return 0;
     }
     if (build->parsed()) {
-      if (faces->count() == 0 && ratio->count() == 0) throw CMGeom::Invalid_input("one of --faces or --ratio is required");
+      const bool rate = max_error->count() || max_bytes->count();
+      if (faces->count() == 0 && ratio->count() == 0 && !rate)
+        throw CMGeom::Invalid_input("one of --faces, --ratio, --max-error or --bytes is required");
+      if (max_error->count() && !(b->max_error > 0 && b->max_error < 1))
+        throw CMGeom::Invalid_input("--max-error must be in (0, 1) (a fraction of the bounding-box diagonal)");
+      if (max_bytes->count() && b->max_bytes < 64) throw CMGeom::Invalid_input("--bytes must be at least 64");
+      if (rate_level->count() && !rate) throw CMGeom::Invalid_input("--max-level applies to --max-error and --bytes");
+      if (b->max_level < 1 || b->max_level > 6) throw CMGeom::Invalid_input("--max-level must be in [1, 6]");
+      if (rate && tolerance->count())
+        throw CMGeom::Invalid_input("--tolerance is chosen by --max-error and --bytes: give one or the other");
+      if (rate && (b->error_bound > 0))
+        throw CMGeom::Invalid_input("--error-bound (error control) cannot be combined with --max-error or --bytes");
       if (ratio->count() && !(b->ratio > 0 && b->ratio <= 1))
         throw CMGeom::Invalid_input("--ratio must be in (0, 1], got " + std::to_string(b->ratio));
       if (faces->count() && b->faces < 2) throw CMGeom::Invalid_input("--faces must be at least 2");
@@ -313,6 +353,11 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       if (b->error_level < 0 || b->error_level > 8) throw CMGeom::Invalid_input("--error-level must be in [0, 8]");
       if (b->texture_size < 0 || b->texture_size > 16384)
         throw CMGeom::Invalid_input("--texture-size must be in [0, 16384]");
+      if ((tolerance->count() || normal_bits->count()) && !b->compact)
+        throw CMGeom::Invalid_input("--tolerance and --normal-bits apply to the compact file: add --compact");
+      if (tolerance->count() && !(b->tolerance > 0 && b->tolerance < 1))
+        throw CMGeom::Invalid_input("--tolerance must be in (0, 1) (a fraction of the bounding-box diagonal)");
+      if (b->normal_bits < 6 || b->normal_bits > 20) throw CMGeom::Invalid_input("--normal-bits must be in [6, 20]");
       CMGeom::Textured_mesh tm;
       CMGeom::IO::Read_options read_options;
       read_options.repair = b->repair;
@@ -323,12 +368,15 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       // chart constraints of chapter 3 and, when the texture can be decoded, gets a new atlas
       // written next to the CM file as <output stem>.png.
       const bool textured = tm.has_uvs() && !b->no_texture;
+      if (textured && rate)
+        throw CMGeom::Invalid_input(b->input + ": --max-error and --bytes build geometry-only models: add --no-texture");
       if (textured) {
         cmgeom_cli::Progress stage("load textures", double(tm.materials().size()), "materials");
         CMGeom::IO::load_textures(tm);
       }
       const std::size_t target =
-          faces->count() ? b->faces : std::size_t(std::max(2.0, std::round(b->ratio * double(mesh.number_of_faces()))));
+          faces->count() ? b->faces
+                         : std::size_t(std::max(2.0, std::round((rate ? 1.0 : b->ratio) * double(mesh.number_of_faces()))));
       CM::Build_options opt;
       opt.sharp_angle = b->sharp_angle;
       opt.error_bound = b->error_bound;
@@ -343,7 +391,28 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       opt.progress = stage.hook();
       const double t0 = cmgeom_cli::now_seconds();
       CM::Compact_model model;
-      if (textured) {
+      CM::Rate_choice choice;
+      if (rate) {
+        CM::Rate_target rt;
+        rt.max_error = b->max_error;
+        rt.max_bytes = b->max_bytes;
+        rt.max_level = b->max_level;
+        rt.progress = stage.hook();
+        opt.progress = nullptr;
+        model = b->cubic ? CM::build_compact_model_for(mesh, rt, choice, opt, CM::Cubic_surface_traits())
+                         : CM::build_compact_model_for(mesh, rt, choice, opt, CM::Quadric_surface_traits());
+        if (!choice.met) {
+          std::ostringstream m;
+          m << "no model meets the target: the closest has a " << choice.base_faces << "-face base, " << choice.bytes
+            << " bytes, Hausdorff " << choice.hausdorff << " of the diagonal at level " << choice.level
+            << " (nothing written)";
+          throw CMGeom::Invalid_input(m.str());
+        }
+        st.base_vertices = model.vertices.size();
+        st.base_faces = model.faces.size();
+        st.sharp_edges = model.sharp_edges().size();
+        st.cone_vertices = model.cone_vertices().size();
+      } else if (textured) {
         CMGeom::Textured_simplification::Textured_simplification_options to = CM::textured_base_options();
         to.texture_size = b->texture_size;
         model = b->cubic ? CM::build_textured_compact_model(tm, target, opt, CM::Cubic_surface_traits(), &tr, &st, to)
@@ -355,6 +424,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       const double seconds = cmgeom_cli::now_seconds() - t0;
       stage.done();
       std::size_t bytes = 0;
+      CM::CM_file_parts parts;
       std::string atlas;
       {
         // the CM and its atlas appear together or not at all
@@ -365,7 +435,19 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
           CMGeom::IO::write_image(atlas, tr.texture, out);
           model.texture = cm_path.stem().string() + ".png";  // relative to the CM file's directory
         }
-        bytes = CM::write_cm(b->output, model, out);
+        if (rate) {
+          bytes = CM::write_compact_cm(b->output, model, choice.encoding, out, &parts);
+        } else if (b->compact) {
+          CM::Compact_encoding enc;
+          const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(mesh);
+          const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                            CGAL::square(box.zmax() - box.zmin()));
+          enc.tolerance = (tolerance->count() ? b->tolerance : 1e-4) * diagonal;
+          enc.normal_bits = b->normal_bits;
+          bytes = CM::write_compact_cm(b->output, model, enc, out, &parts);
+        } else {
+          bytes = CM::write_cm(b->output, model, out);
+        }
         out.commit();
       }
       if (b->json) {
@@ -391,12 +473,30 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
           if (!atlas.empty()) j["atlas"] = atlas;
         }
         j["bytes"] = bytes;
+        if (rate) {
+          j["rate"] = {{"max_error", b->max_error},
+                       {"max_bytes", b->max_bytes},
+                       {"base_faces_target", choice.base_faces},
+                       {"level", choice.level},
+                       {"tolerance", choice.encoding.tolerance},
+                       {"hausdorff", choice.hausdorff},
+                       {"rms", choice.rms},
+                       {"candidates", choice.candidates}};
+        }
+        if (b->compact || rate) {
+          j["format_version"] = 3;
+          j["bytes_per_part"] = {{"header", parts.header},       {"connectivity", parts.connectivity},
+                                 {"sectors", parts.sectors},     {"positions", parts.positions},
+                                 {"normals", parts.normals},     {"coefficients", parts.coefficients},
+                                 {"uvs", parts.uvs},             {"checksum", parts.checksum}};
+        }
         j["seconds"] = seconds;
         cmgeom_cli::print_json(j);
       }
       return 0;
     }
     // reconstruct
+    const double t_command = cmgeom_cli::now_seconds();
     if (r->max_level < 0 || r->max_level > 20) throw CMGeom::Invalid_input("--max-level must be in [0, 20]");
     CM::Compact_model model = CM::read_cm(r->input);
     model.texture = CM::texture_path(model, r->input);
@@ -430,8 +530,9 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       out = reconstruct_with_progress(ro, model.faces.size() << (2 * r->level),
                                       [&](const CM::Reconstruction_options& o) { return CM::reconstruct_regular(model, r->level, o); });
     }
-    const double seconds = cmgeom_cli::now_seconds() - t0;
+    const double reconstruct_seconds = cmgeom_cli::now_seconds() - t0;  // the library call alone
     write_reconstruction(out, model.texture, r->output);
+    const double seconds = cmgeom_cli::now_seconds() - t_command;  // reading and writing included
     if (r->json) {
       nlohmann::ordered_json j;
       j["input"] = r->input;
@@ -442,6 +543,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       j["base_faces"] = model.faces.size();
       j["vertices"] = out.points.size();
       j["faces"] = out.triangles.size();
+      j["reconstruct_seconds"] = reconstruct_seconds;
       j["seconds"] = seconds;
       cmgeom_cli::print_json(j);
     }

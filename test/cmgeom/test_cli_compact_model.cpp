@@ -1,0 +1,117 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// End-to-end tests of `cmgeom cm build` writing the compact CM file (format version 3) and of its
+// rate-distortion options (--max-error, --bytes), on the bundled Spot.
+#include "cmgeom_test_support.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string& spot() {
+  static const std::string s = "'" + std::string(CMGEOM_SOURCE_DIR) + "/data/spot/spot.obj'";
+  return s;
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::uint32_t version_of(const std::string& bytes) {
+  std::uint32_t v = 0;
+  for (int i = 0; i < 4; ++i) v |= std::uint32_t(static_cast<unsigned char>(bytes.at(8 + std::size_t(i)))) << (8 * i);
+  return v;
+}
+
+}  // namespace
+
+TEST(cmgeom_cli, CmBuildCompactWritesASmallerVersion3FileThatReconstructsAlike) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  for (const char* texture : {"", " --no-texture"}) {
+    SCOPED_TRACE(texture);
+    const auto v2 = cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/v2.cm' --ratio 0.1 --json" + texture, dir);
+    ASSERT_EQ(v2.exit_code, 0) << v2.err;
+    const auto v3 = cmgeom_test::run_cli(
+        "cm build " + spot() + " -o '" + dir + "/v3.cm' --ratio 0.1 --compact --json" + texture, dir);
+    ASSERT_EQ(v3.exit_code, 0) << v3.err;
+    const auto j = nlohmann::json::parse(v3.out);
+    const std::string bytes = file_bytes(dir + "/v3.cm");
+    EXPECT_EQ(version_of(bytes), 3u);
+    EXPECT_EQ(version_of(file_bytes(dir + "/v2.cm")), 2u);
+    EXPECT_EQ(j["bytes"].get<std::size_t>(), bytes.size());
+    std::size_t sum = 0;
+    for (const auto& part : j["bytes_per_part"].items()) sum += part.value().get<std::size_t>();
+    EXPECT_EQ(sum, bytes.size());
+    EXPECT_LT(3 * bytes.size(), nlohmann::json::parse(v2.out)["bytes"].get<std::size_t>());
+    // Both reconstruct to the same connectivity, and the geometry differs by far less than the CM's error.
+    for (const char* v : {"v2", "v3"}) {
+      const auto r = cmgeom_test::run_cli("cm reconstruct '" + dir + "/" + v + ".cm' -o '" + dir + "/" + v +
+                                              ".obj' --level 2 --json",
+                                          dir);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    const auto e = cmgeom_test::run_cli("error '" + dir + "/v2.obj' '" + dir + "/v3.obj' --json", dir);
+    ASSERT_EQ(e.exit_code, 0) << e.err;
+    EXPECT_LT(nlohmann::json::parse(e.out)["rms"].get<double>(), 2e-4);  // default tolerance 1e-4 of the diagonal
+  }
+}
+
+TEST(cmgeom_cli, CmBuildMeetsAnErrorBoundOrAByteBound) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  const auto a = cmgeom_test::run_cli(
+      "cm build " + spot() + " -o '" + dir + "/e.cm' --no-texture --max-error 0.01 --json", dir);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const auto ja = nlohmann::json::parse(a.out);
+  EXPECT_LE(ja["rate"]["hausdorff"].get<double>(), 0.01);
+  EXPECT_EQ(ja["bytes"].get<std::size_t>(), fs::file_size(dir + "/e.cm"));
+  // Measured again by `cmgeom error` (more samples) at the chosen level: within the bound.
+  const int level = ja["rate"]["level"].get<int>();
+  ASSERT_EQ(cmgeom_test::run_cli("cm reconstruct '" + dir + "/e.cm' -o '" + dir + "/e.obj' --level " +
+                                     std::to_string(level),
+                                 dir)
+                .exit_code,
+            0);
+  const auto err = cmgeom_test::run_cli("error " + spot() + " '" + dir + "/e.obj' --json", dir);
+  ASSERT_EQ(err.exit_code, 0) << err.err;
+  EXPECT_LE(nlohmann::json::parse(err.out)["hausdorff"].get<double>(), 0.0105);
+
+  const auto b = cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/b.cm' --no-texture --bytes 4000 --json", dir);
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_LE(fs::file_size(dir + "/b.cm"), 4000u);
+  EXPECT_EQ(nlohmann::json::parse(b.out)["format_version"].get<int>(), 3);
+}
+
+TEST(cmgeom_cli, CmBuildRefusesInconsistentRateOptionsAndWritesNothing) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string out = " -o '" + dir + "/x.cm'";
+  const struct {
+    std::string args, message;
+  } cases[] = {
+      {"--ratio 0.1 --tolerance 1e-3", "--compact"},
+      {"--faces 100 --max-error 0.01", "excludes"},
+      {"--max-error 0.01", "--no-texture"},
+      {"--no-texture --bytes 10", "at least 64"},
+      {"--no-texture --max-error 2", "(0, 1)"},
+      {"--no-texture --max-error 0.01 --tolerance 1e-3 --compact", "--tolerance is chosen"},
+      {"--ratio 0.1 --compact --normal-bits 30", "--normal-bits"},
+      {"--no-texture --max-error 1e-7", "no model meets the target"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto r = cmgeom_test::run_cli("cm build " + spot() + out + " " + c.args, dir);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_EQ(cmgeom_test::count_files(dir), 0u);
+  }
+}
