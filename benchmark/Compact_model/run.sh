@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Writes benchmark/Compact_model/RESULTS.md (thesis Table 4.1 style): CM build, bytes,
 # reconstruction speed at levels 1-3 and Metro error, beside PN triangles on the same base and
-# the plain mesh of equal bytes.
+# the plain mesh of equal bytes; then run_rate_distortion.py (RESULTS-rate-distortion.md).
 #   bash benchmark/Compact_model/run.sh <build-dir> [--quick]     (called by benchmark/run.sh)
 set -euo pipefail
 build=${1:?usage: run.sh <build-dir> [--quick]}
@@ -30,3 +30,11 @@ trap 'rm -f "$tmp"' EXIT
   cat "$tmp"
 } > "$here/RESULTS.md.tmp"
 mv "$here/RESULTS.md.tmp" "$here/RESULTS.md"
+
+# Rate-distortion of the compact CM file against Draco, meshoptimizer + zstd and gzipped OBJ
+# (RESULTS-rate-distortion.md, its CSV, and the plot doc/Compact_model/rate_distortion.png; the plot
+# needs Debian's python3-matplotlib, installed here when missing and possible).
+if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null && [ "$(id -u)" = 0 ]; then
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-matplotlib >/dev/null 2>&1 || true
+fi
+python3 "$here/run_rate_distortion.py" --build "$build" ${2:+"$2"}
