@@ -23,6 +23,7 @@
 // runs every seed of DIR... (*.cm as readers 0 and 1, *.json as reader 2, plus a textured copy
 // of every CM seed made here) and N deterministic mutations of them (what CTest runs).
 #include <CMGeom/Cage_deformation/Cage_system_io.h>
+#include <CMGeom/Compact_model/cm_compact_io.h>
 #include <CMGeom/Compact_model/cm_io.h>
 #include <CMGeom/Compact_model/reconstruct.h>
 
@@ -153,6 +154,16 @@ std::vector<std::uint8_t> textured_copy(const std::vector<std::uint8_t>& seed) {
   return r;
 }
 
+// The same model as a compact file (format version 3, cm_compact_io.h), so that mutations reach
+// its decoder too.
+std::vector<std::uint8_t> compact_copy(const std::vector<std::uint8_t>& seed) {
+  const std::string bytes(seed.begin() + 1, seed.end());
+  const std::string out = CM::compact_cm_bytes(CM::parse_cm(bytes, "seed.cm"));
+  std::vector<std::uint8_t> r(1, seed[0]);
+  r.insert(r.end(), out.begin(), out.end());
+  return r;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -180,7 +191,11 @@ int main(int argc, char** argv) {
         cmgeom_fuzz::Bytes bytes(1, f);
         bytes.insert(bytes.end(), content.begin(), content.end());
         pool.push_back(bytes);
-        if (f == 1) pool.push_back(textured_copy(bytes));
+        if (f == 1) {
+          pool.push_back(textured_copy(bytes));
+          pool.push_back(compact_copy(bytes));
+          pool.push_back(compact_copy(textured_copy(bytes)));
+        }
       }
     }
   }
