@@ -3,8 +3,8 @@
 //
 // OSMesa implementation of CMGeom::Rendering::Renderer (see Renderer.h for the contract).
 // Every picture goes to a multisampled sRGB FBO, whose resolved copy is read back (the context's
-// own buffer is a dummy: osmesa_context.h).
-#include "osmesa_context.h"  // first: defines GL_GLEXT_PROTOTYPES before any GL header
+// own buffer is a dummy: src/GL_context/osmesa_context.h).
+#include "GL_context/osmesa_context.h"  // first: defines GL_GLEXT_PROTOTYPES before any GL header
 
 #include <CMGeom/Error.h>
 #include <CMGeom/Rendering/Renderer.h>
@@ -177,8 +177,8 @@ Camera make_camera(const std::array<double, 6>& box, const Render_options& o) {
 }  // namespace
 
 struct Renderer::Impl {
-  internal::Osmesa_context context{3, 3, "renderer"};
-  internal::GL_functions& gl = context.gl;
+  CMGeom::internal::Osmesa_context context{3, 3, "renderer"};
+  CMGeom::internal::GL_functions& gl = context.gl;
   GLuint program = 0, colormap = 0, white = 0;
   GLint u_mvp = -1, u_mv = -1, u_mode = -1, u_lit = -1, u_ortho = -1, u_color = -1, u_texture = -1,
         u_colormap = -1, u_range = -1;

@@ -13,7 +13,7 @@
 //            valid, wedge
 //   doubles: per old triangle j: the six barycentric coefficients; per new triangle: PM_{t'}
 //   floats:  per new triangle: six per old triangle j (the composed map, zeros when invalid)
-#include "../Rendering/osmesa_context.h"  // first: defines GL_GLEXT_PROTOTYPES before any GL header
+#include "GL_context/osmesa_context.h"  // first: defines GL_GLEXT_PROTOTYPES before any GL header
 
 #include <CMGeom/Error.h>
 #include <CMGeom/Textured_simplification/Osmesa_index_texture_resampler.h>
@@ -155,7 +155,7 @@ struct Osmesa_index_texture_resampler::Impl {
 
   Index_texture* it;
   Osmesa_resampler_options options;
-  Rendering::internal::Osmesa_context context;
+  CMGeom::internal::Osmesa_context context;
   GLuint program = 0, index_tex = 0, copy_tex = 0, chart_tex = 0, fbo = 0, vao = 0, vbo = 0;
   GLuint storage[3] = {0, 0, 0};
   GLint u_scale = -1;

@@ -1,6 +1,6 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "osmesa_context.h"
+#include "GL_context/osmesa_context.h"
 
 #include <GL/osmesa.h>
 
@@ -9,7 +9,6 @@
 #include <cstdio>
 
 namespace CMGeom {
-namespace Rendering {
 namespace internal {
 
 namespace {
@@ -111,5 +110,4 @@ GLuint Osmesa_context::program(const char* vertex_source, const char* fragment_s
 }
 
 }  // namespace internal
-}  // namespace Rendering
 }  // namespace CMGeom

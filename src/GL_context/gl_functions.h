@@ -1,14 +1,14 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// The OpenGL entry points the renderer uses, loaded through a get-proc-address callback
+// The OpenGL entry points the OSMesa backends use, loaded through a get-proc-address callback
 // (OSMesaGetProcAddress; an EGL provider would pass eglGetProcAddress). We never call the gl*
 // symbols directly: libOSMesa exports them, but so does libGL, and whichever comes first on the
 // link line wins — with libGL first every call silently becomes a no-op.
 // Note: OSMesaGetProcAddress never returns null (unknown names get a generated stub), so
 // availability is checked through GL_VERSION, not through the pointers.
-#ifndef CMGEOM_SRC_RENDERING_GL_FUNCTIONS_H
-#define CMGEOM_SRC_RENDERING_GL_FUNCTIONS_H
+#ifndef CMGEOM_SRC_GL_CONTEXT_GL_FUNCTIONS_H
+#define CMGEOM_SRC_GL_CONTEXT_GL_FUNCTIONS_H
 
 #define GL_GLEXT_PROTOTYPES 1  // only for decltype(&::glFoo) below; nothing is linked against
 #include <GL/gl.h>
@@ -32,7 +32,6 @@
   X(VertexAttribIPointer) X(GetTexImage)
 
 namespace CMGeom {
-namespace Rendering {
 namespace internal {
 
 struct GL_functions {
@@ -54,7 +53,6 @@ struct GL_functions {
 };
 
 }  // namespace internal
-}  // namespace Rendering
 }  // namespace CMGeom
 
-#endif  // CMGEOM_SRC_RENDERING_GL_FUNCTIONS_H
+#endif  // CMGEOM_SRC_GL_CONTEXT_GL_FUNCTIONS_H

@@ -1,23 +1,24 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Osmesa_context: one headless OpenGL core context (OSMesa, Mesa llvmpipe) with the package's GL
-// function table, shared by the OSMesa backends (the Renderer and the index-texture resampler).
+// Osmesa_context: one headless OpenGL core context (OSMesa, Mesa llvmpipe) with CMGeom's GL
+// function table, shared by the OSMesa backends (Rendering's Renderer and Textured_simplification's
+// index-texture resampler), which include it as "GL_context/osmesa_context.h" (target
+// cmgeom_gl_context, src/GL_context/CMakeLists.txt).
 // Its own framebuffer is a 16x16 dummy that only makes it current: OSMesa's buffer is not usable
 // for data (glReadPixels clamps to [0, 1] and the buffer is only updated on flush), so every
 // backend renders into framebuffer objects.
 //
 // Threads: a context is current in one thread at a time; call make_current() before GL work
 // (several contexts may live in one thread, e.g. a Renderer next to a resampler).
-#ifndef CMGEOM_SRC_RENDERING_OSMESA_CONTEXT_H
-#define CMGEOM_SRC_RENDERING_OSMESA_CONTEXT_H
+#ifndef CMGEOM_SRC_GL_CONTEXT_OSMESA_CONTEXT_H
+#define CMGEOM_SRC_GL_CONTEXT_OSMESA_CONTEXT_H
 
-#include "gl_functions.h"  // first: defines GL_GLEXT_PROTOTYPES before any GL header
+#include "GL_context/gl_functions.h"  // first: defines GL_GLEXT_PROTOTYPES before any GL header
 
 #include <string>
 
 namespace CMGeom {
-namespace Rendering {
 namespace internal {
 
 class Osmesa_context {
@@ -48,7 +49,6 @@ private:
 };
 
 }  // namespace internal
-}  // namespace Rendering
 }  // namespace CMGeom
 
-#endif  // CMGEOM_SRC_RENDERING_OSMESA_CONTEXT_H
+#endif  // CMGEOM_SRC_GL_CONTEXT_OSMESA_CONTEXT_H
