@@ -17,7 +17,9 @@
 #include <CMGeom/Cage_deformation/Cage_binding.h>
 #include <CMGeom/Cage_deformation/Any_cage_coordinates.h>
 #include <CMGeom/Cage_deformation/Cage_system_description.h>
+#include <CMGeom/Cage_deformation/Grid_cage_system.h>
 #include <CMGeom/Cage_deformation/Cage_system.h>
 #include <CMGeom/Cage_deformation/Cage_system_io.h>
+#include <CMGeom/Cage_deformation/deform.h>
 
 #endif  // CMGEOM_CAGE_DEFORMATION_H

@@ -1,5 +1,7 @@
 #include "cli_common.h"
 
+#include <CMGeom/Cage_deformation/Cage_system_io.h>
+#include <CMGeom/Cage_deformation/Grid_cage_system.h>
 #include <CMGeom/Mesh_IO/image_io.h>
 
 #include <tbb/global_control.h>
@@ -277,6 +279,41 @@ CMGeom::Polygon_soup read_polygon_soup_with_progress(const std::string& path) {
   CMGeom::Polygon_soup soup = CMGeom::IO::read_polygon_soup(path);
   stage.set_total(double(soup.number_of_faces()), "faces");
   return soup;
+}
+
+void Cage_source::require() const {
+  if (file.empty() && grid.empty()) throw CMGeom::Invalid_input("give --cages <system.json> or --grid nx,ny,nz");
+}
+
+void Cage_source::check_h() const {
+  if (!(h > 0 && h <= 1)) throw CMGeom::Invalid_input("--h must be in (0, 1]");
+}
+
+CMGeom::Cage_deformation::Cage_system_description Cage_source::description(
+    const std::vector<std::array<double, 3>>& points) const {
+  namespace CD = CMGeom::Cage_deformation;
+  if (grid.empty()) return CD::read_cage_system(file);
+  int n[3];
+  char extra = 0;
+  if (std::sscanf(grid.c_str(), "%d,%d,%d%c", &n[0], &n[1], &n[2], &extra) != 3)
+    throw CMGeom::Invalid_input("bad --grid '" + grid + "': expected nx,ny,nz, e.g. 2,2,1");
+  const CD::Coordinate_type type = coordinates == "green"      ? CD::Coordinate_type::green
+                                   : coordinates == "harmonic" ? CD::Coordinate_type::harmonic
+                                                               : CD::Coordinate_type::mean_value;
+  return CD::make_grid_cage_system(points, n[0], n[1], n[2], margin, type, h);
+}
+
+CLI::Option* add_cage_source_options(CLI::App& app, Cage_source& source, Cage_grid_options grid) {
+  CLI::Option* cages = app.add_option("--cages", source.file, "Cage-system JSON file (one cage or a *Cages system)");
+  if (grid == Cage_grid_options::none) return cages;
+  cages->excludes(app.add_option("--grid", source.grid, "A grid of nx,ny,nz box cages around the mesh"));
+  if (grid == Cage_grid_options::any_coordinates)
+    app.add_option("--coordinates", source.coordinates, "With --grid: coordinates of every cage")
+        ->check(CLI::IsMember({"mean_value", "green", "harmonic"}));
+  app.add_option("--h", source.h, "With --grid: h of every cage, in (0, 1] (default 1)");
+  app.add_option("--margin", source.margin,
+                 "With --grid: margin around the mesh, times its bbox diagonal (default 0.05)");
+  return cages;
 }
 
 }  // namespace cmgeom_cli

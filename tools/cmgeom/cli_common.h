@@ -1,4 +1,5 @@
-// Shared plumbing of the cmgeom sub-commands: registration, errors, JSON output, progress.
+// Shared plumbing of the cmgeom sub-commands: registration, errors, JSON output, progress, the
+// cage-source options.
 #ifndef CMGEOM_TOOLS_CLI_COMMON_H
 #define CMGEOM_TOOLS_CLI_COMMON_H
 
@@ -7,12 +8,19 @@
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <atomic>
 #include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
+
+namespace CMGeom {
+namespace Cage_deformation {
+struct Cage_system_description;
+}
+}  // namespace CMGeom
 
 namespace cmgeom_cli {
 
@@ -108,6 +116,33 @@ private:
   bool finished_ = false;
   std::atomic_flag busy_ = ATOMIC_FLAG_INIT;
 };
+
+// Where the cage commands (deform, influence, cm deform) take their cages from: a cage-system
+// JSON file (--cages: one cage or a *Cages system, CMGeom::Cage_deformation::read_cage_system())
+// or a grid of box cages around the input (--grid nx,ny,nz with --h, --margin and, where the
+// command lets the coordinates be chosen, --coordinates; make_grid_cage_system()).
+struct Cage_source {
+  std::string file, grid, coordinates = "mean_value";
+  double h = 1.0, margin = 0.05;
+
+  // Invalid_input unless --cages or --grid is given.
+  void require() const;
+  // Invalid_input unless --h is in (0, 1].
+  void check_h() const;
+  // The file read, or the grid around `points` (Invalid_input on a malformed --grid).
+  CMGeom::Cage_deformation::Cage_system_description description(
+      const std::vector<std::array<double, 3>>& points) const;
+};
+
+// Which grid options a cage command offers besides --cages.
+enum class Cage_grid_options {
+  none,            // --cages only
+  mean_value,      // --grid, --h, --margin (mean value coordinates)
+  any_coordinates  // the same and --coordinates mean_value|green|harmonic
+};
+
+// Adds the cage-source options to `app` (--grid excludes --cages); returns the --cages option.
+CLI::Option* add_cage_source_options(CLI::App& app, Cage_source& source, Cage_grid_options grid);
 
 // Reads a mesh (CMGeom::IO::read_mesh) or a polygon soup as the progress stage "read <file
 // name>", counting its faces (the readers have no progress hook: the stage reports its end only).

@@ -168,7 +168,8 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
 
   // ------------------------------------------------------------------ cm deform
   struct Def_args {
-    std::string input, output, cages, affine, roi, silhouette, projection = "closest";
+    cmgeom_cli::Cage_source cages;  // --cages only
+    std::string input, output, affine, roi, silhouette, projection = "closest";
     int level = 2, max_level = 6;
     double edge_length = 0, flatness = 0.01;
     bool json = false;
@@ -176,7 +177,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
   auto d = std::make_shared<Def_args>();
   CLI::App* def = app.add_subcommand("deform", "Deform a CM's base and reconstruct the deformed model (thesis ch. 6)");
   def->add_option("input", d->input, "CM file")->required();
-  auto* d_cages = def->add_option("--cages", d->cages, "Cage-system JSON file (as for 'cmgeom deform': one cage or *Cages)");
+  auto* d_cages = cmgeom_cli::add_cage_source_options(*def, d->cages, cmgeom_cli::Cage_grid_options::none);
   auto* d_affine = def->add_option("--affine", d->affine, "Affine map instead of a cage: a11,a12,a13,b1,a21,...,b3 (12 numbers)");
   d_cages->excludes(d_affine);
   d_affine->excludes(d_cages);
@@ -220,7 +221,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
         deform_seconds = cmgeom_cli::now_seconds() - t0;
         j["deformer"] = "affine";
       } else {
-        const CD::Cage_system_description desc = CD::read_cage_system(d->cages);
+        const CD::Cage_system_description desc = CD::read_cage_system(d->cages.file);
         for (const auto& c : desc.cages)
           for (const std::string& w : c.warnings) std::cerr << "cmgeom cm deform: warning: " << w << "\n";
         std::size_t undefined = 0;

@@ -5,7 +5,8 @@
 // is read by CMGeom::Cage_deformation::read_cage_system() (Cage_system_io.h, documented in
 // doc/Cage_deformation/README.md). One cage without parent links is the plain coordinate
 // deformation (dense or sparse weights); several cages are evaluated as the *Cages system of
-// §5.3 (join and smooth transformations, multi-level parent links; sparse weights). --grid builds
+// §5.3 (join and smooth transformations, multi-level parent links; sparse weights): the library's
+// CMGeom::Cage_deformation::deform() (deform.h) makes that choice. --grid builds
 // a lattice of box cages around the mesh; with --write-cages the system (inline cages, deformed
 // = rest) is written for editing, and -o may then be omitted. --piecewise evaluates S_i = T_i
 // (no join: the C0 / discontinuous piecewise deformation of Fig. 5.2(a, b), for comparisons).
@@ -13,97 +14,28 @@
 #include "cli_common.h"
 
 #include <CMGeom/Cage_deformation.h>
+#include <CMGeom/Cage_deformation/deform.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <set>
 
-namespace {
-
-namespace CD = CMGeom::Cage_deformation;
-using json = nlohmann::ordered_json;
-
-struct Result {
-  std::vector<CD::Vec3> positions;
-  double setup_seconds = 0, bind_seconds = 0, deform_seconds = 0;
-  std::size_t weights_bytes = 0, coordinates = 0, joined = 0, outside = 0;
-  std::map<std::string, std::size_t> status;
-};
-
-template <class Binding>
-void count_status(const Binding& b, Result& r) {
-  for (auto s : {CD::Coordinate_status::regular, CD::Coordinate_status::on_boundary,
-                 CD::Coordinate_status::extended, CD::Coordinate_status::approximate,
-                 CD::Coordinate_status::undefined})
-    r.status[CD::to_string(s)] = b.count(s);
-}
-
-template <class Weight, class Coords>
-void run_single(const Coords& coords, const std::vector<CD::Vec3>& points,
-                const std::vector<CD::Vec3>& deformed, CD::Weight_storage storage, Result& r) {
-  CD::Binding_options opt;
-  opt.storage = storage;
-  double t0 = cmgeom_cli::now_seconds();
-  cmgeom_cli::Progress bind_stage("bind", double(points.size()), "vertices");
-  opt.progress = bind_stage.hook();
-  CD::Cage_binding<Weight> b = CD::bind_points<Weight>(coords, points, opt);
-  r.bind_seconds = cmgeom_cli::now_seconds() - t0;
-  bind_stage.done();
-  std::vector<CD::Vec3> basis;
-  cmgeom_cli::Progress deform_stage("deform", double(points.size()), "vertices");
-  t0 = cmgeom_cli::now_seconds();
-  coords.deformation_rule()(deformed, std::back_inserter(basis));
-  b.deform(basis, r.positions);
-  r.deform_seconds = cmgeom_cli::now_seconds() - t0;
-  deform_stage.done();
-  r.weights_bytes = b.weights_bytes();
-  r.coordinates = b.number_of_coordinates();
-  count_status(b, r);
-}
-
-template <class Weight, class Fh>
-void run_system(const CD::Cage_system& sys, const std::vector<CD::Vec3>& points, const Fh& fh, Result& r) {
-  double t0 = cmgeom_cli::now_seconds();
-  cmgeom_cli::Progress bind_stage("bind", double(points.size()), "vertices");
-  const CD::Cage_system_binding<Weight> b =
-      sys.template bind<Weight>(points, CD::Sine_smoothing(), fh, bind_stage.hook());
-  r.bind_seconds = cmgeom_cli::now_seconds() - t0;
-  bind_stage.done();
-  cmgeom_cli::Progress deform_stage("deform", double(points.size()), "vertices");
-  t0 = cmgeom_cli::now_seconds();
-  b.deform(sys.basis(sys.deformed_leaf_vertices()), r.positions);
-  r.deform_seconds = cmgeom_cli::now_seconds() - t0;
-  deform_stage.done();
-  r.weights_bytes = b.weights_bytes();
-  r.coordinates = sys.number_of_coordinates();
-  r.joined = b.joined_points();
-  r.outside = b.outside();
-  count_status(b.weights(), r);
-}
-
-}  // namespace
-
 CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean value, Green, harmonic)") {
+  namespace CD = CMGeom::Cage_deformation;
+  using json = nlohmann::ordered_json;
   struct Args {
-    std::string input, system, output, grid, write_cages, weights = "double", storage = "dense",
-        coordinates = "mean_value";
-    double h = 1.0, margin = 0.05;
+    cmgeom_cli::Cage_source cages;
+    std::string input, output, write_cages, weights = "double", storage = "dense";
     bool as_json = false, piecewise = false;
   };
   auto a = std::make_shared<Args>();
   app.add_option("mesh", a->input, "Mesh to deform (.obj, .off, .ply, .gltf, .glb)")->required();
-  auto* cages = app.add_option("--cages", a->system, "Cage-system JSON file");
-  auto* grid = app.add_option("--grid", a->grid, "Build a grid of nx,ny,nz box cages around the mesh");
-  cages->excludes(grid);
+  cmgeom_cli::add_cage_source_options(app, a->cages, cmgeom_cli::Cage_grid_options::any_coordinates);
   app.add_option("-o,--output", a->output, "Deformed mesh (same vertex order as the input)");
   app.add_option("--write-cages", a->write_cages, "Write the cage system (inline cages) to this JSON file");
-  app.add_option("--coordinates", a->coordinates, "With --grid: coordinates of every cage")
-      ->check(CLI::IsMember({"mean_value", "green", "harmonic"}));
-  app.add_option("--h", a->h, "With --grid: h of every cage, in (0, 1] (default 1)");
-  app.add_option("--margin", a->margin, "With --grid: margin around the mesh, times its bbox diagonal (default 0.05)");
   app.add_option("--weights", a->weights, "Weight precision: double or float")
       ->check(CLI::IsMember({"double", "float"}));
   app.add_option("--storage", a->storage,
@@ -113,9 +45,9 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
                "Several cages: apply each cage's own coordinates alone (no join; for comparisons)");
   app.add_flag("--json", a->as_json, "Print timings and counts as JSON");
   return [a]() -> int {
-    if (a->system.empty() && a->grid.empty()) throw CMGeom::Invalid_input("give --cages <system.json> or --grid nx,ny,nz");
+    a->cages.require();
     if (a->output.empty() && a->write_cages.empty()) throw CMGeom::Invalid_input("give -o <output> (or --write-cages)");
-    if (!(a->h > 0 && a->h <= 1)) throw CMGeom::Invalid_input("--h must be in (0, 1]");
+    a->cages.check_h();
 
     CMGeom::Textured_mesh tm;
     cmgeom_cli::read_mesh_with_progress(a->input, tm);
@@ -127,62 +59,44 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
       points.push_back({p.x(), p.y(), p.z()});
     }
 
-    CD::Cage_system_description desc;
-    if (!a->grid.empty()) {
-      int n[3];
-      char extra = 0;
-      if (std::sscanf(a->grid.c_str(), "%d,%d,%d%c", &n[0], &n[1], &n[2], &extra) != 3)
-        throw CMGeom::Invalid_input("bad --grid '" + a->grid + "': expected nx,ny,nz, e.g. 2,2,1");
-      const CD::Coordinate_type type = a->coordinates == "green"      ? CD::Coordinate_type::green
-                                       : a->coordinates == "harmonic" ? CD::Coordinate_type::harmonic
-                                                                      : CD::Coordinate_type::mean_value;
-      desc = CD::make_grid_cage_system(points, n[0], n[1], n[2], a->margin, type, a->h);
-    } else {
-      desc = CD::read_cage_system(a->system);
-    }
+    const CD::Cage_system_description desc = a->cages.description(points);
     for (const auto& c : desc.cages)
       for (const std::string& w : c.warnings) std::cerr << "cmgeom deform: warning: " << w << "\n";
     if (!a->write_cages.empty()) CD::write_cage_system(a->write_cages, desc);
     if (a->output.empty()) return 0;
 
-    const bool use_float = a->weights == "float";
     const bool single = desc.cages.size() == 1;
-    Result r;
     std::string coordinates;
-    const double t_setup = cmgeom_cli::now_seconds();
-    // The coordinates' set-up (a grid solve per cage for harmonic coordinates) has no hook: its
-    // stage reports its end only.
-    auto setup_stage = std::make_unique<cmgeom_cli::Progress>("cage setup", double(desc.cages.size()), "cages");
     if (single) {
-      const CD::Cage_description& c = desc.cages[0];
-      coordinates = CD::to_string(c.coordinates);
-      const auto st = a->storage == "sparse"    ? CD::Weight_storage::sparse
-                      : a->storage == "grouped" ? CD::Weight_storage::grouped
-                                                : CD::Weight_storage::dense;
-      const CD::Any_cage_coordinates coords = CD::make_cage_coordinates(c.coordinates, c.rest, c.harmonic);
-      r.setup_seconds = cmgeom_cli::now_seconds() - t_setup;
-      setup_stage.reset();
-      if (use_float)
-        run_single<float>(coords, points, c.deformed, st, r);
-      else
-        run_single<double>(coords, points, c.deformed, st, r);
+      coordinates = CD::to_string(desc.cages[0].coordinates);
     } else {
       std::set<std::string> types;
       for (const auto& c : desc.cages) types.insert(CD::to_string(c.coordinates));
       for (const std::string& t : types) coordinates += (coordinates.empty() ? "" : "+") + t;
-      const CD::Cage_system sys(desc);
-      r.setup_seconds = cmgeom_cli::now_seconds() - t_setup;
-      setup_stage.reset();
-      if (use_float && a->piecewise)
-        run_system<float>(sys, points, CD::Piecewise_smoothing(), r);
-      else if (use_float)
-        run_system<float>(sys, points, CD::Sine_h_smoothing(), r);
-      else if (a->piecewise)
-        run_system<double>(sys, points, CD::Piecewise_smoothing(), r);
-      else
-        run_system<double>(sys, points, CD::Sine_h_smoothing(), r);
     }
-    if (const std::size_t bad = r.status["undefined"])
+    CD::Deform_options options;
+    options.storage = a->storage == "sparse"    ? CD::Weight_storage::sparse
+                      : a->storage == "grouped" ? CD::Weight_storage::grouped
+                                                : CD::Weight_storage::dense;
+    options.piecewise = a->piecewise;
+    // One progress stage per stage of deform(); the coordinates' set-up (a grid solve per cage
+    // for harmonic coordinates) and the product have no hook: they report their end only.
+    std::unique_ptr<cmgeom_cli::Progress> stage;
+    options.stage = [&](CD::Deform_stage s) {
+      stage.reset();
+      if (s == CD::Deform_stage::setup)
+        stage = std::make_unique<cmgeom_cli::Progress>("cage setup", double(desc.cages.size()), "cages");
+      else
+        stage = std::make_unique<cmgeom_cli::Progress>(s == CD::Deform_stage::bind ? "bind" : "deform",
+                                                       double(points.size()), "vertices");
+    };
+    options.progress = [&](double fraction) {
+      if (stage) stage->update(fraction);
+    };
+    const CD::Deform_result r = a->weights == "float" ? CD::deform<float>(points, desc, options)
+                                                      : CD::deform<double>(points, desc, options);
+    stage.reset();
+    if (const std::size_t bad = r.count(CD::Coordinate_status::undefined))
       throw CMGeom::Invalid_input(a->input + ": " + std::to_string(bad) + " of " + std::to_string(points.size()) +
                                   " vertices lie outside the cage" + (single ? " " + desc.cages[0].rest_source : "s") +
                                   ", where harmonic coordinates are undefined");
@@ -218,15 +132,19 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     j["storage"] = single ? a->storage : "grouped";
     if (!single) {
       j["piecewise"] = a->piecewise;
-      j["joined_vertices"] = r.joined;
-      j["outside_vertices"] = r.outside;
+      j["joined_vertices"] = r.joined_points;
+      j["outside_vertices"] = r.outside_points;
     }
     j["setup_seconds"] = r.setup_seconds;
     j["bind_seconds"] = r.bind_seconds;
     j["deform_seconds"] = r.deform_seconds;
     j["weights_bytes"] = r.weights_bytes;
+    std::map<std::string, std::size_t> status;  // by name
+    for (auto st : {CD::Coordinate_status::regular, CD::Coordinate_status::on_boundary, CD::Coordinate_status::extended,
+                    CD::Coordinate_status::approximate, CD::Coordinate_status::undefined})
+      status[CD::to_string(st)] = r.count(st);
     json s;
-    for (const auto& [k, n] : r.status) s[k] = n;
+    for (const auto& [k, n] : status) s[k] = n;
     j["vertex_status"] = s;
     if (a->as_json) {
       cmgeom_cli::print_json(j);

@@ -15,7 +15,7 @@
 #include <CMGeom/Rendering/render_to_png.h>
 #include <CMGeom/Rendering/views.h>
 
-#include <cstdio>
+#include <cstdio>  // snprintf
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -23,27 +23,23 @@
 CMGEOM_CLI_COMMAND(influence, "Influence map d_i of a *Cages system on a mesh (PNG and/or values)") {
   namespace CD = CMGeom::Cage_deformation;
   struct Args {
-    std::string mesh, system, grid, output, values, view = "iso", size = "1024x1024", caption;
-    double h = 1.0, margin = 0.05;
+    cmgeom_cli::Cage_source cages;
+    std::string mesh, output, values, view = "iso", size = "1024x1024", caption;
     bool as_json = false;
   };
   auto a = std::make_shared<Args>();
   app.add_option("mesh", a->mesh, "Mesh (.obj, .off, .ply, .gltf, .glb)")->required();
-  auto* cages = app.add_option("--cages", a->system, "Cage-system JSON file");
-  auto* grid = app.add_option("--grid", a->grid, "A grid of nx,ny,nz box cages around the mesh");
-  cages->excludes(grid);
+  cmgeom_cli::add_cage_source_options(app, a->cages, cmgeom_cli::Cage_grid_options::mean_value);
   app.add_option("-o,--output", a->output, "Output PNG");
   app.add_option("--values", a->values, "Write d_i per vertex (one per line, input vertex order)");
-  app.add_option("--h", a->h, "With --grid: h of every cage, in (0, 1] (default 1)");
-  app.add_option("--margin", a->margin, "With --grid: margin around the mesh, times its bbox diagonal (default 0.05)");
   app.add_option("--view", a->view, "az,el in degrees or front|back|left|right|top|bottom|iso (default iso)");
   app.add_option("--size", a->size, "Picture size WxH (default 1024x1024)");
   app.add_option("--caption", a->caption, "Caption in the bottom-left corner");
   app.add_flag("--json", a->as_json, "Print counts as JSON");
   return [a]() -> int {
-    if (a->system.empty() && a->grid.empty()) throw CMGeom::Invalid_input("give --cages <system.json> or --grid nx,ny,nz");
+    a->cages.require();
     if (a->output.empty() && a->values.empty()) throw CMGeom::Invalid_input("give -o <map.png> and/or --values <file>");
-    if (!(a->h > 0 && a->h <= 1)) throw CMGeom::Invalid_input("--h must be in (0, 1]");
+    a->cages.check_h();
     const auto [w, hgt] = cmgeom_cli::parse_picture_size(a->size);
 #ifndef CMGEOM_HAS_OSMESA
     if (!a->output.empty()) throw CMGeom::Error(CMGeom::Rendering::rendering_unavailable_message());
@@ -52,17 +48,7 @@ CMGEOM_CLI_COMMAND(influence, "Influence map d_i of a *Cages system on a mesh (P
     const CMGeom::Polygon_soup soup = cmgeom_cli::read_polygon_soup_with_progress(a->mesh);
     for (const std::string& s : soup.warnings) std::cerr << "cmgeom influence: warning: " << s << "\n";
     if (soup.positions.empty()) throw CMGeom::Invalid_input(a->mesh + ": no vertices");
-    CD::Cage_system_description desc;
-    if (!a->grid.empty()) {
-      int n[3];
-      char extra = 0;
-      if (std::sscanf(a->grid.c_str(), "%d,%d,%d%c", &n[0], &n[1], &n[2], &extra) != 3)
-        throw CMGeom::Invalid_input("bad --grid '" + a->grid + "': expected nx,ny,nz, e.g. 2,2,1");
-      desc = CD::make_grid_cage_system(soup.positions, n[0], n[1], n[2], a->margin,
-                                       CD::Coordinate_type::mean_value, a->h);
-    } else {
-      desc = CD::read_cage_system(a->system);
-    }
+    const CD::Cage_system_description desc = a->cages.description(soup.positions);
     auto setup_stage = std::make_unique<cmgeom_cli::Progress>("cage setup", double(desc.cages.size()), "cages");
     const CD::Cage_system sys(desc);
     setup_stage.reset();
