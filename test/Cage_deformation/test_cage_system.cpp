@@ -607,6 +607,36 @@ TEST(Cage_system, moving_an_internal_cage_moves_only_its_descendants) {
   }
 }
 
+// A hand-made description (not read from a file, so not checked by the reader) with a bad
+// parent link is refused before anything indexes with it.
+TEST(Cage_system, bad_parent_links_of_a_hand_made_description_are_refused) {
+  const Cage_system_description base = [] {
+    Cage_system_description d = make_grid_cage_system({0, 0, 0}, {2, 1, 1}, 2, 1, 1);
+    d.cages.push_back(make_grid_cage_system({-0.5, -0.5, -0.5}, {2.5, 1.5, 1.5}, 1, 1, 1).cages[0]);
+    return d;
+  }();
+  auto refused = [](const Cage_system_description& d, const std::string& what) {
+    try {
+      const Cage_system s(d);
+      ADD_FAILURE() << "accepted: " << what;
+    } catch (const CMGeom::Invalid_input& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  Cage_system_description d = base;
+  d.cages[0].parents.push_back({7, {0, 1}});
+  refused(d, "bad parent link to cage 7");
+  d = base;
+  d.cages[1].parents.push_back({1, {0}});
+  refused(d, "bad parent link to cage 1");
+  d = base;
+  d.cages[0].parents.push_back({2, {0, 1, 100000}});
+  refused(d, "owns vertex 100000");
+  d = base;  // a valid link still builds
+  d.cages[0].parents.push_back({2, {0, 1, 2, 3, 4, 5, 6, 7}});
+  EXPECT_NO_THROW(Cage_system s(d));
+}
+
 TEST(Cage_system, harmonic_parent_uses_the_lambda_rule_outside) {
   Cage_system_description d = make_grid_cage_system({0, 0, 0}, {1, 1, 1}, 1, 1, 1);
   Cage_description P = make_grid_cage_system({-0.25, -0.25, -0.25}, {1.25, 1.25, 1.25}, 1, 1, 1,

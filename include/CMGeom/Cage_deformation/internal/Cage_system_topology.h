@@ -67,10 +67,23 @@ struct Cage_system_topology {
   std::vector<Join_class> classes;                    ///< the partition of boundary vertices
   std::vector<std::vector<std::size_t>> classes_of;   ///< per cage: the classes of ∂C_i
 
-  /// The leaf cages: those no cage names as a parent.
+  /// The leaf cages: those no cage names as a parent. Checks every parent link first (a
+  /// hand-made description has not been through the reader): the parent is another cage of the
+  /// system and every owned vertex is a vertex of the child's rest cage.
   void find_leaves(const Cage_system_description& d) {
     const std::size_t C = d.cages.size();
     if (C == 0) throw Invalid_input("a cage system needs at least one cage");
+    for (std::size_t c = 0; c < C; ++c)
+      for (const auto& l : d.cages[c].parents) {
+        if (l.cage >= C || l.cage == c)
+          throw Invalid_input("cage " + std::to_string(c) + ": bad parent link to cage " + std::to_string(l.cage) +
+                              " (" + std::to_string(C) + " cages)");
+        for (std::uint32_t k : l.vertices)
+          if (k >= d.cages[c].rest.vertices.size())
+            throw Invalid_input("cage " + std::to_string(c) + ": parent link to cage " + std::to_string(l.cage) +
+                                " owns vertex " + std::to_string(k) + " of a cage with " +
+                                std::to_string(d.cages[c].rest.vertices.size()) + " vertices");
+      }
     is_leaf.assign(C, 1);
     for (const auto& c : d.cages)
       for (const auto& l : c.parents) is_leaf[l.cage] = 0;
