@@ -162,13 +162,24 @@ TEST(cmgeom_cli, PipelineRunsEveryStageAndReportsIt) {
                         "cm_adaptive.ply", "rest_cages.json", "cages.json", "deformed.obj", "dcm_cages.obj",
                         "dcm_affine.obj", "report.html"})
     EXPECT_TRUE(fs::is_regular_file(fs::path(out) / f)) << f;
-  // The deformable CM against the full mesh deformed by the same cages: the error command,
-  // run independently of the pipeline, must find them within 5 % of the diagonal.
+  // The deformable CM against the full mesh deformed by the same cages, measured by the error
+  // command independently of the pipeline. What the method guarantees (thesis §6.3-6.4): the
+  // deformed CM is the rest CM carried by maps that follow the cage deformation, so its distance to
+  // the deformed mesh is the rest CM's distance to the input (the same level-2 reconstruction,
+  // cm_regular.ply) scaled by the deformation's stretch, plus the error of blending per-vertex
+  // affine maps. The pipeline's cages stretch their edges by at most 1.5 (0.52-1.50 measured), so
+  // the bound is 1.5 x the rest distance, absolute units (measured: 3.69 % against 3.40 % at rest,
+  // of the diagonals; a deformable CM that loses its local maps moves far beyond it).
+  const auto rest = cmgeom_test::run_cli("error '" + std::string(CMGEOM_SOURCE_DIR) + "/data/spot/spot.obj' '" + out +
+                                             "/cm_regular.ply' --json",
+                                         dir);
+  ASSERT_EQ(rest.exit_code, 0) << rest.err;
   const auto e = cmgeom_test::run_cli("error '" + out + "/deformed.obj' '" + out + "/dcm_cages.obj' --json", dir);
   ASSERT_EQ(e.exit_code, 0) << e.err;
-  const auto j = nlohmann::json::parse(e.out);
-  EXPECT_LT(j["hausdorff"].get<double>(), 0.05);
-  EXPECT_GT(j["hausdorff"].get<double>(), 0.0);
+  const auto j = nlohmann::json::parse(e.out), jr = nlohmann::json::parse(rest.out);
+  const double deformed = j["absolute"]["hausdorff"].get<double>(), at_rest = jr["absolute"]["hausdorff"].get<double>();
+  EXPECT_LT(deformed, 1.5 * at_rest) << "deformed " << deformed << ", at rest " << at_rest;
+  EXPECT_GT(deformed, 0.0);
 }
 
 // A stage that fails stops the run; the files of the finished stages stay and the report says
