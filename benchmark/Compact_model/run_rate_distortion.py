@@ -60,21 +60,6 @@ def error(cmgeom, ref, app, samples):
     return 100 * j["hausdorff"], 100 * j["rms"]
 
 
-def faces_of(path):
-    with open(path) as f:
-        return sum(1 for line in f if line.startswith("f "))
-
-
-def envelope(points, key):
-    """Best (lowest `key`) point of each prefix in bytes: the lower envelope."""
-    out, best = [], None
-    for p in sorted(points, key=lambda p: p["bytes"]):
-        if best is None or p[key] < best:
-            best = p[key]
-            out.append(p)
-    return out
-
-
 def best_within(points, bytes_, key):
     c = [p for p in points if p["bytes"] <= bytes_]
     return min(c, key=lambda p: p[key]) if c else None

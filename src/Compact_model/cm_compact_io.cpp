@@ -162,12 +162,6 @@ std::array<std::int64_t, 2> normal_to_grid(const Vec3& n, int bits) {
   return best;
 }
 
-// Sectors of the decoded model: corner -> global sector, sector -> its vertex and corners.
-struct Sector_layout {
-  std::vector<std::uint32_t> first;         // V + 1
-  std::vector<std::uint32_t> corner_sector; // 3F
-};
-
 Vec3 predicted_normal(const std::vector<Vec3>& p, const Connectivity& c, const std::vector<std::size_t>& corners) {
   Vec3 s(0, 0, 0);
   for (std::size_t k : corners) {
@@ -186,16 +180,16 @@ double sector_radius(const std::vector<Vec3>& p, const Connectivity& c, std::uin
   return r;
 }
 
-// Monomial degrees of the coefficients of each model (Local_surface_traits.h).
-int coefficient_degree(std::uint8_t model, int j) {
-  static const int quadric_cubic[9] = {2, 2, 2, 1, 1, 3, 3, 3, 3};
-  (void)model;
-  return quadric_cubic[j];
+// Monomial degree of coefficient j, the same for every model (Local_surface_traits.h; a cone's
+// first five are those of its q).
+int coefficient_degree(int j) {
+  static const int degree[9] = {2, 2, 2, 1, 1, 3, 3, 3, 3};
+  return degree[j];
 }
 
 // Step of coefficient j (see the header): quadric and cubic 2 t / (k r^d), cone 2 t^2 / (5 r^d).
 double coefficient_step(std::uint8_t model, int j, double r, double t) {
-  const int d = coefficient_degree(model, j);
+  const int d = coefficient_degree(j);
   if (model == CONE_MODEL) return 2. * t * t / (5. * std::pow(r, d));
   return 2. * t / (double(number_of_coefficients(model)) * std::pow(r, d));
 }
@@ -204,58 +198,23 @@ int stored_coefficients(std::uint8_t model) { return model == CONE_MODEL ? 5 : n
 
 // ------------------------------------------------------------------ streams in the file
 
-void put_u32(std::string& out, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) out.push_back(char((v >> (8 * i)) & 0xffu));
-}
-void put_u64(std::string& out, std::uint64_t v) {
-  for (int i = 0; i < 8; ++i) out.push_back(char((v >> (8 * i)) & 0xffu));
-}
-void put_f64(std::string& out, double d) {
-  std::uint64_t v;
-  std::memcpy(&v, &d, 8);
-  put_u64(out, v);
-}
-
-std::size_t put_stream(std::string& out, const std::string& raw, int level) {
+std::size_t put_stream(internal::Le_writer& w, const std::string& raw, int level) {
   if (raw.size() >= max_stream) throw Invalid_input("compact CM: a stream exceeds 1 GiB");
   std::string packed(ZSTD_compressBound(raw.size()), '\0');
   const std::size_t n = ZSTD_compress(&packed[0], packed.size(), raw.data(), raw.size(), level);
   const bool use = !ZSTD_isError(n) && n < raw.size();
-  const std::size_t before = out.size();
-  out.push_back(char(use ? 1 : 0));
-  put_u32(out, std::uint32_t(raw.size()));
-  put_u32(out, std::uint32_t(use ? n : raw.size()));
-  out.append(use ? packed.data() : raw.data(), use ? n : raw.size());
-  return out.size() - before;
+  const std::size_t before = w.out.size();
+  w.u8(use ? 1 : 0);
+  w.u32(std::uint32_t(raw.size()));
+  w.u32(std::uint32_t(use ? n : raw.size()));
+  w.out.append(use ? packed.data() : raw.data(), use ? n : raw.size());
+  return w.out.size() - before;
 }
 
-struct Byte_reader {
-  const unsigned char* p;
-  std::size_t n, pos;
-  const std::string& file;
-  void need(std::size_t k, const char* what) const {
-    if (k > n - pos)
-      throw IO_error(file, std::string("truncated file: ") + what + " needs " + std::to_string(k) + " bytes at offset " +
-                               std::to_string(pos) + ", " + std::to_string(n - pos) + " left");
-  }
-  std::uint64_t uint(int bytes) {
-    std::uint64_t v = 0;
-    for (int i = 0; i < bytes; ++i) v |= std::uint64_t(p[pos + std::size_t(i)]) << (8 * i);
-    pos += std::size_t(bytes);
-    return v;
-  }
-  double f64() {
-    const std::uint64_t v = uint(8);
-    double d;
-    std::memcpy(&d, &v, 8);
-    return d;
-  }
-};
-
-std::string get_stream(Byte_reader& r, const char* what) {
+std::string get_stream(internal::Le_reader& r, const char* what) {
   r.need(9, what);
-  const unsigned method = unsigned(r.uint(1));
-  const std::uint64_t raw = r.uint(4), stored = r.uint(4);
+  const unsigned method = r.u8();
+  const std::uint64_t raw = r.u32(), stored = r.u32();
   if (method > 1) throw IO_error(r.file, std::string("corrupt file: unknown coding of the ") + what + " stream");
   if (raw >= max_stream) throw IO_error(r.file, std::string("corrupt file: ") + what + " stream too large");
   r.need(stored, what);
@@ -566,28 +525,29 @@ std::string compact_cm_bytes(const Compact_model& m, const Compact_encoding& enc
       }
   }
 
-  std::string out(internal::cm_magic, 8);
-  put_u32(out, version3);
-  put_u32(out, m.has_uvs() ? 1u : 0u);
-  put_u32(out, std::uint32_t(V));
-  put_u32(out, std::uint32_t(F));
-  put_u32(out, std::uint32_t(K));
-  for (int k = 0; k < 3; ++k) put_f64(out, lo[k]);
-  put_f64(out, step);
-  out.push_back(char(bits));
-  put_f64(out, t);
+  internal::Le_writer w;
+  w.out.assign(internal::cm_magic, 8);
+  w.u32(version3);
+  w.u32(m.has_uvs() ? 1u : 0u);
+  w.u32(std::uint32_t(V));
+  w.u32(std::uint32_t(F));
+  w.u32(std::uint32_t(K));
+  for (int k = 0; k < 3; ++k) w.f64(lo[k]);
+  w.f64(step);
+  w.u8(std::uint8_t(bits));
+  w.f64(t);
   CM_file_parts pr;
-  pr.header = out.size();
-  pr.connectivity = put_stream(out, ec.stream, enc.zstd_level);
-  pr.sectors = put_stream(out, sectors.s, enc.zstd_level);
-  pr.positions = put_stream(out, positions.s, enc.zstd_level);
-  pr.normals = put_stream(out, normals.s, enc.zstd_level);
-  pr.coefficients = put_stream(out, coefficients.s, enc.zstd_level);
-  pr.uvs = put_stream(out, uvs.s, enc.zstd_level);
-  put_u64(out, internal::fnv1a64(reinterpret_cast<const unsigned char*>(out.data()), out.size()));
+  pr.header = w.out.size();
+  pr.connectivity = put_stream(w, ec.stream, enc.zstd_level);
+  pr.sectors = put_stream(w, sectors.s, enc.zstd_level);
+  pr.positions = put_stream(w, positions.s, enc.zstd_level);
+  pr.normals = put_stream(w, normals.s, enc.zstd_level);
+  pr.coefficients = put_stream(w, coefficients.s, enc.zstd_level);
+  pr.uvs = put_stream(w, uvs.s, enc.zstd_level);
+  w.u64(internal::fnv1a64(reinterpret_cast<const unsigned char*>(w.out.data()), w.out.size()));
   pr.checksum = 8;
   if (parts) *parts = pr;
-  return out;
+  return w.out;
 }
 
 Compact_model quantized_model(const Compact_model& m, const Compact_encoding& encoding) {
@@ -601,21 +561,21 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
   if (bytes.size() < header3_size + 8) throw IO_error(file, "truncated file: shorter than a version 3 header");
   if (std::memcmp(bytes.data(), cm_magic, 8) != 0) throw IO_error(file, "not a CM file (bad magic number)");
   {
-    Byte_reader t{data, bytes.size(), bytes.size() - 8, file};
-    if (t.uint(8) != fnv1a64(data, bytes.size() - 8)) throw IO_error(file, "checksum mismatch (the file is corrupt)");
+    Le_reader t{data, bytes.size(), bytes.size() - 8, file};
+    if (t.u64() != fnv1a64(data, bytes.size() - 8)) throw IO_error(file, "checksum mismatch (the file is corrupt)");
   }
-  Byte_reader r{data, bytes.size() - 8, 8, file};
-  if (r.uint(4) != version3) throw IO_error(file, "not a version 3 CM file");
-  const std::uint64_t flags = r.uint(4);
+  Le_reader r{data, bytes.size() - 8, 8, file};
+  if (r.u32() != version3) throw IO_error(file, "not a version 3 CM file");
+  const std::uint64_t flags = r.u32();
   if (flags & ~1u) throw IO_error(file, "unknown flags " + std::to_string(flags));
-  const std::uint64_t V = r.uint(4), F = r.uint(4), K = r.uint(4);
+  const std::uint64_t V = r.u32(), F = r.u32(), K = r.u32();
   if (F == 0 || F >= max_count || V > 3 * F || V == 0 || K < V || K > 3 * F)
     throw IO_error(file, "corrupt file: inconsistent counts (" + std::to_string(V) + " vertices, " + std::to_string(F) +
                              " faces, " + std::to_string(K) + " sectors)");
   double lo[3];
   for (double& x : lo) x = r.f64();
   const double step = r.f64();
-  const int bits = int(r.uint(1));
+  const int bits = int(r.u8());
   const double t = r.f64();
   if (!std::isfinite(lo[0] + lo[1] + lo[2]) || !(step > 0.) || !std::isfinite(step) || bits < 6 || bits > 20 ||
       !(t > 0.) || !std::isfinite(t))

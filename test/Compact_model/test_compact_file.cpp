@@ -20,7 +20,6 @@
 #include <cstring>
 #include <fstream>
 #include <random>
-#include <set>
 #include <string>
 
 namespace {
@@ -62,11 +61,8 @@ double distance_between(const Reconstruction& a, const Reconstruction& b, bool h
 // Rewrites the trailing FNV-1a checksum so that a modified file passes it (to reach the checks
 // behind it).
 void reseal(std::string& bytes) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (std::size_t i = 0; i + 8 < bytes.size(); ++i) {
-    h ^= static_cast<unsigned char>(bytes[i]);
-    h *= 1099511628211ull;
-  }
+  const std::uint64_t h =
+      internal::fnv1a64(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size() - 8);
   for (int i = 0; i < 8; ++i) bytes[bytes.size() - 8 + std::size_t(i)] = char((h >> (8 * i)) & 0xffu);
 }
 
@@ -146,7 +142,6 @@ TEST(CompactModelCompactFile, TextureCoordinatesAndPathSurvive) {
   EXPECT_EQ(q.texture, m.texture);
   // Corner uvs (matched through the vertex positions and the face's corner set) within the 16-bit grid.
   const double step = 2.0 / 65535.;
-  std::multiset<std::array<float, 2>> in, out;
   double worst = 0;
   std::vector<std::array<float, 2>> a, b;
   for (const auto& f : m.uvs)

@@ -98,6 +98,11 @@ struct Le_writer {
     std::memcpy(&v, &f, 4);
     u32(v);
   }
+  void f64(double d) {  // the compact file's header (cm_compact_io.h)
+    std::uint64_t v;
+    std::memcpy(&v, &d, 8);
+    u64(v);
+  }
 };
 
 struct Le_reader {
@@ -128,6 +133,12 @@ struct Le_reader {
     float f;
     std::memcpy(&f, &v, 4);
     return double(f);
+  }
+  double f64() {
+    const std::uint64_t v = u64();
+    double d;
+    std::memcpy(&d, &v, 8);
+    return d;
   }
 };
 

@@ -178,12 +178,11 @@ Compact_model build_compact_model_for(const CMGeom::Surface_mesh& input, const R
       found = meets(up);
     }
     if (found) {
-      while (up - lo > 1 && !meets(lo)) {  // !meets(lo), meets(up)
+      while (up - lo > 1) {  // meets(up), and !meets(lo) unless up = lo = 0
         const std::size_t mid = (lo + up) / 2;
-        if (mid == lo) break;
         (meets(mid) ? up : lo) = mid;
       }
-      chosen = meets(lo) ? lo : up;
+      chosen = up;
     } else {
       // none meets it: the lowest error measured
       double best = std::numeric_limits<double>::infinity();
