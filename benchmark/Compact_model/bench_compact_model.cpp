@@ -149,21 +149,28 @@ Error metro(const CMGeom::Surface_mesh& ref, const CMGeom::Surface_mesh& app) {
 }
 
 
+// Reads model `md` of the data directory (gunzipped into `tmp` when needed); false, with a line on
+// stderr, when it is missing.
+bool read_model(const std::string& data, const Model& md, const std::string& tmp, CMGeom::Textured_mesh& tm) {
+  std::string path = data + "/" + md.file;
+  if (!std::filesystem::exists(path)) {
+    std::fprintf(stderr, "skipping %s (not found)\n", path.c_str());
+    return false;
+  }
+  path = cmgeom_bench::readable_model(path, tmp);
+  if (path.empty()) return false;
+  CMGeom::IO::read_mesh(path, tm);
+  return true;
+}
+
 // Regular against adaptive reconstructions at equal output vertex counts (see the file comment).
 int adaptive_table(const std::string& data, const std::vector<Model>& models, const std::string& tmp) {
   std::printf("| model | base V/F | level | regular V | regular Hausdorff %% | regular RMS %% | chord-error V | tolerance %% | "
               "chord-error Hausdorff %% | chord-error RMS %% | length V | length Hausdorff %% | length RMS %% |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Model& md : models) {
-    std::string path = data + "/" + md.file;
-    if (!std::filesystem::exists(path)) {
-      std::fprintf(stderr, "skipping %s (not found)\n", path.c_str());
-      continue;
-    }
-    path = cmgeom_bench::readable_model(path, tmp);
-    if (path.empty()) continue;
     CMGeom::Textured_mesh tm;
-    CMGeom::IO::read_mesh(path, tm);
+    if (!read_model(data, md, tmp, tm)) continue;
     const CMGeom::Surface_mesh& mesh = tm.mesh();
     const double diagonal = cmgeom_bench::diagonal(CGAL::Polygon_mesh_processing::bbox(mesh));
     const CM::Compact_model model = CM::build_compact_model(mesh, md.base_faces);
@@ -229,15 +236,8 @@ int main(int argc, char** argv) {
               "plain Hausdorff %% | plain RMS %% |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Model& md : models) {
-    std::string path = data + "/" + md.file;
-    if (!std::filesystem::exists(path)) {
-      std::fprintf(stderr, "skipping %s (not found)\n", path.c_str());
-      continue;
-    }
-    path = cmgeom_bench::readable_model(path, tmp);
-    if (path.empty()) continue;
     CMGeom::Textured_mesh tm;
-    CMGeom::IO::read_mesh(path, tm);
+    if (!read_model(data, md, tmp, tm)) continue;
     const CMGeom::Surface_mesh& mesh = tm.mesh();
     const double diagonal = cmgeom_bench::diagonal(CGAL::Polygon_mesh_processing::bbox(mesh));
     for (const char* fit : {"thesis", "joint", "joint+cubic+ec"}) {

@@ -313,6 +313,18 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
   }
 }
 
+// The points and triangles of `mesh` as arrays (vertex indices as in the mesh, which has no
+// removed elements after reading).
+void flatten(const CMGeom::Surface_mesh& mesh, std::vector<CD::Vec3>& pts, std::vector<std::array<std::uint32_t, 3>>& tris) {
+  for (auto v : mesh.vertices()) pts.push_back({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
+  for (auto f : mesh.faces()) {
+    std::array<std::uint32_t, 3> t;
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) t[k++] = std::uint32_t(v);
+    tris.push_back(t);
+  }
+}
+
 // --scale: a large mesh (e.g. igea subdivided once, >= 1M faces) posed by the lattice cage
 // (grid 4 x 4 x 4, Green and mean value coordinates); the deformable CM with `base_faces` base
 // faces reconstructed at `level` against the full mesh deformed by the same cage. Per pose: (a)
@@ -326,13 +338,7 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
   const CMGeom::Surface_mesh& mesh = tm.mesh();
   std::vector<CD::Vec3> pts;
   std::vector<std::array<std::uint32_t, 3>> tris;
-  for (auto v : mesh.vertices()) pts.push_back({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
-  for (auto f : mesh.faces()) {
-    std::array<std::uint32_t, 3> t;
-    int k = 0;
-    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) t[k++] = std::uint32_t(v);
-    tris.push_back(t);
-  }
+  flatten(mesh, pts, tris);
   double t0 = now();
   const CM::Compact_model model = CM::build_compact_model(mesh, base_faces);
   const double build_s = now() - t0;
@@ -469,13 +475,7 @@ int main(int argc, char** argv) {
     const CMGeom::Surface_mesh& mesh = tm.mesh();
     std::vector<CD::Vec3> pts;
     std::vector<std::array<std::uint32_t, 3>> tris;
-    for (auto v : mesh.vertices()) pts.push_back({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
-    for (auto f : mesh.faces()) {
-      std::array<std::uint32_t, 3> t;
-      int k = 0;
-      for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) t[k++] = std::uint32_t(v);
-      tris.push_back(t);
-    }
+    flatten(mesh, pts, tris);
     const CM::Compact_model model = CM::build_compact_model(mesh, base_faces);
     const Box b = box_of(pts);
     for (const std::string& cage_name : cages) {

@@ -794,12 +794,9 @@ CMGeom::Textured_mesh shared_model(const std::string& name) {
   return tm;
 }
 
-// A plane joined to a parabolic fillet (z = 0 for x < 0, 0.8 x^2 beyond: tangent-continuous, with
-// a jump in curvature, as on Fandisk): one quadric per corner cannot follow both sides, and the
-// joint refit (Build_options::joint_fit), which fits the blend rather than each corner surface,
-// must lower the RMS distance to the input.
-TEST(CompactModelBuild, JointFitLowersTheErrorAcrossAFillet) {
-  const int n = 60;
+// The n x n grid over [-1, 1]^2 of a plane joined to a parabolic fillet: z = 0 for x <= 0,
+// 0.8 x^2 beyond (tangent-continuous, with a jump in curvature, as on Fandisk).
+Surface_mesh plane_and_fillet(int n) {
   Surface_mesh grid;
   std::vector<Surface_mesh::Vertex_index> v;
   for (int j = 0; j <= n; ++j)
@@ -813,6 +810,15 @@ TEST(CompactModelBuild, JointFitLowersTheErrorAcrossAFillet) {
       grid.add_face(v[a], v[b], v[d]);
       grid.add_face(v[a], v[d], v[c]);
     }
+  return grid;
+}
+
+// A plane joined to a parabolic fillet (z = 0 for x < 0, 0.8 x^2 beyond: tangent-continuous, with
+// a jump in curvature, as on Fandisk): one quadric per corner cannot follow both sides, and the
+// joint refit (Build_options::joint_fit), which fits the blend rather than each corner surface,
+// must lower the RMS distance to the input.
+TEST(CompactModelBuild, JointFitLowersTheErrorAcrossAFillet) {
+  const Surface_mesh grid = plane_and_fillet(60);
   Build_statistics st;
   const Compact_model a = build_compact_model(grid, 100);
   const Compact_model b =
@@ -1031,20 +1037,7 @@ TEST(CompactModelAdaptive, EveryOutputEdgeMeetsTheTolerance) {
 // the curved half (x > 0.1) as on the flat half (x < -0.1). (The simplified base already leans the
 // same way: it has few faces on the flat half.)
 TEST(CompactModelAdaptive, ChordErrorRefinesWhereTheSurfaceBends) {
-  const int n = 60;
-  Surface_mesh grid;
-  std::vector<Surface_mesh::Vertex_index> v;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const double x = -1 + 2. * i / n, y = -1 + 2. * j / n;
-      v.push_back(grid.add_vertex(CMGeom::Point_3(x, y, x > 0 ? 0.8 * x * x : 0.)));
-    }
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const std::size_t a = std::size_t(j * (n + 1) + i), b = a + 1, c = a + std::size_t(n) + 1, d = c + 1;
-      grid.add_face(v[a], v[b], v[d]);
-      grid.add_face(v[a], v[d], v[c]);
-    }
+  const Surface_mesh grid = plane_and_fillet(60);
   const Compact_model m = build_compact_model(grid, 60);
   const Reconstruction reg = reconstruct_regular(m, 2);
   const Vertex_budget_result ad = reconstruct_to_vertex_budget(m, reg.points.size(), 5);

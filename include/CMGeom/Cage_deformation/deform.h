@@ -69,6 +69,12 @@ inline double deform_clock_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+// Tells the caller a stage begins (Deform_options::stage) and returns the clock at its start.
+inline double start_stage(const Deform_options& o, Deform_stage s) {
+  if (o.stage) o.stage(s);
+  return deform_clock_seconds();
+}
+
 template <class Binding>
 void count_statuses(const Binding& b, Deform_result& r) {
   for (Coordinate_status s : {Coordinate_status::regular, Coordinate_status::on_boundary, Coordinate_status::extended,
@@ -79,20 +85,16 @@ void count_statuses(const Binding& b, Deform_result& r) {
 template <class Weight, class PointRange>
 void deform_by_one_cage(const PointRange& points, const Cage_description& c, const Deform_options& o,
                         Deform_result& r) {
-  auto start = [&](Deform_stage s) {
-    if (o.stage) o.stage(s);
-    return deform_clock_seconds();
-  };
-  double t0 = start(Deform_stage::setup);
+  double t0 = start_stage(o, Deform_stage::setup);
   const Any_cage_coordinates coords = make_cage_coordinates(c.coordinates, c.rest, c.harmonic);
   r.setup_seconds = deform_clock_seconds() - t0;
-  t0 = start(Deform_stage::bind);
+  t0 = start_stage(o, Deform_stage::bind);
   Binding_options bo;
   bo.storage = o.storage;
   bo.progress = o.progress;
   const Cage_binding<Weight> b = bind_points<Weight>(coords, points, bo);
   r.bind_seconds = deform_clock_seconds() - t0;
-  t0 = start(Deform_stage::deform);
+  t0 = start_stage(o, Deform_stage::deform);
   std::vector<Vec3> basis;
   coords.deformation_rule()(c.deformed, std::back_inserter(basis));
   b.deform(basis, r.positions);
@@ -105,20 +107,16 @@ void deform_by_one_cage(const PointRange& points, const Cage_description& c, con
 template <class Weight, class PointRange>
 void deform_by_cage_system(const PointRange& points, const Cage_system_description& d, const Deform_options& o,
                            Deform_result& r) {
-  auto start = [&](Deform_stage s) {
-    if (o.stage) o.stage(s);
-    return deform_clock_seconds();
-  };
   r.cage_system = true;
-  double t0 = start(Deform_stage::setup);
+  double t0 = start_stage(o, Deform_stage::setup);
   const Cage_system sys(d);
   r.setup_seconds = deform_clock_seconds() - t0;
-  t0 = start(Deform_stage::bind);
+  t0 = start_stage(o, Deform_stage::bind);
   const Cage_system_binding<Weight> b =
       o.piecewise ? sys.template bind<Weight>(points, Sine_smoothing(), Piecewise_smoothing(), o.progress)
                   : sys.template bind<Weight>(points, Sine_smoothing(), Sine_h_smoothing(), o.progress);
   r.bind_seconds = deform_clock_seconds() - t0;
-  t0 = start(Deform_stage::deform);
+  t0 = start_stage(o, Deform_stage::deform);
   b.deform(sys.basis(sys.deformed_leaf_vertices()), r.positions);
   r.deform_seconds = deform_clock_seconds() - t0;
   r.weights_bytes = b.weights_bytes();
