@@ -2,38 +2,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Local surfaces of a Compact Model (thesis §4.4.1) and the `LocalSurfaceTraits` concept that
-// fits them. A local surface lives in the frame (v; U, V, N) of a base vertex v, with U built
-// from N exactly as in §4.4.1 (U = (n2, -n1, 0)/|.|, or (1,0,0) when N is the z axis; V = N x U),
-// and is a height function x3 = h(x1, x2) over the (U, V) plane:
+// fits them, with its models Quadric_surface_traits (the thesis, default) and
+// Cubic_surface_traits (a CMGeom addition). A local surface is a height x3 = h(x1, x2) in the
+// frame (v; U, V, N) of a base vertex, U built from N as in §4.4.1: the quadric
+// a x1^2 + b x1x2 + c x2^2 + d x1 + e x2, the cone s sqrt(Q) with Q fitted to x3^2 and the side s
+// stored as a 6th coefficient, or the quadric plus the four cubic monomials. Every model passes
+// through v, so Phi(v) = v. Fits solve the least-squares normal equations by LDLT in coordinates
+// scaled by the points' RMS radius (minimum-norm solution when rank-deficient); quadric and cone
+// are compared by the RMS of their height residuals. A CM file stores each list's model id, so
+// evaluate_height() evaluates any stored surface whatever traits built it.
 //
-//   quadric (thesis default)  h = a x1^2 + b x1x2 + c x2^2 + d x1 + e x2               (5 coeffs)
-//   cone    (thesis §4.4.1)   h = s sqrt(max(0, Q(x1, x2))), Q fitted to x3^2 ("cone-type")
-//                             s = +-1 is the side of the apex the points lie on (6th coeff)
-//   cubic   (CMGeom addition) the quadric plus x1^3, x1^2x2, x1x2^2, x2^3                 (9 coeffs)
-//
-// Every model passes through v (no constant term), so Phi(v) = v (§4.5.1). The quadric and the
-// cubic are fitted by the least-squares normal equations of §4.4.1 (5x5, resp. 9x9); the cone by
-// the same equations with right-hand side x3^2. Choices the thesis leaves open, documented in
-// doc/Compact_model/README.md:
-//   * conditioning: the normal equations are assembled in coordinates scaled by the RMS radius of
-//     the points (a pure change of unit, undone on the coefficients), and solved by LDLT; a
-//     rank-deficient system (fewer points than coefficients, collinear points) gets the
-//     minimum-norm solution (complete orthogonal decomposition);
-//   * the sign s of the cone is the sign of the sum of the x3 of the points (the thesis fits x3^2
-//     and loses it);
-//   * the fitting error used to choose quadric or cone (§4.4.3) is the RMS of the height
-//     residuals |h(x1, x2) - x3| of both models, so the two are compared in the same unit.
-//
-// Concept `LocalSurfaceTraits` (models: Quadric_surface_traits, the default, and
-// Cubic_surface_traits):
-//   Fit_result fit(const std::vector<Vec3>& local_points) const;       smooth model
-//   Fit_result fit_cone(const std::vector<Vec3>& local_points) const;  conical model (ok=false if none)
-//   double height(const Local_surface&, double x1, double x2, double* d = nullptr) const;
-//       d (if given) receives h_x1, h_x2, h_x1x1, h_x1x2, h_x2x2 (used by the Newton schemes).
-// A CM file stores the model id of every coefficient list, so a reader evaluates any stored
-// surface with evaluate_height() whatever traits built it.
-//
-// Complexity: fitting O(n k^2 + k^3) for n points and k coefficients; evaluation O(1).
+// Manual: doc/Compact_model/README.md, "Choices where the thesis is open (and why)".
 #ifndef CMGEOM_COMPACT_MODEL_LOCAL_SURFACE_TRAITS_H
 #define CMGEOM_COMPACT_MODEL_LOCAL_SURFACE_TRAITS_H
 

@@ -1,21 +1,14 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Point gathering during simplification (thesis §4.3): every original vertex v_i starts with the
-// set R_i = {v_i} ∪ 1-ring(v_i); when an edge collapses, the kept vertex receives R_i ∪ R_j.
-//
-// Memory is linear in the input: the sets are singly linked lists in two flat arrays (point id,
-// next node) with a head and tail per vertex, created once with V + 2E nodes (each vertex and each
-// directed edge) and never copied; a union is an O(1) splice. Duplicates that a union creates
-// (shared neighbours) are removed once at the end (Gathered_points::points_of sorts its list).
-//
-// The visitor models CGAL's EdgeCollapseSimplificationVisitor and works with both
-// CGAL::Surface_mesh_simplification::edge_collapse and CMGeom's engine. It is copied by value by
-// both, so it only holds a pointer to the Gathered_points object. The gathering happens in
-// OnCollapsed, which both engines call for every collapse (CGAL's also for the zero-length edges
-// it collapses during set-up, without OnCollapsing).
-//
+// Point gathering during simplification (thesis §4.3): Gathered_points and the collapse visitor.
+// Every original vertex v_i starts with R_i = {v_i} ∪ 1-ring(v_i); when an edge collapses, the kept
+// vertex receives R_i ∪ R_j. Key choice: memory linear in the input, the sets being linked lists
+// of V + 2E nodes allocated once, a union an O(1) splice, duplicates removed once at the end. The
+// visitor works with CGAL::Surface_mesh_simplification::edge_collapse and with CMGeom's engine.
 // Complexity: O(V + E) set-up, O(1) per collapse, O(k log k) to read a set of k entries.
+//
+// Manual: doc/Compact_model/README.md, "Choices where the thesis is open (and why)".
 #ifndef CMGEOM_COMPACT_MODEL_POINT_GATHERING_VISITOR_H
 #define CMGEOM_COMPACT_MODEL_POINT_GATHERING_VISITOR_H
 

@@ -1,24 +1,16 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// build_compact_model(): Compact Model generation (thesis §4.3-4.4, §4.5.3). Its steps are the
-// members of internal::Compact_model_builder, called in this order:
-//   1. simplify_and_gather, snap_base_vertices (§4.3): the input simplified by a Simplifier
-//      (Base_simplifiers.h) while a Point_gathering_visitor builds the sets R_i; base vertices on
-//      input points.
-//   2. redistribute (§4.3): a point of R_i joins R_j when it is nearer v_j, normals alike.
-//   3. collect_base_faces, find_foot_faces (§4.4.1): the foot face of each gathered point.
-//   4. find_sharp_edges (§4.4.2), promote_darts (§4.4.3).
-//   5. build_sectors, fit_sectors (§4.4.3): one surface per sector, through a support check;
-//      store_base_mesh: faces of (vertex, surface, normal) corners, uvs.
-//   5b. refit_jointly (CMGeom addition, Build_options::joint_fit): all surfaces refitted together
-//      so that their blend follows the input (internal::joint_refit()).
-//   6. control_error (§4.5.3, Build_options::error_bound > 0): points farther than the bound,
-//      both ways, are added and the surfaces refitted; a round that does not lower the error is
-//      undone.
-//   7. finish: every number rounded to float (what the CM file stores), statistics.
-// Each choice, with the measurements behind it, and the complexity: doc/Compact_model/README.md
-// ("Building a Compact Model" and "Choices where the thesis is open").
+// build_compact_model(), Build_options, Build_statistics: Compact Model generation (thesis
+// §4.3-4.4, §4.5.3). The steps are members of internal::Compact_model_builder, in this order:
+// simplification with point gathering and snapping (§4.3), redistribution (§4.3), foot faces
+// (§4.4.1), sharp edges and darts (§4.4.2, §4.4.3), sectors and their surfaces through a support
+// check (§4.4.3), the optional joint refit (CMGeom addition, Build_options::joint_fit), error
+// control (§4.5.3, Build_options::error_bound > 0; a round that does not lower the error is
+// undone), and rounding to float (what the CM file stores). Each choice, with the measurements
+// behind it, and the complexity are in the manual.
+//
+// Manual: doc/Compact_model/README.md, "Building a Compact Model".
 #ifndef CMGEOM_COMPACT_MODEL_BUILD_COMPACT_MODEL_H
 #define CMGEOM_COMPACT_MODEL_BUILD_COMPACT_MODEL_H
 

@@ -1,25 +1,16 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// build_textured_compact_model(): the Compact Model of a textured mesh (thesis §4.5.4: texture
-// coordinates per face corner and a texture reference). The base comes from the texture-preserving
-// simplification of chapter 3 (simplify_textured_mesh: chart constraints of §3.5, UV placement,
-// index texture of §3.3/§3.6) with the point gathering of §4.3 as its visitor and base vertices
-// kept on input vertices (Endpoint_placement); the rest of the build (redistribution, sharp
-// edges, local surfaces, error control) is build_compact_model()'s. The base faces' uvs are the
-// simplified mesh's; when the input's texture is decoded, the new atlas generated through the
-// index texture (§3.6) is returned with them (the output uvs cover it, [0,1]²), so a
-// reconstruction interpolating these uvs over the base triangles shows the input's appearance.
-// Without a decoded texture the uvs are kept under the same constraints and point into the
-// input's own texture.
+// build_textured_compact_model(), Textured_quadric_simplifier, Textured_build_result: the Compact
+// Model of a textured mesh (thesis §4.5.4: texture coordinates per face corner and a texture
+// reference). Choice (the thesis gives the file's texture fields, not how the base's uvs are
+// made): the base is simplified exactly as a textured mesh is in chapter 3 (chart constraints of
+// §3.5, UV placement, index texture of §3.3/§3.6) with the point gathering of §4.3 as visitor and
+// base vertices kept on input vertices; so every base face lies in one chart and, when the input's
+// texture is decoded, a new atlas comes with the model. The rest of the build is
+// build_compact_model()'s. Complexity: simplify_textured_mesh()'s plus build_compact_model()'s.
 //
-// Choice (the thesis gives the CM file's texture fields, not how the base's uvs are made): the
-// base is simplified exactly as a textured mesh is in chapter 3, so every base face lies in one
-// chart and the charts survive; the reconstruction interpolates uvs linearly over a base face
-// while its points are projected onto the blended local surfaces, so a texel lands at most the
-// projection's displacement away from where the chapter 3 mapping puts it.
-//
-// Complexity: simplify_textured_mesh()'s plus build_compact_model()'s.
+// Manual: doc/Compact_model/README.md, "Textured Compact Models (§4.5.4)".
 #ifndef CMGEOM_COMPACT_MODEL_BUILD_TEXTURED_COMPACT_MODEL_H
 #define CMGEOM_COMPACT_MODEL_BUILD_TEXTURED_COMPACT_MODEL_H
 

@@ -1,51 +1,18 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// The CM file format (thesis §4.4.3: "storing vertices, least-squares coefficient list, normal
-// vectors, cone-type vertex list and ... the faces by three sets of three indices: vertex,
-// coefficient list and normal vector"), binary, little-endian. Version 2 is written here,
-// versions 1 and 2 are read here; version 3, the compact quantized file written by
-// write_compact_cm(), is described in cm_compact_io.h and read by parse_cm()/read_cm() too.
+// The CM file (thesis §4.4.3: vertices, coefficient lists, normals, cone-type vertices, and faces
+// as (vertex, coefficient list, normal) triples): write_cm(), read_cm(), parse_cm(), cm_bytes(),
+// texture_path(). Binary, little-endian, ending with an FNV-1a checksum. Version 2 is written,
+// versions 1 and 2 are read here, and version 3 (cm_compact_io.h) is read by parse_cm()/read_cm()
+// too. Version 2 is a CMGeom change to the thesis' layout (same model, same numbers): a corner
+// stores its vertex and, where the vertex has several sectors, a sector number, instead of three
+// indices; a model with a vertex of more than 255 sectors is written as version 1.
+// Reading checks every count against the file size before allocating and every index and number
+// after, throws CMGeom::IO_error (file, what) on the first failure and returns no partial model;
+// write_cm() is atomic. Complexity: O(file size) (writing: O(F log F)).
 //
-//   offset  size            content
-//   0       8               magic "CMGEOMCM"
-//   8       4   u32         version (1 or 2)
-//   12      4   u32         flags: bit 0 = textured (uv section present); version 2, bit 1 = implicit
-//                           sector table (see below); other bits must be 0
-//   16      8*5 u64         counts: vertices V, normals N, coefficient lists S, cone vertices C, faces F
-//   56      12V f32         vertices (x, y, z)
-//           12N f32         unit frame normals
-//           S lists         per list: u8 model id (0 quadric, 1 cone, 2 cubic), then 5, 6 or 9 f32
-//           4C  u32         cone-type vertex indices (ascending; must match the conical lists)
-//   version 1:
-//           36F u32         faces: 3 x (vertex, coefficient list, normal)
-//   version 2 (the same information, smaller: a corner's (coefficient list, normal) pair is one of
-//   its vertex's sectors, and most vertices have one sector):
-//           V   u8          number of sectors k_v of each vertex (distinct pairs among its corners)
-//           8K  u32 pairs   unless flag bit 1: (coefficient list, normal) of each sector, vertex by
-//                           vertex, K = sum of k_v. With bit 1 the table is implicit: sector j of
-//                           vertex v is pair (s_v + j, s_v + j), s_v = k_0 + ... + k_{v-1}, N = S = K
-//                           (the layout build_compact_model produces).
-//           12F u32         faces: 3 vertex indices each
-//           M   u8          for every corner (in face order) whose vertex has more than one
-//                           sector, its sector number j < k_v (M such corners)
-//   both:
-//   [textured] u32 length + bytes of the texture path, then 24F f32 (u, v per corner)
-//   end-8   8   u64         FNV-1a 64-bit hash of every preceding byte
-//
-// Version 2 is a CMGeom change to the thesis' layout (same model, same numbers): the faces take
-// 12 + (corners at multi-sector vertices) bytes instead of 36, e.g. the horse's 1000-face base
-// goes from 67,561 to 45,184 bytes. A model with a vertex of more than 255 sectors is written as version 1.
-// Explicit tables list a vertex's pairs in increasing order. Reading then writing gives the same
-// model; the bytes are the same from the second writing on (a version 1 file becomes version 2).
-//
-// Reading checks, in this order, and throws CMGeom::IO_error (file, what) on the first failure:
-// size and magic, version, flags, counts against the file size (before allocating anything),
-// section sizes, model ids and sector numbers while parsing, the checksum, then every index and
-// number (Compact_model::validate) and the cone list. No partial model is returned. write_cm() is
-// atomic (temporary file + rename, never a truncated file).
-//
-// Complexity: O(file size) (writing: O(F log F)).
+// Manual: doc/Compact_model/README.md, "CM file format (versions 1 and 2, little-endian)".
 #ifndef CMGEOM_COMPACT_MODEL_CM_IO_H
 #define CMGEOM_COMPACT_MODEL_CM_IO_H
 

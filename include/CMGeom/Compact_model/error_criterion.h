@@ -1,41 +1,17 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Error-driven adaptive reconstruction of a Compact Model (CMGeom addition to §4.5.2).
+// Error-driven adaptive reconstruction of a Compact Model (a CMGeom addition to §4.5.2):
+// Chord_error_criterion, chord_deviation() and reconstruct_to_vertex_budget(). The criteria of
+// §4.5.2 say where to refine, not how far the output is from the surface; here an edge (p1, p2)
+// is halved when its chord's midpoint is estimated farther than `tolerance` from the blended
+// surface Phi, by |(d . n2) n2 - (d . n1) n1| / 8 (d the chord, n1, n2 the blended end normals:
+// the cubic Hermite curve with the projected chord as end tangents), which is first order in the
+// turning angle, 0 on a plane, and needs no evaluation at the midpoint.
+// reconstruct_to_vertex_budget() bisects log(tolerance) and returns the largest output within a
+// vertex budget. The error is measured against Phi, not the input (which the CM no longer has).
 //
-// The three criteria of §4.5.2 (length, region of interest, silhouette) say where to refine, not
-// how far the output is from the surface the CM describes; at a given output size they can spend
-// their vertices where the surface is flat and leave curved parts coarse, so an adaptive output
-// can be worse than the regular one with fewer vertices. §4.5.3 controls the error of the CM
-// itself (at build time); the thesis leaves the reconstruction's own error, that of the output
-// triangles against the blended surface Phi, to the level. Here that error drives the adaptive
-// subdivision:
-//
-//   * Chord_error_criterion: an edge (p1, p2) is halved when the distance between the midpoint
-//     of its chord and the surface is estimated above `tolerance`. The estimate uses what an
-//     adaptive criterion sees, the two reconstructed end points and their blended unit normals
-//     (CM::Sample): the cubic Hermite curve from Phi(p1) to Phi(p2) whose end tangents are the
-//     chord d projected on each end's tangent plane leaves the chord's midpoint by
-//         | (d . n2) n2 - (d . n1) n1 | / 8.
-//     This is first order in the turning angle (a circular arc of chord L turning by theta gives
-//     L theta / 8, its sagitta to first order), it is 0 on a plane whatever the edge length, and
-//     it needs no evaluation of Phi at the midpoint (the reconstruction evaluates the midpoint
-//     only once the criterion said yes). Known blind spot: an inflection between the two ends
-//     (opposite tilts cancel); the regular subdivision has the same one at its own scale.
-//     On a sharp base edge both ends carry the blended normal of the edge's two sectors, so the
-//     estimate follows the bend of the crease line, not the dihedral angle (which no subdivision
-//     reduces).
-//   * reconstruct_to_vertex_budget(): the tolerance that meets a vertex budget. The output size
-//     does not grow strictly with 1 / tolerance (a split decision is local), so the driver
-//     bisects on log(tolerance) and returns the largest output found within the budget (ties:
-//     the smaller tolerance). Each step is one adaptive reconstruction.
-//
-// Choices where the thesis is open (§4.5.2 lists criteria without error, §4.5.3 controls the
-// build): the error measured is the chord's against Phi (not against the input, which the CM
-// no longer has); the split is still one edge at a time, so crack-freedom and shared vertices
-// hold as for every criterion (reconstruct.h).
-//
-// Complexity: the criterion is O(1); the driver O(iterations x adaptive reconstruction).
+// Manual: doc/Compact_model/README.md, "Error-driven adaptive reconstruction (CMGeom addition to §4.5.2)".
 #ifndef CMGEOM_COMPACT_MODEL_ERROR_CRITERION_H
 #define CMGEOM_COMPACT_MODEL_ERROR_CRITERION_H
 

@@ -2,23 +2,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Geometry on one local surface S(x1, x2) = v + x1 U + x2 V + h(x1, x2) N (thesis §4.4.1) and on
-// the intersection of two of them (§4.5.1): evaluation, normal, the two projections S-bar(p) of
-// §4.5.1 (along N, and closest point by Newton), and the point of S^n ∩ S^m ∩ pi closest to p for
-// points on sharp edges (Newton on three equations in R^3).
+// the intersection of two (§4.5.1): evaluation, normal, the two projections S-bar(p) of §4.5.1
+// (along N, and closest point), and the point of S^n ∩ S^m ∩ pi closest to p for points on sharp
+// edges. The thesis says "Newton iteration scheme" without details; here the closest point is
+// Newton on the squared distance (Gauss-Newton where the Hessian is not positive definite), never
+// farther than the projection along N, and the sharp-edge point is Newton on three equations in
+// R^3 started at the mean of the two projections along N. Both have bounded iteration counts,
+// so every call is O(1).
 //
-// Newton schemes (the thesis says "Newton iteration scheme" without details; our reading):
-//   * closest point: Newton on the squared distance over (x1, x2), started at the projection
-//     along N; when the Hessian is not positive definite the Gauss-Newton matrix (always positive
-//     definite) replaces it; at most 16 iterations, stop when the step is below 1e-13 of the
-//     distance scale; a non-finite iterate (a cone near its apex) or a result farther from p than
-//     the projection along N falls back to the projection along N.
-//   * sharp edges: residuals r_n(q) = (q - v_n).N_n - h_n(x1, x2), r_m(q) likewise, and
-//     (q - p).t for the plane pi through p orthogonal to the edge direction t; started at the
-//     mean of the two projections along N moved into pi, so the iteration converges to the
-//     intersection point nearest the edge; at most 20 iterations; when it does not converge the
-//     starting point is returned (and reported through `converged`).
-//
-// Complexity: O(1) per call (bounded iteration counts).
+// Manual: doc/Compact_model/README.md, "Choices where the thesis is open (and why)".
 #ifndef CMGEOM_COMPACT_MODEL_LOCAL_SURFACE_PROJECTION_H
 #define CMGEOM_COMPACT_MODEL_LOCAL_SURFACE_PROJECTION_H
 

@@ -1,29 +1,17 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// build_compact_model_for(): a Compact Model chosen for an error bound or a size bound, i.e. the
-// base size, the quantization of the compact file (cm_compact_io.h) and the reconstruction level.
-// A CMGeom addition: the thesis fixes the base size by hand (ch. 4, Tables 4.1-4.3).
+// build_compact_model_for(): a Compact Model chosen for an error bound or a size bound (Rate_target,
+// Rate_choice), i.e. the base size, the quantization of the compact file (cm_compact_io.h) and the
+// reconstruction level. A CMGeom addition: the thesis fixes the base size by hand (chapter 4,
+// Tables 4.1-4.3). The error is the Metro-style symmetric Hausdorff distance between the input and
+// the reconstruction of the decoded version 3 file, as a fraction of the bounding-box diagonal.
+// Key choice: the error of a CM is not monotone in its base size, so candidate bases (a grid of
+// ratio sqrt 2) are searched upwards from small ones instead of bisected; when no candidate meets
+// the target the closest one is returned with `met` false. Each candidate costs one build, one
+// reconstruction per level and one error measure (about 5-8 candidates).
 //
-// The error is the Metro-style symmetric Hausdorff distance (Metrics::approximation_error) between
-// the input and the reconstruction of the model as a version 3 file decodes it (quantization
-// included), closest-point projection, as a fraction of the input's bounding-box diagonal.
-//
-//   * max_error E: a small base (faces on a grid of ratio sqrt 2 from 16 faces to half the input)
-//     whose reconstruction at some level <= max_level is within E: bases of ratio 2 are tried
-//     upwards from the smallest until one meets E, then the grid base between it and the previous
-//     one (the error is not monotone in the base size, so a larger base is not assumed better);
-//     the level is the lowest that meets E; positions and coefficients are quantized with
-//     tolerance E / 10 of the diagonal.
-//   * max_bytes B: the largest grid base whose file fits in B bytes (bisection on the size, which
-//     grows with the base), then the lowest error among it and the two grid bases below (measured);
-//     the tolerance is a tenth of the chosen model's error when that still fits, else 1e-3 of the
-//     diagonal. The level is the one with the lowest error.
-//   * both: the smallest base meeting E among those fitting B.
-// When no grid base meets the target, the closest one is returned with `met` false.
-//
-// Cost: each measured candidate is one build, one reconstruction per level and one error measure
-// (samples: 2 x the input's faces per direction by default); about 5-8 candidates.
+// Manual: doc/Compact_model/README.md, "The compact file (version 3) and rate–distortion".
 #ifndef CMGEOM_COMPACT_MODEL_RATE_DISTORTION_H
 #define CMGEOM_COMPACT_MODEL_RATE_DISTORTION_H
 

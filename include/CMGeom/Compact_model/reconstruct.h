@@ -1,53 +1,18 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Reconstruction of a surface from a Compact Model (thesis §4.5): every base triangle is
-// subdivided and every new point p (barycentric alpha) is replaced by
-//   Phi(p) = sum_i W_i(p) S-bar_i(p),   W_i = alpha_i^3 / (alpha_1^3 + alpha_2^3 + alpha_3^3)  (§4.5.1)
-// where S-bar_i(p) is the projection of p onto the local surface of corner i (along its frame
-// normal, or closest point by Newton: Reconstruction_options::projection), except for points on
-// a sharp base edge, which go to the point of S^n ∩ S^m ∩ pi closest to p (pi orthogonal to the
-// edge through p, both surfaces of the endpoint's two sectors).
+// Reconstruction of a surface from a Compact Model (thesis §4.5): reconstruct_regular(),
+// reconstruct_adaptive(), Reconstruction_options and the adaptive criteria Edge_length_criterion,
+// Region_of_interest_criterion, Silhouette_criterion, Always_split. Every base triangle is
+// subdivided (regular: 4^L triangles; adaptive: 2-, 3- or 4-splits of the edges a criterion
+// selects, §4.5.2) and every new point p goes to Phi(p) = sum_i W_i(p) S-bar_i(p),
+// W_i = alpha_i^3 / sum_k alpha_k^3 (§4.5.1); a point on a sharp base edge goes to the point of
+// S^n ∩ S^m ∩ pi closest to it. Key choice: the points of a base edge are computed, and its
+// segments split, by the edge alone, so neighbouring triangles never crack and every output point
+// exists once. TBB-parallel with output bit-identical to the serial run; uvs are interpolated per
+// base face (§4.5.4); Reconstruction_options::vertex_maps is the deformation hook of §6.4.
 //
-// Subdivision (§4.5.2):
-//   * regular, level L: every triangle becomes 4^L triangles (2^L segments per base edge);
-//   * adaptive: a triangle is split into 2, 3 or 4 by joining the midpoints of the edges that a
-//     criterion selects, recursively, up to `max_level` halvings of any edge. A criterion is a
-//     function object `bool operator()(const Sample& a, const Sample& b) const` on the two
-//     reconstructed end points of an edge (point and normal): Edge_length_criterion,
-//     Region_of_interest_criterion, Silhouette_criterion, Always_split (= regular) below.
-//
-// Crack-freedom and shared vertices: the points of a base edge are computed once, by the edge
-// (never by its faces), in the edge's canonical direction (smaller vertex index first), and an
-// adaptive split of a segment of a base edge is decided by the edge alone from its two end
-// samples; inside a face, a sub-edge's decision depends only on its end samples (memoised) and on
-// a level that both sub-triangles sharing it agree on. Hence neighbouring triangles always agree,
-// and every output point exists once: base vertices first, then the points of each base edge,
-// then the interior points of each face, all in index order.
-//
-// Parallelism: base edges, then base faces, are processed with tbb::parallel_for; each writes
-// only its own pre-assigned slots (regular) or its own buffers concatenated in order (adaptive),
-// so the output is bit-identical to the serial run (`parallel = false`).
-//
-// Texture coordinates (§4.5.4) are interpolated linearly per output corner from the base face's
-// corner uvs.
-//
-// Deformation hook (thesis §6.4, used by the Deformable_compact_model package): when
-// Reconstruction_options::vertex_maps points to one Vertex_affine_map T_i per base vertex, every
-// reconstructed point becomes sum_i W_i(p) T_i(Phi(p)) with the same weights W_i as the blend
-// (base vertices become T_i(v_i) = deformed v_i) and its normal is mapped by the cofactor matrix
-// of sum_i W_i M_i. Because the samples are deformed before the adaptive criteria see them,
-// adaptive subdivision follows the deformed surface. A point whose weighted corners all carry
-// identity maps is left untouched, so identity maps give the plain reconstruction bit for bit;
-// without maps (the default) nothing changes.
-//
-// Progress: Reconstruction_options::progress (CMGeom/Progress.h) is called from the calling
-// thread with the fraction done, weighted by the points computed: base edges, then base faces
-// (adaptive: edges count for 30 %, the faces' points being unknown in advance), at most about 256
-// times per phase; the TBB workers only add their blocks to an atomic counter.
-//
-// Complexity: O(F 4^L) for regular level L; O(output size x log) for adaptive (one hash lookup per
-// sub-edge); each point costs O(1) (bounded Newton iterations).
+// Manual: doc/Compact_model/README.md, "Choices where the thesis is open (and why)".
 #ifndef CMGEOM_COMPACT_MODEL_RECONSTRUCT_H
 #define CMGEOM_COMPACT_MODEL_RECONSTRUCT_H
 
