@@ -1,33 +1,17 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Binding and deformation (thesis §5.1: "transforming a point by a linear combination of the cage
-// geometry using a set of precalculated coordinates"). bind_points() evaluates any CageCoordinates model
-// at every point of a mesh once (TBB-parallel) and stores the N x K weights densely or sparsely,
-// as float or double; Cage_binding::deform() then maps the K basis vectors of a deformed cage
-// (CageDeformationRule) to the N deformed positions, x'_v = sum_k W[v][k] B_k.
+// Binding and deformation (thesis §5.1: a point is transformed by a linear combination of the cage
+// geometry with precalculated coordinates): bind_points() evaluates any CageCoordinates model at
+// every point once (TBB-parallel) and stores the N x K weights dense, sparse (CSR) or grouped, as
+// float or double; Cage_binding::deform() maps the K basis vectors of a deformed cage to the N
+// positions, x'_v = sum_k W[v][k] B_k. deform() is the per-frame hot loop: it allocates nothing,
+// runs over rows in parallel and reads the weights once, so it is bound by memory bandwidth; its
+// dense kernel uses AVX2/FMA chosen at run time, as the project builds without -march. Grouped
+// storage, for the rows of a *Cages system, keeps each column pattern once and a weight costs its
+// value only. Complexity: binding O(N (n + m)); deform O(N K) dense, O(nnz) sparse and grouped.
 //
-// deform() is the per-frame hot loop: it allocates nothing, runs over rows in parallel, and reads
-// the weights once, so it is bound by memory bandwidth. The dense kernel is written with AVX2/FMA
-// intrinsics chosen at run time (__builtin_cpu_supports), because the project builds with plain
-// -O2 (no -march), which neither vectorises floating-point reductions nor uses AVX; a portable
-// scalar kernel with four independent accumulators is the fallback.
-//
-// Three storages: dense (N x K), sparse (CSR: value + 32-bit column per weight) and grouped. Grouped
-// storage is for rows that are sparse but share a few column patterns, as the rows of a *Cages
-// system do (every point of cage C_i whose d_i = 1 has the columns of C_i; every joined point the
-// columns of C_i and of the same join cages). Rows with the same pattern form a group: the pattern
-// is stored once, the rows' values densely one after the other, plus the point of each row (one
-// 32-bit index per row, or runs of consecutive points when those are shorter); a weight costs its
-// value only. deform() gathers a group's basis columns once per block of
-// rows and runs the dense kernel on them.
-//
-// Progress: Binding_options::progress (CMGeom/Progress.h) is called from the calling thread with
-// the fraction of the points bound, at most about 256 times; the TBB workers only add their
-// blocks of points to an atomic counter.
-//
-// Complexity: bind_points O(N (n + m)) coordinate evaluations; deform O(N K) dense, O(nnz) sparse
-// and grouped; grouping O(nnz) expected (hashing of the patterns).
+// Manual: doc/Cage_deformation/README.md, "Methods and the choices made".
 #ifndef CMGEOM_CAGE_DEFORMATION_CAGE_BINDING_H
 #define CMGEOM_CAGE_DEFORMATION_CAGE_BINDING_H
 

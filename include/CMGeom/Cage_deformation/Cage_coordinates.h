@@ -1,36 +1,18 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// The two concepts every cage coordinate type of this package models (thesis §5.3.1: "most
-// cage-based deformation methods express a point p in C_i as an affine combination of cage
-// vertices, p = sum_v w_i(v, p) v, and deform it by T_i(p) = sum_v w_i(v, p) T(v)"; Green
-// coordinates add face terms), and the vertex deformation rule shared by the barycentric types.
+// The two concepts every cage coordinate type of this package models, CageCoordinates and
+// CageDeformationRule, with Coordinate_status and Vertex_deformation_rule, the rule shared by the
+// barycentric types (thesis §5.3.1: a point is an affine combination of cage vertices and deforms
+// by the same combination of the deformed vertices; Green coordinates add face terms). A
+// CageCoordinates model is bound at construction to a closed, outward-oriented Triangle_cage,
+// copyable, with thread-safe const members, and writes K values per point (one per cage vertex,
+// then for Green one per cage triangle). A CageDeformationRule turns a deformed cage into K basis
+// vectors B_k with x' = sum_k w_k B_k. Key choice: linearity in w, which lets binding compute w
+// once and deform with one matrix product per frame (Cage_binding.h), and which the join of §5.3.2
+// builds on. Complexity: Vertex_deformation_rule is O(n).
 //
-// Concept CageCoordinates (models: Mean_value_coordinates_3, Green_coordinates_3,
-// Harmonic_coordinates_3). A function object bound at construction to a closed, outward-oriented
-// Triangle_cage (validate_cage()), copyable, and whose const members are thread-safe:
-//
-//   std::size_t number_of_coordinates() const;     // K: n for barycentric types, n + m for Green
-//   template <class Point, class OutputIterator>
-//   Coordinate_status operator()(const Point& q, OutputIterator out) const;
-//       // writes exactly K values: first one per cage vertex (cage-vertex order), then, for
-//       // Green, one per cage triangle (triangle order). Point: a CGAL Point_3 or any type
-//       // indexable by [0..2].
-//   Rule deformation_rule() const;                  // a model of CageDeformationRule
-//   const Triangle_cage& cage() const;
-//
-// Concept CageDeformationRule. Turns a deformed cage (same connectivity as the rest cage) into K
-// basis vectors B_k so that a bound point with coordinates w deforms to  x' = sum_k w_k B_k.
-// For barycentric coordinates B is the deformed vertex list; for Green coordinates B also holds
-// the scaled deformed normals s_j n'_j. Linearity in w is what lets binding precompute w once and
-// deform with one matrix product per frame (Cage_binding.h), and what the multi-cage join of
-// §5.3.2 builds on.
-//
-//   std::size_t number_of_coordinates() const;
-//   template <class OutputIterator>  // value type Vec3
-//   void operator()(const std::vector<Vec3>& deformed_vertices, OutputIterator basis) const;
-//
-// Complexity: the rule below is O(n).
+// Manual: doc/Cage_deformation/README.md, "The concepts".
 #ifndef CMGEOM_CAGE_DEFORMATION_CAGE_COORDINATES_H
 #define CMGEOM_CAGE_DEFORMATION_CAGE_COORDINATES_H
 

@@ -1,43 +1,17 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Reading and writing *Cages system files (thesis §5.3), the JSON format of `cmgeom deform` and
-// `cmgeom influence` (documented in doc/Cage_deformation/README.md):
+// Reading and writing *Cages system files (thesis §5.3), the JSON format of `cmgeom deform`,
+// `cmgeom influence` and `cmgeom cm deform`: read_cage_system(), parse_cage_system(),
+// write_cage_system(), read_polygons(), read_triangle_cage(). A file lists the join coordinates,
+// a default h and the cages, each with its rest cage (a file or inline polygons, fan-triangulated
+// in the order given), optional deformed pose, coordinates, h, per-border h (§5.5) and parent
+// links (§5.3.4); paths are relative to the JSON file. Key choice: every key must be known (a typo
+// is an error, not a silent default) and everything is validated; every error is one
+// CMGeom::IO_error naming the file and the JSON pointer of the bad value. Input of any bytes gives
+// a description or such an error. Complexity: O(input size + Σ m_i log m_i).
 //
-//   {"join_coordinates": "mean_value" | "harmonic",            (optional, default mean_value)
-//    "join_harmonic": {"resolution": 64, "interpolation": "tricubic"},          (optional)
-//    "h": 0.6,                                  (optional default h_i of every cage, (0, 1])
-//    "cages": [
-//      {"name": "body",                                                          (optional)
-//       "rest": "rest.obj" | {"vertices": [[x,y,z], ...], "faces": [[0,1,2,3], ...]},
-//       "deformed": "deformed.obj" | [[x,y,z], ...],          (optional, default: the rest pose)
-//       "coordinates": "mean_value" | "green" | "harmonic",   (optional, default mean_value)
-//       "harmonic": {"resolution": 64, "interpolation": "tricubic" | "trilinear"},  (optional)
-//       "h": 0.6,                                                                   (optional)
-//       "border_h": [{"cage": 1 | "name", "h": 0.2}, ...],                          (optional)
-//       "parent": {"cage": 3 | "name", "vertices": [0, 1, ...]} | [ {...}, ... ]}   (optional)
-//    ]}
-//
-// Paths are relative to the JSON file. Polygons are fan-triangulated in the order given. A
-// deformed cage read from a file contributes only its vertex positions (its vertex count must
-// match the rest cage's). "parent" makes the named upper-level cage own the listed vertices of
-// this cage (all of them when "vertices" is absent); a vertex has at most one parent and the
-// links must form a DAG (§5.3.4). "border_h" gives the border this cage shares with the named leaf
-// cage its own h (§5.5; see Cage_system::distance()); the two cages sharing a border may use
-// different values, each for its own side.
-//
-// Validation: syntax; every key known (a typo is an error, not a silent default); every number
-// finite; closed, consistently oriented, non-degenerate rest cages (validate_cage(), inward cages
-// are flipped); rest/deformed vertex counts equal; known coordinate names; h in (0, 1]; parent
-// and border_h indices and names resolved, no self-link, no cycle, no vertex owned twice, no
-// border given twice (that the named cage is a neighbour is checked by Cage_system). Every error is one
-// CMGeom::IO_error naming the JSON file and the JSON pointer of the offending value
-// ("system.json: /cages/2/h: must be a number in (0, 1]"); errors of a referenced cage file
-// carry both names. Inputs of any bytes give either a description or such an error: the parser
-// is nlohmann::json's (iterative), nothing else recurses on the input, and sizes are bounded by
-// the input's own size.
-//
-// Complexity: O(input size + Σ m_i log m_i) for the cages' validation.
+// Manual: doc/Cage_deformation/README.md, "`cmgeom deform`".
 #ifndef CMGEOM_CAGE_DEFORMATION_CAGE_SYSTEM_IO_H
 #define CMGEOM_CAGE_DEFORMATION_CAGE_SYSTEM_IO_H
 

@@ -1,35 +1,17 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Green_coordinates_3: Green coordinates of Lipman, Levin and Cohen-Or (2008) for a closed
-// triangle cage, a model of CageCoordinates (Cage_coordinates.h) with K = n + m coordinates: one
-// vertex term phi_i per cage vertex, then one face term psi_j per cage triangle. Thesis §5.2 and
-// §5.3.1 use them as the shape-preserving (quasi-conformal) alternative to MVC: a point deforms to
-//     x' = sum_i phi_i(x) c'_i + sum_j psi_j(x) s_j n'_j,
-// with n'_j the deformed unit normals and s_j Lipman's per-face stretch factor (Green_rule).
+// Green_coordinates_3 and Green_rule: Green coordinates of Lipman, Levin and Cohen-Or (2008) for a
+// closed triangle cage, a model of CageCoordinates (Cage_coordinates.h) with K = n + m coordinates
+// (one per cage vertex, then one per cage triangle). Thesis §5.2 and §5.3.1 use them as the
+// shape-preserving alternative to MVC: x' = sum_i phi_i(x) c'_i + sum_j psi_j(x) s_j n'_j, with s_j
+// Lipman's stretch factor. Closed form per triangle, with the edge integral rewritten so that it
+// does not cancel near an edge. Key choices where the paper leaves room: a point outside the cage
+// is continued through an exit face (status extended, exact for similarities); a point on the cage
+// gets the interior limit, extrapolated linearly (status on_boundary). Complexity: O(n + m) per
+// query, 4 triangles at a time with AVX2 when the CPU has it; thread-safe.
 //
-// Closed form per triangle (Urago 2000, Ben-Chen, Weber, Gotsman 2009 arrangement of Lipman's
-// integrals): omega = solid angle / 4 pi by atan2 of the signed triple product, the edge integral
-// C = ln((R + l) / (R - l)) / (4 pi l) computed once per cage edge, with R - l evaluated as
-// 2 |e_a x e_b|^2 / ((r_a r_b - e_a.e_b)(R + l)) to avoid cancellation near the edge.
-//
-// Inside / outside: sum_i phi_i equals the winding number (1 inside, 0 outside), which the kernel
-// gets for free. Choices made where the paper leaves room (documented in doc/Cage_deformation):
-//   * Outside the cage the integrals alone map every point to ~0, so the coordinates are
-//     continued through an exit face t (Lipman §4.3): with x = sum_k alpha_k q_k + beta n_t
-//     (alpha: barycentrics of the projection on t's plane, beta: signed distance), add alpha_k to
-//     the phi of t's corners and beta to psi_t. The exit face is the nearest face whose outward
-//     prism contains x, else the nearest face; status `extended`. The continuation is exact
-//     (identity and similarities reproduced) and continuous across the exit face; points whose
-//     exit face changes get mutually discontinuous continuations, as the paper notes.
-//   * On the cage (within eps*L of a face) the integrals are singular at edges; we return the
-//     interior limit, extrapolated linearly from two interior points at 1e-5 L and 2e-5 L along
-//     the inward normal (status on_boundary). Being linear, the extrapolation keeps the exact
-//     reproduction of the rest pose.
-//
-// Complexity: O(n + m) per query (one atan2 per triangle, one log per edge, 4 at a time with AVX2
-// when the CPU has it, internal/Simd_math.h); exterior points add O(m) for the exit face.
-// Thread-safe.
+// Manual: doc/Cage_deformation/README.md, "Methods and the choices made".
 #ifndef CMGEOM_CAGE_DEFORMATION_GREEN_COORDINATES_3_H
 #define CMGEOM_CAGE_DEFORMATION_GREEN_COORDINATES_3_H
 

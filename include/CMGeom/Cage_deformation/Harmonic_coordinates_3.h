@@ -1,39 +1,17 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Harmonic_coordinates_3: harmonic coordinates of Joshi, Meyer, DeRose, Green and Sanocki (2007)
-// on a regular grid, a model of CageCoordinates (Cage_coordinates.h). Thesis §5.3.1 lists HC with
-// MVC as barycentric coordinates usable per cage, and §5.3.2 needs C1 coordinates for the join,
-// hence the tricubic option below.
+// Harmonic_coordinates_3 and Harmonic_options: harmonic coordinates of Joshi, Meyer, DeRose, Green
+// and Sanocki (2007) on a regular grid, a model of CageCoordinates (Cage_coordinates.h). Thesis
+// §5.3.1 lists HC with MVC as coordinates usable per cage, and §5.3.2 needs C1 coordinates for
+// the join, hence the tricubic lookup. Each coordinate solves Laplace(h_i) = 0 on the grid
+// (7-point Laplacian, conjugate gradients coarse to fine, one coordinate per TBB task). Key
+// choice: the boundary nodes take the mean value coordinates of their position (default), so the
+// discrete solution reproduces every affine map of the cage exactly; `closest_point` keeps the
+// discrete maximum principle instead. Lookup: trilinear or tricubic B-spline. Points on the cage
+// get status on_boundary, outside it undefined (zeros), near it approximate: never silently wrong.
 //
-// Each h_i solves the Dirichlet problem  Laplace(h_i) = 0  inside the cage with boundary values
-// given by the cage. Discretisation (choices documented in doc/Cage_deformation/README.md):
-//   * grid: spacing h = (longest side of the cage's bbox) / resolution, plus a margin of 3 cells;
-//     *boundary* nodes are the nodes within h/2 of the cage (every 6-connected path from inside to
-//     outside passes through one), *exterior* nodes are flood-filled from the margin, the rest are
-//     *interior* unknowns of the 7-point Laplacian;
-//   * boundary values: either the mean value coordinates of the node (default, `mean_value`:
-//     they equal the hat functions on the cage and reproduce linear functions, so the discrete
-//     solution reproduces every affine map of the cage exactly, as the continuous HC do; near
-//     concave parts a boundary value can be slightly negative, by O(h)), or the hat functions at
-//     the node's closest cage point (`closest_point`: non-negative by the discrete maximum
-//     principle, linear precision only to O(h));
-//   * solver: conjugate gradients, coarse to fine (the solution at resolution R/2 interpolated
-//     gives the start at R), one coordinate per task (TBB); sparse Cholesky is far too slow in
-//     3D. Values are stored per valid node in double, so that the affine reproduction of the
-//     mean-value boundary data survives the lookup;
-//   * lookup: trilinear (C0) or uniform cubic B-spline (`tricubic`, C2, non-negative weights,
-//     partition of unity, reproduces linear functions) over the 8 / 64 surrounding nodes.
-// Flags: points on the cage (within 1e-8 L) get the hat functions (status `on_boundary`); points
-// outside the cage (winding number < 1/2) get zeros and status `undefined`; points whose stencil
-// reaches exterior nodes (within a cell or two of the cage) get status `approximate`: with
-// mean-value boundary data the exterior nodes near the domain carry the mean value coordinates
-// of their position ("ghost" nodes), which keeps the affine reproduction exact there; with
-// closest-point data, or beyond the ghost layer, the stencil is renormalised over the valid
-// nodes (tricubic falls back to trilinear first). Never silently wrong.
-//
-// Complexity: construction O(K * N * iterations) for K cage vertices and N grid nodes (about
-// R^3); memory K * N doubles; a query is O(m) (inside test) + O(8 K) or O(64 K).
+// Manual: doc/Cage_deformation/README.md, "Methods and the choices made".
 #ifndef CMGEOM_CAGE_DEFORMATION_HARMONIC_COORDINATES_3_H
 #define CMGEOM_CAGE_DEFORMATION_HARMONIC_COORDINATES_3_H
 

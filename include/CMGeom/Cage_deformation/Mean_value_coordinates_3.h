@@ -1,28 +1,16 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Mean_value_coordinates_3: 3D mean value coordinates of Ju, Schaefer and Warren (2005) for a
-// closed triangle cage, a model of CageCoordinates (Cage_coordinates.h). They are the default
-// coordinates of *Cages (thesis §5.3.1, "MVC"), defined everywhere in space, C-infinity off the
-// cage, interpolating on it, and reproducing every affine map of the cage.
+// Mean_value_coordinates_3: 3D mean value coordinates of Ju, Schaefer and Warren (2005) for a closed
+// triangle cage, a model of CageCoordinates (Cage_coordinates.h). They are the default coordinates
+// of *Cages (thesis §5.3.1, "MVC"): defined everywhere in space, smooth off the cage, interpolating
+// on it, and reproducing every affine map of the cage. Vector form: the mean vector of each
+// spherical triangle is expanded in its three vertex directions. Key choices for robustness: every
+// arc by atan2 (no asin/acos of rounded values), once per cage edge; tolerances relative to the
+// cage's diagonal L (eps = 1e-8), with points near a vertex or a face snapped to its exact values.
+// Complexity: O(n + m) per query, 4 edges at a time with AVX2 when the CPU has it; thread-safe.
 //
-// Method (vector form, see doc/Cage_deformation/README.md): project the cage on the unit sphere
-// around the query x; the mean vector of each spherical triangle, m_t = 1/2 sum_k theta_k n_k
-// (theta_k = arc opposite corner k, n_k = unit normal of the wedge through x and that edge), is
-// expanded in the three vertex directions: w_k += (m_t . N_k) / D_t, N_k = a_{k+1} x a_{k+2},
-// D_t = a_0 . (a_1 x a_2), a_k = c_k - x. Robustness choices:
-//   * every arc is computed with atan2(|u x v|, u . v) -- no asin/acos of rounded values -- and
-//     once per cage edge (shared by its two triangles), unit directions once per cage vertex;
-//     the edge loop runs 4 edges per AVX2 instruction when the CPU has it (internal/Simd_math.h);
-//   * tolerances are relative to the cage's bbox diagonal L: a point within eps*L of a vertex
-//     gets the vertex's unit vector; within eps*L of a triangle's plane and inside the triangle
-//     (up to eps*L) it gets the triangle's barycentric coordinates (exact on faces, linear along
-//     edges, so both triangles of an edge agree); within eps*L of the plane of a triangle it is
-//     outside of, the triangle is skipped (its contribution vanishes linearly there).
-//   Default eps = 1e-8 (about sqrt of the machine epsilon): the snapping error is <= eps*L, while
-//   the general formula's cancellation error grows like 1e-16*L/distance.
-//
-// Complexity: O(n + m) per query with one atan2 per cage edge (1.5 per triangle); thread-safe.
+// Manual: doc/Cage_deformation/README.md, "Methods and the choices made".
 #ifndef CMGEOM_CAGE_DEFORMATION_MEAN_VALUE_COORDINATES_3_H
 #define CMGEOM_CAGE_DEFORMATION_MEAN_VALUE_COORDINATES_3_H
 
