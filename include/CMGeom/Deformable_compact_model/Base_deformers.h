@@ -1,27 +1,15 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Deformers of a Compact Model's base (thesis §6.1: "any kind of deformation can be applied to
-// the CM: affine transformations, surface-based, space-based, direct manipulation"). A deformer
-// only ever sees the base vertices; Deformable_compact_model transfers the result to the
-// reconstruction (§6.3-6.4).
+// Deformers of a Compact Model's base (thesis §6.1: any kind of deformation can be applied to the
+// CM): the BaseDeformer concept (bind(rest) once, deform(out) per pose, weights_bytes()) and its
+// models Affine_deformer, Vertex_moves_deformer, Pointwise_deformer and Cage_deformer (one cage with
+// any CageCoordinates model); Cage_system_deformer.h adds a *Cages system. A deformer only sees the
+// base vertices; Deformable_compact_model carries the result to the reconstruction (§6.3-6.4).
+// The pose is state of the deformer, set through its own members. Complexity: bind O(N) (Cage_deformer
+// O(N K)); deform O(N) (Cage_deformer O(N K)).
 //
-// Concept BaseDeformer:
-//   void bind(const std::vector<CM::Vec3>& rest);   // once per base: any precomputation
-//                                                   // (e.g. cage coordinates of every point)
-//   void deform(std::vector<CM::Vec3>& out) const;  // the current pose: one position per bound
-//                                                   // point, same order (out is resized)
-//   std::size_t weights_bytes() const;              // memory held by the precomputation
-// The pose itself (a deformed cage, an affine map, handle positions) is state of the model, set
-// through its own members, so that bind() runs once and deform() once per frame.
-//
-// Models: Affine_deformer (x -> A x + b), Vertex_moves_deformer (direct moves of chosen base
-// vertices; the others stay), Pointwise_deformer (any function object Vec3 -> Vec3),
-// Cage_deformer (one cage with any CageCoordinates model of the Cage_deformation package), and
-// Cage_system_deformer (a *Cages system, in Cage_system_deformer.h).
-//
-// Complexity: bind O(N) except Cage_deformer (O(N K) coordinate evaluations, K cage elements);
-// deform O(N), Cage_deformer O(N K).
+// Manual: doc/Deformable_compact_model/README.md, "Headers".
 #ifndef CMGEOM_DEFORMABLE_COMPACT_MODEL_BASE_DEFORMERS_H
 #define CMGEOM_DEFORMABLE_COMPACT_MODEL_BASE_DEFORMERS_H
 

@@ -1,25 +1,17 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Deformable Compact Model (thesis chapter 6, §6.2-6.4): a Compact Model whose base is deformed
-// by any BaseDeformer (Base_deformers.h); every base vertex gets the least-squares affine map
-// T_i of its 1-ring (§6.3, Local_deformations.h) and every reconstructed point Phi(p) becomes
-//   T(Phi(p)) = sum_i W_i(p) T_i(Phi(p)),   W_i = alpha_i^3 / sum_k alpha_k^3        (§6.4)
-// with the blending weights of the reconstruction. The transfer runs inside the CM
-// reconstruction (CM::Reconstruction_options::vertex_maps), so everything the CM reconstruction
-// does carries over unchanged: regular and adaptive subdivision (the adaptive criteria see the
-// deformed samples, so e.g. Edge_length_criterion refines where the deformation stretches),
-// sharp-edge points (S^n ∩ S^m ∩ pi, computed at rest, then mapped), texture coordinates (they
-// are per base-face corner and do not move), TBB parallelism with output independent of it.
+// Deformable Compact Model (thesis chapter 6, §6.2-6.4): Deformable_compact_model and
+// Deformable_reconstruction. The base is deformed by any BaseDeformer (Base_deformers.h); every
+// base vertex gets the least-squares affine map T_i of its 1-ring (§6.3, Local_deformations.h) and
+// every reconstructed point becomes sum_i W_i(p) T_i(Phi(p)) with the blend weights of the
+// reconstruction (§6.4). Key choice: the transfer runs inside the CM reconstruction
+// (CM::Reconstruction_options::vertex_maps), so regular and adaptive subdivision, sharp-edge
+// points, texture coordinates and thread-independent output carry over unchanged, and nothing is
+// stored per reconstructed point. Deformable_reconstruction keeps a rest reconstruction with its
+// weights, so a further pose only blends the local maps (the cost model of §6.5).
 //
-// Memory: the deformer's coordinates for the V base vertices only, plus O(V + E) for the rings
-// and one 3x3 inverse per vertex; nothing per reconstructed point.
-//
-// Deformable_reconstruction keeps a regular reconstruction at rest with its blend weights, so
-// that each further pose only blends the local maps (the thesis' cost model, §6.5).
-//
-// Complexity: construction O(V + E log E); set_deformed_base O(V + E); reconstruction as in
-// CM::reconstruct_regular/adaptive plus O(1) per point; Deformable_reconstruction::deform O(R).
+// Manual: doc/Deformable_compact_model/README.md, "Headers".
 #ifndef CMGEOM_DEFORMABLE_COMPACT_MODEL_DEFORMABLE_COMPACT_MODEL_H
 #define CMGEOM_DEFORMABLE_COMPACT_MODEL_DEFORMABLE_COMPACT_MODEL_H
 

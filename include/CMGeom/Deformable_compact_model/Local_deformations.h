@@ -1,39 +1,17 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Local deformations of a Compact Model's base (thesis §6.3): for every base vertex v with
-// deformed position v', the affine map T_v(x) = M (x - v) + v' that best maps the 1-ring
-// neighbours v^j to their deformed positions v'^j in the least-squares sense.
+// Local deformations of a Compact Model's base (thesis §6.3): Local_deformation_solver,
+// local_deformations(), Local_deformation_options. For every base vertex v with deformed position
+// v', the affine map T_v(x) = M (x - v) + v' that best maps the 1-ring neighbours to their deformed
+// positions in the least-squares sense. Key choices: M = V U^-1 (the thesis prints U^-1 V, which is
+// not the minimiser); a regulariser for flat rings, which maps the rest normal to the deformed
+// normal scaled by the ring's stretch and vanishes where the ring leaves its tangent plane, so
+// every affine deformation is reproduced there and similarities everywhere; an unchanged
+// neighbourhood gets the exact identity. The rest part is computed once; a pose costs O(E), in
+// parallel and deterministic.
 //
-// Algebra. With a_j = v^j - v and b_j = v'^j - v', minimising sum_j |M a_j - b_j|^2 gives the
-// normal equations M U = V, U = sum_j a_j a_j^T, V = sum_j b_j a_j^T, hence M = V U^-1 (the
-// thesis prints U^-1 V, which has the factors in the wrong order: it is not the minimiser, and
-// does not even reproduce a rotation).
-//
-// Regulariser. U is singular when the 1-ring is planar (the usual case on flat and
-// gently curved regions, and at boundary vertices whose fan is one triangle), and nearly
-// singular when it is almost planar, where V U^-1 amplifies any non-affine part of the
-// deformation along the normal. We add one more correspondence: the rest unit normal n
-// (area-weighted normal of the incident base faces) must map to s n', the deformed unit
-// normal scaled by the ring's stretch s = sqrt(sum |b_j|^2 / sum |a_j|^2):
-//   U* = U + mu n n^T,   V* = V + mu s n' n^T,   M = V* U*^-1,
-//   mu = max(0, flatness * trace(U) - n^T U n).
-// mu is zero when the ring has enough height along n (n^T U n >= flatness * trace U, i.e. the
-// neighbours leave the tangent plane by more than about asin(sqrt(flatness)) = 5.7 degrees for
-// the default 0.01): there M is exactly the thesis' least-squares map, so every affine
-// deformation is reproduced exactly (§6.1, "linear reproduction"). mu grows continuously as the
-// ring flattens; on a planar ring, M is exact on the tangent plane whatever mu and sends n to
-// s n'. The target s n' is exact for similarities (rotation, uniform scale, translation), so
-// those are reproduced exactly on every ring; a shear or non-uniform scale is reproduced
-// exactly only where mu = 0. A ring that is still degenerate (all neighbours collinear with v:
-// zero-area base faces) gets M = identity (translation by v' - v).
-//
-// Identity. A vertex whose position and whose neighbours' positions are all unchanged gets the
-// exact identity map (flagged), so an undeformed region reconstructs bit for bit.
-//
-// Precomputation: U*^-1 and mu depend only on the rest base, so they are computed once
-// (Local_deformation_solver); each pose costs O(sum of valences) = O(E) plus one 3x3 product per
-// vertex, in parallel (TBB), deterministic (each vertex writes its own slot).
+// Manual: doc/Deformable_compact_model/README.md, "Choices where the thesis is open (and why)".
 #ifndef CMGEOM_DEFORMABLE_COMPACT_MODEL_LOCAL_DEFORMATIONS_H
 #define CMGEOM_DEFORMABLE_COMPACT_MODEL_LOCAL_DEFORMATIONS_H
 
