@@ -2,61 +2,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Area_weighted_quadric_policies: the edge-collapse cost and placement of thesis §3.4 (weighted
-// quadric error metrics), one object modelling both CGAL's `GetCost` and `GetPlacement` concepts
-// exactly as CGAL's Garland-Heckbert policies do, so it runs under
-// `CGAL::Surface_mesh_simplification::edge_collapse` and under `CMGeom::Textured_simplification::
-// edge_collapse`.
+// quadric error metrics), one object modelling both CGAL's GetCost and GetPlacement as CGAL's
+// Garland-Heckbert policies do, so it runs under CGAL::Surface_mesh_simplification::edge_collapse
+// and under CMGeom's edge_collapse. Vertex quadrics are area-weighted sums of face quadrics (§3.4),
+// border edges adding a boundary quadric; the weight of §3.4.1 is w = (trace(A) - lambda) /
+// (trace(A) + lambda); cost and merge follow §3.4.2. Key choices: weights clamped to
+// [min_weight, 1] so flat regions never give 0/0; the placement falls back to the segment when A
+// is singular; Quadric_merge::sum as an option, and plain Garland-Heckbert (weighted = false)
+// sums quadrics. Storage: one 96-byte record per vertex, shared by every copy of the policy.
+// Complexity: cost and placement O(1); update_after_collapse() O(deg) at most.
 //
-//   * Vertex quadrics (§3.4): Q_v = sum over incident faces of area(f) * Q_f, Q_f the fundamental
-//     quadric of the face plane; border edges add a boundary-preserving quadric (plane through
-//     the edge, orthogonal to its face) scaled by `boundary_weight * |e|^2` so it has the
-//     dimension of a face term.
-//   * Weights (§3.4.1): w_v = (trace(A) - lambda) / (trace(A) + lambda), lambda the eigenvalue of
-//     A whose eigenvector is closest to the vertex normal (area-weighted face normal sum).
-//   * Cost (§3.4.2): (w_i Q_i + w_j Q_j)(u*) with u* the minimiser of w_i Q_i + w_j Q_j.
-//   * Merge (§3.4.2): Q_kept = (w_i Q_i + w_j Q_j) / (w_i + w_j), then w_kept is recomputed from
-//     Q_kept and the kept vertex's new normal after every collapse. Option Quadric_merge::sum
-//     uses Q_i + Q_j instead (weights still recomputed and still scaling the cost): measured RMS
-//     1.11x CGAL GH (median) instead of 1.66x, at the price of weaker feature preservation
-//     (benchmark/Textured_simplification/RESULTS.md, test WeightedMetricKeepsThinCurvedHorn).
-//   * `weighted = false` gives plain Garland-Heckbert on the same quadrics: w = 1 and
-//     Q_kept = Q_i + Q_j (see "Degenerate cases and choices" below for why the sum).
-//
-// Degenerate cases and choices (also in doc/Textured_simplification/README.md):
-//   * Flat neighbourhood: A = area * n n^T, lambda = trace(A), w = 0. Then w_i Q_i + w_j Q_j can be
-//     0 and the merge is 0/0. We clamp w to [min_weight, 1] (default 1e-3): flat regions still
-//     collapse first (their cost is scaled down 1000x) but their quadrics keep their shape, so
-//     placements stay on the plane and no NaN can arise.
-//   * Singular A (flat or cylindrical neighbourhoods, boundary chains): the placement is the free
-//     minimiser only when A is well conditioned and the minimiser lies within two edge lengths of
-//     the edge; otherwise the minimiser on the segment, otherwise the best of midpoint and
-//     endpoints (Symmetric_quadric::minimiser_on_edge).
-//   * Open boundaries: boundary quadrics as above (default weight 100, CGAL's discontinuity
-//     multiplier). They enter A, so boundary vertices get larger weights and are kept longer.
-//   * Fold-overs: the policy returns a placement for every edge; fold-overs are rejected where the
-//     collapse is decided: by CMGeom's engine, and under CGAL's engine by
-//     `No_normal_flip_filter` (see No_normal_flip_filter.h), which both engines share.
-//   * Plain mode merge: with w = 1 the thesis' merge would be (Q_i + Q_j) / 2, i.e. not
-//     Garland-Heckbert. Plain mode uses the sum so that it is the classic QSlim baseline.
-//
-// Storage: one 96-byte record per vertex (quadric, 80 bytes, and weight), in an array indexed by
-// the mesh's vertex index map (CGAL::get_initialized_vertex_index_map), created in the constructor
-// and shared by every copy of the object (CGAL copies policies). One record rather than two
-// property maps: a cost evaluation reads both values of both endpoints, and a 32-byte aligned
-// record spans exactly two cache lines; a plain array also avoids the indirections of a dynamic
-// property map on Surface_mesh. The mesh must not gain vertices between initialize() and the end
-// of the simplification (edge collapses only remove vertices).
-//
-// Normals: initialize() sums each vertex's face cross products in its face loop (no second pass
-// over the stars). After a collapse the kept vertex's normal is the sum over its new star;
-// CMGeom's engine already forms exactly these cross products in its fold-over test and passes
-// the sum to update_after_collapse(profile, v, token, normal); under CGAL's engine the policy
-// walks the star itself. The weight depends on the normal only through the choice of the
-// eigenvalue, so the two give the same weights (a test checks they give the same meshes).
-//
-// Complexity: initialize() O(F + V); cost and placement O(1); update_after_collapse()
-// O(deg(v_kept)) for the new normal (O(1) when the engine supplies it) plus the eigenvalues of a
-// 3x3 matrix (Symmetric_quadric::area_distortion).
+// Manual: doc/Textured_simplification/README.md, "Choices where the thesis is silent or ambiguous".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_AREA_WEIGHTED_QUADRIC_POLICIES_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_AREA_WEIGHTED_QUADRIC_POLICIES_H
 

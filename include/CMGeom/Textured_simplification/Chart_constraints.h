@@ -2,52 +2,18 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Chart-constrained edge collapses on a mesh with per-corner texture coordinates (thesis §3.5):
-// the decision whether a candidate edge may be collapsed, the texture coordinates of the kept
-// vertex, and the rewriting of the per-corner UVs after the collapse.
+// Chart_constraints (test(): the three topological rules of §3.5, the UV placement of the kept
+// vertex by the closed form of §3.5, no UV fold, and the bijectivity of the projections onto the
+// tangent plane, §3.2/§3.5), Chart_constraint_filter (CGAL's PlacementFilter) and
+// Chart_constraint_visitor (rewrites the corner UVs after a collapse and hands the Collapse_record
+// to a texture resampler, §3.6). The filter and visitor run under CMGeom's engine and CGAL's.
+// Key choices where the thesis is silent: a vertex "lies on more than two charts" when it has more
+// than two chart-boundary edges (a chart corner) or faces in more than two UV wedges, and chart
+// corners never move (the chart count is kept); charts only shrink inside their original UV
+// region; a folding UV placement first falls back to the UVs of v1, of v0 and the midpoint.
+// Complexity: O(deg(v0) + deg(v1)) per test and UV update.
 //
-//  * Chart_constraints<TM, VPM, UVMap>: the shared state. test() applies the three topological
-//    rules of §3.5, computes the UV placement of the kept vertex (interior edge: the minimiser of
-//    Σ_j (ā_j(x)/a_j − 1)², closed form of §3.5; chart-boundary edge: the same restricted to each of
-//    the two texture edges ē₁, ē₂, one per chart), refuses UV folds, and checks that the orthogonal
-//    projections onto the tangent plane π of the triangles around the edge, before and after the
-//    collapse, do not overlap (bijectivity, §3.2/§3.5). The accepted collapse is kept as a
-//    Collapse_record (old star, new UVs, π) for the visitor and the texture resampler (§3.6).
-//  * Chart_constraint_filter: CGAL's PlacementFilter concept, calls test().
-//  * Chart_constraint_visitor: an EdgeCollapseSimplificationVisitor that rewrites the corner UVs
-//    of the faces around the kept vertex in OnCollapsed and hands the record to a resampler
-//    (a function object `void(const Collapse_record&)`, e.g. Index_texture_resampler).
-//
-// Usage (CMGeom's engine; the filter and visitor also run under CGAL's):
-//   Chart_constraints<Mesh, VPM, UVMap> cc(mesh, vpm, uv);
-//   edge_collapse(mesh, stop, CGAL::parameters::get_cost(policy).get_placement(policy)
-//                     .filter(make_chart_constraint_filter(cc)).visitor(make_chart_constraint_visitor(cc)));
-//
-// Choices where the thesis is silent (also in doc/Textured_simplification/README.md):
-//  * "On a chart boundary" = incident to a chart-boundary edge (a UV seam or a mesh border edge,
-//    charts.h). "Lying on more than two charts" = more than two chart-boundary edges at the vertex
-//    (a chart corner), or faces around it in more than two UV wedges. Chart corners are never
-//    moved, which keeps every chart's corner set and hence the chart count.
-//  * Charts may be mirrored in UV space: the orientation sign of each wedge's old UV triangles is
-//    the reference for "not folded"; a wedge whose old triangles disagree in sign is frozen.
-//  * When the optimal UV point folds a texture triangle the thesis refuses the collapse; we first
-//    try, in order, the UVs of v1, of v0 and the midpoint (a UV half-edge collapse), then refuse.
-//    This lets low targets be reached without ever producing a fold.
-//  * Chart-boundary edges: t on ē is clamped to [0, 1] (the kept UV stays on the old texture edge).
-//    Moving an end of ē cuts the chart's boundary corner there; this is allowed only where that
-//    corner is convex (or flat), so a chart only ever shrinks inside its original UV region: every
-//    UV stays in its chart's region and the index texture never writes over another chart's
-//    texels. (The thesis lets boundaries straighten across concave parts and requires the texture
-//    to be empty there instead.) The UVs of ē's other end, or of its start, are the fallbacks when
-//    a corner is concave. A caller may allow cutting a concave corner through set_growth_test()
-//    (simplify_textured_mesh() accepts slivers within 2 texels of the chart's own original texels
-//    and away from every other chart and from overlapping parts of the input atlas).
-//  * π: through the 3D placement, normal = normalised sum of the (area-weighted) normals of the
-//    old star. Overlap test: every projected triangle, old and new, is positively oriented w.r.t.
-//    the normal, and around every interior vertex involved (v0, v1 before; the kept vertex after)
-//    the projected angles add up to 2π (a positive fan can still wind twice).
-//
-// Complexity: O(deg(v0) + deg(v1)) per test and per UV update; no allocation after the first
-// calls (the record's vectors are reused).
+// Manual: doc/Textured_simplification/README.md, "What happens at each collapse".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_CHART_CONSTRAINTS_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_CHART_CONSTRAINTS_H
 

@@ -2,21 +2,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Collapse_profile: what CMGeom's edge_collapse hands to cost, placement, filter, stop predicate
-// and visitor — the same accessors as CGAL's `Surface_mesh_simplification::Edge_profile`
-// (v0, v1, p0, p1, v0_v1, v1_v0, vL, vR, v1_vL, vL_v0, v0_vR, vR_v1, left/right_face_exists,
-// is_v0_v1_a_border, is_v1_v0_a_border, surface_mesh, vertex_point_map, geom_traits, triangles,
-// link, border_edges) and types, so a policy written against CGAL's EdgeProfile concept — CGAL's
-// own Lindstrom-Turk and Garland-Heckbert policies included — runs under both engines.
+// and visitor, with the same accessors and types as CGAL's Surface_mesh_simplification::
+// Edge_profile, so a policy written against CGAL's EdgeProfile concept (CGAL's Lindstrom-Turk and
+// Garland-Heckbert policies included) runs under both engines. Key choice: the endpoints, points
+// and border flags are read at construction, the apexes and the vectors of triangles(), link()
+// and border_edges() on first use only, since a profile is built for every cost evaluation and the
+// quadric policies never need them.
 //
-// CGAL's profile fills the vectors of triangles() and link() (and border_edges() on meshes with
-// a border) on every construction; a profile is built for every cost evaluation, and the quadric
-// policies never need them. Here the endpoints, points and border flags are read at
-// construction, the apexes and the three vectors on first use only; the engine loads the apexes
-// before collapsing so the profile stays valid after the collapse, as visitors' OnCollapsed
-// expects. triangles() lists every face incident to v0 or v1 once, its vertices in the face's
-// order (the two faces of the edge first, as (v0, v1, vL) and (v1, v0, vR)); link() the vertices
-// adjacent to v0 or v1 other than v0 and v1, each once; border_edges() the border halfedge of
-// every border edge incident to v0 or v1.
+// Manual: doc/Textured_simplification/README.md, "Pieces".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_COLLAPSE_PROFILE_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_COLLAPSE_PROFILE_H
 

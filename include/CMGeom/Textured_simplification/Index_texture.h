@@ -1,37 +1,18 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// The index texture of thesis §3.3 and its per-collapse resampling through the bijective
-// mappings of §3.6, CPU backend (the reference: deterministic, no dependency beyond TBB).
-//
-//  * Texture_domain: the rectangle of UV space the textures cover ([0,1]² extended to the UV
-//    bounding box when UVs leave it, e.g. tiled textures) and its size in texels.
-//  * Index_texture: two floats per texel holding a position in the ORIGINAL atlas, in texel units
-//    of the domain (texel centres at +0.5, row 0 = v0, i.e. bottom; OpenGL convention), initially
-//    the identity; plus the chart map of the original layout (chart id + 1 per texel, 0 = empty,
-//    grown by `chart_margin` texels into the gutters so bilinear lookups at chart borders stay in
-//    the chart).
-//  * rasterize_triangle(): fixed-point half-space rasteriser (8 sub-texel bits, texel centres,
-//    top-left fill rule) — the coverage rule of GL rasterisers.
-//  * Index_texture_resampler: the resampler hook of Chart_constraint_visitor. For each new
-//    texture triangle t̄' of a collapse, every covered texel centre p̄' is mapped to π by
-//    PM_{t'} = P_{t'} ∘ M_{t'}⁻¹; the old triangle t_j whose projection contains that point is
-//    found (the projections tile π, bijectivity checked by Chart_constraints), and the texel gets
-//    the chart-aware bilinear sample (§3.6) of the old index texture at (PM_{t_j}⁻¹ ∘ PM_{t'})(p̄'),
-//    read as from a copy of the old region (no read/write feedback: the new values are written
-//    once the whole collapse is resampled). The composed map is one 2x3
-//    affine map per (t', t_j) pair, computed in double and evaluated in float as
-//    (m00·x + m01·y) + m02 — the form a GL backend evaluates at gl_FragCoord with `precise`.
-//  * generate_texture(): the output texture, looked up in the original texture through the final
-//    index texture for every texel covered by a final texture triangle, then dilated into the
-//    gutters (ring by ring in chessboard distance, each texel the average of its 8-neighbours of
-//    the previous ring) so bilinear sampling at chart borders never reads background.
-//
-// Floating point: float arithmetic in a fixed order, no fused multiply-add (x86-64 builds
-// without -mfma do not contract; compile with -ffp-contract=off elsewhere).
-//
+// The index texture of thesis §3.3 and its per-collapse resampling through the bijective mappings
+// of §3.6, CPU backend (the reference: deterministic, no dependency beyond TBB): Texture_domain,
+// Index_texture (two floats per texel, a position in the original atlas, and the chart map of the
+// original layout), rasterize_triangle() (fixed point, texel centres, top-left rule, as GL
+// rasterisers), Index_texture_resampler (the resampler hook of Chart_constraint_visitor) and
+// generate_texture() (the output texture looked up through the index texture, then dilated into
+// the gutters). Key choice: every texel gets a chart-aware bilinear sample, computed in float in a
+// fixed order without fused multiply-add, so a GL backend can reproduce it bit for bit.
 // Complexity: O(texels of the new triangles × star size) per collapse; O(W·H) for set-up,
 // texture generation and dilation.
+//
+// Manual: doc/Textured_simplification/README.md, "What happens at each collapse".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INDEX_TEXTURE_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_INDEX_TEXTURE_H
 

@@ -3,29 +3,14 @@
 //
 // Osmesa_index_texture_resampler: the per-collapse index-texture resampling of thesis §3.6 on
 // OpenGL (Mesa llvmpipe through OSMesa), the second model of the IndexTextureResampler concept
-// beside the CPU Index_texture_resampler (Index_texture.h). Both give bit-identical index
-// textures, coverage included:
-//  * every per-collapse quantity (old-triangle barycentrics in π, the maps PM_{t'} and the
-//    composed maps PM_{t_j}⁻¹ ∘ PM_{t'}, the copied regions) comes from the same
-//    internal::Resampling_plan, computed on the CPU;
-//  * the new texture triangles are drawn with their corners snapped to the rasteriser's 1/256
-//    texel grid, so GL's coverage (texel centres, top-left rule) is the CPU rasteriser's;
-//  * the fragment shader repeats the CPU's per-texel rule at gl_FragCoord in the same order of
-//    operations: old-triangle selection in double, the flat affine map and the chart-aware
-//    bilinear lookup in float, every temporary `precise` (no fused multiply-add), while the CPU
-//    side is compiled with -ffp-contract=off (set by the CMGeom target).
-// Collapses whose read regions do not touch texels written by earlier collapses of the pending
-// batch are drawn together: one copy of their read regions, then one draw (the per-draw cost of
-// llvmpipe dominates small collapses). A collapse that reads what the batch writes starts a new
-// batch, so the result equals collapse-by-collapse resampling.
+// beside the CPU Index_texture_resampler (Index_texture.h). Key choice: both give bit-identical
+// index textures, coverage included (same CPU-side resampling plan, corners snapped to the
+// rasteriser's grid, the per-texel rule repeated in a `precise` shader), and collapses that do
+// not read each other's texels are drawn in one batch. Call synchronize() before reading the
+// Index_texture (simplify_textured_mesh() does). Compiled into CMGeom::OSMesa (CMGEOM_HAS_OSMESA)
+// when OSMesa is found (Mesa removed it in 25.1). One resampler per thread (it owns its context).
 //
-// The index texture lives in GL memory between synchronize() calls: call synchronize() before
-// reading the Index_texture (simplify_textured_mesh() does).
-//
-// Availability: compiled into CMGeom::OSMesa (defines CMGEOM_HAS_OSMESA) when the library is built
-// with OSMesa, which Mesa removed in 25.1; the CPU backend is always available.
-// Memory: two RG32F copies of the index texture and its chart map (20 bytes per texel) in GL.
-// Threads: one resampler per thread (it owns its OpenGL context).
+// Manual: doc/Textured_simplification/README.md, "Two resampling backends".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_OSMESA_INDEX_TEXTURE_RESAMPLER_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_OSMESA_INDEX_TEXTURE_RESAMPLER_H
 

@@ -1,24 +1,15 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Surface_memory: a memoryful cost for edge collapses (manual: Textured_simplification, "The
-// memoryful cost"). The input's vertices (at most Surface_memory_options::max_points of them) are
-// "points", each attached to one current face and weighted by the area of its input star. A
-// quadric prices the distance from the new vertex to the input's planes and forgets where the
-// input was; this object prices a collapse by the sum over the points of the faces around the edge
-// of area x (distance to the new star)^2, the quadric's own unit, which sees a flattened rim, bump
-// or thin part. After a collapse (or flip) the detached points join the nearest face of the new
-// star. It is the thesis' point gathering (§4.3) turned into a cost, in the spirit of
-// Lindstrom-Turk's memoryful simplification and of the point-to-face energy of progressive meshes.
+// Surface_memory, Surface_memory_options: a memoryful cost for edge collapses. The input's
+// vertices are "points", each attached to one current face and weighted by the area of its input
+// star; a collapse is priced by the sum over the points of the faces around the edge of
+// area x (distance to the new star)^2, the quadric's own unit, which sees a flattened rim, bump or
+// thin part the quadric forgets. It is the thesis' point gathering (§4.3) turned into a cost.
+// CMGeom's engine uses it lazily (parameters::surface_memory) behind the quadric cost. A cost,
+// not a bound. Complexity: O(V + F) set-up; a cost or an update O(k d).
 //
-// CMGeom's engine uses it lazily (parameters::surface_memory): the queue is ordered by the quadric
-// cost; an edge that reaches the top gets its memoryful cost, and goes back to the queue with it
-// if that ranks it behind the next edge; the cost stays its key until a collapse next to it
-// changes its surroundings. It is a cost, not a bound: no Hausdorff guarantee.
-//
-// Memory: per point its position, area and a list link (40 bytes); per face a list head.
-// Complexity: O(V + F) set-up; a cost or an update O(k * d), k the points of the faces around
-// the edge, d the size of the new star.
+// Manual: doc/Textured_simplification/README.md, "The memoryful cost".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_SURFACE_MEMORY_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_SURFACE_MEMORY_H
 

@@ -7,8 +7,8 @@
 // thesis §3.4 and the edge flips of §3.5.1. It calls the policies and the visitor where CGAL 5.5.1's
 // engine does; what differs (fold-over test, re-costing of a moved placement, cost updates, the
 // memoryful cost of Surface_memory.h) and how it is laid out for speed is told in the manual,
-// doc/Textured_simplification/README.md ("The visitor and filter hooks", "The memoryful cost"),
-// and in the engine's own header, internal/Edge_collapse_engine.h.
+// doc/Textured_simplification/README.md ("The visitor and filter hooks", "The memoryful cost",
+// "Speed").
 //
 // Complexity: O(E log E) set-up, O(d log E) per collapse (d = vertex degree).
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_EDGE_COLLAPSE_H

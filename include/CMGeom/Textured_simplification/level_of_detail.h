@@ -2,36 +2,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // simplify_to_levels(): a level-of-detail chain from ONE simplification run. The collapses of
-// simplify_mesh() (quadrics and memoryful cost, the whole mesh at once) run down to the smallest
-// target; each time the face count reaches a level's target the mesh is copied (a snapshot), so
-// every level is the same collapse sequence stopped earlier, and the chain costs one run plus
-// the copies and the texture work.
+// simplify_mesh() run down to the smallest target and the mesh is copied each time the face count
+// reaches a level's target, so every level is the same collapse sequence stopped earlier. Levels
+// may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
+// measure, not a guarantee). Texture: an atlas per level baked from the input (default), or one
+// shared texture, the coarsest level's atlas, which every finer level addresses (the thesis' future
+// work of levels sharing one texture, §7.1). Each level's geometric error is measured unless
+// `measure_error` is false.
 //
-// Texture (input with UVs and a decoded texture):
-//   * per-level atlases (default): every simplified level gets its own atlas baked from the input
-//     (rebuild_atlas.h); the input's extraction (Atlas_source) is made once for all levels;
-//   * shared texture (`shared_texture`): ONE atlas, built for the coarsest level and baked from the
-//     input, and every finer level (the input too) addresses it, so a renderer streams one
-//     texture and swaps geometry (the thesis' future work of progressive meshes sharing a
-//     texture, §7.2). The finer levels' texture coordinates are mapped through the coarse atlas:
-//     each finer face takes the chart of the coarse face nearest to its centroid (among faces
-//     turned its way), and each of its corners the atlas point of the nearest point of that
-//     chart, extended linearly over the chart's border by the projection on that coarse face's
-//     plane (clamped, see `max_extrapolation`); the atlas' gutters are widened so that the
-//     extended corners still read the chart's colours. A vertex seen from two charts gets two
-//     texture coordinates (a seam), as in any atlas. The price — image error of each level
-//     against its own atlas — is measured in benchmark/Textured_simplification/run_lod.sh.
-// A level whose target is at least the input's face count is the input itself (its own texture,
-// or in shared mode the shared atlas).
-//
-// Each level's geometric error is measured (Metrics::approximation_error, symmetric Hausdorff
-// and RMS over the bounding-box diagonal) unless `measure_error` is false.
-//
-// Levels by error bound (`max_errors`) instead of face counts: the same single run snapshots the
-// mesh every time its face count falls by `error_step` and measures it; each bound takes the
-// smallest snapshot within it. The measure is sampled (2 x the input's faces per direction by
-// default), so it can fall slightly below a denser one: Duck's level for 0.005 measured 0.0043 in
-// the run and 0.0047 by `cmgeom error` (10 x the faces); choose bounds with that margin.
+// Manual: doc/Textured_simplification/README.md, "Levels of detail from one run, and one texture for all of them".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_LEVEL_OF_DETAIL_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_LEVEL_OF_DETAIL_H
 

@@ -1,32 +1,17 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// rebuild_atlas(): a new texture atlas for a simplified mesh, baked from the original. This is
-// what lets the textured simplification reach any face count: charts of the input no longer
-// constrain the collapses (manual: Textured_simplification, "Any target: a new atlas"; it extends
-// the thesis, whose charts never merge, §3.5 and §3.7).
-//   1. Charts: grown over the simplified surface as topological disks whose normals stay within
-//      a cone (`chart_cone_degrees`), each parameterised by LSCM (CGAL Surface_mesh_
-//      parameterization) and checked one to one (no folded triangle, simple boundary); a chart
-//      that fails is grown again with a narrower cone, down to lone triangles.
-//   2. Packing: charts turned to their smallest bounding rectangle and shelf-packed at one common
-//      texel density, `gutter_texels` of padding around each.
-//   3. Baking: every texel covered by a simplified triangle is mapped to its 3D point, which is
-//      mapped to the nearest point of the original surface among the faces turned the same way as
-//      the simplified face (normals less than 90° apart; CGAL AABB tree with its own traversal),
-//      so that on a thin part the nearer opposite side is not taken; a texel with no such face
-//      within 10 % of the bounding-box diagonal takes the nearest point. The colour is read there
-//      (sample_original: bilinear, UVs repeating, taps kept within the original face's chart so
-//      that the input's gutters never bleed in) — or the material's colour for an untextured
-//      material — and the gutters are dilated ring by ring (as generate_texture does). The
-//      original's tree and chart map live in an Atlas_source, which can be prepared while the
-//      collapses run.
-//   Tangent-space normal maps are carried through object space: the original's normal (its
-//   per-face tangent frame from the UV gradients, orthonormalised) is re-expressed in the new
-//   face's frame, so a renderer using per-face frames sees the same normals.
-// Output: per-corner UVs in [0,1]² (seams at chart boundaries), one material with the baked
-// diffuse (and normal) image; a single-material input keeps its material's name and colour,
-// a multi-material one is merged into one material (colour 1, each face's colour baked in).
+// rebuild_atlas(), Atlas_options, Atlas_source: a new texture atlas for a simplified mesh, baked
+// from the original. This is what lets the textured simplification reach any face count: the
+// input's charts no longer constrain the collapses (it extends the thesis, whose charts never
+// merge, §3.5 and §3.7). Charts are grown over the simplified surface within a normal cone and
+// parameterised by LSCM (checked one to one, else grown again narrower), shelf-packed at one texel
+// density, then baked: each texel takes the colour of the nearest point of the original among the
+// faces turned the same way (so a thin part shows the side one sees), and the gutters are dilated.
+// Tangent-space normal maps are carried through object space. Output: per-corner UVs in [0,1]²,
+// one material with the baked diffuse (and normal) image.
+//
+// Manual: doc/Textured_simplification/README.md, "Any target: a new atlas (the default)".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_REBUILD_ATLAS_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_REBUILD_ATLAS_H
 

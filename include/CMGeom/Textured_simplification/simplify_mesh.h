@@ -6,20 +6,13 @@
 // quadrics of Area_weighted_quadric_policies, completed by the memoryful cost of Surface_memory
 // (unless switched off), on CMGeom's engine (edge_collapse.h), edge flips on request.
 //
-// Large inputs are simplified on all cores (manual: Textured_simplification, "Large meshes and
-// threads"). An input of at least `parts_min_faces` faces asked for at most 1/(4 x parts_stop_factor)
-// of them (1/16 by default) is cut into 2^k parts of at least `part_faces` faces each (median splits of the face
-// centroids; internal/Mesh_parts.h). Each part is simplified on its own core, with the quadrics
-// of the whole input and a memory of its own points, down to `parts_stop_factor` times its share
-// of the target (and at least two faces per cut vertex); the vertices on the cuts stay where they
-// are, and no collapse joins two of them the input does not join, so the parts fit back together.
-// The whole is then rebuilt (its vertices and faces renumbered), its quadrics and memory gathered
-// from the parts (a cut vertex's quadric is its input quadric plus what each part added to it), and
-// the remaining collapses run on the whole, where the cuts' vertices are free again. The parts
-// depend on the mesh alone, not on the number of threads: the result is the same on any number
-// of cores. The price: near the cuts the first collapses are half-edge collapses onto the cut,
-// until the second stage frees them (benchmark/Textured_simplification/RESULTS-scale.md compares
-// the errors with and without parts).
+// Key choice: large inputs (at least `parts_min_faces` faces, asked for at most 1/16 of them by
+// default) are simplified on all cores. They are cut into 2^k parts (internal/Mesh_parts.h), each
+// simplified on its own core with the input's quadrics and its cut vertices locked, down to a
+// multiple of its share of the target; then the whole is rebuilt and the remaining collapses run
+// on it. The parts depend on the mesh alone, so the result is the same on any number of cores.
+//
+// Manual: doc/Textured_simplification/README.md, "One call, and large meshes on all cores: `simplify_mesh()`".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_MESH_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_MESH_H
 

@@ -1,28 +1,16 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// simplify_textured_mesh(): the whole texture-preserving simplification of thesis chapter 3 on a
-// Textured_mesh — weighted quadric collapses (§3.4) under the chart constraints of §3.5 with UV
-// placement of the kept vertex, the index texture of §3.3 rewritten at every collapse through the
-// bijective mappings of §3.6 (by `Resampler`: the CPU Index_texture_resampler by default, or
-// Osmesa_index_texture_resampler, bit-identical), and at the end the output textures (diffuse and,
-// when present, normal map) generated through the index texture and dilated into the gutters.
-// The output UVs cover the output textures' [0,1]² (the index-texture domain, see Index_texture.h).
+// simplify_textured_mesh(): the texture-preserving simplification of thesis chapter 3 on a
+// Textured_mesh. By default a new atlas is baked from the input after the collapses
+// (rebuild_atlas.h), so any face count is reached; with `keep_charts` it is the thesis' method:
+// weighted quadric collapses (§3.4) under the chart constraints of §3.5, the index texture of §3.3
+// rewritten at every collapse through the bijective mappings of §3.6 (by `Resampler`, the CPU
+// Index_texture_resampler or the bit-identical Osmesa_index_texture_resampler), and the output
+// textures generated through it. A mesh without a decoded texture keeps its UVs under the same
+// constraints. Normal maps are resampled like colours (exact for object-space maps only).
 //
-// Input: a triangle mesh with UVs (has_uvs()); textures must be decoded (IO::load_textures) for
-// them to be resampled. A mesh without a decoded texture is simplified with its UVs kept under the
-// same constraints (no texture work). Several different textures (multi-material atlases) are not
-// supported: Invalid_input.
-//
-// Charts only shrink inside their original UV region, except that a concave boundary corner may be
-// cut by a sliver within `chart_growth_texels` texels of the chart's own texels (see
-// Chart_constraints.h); charts overlapping in the input are never grown into.
-//
-// Normal maps are resampled like colours (the tangent frames of the simplified surface are not
-// re-derived): exact for object-space maps, an approximation for tangent-space ones.
-//
-// Complexity: O(E log E) collapse work plus O(texels of the new triangles × star size) per
-// collapse, plus O(W·H) texture set-up and generation.
+// Manual: doc/Textured_simplification/README.md, "Texture part".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_TEXTURED_MESH_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_TEXTURED_MESH_H
 

@@ -2,62 +2,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // internal::Edge_collapse_engine, the engine behind CMGeom::Textured_simplification::edge_collapse
-// (edge_collapse.h): an edge-collapse engine for the policy concepts
-// of CGAL's Surface_mesh_simplification (GetCost, GetPlacement, PlacementFilter, StopPredicate,
+// (edge_collapse.h): an edge-collapse engine for the policy concepts of CGAL's
+// Surface_mesh_simplification (GetCost, GetPlacement, PlacementFilter, StopPredicate,
 // EdgeCollapseSimplificationVisitor, and the Update_tag hook of cost policies), built for speed.
-// It drives the weighted quadric simplification of thesis §3.4 and the edge flips of §3.5.1.
+// It drives the weighted quadric simplification of thesis §3.4 and the edge flips of §3.5.1, and
+// calls policies and visitor in the order CGAL 5.5.1's engine does. Deliberate differences: its
+// own fold-over test, cost updates around the kept vertex only for FastCollapseCostPolicy models,
+// re-costing when a filter moves the placement, the light Collapse_profile. Layout: one 16-byte
+// record per edge, an indexed 8-ary heap updated in place, nothing allocated in the collapse loop.
+// Complexity: O(E log E) set-up, O(d log E) per collapse (d = vertex degree).
 //
-// Sequence per popped edge (same order and visitor calls as CGAL 5.5.1's engine):
-//   OnSelected -> stop predicate (OnStopConditionReached) -> [with a Surface_memory: its cost at
-//   the placement; higher than the next edge's key: back to the queue with it] -> link condition
-//   (OnNonCollapsable)
-//   -> placement (absent: skipped silently) -> fold-over test -> filter (OnNonCollapsable)
-//   -> [filter moved the placement: fold-over test again, re-cost, maybe back to the queue]
-//   -> OnCollapsing -> Euler::collapse_edge -> put(vpm) -> OnCollapsed
-//   -> cost.update_after_collapse (Update_tag) -> neighbour costs -> optional flips.
-// Differences from CGAL's engine, all deliberate:
-//   * Zero-length edges are not collapsed during set-up; their cost is minimal anyway, so they go
-//     first through the normal path (and therefore do get OnCollapsing).
-//   * The fold-over test rejects a collapse when a surviving star triangle flips or loses its
-//     area (CGAL's bounds dihedral angles between link triangles instead).
-//   * Cost updates: a cost policy declaring `Cost_depends_on_endpoints_only = CGAL::Tag_true`
-//     (the quadric policies do) only gets the edges around the kept vertex re-evaluated; edges one
-//     ring farther, whose cost is unchanged, are only put back in the queue if a previous
-//     topological/geometric rejection had taken them out. Other policies get CGAL's treatment
-//     (every edge around every neighbour of the kept vertex is re-evaluated).
-//   * A filter may move the placement (CGAL 5.5.1's engine ignores the filter's placement and
-//     only uses it as a veto). When it does (the chart constraints' half-edge collapses onto a
-//     chart boundary), the fold-over test runs again at the new placement (test
-//     FoldOverTestAppliesToThePlacementTheFilterReturns), and since the queue held the cost at
-//     the policy's placement, the edge is re-costed: if the new cost exceeds the next edge's key,
-//     the edge goes back to the queue with it instead of being collapsed. Collapses thus follow
-//     the cost at the placement actually used (test
-//     CollapsesInOrderOfTheCostAtTheFilteredPlacement). Filters that never move the placement
-//     (Identity_filter: skipped at compile time) change nothing.
-//   * The profile is CMGeom's light Collapse_profile (no triangles()/link()).
-//   * A cost policy whose update_after_collapse also takes a normal (the quadric policies) gets
-//     the kept vertex's area-weighted normal from the fold-over test, which forms the cross
-//     products of exactly the triangles of the kept vertex's new star (unless the filter moved
-//     the placement: then the policy computes it itself).
-//   * A cost policy with `cost_at_own_placement(profile)` and `shares_state_with(placement)` (the
-//     quadric policies) is asked for the cost at its own placement in one call when the cost and
-//     placement objects share their state (same value as cost(profile, placement(profile)), the
-//     edge quadric formed once instead of twice).
-//
-// Data layout: one 16-byte record per edge, indexed by the edge index map: the heap slot (exact
-// cost, heap position) with the edge's flags beside it, so an evaluation touches one cache line
-// for its bookkeeping; per vertex, one bit "an edge around it may have been rejected" (so
-// re-queueing rejected edges costs nothing where there are none; a bit array stays in cache) and
-// a mark array used by the link condition only for degrees above 64. Everything is allocated
-// once at set-up; the collapse loop allocates nothing.
-// The queue is an indexed 8-ary heap updated in place (no stale entries, no lazy deletion).
-// After a collapse the edges around the kept vertex are re-evaluated in three passes — prefetch
-// of their records and of the policy's data of the neighbours (`prefetch(v)` when the cost policy
-// has it), costs, then queue updates in circulation order — so that their cache misses overlap;
-// the results are those of evaluating the edges one by one (costs do not depend on the queue).
-//
-// Complexity: O(E log E) for set-up, O(d log E) per collapse (d = vertex degree), O(1) stop tests
-// with the predicates of Stop_predicates.h.
+// Manual: doc/Textured_simplification/README.md, "The visitor and filter hooks (for the textured part)".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_EDGE_COLLAPSE_ENGINE_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_EDGE_COLLAPSE_ENGINE_H
 

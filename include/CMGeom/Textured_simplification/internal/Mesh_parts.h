@@ -1,22 +1,14 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Internal to simplify_mesh(): cutting a Surface_mesh into parts that are simplified at the same
-// time on separate cores, and putting the simplified parts back together.
+// Internal to simplify_mesh(): cutting a Surface_mesh into 2^k parts (median splits of the face
+// centroids, a function of the face count only, so the result does not depend on the number of
+// threads) that are simplified at the same time on separate cores, and putting the simplified
+// parts back together. A part is built straight from the input's halfedges and is manifold; the
+// vertices on a cut are locked, so the parts' borders along the cuts match vertex for vertex at
+// the merge, where the locked copies of an input vertex become one vertex again.
 //
-//   * Parts: the faces are split by the median of their centroids along the longest side of
-//     their bounding box, recursively, into 2^k parts (a function of the face count only, so the
-//     result does not depend on the number of threads).
-//   * A part is a Surface_mesh of its own, built straight from the input's halfedges (no polygon
-//     soup, no search): an edge between two faces of the part stays an edge, an edge to another
-//     part becomes a border. Around a vertex whose star the cut splits into several runs of
-//     faces, each run gets a vertex of its own, so every part is a manifold mesh. The vertices
-//     on a cut (those with faces outside the part) are locked: a collapse next to one keeps it
-//     where it is (the half-edge collapse onto it), a collapse between two is refused. The cuts
-//     thus reach the merge unchanged, and the parts' borders along them match vertex for vertex.
-//   * Merge: the locked copies of an input vertex become one vertex again; a border halfedge
-//     a -> b between locked vertices meets the border halfedge b -> a of another part, and the
-//     two become one edge; the mesh is rebuilt from the parts' live faces.
+// Manual: doc/Textured_simplification/README.md, "One call, and large meshes on all cores: `simplify_mesh()`".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_MESH_PARTS_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_MESH_PARTS_H
 

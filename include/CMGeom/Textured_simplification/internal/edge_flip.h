@@ -1,27 +1,14 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// The edge-flip test of thesis §3.5.1: the criterion of Jiao et al. 2006 — the quadric of each
-// vertex restricted to the tangent plane is a local metric — with the modified Delaunay test of
-// Bossen & Heckbert 1996, plus non-overlap checks. O(deg) per test (the "edge already exists" and
-// degree checks), O(1) geometry.
+// The edge-flip test of thesis §3.5.1: the criterion of Jiao et al. 2006 (the quadric of each
+// vertex restricted to the tangent plane is a local metric) with the modified Delaunay test of
+// Bossen & Heckbert 1996, plus non-overlap checks. Key choices: one tangent plane per edge; a
+// tolerance that prevents flip cycles on co-circular configurations; a feature guard refusing
+// flips across edges whose two triangles' normals differ by more than about 11 degrees; policies
+// without `quadric(v)` get the Euclidean Delaunay test. O(deg) per test, O(1) geometry.
 //
-// Choices where the thesis and the papers leave room (documented in doc/Textured_simplification):
-//   * One tangent plane per edge: the plane of the sum of the two triangles' area vectors. The
-//     metric is the sum over the four vertices of P^T A_v P (A_v the vertex quadric's 3x3 block,
-//     P the plane basis), normalised by the sum of the traces, plus 0.01 I so that it is positive
-//     definite where the surface is flat (then the test is the Euclidean Delaunay test).
-//   * Modified Delaunay (Bossen-Heckbert): flip when cot(angle at c) + cot(angle at d) < -0.05 in
-//     the metric, i.e. when the opposite angles sum clearly above pi; the tolerance prevents flip
-//     cycles on co-circular configurations.
-//   * Non-overlap: both new triangles must keep a positive orientation with respect to the plane
-//     normal and to each of the two old triangles' normals (this covers the four vertices'
-//     tangent planes of the thesis for the surface; texture triangles are the textured part's).
-//   * Feature guard: no flip across an edge whose two triangles' normals differ by more than
-//     ~11 degrees (dot < 0.98): flipping there changes the shape, which a metric test in one
-//     tangent plane cannot judge (measured: 0.9 let flips raise Hausdorff error by up to 2x on
-//     max-planck; 0.98 and 0.995 gave similar errors).
-//   * Policies that do not expose `quadric(v)` get the Euclidean Delaunay test.
+// Manual: doc/Textured_simplification/README.md, "Choices where the thesis is silent or ambiguous".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_EDGE_FLIP_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_EDGE_FLIP_H
 
