@@ -2,23 +2,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Progress hooks of the long CMGeom algorithms (Compact Model build and reconstruction, cage
-// binding). The algorithms never print; a caller that wants to show progress puts a
-// Progress_callback in the function's options, and the function calls it as it goes:
-//   * with the fraction of the function's work done, in [0, 1], never decreasing from one call
-//     to the next (a fraction is an estimate of the share of the running time, not a count of
-//     elements: the phases of an algorithm are weighted by their measured cost);
-//   * from the thread that called the function only, never from a TBB worker, so the hook needs
-//     no lock and may touch what that thread owns (a terminal line, a GUI's state);
-//   * at a bounded rate: at most about 256 times per phase of the work (an algorithm has a few
-//     phases, each documented with the option that takes the hook), never per element; the last
-//     call of a run that returns normally is 1.
-// The hook must be cheap (it runs inside the algorithm's loops) and must not throw. An empty
-// callback (the default) costs a test per block of work.
+// binding): Progress_callback, and internal::Progress_reporter on the algorithms' side. The
+// algorithms never print; a caller puts a callback in the function's options, and it is called
+// with the fraction of the work done, never decreasing and ending at 1, from the calling thread
+// only (TBB workers only count into an atomic), at most about 256 times per phase. The hook must
+// be cheap and must not throw; an empty callback costs a test per block of work.
 //
-// internal::Progress_reporter is the algorithms' side: the phases and the counting, safe from
-// parallel loops (workers only add to an atomic counter; the calling thread reports).
-//
-// Complexity: O(1) per reported block of work.
+// Manual: doc/Concepts.md, "Conventions".
 #ifndef CMGEOM_PROGRESS_H
 #define CMGEOM_PROGRESS_H
 

@@ -1,21 +1,13 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Readers and writers of textured meshes (target CMGeom::Mesh_IO; no image library needed).
+// Readers and writers of textured meshes (target CMGeom::Mesh_IO; no image library needed),
+// the format chosen by the file's extension (case-insensitive): OBJ + MTL, OFF, PLY (geometry
+// only) and glTF 2.0 / GLB. Every error is an IO_error whose message is one line
+// "<file>[:<line>]: <what is wrong>". Writers are atomic: every file is written to a temporary and
+// renamed into place only when all of them are complete, so a failure never leaves a partial output.
 //
-// Formats, chosen by file extension (case-insensitive):
-//   .obj        OBJ + MTL: v / vt / f with v, v/vt, v//vn, v/vt/vn corners, negative indices,
-//               several materials (usemtl), map_Kd, map_Bump / bump / norm (file names may contain
-//               spaces). Polygons are split into fans in file order: (c0,c1,c2), (c0,c2,c3), ...
-//   .off        OFF (own reader, so errors carry line numbers).
-//   .ply        PLY, ASCII or binary (CGAL's reader); geometry only.
-//   .gltf .glb  glTF 2.0 (tinygltf): triangle primitives of the default scene with node
-//               transforms applied, TEXCOORD_0 and the base-colour texture; positions welded by
-//               exact equality so UV seams become shared edges; v is flipped (v_obj = 1 - v_gltf).
-//
-// Every error is an IO_error whose message is one line "<file>[:<line>]: <what is wrong>".
-// Writers are atomic: everything is written to temporary files that are renamed into place only
-// when all of them are complete, so a failure never leaves a partial output.
+// Manual: doc/Mesh_IO/README.md, "Reading and writing (`<CMGeom/Mesh_IO/mesh_io.h>`, `<CMGeom/Mesh_IO/textured_mesh_io.h>`)".
 #ifndef CMGEOM_MESH_IO_MESH_IO_H
 #define CMGEOM_MESH_IO_MESH_IO_H
 

@@ -2,28 +2,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // approximation_error(): the geometric error between a reference mesh and an approximation, in
-// the Metro convention (thesis §2.3.2.2, eqs. 2.4-2.9; Cignoni, Rocchini and Scopigno 1998).
-// Both surfaces are sampled (vertices, edges, "similar triangles" faces; see
-// internal/surface_sampling.h), every sample is measured against the other surface with a CGAL
-// AABB_tree (point-to-triangle distance, eq. 2.4), and the two one-sided results are combined:
+// the Metro convention (thesis §2.3.2.2, eqs. 2.4-2.9; Cignoni, Rocchini and Scopigno 1998). Both
+// surfaces are sampled (vertices, edges, similar-triangle face samples), every sample is measured
+// against the other surface with a CGAL AABB_tree, and the two sides give the Hausdorff distance
+// (eq. 2.7), the mean and the RMS, as fractions of the reference's bounding-box diagonal (as the
+// thesis' Tables 4.2-4.3) plus absolute one-sided values. Key choice where the thesis is open: the
+// symmetric mean pools both sample sets (eq. 2.8). Default: 10 x max(F1, F2) samples per
+// direction. Bit-identical for a given seed whatever the thread count (TBB, fixed blocks).
 //
-//   hausdorff = max of the two one-sided maxima                          (eq. 2.7)
-//   mean      = sum of all distances / number of samples of both sides   (eq. 2.8 without square)
-//   rms       = sqrt(sum of all squared distances / number of samples)   (eqs. 2.8-2.9)
-//
-// reported as fractions of the REFERENCE mesh's bounding-box diagonal, as the thesis' tables do
-// (Tables 4.2, 4.3: "% with respect to the BBox diagonal"), plus the absolute one-sided values.
-// The thesis leaves the normalisation of the symmetric mean open ("one could also consider
-// normalizing each individual integral"); we pool both sample sets (eq. 2.8), and since both
-// sides are sampled at (about) the same count this weights the two directions equally.
-//
-// Default sample count: 10 x max(F_reference, F_approximation) per direction (Metro's default).
-// Determinism: samples depend on the seed only; distances are reduced in fixed blocks of samples
-// whose partial sums are added in block order, so the numbers are bit-identical for a given seed
-// whatever the thread count.
-//
-// Complexity: O((F1 + F2) log(F1 + F2)) to build the trees, O(N log N) to order the N samples
-// along a Hilbert curve, plus O(N log F) expected for the distances; parallel with TBB.
+// Manual: doc/Metrics/README.md, "Geometric error in the Metro convention".
 #ifndef CMGEOM_METRICS_APPROXIMATION_ERROR_H
 #define CMGEOM_METRICS_APPROXIMATION_ERROR_H
 

@@ -2,25 +2,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // texture_deviation(): the largest 3D distance between points that carry the same texture
-// coordinate (u,v) on two textured surfaces, where both are defined (Cohen, Olano and Manocha
-// 1998, "Appearance-preserving simplification"; thesis §3.1 asks that "the distance from the
-// point on S^i of an attribute in texture I^i and the point on S^{i+1} of the same attribute ...
-// be minimal").
+// coordinate (u, v) on two textured surfaces, where both are defined (Cohen, Olano and Manocha 1998;
+// thesis §3.1 asks that the points of the same attribute on successive approximations stay close).
+// Each surface is sampled in parameter space and each sample is located in the other surface's UV
+// triangles (CGAL AABB_tree) and mapped to 3D. Key choices: an uncovered (u, v) is skipped; where
+// atlases overlap the nearest preimage in 3D is taken; degenerate UV triangles are ignored, so a
+// mesh against itself gives 0. Both directions, maximum reported; parallel and deterministic.
 //
-// Method: each surface is sampled in parameter space (its face corners and the "similar
-// triangles" face samples of internal/surface_sampling.h); for every sample (u,v) the faces of
-// the other surface whose UV triangle contains (u,v) are found with a CGAL AABB_tree over the UV
-// triangles (lifted to z = 0), and the sample is mapped through the barycentric coordinates of
-// that UV triangle onto the other surface. Samples whose (u,v) is covered by no UV triangle of the
-// other surface are skipped (the deviation is undefined there). When atlases overlap (mirrored
-// or shared charts) a (u,v) has several preimages; we take the one closest in 3D, i.e. the
-// deviation is measured against the most favourable preimage. Both directions are measured and
-// the maximum is reported, as a fraction of the reference's bounding-box diagonal and absolute.
-// Faces whose UV triangle is degenerate (twice its area <= 1e-14) are neither sampled nor used as
-// preimages: they map no (u,v) to a unique point, and a mesh compared with itself must give 0.
-//
-// Complexity: O((F1 + F2) log(F1 + F2)) for the trees plus O(N log F) for N samples; parallel
-// with TBB, deterministic (fixed blocks).
+// Manual: doc/Metrics/README.md, "Texture deviation".
 #ifndef CMGEOM_METRICS_TEXTURE_DEVIATION_H
 #define CMGEOM_METRICS_TEXTURE_DEVIATION_H
 

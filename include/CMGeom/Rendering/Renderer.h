@@ -2,25 +2,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Renderer: headless OpenGL pictures of a Render_mesh (the Rendering package's engine; thesis
-// figures: shaded models, chart boundaries in red, error and influence maps).
+// figures: shaded models, chart boundaries in red, error and influence maps). Backend: an OSMesa
+// (Mesa llvmpipe) OpenGL 4.5 core context with the package's own GL loader; pictures are drawn
+// into a multisampled sRGB framebuffer object, so lighting and filtering happen in linear space,
+// and their alpha channel is the mesh's coverage (used by the image-space error). Compiled only
+// with CMGEOM_WITH_OSMESA and libOSMesa (target CMGeom::OSMesa, defining CMGEOM_HAS_OSMESA); OSMesa
+// was removed from Mesa 25.1. A Renderer serves one thread at a time; results are deterministic.
+// Complexity: O(F + W H samples) per picture.
 //
-// Backend: an OSMesa (Mesa llvmpipe) OpenGL 4.5 core context, GL entry points loaded through
-// OSMesaGetProcAddress into the package's own table (libepoxy aborts under OSMesa, and linking
-// libGL as well would silently turn direct gl* calls into no-ops). Pictures are drawn into a
-// multisampled sRGB framebuffer object (4x MSAA by default), resolved, read back and flipped to
-// top-row-first. Lighting and texture filtering happen in linear space (sRGB textures and
-// framebuffer), so textures look as they do in any sRGB-correct viewer. The alpha channel of the
-// result is the coverage of the mesh (0 = background), used by the image-space error.
-//
-// Availability: compiled only when the library is configured with CMGEOM_WITH_OSMESA and
-// libOSMesa is found (target CMGeom::OSMesa, which defines CMGEOM_HAS_OSMESA). OSMesa was removed
-// from Mesa 25.1; without it, code must check CMGEOM_HAS_OSMESA and report that rendering is
-// unavailable (the cmgeom tool does so with a one-line error).
-//
-// Threads: a Renderer owns one context and must be used by one thread at a time; create one per
-// thread for parallel rendering. Results are deterministic (bit-identical for identical input).
-//
-// Complexity: O(F + W H samples) per picture; the mesh is uploaded once per render_views() call.
+// Manual: doc/Rendering/README.md, "The engine".
 #ifndef CMGEOM_RENDERING_RENDERER_H
 #define CMGEOM_RENDERING_RENDERER_H
 

@@ -1,21 +1,14 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Metro-style surface sampling (thesis §2.3.2.2, eq. 2.7-2.8: "these sets should, at a minimum,
-// contain all the vertices"): a triangle mesh is copied once into flat arrays and sampled on its
-// vertices, on the interior of its edges and on its faces with "similar triangles" face sampling
-// (a face is cut into n x n similar sub-triangles and each sub-triangle contributes its
-// barycentre), as Cignoni et al.'s Metro does.
+// Metro-style surface sampling (thesis §2.3.2.2, eqs. 2.7-2.8: the sample sets should at least
+// contain all the vertices): a triangle mesh is copied once into flat arrays and sampled on its
+// vertices, on the interior of its edges and on its faces by similar-triangle sampling, as Metro
+// does. For N samples the linear density s solves A s^2 + L s + V = N, so edges and faces get the
+// same spacing; per-face counts are drawn from a hash of (seed, face index), so the samples depend
+// on the seed only, never on threads. Complexity: O(V + E + F + N) time and memory.
 //
-// Budget. For a target of N samples, a mesh with V used vertices, total edge length L and area A
-// gets all V vertices, a linear density s on edges and an areal density s^2 on faces, where s
-// solves A s^2 + L s + V = N. Faces then get about A s^2 samples and edges L s, so the spacing is
-// the same on edges and faces. Per face the expected count c = s^2 area(f) is realised as n^2
-// samples with n = floor(sqrt(c)) or n + 1, chosen by a random draw whose expectation is c; the
-// draw is a hash of (seed, face index), so the samples depend on the seed only, never on threads.
-// Edge counts carry their fractional remainder from one edge to the next (deterministic).
-//
-// Complexity: O(V + E + F + N) time and memory.
+// Manual: doc/Metrics/README.md, "Geometric error in the Metro convention".
 #ifndef CMGEOM_METRICS_INTERNAL_SURFACE_SAMPLING_H
 #define CMGEOM_METRICS_INTERNAL_SURFACE_SAMPLING_H
 
