@@ -4,8 +4,10 @@
 //   2. binding throughput in (point x cage triangle)/s for mean value and Green coordinates on 1
 //      and 2 threads (wall clock, and CPU time, which is what a loaded shared machine distorts
 //      least), and the harmonic solve + lookup time;
-//   3. deformation time per frame (best frame), vertices/s and effective bandwidth for dense double, dense
+//   3. deformation time per frame (minimum and median frame), vertices/s and effective bandwidth for dense double, dense
 //      float and sparse weights, against the measured bandwidth.
+// Every timing is repeated; tables give the minimum and the median of the runs ("min / median";
+// for a rate, the rate of the fastest run, then of the median run).
 // Usage: bench_Cage_deformation [--quick] [data_dir]
 #include <CMGeom/Cage_deformation.h>
 
@@ -55,8 +57,15 @@ bool read_obj(const std::string& path, std::vector<Vec3>& pts,
 }
 
 // ------------------------------------------------------------------ STREAM-style bandwidth
+constexpr int stream_runs = 6;
+
 struct Bandwidth {
-  double copy = 0, triad = 0, read = 0;  // GB/s, best of the repetitions
+  cmgeom_bench::Timing copy, triad, read;  // seconds of one pass
+  double copy_bytes = 0, triad_bytes = 0, read_bytes = 0;
+  // GB/s of the fastest pass of any kind (the reference of the deformation table)
+  double best() const {
+    return std::max({copy_bytes / copy.min, triad_bytes / triad.min, read_bytes / read.min}) / 1e9;
+  }
 };
 
 Bandwidth stream(int threads, std::size_t n) {
@@ -68,22 +77,26 @@ Bandwidth stream(int threads, std::size_t n) {
     c[i] = 0.5;
   });
   Bandwidth bw;
+  bw.copy_bytes = 16.0 * double(n);
+  bw.triad_bytes = 24.0 * double(n);
+  bw.read_bytes = 8.0 * double(n);
+  std::vector<double> tc, tt, tr;
   const std::size_t grain = n / (8 * std::size_t(threads));
-  for (int rep = 0; rep < 6; ++rep) {
+  for (int rep = 0; rep < stream_runs; ++rep) {
     double t0 = wall();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t i = r.begin(); i < r.end(); ++i) c[i] = a[i];
                       });
     double t = wall() - t0;
-    bw.copy = std::max(bw.copy, 16.0 * double(n) / t / 1e9);
+    tc.push_back(t);
     t0 = wall();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t i = r.begin(); i < r.end(); ++i) a[i] = b[i] + 3.0 * c[i];
                       });
     t = wall() - t0;
-    bw.triad = std::max(bw.triad, 24.0 * double(n) / t / 1e9);
+    tt.push_back(t);
     std::vector<double> partial(64, 0.0);
     t0 = wall();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
@@ -100,52 +113,50 @@ Bandwidth stream(int threads, std::size_t n) {
                         partial[(r.begin() / grain) % 64] += s0 + s1 + s2 + s3;
                       });
     t = wall() - t0;
-    bw.read = std::max(bw.read, 8.0 * double(n) / t / 1e9);
+    tr.push_back(t);
     if (partial[0] == -1) std::printf("?");
   }
+  bw.copy = cmgeom_bench::summarize(tc);
+  bw.triad = cmgeom_bench::summarize(tt);
+  bw.read = cmgeom_bench::summarize(tr);
   return bw;
 }
 
 // ------------------------------------------------------------------ binding
 struct Bind_result {
-  double wall1 = 0, cpu1 = 0, wall2 = 0, cpu2 = 0;
+  cmgeom_bench::Timing wall1, cpu1, wall2, cpu2;
 };
 
-// Best of `reps` runs: on a shared machine the best run is the one least disturbed by others.
+// `reps` runs of each; on a shared machine the minimum is the run least disturbed by others.
 template <class Coords>
 Bind_result time_bind(const Coords& c, const std::vector<Vec3>& pts, int reps) {
-  Bind_result r{1e300, 1e300, 1e300, 1e300};
+  std::vector<double> w1, c1, w2, c2;
   for (int rep = 0; rep < reps; ++rep) {
     {
       tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
       const double w0 = wall(), c0 = cpu();
       Cage_binding<double> b = bind_points(c, pts);
-      r.wall1 = std::min(r.wall1, wall() - w0);
-      r.cpu1 = std::min(r.cpu1, cpu() - c0);
+      w1.push_back(wall() - w0);
+      c1.push_back(cpu() - c0);
     }
     {
       tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
       const double w0 = wall(), c0 = cpu();
       Cage_binding<double> b = bind_points(c, pts);
-      r.wall2 = std::min(r.wall2, wall() - w0);
-      r.cpu2 = std::min(r.cpu2, cpu() - c0);
+      w2.push_back(wall() - w0);
+      c2.push_back(cpu() - c0);
     }
   }
-  return r;
+  return {cmgeom_bench::summarize(w1), cmgeom_bench::summarize(c1), cmgeom_bench::summarize(w2),
+          cmgeom_bench::summarize(c2)};
 }
 
 template <class Binding>
-double time_deform(const Binding& b, const std::vector<Vec3>& basis, int threads, int frames) {
+cmgeom_bench::Timing time_deform(const Binding& b, const std::vector<Vec3>& basis, int threads, int frames) {
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
   std::vector<Vec3> out(b.number_of_points());
   b.deform(basis, out.data());  // warm up
-  std::vector<double> t;
-  for (int f = 0; f < frames; ++f) {
-    const double t0 = wall();
-    b.deform(basis, out.data());
-    t.push_back(wall() - t0);
-  }
-  return *std::min_element(t.begin(), t.end());
+  return cmgeom_bench::time_runs(frames, [&] { b.deform(basis, out.data()); });
 }
 
 struct Model {
@@ -189,25 +200,31 @@ int main(int argc, char** argv) {
   // 1. bandwidth
   const std::size_t sn = quick ? (std::size_t(1) << 23) : (std::size_t(1) << 25);  // 32M doubles = 256 MB/array
   Bandwidth bw1 = stream(1, sn), bw2 = stream(2, sn);
-  std::printf("### Memory bandwidth (STREAM-style, %zu MB per array, best of 6)\n\n", sn * 8 >> 20);
+  std::printf("### Memory bandwidth (STREAM-style, %zu MB per array, %d passes: GB/s of the fastest / "
+              "of the median pass)\n\n", sn * 8 >> 20, stream_runs);
   std::printf("| threads | copy GB/s | triad GB/s | read (sum) GB/s |\n|---|---|---|---|\n");
-  std::printf("| 1 | %.1f | %.1f | %.1f |\n| 2 | %.1f | %.1f | %.1f |\n\n", bw1.copy, bw1.triad,
-              bw1.read, bw2.copy, bw2.triad, bw2.read);
+  for (const Bandwidth* bw : {&bw1, &bw2})
+    std::printf("| %d | %s | %s | %s |\n", bw == &bw1 ? 1 : 2,
+                cmgeom_bench::rate_min_median(bw->copy_bytes / 1e9, bw->copy).c_str(),
+                cmgeom_bench::rate_min_median(bw->triad_bytes / 1e9, bw->triad).c_str(),
+                cmgeom_bench::rate_min_median(bw->read_bytes / 1e9, bw->read).c_str());
+  std::printf("\n");
 
   // 2. binding
-  std::printf("### Binding: (point x cage triangle) per second (best of 3 runs)\n\n");
-  std::printf("M/s = millions of (mesh vertex x cage triangle) pairs per second. *cpu* divides by the "
+  const int bind_reps = quick ? 3 : 5;
+  std::printf("### Binding: (point x cage triangle) per second (%d runs: fastest / median run)\n\n", bind_reps);
+  std::printf("M/s = millions of (mesh vertex x cage triangle) pairs per second, \"fastest / median\". *cpu* divides by the "
               "process CPU time summed over its threads (robust to other jobs on the shared machine), "
               "*wall* by elapsed time. *2T/1T* is the wall-clock speed-up; *2T eff* = (2T cpu rate) / "
               "(1T cpu rate), the work efficiency of the parallel run: on two otherwise idle cores the "
-              "speed-up would be about 2 x eff.\n\n");
+              "speed-up would be about 2 x eff; both ratios are of the medians.\n\n");
   std::printf("| model | vertices | cage V/T | MVC 1T cpu | MVC 1T wall | MVC 2T wall | MVC 2T/1T | MVC 2T eff | "
               "Green 1T cpu | Green 1T wall | Green 2T wall | Green 2T/1T | Green 2T eff |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   struct Deform_row {
     std::string name;
     std::size_t N, K;
-    double td1, td2, tf1, ts1;
+    cmgeom_bench::Timing td1, td2, tf1, ts1;
     std::size_t bd, bf, bs;
   };
   std::vector<Deform_row> deform_rows;
@@ -234,13 +251,14 @@ int main(int argc, char** argv) {
     const double pairs = double(mp.size()) * double(cage.triangles.size());
     Mean_value_coordinates_3 mvc(cage);
     Green_coordinates_3 gc(cage);
-    const int reps = quick ? 1 : 3;
-    const Bind_result rm = time_bind(mvc, mp, reps), rg = time_bind(gc, mp, reps);
-    std::printf("| %s | %zu | %zu/%zu | %.1f | %.1f | %.1f | %.2f | %.2f | %.1f | %.1f | %.1f | %.2f | %.2f |\n",
+    const Bind_result rm = time_bind(mvc, mp, bind_reps), rg = time_bind(gc, mp, bind_reps);
+    const auto rate = [&](const cmgeom_bench::Timing& t) { return cmgeom_bench::rate_min_median(pairs / 1e6, t); };
+    std::printf("| %s | %zu | %zu/%zu | %s | %s | %s | %.2f | %.2f | %s | %s | %s | %.2f | %.2f |\n",
                 m.name.c_str(), mp.size(), cage.vertices.size(), cage.triangles.size(),
-                pairs / rm.cpu1 / 1e6, pairs / rm.wall1 / 1e6, pairs / rm.wall2 / 1e6,
-                rm.wall1 / rm.wall2, rm.cpu1 / rm.cpu2, pairs / rg.cpu1 / 1e6, pairs / rg.wall1 / 1e6,
-                pairs / rg.wall2 / 1e6, rg.wall1 / rg.wall2, rg.cpu1 / rg.cpu2);
+                rate(rm.cpu1).c_str(), rate(rm.wall1).c_str(), rate(rm.wall2).c_str(),
+                rm.wall1.median / rm.wall2.median, rm.cpu1.median / rm.cpu2.median, rate(rg.cpu1).c_str(),
+                rate(rg.wall1).c_str(), rate(rg.wall2).c_str(), rg.wall1.median / rg.wall2.median,
+                rg.cpu1.median / rg.cpu2.median);
     std::fflush(stdout);
 
     // deformation kernels (MVC weights; Green has n + m per vertex, reported in the same table)
@@ -290,7 +308,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  std::printf("\n### Harmonic coordinates (2 threads, wall clock; tricubic lookup)\n\n");
+  std::printf("\n### Harmonic coordinates (2 threads, wall clock; tricubic lookup; one run each: the solve takes seconds)\n\n");
   std::printf("| model | resolution | interior nodes | solve s | CG iterations (all coords, levels) | "
               "bind s | M vertices/s | approximate | undefined (outside) |\n|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& r : harmonic_rows) std::printf("%s\n", r.c_str());
@@ -319,7 +337,7 @@ int main(int argc, char** argv) {
       Cage_binding<float> f = bind_points<float>(mvc, big);
       Deform_row row{models[0].name + " MVC x" + std::to_string(target / mp.size() + 1) + " points",
                      big.size(), d.number_of_coordinates(), time_deform(d, basis, 1, 11),
-                     time_deform(d, basis, 2, 11), time_deform(f, basis, 1, 11), 0.0,
+                     time_deform(d, basis, 2, 11), time_deform(f, basis, 1, 11), {},
                      d.weights_bytes(), f.weights_bytes(), 0};
       {
         Cage_binding<double> s = bind_points(mvc, big, so);
@@ -330,10 +348,11 @@ int main(int argc, char** argv) {
     }
   }
 
-  std::printf("\n### Deformation per frame (best of 21 frames, 11 for the large case; weights already bound)\n\n");
-  const double best1 = std::max({bw1.copy, bw1.triad, bw1.read});
-  const double best2 = std::max({bw2.copy, bw2.triad, bw2.read});
-  std::printf("GB/s = weight bytes read per second; %% = of the best STREAM figure (copy, triad or "
+  std::printf("\n### Deformation per frame (%d frames, 11 for the large case; weights already bound)\n\n",
+              quick ? 5 : 21);
+  const double best1 = bw1.best(), best2 = bw2.best();
+  std::printf("Times are \"min / median\" of the frames; M vert/s and GB/s are of the fastest frame. "
+              "GB/s = weight bytes read per second; %% = of the best STREAM figure (copy, triad or "
               "read) with the same thread count: %.1f GB/s (1T), %.1f GB/s (2T). Weights that fit "
               "in the 32 MB L3 exceed 100%%; the last row (weights far beyond L3) is the DRAM-bound "
               "case.\n\n", best1, best2);
@@ -341,13 +360,14 @@ int main(int argc, char** argv) {
               "2T ms | 2T GB/s (%%) | dense float MB | float 1T ms | float 1T GB/s (%%) | sparse MB | sparse 1T ms |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Deform_row& r : deform_rows) {
-    const double gb1 = double(r.bd) / r.td1 / 1e9, gb2 = double(r.bd) / r.td2 / 1e9;
-    const double gbf = double(r.bf) / r.tf1 / 1e9;
-    std::printf("| %s | %zu | %zu | %.1f | %.2f | %.1f | %.1f (%.0f%%) | %.2f | %.1f (%.0f%%) | %.1f | "
-                "%.2f | %.1f (%.0f%%) | %.1f | %.2f |\n",
-                r.name.c_str(), r.N, r.K, double(r.bd) / 1e6, r.td1 * 1e3, double(r.N) / r.td1 / 1e6,
-                gb1, 100 * gb1 / best1, r.td2 * 1e3, gb2, 100 * gb2 / best2, double(r.bf) / 1e6,
-                r.tf1 * 1e3, gbf, 100 * gbf / best1, double(r.bs) / 1e6, r.ts1 * 1e3);
+    const double gb1 = double(r.bd) / r.td1.min / 1e9, gb2 = double(r.bd) / r.td2.min / 1e9;
+    const double gbf = double(r.bf) / r.tf1.min / 1e9;
+    const auto ms = [](const cmgeom_bench::Timing& t) { return cmgeom_bench::min_median(t.scaled(1e3), "%.2f"); };
+    std::printf("| %s | %zu | %zu | %.1f | %s | %.1f | %.1f (%.0f%%) | %s | %.1f (%.0f%%) | %.1f | "
+                "%s | %.1f (%.0f%%) | %.1f | %s |\n",
+                r.name.c_str(), r.N, r.K, double(r.bd) / 1e6, ms(r.td1).c_str(), double(r.N) / r.td1.min / 1e6,
+                gb1, 100 * gb1 / best1, ms(r.td2).c_str(), gb2, 100 * gb2 / best2, double(r.bf) / 1e6,
+                ms(r.tf1).c_str(), gbf, 100 * gbf / best1, double(r.bs) / 1e6, ms(r.ts1).c_str());
   }
   return 0;
 }

@@ -25,6 +25,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,9 +34,6 @@ namespace CDI = CMGeom::Cage_deformation::internal;
 
 namespace {
 
-double wall() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 // Surface of the box [-0.5, 0.5]^2 x [0, 4] as a watertight triangle mesh on an a x a x c lattice.
 void prism_mesh(int a, int c, std::vector<Vec3>& pts, std::vector<std::array<std::uint32_t, 3>>& tris) {
@@ -108,52 +106,51 @@ void bend_all(Cage_system_description& d) {
     }
 }
 
+int g_runs = 3;  // repetitions of the set-up, the binding and the 20-frame deformation batch
+
 struct Timing {
-  double setup = 0, bind = 0, deform = 0;
+  cmgeom_bench::Timing setup, bind, deform;  // deform: per frame
   std::size_t bytes = 0, joined = 0;
   std::vector<Vec3> out;
 };
 
-double best_deform(const std::function<void()>& f, int frames) {
-  double best = 1e300;
-  for (int r = 0; r < 3; ++r) {
-    const double t0 = wall();
-    for (int i = 0; i < frames; ++i) f();
-    best = std::min(best, (wall() - t0) / frames);
-  }
-  return best;
+// Seconds per frame: minimum and median over g_runs batches of `frames` frames.
+cmgeom_bench::Timing time_deform(const std::function<void()>& f, int frames) {
+  return cmgeom_bench::time_runs(g_runs, [&] {
+           for (int i = 0; i < frames; ++i) f();
+         }).scaled(1.0 / frames);
 }
 
 Timing run_stars(const Cage_system_description& d, const std::vector<Vec3>& pts, int threads) {
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
   Timing t;
-  double t0 = wall();
-  const Cage_system s(d);
-  t.setup = wall() - t0;
-  t0 = wall();
-  const Cage_system_binding<double> b = s.bind(pts);
-  t.bind = wall() - t0;
+  std::optional<Cage_system> sys;
+  t.setup = cmgeom_bench::time_runs(g_runs, [&] { sys.emplace(d); });
+  const Cage_system& s = *sys;
+  std::optional<Cage_system_binding<double>> bound;
+  t.bind = cmgeom_bench::time_runs(g_runs, [&] { bound.emplace(s.bind(pts)); });
+  const Cage_system_binding<double>& b = *bound;
   t.bytes = b.weights_bytes();
   t.joined = b.joined_points();
   // Per frame: propagate the cage poses, build the global basis, one sparse product.
   std::vector<std::vector<Vec3>> poses;
   for (const auto& c : d.cages) poses.push_back(c.deformed);
-  t.deform = best_deform([&] { b.deform(s.basis(s.deformed_leaf_vertices(poses)), t.out); }, 20);
+  t.deform = time_deform([&] { b.deform(s.basis(s.deformed_leaf_vertices(poses)), t.out); }, 20);
   return t;
 }
 
 Timing run_single(const Cage_description& c, const std::vector<Vec3>& pts, int threads) {
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
   Timing t;
-  double t0 = wall();
-  const Any_cage_coordinates coords = make_cage_coordinates(c.coordinates, c.rest);
-  t.setup = wall() - t0;
-  t0 = wall();
-  const Cage_binding<double> b = bind_points(coords, pts);
-  t.bind = wall() - t0;
+  std::optional<Any_cage_coordinates> made;
+  t.setup = cmgeom_bench::time_runs(g_runs, [&] { made.emplace(make_cage_coordinates(c.coordinates, c.rest)); });
+  const Any_cage_coordinates& coords = *made;
+  std::optional<Cage_binding<double>> bound;
+  t.bind = cmgeom_bench::time_runs(g_runs, [&] { bound.emplace(bind_points(coords, pts)); });
+  const Cage_binding<double>& b = *bound;
   t.bytes = b.weights_bytes();
   std::vector<Vec3> basis;
-  t.deform = best_deform([&] {
+  t.deform = time_deform([&] {
     coords.basis(c.deformed, basis);
     b.deform(basis, t.out);
   }, 20);
@@ -238,12 +235,13 @@ int main(int argc, char** argv) {
   std::printf("*Cages: memory = grouped sparse weights (double values, column patterns stored once per "
               "group of rows, point indices or runs), "
               "*setup* = system construction (borders, join cages), *bind* = coordinates of every "
-              "vertex, *deform* = one frame (hierarchy propagation + basis + grouped product), best "
-              "of 3 x 20 frames. *single*: one cage that is the union of the cages (the same "
+              "vertex, *deform* = one frame (hierarchy propagation + basis + grouped product), per "
+              "frame of a batch of 20. Times are \"min / median\" of %d runs (of the set-up, of the "
+              "binding, of the 20-frame batch); *mem x* and *deform x* use the medians. *single*: one cage that is the union of the cages (the same "
               "surface vertices), dense double weights. *joined* = vertices with d_i < 1 (join data stored). "
               "*mem x*, *deform x* = *Cages / single. "
               "*err* = max / RMS distance between the *Cages and single-cage results, relative to "
-              "the bounding-box diagonal of the cages.\n\n");
+              "the bounding-box diagonal of the cages.\n\n", g_runs);
   std::printf("| model | cages | coords | h | thr | vertices | joined | *Cages MB | single MB | setup ms | "
               "*Cages bind ms | single bind ms | *Cages deform ms | single deform ms | mem x | deform x | err max / RMS |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
@@ -278,11 +276,16 @@ int main(int argc, char** argv) {
             emax = std::max(emax, e);
             esum += e * e;
           }
-          std::printf("| %s | %dx%dx%d | %s | %.1f | %d | %zu | %zu | %.2f | %.2f | %.1f | %.1f | %.1f | %.3f | %.3f | %.4f | %.2f | %.2g / %.2g |\n",
+          const auto ms = [](const cmgeom_bench::Timing& t, const char* f) {
+            return cmgeom_bench::min_median(t.scaled(1e3), f);
+          };
+          std::printf("| %s | %dx%dx%d | %s | %.1f | %d | %zu | %zu | %.2f | %.2f | %s | %s | %s | %s | %s | %.4f | %.2f | %.2g / %.2g |\n",
                       c.model.c_str(), c.grid[0], c.grid[1], c.grid[2],
                       type == Coordinate_type::green ? "Green" : "MVC", h, threads, c.pts.size(), a.joined,
-                      a.bytes / 1048576.0, b.bytes / 1048576.0, a.setup * 1e3, a.bind * 1e3, b.bind * 1e3,
-                      a.deform * 1e3, b.deform * 1e3, double(a.bytes) / double(b.bytes), a.deform / b.deform,
+                      a.bytes / 1048576.0, b.bytes / 1048576.0, ms(a.setup, "%.1f").c_str(),
+                      ms(a.bind, "%.1f").c_str(), ms(b.bind, "%.1f").c_str(), ms(a.deform, "%.3f").c_str(),
+                      ms(b.deform, "%.3f").c_str(), double(a.bytes) / double(b.bytes),
+                      a.deform.median / b.deform.median,
                       emax, std::sqrt(esum / double(c.pts.size())));
           std::fflush(stdout);
         }

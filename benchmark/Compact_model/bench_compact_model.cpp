@@ -44,6 +44,7 @@ namespace {
 namespace CM = CMGeom::CM;
 using CM::Vec3;
 using Clock = std::chrono::steady_clock;
+constexpr int reconstruction_runs = 5;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -231,8 +232,8 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(tmp);
   if (adaptive) return adaptive_table(data, models, tmp);
   std::printf("Threads: %d (TBB default concurrency)\n\n", tbb::info::default_concurrency());
-  std::printf("| model | fit | input V/F | base V/F | sharp | cones | build s | CM bytes | level | rec s (normal) | Mvert/s (normal) | "
-              "rec s (closest) | out V | CM Hausdorff %% | CM RMS %% | PN Hausdorff %% | PN RMS %% | plain F (equal bytes) | "
+  std::printf("| model | fit | input V/F | base V/F | sharp | cones | build s | CM bytes | level | rec s (normal) min / median | "
+              "Mvert/s (normal) at min / median | rec s (closest) min / median | out V | CM Hausdorff %% | CM RMS %% | PN Hausdorff %% | PN RMS %% | plain F (equal bytes) | "
               "plain Hausdorff %% | plain RMS %% |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Model& md : models) {
@@ -274,25 +275,20 @@ int main(int argc, char** argv) {
       for (int level = 1; level <= 3; ++level) {
         CM::Reconstruction_options ro;
         ro.projection = CM::Projection::along_normal;
-        // Best of 3 runs for the timings (the machine is shared).
-        double tn = 1e9, tc = 1e9;
+        // Minimum and median of reconstruction_runs runs (the machine is shared).
         CM::Reconstruction rn, rc;
-        for (int rep = 0; rep < 3; ++rep) {
-          t0 = Clock::now();
-          rn = CM::reconstruct_regular(model, level, ro);
-          tn = std::min(tn, seconds_since(t0));
-        }
+        const cmgeom_bench::Timing tn =
+            cmgeom_bench::time_runs(reconstruction_runs, [&] { rn = CM::reconstruct_regular(model, level, ro); });
         ro.projection = CM::Projection::closest_point;
-        for (int rep = 0; rep < 3; ++rep) {
-          t0 = Clock::now();
-          rc = CM::reconstruct_regular(model, level, ro);
-          tc = std::min(tc, seconds_since(t0));
-        }
+        const cmgeom_bench::Timing tc =
+            cmgeom_bench::time_runs(reconstruction_runs, [&] { rc = CM::reconstruct_regular(model, level, ro); });
         const auto err = metro(mesh, CM::to_surface_mesh(rc));
         const auto pn = metro(mesh, pn_triangles(model, level));
-        std::printf("| %s | %s | %zu/%zu | %zu/%zu | %zu | %zu | %.2f | %zu | %d | %.4f | %.1f | %.4f | %zu | %.3f | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n",
+        std::printf("| %s | %s | %zu/%zu | %zu/%zu | %zu | %zu | %.2f | %zu | %d | %s | %s | %s | %zu | %.3f | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n",
                     name.c_str(), fit, mesh.number_of_vertices(), mesh.number_of_faces(), st.base_vertices, st.base_faces,
-                    st.sharp_edges, st.cone_vertices, build_s, bytes, level, tn, double(rn.points.size()) / tn / 1e6, tc,
+                    st.sharp_edges, st.cone_vertices, build_s, bytes, level, cmgeom_bench::min_median(tn).c_str(),
+                    cmgeom_bench::rate_min_median(double(rn.points.size()) / 1e6, tn).c_str(),
+                    cmgeom_bench::min_median(tc).c_str(),
                     rc.points.size(), 100 * err.hausdorff, 100 * err.rms, 100 * pn.hausdorff, 100 * pn.rms,
                     plain.number_of_faces(), 100 * plain_err.hausdorff, 100 * plain_err.rms);
         std::fflush(stdout);

@@ -5,7 +5,7 @@
 // vertices per second of reconstruct_regular() at levels 1-6, projection along N and closest
 // point, 1 and 2 threads, into a fresh Reconstruction (what a one-off call pays: allocation and
 // first touch of the output) and into a reused one (what a per-frame call pays, e.g. a deformable
-// CM: no allocation). Best of several runs. Prints Markdown.
+// CM: no allocation). Minimum and median of several runs. Prints Markdown.
 //
 //   bench_reconstruction_speed [data dir] [model:base_faces ...] [--levels A-B] [--along-n]
 //                              [--threads T] [--runs R]
@@ -60,7 +60,8 @@ int main(int argc, char** argv) {
       models.push_back({a.substr(0, colon), std::atoi(a.c_str() + colon + 1)});
   }
   if (models.empty()) models = {{"classic/horse.ply", 1000}, {"classic/igea.ply.gz", 2000}};
-  std::printf("| model | base F | projection | threads | level | out V | fresh s | fresh M vert/s | reused s | reused M vert/s |\n");
+  std::printf("| model | base F | projection | threads | level | out V | fresh s min / median | fresh M vert/s at min / median | "
+              "reused s min / median | reused M vert/s at min / median |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& [file, faces] : models) {
     std::string path = data + "/" + file;
@@ -81,22 +82,24 @@ int main(int argc, char** argv) {
           CM::Reconstruction_options o;
           o.projection = proj;
           const int runs = forced_runs > 0 ? forced_runs : level <= 2 ? 60 : level <= 4 ? 15 : 5;
-          double fresh = 1e300, reused = 1e300;
+          std::vector<double> fresh, reused;
           std::size_t n = 0;
           CM::Reconstruction buffer;
-          for (int r = 0; r < runs; ++r) {
+          for (int r = 0; r < runs; ++r) {  // interleaved, so that a change of load hits both alike
             auto t0 = std::chrono::steady_clock::now();
             const CM::Reconstruction rec = CM::reconstruct_regular(model, level, o);
-            fresh = std::min(fresh, seconds(t0));
+            fresh.push_back(seconds(t0));
             n = rec.points.size();
             t0 = std::chrono::steady_clock::now();
             CM::reconstruct_regular(model, level, buffer, o);
-            reused = std::min(reused, seconds(t0));
+            reused.push_back(seconds(t0));
           }
-          std::printf("| %s | %zu | %s | %d | %d | %zu | %.4f | %.1f | %.4f | %.1f |\n",
+          const cmgeom_bench::Timing tf = cmgeom_bench::summarize(fresh), tr = cmgeom_bench::summarize(reused);
+          std::printf("| %s | %zu | %s | %d | %d | %zu | %s | %s | %s | %s |\n",
                       std::filesystem::path(file).filename().string().c_str(), model.faces.size(),
-                      proj == CM::Projection::along_normal ? "along N" : "closest", threads, level, n, fresh,
-                      double(n) / fresh / 1e6, reused, double(n) / reused / 1e6);
+                      proj == CM::Projection::along_normal ? "along N" : "closest", threads, level, n,
+                      cmgeom_bench::min_median(tf).c_str(), cmgeom_bench::rate_min_median(double(n) / 1e6, tf).c_str(),
+                      cmgeom_bench::min_median(tr).c_str(), cmgeom_bench::rate_min_median(double(n) / 1e6, tr).c_str());
           std::fflush(stdout);
         }
       }

@@ -51,15 +51,10 @@ namespace fs = std::filesystem;
 
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
+// Per-deformation times: minimum and median of `n` runs.
 template <class F>
-double best_of(int n, const F& f) {
-  double best = 1e300;
-  for (int i = 0; i < n; ++i) {
-    const double t0 = now();
-    f();
-    best = std::min(best, now() - t0);
-  }
-  return best;
+cmgeom_bench::Timing timed(int n, const F& f) {
+  return cmgeom_bench::time_runs(n, f);
 }
 
 struct Box {
@@ -156,7 +151,8 @@ std::vector<CD::Vec3> to_cd(const std::vector<CM::Vec3>& P) {
 struct Row {
   std::string method;
   std::size_t points = 0, mesh_bytes = 0, coord_bytes = 0, other_bytes = 0;
-  double bind = 0, per_deformation = 0, hausdorff = -1, rms = -1;
+  double bind = 0, hausdorff = -1, rms = -1;
+  cmgeom_bench::Timing per_deformation;
 };
 
 // One cage: coordinates, the basis of the pose, and the posed BaseDeformer of the deformable CM.
@@ -212,7 +208,7 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
   a.bind = now() - t0;
   a.coord_bytes = ba.weights_bytes();
   std::vector<CD::Vec3> da;
-  a.per_deformation = best_of(5, [&] { ba.deform(basis, da); });
+  a.per_deformation = timed(5, [&] { ba.deform(basis, da); });
   const CMGeom::Surface_mesh ref = mesh_of(da, orig_tris);
   rows.push_back(a);
   // (b) base
@@ -228,7 +224,7 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
     r.bind = now() - t0;
     r.coord_bytes = bb.weights_bytes();
     std::vector<CD::Vec3> d;
-    r.per_deformation = best_of(5, [&] { bb.deform(basis, d); });
+    r.per_deformation = timed(5, [&] { bb.deform(basis, d); });
     const auto e = CMGeom::Metrics::approximation_error(ref, mesh_of(d, bt), eo);
     r.hausdorff = 100 * e.hausdorff;
     r.rms = 100 * e.rms;
@@ -248,7 +244,7 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
     c.bind = now() - t0;
     c.coord_bytes = bc.weights_bytes();
     std::vector<CD::Vec3> dc;
-    c.per_deformation = best_of(5, [&] { bc.deform(basis, dc); });
+    c.per_deformation = timed(5, [&] { bc.deform(basis, dc); });
     const auto ec = CMGeom::Metrics::approximation_error(ref, mesh_of(dc, rec.triangles), eo);
     c.hausdorff = 100 * ec.hausdorff;
     c.rms = 100 * ec.rms;
@@ -267,7 +263,7 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
       CM::Reconstruction out;
       CM::Reconstruction_options ro;
       ro.projection = proj;
-      d.per_deformation = best_of(3, [&] {
+      d.per_deformation = timed(3, [&] {
         dcm.deform(cd);
         out = dcm.reconstruct_regular(level, ro);
       });
@@ -290,7 +286,7 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
       e.other_bytes = dcm.bytes() + cache.bytes() - cache.number_of_points() * 2 * sizeof(CM::Vec3);
       e.mesh_bytes = cm_bytes + cache.number_of_points() * 2 * sizeof(CM::Vec3) + rec.triangles.size() * 12;
       CM::Reconstruction out;
-      e.per_deformation = best_of(5, [&] {
+      e.per_deformation = timed(5, [&] {
         dcm.deform(cd);
         cache.deform(dcm, out);
       });
@@ -302,9 +298,10 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
     }
   }
   for (const Row& r : rows) {
-    std::printf("| %s | %s (K=%zu) | %s | %zu | %.3f | %.3f | %.3f | %.3f | %.5f | %.2f |", name.c_str(), cage_name.c_str(),
+    std::printf("| %s | %s (K=%zu) | %s | %zu | %.3f | %.3f | %.3f | %.3f | %s | %.2f |", name.c_str(), cage_name.c_str(),
                 K, r.method.c_str(), r.points, r.mesh_bytes / 1e6, r.coord_bytes / 1e6, r.other_bytes / 1e6, r.bind,
-                r.per_deformation, a.per_deformation / r.per_deformation);
+                cmgeom_bench::min_median(r.per_deformation, "%.5f").c_str(),
+                a.per_deformation.median / r.per_deformation.median);
     if (r.hausdorff >= 0)
       std::printf(" %.3f | %.4f |\n", r.hausdorff, r.rms);
     else
@@ -346,7 +343,7 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
   std::printf("Scale: %s, %zu vertices, %zu faces; CM %zu base faces (build %.1f s, file %.3f MB), level %d\n\n",
               fs::path(path).filename().string().c_str(), pts.size(), tris.size(), model.faces.size(), build_s,
               cm_bytes / 1e6, level);
-  std::printf("| cage | method | points | memory MB | bind s | s per pose | speed-up vs (a) | memory ratio (a)/row | "
+  std::printf("| cage | method | points | memory MB | bind s | s per pose min / median | speed-up vs (a) (medians) | memory ratio (a)/row | "
               "Hausdorff %% vs (a) | RMS %% vs (a) |\n|---|---|---|---|---|---|---|---|---|---|\n");
   const Box b = box_of(pts);
   std::vector<std::array<double, 3>> P;
@@ -365,18 +362,19 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
     // (a) every vertex.
     t0 = now();
     std::size_t a_bytes, a_K;
-    double a_bind, a_pose;
+    double a_bind;
+    cmgeom_bench::Timing a_pose;
     std::vector<CD::Vec3> da;
     {
       const auto ba = setup.bind(pts);
       a_bind = now() - t0;
       a_bytes = 2 * pts.size() * 24 + tris.size() * 12 + ba.weights_bytes();  // rest and posed points
       a_K = setup.K();
-      a_pose = best_of(3, [&] { ba.deform(basis, da); });
+      a_pose = timed(3, [&] { ba.deform(basis, da); });
     }  // the coordinates of every vertex are freed here
     const CMGeom::Surface_mesh ref = mesh_of(da, tris);
-    std::printf("| %s (K=%zu) | (a) full mesh, direct | %zu | %.1f | %.2f | %.4f | 1.00 | 1.0 | - | - |\n",
-                cage_name.c_str(), a_K, pts.size(), a_bytes / 1e6, a_bind, a_pose);
+    std::printf("| %s (K=%zu) | (a) full mesh, direct | %zu | %.1f | %.2f | %s | 1.00 | 1.0 | - | - |\n",
+                cage_name.c_str(), a_K, pts.size(), a_bytes / 1e6, a_bind, cmgeom_bench::min_median(a_pose).c_str());
     std::fflush(stdout);
     DCM::Deformable_compact_model dcm(model);
     auto cd = setup.deformer();
@@ -384,10 +382,11 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
     cd.bind(dcm.base_vertices());
     const double d_bind = now() - t0;
     auto report = [&](const std::string& method, const CM::Reconstruction& out, std::size_t bytes, double bind,
-                      double per_pose) {
+                      const cmgeom_bench::Timing& per_pose) {
       const auto e = CMGeom::Metrics::approximation_error(ref, mesh_of(to_cd(out.points), out.triangles), eo);
-      std::printf("| %s (K=%zu) | %s | %zu | %.1f | %.2f | %.4f | %.2f | %.1f | %.3f | %.4f |\n", cage_name.c_str(),
-                  a_K, method.c_str(), out.points.size(), bytes / 1e6, bind, per_pose, a_pose / per_pose,
+      std::printf("| %s (K=%zu) | %s | %zu | %.1f | %.2f | %s | %.2f | %.1f | %.3f | %.4f |\n", cage_name.c_str(),
+                  a_K, method.c_str(), out.points.size(), bytes / 1e6, bind, cmgeom_bench::min_median(per_pose).c_str(),
+                  a_pose.median / per_pose.median,
                   double(a_bytes) / double(bytes), 100 * e.hausdorff, 100 * e.rms);
       std::fflush(stdout);
     };
@@ -395,7 +394,7 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
       CM::Reconstruction out;
       CM::Reconstruction_options ro;
       ro.projection = CM::Projection::along_normal;
-      const double per_pose = best_of(3, [&] {
+      const cmgeom_bench::Timing per_pose = timed(3, [&] {
         dcm.deform(cd);
         dcm.reconstruct_regular(level, out, ro);
       });
@@ -408,7 +407,7 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
       const DCM::Deformable_reconstruction cache(model, level);
       const double bind = d_bind + now() - t0;
       CM::Reconstruction out;
-      const double per_pose = best_of(3, [&] {
+      const cmgeom_bench::Timing per_pose = timed(3, [&] {
         dcm.deform(cd);
         cache.deform(dcm, out);
       });
@@ -459,7 +458,7 @@ int main(int argc, char** argv) {
   const fs::path tmp = fs::temp_directory_path() / ("cmgeom_bench_dcm_" + std::to_string(::getpid()));
   fs::create_directories(tmp);
   std::printf("Threads: %d (TBB default concurrency)\n\n", tbb::info::default_concurrency());
-  std::printf("| model | cage | method | points | mesh MB | coordinates MB | maps MB | bind s | s per deformation | "
+  std::printf("| model | cage | method | points | mesh MB | coordinates MB | maps MB | bind s | s per deformation min / median | "
               "speed-up vs (a) | Hausdorff %% vs (a) | RMS %% vs (a) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& [file, base_faces] : models) {
     std::string path = (fs::path(data) / "classic" / file).string();

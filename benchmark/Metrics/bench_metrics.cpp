@@ -9,7 +9,7 @@
 //    edge and face samples per direction (Sequential_tag and Parallel_tag), in the same run.
 //    Samples per second = samples of both directions / wall time, tree construction included.
 // 2. Rendering: time of one 1024 x 1024 4x MSAA picture of a ~100k-face mesh (Nefertiti),
-//    renderer reused (context and shaders created once), median of the repetitions.
+//    renderer reused (context and shaders created once), minimum and median of the repetitions.
 #include <CMGeom/Metrics/approximation_error.h>
 #include <CMGeom/Mesh_IO/Textured_mesh.h>
 #ifdef CMGEOM_HAS_OSMESA
@@ -39,11 +39,6 @@ double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 // Reads a model, gunzipping "*.gz" into the temporary directory first.
 CMGeom::Textured_mesh load(const std::string& path) {
   const std::string file =
@@ -71,37 +66,32 @@ void bench_error(const std::string& name, const std::string& path, int reps) {
   o.vertex_field = false;
   auto run_ours = [&](int threads, M::Approximation_error& out) {
     o.threads = threads;
-    std::vector<double> t;
-    for (int r = 0; r < reps; ++r) {
-      const double t0 = now();
-      out = M::approximation_error(ref, app, o);
-      t.push_back(now() - t0);
-    }
-    return median(t);
+    return cmgeom_bench::time_runs(reps, [&] { out = M::approximation_error(ref, app, o); });
   };
   M::Approximation_error e1, e2;
-  const double t1 = run_ours(1, e1), t2 = run_ours(2, e2);
+  const cmgeom_bench::Timing t1 = run_ours(1, e1), t2 = run_ours(2, e2);
   const auto& a = e1.reference_to_approximation;
   const auto& b = e1.approximation_to_reference;
   auto np1 = CGAL::parameters::number_of_points_on_faces(a.face_samples).number_of_points_on_edges(a.edge_samples).random_seed(1);
   auto np2 = CGAL::parameters::number_of_points_on_faces(b.face_samples).number_of_points_on_edges(b.edge_samples).random_seed(1);
   namespace PMP = CGAL::Polygon_mesh_processing;
   auto run_cgal = [&](auto tag, double& h) {
-    std::vector<double> t;
-    for (int r = 0; r < reps; ++r) {
-      const double t0 = now();
-      h = PMP::approximate_symmetric_Hausdorff_distance<decltype(tag)>(ref, app, np1, np2);
-      t.push_back(now() - t0);
-    }
-    return median(t);
+    return cmgeom_bench::time_runs(
+        reps, [&] { h = PMP::approximate_symmetric_Hausdorff_distance<decltype(tag)>(ref, app, np1, np2); });
   };
   double hs = 0, hp = 0;
-  const double ts = run_cgal(CGAL::Sequential_tag(), hs);
-  const double tp = run_cgal(CGAL::Parallel_if_available_tag(), hp);
+  const cmgeom_bench::Timing ts = run_cgal(CGAL::Sequential_tag(), hs);
+  const cmgeom_bench::Timing tp = run_cgal(CGAL::Parallel_if_available_tag(), hp);
   const double n = double(e1.samples);
-  std::printf("| %s | %zu | %.0f | %.3f s (%.2f M/s) | %.3f s (%.2f M/s) | %.2fx | %.3f s (%.2f M/s) | %.3f s (%.2f M/s) | %.4g / %.4g / %.4g |\n",
-              name.c_str(), ref.number_of_faces(), n, t1, n / t1 / 1e6, t2, n / t2 / 1e6, t1 / t2, ts, n / ts / 1e6, tp,
-              n / tp / 1e6, e1.hausdorff * e1.diagonal, hs, hp);
+  // "min / median" seconds, then the samples per second of the median run
+  auto cell = [&](const cmgeom_bench::Timing& t) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%s s (%.2f M/s)", cmgeom_bench::min_median(t, "%.3f").c_str(), n / t.median / 1e6);
+    return std::string(buf);
+  };
+  std::printf("| %s | %zu | %.0f | %s | %s | %.2fx | %s | %s | %.4g / %.4g / %.4g |\n", name.c_str(),
+              ref.number_of_faces(), n, cell(t1).c_str(), cell(t2).c_str(), t1.median / t2.median, cell(ts).c_str(),
+              cell(tp).c_str(), e1.hausdorff * e1.diagonal, hs, hp);
   if (e1.hausdorff != e2.hausdorff || e1.rms != e2.rms) std::printf("| (1 and 2 threads disagree!) |\n");
 }
 
@@ -114,7 +104,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "shared data not found: %s\n", data.c_str());
     return 1;
   }
-  std::printf("## Geometric error: samples per second (median of %d runs, both directions, trees included)\n\n", reps);
+  std::printf("## Geometric error: samples per second (%d runs, both directions, trees included)\n\n", reps);
+  std::printf("Times are \"min / median\" of the runs, M/s and the speed-up are of the medians.\n\n");
   std::printf("| model | faces | samples | ours 1 thread | ours 2 threads | speed-up | CGAL sequential | CGAL parallel | Hausdorff ours / CGAL seq / CGAL par |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   bench_error("bunny (bunny.off)", data + "/classic/bunny.off", reps);
@@ -129,23 +120,17 @@ int main(int argc, char** argv) {
   const double t_flat = now() - t0;
   R::Render_options o;
   o.width = o.height = 1024;
-  std::vector<double> t, tw;
-  for (int r = 0; r < reps + 1; ++r) {  // the first picture pays for the shader JIT
-    t0 = now();
-    renderer.render(rm, o);
-    t.push_back(now() - t0);
-  }
-  const double first = t.front();
-  t.erase(t.begin());
+  t0 = now();
+  renderer.render(rm, o);  // the first picture pays for the shader JIT
+  const double first = now() - t0;
+  const cmgeom_bench::Timing t = cmgeom_bench::time_runs(reps, [&] { renderer.render(rm, o); });
   o.wireframe = true;
-  for (int r = 0; r < reps; ++r) {
-    t0 = now();
-    renderer.render(rm, o);
-    tw.push_back(now() - t0);
-  }
-  std::printf("\n## Rendering (%s)\n\n| mesh | faces | make_render_mesh | first picture | picture 1024x1024 4x MSAA | with wireframe |\n|---|---|---|---|---|---|\n",
+  const cmgeom_bench::Timing tw = cmgeom_bench::time_runs(reps, [&] { renderer.render(rm, o); });
+  std::printf("\n## Rendering (%s)\n\nLast two columns: \"min / median\" of the runs.\n\n"
+              "| mesh | faces | make_render_mesh | first picture | picture 1024x1024 4x MSAA | with wireframe |\n|---|---|---|---|---|---|\n",
               renderer.description().c_str());
-  std::printf("| Nefertiti | %zu | %.3f s | %.3f s | %.3f s | %.3f s |\n", nef.mesh().number_of_faces(), t_flat, first, median(t), median(tw));
+  std::printf("| Nefertiti | %zu | %.3f s | %.3f s | %s s | %s s |\n", nef.mesh().number_of_faces(), t_flat, first,
+              cmgeom_bench::min_median(t, "%.3f").c_str(), cmgeom_bench::min_median(tw, "%.3f").c_str());
 #else
   std::printf("\n(rendering not built: no OSMesa)\n");
 #endif

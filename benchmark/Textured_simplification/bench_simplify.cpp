@@ -8,7 +8,8 @@
 //
 // Timing: process CPU seconds of the simplification call alone (set-up of the policy included,
 // mesh IO and format conversion excluded); with --repeat R each configuration runs R times and
-// the median time is reported (the outputs are deterministic). The R repetitions are interleaved
+// the minimum and the median time are reported, "min / median" (the outputs are deterministic;
+// the ratios to GH and the input triangles per second use the medians). The R repetitions are interleaved
 // (all tools once, then all tools again), and the last column is the median over repetitions of
 // GH's time divided by the tool's time in the same repetition: a drift of the machine's load
 // between repetitions cancels in it. Error: Metro convention —
@@ -177,7 +178,8 @@ std::vector<Point> samples(const Mesh& m, std::size_t n, unsigned seed) {
 struct Row {
   std::string model, tool;
   std::size_t faces_in = 0, target = 0, faces_out = 0;
-  double ratio = 0, seconds = 0, hausdorff = 0, rms = 0;
+  double ratio = 0, seconds = 0, hausdorff = 0, rms = 0;  // seconds: median of the repetitions
+  double seconds_min = 0;
   double paired_speedup = 0;  // median over repetitions of (cgal-gh's time / this tool's time); 0: no GH
 };
 
@@ -457,10 +459,7 @@ int main(int argc, char** argv) {
           times[tool].push_back(secs);
           if (rep == 0) outs[tool] = std::move(out);  // outputs are deterministic
         }
-      auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-      };
+      auto median = [](std::vector<double> v) { return cmgeom_bench::summarize(std::move(v)).median; };
       for (const std::string& tool : tools) {
         Row r;
         r.model = name;
@@ -469,7 +468,9 @@ int main(int argc, char** argv) {
         r.target = target;
         r.ratio = ratio;
         const Mesh& out = outs[tool];
-        r.seconds = median(times[tool]);
+        const cmgeom_bench::Timing tt = cmgeom_bench::summarize(times[tool]);
+        r.seconds = tt.median;
+        r.seconds_min = tt.min;
         if (times.count("cgal-gh")) {
           std::vector<double> q;
           for (std::size_t k = 0; k < repeat; ++k) q.push_back(times["cgal-gh"][k] / std::max(times[tool][k], 1e-9));
@@ -485,14 +486,14 @@ int main(int argc, char** argv) {
   }
 
   std::ostringstream t;
-  t << "| model (faces) | target | tool | faces out | CPU s | M input tri/s | Hausdorff | RMS | time / GH | "
+  t << "| model (faces) | target | tool | faces out | CPU s min / median | M input tri/s | Hausdorff | RMS | time / GH | "
        "Hausdorff / GH | RMS / GH | GH / tool, paired |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const Row& r : rows) {
     const Row* gh = nullptr;
     for (const Row& g : rows)
       if (g.model == r.model && g.ratio == r.ratio && g.tool == "cgal-gh") gh = &g;
     t << "| " << r.model << " (" << r.faces_in << ") | " << fmt(100 * r.ratio) << "% (" << r.target << ") | " << r.tool
-      << " | " << r.faces_out << " | " << fmt(r.seconds) << " | " << fmt(r.faces_in / std::max(r.seconds, 1e-9) / 1e6)
+      << " | " << r.faces_out << " | " << fmt(r.seconds_min) << " / " << fmt(r.seconds) << " | " << fmt(r.faces_in / std::max(r.seconds, 1e-9) / 1e6)
       << " | " << sci(r.hausdorff) << " | " << sci(r.rms) << " | "
       << (gh ? fmt(r.seconds / gh->seconds) : "-") << " | " << (gh ? fmt(r.hausdorff / gh->hausdorff) : "-")
       << " | " << (gh ? fmt(r.rms / gh->rms) : "-") << " | " << (r.paired_speedup > 0 ? fmt(r.paired_speedup) : "-")

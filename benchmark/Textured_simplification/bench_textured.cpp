@@ -18,7 +18,9 @@
 // meshopt stop at face counts more than 1 % apart, the one that went lower is run again to the
 // other's count (target column "<tool>'s count"), so that they are also compared at equal face
 // counts.
-//   bench_textured [--models a,b] [--fractions 0.1,0.02] [--size 256]
+//   bench_textured [--models a,b] [--fractions 0.1,0.02] [--size 256] [--repeat R]
+// --repeat R (default 3): every simplification runs R times; the seconds column gives the minimum
+// and the median, "min / median" (outputs are deterministic: the errors are of the last run).
 // A bad option value, an unknown option or model name: one line on stderr, exit code 2, before any
 // work; a model that cannot be read is skipped with a line on stderr.
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
@@ -92,7 +94,8 @@ CMGeom::Polygon_soup to_soup(const CMGeom::Textured_mesh& tm, const CMGeom::Imag
 
 struct Row {
   std::size_t faces = 0, charts = 0;
-  double seconds = 0;
+  double seconds = 0;           // of one run
+  cmgeom_bench::Timing time;    // over the repetitions
   bool ok = true;
   std::string note;
   CMGeom::Polygon_soup soup;
@@ -215,7 +218,7 @@ double image_rmse(R::Renderer& renderer, const R::Render_mesh& ref, const CMGeom
 
 int main(int argc, char** argv) {
   std::string models = "bunny10k_textured,DamagedHelmet,spot,bob", fractions = "0.1,0.02";
-  int size = 256;
+  int size = 256, repeat = 3;
   for (int i = 1; i < argc; i += 2) {
     const std::string a = argv[i];
     if (i + 1 >= argc) {
@@ -227,9 +230,11 @@ int main(int argc, char** argv) {
     if (a == "--models") models = v;
     else if (a == "--fractions") fractions = v;
     else if (a == "--size" && cmgeom_bench::parse_number(v, 16, 16384, x) && x == std::floor(x)) size = int(x);
+    else if (a == "--repeat" && cmgeom_bench::parse_number(v, 1, 99, x) && x == std::floor(x)) repeat = int(x);
     else {
-      std::cerr << (a == "--size" ? "bad value '" + v + "' for --size: expected an integer in [16, 16384]"
-                                  : "unknown option " + a)
+      std::cerr << (a == "--size"     ? "bad value '" + v + "' for --size: expected an integer in [16, 16384]"
+                    : a == "--repeat" ? "bad value '" + v + "' for --repeat: expected an integer in [1, 99]"
+                                      : "unknown option " + a)
                 << "\n";
       return 2;
     }
@@ -257,7 +262,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   R::Renderer renderer;
-  std::cout << "| model | faces in | target | tool | faces out | charts in → out | seconds | Hausdorff | RMS | image RMSE |\n"
+  std::cout << "| model | faces in | target | tool | faces out | charts in → out | seconds min / median | Hausdorff | RMS | image RMSE |\n"
                "|---|---:|---:|---|---:|---|---:|---:|---:|---:|\n";
   for (const std::string& name : split(models)) {
     const auto& f = files.at(name);
@@ -289,29 +294,45 @@ int main(int argc, char** argv) {
       const std::size_t target = std::size_t(std::llround(fraction * double(faces_in)));
       {
         // reference time: our geometry-only simplification of the same mesh (same policy, no UVs)
-        CMGeom::Textured_mesh g = in;
-        const double t0 = now();
-        TS::Area_weighted_quadric_policies<Mesh> policy(g.mesh());
-        TS::edge_collapse(g.mesh(), TS::Face_count_stop_predicate<Mesh>(g.mesh(), target),
-                          CGAL::parameters::get_cost(policy).get_placement(policy));
-        const double sec = now() - t0;
+        CMGeom::Textured_mesh g;
+        std::vector<double> secs;
+        for (int k = 0; k < repeat; ++k) {
+          g = in;
+          const double t0 = now();
+          TS::Area_weighted_quadric_policies<Mesh> policy(g.mesh());
+          TS::edge_collapse(g.mesh(), TS::Face_count_stop_predicate<Mesh>(g.mesh(), target),
+                            CGAL::parameters::get_cost(policy).get_placement(policy));
+          secs.push_back(now() - t0);
+        }
         g.mesh().collect_garbage();
-        std::printf("| %s | %zu | %zu (%s) | geometry only | %zu | - | %.3f | - | - | - |\n", name.c_str(), faces_in, target,
-                    fs.c_str(), std::size_t(g.mesh().number_of_faces()), sec);
+        std::printf("| %s | %zu | %zu (%s) | geometry only | %zu | - | %s | - | - | - |\n", name.c_str(), faces_in, target,
+                    fs.c_str(), std::size_t(g.mesh().number_of_faces()),
+                    cmgeom_bench::min_median(cmgeom_bench::summarize(secs), "%.3f").c_str());
       }
-      auto run = [&](const std::string& tl, std::size_t tgt) {
+      auto run_once = [&](const std::string& tl, std::size_t tgt) {
         if (tl == "ours") return run_ours(in, tgt, false);
         if (tl == "ours-osmesa") return run_ours(in, tgt, false, true);
         if (tl == "ours-frozen") return run_ours(in, tgt, true);
         if (tl == "cgal-gh") return run_cgal(in, tgt);
         return run_meshopt(in, tgt);
       };
+      auto run = [&](const std::string& tl, std::size_t tgt) {
+        std::vector<double> secs;
+        Row r;
+        for (int k = 0; k < repeat; ++k) {
+          r = run_once(tl, tgt);
+          secs.push_back(r.seconds);
+        }
+        r.time = cmgeom_bench::summarize(secs);
+        return r;
+      };
       auto report = [&](const Row& r, std::size_t tgt, const std::string& target_label, const std::string& tool) {
         CMGeom::Metrics::Error_options eo;
         const auto e = CMGeom::Metrics::approximation_error(ref_soup, r.soup, eo);
         const double rmse = image_rmse(renderer, ref, r.soup, size);
-        std::printf("| %s | %zu | %zu (%s) | %s | %zu | %zu → %zu | %.3f | %.5f | %.6f | %.2f |\n", name.c_str(), faces_in,
-                    tgt, target_label.c_str(), tool.c_str(), r.faces, charts_in, r.charts, r.seconds, e.hausdorff, e.rms,
+        std::printf("| %s | %zu | %zu (%s) | %s | %zu | %zu → %zu | %s | %.5f | %.6f | %.2f |\n", name.c_str(), faces_in,
+                    tgt, target_label.c_str(), tool.c_str(), r.faces, charts_in, r.charts,
+                    cmgeom_bench::min_median(r.time, "%.3f").c_str(), e.hausdorff, e.rms,
                     rmse);
         std::fflush(stdout);
       };
