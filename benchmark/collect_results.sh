@@ -3,17 +3,24 @@
 # package's benchmark program or script) into benchmark/RESULTS.md. benchmark/run.sh calls it
 # with a line describing the machine and the run; without it a generic description is used.
 #   collect_results.sh ["machine and run description"]
+# Peer versions are read from the system now (common/describe_run.sh), never written by hand.
 set -euo pipefail
 cd "$(dirname "$0")"
+. common/describe_run.sh
+peers=$(for p in cgal meshoptimizer openmesh draco zstd meshoptimizer-npm=Compact_model/peers \
+                 meshoptimizer-npm=Textured_simplification/peers node; do peer_version "$p"; done |
+        sort -u | paste -sd ';' | sed 's/;/, /g')
 {
   echo "# CMGeom benchmark results"
   echo
   echo "Each section below is written by the benchmark of its package (\`benchmark/<Package>/run.sh\`, see"
-  echo "the section for the exact command); \`bash benchmark/run.sh\` rebuilds and reruns them all. Peers"
-  echo "(CGAL 5.5.1, meshoptimizer 0.18, OpenMesh 9) run in the same process or the same run as ours."
-  echo "Trust ratios measured within one run more than absolute seconds."
+  echo "the section for the exact command); \`bash benchmark/run.sh\` rebuilds and reruns them all, and"
+  echo "nothing in this file or in the per-package RESULTS files is edited by hand. Peers run in the same"
+  echo "process or the same run as ours; installed now: ${peers}."
+  echo "Timings are \"min / median\" of repeated runs unless a table says otherwise. Trust ratios measured"
+  echo "within one run more than absolute seconds."
   echo
-  echo "${1:-Machine of the committed figures: 2-vCPU AMD EPYC VM, 24 GiB, Debian 12, g++ 12.2, \`-O2\` unless a section says otherwise.}"
+  echo "${1:-Machine: $(machine_description) (collect_results.sh run alone: the sections below give their own runs).}"
   for f in */RESULTS.md; do
     echo
     echo "---"

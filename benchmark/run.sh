@@ -5,8 +5,10 @@
 # thread count of this run.
 #   bash benchmark/run.sh [--quick] [--build-dir DIR] [--only Package[,Package...]]
 # --quick: fewer models and repetitions (a few minutes); the default is the full run.
-# Needs ../shared/data (or -DCMGEOM_DATA_DIR); the peers (CGAL, meshoptimizer, OpenMesh) are the
-# Debian packages that scripts/install-deps.sh installs.
+# Needs ../shared/data (or -DCMGEOM_DATA_DIR); the peers (CGAL, meshoptimizer, OpenMesh, Draco, zstd)
+# are the Debian packages that scripts/install-deps.sh installs, and meshoptimizer from npm. Their
+# versions, the machine and the thread counts are read at run time (common/describe_run.sh): no
+# RESULTS file is edited by hand after a run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=""
@@ -43,9 +45,10 @@ for script in benchmark/*/run.sh; do
 done
 
 compiler=$(c++ --version | head -1)
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')
+flags=$(sed -n 's/^CMAKE_CXX_FLAGS_RELEASE:[A-Z]*=//p' "$build/CMakeCache.txt" | head -1)
+. benchmark/common/describe_run.sh
 bash benchmark/collect_results.sh \
-  "Machine: ${cpu:-unknown CPU}, $(nproc) cores, $(free -g | awk '/Mem:/{print $2}') GiB; $(. /etc/os-release && echo "$PRETTY_NAME"); ${compiler}; flags \`-O2\` (CMake Release); run of $(date -u +%Y-%m-%d) with \`bash benchmark/run.sh $quick\` in $(( $(date +%s) - start )) s."
+  "Machine: $(machine_description); $(. /etc/os-release && echo "$PRETTY_NAME"); ${compiler}; flags \`${flags:-?}\` (CMake Release); run of $(date -u +%Y-%m-%d) with \`bash benchmark/run.sh $quick\` in $(( $(date +%s) - start )) s."
 if ((${#failed[@]})); then
   echo "benchmarks that failed: ${failed[*]}" >&2
   exit 1

@@ -9,13 +9,16 @@ here=$(cd "$(dirname "$0")" && pwd)
 data=${CMGEOM_DATA_DIR:-$here/../../../shared/data}
 quick=()
 [[ "${2:-}" == "--quick" ]] && quick=(--quick)
+. "$here/../common/describe_run.sh"
 tmp=$(mktemp)
 trap 'rm -f "$tmp"' EXIT
 {
   echo "# Cage_deformation benchmark results"
   echo
   echo "Programs \`benchmark/Cage_deformation/bench_cage_deformation.cpp\` and \`bench_cage_system.cpp\`,"
-  echo "run by \`bash benchmark/Cage_deformation/run.sh <build> ${2:-}\` on $(date -u +%Y-%m-%d) ($(nproc) cores)."
+  echo "run by \`bash benchmark/Cage_deformation/run.sh <build> ${2:-}\`. No peer: CMGeom's own coordinates only."
+  echo
+  describe_run --threads "1 and 2 (per column)"
   echo
   echo "## Coordinates: binding and deformation"
   echo

@@ -1,33 +1,56 @@
 #!/usr/bin/env bash
 # Writes benchmark/Compact_model/RESULTS.md (thesis Table 4.1 style): CM build, bytes,
 # reconstruction speed at levels 1-3 and Metro error, beside PN triangles on the same base and
-# the plain mesh of equal bytes; then run_rate_distortion.py (RESULTS-rate-distortion.md).
+# the plain mesh of equal bytes, then regular against adaptive reconstructions at equal vertex
+# counts; RESULTS-reconstruction-speed.md (bench_reconstruction_speed); then run_rate_distortion.py
+# (RESULTS-rate-distortion.md). Every line is written here: prose in the echo lines, figures and the
+# machine / peer line from the run.
 #   bash benchmark/Compact_model/run.sh <build-dir> [--quick]     (called by benchmark/run.sh)
 set -euo pipefail
 build=${1:?usage: run.sh <build-dir> [--quick]}
 here=$(cd "$(dirname "$0")" && pwd)
 data=${CMGEOM_DATA_DIR:-$here/../../../shared/data}
+. "$here/../common/describe_run.sh"
 models=()
-[[ "${2:-}" == "--quick" ]] && models=(classic/fandisk.obj:250 classic/camel.off:1000)
+adaptive_models=(textured/spot/spot.obj:1000 classic/fandisk.obj:250)
+if [[ "${2:-}" == "--quick" ]]; then
+  models=(classic/fandisk.obj:250 classic/camel.off:1000)
+  adaptive_models=(classic/fandisk.obj:250)
+fi
 tmp=$(mktemp)
-trap 'rm -f "$tmp"' EXIT
+adaptive=$(mktemp)
+trap 'rm -f "$tmp" "$adaptive"' EXIT
+line=$(describe_run)
 "$build/bin/bench_compact_model" "$data" "${models[@]}" > "$tmp"
+"$build/bin/bench_compact_model" --adaptive "$data" "${adaptive_models[@]}" > "$adaptive"
 {
   echo "# Compact_model benchmark results"
   echo
   echo "Program \`benchmark/Compact_model/bench_compact_model.cpp\`, run by"
-  echo "\`bash benchmark/Compact_model/run.sh <build> ${2:-}\` on $(date -u +%Y-%m-%d) ($(nproc) cores)."
+  echo "\`bash benchmark/Compact_model/run.sh <build> ${2:-}\`. No peer: PN triangles and the plain mesh"
+  echo "are computed by CMGeom on the same base."
+  echo
+  echo "$line"
   echo
   echo "Columns: base V/F of the CM; \`sharp\` sharp edges and \`cones\` cone-type vertices found; \`build s\`"
   echo "CM build time (simplification + gathering + fitting); \`CM bytes\` size of the CM file (float32);"
-  echo "\`rec s\` reconstruction time at the level (best of 3), along N and closest point (Newton);"
-  echo "\`Mvert/s\` output vertices per second along N; errors are Metro-style (every vertex plus 10 x F"
+  echo "\`rec s\` reconstruction time at the level (\"min / median\" of 5 runs), along N and closest point"
+  echo "(Newton); \`Mvert/s\` output vertices per second along N (of the fastest / the median run); errors are Metro-style (every vertex plus 10 x F"
   echo "random area-uniform samples of each mesh measured against the other, Hausdorff = max, RMS pooled)"
   echo "in % of the original's bounding-box diagonal, for the CM reconstruction (closest point), for PN"
   echo "triangles on the same base at the same level, and for the plain simplified mesh (same"
   echo "weighted-quadric simplifier) with the same number of bytes (12 V + 12 F, F = bytes / 18)."
   echo
   cat "$tmp"
+  echo
+  echo "## Regular against error-driven adaptive at equal vertex counts"
+  echo
+  echo "\`bench_compact_model --adaptive <data> ${adaptive_models[*]}\`: for regular levels 2-4, the adaptive"
+  echo "output with \`Chord_error_criterion\` whose tolerance \`reconstruct_to_vertex_budget\` chose for the"
+  echo "regular level's vertex count (at most 3 more halvings), and the length criterion of §4.5.2 bisected"
+  echo "to the same count; closest-point projection; Metro errors and the tolerance in % of the diagonal."
+  echo
+  cat "$adaptive"
 } > "$here/RESULTS.md.tmp"
 mv "$here/RESULTS.md.tmp" "$here/RESULTS.md"
 
@@ -35,14 +58,18 @@ mv "$here/RESULTS.md.tmp" "$here/RESULTS.md"
 # reused output): RESULTS-reconstruction-speed.md.
 speed_models=(classic/horse.ply:1000 classic/igea.ply.gz:2000)
 [[ "${2:-}" == "--quick" ]] && speed_models=(classic/horse.ply:1000)
+line=$(describe_run --threads "1 and 2 (per row)")
 "$build/bin/bench_reconstruction_speed" "$data" "${speed_models[@]}" --levels 5-6 --along-n --runs 5 > "$tmp"
 {
   echo "# Compact Model reconstruction throughput"
   echo
   echo "Program \`benchmark/Compact_model/bench_reconstruction_speed.cpp\`, run by"
-  echo "\`bash benchmark/Compact_model/run.sh <build> ${2:-}\` on $(date -u +%Y-%m-%d) ($(nproc) cores, load average"
-  echo "at the start $(cut -d' ' -f1-3 /proc/loadavg)). Library call alone (no file IO), regular reconstruction"
-  echo "along N, best of 5; \`fresh\` = a new Reconstruction per call (allocation and first touch of the"
+  echo "\`bash benchmark/Compact_model/run.sh <build> ${2:-}\`. No peer."
+  echo
+  echo "$line"
+  echo
+  echo "Library call alone (no file IO), regular reconstruction along N, \"min / median\" of 5 runs (rates:"
+  echo "of the fastest / the median run); \`fresh\` = a new Reconstruction per call (allocation and first touch of the"
   echo "output included), \`reused\` = into the previous call's output (what a per-frame or deformable"
   echo "CM call pays). Target of the Compact_model chapter: >= 30 M output vertices/s on one thread and"
   echo ">= 50 M on two at levels with >= 1 M output vertices."
@@ -57,4 +84,5 @@ mv "$here/RESULTS-reconstruction-speed.md.tmp" "$here/RESULTS-reconstruction-spe
 if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null && [ "$(id -u)" = 0 ]; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-matplotlib >/dev/null 2>&1 || true
 fi
-python3 "$here/run_rate_distortion.py" --build "$build" ${2:+"$2"}
+python3 "$here/run_rate_distortion.py" --build "$build" ${2:+"$2"} \
+  --describe "$(describe_run draco zstd "meshoptimizer-npm=$here/peers" node)"

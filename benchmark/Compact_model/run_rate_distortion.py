@@ -70,6 +70,7 @@ def main():
     ap.add_argument("--build", required=True)
     ap.add_argument("--data", default=os.environ.get("CMGEOM_DATA_DIR", os.path.join(HERE, "../../../shared/data")))
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--describe", default="", help="a line on the machine and the peers' versions, written under the title")
     ap.add_argument("--out", default=os.path.join(HERE, "RESULTS-rate-distortion.md"))
     ap.add_argument("--plot", default=os.path.join(HERE, "../../doc/Compact_model/rate_distortion.png"))
     a = ap.parse_args()
@@ -189,6 +190,8 @@ def main():
                 f"benchmark/Compact_model/run_rate_distortion.py --build <build>{' --quick' if a.quick else ''}` "
                 f"on {time.strftime('%Y-%m-%d', time.gmtime())} ({os.cpu_count()} cores, {time.time() - t_start:.0f} s); "
                 f"raw points in `{os.path.basename(csv_path)}`, curves in `doc/Compact_model/rate_distortion.png`.\n\n")
+        if a.describe:
+            f.write(a.describe + "\n\n")
         f.write(__doc__.split("\n", 4)[4].replace("\n\n", "\n") + "\n")
         f.write(f"**Models where a CM point beats every codec at equal bytes: {len(won)} of {len(models)}"
                 f"{' (' + ', '.join(won) + ')' if won else ''}.**\n\n")

@@ -12,6 +12,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 data=${CMGEOM_DATA_DIR:-$here/../../../shared/data}
 models=()
 [[ "${2:-}" == "--quick" ]] && models=(camel.off:1000)
+. "$here/../common/describe_run.sh"
+line=$(describe_run)
 tmp=$(mktemp)
 scale_dir=$(mktemp -d)
 trap 'rm -rf "$tmp" "$scale_dir"' EXIT
@@ -26,7 +28,9 @@ fi
   echo "# Deformable_compact_model benchmark results"
   echo
   echo "Program \`benchmark/Deformable_compact_model/bench_deformable_compact_model.cpp\`, run by"
-  echo "\`bash benchmark/Deformable_compact_model/run.sh <build> ${2:-}\` on $(date -u +%Y-%m-%d) ($(nproc) cores)."
+  echo "\`bash benchmark/Deformable_compact_model/run.sh <build> ${2:-}\`. No peer: every row is CMGeom."
+  echo
+  echo "$line"
   echo
   cat "$here/NOTES.md"
   echo

@@ -6,7 +6,8 @@
 # column to the second; quadratic would be x16).
 #
 # Usage: bash benchmark/Scale/run.sh [build-dir] [--quick]   (benchmark/run.sh calls it so)
-#   build-dir: where bin/cmgeom is (default: build); --quick: the 1M-face mesh only (no time ratio).
+#   build-dir: where bin/cmgeom is (default: build); --quick: the 1M-face mesh only (no time ratio),
+#   one run per stage (3 otherwise: times are "min / median", peak RSS the largest of the runs).
 #   Writes benchmark/Scale/RESULTS.md.
 # Needs: /usr/bin/time (Debian package time), python3, the shared models (../shared/data).
 set -euo pipefail
@@ -64,9 +65,16 @@ stages=(
   "cm deform (box cage, level 2)|cm deform {out}/m.cm --cages $work/cages.json -o {out}/cd.ply --level 2"
 )
 
+. "$here/../common/describe_run.sh"
+line=$(describe_run)
 declare -A secs rss
 sizes=(250k 1m)
-[[ "$quick" == --quick ]] && sizes=(1m)
+runs=3
+[[ "$quick" == --quick ]] && sizes=(1m) && runs=1
+# minmed "t1 t2 ...": "min / median" of the numbers (2 decimals)
+minmed() { tr ' ' '\n' <<< "$1" | grep . | sort -g | awk '{ v[NR] = $1 } END { m = NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2; printf "%.2f / %.2f", v[1], m }'; }
+# med "t1 t2 ...": the median alone
+med() { tr ' ' '\n' <<< "$1" | grep . | sort -g | awk '{ v[NR] = $1 } END { print NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 for size in "${sizes[@]}"; do
   out="$work/out_$size"
   mkdir -p "$out"
@@ -76,35 +84,47 @@ for size in "${sizes[@]}"; do
     args="${args//\{in\}/$work/igea$size.ply}"
     args="${args//\{out\}/$out}"
     echo "== $size: cmgeom $args"
-    # shellcheck disable=SC2086
-    if /usr/bin/time -f '%e %M' -o "$work/time.txt" "$cmgeom" $args > "$work/stdout.txt" 2> "$work/stderr.txt"; then
-      read -r e m < "$work/time.txt"
-      secs["$name,$size"]=$e
-      rss["$name,$size"]=$m
-      echo "   $e s, $((m / 1024)) MB"
-    else
-      echo "   failed: $(tail -1 "$work/stderr.txt")"
-      secs["$name,$size"]=failed
-      rss["$name,$size"]=0
-    fi
+    secs["$name,$size"]=""
+    rss["$name,$size"]=0
+    for ((r = 0; r < runs; ++r)); do
+      # shellcheck disable=SC2086
+      if /usr/bin/time -f '%e %M' -o "$work/time.txt" "$cmgeom" $args > "$work/stdout.txt" 2> "$work/stderr.txt"; then
+        read -r e m < "$work/time.txt"
+        secs["$name,$size"]+=" $e"
+        ((m > rss["$name,$size"])) && rss["$name,$size"]=$m
+        echo "   $e s, $((m / 1024)) MB"
+      else
+        echo "   failed: $(tail -1 "$work/stderr.txt")"
+        secs["$name,$size"]=failed
+        rss["$name,$size"]=0
+        break
+      fi
+    done
   done
 done
 
 {
   echo "# Scale: the pipeline stages on a 1M-face mesh"
   echo
-  echo "\`bash benchmark/Scale/run.sh $(basename "$build") $quick\` on $(date -u +%Y-%m-%d), $(nproc)-core $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//') (shared, noisy), default threads."
+  echo "\`bash benchmark/Scale/run.sh $(basename "$build") $quick\`; default threads, no peer."
+  echo
+  echo "$line"
+  echo
   echo "Inputs: igea (134,345 vertices, 268,686 faces) and igea subdivided once (1-to-4 midpoint, 537,374 vertices,"
-  echo "1,074,744 faces), made at run time. Wall time and peak resident set size from GNU time. Target: < 2 GB per"
+  echo "1,074,744 faces), made at run time. Wall time (\"min / median\" of $runs runs) and peak resident set size (the largest"
+  echo "of the runs) from GNU time; the time ratio is of the medians. Target: < 2 GB per"
   echo "stage; linear stages take about 4x longer on the larger mesh (quadratic ones would take 16x)."
   echo
-  echo "| stage | 268k faces: time (s) | peak RSS (MB) | 1.07M faces: time (s) | peak RSS (MB) | time ratio |"
+  echo "| stage | 268k faces: time min / median (s) | peak RSS (MB) | 1.07M faces: time min / median (s) | peak RSS (MB) | time ratio |"
   echo "| --- | ---: | ---: | ---: | ---: | ---: |"
   for s in "${stages[@]}"; do
     name="${s%%|*}"
     a="${secs[$name,250k]:--}"; b="${secs[$name,1m]:--}"
-    ratio=$(python3 -c "a,b='$a','$b'; print(f'{float(b)/float(a):.1f}' if a not in ('-','failed','0','0.00') and b not in ('-','failed') else '-')")
-    echo "| $name | $a | $(( ${rss[$name,250k]:-0} / 1024 )) | $b | $(( ${rss[$name,1m]:-0} / 1024 )) | $ratio |"
+    ma=-; mb=-; ta=$a; tb=$b
+    [[ "$a" != - && "$a" != failed ]] && ma=$(med "$a") && ta=$(minmed "$a")
+    [[ "$b" != - && "$b" != failed ]] && mb=$(med "$b") && tb=$(minmed "$b")
+    ratio=$(python3 -c "a,b='$ma','$mb'; print(f'{float(b)/float(a):.1f}' if a not in ('-','0','0.00') and b != '-' else '-')")
+    echo "| $name | $ta | $(( ${rss[$name,250k]:-0} / 1024 )) | $tb | $(( ${rss[$name,1m]:-0} / 1024 )) | $ratio |"
   done
 } > "$results"
 echo "wrote $results"

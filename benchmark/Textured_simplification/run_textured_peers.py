@@ -4,7 +4,7 @@
 """Side-by-side benchmark of CMGeom's textured simplification against meshoptimizer peers.
 
 Usage: run_textured_peers.py <build-dir> [--models a,b] [--ratios 0.1,0.05,0.02] [--size 256]
-                             [--out FILE] [--cmgeom PATH] [--meshopt018 PATH] [--keep]
+                             [--out FILE] [--cmgeom PATH] [--meshopt018 PATH] [--keep] [--repeat R]
 
 For every model of <data>/textured (<data> = $CMGEOM_DATA_DIR, else <repo>/../shared/data) and
 every ratio (default 10 %, 5 %, 2 %, and 1 % for inputs above 20k faces):
@@ -24,7 +24,8 @@ and zero-area UV triangles, overlapping UV triangles on a uniform grid).
 Writes one Markdown section (stdout, or --out FILE written atomically); progress goes to stderr. A
 tool failing on one case is reported in its cell and in the failure list, never dropped; the exit
 code is 0 when the section was written (even with failed cases), 1 on a harness error, 2 on bad
-usage. Standard library only. Simplifications run one at a time (their times are reported);
+usage. Standard library only. Simplifications run one at a time, R times each (--repeat, default 3;
+their times are reported as "min / median" of the R runs, the outputs of the last run are measured);
 measurements run two at a time (2-core machines), each with one worker thread.
 """
 import argparse
@@ -37,6 +38,7 @@ import os
 import platform
 import re
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -360,8 +362,16 @@ def ratio_label(r):
     return ("%g" % (100 * r)) + " %"
 
 
+def min_median(secs, spec):
+    """ "min / median" of a list of seconds ("?" when empty)."""
+    if not secs:
+        return "?"
+    return "%s / %s" % (format(min(secs), spec), format(statistics.median(secs), spec))
+
+
 class Bench:
     def __init__(self, args):
+        self.repeat = max(1, args.repeat)
         self.args = args
         self.cmgeom = args.cmgeom
         self.meshopt018 = args.meshopt018
@@ -374,6 +384,19 @@ class Bench:
     def fail(self, case, tool, stage, msg):
         self.failures.append((case["model"], case["ratio"], tool, stage, msg))
         return "FAIL (%s)" % stage
+
+    def repeat_seconds(self, cmd, first):
+        """The seconds of the JSON report `first` of cmd's first run, then of self.repeat - 1 more
+        runs of cmd (a run that fails or reports no seconds adds nothing)."""
+        secs = [first.get("seconds")]
+        for _ in range(self.repeat - 1):
+            rc, so, _, _ = run(cmd)
+            if rc == 0:
+                try:
+                    secs.append(last_json(so).get("seconds"))
+                except (ValueError, AttributeError):
+                    pass
+        return [float(x) for x in secs if isinstance(x, (int, float))]
 
     # ours ---------------------------------------------------------------------------------------------
     def run_ours(self, case, model, out):
@@ -391,8 +414,9 @@ class Bench:
             return None, fail_text(rc, se)
         try:
             j = last_json(so)
+            secs = self.repeat_seconds(base + (["--repair"] if repair else []), j)
             return {"faces": int(j["faces_out"]), "target": int(j["target_faces"]),
-                    "stopped_by": j.get("stopped_by"), "seconds": j.get("seconds")}, None
+                    "stopped_by": j.get("stopped_by"), "seconds": secs}, None
         except (ValueError, KeyError, TypeError, AttributeError) as e:
             return None, "unreadable JSON report (%s)" % e
 
@@ -411,7 +435,7 @@ class Bench:
             j = last_json(so)
             if j.get("meshoptimizer"):
                 self.versions[kind] = j["meshoptimizer"]
-            return {"faces": int(j["faces_out"]), "seconds": j.get("seconds")}, None
+            return {"faces": int(j["faces_out"]), "seconds": self.repeat_seconds(cmd, j)}, None
         except (ValueError, KeyError, TypeError, AttributeError) as e:
             return None, "unreadable JSON report (%s)" % e
 
@@ -645,8 +669,9 @@ def write_report(bench, cases, models, peers_enabled, meta, seconds, uv_inputs):
                 PEER_FACTOR, tally["rms_reached"], n))
     L.append("")
     # timings
-    L.append("Simplification seconds (as each tool reports it: ours the whole `cmgeom simplify` work "
-             "including the new texture, the peers the simplification call alone; IO excluded):")
+    L.append("Simplification seconds, \"min / median\" of %d runs (as each tool reports it: ours the whole "
+             "`cmgeom simplify` work including the new texture, the peers the simplification call alone; IO "
+             "excluded):" % bench.repeat)
     L.append("")
     L.append("| model | ratio | ours | " + " | ".join(p[0] for p in PEERS) + " |")
     L.append("|---|---|--:|" + "--:|" * len(PEERS))
@@ -654,7 +679,7 @@ def write_report(bench, cases, models, peers_enabled, meta, seconds, uv_inputs):
         cells = []
         for name in ["ours"] + [p[0] for p in PEERS]:
             r = c["res"][name]
-            cells.append("n/a" if r.get("na") else ("FAIL" if "error" in r else fmt(r.get("seconds"), ".3f")))
+            cells.append("n/a" if r.get("na") else ("FAIL" if "error" in r else min_median(r.get("seconds"), ".3f")))
         L.append("| %s | %s | %s |" % (c["model"], ratio_label(c["ratio"]), " | ".join(cells)))
     L.append("")
     # UV checks
@@ -715,6 +740,7 @@ def parse_args(argv):
     p.add_argument("--out", help="write the Markdown section to this file (default: stdout)")
     p.add_argument("--cmgeom", help="cmgeom binary (default <build-dir>/bin/cmgeom)")
     p.add_argument("--meshopt018", help="meshopt018_simplify binary (default <build-dir>/bin/meshopt018_simplify)")
+    p.add_argument("--repeat", type=int, default=3, help="runs of every simplification (default 3)")
     p.add_argument("--keep", action="store_true", help="keep the work directory (its path goes to stderr)")
     a = p.parse_args(argv)
     a.cmgeom = os.path.abspath(a.cmgeom or os.path.join(a.build_dir, "bin", "cmgeom"))

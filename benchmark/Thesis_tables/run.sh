@@ -37,6 +37,7 @@ read_bbox() {  # INFO_JSON (of `cmgeom info --json`) -> the arrays lo and hi (it
   hi=($(sed -n '/"bbox_max"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
 }
 
+. "$here/../common/describe_run.sh"
 out="$here/RESULTS.md.tmp"
 {
   echo "# The thesis' tables, then and now"
@@ -45,7 +46,10 @@ out="$here/RESULTS.md.tmp"
   echo "load average at the start $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores: seconds from a loaded machine read high)."
   echo "Thesis columns are the published 2011 figures (quoted, not recomputed); ours are measured in this run"
   echo "on the same or the nearest public model (named in the first column, with its face count)."
-  echo "Errors are Metro-style, in % of the bounding-box diagonal (\`cmgeom error\`)."
+  echo "Errors are Metro-style, in % of the bounding-box diagonal (\`cmgeom error\`). Our timings are of one"
+  echo "run each (the thesis reports one figure per cell)."
+  echo
+  describe_run --threads 1
 } > "$out"
 
 # ------------------------------------------------------------------ Table 3.1
