@@ -28,6 +28,7 @@
 #include <CMGeom/Mesh_IO/image_io.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
+#include <CMGeom/Textured_simplification/simplify_mesh.h>
 
 #include <cmath>
 #include <filesystem>
@@ -375,9 +376,11 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
         cmgeom_cli::Progress stage("load textures", double(tm.materials().size()), "materials");
         CMGeom::IO::load_textures(tm);
       }
+      // a ratio's face count is simplify_mesh()'s (target_faces_for_ratio), at least 2
       const std::size_t target =
           faces->count() ? b->faces
-                         : std::size_t(std::max(2.0, std::round((rate ? 1.0 : b->ratio) * double(mesh.number_of_faces()))));
+                         : std::max<std::size_t>(2, CMGeom::Textured_simplification::target_faces_for_ratio(
+                                                        mesh.number_of_faces(), rate ? 1.0 : b->ratio));
       CM::Build_options opt;
       opt.sharp_angle = b->sharp_angle;
       opt.error_bound = b->error_bound;

@@ -1,4 +1,4 @@
-// cmgeom simplify <in> -o <out> (--faces N | --ratio r) [--quantize] [--policy weighted|plain]
+// cmgeom simplify <in> -o <out> (--faces N | --ratio r | --max-cost c) [--quantize] [--policy weighted|plain]
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
 //                 [--no-texture] [--keep-charts] [--freeze-seams] [--no-repair] [--memoryless]
@@ -11,7 +11,8 @@
 // texture part of chapter 3 (chart constraints §3.5, index texture §3.3/§3.6), which stops where
 // the charts allow no more collapses. Anything else is simplified as geometry only, UVs dropped.
 // A non-manifold or inconsistently oriented input is repaired (a one-line warning says what
-// changed) unless --no-repair. Outputs are written atomically.
+// changed) unless --no-repair. Outputs are written atomically. The geometry is simplified by
+// one call of simplify_mesh() (the target, the ratio's rounding and the engine are its own).
 #include "cli_common.h"
 #include "collapse_progress.h"
 
@@ -24,8 +25,6 @@
 #ifdef CMGEOM_HAS_OSMESA
 #include <CMGeom/Textured_simplification/Osmesa_index_texture_resampler.h>
 #endif
-
-#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include <cctype>
 #include <cmath>
@@ -47,7 +46,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     std::string input, output, policy = "plain", engine = "cmgeom", merge = "thesis";
     std::string texture_backend = "cpu", texture;
     std::size_t faces = 0;
-    double ratio = 0;
+    double ratio = 0, max_cost = 0;
     int texture_size = 0;
     bool flips = false, json = false, repair = false, no_repair = false, no_texture = false, freeze_seams = false,
          memoryless = false;
@@ -62,6 +61,10 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   auto* ratio = app.add_option("--ratio", o->ratio, "Target fraction of the input faces, in (0, 1]");
   faces->excludes(ratio);
   ratio->excludes(faces);
+  auto* max_cost = app.add_option("--max-cost", o->max_cost,
+                                  "Geometry only: stop when the cheapest collapse left costs more than this (quadric "
+                                  "error: area x squared distance, see the manual); with --faces or --ratio, whichever "
+                                  "comes first");
   app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default: lowest measured error) or weighted (thesis 3.4.2)")
       ->check(CLI::IsMember({"weighted", "plain"}));
   app.add_option("--merge", o->merge,
@@ -91,11 +94,14 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   app.add_flag("--freeze-seams", o->freeze_seams,
                "Textured input, with --keep-charts: never move chart-boundary vertices (baseline)");
 
-  return [o, faces, ratio, backend, tsize]() -> int {
-    if (faces->count() == 0 && ratio->count() == 0) throw CMGeom::Invalid_input("one of --faces or --ratio is required");
+  return [o, faces, ratio, max_cost, backend, tsize]() -> int {
+    if (faces->count() == 0 && ratio->count() == 0 && max_cost->count() == 0)
+      throw CMGeom::Invalid_input("one of --faces, --ratio or --max-cost is required");
     if (ratio->count() && !(o->ratio > 0 && o->ratio <= 1))
       throw CMGeom::Invalid_input("--ratio must be in (0, 1], got " + std::to_string(o->ratio));
     if (faces->count() && o->faces == 0) throw CMGeom::Invalid_input("--faces must be at least 1");
+    if (max_cost->count() && !(o->max_cost >= 0 && std::isfinite(o->max_cost)))
+      throw CMGeom::Invalid_input("--max-cost must be finite and >= 0, got " + std::to_string(o->max_cost));
     if (o->flips && o->engine == "cgal")
       throw CMGeom::Invalid_input("--flips needs --engine cmgeom (CGAL's engine has no flip hook)");
 
@@ -145,8 +151,11 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       throw CMGeom::Invalid_input(o->input + ": texture options need a textured input (UVs and a texture; see --texture)");
 
     const std::size_t faces_in = mesh.number_of_faces();
-    const std::size_t target =
-        faces->count() ? o->faces : static_cast<std::size_t>(std::llround(o->ratio * double(faces_in)));
+    // the face target (none with --max-cost alone: then the progress counts to a single face)
+    const bool has_target = faces->count() || ratio->count();
+    const std::size_t target = faces->count()   ? o->faces
+                               : ratio->count() ? TS::target_faces_for_ratio(faces_in, o->ratio)
+                                                : std::size_t(1);
 
     TS::Quadric_options qo;
     qo.weighted = o->policy == "weighted";
@@ -156,6 +165,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     cmgeom_cli::Progress bar("simplify", double(faces_in > target ? faces_in - target : 0), "faces removed");
     if (textured) {
       if (o->engine != "cmgeom") throw CMGeom::Invalid_input("textured simplification runs on --engine cmgeom only");
+      if (max_cost->count())
+        throw CMGeom::Invalid_input("--max-cost simplifies geometry only: pass --no-texture (or --faces / --ratio)");
       if (o->flips && o->keep_charts)
         throw CMGeom::Invalid_input("--flips is not supported with --keep-charts (flips would need UV rules); drop "
                                     "--keep-charts: the new atlas is made after the flips");
@@ -241,30 +252,19 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     if (tm.has_uvs())
       std::cerr << "cmgeom simplify: note: texture coordinates are dropped (geometry-only simplification)\n";
     cmgeom_cli::Collapse_progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
-    double seconds = 0;
-    if (target < faces_in) {
-      const double t0 = cmgeom_cli::now_seconds();
-      if (o->engine == "cmgeom") {
-        TS::Mesh_simplification_options so;
-        so.quadric = qo;
-        so.surface_memory = !o->memoryless;
-        so.flips = o->flips;
-        TS::simplify_mesh(mesh, target, so, cmgeom_cli::Collapse_progress_visitor(&state));
-      } else {
-        TS::Area_weighted_quadric_policies<Mesh> policy(mesh, qo);
-        TS::Face_count_stop_predicate<Mesh> stop(mesh, target);
-        CGAL::Surface_mesh_simplification::edge_collapse(mesh, stop,
-                                                         CGAL::parameters::get_cost(policy)
-                                                             .get_placement(policy)
-                                                             .filter(TS::No_normal_flip_filter<>())
-                                                             .visitor(cmgeom_cli::Collapse_progress_visitor(&state)));
-      }
-      seconds = cmgeom_cli::now_seconds() - t0;
-    }
+    TS::Mesh_simplification_options so;
+    if (faces->count()) so.target_faces = o->faces;
+    if (ratio->count()) so.target_ratio = o->ratio;
+    if (max_cost->count()) so.max_cost = o->max_cost;
+    so.engine = o->engine == "cgal" ? TS::Simplification_engine::cgal : TS::Simplification_engine::cmgeom;
+    so.quadric = qo;
+    so.surface_memory = !o->memoryless && o->engine == "cmgeom";
+    so.flips = o->flips;
+    const TS::Mesh_simplification_result r = TS::simplify_mesh(mesh, so, cmgeom_cli::Collapse_progress_visitor(&state));
+    const double seconds = r.seconds;
     bar.done();
-    mesh.collect_garbage();
-    const std::size_t faces_out = mesh.number_of_faces();
-    if (faces_out > target)
+    const std::size_t faces_out = r.faces_out;
+    if (r.stopped_by == TS::Stop_reason::no_collapse && has_target)
       std::cerr << "cmgeom simplify: stopped at " << faces_out << " faces for a target of " << target
                 << " (no valid collapse left)\n";
 
@@ -282,9 +282,10 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["flips"] = o->flips;
       j["surface_memory"] = !o->memoryless && o->engine == "cmgeom";
       j["faces_in"] = faces_in;
-      j["target_faces"] = target;
+      if (has_target) j["target_faces"] = target;
+      if (max_cost->count()) j["max_cost"] = o->max_cost;
       j["faces_out"] = faces_out;
-      j["stopped_by"] = faces_out > target ? "no_collapse" : "target";
+      j["stopped_by"] = TS::to_string(r.stopped_by);
       j["vertices_out"] = mesh.number_of_vertices();
       j["seconds"] = seconds;
       cmgeom_cli::print_json(j);

@@ -16,6 +16,7 @@
 #include <CMGeom/Textured_simplification/Endpoint_placement.h>
 #include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/edge_collapse.h>
+#include <CMGeom/Textured_simplification/simplify_mesh.h>
 
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
@@ -42,16 +43,13 @@ struct Weighted_quadric_simplifier {
   template <class Visitor>
   void operator()(CMGeom::Surface_mesh& mesh, std::size_t target_faces, Visitor visitor) const {
     namespace TS = CMGeom::Textured_simplification;
-    using Policy = TS::Area_weighted_quadric_policies<CMGeom::Surface_mesh>;
-    TS::Quadric_options qo;
-    qo.weighted = weighted;
-    Policy policy(mesh, qo);
-    TS::Face_count_stop_predicate<CMGeom::Surface_mesh> stop(mesh, target_faces);
-    if (optimal_placement)
-      TS::edge_collapse(mesh, stop, CGAL::parameters::get_cost(policy).get_placement(policy).visitor(visitor));
-    else
-      TS::edge_collapse(mesh, stop,
-                        CGAL::parameters::get_cost(policy).get_placement(Endpoint_placement<Policy>{policy}).visitor(visitor));
+    TS::Mesh_simplification_options so;
+    so.target_faces = target_faces;
+    so.quadric.weighted = weighted;
+    so.surface_memory = false;
+    so.endpoint_placement = !optimal_placement;
+    so.parts_min_faces = 0;  // the gathering visitor must see every collapse
+    TS::simplify_mesh(mesh, so, visitor);
   }
 };
 

@@ -25,6 +25,8 @@
 #include <cstddef>
 #include <iterator>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 namespace CMGeom {
 namespace Textured_simplification {
@@ -102,23 +104,36 @@ private:
   std::size_t target_;
 };
 
-/// Stops when faces <= ratio * (faces at the start).
+/// The face count a ratio of `faces` asks for, the rule of every ratio target in CMGeom
+/// (simplify_mesh(), Face_count_ratio_stop_predicate, `cmgeom simplify --ratio`, `cmgeom cm
+/// build --ratio`): `ratio` x `faces` rounded to the nearest integer, halves up (std::llround).
+/// Throws std::invalid_argument unless 0 < ratio <= 1.
+inline std::size_t target_faces_for_ratio(std::size_t faces, double ratio) {
+  if (!(ratio > 0.0 && ratio <= 1.0))
+    throw std::invalid_argument("target_faces_for_ratio: the ratio must be in (0, 1], got " + std::to_string(ratio));
+  return static_cast<std::size_t>(std::llround(ratio * double(faces)));
+}
+
+/// Stops when faces <= target_faces_for_ratio(faces at the start, ratio). Throws
+/// std::invalid_argument unless 0 < ratio <= 1.
 template <class TriangleMesh>
 class Face_count_ratio_stop_predicate {
 public:
-  Face_count_ratio_stop_predicate(const TriangleMesh& tm, double ratio) : tracker_(tm), ratio_(ratio) {}
+  Face_count_ratio_stop_predicate(const TriangleMesh& tm, double ratio) : tracker_(tm), ratio_(ratio) {
+    target_faces_for_ratio(0, ratio);  // checks it
+  }
   template <class FT, class Profile>
   bool operator()(const FT&, const Profile&, std::size_t, std::size_t current_edge_count) const {
-    const bool first = !initial_;
+    const bool first = !target_;
     tracker_.update(current_edge_count);
-    if (first) initial_ = std::make_shared<std::size_t>(tracker_.face_count());
-    return double(tracker_.face_count()) <= ratio_ * double(*initial_);
+    if (first) target_ = std::make_shared<std::size_t>(target_faces_for_ratio(tracker_.face_count(), ratio_));
+    return tracker_.face_count() <= *target_;
   }
 
 private:
   internal::Mesh_size_tracker<TriangleMesh> tracker_;
   double ratio_;
-  mutable std::shared_ptr<std::size_t> initial_;
+  mutable std::shared_ptr<std::size_t> target_;
 };
 
 /// Stops when the mesh has at most `target` vertices.

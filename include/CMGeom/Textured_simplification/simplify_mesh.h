@@ -28,6 +28,7 @@
 #include <CMGeom/Textured_simplification/parameters.h>
 
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 #include <CGAL/boost/graph/helpers.h>
 
 #include <tbb/parallel_for.h>
@@ -39,6 +40,7 @@
 #include <functional>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 #include <type_traits>
 #include <vector>
@@ -46,8 +48,43 @@
 namespace CMGeom {
 namespace Textured_simplification {
 
+/// The collapse engine of simplify_mesh().
+enum class Simplification_engine {
+  cmgeom,  ///< CMGeom's edge_collapse (edge_collapse.h): memoryful cost, flips, parts
+  cgal     ///< CGAL's Surface_mesh_simplification::edge_collapse, with No_normal_flip_filter
+};
+
+/// Why a simplification stopped.
+enum class Stop_reason {
+  target,       ///< the face target was reached (or there was nothing to do)
+  chart_limit,  ///< no collapse left that keeps the charts (simplify_textured_mesh, keep_charts)
+  no_collapse,  ///< no valid collapse left at all (topology: e.g. a tetrahedron)
+  max_cost      ///< the cheapest collapse left costs more than `max_cost`
+};
+
+inline const char* to_string(Stop_reason r) {
+  return r == Stop_reason::target        ? "target"
+         : r == Stop_reason::chart_limit ? "chart_limit"
+         : r == Stop_reason::max_cost    ? "max_cost"
+                                         : "no_collapse";
+}
+
 /// Options of simplify_mesh().
 struct Mesh_simplification_options {
+  /// The target of simplify_mesh(mesh, options): a face count (`target_faces`) or a fraction of
+  /// the input's faces (`target_ratio`, see target_faces_for_ratio()), not both, and/or a cost
+  /// bound (`max_cost`): the collapses stop when the cheapest one left costs more than it
+  /// (whichever of the count and the bound comes first).
+  std::optional<std::size_t> target_faces;
+  std::optional<double> target_ratio;
+  /// In the engine's cost units, the cost being the one collapses are ranked by: the quadric
+  /// error at the placement (plain quadrics: sum over the input faces merged into the edge's
+  /// endpoints of area x squared distance to their planes, plus the border term), raised by the
+  /// memoryful cost where that one is higher. Finite and >= 0.
+  std::optional<double> max_cost;
+  /// The collapse engine. `cgal` runs the quadrics alone: `surface_memory` and `flips` must then
+  /// be false, and there are no parts.
+  Simplification_engine engine = Simplification_engine::cmgeom;
   /// The cost and placement policy (Area_weighted_quadric_policies).
   Quadric_options quadric;
   /// The memoryful cost (Surface_memory.h) on top of the quadrics.
@@ -75,6 +112,8 @@ struct Mesh_simplification_options {
 /// What simplify_mesh() did.
 struct Mesh_simplification_result {
   std::size_t faces_in = 0, faces_out = 0;
+  std::size_t target_faces = 0;        ///< the face target (a ratio's count); 0 with max_cost alone
+  Stop_reason stopped_by = Stop_reason::target;
   std::size_t parts = 0;               ///< parts simplified at once (0: the whole at once)
   std::size_t faces_after_parts = 0;   ///< faces when the parts were put back together
   double seconds_parts = 0;            ///< the parts: cutting, simplifying, putting back
@@ -266,37 +305,78 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
 
 }  // namespace internal
 
-/// Simplifies `mesh` to at most `target_faces` faces (fewer only when no valid collapse is left)
-/// with the quadrics of `options.quadric` and, unless switched off, the memoryful cost; large
-/// inputs on all cores (see the file comment). Throws CMGeom::Invalid_input when `mesh` is not a
-/// triangle mesh, std::invalid_argument for parts_stop_factor < 1. `visitor` sees the collapses on the whole mesh
-/// (those of the parts are not reported). The mesh is garbage-free on return; its property maps
-/// stay, with default values for the elements of a mesh that was simplified in parts (it is then
-/// rebuilt: every vertex, halfedge and face index changes, and isolated vertices, in no part, are
-/// dropped).
+namespace internal {
+
+/// The stop of simplify_mesh(): a face count and/or a cost bound, remembering which one fired.
+template <class Mesh>
+struct Target_stop {
+  std::optional<Face_count_stop_predicate<Mesh>> count;
+  std::optional<double> max_cost;
+  Stop_reason* fired;
+  template <class FT, class Profile>
+  bool operator()(const FT& cost, const Profile& p, std::size_t initial, std::size_t current) const {
+    if (count && (*count)(cost, p, initial, current)) {
+      *fired = Stop_reason::target;
+      return true;
+    }
+    if (max_cost && CGAL::to_double(cost) > *max_cost) {
+      *fired = Stop_reason::max_cost;
+      return true;
+    }
+    return false;
+  }
+};
+
+}  // namespace internal
+
+/// Simplifies `mesh` to the target of `options` (a face count, a ratio of the input's faces or a
+/// cost bound; fewer faces than asked only when no valid collapse is left) with the quadrics of
+/// `options.quadric` and, unless switched off, the memoryful cost; large inputs with a face
+/// target on all cores (see the file comment; never with `max_cost`). Throws
+/// std::invalid_argument for invalid options (no target, both a count and a ratio, a ratio out of
+/// (0, 1], a negative or non-finite max_cost, parts_stop_factor < 1, memory or flips on CGAL's
+/// engine), CMGeom::Invalid_input when `mesh` is not a triangle mesh. `visitor` sees the
+/// collapses on the whole mesh (not those of the parts). The mesh is garbage-free on return; its
+/// property maps stay, with default values after a simplification in parts (the mesh is then
+/// rebuilt: every index changes, and isolated vertices are dropped).
+/// Manual: doc/Textured_simplification/README.md, "One call, and large meshes on all cores".
 /// \tparam Point a CGAL kernel's Point_3
 /// \tparam Visitor a model of CGAL's `EdgeCollapseSimplificationVisitor`
 template <class Point, class Visitor = Edge_collapse_visitor_base>
-Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, std::size_t target_faces,
-                                         const Mesh_simplification_options& options = Mesh_simplification_options(),
+Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const Mesh_simplification_options& options,
                                          Visitor visitor = Visitor()) {
   using Mesh = CGAL::Surface_mesh<Point>;
   using VPM = typename Mesh::template Property_map<typename Mesh::Vertex_index, Point>;
   using Policy = Area_weighted_quadric_policies<Mesh>;
   using Memory = Surface_memory<Mesh, VPM>;
   using Clock = std::chrono::steady_clock;
+  if (options.target_faces && options.target_ratio)
+    throw std::invalid_argument("simplify_mesh: give a face count or a ratio, not both");
+  if (!options.target_faces && !options.target_ratio && !options.max_cost)
+    throw std::invalid_argument("simplify_mesh: no target (target_faces, target_ratio or max_cost)");
+  if (options.target_ratio) target_faces_for_ratio(0, *options.target_ratio);  // checks it
+  if (options.max_cost && !(*options.max_cost >= 0.0 && std::isfinite(*options.max_cost)))
+    throw std::invalid_argument("simplify_mesh: max_cost must be finite and >= 0, got " +
+                                std::to_string(*options.max_cost));
   if (!(options.parts_stop_factor >= 1.0))
     throw std::invalid_argument("simplify_mesh: parts_stop_factor must be >= 1");
+  const bool cgal = options.engine == Simplification_engine::cgal;
+  if (cgal && (options.surface_memory || options.flips))
+    throw std::invalid_argument("simplify_mesh: CGAL's engine has no memoryful cost and no flips");
   if (!CGAL::is_triangle_mesh(mesh)) throw Invalid_input("simplify_mesh: not a triangle mesh");
   const auto t0 = Clock::now();
   Mesh_simplification_result res;
   res.faces_in = mesh.number_of_faces();
-  if (target_faces < res.faces_in) {
+  std::optional<std::size_t> target = options.target_faces;
+  if (options.target_ratio) target = target_faces_for_ratio(res.faces_in, *options.target_ratio);
+  res.target_faces = target ? *target : 0;
+  if (!target || *target < res.faces_in) {
     Policy policy(mesh, options.quadric);
     std::optional<Memory> memory;
-    const int levels = internal::part_levels(res.faces_in, target_faces, options);
+    const int levels =
+        target && !options.max_cost && !cgal ? internal::part_levels(res.faces_in, *target, options) : 0;
     if (levels > 0) {
-      internal::simplify_in_parts(mesh, target_faces, levels, options, policy, memory);
+      internal::simplify_in_parts(mesh, *target, levels, options, policy, memory);
       res.parts = std::size_t(1) << levels;
       res.faces_after_parts = mesh.number_of_faces();
       res.seconds_parts = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -304,19 +384,40 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, std::s
       if (options.before_changing_input) options.before_changing_input();
       if (options.surface_memory) memory.emplace(mesh, mesh.points(), options.memory);
     }
+    res.stopped_by = Stop_reason::no_collapse;  // unless the stop fires
+    internal::Target_stop<Mesh> stop{{}, options.max_cost, &res.stopped_by};
+    if (target) stop.count.emplace(mesh, *target);
     Memory* m = memory ? &*memory : nullptr;
     internal::collapse_with_placement(policy, options.endpoint_placement, [&](const auto& placement) {
-      edge_collapse(mesh, Face_count_stop_predicate<Mesh>(mesh, target_faces),
-                    CMGeom::parameters::surface_memory(
-                        m, CMGeom::parameters::edge_flips(
-                               options.flips,
-                               CGAL::parameters::get_cost(policy).get_placement(placement).visitor(visitor))));
+      if (cgal)
+        CGAL::Surface_mesh_simplification::edge_collapse(
+            mesh, stop,
+            CGAL::parameters::get_cost(policy).get_placement(placement).filter(No_normal_flip_filter<>()).visitor(visitor));
+      else
+        edge_collapse(mesh, stop,
+                      CMGeom::parameters::surface_memory(
+                          m, CMGeom::parameters::edge_flips(
+                                 options.flips,
+                                 CGAL::parameters::get_cost(policy).get_placement(placement).visitor(visitor))));
     });
   }
   mesh.collect_garbage();
   res.faces_out = mesh.number_of_faces();
+  if (target && res.faces_out <= *target) res.stopped_by = Stop_reason::target;
   res.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return res;
+}
+
+/// simplify_mesh(mesh, options) with `target_faces` as the face target (it replaces the target
+/// count or ratio of `options`; a `max_cost` there still applies).
+template <class Point, class Visitor = Edge_collapse_visitor_base>
+Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, std::size_t target_faces,
+                                         const Mesh_simplification_options& options = Mesh_simplification_options(),
+                                         Visitor visitor = Visitor()) {
+  Mesh_simplification_options o = options;
+  o.target_faces = target_faces;
+  o.target_ratio.reset();
+  return simplify_mesh(mesh, o, visitor);
 }
 
 }  // namespace Textured_simplification

@@ -81,17 +81,6 @@ struct Textured_simplification_options {
   int threads = 0;
 };
 
-/// Why a simplification stopped.
-enum class Stop_reason {
-  target,       ///< the face target was reached
-  chart_limit,  ///< no collapse left that keeps the charts (keep_charts)
-  no_collapse   ///< no valid collapse left at all (topology: e.g. a tetrahedron)
-};
-
-inline const char* to_string(Stop_reason r) {
-  return r == Stop_reason::target ? "target" : r == Stop_reason::chart_limit ? "chart_limit" : "no_collapse";
-}
-
 struct Textured_simplification_result {
   Stop_reason stopped_by = Stop_reason::target;
   bool charts_kept = true;  ///< false when a new atlas was baked (`atlas` then says how)
@@ -177,8 +166,9 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
       so.surface_memory = options.surface_memory;
       so.flips = options.flips;
       so.endpoint_placement = options.endpoint_placement;
+      so.target_faces = options.target_faces;
       so.before_changing_input = [&take] { take.wait(); };
-      simplify_mesh(mesh, options.target_faces, so, visitor);
+      simplify_mesh(mesh, so, visitor);
     }
     take.wait();
   } catch (...) {
