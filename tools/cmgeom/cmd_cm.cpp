@@ -85,7 +85,7 @@ void write_reconstruction(const CM::Reconstruction& out, const std::string& text
 
 }  // namespace
 
-CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 'cm reconstruct' a mesh from it, 'cm deform' it") {
+CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a CM file, 'cm reconstruct' a mesh from it, 'cm deform' it") {
   app.require_subcommand(1);
   // ------------------------------------------------------------------ cm build
   struct Build_args {
@@ -99,7 +99,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     std::size_t max_bytes = 0;
   };
   auto b = std::make_shared<Build_args>();
-  CLI::App* build = app.add_subcommand("build", "Build the Compact Model of a triangle mesh (thesis 4.3-4.4)");
+  CLI::App* build = app.add_subcommand("build", "Build the Compact Model of a triangle mesh (thesis §4.3–4.4)");
   build->add_option("input", b->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
   build->add_option("-o,--output", b->output, "Output CM file")->required();
   auto* faces = build->add_option("--faces", b->faces, "Faces of the base (simplified) mesh");
@@ -119,9 +119,9 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     o->excludes(faces);
     o->excludes(ratio);
   }
-  build->add_option("--sharp-angle", b->sharp_angle, "Sharp-edge threshold in degrees (thesis 4.4.2; default 40)");
+  build->add_option("--sharp-angle", b->sharp_angle, "Sharp-edge threshold in degrees (thesis §4.4.2; default 40)");
   build->add_option("--error-bound", b->error_bound,
-                    "Error control (thesis 4.5.3): absolute distance bound, 0 = off (default)");
+                    "Error control (thesis §4.5.3): absolute distance bound, 0 = off (default)");
   build->add_option("--error-rounds", b->error_rounds,
                     "Most rounds of error control (default 2; a round that does not lower the error is undone)");
   build->add_option("--error-level", b->error_level,
@@ -152,7 +152,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     bool json = false;
   };
   auto r = std::make_shared<Rec_args>();
-  CLI::App* rec = app.add_subcommand("reconstruct", "Reconstruct a mesh from a CM file (thesis 4.5)");
+  CLI::App* rec = app.add_subcommand("reconstruct", "Reconstruct a mesh from a CM file (thesis §4.5)");
   rec->add_option("input", r->input, "CM file")->required();
   rec->add_option("-o,--output", r->output, "Output mesh (.obj, .off, .ply)")->required();
   auto* level = rec->add_option("--level", r->level, "Regular subdivision level (default 2)");
@@ -176,7 +176,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
     bool json = false;
   };
   auto d = std::make_shared<Def_args>();
-  CLI::App* def = app.add_subcommand("deform", "Deform a CM's base and reconstruct the deformed model (thesis ch. 6)");
+  CLI::App* def = app.add_subcommand("deform", "Deform a CM's base and reconstruct the deformed model (thesis chapter 6)");
   def->add_option("input", d->input, "CM file")->required();
   auto* d_cages = cmgeom_cli::add_cage_source_options(*def, d->cages, cmgeom_cli::Cage_grid_options::none);
   auto* d_affine = def->add_option("--affine", d->affine, "Affine map instead of a cage: a11,a12,a13,b1,a21,...,b3 (12 numbers)");
@@ -366,7 +366,7 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis ch. 4, 6): 'cm build' a CM file, 
       cmgeom_cli::read_mesh_with_progress(b->input, tm, read_options);
       CMGeom::Surface_mesh& mesh = tm.mesh();
       if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(b->input + ": not a triangle mesh");
-      // A textured input gives a textured CM (thesis 4.5.4): the base is simplified under the
+      // A textured input gives a textured CM (thesis §4.5.4): the base is simplified under the
       // chart constraints of chapter 3 and, when the texture can be decoded, gets a new atlas
       // written next to the CM file as <output stem>.png.
       const bool textured = tm.has_uvs() && !b->no_texture;

@@ -71,7 +71,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   faces->excludes(errors);
   app.add_flag("--shared-texture", o->shared_texture,
                "Textured input: one atlas (made for the coarsest level) that every level addresses");
-  app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default) or weighted (thesis 3.4.2)")
+  app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default) or weighted (thesis §3.4.2)")
       ->check(CLI::IsMember({"weighted", "plain"}));
   app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
   app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input");

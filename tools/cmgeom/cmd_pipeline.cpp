@@ -238,9 +238,9 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
         }
       }
 
-      p.begin(textured ? "Simplification (thesis ch. 3): new atlas (plain and area-weighted quadrics) and the thesis' "
+      p.begin(textured ? "Simplification (thesis chapter 3): new atlas (plain and area-weighted quadrics) and the thesis' "
                          "chart-preserving method"
-                       : "Simplification (thesis ch. 3): area-weighted quadric vs plain Garland-Heckbert");
+                       : "Simplification (thesis chapter 3): area-weighted quadric vs plain Garland-Heckbert");
       {
         Report::Table table{{"run", "faces in", "faces out", "charts in", "charts out", "seconds",
                              "Hausdorff (% diag)", "RMS (% diag)", "image RMSE (26 views)"},
@@ -253,7 +253,7 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
         std::vector<Run> runs = {{"weighted", "weighted quadric", {"--policy", "weighted"}},
                                  {"plain", "plain quadric", {"--policy", "plain"}}};
         if (textured)  // the thesis' own method: weighted quadrics, charts kept, index texture
-          runs.push_back({"charts_kept", "weighted quadric, charts kept (thesis 3.5)", {"--policy", "weighted", "--keep-charts"}});
+          runs.push_back({"charts_kept", "weighted quadric, charts kept (thesis §3.5)", {"--policy", "weighted", "--keep-charts"}});
         for (const Run& run : runs) {
           const std::string mesh_out = p.path("simplified_" + run.tag + ".obj");
           std::vector<std::string> cmd = {"simplify", model, "-o", mesh_out, "--ratio", general(o->ratio), "--json"};
@@ -282,7 +282,7 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
         s.pictures = pictures;
       }
 
-      p.begin("Compact Model (thesis ch. 4): build, regular and adaptive reconstruction");
+      p.begin("Compact Model (thesis chapter 4): build, regular and adaptive reconstruction");
       {
         const json jb = p.run({"cm", "build", model, "-o", p.path("model.cm"), "--ratio", general(o->cm_ratio),
                                "--json"});
@@ -318,7 +318,7 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
                  num(jb["sharp_edges"]) + " sharp edges, " + num(jb["cone_vertices"]) + " cone vertices; " +
                  num(jb["bytes"]) + " bytes; built in " + num(jb["seconds"]) + " s." +
                  (jb.value("textured", false)
-                      ? " A textured CM (thesis 4.5.4): the base was simplified under the chart constraints of "
+                      ? " A textured CM (thesis §4.5.4): the base was simplified under the chart constraints of "
                         "chapter 3 (" + num(jb["charts_out"]) + " charts kept) and carries per-corner texture "
                         "coordinates" + std::string(jb.contains("atlas") ? " and a new atlas, model.png" : "") +
                         "; the deformable CM below wears the texture."
@@ -327,7 +327,7 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
         s.pictures = pictures;
       }
 
-      p.begin("*Cages deformation (thesis ch. 5): cages, coordinates, influence map");
+      p.begin("*Cages deformation (thesis chapter 5): cages, coordinates, influence map");
       std::string system = o->cages;
       {
         std::string text;
@@ -385,7 +385,7 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
         s.pictures = pictures;
       }
 
-      p.begin("Deformable Compact Model (thesis ch. 6): the CM deformed by the cages and by an affine map");
+      p.begin("Deformable Compact Model (thesis chapter 6): the CM deformed by the cages and by an affine map");
       {
         Report::Table table{{"deformer", "base vertices", "faces", "deform ms", "reconstruct ms",
                              "Hausdorff to the deformed mesh (% diag)", "RMS (% diag)"},

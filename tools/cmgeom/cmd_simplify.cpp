@@ -41,7 +41,7 @@ using Mesh = CMGeom::Surface_mesh;
 
 }  // namespace
 
-CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge collapse (thesis 3.4)") {
+CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge collapse (thesis §3.4)") {
   struct Options {
     std::string input, output, policy = "plain", engine = "cmgeom", merge = "thesis";
     std::string texture_backend = "cpu", texture;
@@ -65,7 +65,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
                                   "Geometry only: stop when the cheapest collapse left costs more than this (quadric "
                                   "error: area x squared distance, see the manual); with --faces or --ratio, whichever "
                                   "comes first");
-  app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default: lowest measured error) or weighted (thesis 3.4.2)")
+  app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default: lowest measured error) or weighted (thesis §3.4.2)")
       ->check(CLI::IsMember({"weighted", "plain"}));
   app.add_option("--merge", o->merge,
                  "Weighted policy's quadric merge: thesis ((w_i Q_i + w_j Q_j)/(w_i + w_j), 3.4.2) or sum "
@@ -73,7 +73,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       ->check(CLI::IsMember({"thesis", "sum"}));
   app.add_option("--engine", o->engine, "Collapse engine: cmgeom (fast) or cgal (CGAL's edge_collapse)")
       ->check(CLI::IsMember({"cmgeom", "cgal"}));
-  app.add_flag("--flips", o->flips, "Flip-test the edges around each collapse (thesis 3.5.1; cmgeom engine)");
+  app.add_flag("--flips", o->flips, "Flip-test the edges around each collapse (thesis §3.5.1; cmgeom engine)");
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
   auto* repair = app.add_flag("--repair", o->repair, "Repair while reading (the default; kept for compatibility)");
   auto* no_repair = app.add_flag("--no-repair", o->no_repair,
@@ -89,7 +89,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   app.add_flag("--memoryless", o->memoryless,
                "Quadric cost alone: no memoryful term (the input's points kept on the faces, Surface_memory.h)");
   app.add_flag("--keep-charts", o->keep_charts,
-               "Textured input: keep the input's charts (thesis 3.5; stops where no collapse keeps them) instead of "
+               "Textured input: keep the input's charts (thesis §3.5; stops where no collapse keeps them) instead of "
                "baking a new atlas");
   app.add_flag("--freeze-seams", o->freeze_seams,
                "Textured input, with --keep-charts: never move chart-boundary vertices (baseline)");
