@@ -1,0 +1,236 @@
+// Tests of the reconstruction of a Compact Model: analytic reproduction, crack-free and shared
+// vertices, parallel == serial, progress hook, along-normal rows, reused buffers, error decreasing
+// with the level.
+#include "compact_model_test_util.h"
+
+namespace {
+
+// ------------------------------------------------------------------ reconstruction
+TEST(CompactModelReconstruction, ParaboloidReproducedAtEveryLevel) {
+  const double a = 0.6, b = 0.2, c = -0.4, d = 0.1, e = -0.2;
+  auto g = [&](double x, double y) { return a * x * x + b * x * y + c * y * y + d * x + e * y; };
+  const Compact_model m = height_field_model(a, b, c, d, e, 4);
+  for (Projection proj : {Projection::along_normal, Projection::closest_point}) {
+    Reconstruction_options o;
+    o.projection = proj;
+    for (int level = 0; level <= 4; ++level) {
+      const Reconstruction r = reconstruct_regular(m, level, o);
+      EXPECT_EQ(r.triangles.size(), m.faces.size() << (2 * level));
+      double err = 0;
+      for (const Vec3& p : r.points) err = std::max(err, std::abs(p.z - g(p.x, p.y)));
+      EXPECT_LT(err, 1e-9) << "level " << level;
+    }
+  }
+}
+
+TEST(CompactModelReconstruction, ParabolicCylinderReproducedAdaptively) {
+  auto g = [](double x, double) { return 0.8 * x * x - 0.3 * x; };
+  const Compact_model m = height_field_model(0.8, 0, 0, -0.3, 0, 3);
+  const Reconstruction r =
+      reconstruct_adaptive(m, Region_of_interest_criterion{Vec3(0.5, 0.5, 0.), 0.6}, 4);
+  double err = 0;
+  for (const Vec3& p : r.points) err = std::max(err, std::abs(p.z - g(p.x, p.y)));
+  EXPECT_LT(err, 1e-9);
+  EXPECT_GT(r.points.size(), m.vertices.size());
+}
+
+TEST(CompactModelReconstruction, RegularIsCrackFreeWithSharedVertices) {
+  const Compact_model& m = sphere_model();
+  for (int level = 0; level <= 3; ++level) {
+    const Reconstruction r = reconstruct_regular(m, level);
+    std::string why;
+    EXPECT_TRUE(is_closed_and_shared(r, &why)) << "level " << level << ": " << why;
+    // Euler characteristic of a sphere.
+    std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+    for (const auto& t : r.triangles)
+      for (int k = 0; k < 3; ++k) edges.insert({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+    EXPECT_EQ(long(r.points.size()) - long(edges.size()) + long(r.triangles.size()), 2);
+    const Surface_mesh mesh = to_surface_mesh(r);
+    EXPECT_TRUE(CGAL::is_closed(mesh));
+    EXPECT_TRUE(mesh.is_valid(false));
+  }
+}
+
+TEST(CompactModelReconstruction, AdaptiveIsCrackFreeForEveryCriterion) {
+  const Compact_model& m = sphere_model();
+  std::string why;
+  const Reconstruction len = reconstruct_adaptive(m, Edge_length_criterion{0.08}, 5);
+  EXPECT_TRUE(is_closed_and_shared(len, &why)) << why;
+  const Reconstruction roi = reconstruct_adaptive(m, Region_of_interest_criterion{Vec3(0, 0, 1), 0.5}, 4);
+  EXPECT_TRUE(is_closed_and_shared(roi, &why)) << why;
+  const Reconstruction sil = reconstruct_adaptive(m, Silhouette_criterion{Vec3(0, 0, 6), 0.25}, 4);
+  EXPECT_TRUE(is_closed_and_shared(sil, &why)) << why;
+  // Adaptivity: the ROI refines near its centre only.
+  const Reconstruction full = reconstruct_regular(m, 4);
+  EXPECT_LT(roi.triangles.size(), full.triangles.size());
+  EXPECT_GT(roi.triangles.size(), m.faces.size());
+  // Edge length: every output edge respects the bound up to the deepest level allowed.
+  double longest = 0;
+  for (const auto& t : len.triangles)
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, CMGeom::CM::internal::length(len.points[t[k]] - len.points[t[(k + 1) % 3]]));
+  EXPECT_LE(longest, 0.08 * 1.0001);
+  // Always_split with level L is the regular subdivision (same triangle count, same points set).
+  const Reconstruction always = reconstruct_adaptive(m, Always_split(), 2);
+  const Reconstruction reg = reconstruct_regular(m, 2);
+  EXPECT_EQ(always.triangles.size(), reg.triangles.size());
+  EXPECT_EQ(always.points.size(), reg.points.size());
+}
+
+TEST(CompactModelReconstruction, ParallelEqualsSerial) {
+  const Compact_model& m = sphere_model();
+  Reconstruction_options par, ser;
+  ser.parallel = false;
+  EXPECT_TRUE(same(reconstruct_regular(m, 3, par), reconstruct_regular(m, 3, ser)));
+  EXPECT_TRUE(same(reconstruct_adaptive(m, Edge_length_criterion{0.05}, 5, par),
+                   reconstruct_adaptive(m, Edge_length_criterion{0.05}, 5, ser)));
+  par.projection = ser.projection = Projection::along_normal;
+  EXPECT_TRUE(same(reconstruct_regular(m, 2, par), reconstruct_regular(m, 2, ser)));
+}
+
+// The progress hook (CMGeom/Progress.h) of the reconstructions: fractions never decreasing and
+// ending at 1, every call from the calling thread although the work runs on TBB workers, far
+// fewer calls than points, and the same bits as without the hook.
+TEST(CompactModelReconstruction, ProgressHookReportsFromTheCallingThreadAndChangesNothing) {
+  const Compact_model& m = sphere_model();
+  for (const bool parallel : {true, false}) {
+    Reconstruction_options plain, hooked;
+    plain.parallel = hooked.parallel = parallel;
+    Progress_record regular, adaptive;
+    hooked.progress = regular.hook();
+    const Reconstruction r = reconstruct_regular(m, 5, hooked);
+    EXPECT_TRUE(same(r, reconstruct_regular(m, 5, plain)));
+    regular.check(2 * 260);  // two phases: edges, faces
+    EXPECT_LT(regular.fractions.size(), r.points.size() / 100);
+    hooked.progress = adaptive.hook();
+    EXPECT_TRUE(same(reconstruct_adaptive(m, Edge_length_criterion{0.02}, 6, hooked),
+                     reconstruct_adaptive(m, Edge_length_criterion{0.02}, 6, plain)));
+    adaptive.check(3 * 260);  // edges, faces, assembly
+  }
+}
+
+// Along N, regular reconstruction evaluates interior points row by row, while a reconstruction
+// with vertex maps goes point by point through interior(); with identity maps both must give the
+// same bits (points and normals).
+TEST(CompactModelReconstruction, IdentityVertexMapsAlongNormalGiveThePlainReconstruction) {
+  const Compact_model& m = sphere_model();
+  const std::vector<CMGeom::CM::Vertex_affine_map> maps(m.vertices.size());
+  Reconstruction_options plain, mapped;
+  plain.projection = mapped.projection = Projection::along_normal;
+  mapped.vertex_maps = &maps;
+  for (int level : {2, 4}) EXPECT_TRUE(same(reconstruct_regular(m, level, plain), reconstruct_regular(m, level, mapped)));
+}
+
+// The same with every kind of local surface: the row kernel evaluates quadrics and cones itself
+// (several points at once) and cubics through the traits, and must still give interior()'s bits,
+// also where a cone's quadric form is negative (derivatives NaN: the normal falls back to N) and
+// on rows whose length is not a multiple of the kernel's width (levels 1 to 5).
+TEST(CompactModelReconstruction, AlongNormalRowsGiveThePointwiseBitsForEverySurfaceModel) {
+  Compact_model m = sphere_model();
+  std::size_t cones = 0, negative = 0;
+  for (std::size_t k = 0; k < m.surfaces.size(); ++k) {
+    Local_surface& s = m.surfaces[k];
+    if (k % 3 == 1) {  // cone on the quadric form, apex side alternating; half with q < 0 near v
+      s.model = CONE_MODEL;
+      s.c[5] = k % 2 ? 1. : -1.;
+      if (k % 4 == 1) {
+        for (int i = 0; i < 5; ++i) s.c[i] = -s.c[i];
+        ++negative;
+      }
+      ++cones;
+    } else if (k % 3 == 2) {
+      s.model = CUBIC_MODEL;
+      for (int i = 5; i < 9; ++i) s.c[i] = 0.05 * double(int(k % 7) - 3 + i);
+    }
+  }
+  ASSERT_GT(cones, 10u);
+  ASSERT_GT(negative, 5u);
+  const std::vector<CMGeom::CM::Vertex_affine_map> maps(m.vertices.size());
+  Reconstruction_options plain, mapped;
+  plain.projection = mapped.projection = Projection::along_normal;
+  mapped.vertex_maps = &maps;
+  for (int level = 1; level <= 5; ++level) {
+    const Reconstruction rows = reconstruct_regular(m, level, plain);
+    EXPECT_TRUE(same(rows, reconstruct_regular(m, level, mapped))) << "level " << level;
+    std::size_t non_finite = 0;
+    for (std::size_t i = 0; i < rows.points.size(); ++i)
+      non_finite += !std::isfinite(rows.points[i].x) || !std::isfinite(rows.normals[i].x);
+    EXPECT_EQ(non_finite, 0u) << "level " << level;
+  }
+}
+
+// With vertex maps that move the model, regular reconstruction along N maps the rows' points
+// after the row kernel, adaptive reconstruction maps each point of interior(): Always_split at
+// the same level gives the same points (in another order), bit for bit.
+TEST(CompactModelReconstruction, MappedAlongNormalRowsGiveTheAdaptivePointsBitForBit) {
+  const Compact_model& m = sphere_model();
+  std::vector<CMGeom::CM::Vertex_affine_map> maps(m.vertices.size());
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    const double a = 0.3 * m.vertices[i].z, c = std::cos(a), s = std::sin(a);
+    auto& T = maps[i];
+    T.M[0][0] = c, T.M[0][1] = -s, T.M[1][0] = s, T.M[1][1] = c, T.M[2][2] = 1. + 0.1 * m.vertices[i].x;
+    T.rest = m.vertices[i];
+    T.deformed = Vec3(c * m.vertices[i].x - s * m.vertices[i].y, s * m.vertices[i].x + c * m.vertices[i].y,
+                      m.vertices[i].z + 0.05);
+    T.identity = false;
+  }
+  Reconstruction_options o;
+  o.projection = Projection::along_normal;
+  o.vertex_maps = &maps;
+  auto sorted = [](const Reconstruction& r) {
+    std::vector<std::array<double, 6>> v;
+    for (std::size_t i = 0; i < r.points.size(); ++i)
+      v.push_back({r.points[i].x, r.points[i].y, r.points[i].z, r.normals[i].x, r.normals[i].y, r.normals[i].z});
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  for (int level : {2, 3}) {
+    const Reconstruction regular = reconstruct_regular(m, level, o);
+    EXPECT_TRUE(sorted(regular) == sorted(reconstruct_adaptive(m, Always_split(), level, o))) << "level " << level;
+    Reconstruction_options plain = o;
+    plain.vertex_maps = nullptr;
+    EXPECT_FALSE(sorted(regular) == sorted(reconstruct_regular(m, level, plain)));  // the maps do move it
+  }
+}
+
+TEST(CompactModelReconstruction, ReusedBufferGivesTheFreshResult) {
+  const Compact_model& m = sphere_model();
+  Compact_model textured = m;
+  textured.uvs.resize(textured.faces.size());
+  for (std::size_t f = 0; f < textured.faces.size(); ++f)
+    textured.uvs[f] = {{{0.f, 0.f}, {1.f, float(f % 5) / 5.f}, {0.5f, 1.f}}};
+  Reconstruction buffer;
+  // Growing, shrinking, the other projection, and a textured model followed by an untextured one:
+  // every field is rewritten, nothing of the previous content survives.
+  for (const Projection proj : {Projection::along_normal, Projection::closest_point})
+    for (const auto& [model, level] : {std::pair<const Compact_model*, int>{&m, 1}, {&m, 3}, {&textured, 2},
+                                       {&m, 2}, {&textured, 1}}) {
+      Reconstruction_options o;
+      o.projection = proj;
+      const Reconstruction fresh = reconstruct_regular(*model, level, o);
+      reconstruct_regular(*model, level, buffer, o);
+      EXPECT_TRUE(same(fresh, buffer)) << "level " << level;
+      EXPECT_EQ(fresh.base_face, buffer.base_face);
+      EXPECT_EQ(fresh.corner_uvs, buffer.corner_uvs);
+      EXPECT_EQ(buffer.corner_uvs.empty(), !model->has_uvs());
+    }
+}
+
+TEST(CompactModelReconstruction, ErrorDecreasesWithLevelOnSmoothModel) {
+  const Compact_model& m = sphere_model();
+  const Surface_mesh original = make_sphere(5);
+  double previous_rms = 1e9, previous_radius = 1e9;
+  for (int level = 0; level <= 3; ++level) {
+    const Reconstruction r = reconstruct_regular(m, level);
+    const double rms = symmetric_vertex_rms(original, to_surface_mesh(r));
+    EXPECT_LT(rms, previous_rms) << "level " << level;
+    previous_rms = rms;
+    // (The maximum radial error cannot decrease: level L's points are a subset of level L+1's.)
+    previous_radius = max_radius_error(r);
+  }
+  // Level 3 of a 120-face base (edges ~0.35) stays within 0.3 % of the radius: the quartic term
+  // of the sphere a quadric cannot follow is (0.35^2)^2 / 8 ~ 2e-3 at the fan's rim.
+  EXPECT_LT(previous_radius, 3e-3);
+}
+
+}  // namespace
