@@ -1,0 +1,58 @@
+// Tests of `cmgeom simplify`: the JSON report and errors.
+#include "textured_simplification_test_util.h"
+
+// ------------------------------------------------------------------------- command line
+
+namespace {
+// Runs a shell command, returns (exit code, stdout).
+std::pair<int, std::string> run(const std::string& cmd) {
+  std::string out;
+  FILE* p = popen((cmd + " 2>/dev/null").c_str(), "r");
+  if (!p) return {-1, out};
+  char buf[4096];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+}  // namespace
+
+TEST(TexturedSimplificationCli, SimplifyJsonAndErrors) {
+  const std::string exe = CMGEOM_CMGEOM_EXE;
+  if (!fs::exists(exe)) GTEST_SKIP() << "cmgeom not built: " << exe;
+  const std::string in = data_dir() + "/classic/bunny.off";
+  if (!fs::exists(in)) GTEST_SKIP() << "shared data not found: " << data_dir();
+  const std::string out = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_bunny.off";
+  fs::remove(out);
+  for (const std::string engine : {"cmgeom", "cgal"}) {
+    const auto [code, text] = run("'" + exe + "' simplify '" + in + "' -o '" + out + "' --faces 1000 --json --engine " + engine);
+    ASSERT_EQ(code, 0) << text;
+    const auto j = nlohmann::json::parse(text);
+    EXPECT_EQ(j["faces_in"].get<std::size_t>(), 6966u);
+    EXPECT_EQ(j["faces_out"].get<std::size_t>(), 1000u);
+    EXPECT_GE(j["seconds"].get<double>(), 0.0);
+    Mesh m;
+    ASSERT_TRUE(CGAL::IO::read_polygon_mesh(out, m));
+    EXPECT_EQ(m.number_of_faces(), 1000u);
+  }
+  {
+    // plain quadrics always sum, whatever --merge says; the report says what was used
+    const auto [code, text] =
+        run("'" + exe + "' simplify '" + in + "' -o '" + out + "' --faces 1000 --json --policy plain --merge thesis");
+    ASSERT_EQ(code, 0) << text;
+    const auto j = nlohmann::json::parse(text);
+    EXPECT_EQ(j["policy"].get<std::string>(), "plain");
+    EXPECT_EQ(j["merge"].get<std::string>(), "sum");
+    EXPECT_EQ(j["faces_out"].get<std::size_t>(), 1000u);
+  }
+  // bad input: exit code 1, one line on stderr, no output written
+  const std::string bad = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_bad.obj";
+  { std::ofstream f(bad); f << "v 0 0 0\nv 1 0 0\nf 1 2 7\n"; }
+  const std::string out2 = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_never.obj";
+  fs::remove(out2);
+  EXPECT_EQ(run("'" + exe + "' simplify '" + bad + "' -o '" + out2 + "' --ratio 0.5").first, 1);
+  EXPECT_FALSE(fs::exists(out2));
+  EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + out2 + "' --ratio 1.5").first, 1);
+  EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + out2 + "'").first, 1);
+  EXPECT_FALSE(fs::exists(out2));
+}

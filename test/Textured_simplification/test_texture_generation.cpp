@@ -1,0 +1,132 @@
+// Tests of the output textures of Textured_simplification: the triangle rasterizer and the
+// generated texture's gutters, filled ring by ring.
+#include "textured_part_test_util.h"
+
+namespace {
+
+// rasterize_triangle draws exactly the texels whose centre passes the three edge tests (8
+// sub-texel bits, top-left rule), each once: against a reference that tests every texel of the
+// image, on random triangles of all shapes (slivers, both orientations, partly off the image,
+// corners on the sub-texel grid so that centres fall on edges).
+TEST(TexturedSimplification, RasterizerCoversExactlyTheTexelsWhoseCentrePassesTheEdgeTests) {
+  const int W = 37, H = 29;
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> coord(-8.0, 45.0);
+  std::uniform_int_distribution<int> grid(-4, 44);
+  std::size_t drawn = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    std::array<UV2, 3> t;
+    for (int c = 0; c < 3; ++c) {
+      if (trial % 3 == 0) t[c] = {{grid(rng) + 0.5, grid(rng) + 0.5}};  // corners on texel centres
+      else t[c] = {{coord(rng), coord(rng)}};
+    }
+    if (trial % 5 == 0) t[2] = {{t[0][0] + 1e-3 * (t[1][0] - t[0][0]) + 0.01, t[0][1] + 1e-3 * (t[1][1] - t[0][1])}};
+    std::vector<int> count(std::size_t(W) * H, 0);
+    TS::rasterize_triangle(t, W, H, [&](int x, int y) {
+      ASSERT_TRUE(x >= 0 && y >= 0 && x < W && y < H);
+      ++count[std::size_t(y) * W + x];
+    });
+    // reference: snap to 1/256, orient counter-clockwise, test every texel centre
+    long long X[3], Y[3];
+    for (int c = 0; c < 3; ++c) {
+      X[c] = std::llround(t[c][0] * 256.0);
+      Y[c] = std::llround(t[c][1] * 256.0);
+    }
+    const long long area = (X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]);
+    if (area < 0) {
+      std::swap(X[1], X[2]);
+      std::swap(Y[1], Y[2]);
+    }
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        bool inside = area != 0;
+        for (int i = 0; i < 3 && inside; ++i) {
+          const int j = (i + 1) % 3;
+          const long long dx = X[j] - X[i], dy = Y[j] - Y[i];
+          const long long px = 256LL * x + 128, py = 256LL * y + 128;
+          const long long e = dx * (py - Y[i]) - dy * (px - X[i]);
+          const bool top_left = (dy == 0 && dx < 0) || dy < 0;
+          inside = top_left ? e >= 0 : e > 0;
+        }
+        ASSERT_EQ(count[std::size_t(y) * W + x], inside ? 1 : 0)
+            << "trial " << trial << ", texel (" << x << ", " << y << ")";
+        drawn += inside;
+      }
+  }
+  EXPECT_GT(drawn, 10000u);
+}
+
+// generate_texture: covered texels hold the original looked up through the index texture, and
+// the gutters are filled ring by ring, each texel with the mean of its 8-neighbours filled by an
+// earlier ring. The reference grows the rings by scanning the whole image once per ring.
+TEST(TexturedSimplification, GeneratedTextureDilatesRingByRing) {
+  const int W = 23, H = 17;
+  const std::vector<std::array<UV2, 3>> layout_tris = {{{{{0.0, 0.0}}, {{1.0, 0.0}}, {{0.0, 1.0}}}}};
+  TS::Texture_domain dom;
+  dom.width = W;
+  dom.height = H;
+  const TS::Index_texture it(dom, layout_tris, {0});
+  CMGeom::Image original(W, H, 3);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      for (int c = 0; c < 3; ++c) original.set_value(x, y, c, float((7 * x + 13 * y + 29 * c) % 256) / 255.f);
+  // two small triangles far apart, so rings from both meet
+  const std::vector<std::array<UV2, 3>> final_tris = {{{{{0.05, 0.1}}, {{0.3, 0.1}}, {{0.1, 0.35}}}},
+                                                      {{{{0.6, 0.7}}, {{0.8, 0.65}}, {{0.75, 0.9}}}}};
+  const CMGeom::Image out = TS::generate_texture(it, original, final_tris);
+  ASSERT_EQ(out.width(), W);
+  ASSERT_EQ(out.height(), H);
+  // reference, in index-texture rows (row 0 at the bottom)
+  std::vector<float> acc(std::size_t(W) * H * 3, 0.f);
+  std::vector<int> filled(std::size_t(W) * H, 0);
+  std::size_t covered = 0;
+  for (const auto& tri : final_tris) {
+    std::array<UV2, 3> t;
+    for (int c = 0; c < 3; ++c) t[c] = dom.to_texel(tri[c]);
+    TS::rasterize_triangle(t, W, H, [&](int x, int y) {
+      const std::size_t i = std::size_t(y) * W + x;
+      if (filled[i]) return;
+      float v[4];
+      TS::sample_original(it, original, it.at(x, y)[0], it.at(x, y)[1], v);
+      for (int c = 0; c < 3; ++c) acc[i * 3 + c] = v[c];
+      filled[i] = 1;
+      ++covered;
+    });
+  }
+  ASSERT_GT(covered, 4u);
+  ASSERT_LT(covered, std::size_t(W) * H / 4);
+  int rings = 0;
+  for (bool grew = true; grew; ++rings) {
+    grew = false;
+    std::vector<int> next = filled;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const std::size_t i = std::size_t(y) * W + x;
+        if (filled[i]) continue;
+        float s[3] = {0, 0, 0};
+        int cnt = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = x + dx, qy = y + dy;
+            if (qx < 0 || qy < 0 || qx >= W || qy >= H || !filled[std::size_t(qy) * W + qx]) continue;
+            for (int c = 0; c < 3; ++c) s[c] += acc[(std::size_t(qy) * W + qx) * 3 + c];
+            ++cnt;
+          }
+        if (cnt == 0) continue;
+        for (int c = 0; c < 3; ++c) acc[i * 3 + c] = s[c] / float(cnt);
+        next[i] = 1;
+        grew = true;
+      }
+    filled.swap(next);
+  }
+  EXPECT_GT(rings, 5);
+  CMGeom::Image expected(W, H, 3);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      ASSERT_TRUE(filled[std::size_t(y) * W + x]) << "texel (" << x << ", " << y << ") never reached";
+      for (int c = 0; c < 3; ++c) expected.set_value(x, H - 1 - y, c, acc[(std::size_t(y) * W + x) * 3 + c]);
+    }
+  EXPECT_TRUE(out == expected);
+}
+
+}  // namespace
