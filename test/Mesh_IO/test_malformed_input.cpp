@@ -1,0 +1,207 @@
+// The malformed-input catalogue of Mesh_IO: library errors and CLI behaviour, repair of
+// non-manifold input, the oriented-manifold check against CGAL.
+#include "mesh_io_test_util.h"
+
+// ------------------------------------------------------------------ malformed input catalogue
+
+namespace {
+
+struct Bad_case {
+  const char* name;     // file name the test writes
+  std::string content;
+  const char* expect;   // part of the message
+  std::size_t line;     // expected line (0: none)
+  IO::Read_options options = IO::Read_options();
+};
+
+std::vector<Bad_case> bad_cases() {
+  std::vector<Bad_case> v;
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  v.push_back({"empty.obj", "", "empty file", 0});
+  v.push_back({"garbage.obj", std::string("\x7f" "ELF\x02\x01\x01\0\0\0binary", 16), "", 0});
+  v.push_back({"unknown.obj", "v 0 0 0\nhello world\n", "no faces", 0});  // unknown lines only warn
+  v.push_back({"short_vertex.obj", "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "three numbers", 1});
+  v.push_back({"nan.obj", "v 0 nan 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "not finite", 1});
+  v.push_back({"inf.obj", "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n", "not finite", 2});
+  v.push_back({"range.obj", tri + "f 1 2 4\n", "out of range", 4});
+  v.push_back({"zero_index.obj", tri + "f 0 1 2\n", "out of range", 4});
+  v.push_back({"uv_range.obj", tri + "vt 0 0\nf 1/1 2/2 3/1\n", "texture coordinate index 2 out of range", 5});
+  v.push_back({"two_corners.obj", tri + "f 1 2\n", "at least 3", 4});
+  v.push_back({"no_faces.obj", tri, "no faces", 0});
+  v.push_back({"partial_uv_face.obj", tri + "vt 0 0\nf 1/1 2 3/1\n", "some corners only", 5});
+  v.push_back({"faces_without_uv.obj", tri + "v 1 1 0\nvt 0 0\nf 1/1 2/1 3/1\nf 2 4 3\n", "no texture coordinates", 7});
+  v.push_back({"repeated.obj", tri + "f 1 2 2\n", "repeats a vertex", 4});
+  v.push_back({"zero_area.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 4 2\n", "zero-area", 5});
+  // Three triangles on edge (1,2): non-manifold edge.
+  v.push_back({"nm_edge.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+               "non-manifold edge", 0});
+  // Two tetrahedra touching at one vertex: non-manifold vertex.
+  v.push_back({"nm_vertex.obj",
+               "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv -1 0 0\nv 0 -1 0\nv 0 0 -1\n"
+               "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 5 6\nf 1 6 7\nf 1 7 5\nf 5 7 6\n",
+               "non-manifold vertex", 0});
+  v.push_back({"orientation.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 3 4\n", "inconsistently oriented", 0});
+  v.push_back({"missing_texture.obj", "mtllib missing_texture.mtl\n" + tri + "vt 0 0\nusemtl m\nf 1/1 2/1 3/1\n",
+               "not found", 2});
+  v.push_back({"empty.off", "", "empty file", 0});
+  v.push_back({"truncated.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n", "truncated", 0});
+  v.push_back({"huge.off", "OFF\n2000000000 2000000000 0\n0 0 0\n", "more than the file can hold", 2});
+  v.push_back({"range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "out of range", 6});
+  v.push_back({"nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", "not finite", 4});
+  v.push_back({"notply.ply", "this is not a ply file\n", "not a PLY file", 1});
+  // an ASCII PLY of three vertices, then its face or strip element
+  const std::string ply3 = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  const std::string ply3_face = ply3 + "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string ply3_strip = ply3 + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n";
+  v.push_back({"truncated.ply", ply3_face + "0 0 0\n1 0 0\n", "", 0});
+  v.push_back({"range.ply", ply3_face + "0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n", "out of range", 0});
+  // Regression (fuzzing): CGAL's PLY reader crashed on a property declared before any element.
+  v.push_back({"prop_first.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 1\nend_header\n0\n",
+               "property before any element", 3});
+  v.push_back({"huge.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
+                           "property float y\nproperty float z\nelement face 1\n"
+                           "property list uchar int vertex_indices\nend_header\n", "more than the file can hold", 0});
+  v.push_back({"no_end.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "no end_header", 0});
+  v.push_back({"strip_negative.ply", ply3_strip + "0 0 0\n1 0 0\n0 1 0\n4 0 1 -2 2\n", "negative vertex index", 0});
+  v.push_back({"strip_range.ply", ply3_strip + "0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n", "out of range", 0});
+  v.push_back({"garbage.gltf", "{ this is not json", "", 0});
+  v.push_back({"empty.glb", "", "empty file", 0});
+  v.push_back({"mesh.stl", "solid x\nendsolid x\n", "unsupported file type", 0});
+  return v;
+}
+
+}  // namespace
+
+TEST(Mesh_IO_bad_input, EveryCaseGivesOneLineErrorWithFileAndLine) {
+  const std::string dir = scratch_dir();
+  write_text(dir, "missing_texture.mtl", "newmtl m\nmap_Kd does_not_exist.png\n");
+  const auto cases = bad_cases();
+  EXPECT_GE(cases.size(), 25u);
+  for (const Bad_case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string path = write_text(dir, c.name, c.content);
+    try {
+      Textured_mesh tm;
+      IO::read_mesh(path, tm, c.options);
+      ADD_FAILURE() << "no error for " << c.name;
+    } catch (const IO_error& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+      const std::string stem = fs::path(c.name).stem().string();
+      EXPECT_NE(msg.find(stem), std::string::npos) << "message does not name the file: " << msg;
+      EXPECT_NE(msg.find(c.expect), std::string::npos) << msg;
+      if (c.line) EXPECT_NE(msg.find(":" + std::to_string(c.line) + ":"), std::string::npos) << msg;
+    }
+  }
+  EXPECT_THROW({ Textured_mesh tm; IO::read_mesh((fs::path(dir) / "absent.obj").string(), tm); }, IO_error);
+  EXPECT_THROW({ Textured_mesh tm; IO::read_mesh(dir, tm); }, IO_error);  // a directory
+}
+
+TEST(Mesh_IO_bad_input, CliFailsWithOneLineAndWritesNothing) {
+  const std::string dir = scratch_dir();
+  write_text(dir, "missing_texture.mtl", "newmtl m\nmap_Kd does_not_exist.png\n");
+  for (const Bad_case& c : bad_cases()) {
+    SCOPED_TRACE(c.name);
+    const std::string in_dir = (fs::path(dir) / "in").string();
+    fs::create_directories(in_dir);
+    const std::string path = write_text(in_dir, c.name, c.content);
+    if (std::string(c.name) == "missing_texture.obj")
+      write_text(in_dir, "missing_texture.mtl", "newmtl m\nmap_Kd does_not_exist.png\n");
+    const std::string out_dir = (fs::path(dir) / "out").string();
+    fs::remove_all(out_dir);
+    fs::create_directories(out_dir);
+    const auto r = cmgeom_test::run_cli("convert '" + path + "' -o '" + out_dir + "/result.obj'", dir);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("error"), std::string::npos) << r.err;
+    EXPECT_EQ(cmgeom_test::count_files(out_dir), 0u) << "a failed command left files behind";
+  }
+  // Usage errors: exit code 2, one line.
+  const auto r = cmgeom_test::run_cli("convert", dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(Mesh_IO_bad_input, RepairDuplicatesNonManifoldVertexAndKeepsUVs) {
+  const std::string dir = scratch_dir();
+  std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv -1 0 0\nv 0 -1 0\nv 0 0 -1\n";
+  for (int i = 0; i < 24; ++i) obj += "vt " + std::to_string(i / 24.0) + " 0.5\n";
+  const int f[8][3] = {{1, 3, 2}, {1, 2, 4}, {1, 4, 3}, {2, 3, 4}, {1, 5, 6}, {1, 6, 7}, {1, 7, 5}, {5, 7, 6}};
+  int t = 1;
+  for (const auto& face : f) {
+    obj += "f";
+    for (int k = 0; k < 3; ++k) obj += " " + std::to_string(face[k]) + "/" + std::to_string(t++);
+    obj += "\n";
+  }
+  const std::string path = write_text(dir, "bowtie.obj", obj);
+  IO::Read_options opt;
+  opt.repair = true;
+  Textured_mesh tm;
+  IO::read_mesh(path, tm, opt);
+  EXPECT_TRUE(CGAL::is_valid_polygon_mesh(tm.mesh()));
+  EXPECT_EQ(tm.mesh().number_of_vertices(), 8u);  // the shared apex is duplicated
+  EXPECT_EQ(tm.mesh().number_of_faces(), 8u);
+  // Every corner kept its own UV: all 24 values appear once.
+  std::vector<double> us;
+  for (auto h : tm.mesh().halfedges())
+    if (!tm.mesh().is_border(h)) us.push_back(tm.uv(h).x());
+  std::sort(us.begin(), us.end());
+  ASSERT_EQ(us.size(), 24u);
+  for (int i = 0; i < 24; ++i) EXPECT_NEAR(us[std::size_t(i)], i / 24.0, 1e-6);
+}
+
+TEST(Mesh_IO_bad_input, RepairMakesNonManifoldClassicModelsValid) {
+  // Regression (fuzzing): repairing beetle (47 non-manifold edges) once produced an invalid
+  // halfedge structure; suzanne's quads become non-manifold only after the fan split.
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = scratch_dir();
+  for (const char* name : {"classic/beetle.obj", "classic/teapot.obj", "classic/suzanne.obj", "classic/cow.obj",
+                           "classic/ogre.obj.gz", "textured/DamagedHelmet/DamagedHelmet.obj"}) {
+    SCOPED_TRACE(name);
+    IO::Read_options opt;
+    opt.repair = true;
+    opt.allow_degenerate_faces = true;  // ogre has four zero-area faces
+    Textured_mesh tm;
+    IO::read_mesh(cmgeom_test::shared_mesh(name, dir), tm, opt);
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(tm.mesh()));
+    EXPECT_TRUE(CGAL::is_triangle_mesh(tm.mesh()));
+    // Without repair the same files are refused with a clear error.
+    Textured_mesh plain;
+    EXPECT_THROW(IO::read_mesh(cmgeom_test::shared_mesh(name, dir), plain), IO_error);
+  }
+}
+
+TEST(Mesh_IO_bad_input, OrientedManifoldCheckAgreesWithCgal) {
+  // the reader's repair decides with io_internal.h's sort-based check; CGAL's
+  // is_polygon_soup_a_polygon_mesh is the reference, and the expected answer is stated too
+  using Tris = std::vector<std::vector<std::size_t>>;
+  const Tris tetra = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  Tris flipped = tetra, doubled = tetra, bowtie = tetra;
+  std::swap(flipped[0][1], flipped[0][2]);
+  doubled.push_back({0, 2, 1});  // an edge with three faces
+  for (const auto& t : tetra) {  // a second tetrahedron sharing vertex 0 only: two fans there
+    std::vector<std::size_t> u;
+    for (std::size_t v : t) u.push_back(v == 0 ? 0 : v + 3);
+    bowtie.push_back(u);
+  }
+  const Tris repeated = {{0, 1, 1}}, open = {{0, 1, 2}, {0, 2, 3}}, same_direction = {{0, 1, 2}, {0, 1, 3}};
+  const std::vector<std::pair<const Tris*, bool>> cases = {{&tetra, true},   {&flipped, false},  {&doubled, false},
+                                                           {&bowtie, false}, {&repeated, false}, {&open, true},
+                                                           {&same_direction, false}};
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    const auto& [soup, expected] = cases[c];
+    Polygon_soup ps;
+    std::size_t vertices = 0;
+    for (const auto& t : *soup) {
+      for (std::size_t v : t) {
+        ps.corner_vertex.push_back(std::uint32_t(v));
+        vertices = std::max(vertices, v + 1);
+      }
+      ps.face_start.push_back(std::uint32_t(ps.corner_vertex.size()));
+    }
+    const bool ours = IO::internal::is_oriented_manifold_soup(ps, vertices);
+    EXPECT_EQ(ours, expected) << "case " << c;
+    if (std::none_of(soup->begin(), soup->end(), [](const auto& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }))
+      EXPECT_EQ(ours, CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(*soup)) << "case " << c;
+  }
+}

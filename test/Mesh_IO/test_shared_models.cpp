@@ -1,0 +1,191 @@
+// Tests of the Mesh_IO readers on the shared models: reference values (SOURCES.md), round trips,
+// an independent cross-check of the OBJ parser with tinyobjloader.
+#include "mesh_io_test_util.h"
+
+#define TINYOBJLOADER_IMPLEMENTATION
+#define TINYOBJLOADER_USE_DOUBLE
+#include <tiny_obj_loader.h>
+namespace {
+
+struct Textured_case {
+  const char* path;
+  std::size_t vertices, faces, charts;
+  bool manifold;
+};
+
+// Values from ../shared/data/SOURCES.md (computed there by other means).
+const Textured_case textured_models[] = {
+    {"textured/spot/spot.obj", 2930, 5856, 13, true},
+    {"textured/bob/bob_tri.obj", 5344, 10688, 3, true},
+    {"textured/fuze/fuze.obj", 502, 1000, 8, true},
+    {"textured/DamagedHelmet/DamagedHelmet.obj", 8661, 15452, 478, false},
+    {"textured/WaterBottle/WaterBottle.obj", 2385, 4510, 5, true},
+    {"textured/Duck/Duck.obj", 2108, 4212, 10, true},
+    {"textured/bunny10k_textured/bunny10k_textured.obj", 5051, 9999, 190, true},
+    {"textured/texturedknot/texturedknot.obj", 1440, 2880, 1, true},
+};
+
+struct Classic_case {
+  const char* path;
+  bool closed, manifold;
+  int genus;  // -1: not given
+  std::size_t components;
+};
+
+const Classic_case classic_models[] = {
+    {"classic/bunny.off", true, true, 0, 1},          {"classic/fandisk.obj", true, true, 0, 1},
+    {"classic/rocker-arm.obj", true, true, 1, 1},     {"classic/igea.ply.gz", true, true, 0, 1},
+    {"classic/nefertiti.obj.gz", true, true, 0, 1},   {"classic/ogre.obj.gz", false, false, -1, 44},
+    {"classic/homer.obj", true, true, 0, 1},          {"classic/cheburashka.obj", true, true, 0, 1},
+    {"classic/cow.obj", true, false, -1, 1},          {"classic/horse.ply", true, true, 0, 1},
+    {"classic/camel.off", true, true, 0, 1},          {"classic/decimated-max.obj", true, true, 0, 1},
+    {"classic/armadillo.obj.gz", true, true, 0, 1},   {"classic/knot_orig.ply", true, true, 1, 1},
+    {"classic/trim-star.off", true, true, 1, 1},      {"classic/sharp_sphere.off", true, true, 0, 1},
+    {"classic/block.off", true, true, 3, 1},          {"classic/anchor.off", true, true, 4, 1},
+    {"classic/pinion.off", true, true, 1, 1},         {"classic/joint.off", true, true, 2, 1},
+    {"classic/mech-holes-shark.off", false, true, -1, 1}, {"classic/teapot.obj", false, false, -1, 4},
+    {"classic/beetle.obj", false, false, -1, 2},      {"classic/suzanne.obj", false, true, -1, 3},
+    {"classic/beast.obj.gz", true, true, 0, 1},       {"classic/stanford-bunny.obj.gz", false, true, -1, 1},
+};
+
+void expect_same_geometry_and_uvs(const Textured_mesh& a, const Textured_mesh& b) {
+  const Surface_mesh &ma = a.mesh(), &mb = b.mesh();
+  ASSERT_EQ(ma.number_of_vertices(), mb.number_of_vertices());
+  ASSERT_EQ(ma.number_of_faces(), mb.number_of_faces());
+  ASSERT_EQ(a.has_uvs(), b.has_uvs());
+  for (auto v : ma.vertices()) {
+    const Point_3 &p = ma.point(v), &q = mb.point(v);
+    ASSERT_EQ(std::memcmp(&p, &q, sizeof(Point_3)), 0) << "vertex " << std::size_t(v) << " moved";
+  }
+  // Faces are written in order; compare corners by their vertex (UVs bit for bit).
+  auto fb = mb.faces().begin();
+  for (auto f : ma.faces()) {
+    const auto g = *fb++;
+    ASSERT_EQ(a.material(f), b.material(g));
+    for (auto h : ma.halfedges_around_face(ma.halfedge(f))) {
+      bool found = false;
+      for (auto k : mb.halfedges_around_face(mb.halfedge(g)))
+        if (std::size_t(mb.target(k)) == std::size_t(ma.target(h))) {
+          found = true;
+          if (a.has_uvs()) {
+            const Point_2 u = a.uv(h), w = b.uv(k);
+            ASSERT_EQ(std::memcmp(&u, &w, sizeof(Point_2)), 0) << "UV changed at face " << std::size_t(f);
+          }
+        }
+      ASSERT_TRUE(found) << "face " << std::size_t(f) << " has different vertices";
+    }
+  }
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ shared models
+
+TEST(Mesh_IO_models, TexturedModelsMatchSourcesAndRoundTripBitExact) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = scratch_dir();
+  for (const auto& c : textured_models) {
+    SCOPED_TRACE(c.path);
+    const Polygon_soup soup = IO::read_polygon_soup(shared_data(c.path));
+    const Mesh_statistics st = analyze_soup(soup);
+    EXPECT_EQ(soup.positions.size(), c.vertices);
+    EXPECT_EQ(st.faces, c.faces);
+    EXPECT_EQ(st.charts, c.charts);
+    EXPECT_EQ(st.manifold, c.manifold);
+
+    IO::Read_options opt;
+    opt.repair = !c.manifold;  // DamagedHelmet: non-manifold edges and vertices
+    Textured_mesh tm;
+    IO::read_textured_mesh(shared_data(c.path), tm, opt);
+    ASSERT_TRUE(tm.has_uvs());
+    ASSERT_TRUE(CGAL::is_valid_polygon_mesh(tm.mesh()));
+    if (c.manifold) {
+      EXPECT_EQ(tm.mesh().number_of_vertices(), c.vertices);
+      EXPECT_EQ(mesh_charts(tm), c.charts);  // halfedge-based charts agree with the soup's
+    }
+    const std::string out = (fs::path(dir) / (fs::path(c.path).stem().string() + "_rt.obj")).string();
+    IO::write_textured_mesh(out, tm);
+    Textured_mesh back;
+    IO::read_textured_mesh(out, back);
+    expect_same_geometry_and_uvs(tm, back);
+    EXPECT_EQ(mesh_charts(back), mesh_charts(tm));
+    ASSERT_EQ(back.materials().size(), tm.materials().size());
+    for (std::size_t i = 0; i < tm.materials().size(); ++i) {
+      const Image &x = tm.materials()[i].diffuse_image, &y = back.materials()[i].diffuse_image;
+      EXPECT_EQ(x.empty(), y.empty());
+      if (!x.empty()) EXPECT_TRUE(x == y) << "texture pixels changed in the PNG round trip";
+    }
+  }
+}
+
+TEST(Mesh_IO_models, ClassicModelsTopologyMatchesSources) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = scratch_dir();
+  for (const auto& c : classic_models) {
+    SCOPED_TRACE(c.path);
+    const std::string path = cmgeom_test::shared_mesh(c.path, dir);
+    ASSERT_FALSE(path.empty());
+    const Mesh_statistics st = analyze_soup(IO::read_polygon_soup(path));
+    EXPECT_EQ(st.closed, c.closed);
+    EXPECT_EQ(st.manifold, c.manifold);
+    EXPECT_EQ(st.components, c.components);
+    if (c.genus >= 0) EXPECT_EQ(st.genus, c.genus);
+  }
+}
+
+TEST(Mesh_IO_models, ObjParserAgreesWithTinyobjloader) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  for (const auto& c : textured_models) {
+    SCOPED_TRACE(c.path);
+    const std::string path = shared_data(c.path);
+    tinyobj::ObjReaderConfig cfg;
+    cfg.triangulate = false;
+    cfg.mtl_search_path = fs::path(path).parent_path().string();
+    tinyobj::ObjReader reader;
+    ASSERT_TRUE(reader.ParseFromFile(path, cfg)) << reader.Error();
+    const auto& attrib = reader.GetAttrib();
+    const Polygon_soup soup = IO::read_polygon_soup(path);
+    ASSERT_EQ(attrib.vertices.size(), 3 * soup.positions.size());
+    ASSERT_EQ(attrib.texcoords.size(), 2 * soup.uvs.size());
+    // tinyobjloader's own number parser is not correctly rounded (it may differ in the last
+    // bit); ours uses std::from_chars, which is. Hence a relative tolerance of a few ulps.
+    auto close = [](double a, double b) { return std::abs(a - b) <= 1e-15 * std::max(1.0, std::abs(a)); };
+    for (std::size_t i = 0; i < soup.positions.size(); ++i)
+      for (int k = 0; k < 3; ++k) ASSERT_TRUE(close(attrib.vertices[3 * i + k], soup.positions[i][k])) << i;
+    for (std::size_t i = 0; i < soup.uvs.size(); ++i)
+      for (int k = 0; k < 2; ++k) ASSERT_TRUE(close(attrib.texcoords[2 * i + k], soup.uvs[i][k])) << i;
+    std::size_t faces = 0, corner = 0;
+    for (const auto& shape : reader.GetShapes()) {
+      std::size_t offset = 0;
+      for (unsigned char n : shape.mesh.num_face_vertices) {
+        ASSERT_LT(faces, soup.number_of_faces());
+        ASSERT_EQ(n, soup.face_size(faces));
+        for (unsigned k = 0; k < n; ++k, ++corner) {
+          const auto& idx = shape.mesh.indices[offset + k];
+          ASSERT_EQ(std::uint32_t(idx.vertex_index), soup.corner_vertex[soup.face_start[faces] + k]);
+          ASSERT_EQ(std::uint32_t(idx.texcoord_index), soup.corner_uv[soup.face_start[faces] + k]);
+        }
+        offset += n;
+        ++faces;
+      }
+    }
+    EXPECT_EQ(faces, soup.number_of_faces());
+  }
+}
+
+TEST(Mesh_IO_models, GeometryRoundTripKeepsVertexOrderIncludingUnreferenced) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = scratch_dir();
+  const std::string path = cmgeom_test::shared_mesh("classic/stanford-bunny.obj.gz", dir);
+  Textured_mesh tm;
+  IO::read_mesh(path, tm);
+  EXPECT_EQ(tm.mesh().number_of_vertices(), 35947u);  // 1113 unreferenced vertices kept
+  for (const char* ext : {".obj", ".off", ".ply"}) {
+    SCOPED_TRACE(ext);
+    const std::string out = (fs::path(dir) / (std::string("bunny") + ext)).string();
+    IO::write_mesh(out, tm);
+    Textured_mesh back;
+    IO::read_mesh(out, back);
+    expect_same_geometry_and_uvs(tm, back);
+  }
+}
