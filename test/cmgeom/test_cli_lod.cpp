@@ -1,0 +1,212 @@
+// The level-of-detail chains of cmgeom lod: GLB nodes listed by MSFT_lod, refusals, OBJ copies.
+#include "cli_test_util.h"
+
+// ------------------------------------------------------------------ levels of detail
+// cmgeom lod writes a level-of-detail chain as one glTF node per level (doc/CLI.md): the report
+// on stdout, the nodes of the GLB (read back from its JSON chunk), the images each level draws,
+// the refusals (nothing written), the OBJ copies of --obj-prefix.
+namespace {
+
+// Everything in `dir` (files and folders), for the checks that a refused command wrote nothing.
+std::vector<std::string> entries_of(const std::string& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// icosphere(level) as OFF text: a mesh without texture coordinates.
+std::string icosphere_off(int level) {
+  std::vector<std::array<double, 3>> p;
+  std::vector<std::array<std::size_t, 3>> f;
+  cmgeom_test::icosphere(level, p, f);
+  std::ostringstream s;
+  s.precision(17);
+  s << "OFF\n" << p.size() << " " << f.size() << " 0\n";
+  for (const auto& q : p) s << q[0] << " " << q[1] << " " << q[2] << "\n";
+  for (const auto& t : f) s << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  return s.str();
+}
+
+}  // namespace
+
+TEST(cmgeom_cli, LodWritesOneGlbNodePerLevelListedByMsftLod) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string duck = cmgeom_test::shared_data("textured/Duck/Duck.obj");
+  const std::string validator_missing = gltf_validator_missing();
+  if (!validator_missing.empty()) std::cout << "validator not run: " << validator_missing << "\n";
+  for (const bool shared : {false, true}) {
+    SCOPED_TRACE(shared ? "--shared-texture" : "an atlas per level");
+    const std::string glb = (fs::path(dir) / (shared ? "shared.glb" : "levels.glb")).string();
+    const auto r = cmgeom_test::run_cli("--quiet lod " + quoted(duck) + " -o " + quoted(glb) +
+                                            " --ratios 1,0.25,0.05 --json" + (shared ? " --shared-texture" : ""),
+                                        dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    const nlohmann::json report = nlohmann::json::parse(r.out);
+    EXPECT_EQ(report["textured"], true);
+    EXPECT_EQ(report["shared_texture"], shared);
+    const auto& levels = report["levels"];
+    ASSERT_EQ(levels.size(), 3u);
+    const std::size_t faces_in = report["faces_in"].get<std::size_t>();
+    const double ratios[3] = {1, 0.25, 0.05};
+    std::vector<std::size_t> faces;
+    for (std::size_t i = 0; i < 3; ++i) {
+      SCOPED_TRACE("level " + std::to_string(i));
+      const auto& l = levels[i];
+      EXPECT_EQ(l["level"], i);
+      EXPECT_EQ(l["is_input"], i == 0);
+      EXPECT_EQ(l["target_faces"], std::size_t(std::llround(ratios[i] * double(faces_in))));
+      faces.push_back(l["faces"].get<std::size_t>());
+      // a snapshot is taken at the first collapse that reaches the target (one collapse removes
+      // at most two faces)
+      EXPECT_LE(faces[i], l["target_faces"].get<std::size_t>());
+      EXPECT_GE(faces[i] + 2, l["target_faces"].get<std::size_t>());
+      if (i > 0) EXPECT_LT(faces[i], faces[i - 1]);
+      // level 0 keeps the input's texture unless one atlas serves all levels
+      EXPECT_EQ(l["texture_width"].get<int>() > 0, shared || i > 0) << l;
+    }
+    EXPECT_EQ(faces[0], faces_in);
+
+    // the GLB: three nodes, the first in the scene listing the other two by MSFT_lod
+    const nlohmann::json j = glb_json(glb);
+    ASSERT_TRUE(j.is_object());
+    ASSERT_EQ(j["nodes"].size(), 3u);
+    EXPECT_EQ(j["nodes"][0]["extensions"]["MSFT_lod"]["ids"], nlohmann::json::array({1, 2}));
+    for (const std::size_t i : {std::size_t(1), std::size_t(2)}) EXPECT_FALSE(j["nodes"][i].contains("extensions")) << i;
+    ASSERT_EQ(j["scenes"].size(), 1u);
+    EXPECT_EQ(j["scene"], 0);
+    EXPECT_EQ(j["scenes"][0]["nodes"], nlohmann::json::array({0}));
+    EXPECT_NE(std::find(j["extensionsUsed"].begin(), j["extensionsUsed"].end(), "MSFT_lod"), j["extensionsUsed"].end());
+    // each node: the level's faces (in its extras and in its mesh) and its error, growing with the level
+    double previous_error = -1;
+    for (std::size_t i = 0; i < 3; ++i) {
+      SCOPED_TRACE("node " + std::to_string(i));
+      const auto& extras = j["nodes"][i]["extras"];
+      EXPECT_EQ(extras["level"], i);
+      EXPECT_EQ(extras["faces"].get<std::size_t>(), faces[i]);
+      EXPECT_EQ(triangles_of_node(j, i), faces[i]);
+      ASSERT_TRUE(extras.contains("error"));
+      const double error = extras["error"].get<double>();
+      EXPECT_DOUBLE_EQ(error, levels[i]["hausdorff"].get<double>());
+      EXPECT_GE(error, 0.0);
+      if (i == 0) EXPECT_EQ(error, 0.0);  // the input itself
+      else EXPECT_GT(error, previous_error);
+      previous_error = error;
+    }
+    // the images: one shared atlas, or the input's texture and an atlas per simplified level
+    ASSERT_TRUE(j.contains("images"));
+    std::vector<std::set<int>> drawn;
+    for (std::size_t i = 0; i < 3; ++i) drawn.push_back(images_of_node(j, i));
+    if (shared) {
+      EXPECT_EQ(j["images"].size(), 1u);
+      for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(drawn[i], std::set<int>({0})) << "node " << i;
+    } else {
+      EXPECT_EQ(j["images"].size(), 3u);
+      for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(drawn[i].size(), 1u) << "node " << i;
+      EXPECT_EQ((std::set<int>{*drawn[0].begin(), *drawn[1].begin(), *drawn[2].begin()}).size(), 3u)
+          << "two levels draw the same image";
+    }
+    for (const auto& image : j["images"]) {
+      EXPECT_TRUE(image.contains("bufferView")) << image;  // embedded, not a file beside the GLB
+      EXPECT_EQ(image["mimeType"], "image/png") << image;
+    }
+    // a reader without MSFT_lod (cmgeom's own) sees the finest level
+    const auto info = cmgeom_test::run_cli("info " + quoted(glb) + " --json", dir);
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_EQ(nlohmann::json::parse(info.out)["faces"].get<std::size_t>(), faces[0]);
+    if (validator_missing.empty()) {
+      const Validation v = validate_gltf(glb);
+      EXPECT_EQ(v.errors, 0) << v.report;
+      EXPECT_EQ(v.warnings, 0) << v.report;
+    }
+  }
+}
+
+// Refused chains: exit code 1 (2 for a usage error), one line on stderr naming the problem, and
+// nothing in the output directory.
+TEST(cmgeom_cli, LodRefusalsNameTheProblemAndWriteNothing) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string duck = cmgeom_test::shared_data("textured/Duck/Duck.obj");
+  const std::string inputs = (fs::path(dir) / "inputs").string();
+  fs::create_directories(inputs);
+  const std::string sphere = cmgeom_test::write_text(inputs, "sphere.off", icosphere_off(2));
+  struct Refusal {
+    std::string input, args;  // args: "{out}" = the case's output directory
+    int exit_code;
+    std::string named;        // what the error line must say
+  };
+  const std::vector<Refusal> refusals = {
+      {duck, "-o {out}/x.glb --ratios 1,1", 1, "the levels must decrease strictly (in faces: 4212 then 4212)"},
+      {duck, "-o {out}/x.glb --ratios 0.5,0.7", 1, "the levels must decrease strictly (in faces: 2106 then 2948)"},
+      {duck, "-o {out}/x.glb --ratios 0", 1, "--ratios: every ratio must be in (0, 1]"},
+      {duck, "-o {out}/x.glb --ratios 1,0.5,-0.1", 1, "--ratios: every ratio must be in (0, 1]"},
+      {duck, "-o {out}/x.glb --ratios 1,half", 1, "--ratios: 'half' is not a number"},
+      {duck, "-o {out}/x.glb --faces 1000,0", 1, "--faces: every face count must be at least 1"},
+      {duck, "-o {out}/x.obj --ratios 1,0.25", 1, "x.obj: a level-of-detail chain is written as .glb or .gltf"},
+      {duck, "-o {out}/x --ratios 1,0.25", 1, "a level-of-detail chain is written as .glb or .gltf"},
+      {duck, "-o {out}/x.glb", 1, "one of --ratios, --faces or --max-errors is required"},
+      {duck, "-o {out}/x.glb --max-errors 0.01,0.01", 1, "--max-errors: the bounds must increase strictly"},
+      {duck, "-o {out}/x.glb --ratios 1,0.25 --faces 1000", 2, "--ratios excludes --faces"},
+      {sphere, "-o {out}/x.glb --ratios 1,0.25 --shared-texture", 1, "--shared-texture needs a textured input"},
+      // every file is written or none: an --obj-prefix in a missing folder leaves no GLB behind
+      {duck, "-o {out}/x.glb --ratios 1,0.25 --obj-prefix {out}/missing/P", 1, "does not exist"},
+  };
+  for (std::size_t k = 0; k < refusals.size(); ++k) {
+    const Refusal& c = refusals[k];
+    const std::string out = (fs::path(dir) / ("case" + std::to_string(k))).string();
+    fs::create_directories(out);
+    std::string args = c.args;
+    for (std::size_t p; (p = args.find("{out}")) != std::string::npos;) args.replace(p, 5, out);
+    SCOPED_TRACE("lod " + fs::path(c.input).filename().string() + " " + args);
+    // --quiet: a progress line would be a second line on stderr
+    const auto r = cmgeom_test::run_cli("--quiet lod " + quoted(c.input) + " " + args, dir);
+    EXPECT_EQ(r.exit_code, c.exit_code) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.err.compare(0, c.exit_code == 2 ? 21 : 19, c.exit_code == 2 ? "cmgeom: usage error: " : "cmgeom lod: error: "), 0)
+        << r.err;
+    EXPECT_NE(r.err.find(c.named), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "");
+    EXPECT_TRUE(entries_of(out).empty()) << "left behind: " << ::testing::PrintToString(entries_of(out));
+  }
+  // the same sphere without --shared-texture is a valid chain (the refusal is about the texture)
+  const auto ok = cmgeom_test::run_cli("--quiet lod " + quoted(sphere) + " -o " + quoted(dir + "/sphere.glb") +
+                                           " --ratios 1,0.25 --json", dir);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(nlohmann::json::parse(ok.out)["textured"], false);
+  // a refused run keeps an existing output as it was
+  const std::string kept = cmgeom_test::write_text(dir, "kept.glb", "not replaced");
+  const auto r = cmgeom_test::run_cli("--quiet lod " + quoted(duck) + " -o " + quoted(kept) +
+                                          " --ratios 1,0.25 --obj-prefix " + quoted(dir + "/missing/P"), dir);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(bytes_of(kept), "not replaced");
+}
+
+TEST(cmgeom_cli, LodObjPrefixWritesEveryLevelAsObj) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string duck = cmgeom_test::shared_data("textured/Duck/Duck.obj");
+  const std::string prefix = (fs::path(dir) / "duck").string();
+  const auto r = cmgeom_test::run_cli("--quiet lod " + quoted(duck) + " -o " + quoted(dir + "/duck.glb") +
+                                          " --ratios 1,0.25,0.05 --obj-prefix " + quoted(prefix) + " --json",
+                                      dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  const auto& levels = report["levels"];
+  ASSERT_EQ(levels.size(), 3u);
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    SCOPED_TRACE("level " + std::to_string(k));
+    const std::string obj = prefix + "_" + std::to_string(k) + ".obj";
+    ASSERT_TRUE(fs::is_regular_file(obj)) << obj;
+    EXPECT_EQ(obj_faces(obj), levels[k]["faces"].get<std::size_t>());
+    // its material names a texture written beside it
+    const std::string mtl = bytes_of(prefix + "_" + std::to_string(k) + ".mtl");
+    const std::size_t map = mtl.find("map_Kd ");
+    ASSERT_NE(map, std::string::npos) << mtl;
+    const std::string texture = mtl.substr(map + 7, mtl.find('\n', map) - map - 7);
+    EXPECT_EQ(bytes_of((fs::path(dir) / texture).string()).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << texture;
+  }
+  EXPECT_FALSE(fs::exists(prefix + "_3.obj"));
+}
