@@ -4,7 +4,8 @@
 //   2. binding throughput in (point x cage triangle)/s for mean value and Green coordinates on 1
 //      and 2 threads (wall clock, and CPU time, which is what a loaded shared machine distorts
 //      least), and the harmonic solve + lookup time;
-//   3. deformation time per frame (minimum and median frame), vertices/s and effective bandwidth for dense double, dense
+//   3. deformation time per frame (minimum and median frame), vertices/s and effective bandwidth for dense double,
+//   dense
 //      float and sparse weights, against the measured bandwidth.
 // Every timing is repeated; tables give the minimum and the median of the runs ("min / median";
 // for a rate, the rate of the fastest run, then of the median run).
@@ -34,17 +35,14 @@ using namespace CMGeom::Cage_deformation;
 
 namespace {
 
-double wall() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double wall() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 double cpu() {
   timespec t;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
-bool read_obj(const std::string& path, std::vector<Vec3>& pts,
-              std::vector<std::vector<std::size_t>>& polys) {
+bool read_obj(const std::string& path, std::vector<Vec3>& pts, std::vector<std::vector<std::size_t>>& polys) {
   const std::string file = cmgeom_bench::readable_model(path, CMGEOM_TEST_TMP_DIR, "bench_cage_");
   if (file.empty()) return false;
   try {
@@ -84,34 +82,31 @@ Bandwidth stream(int threads, std::size_t n) {
   const std::size_t grain = n / (8 * std::size_t(threads));
   for (int rep = 0; rep < stream_runs; ++rep) {
     double t0 = wall();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i < r.end(); ++i) c[i] = a[i];
-                      });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) c[i] = a[i];
+    });
     double t = wall() - t0;
     tc.push_back(t);
     t0 = wall();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i < r.end(); ++i) a[i] = b[i] + 3.0 * c[i];
-                      });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) a[i] = b[i] + 3.0 * c[i];
+    });
     t = wall() - t0;
     tt.push_back(t);
     std::vector<double> partial(64, 0.0);
     t0 = wall();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-                        std::size_t i = r.begin();
-                        for (; i + 4 <= r.end(); i += 4) {
-                          s0 += a[i];
-                          s1 += a[i + 1];
-                          s2 += a[i + 2];
-                          s3 += a[i + 3];
-                        }
-                        for (; i < r.end(); ++i) s0 += a[i];
-                        partial[(r.begin() / grain) % 64] += s0 + s1 + s2 + s3;
-                      });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), [&](const tbb::blocked_range<std::size_t>& r) {
+      double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+      std::size_t i = r.begin();
+      for (; i + 4 <= r.end(); i += 4) {
+        s0 += a[i];
+        s1 += a[i + 1];
+        s2 += a[i + 2];
+        s3 += a[i + 3];
+      }
+      for (; i < r.end(); ++i) s0 += a[i];
+      partial[(r.begin() / grain) % 64] += s0 + s1 + s2 + s3;
+    });
     t = wall() - t0;
     tr.push_back(t);
     if (partial[0] == -1) std::printf("?");
@@ -170,15 +165,16 @@ int main(int argc, char** argv) {
   std::string data = CMGEOM_DATA_DIR;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else data = a;
+    if (a == "--quick")
+      quick = true;
+    else
+      data = a;
   }
   const std::string q = data + "/cages/qmvc/", p = data + "/cages/pgc/";
   std::vector<Model> models = {
       {"Ogre (qmvc)", q + "Ogre.obj", q + "Ogre_Cage.obj", q + "Ogre_Cage_Deformed.obj"},
       {"Beast (qmvc)", q + "Beast.obj", q + "Beast_Cage.obj", q + "Beast_Cage_Deformed.obj"},
-      {"FireHydrant (qmvc)", q + "FireHydrant.obj.gz", q + "FireHydrant_Cage.obj",
-       q + "FireHydrant_Cage_Deformed.obj"},
+      {"FireHydrant (qmvc)", q + "FireHydrant.obj.gz", q + "FireHydrant_Cage.obj", q + "FireHydrant_Cage_Deformed.obj"},
       {"ManHead (qmvc)", q + "ManHead.obj", q + "ManHead_Cage.obj", q + "ManHead_Cage_Deformed.obj"},
       {"armadilloman (pgc)", p + "armadilloman/armadilloman.obj", p + "armadilloman/cage.obj", ""},
       {"horse (pgc)", p + "horse/horse.obj.gz", p + "horse/cage.obj", ""},
@@ -188,8 +184,7 @@ int main(int argc, char** argv) {
   if (quick) models.resize(2);
 
   std::printf("## Cage_deformation benchmark\n\n");
-  std::printf("Machine: %u hardware threads; load average at start: ",
-              std::thread::hardware_concurrency());
+  std::printf("Machine: %u hardware threads; load average at start: ", std::thread::hardware_concurrency());
   {
     std::ifstream la("/proc/loadavg");
     std::string l;
@@ -200,8 +195,10 @@ int main(int argc, char** argv) {
   // 1. bandwidth
   const std::size_t sn = quick ? (std::size_t(1) << 23) : (std::size_t(1) << 25);  // 32M doubles = 256 MB/array
   Bandwidth bw1 = stream(1, sn), bw2 = stream(2, sn);
-  std::printf("### Memory bandwidth (STREAM-style, %zu MB per array, %d passes: GB/s of the fastest / "
-              "of the median pass)\n\n", sn * 8 >> 20, stream_runs);
+  std::printf(
+      "### Memory bandwidth (STREAM-style, %zu MB per array, %d passes: GB/s of the fastest / "
+      "of the median pass)\n\n",
+      sn * 8 >> 20, stream_runs);
   std::printf("| threads | copy GB/s | triad GB/s | read (sum) GB/s |\n|---|---|---|---|\n");
   for (const Bandwidth* bw : {&bw1, &bw2})
     std::printf("| %d | %s | %s | %s |\n", bw == &bw1 ? 1 : 2,
@@ -213,13 +210,15 @@ int main(int argc, char** argv) {
   // 2. binding
   const int bind_reps = quick ? 3 : 5;
   std::printf("### Binding: (point x cage triangle) per second (%d runs: fastest / median run)\n\n", bind_reps);
-  std::printf("M/s = millions of (mesh vertex x cage triangle) pairs per second, \"fastest / median\". *cpu* divides by the "
-              "process CPU time summed over its threads (robust to other jobs on the shared machine), "
-              "*wall* by elapsed time. *2T/1T* is the wall-clock speed-up; *2T eff* = (2T cpu rate) / "
-              "(1T cpu rate), the work efficiency of the parallel run: on two otherwise idle cores the "
-              "speed-up would be about 2 x eff; both ratios are of the medians.\n\n");
-  std::printf("| model | vertices | cage V/T | MVC 1T cpu | MVC 1T wall | MVC 2T wall | MVC 2T/1T | MVC 2T eff | "
-              "Green 1T cpu | Green 1T wall | Green 2T wall | Green 2T/1T | Green 2T eff |\n");
+  std::printf(
+      "M/s = millions of (mesh vertex x cage triangle) pairs per second, \"fastest / median\". *cpu* divides by the "
+      "process CPU time summed over its threads (robust to other jobs on the shared machine), "
+      "*wall* by elapsed time. *2T/1T* is the wall-clock speed-up; *2T eff* = (2T cpu rate) / "
+      "(1T cpu rate), the work efficiency of the parallel run: on two otherwise idle cores the "
+      "speed-up would be about 2 x eff; both ratios are of the medians.\n\n");
+  std::printf(
+      "| model | vertices | cage V/T | MVC 1T cpu | MVC 1T wall | MVC 2T wall | MVC 2T/1T | MVC 2T eff | "
+      "Green 1T cpu | Green 1T wall | Green 2T wall | Green 2T/1T | Green 2T eff |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   struct Deform_row {
     std::string name;
@@ -253,12 +252,11 @@ int main(int argc, char** argv) {
     Green_coordinates_3 gc(cage);
     const Bind_result rm = time_bind(mvc, mp, bind_reps), rg = time_bind(gc, mp, bind_reps);
     const auto rate = [&](const cmgeom_bench::Timing& t) { return cmgeom_bench::rate_min_median(pairs / 1e6, t); };
-    std::printf("| %s | %zu | %zu/%zu | %s | %s | %s | %.2f | %.2f | %s | %s | %s | %.2f | %.2f |\n",
-                m.name.c_str(), mp.size(), cage.vertices.size(), cage.triangles.size(),
-                rate(rm.cpu1).c_str(), rate(rm.wall1).c_str(), rate(rm.wall2).c_str(),
-                rm.wall1.median / rm.wall2.median, rm.cpu1.median / rm.cpu2.median, rate(rg.cpu1).c_str(),
-                rate(rg.wall1).c_str(), rate(rg.wall2).c_str(), rg.wall1.median / rg.wall2.median,
-                rg.cpu1.median / rg.cpu2.median);
+    std::printf("| %s | %zu | %zu/%zu | %s | %s | %s | %.2f | %.2f | %s | %s | %s | %.2f | %.2f |\n", m.name.c_str(),
+                mp.size(), cage.vertices.size(), cage.triangles.size(), rate(rm.cpu1).c_str(), rate(rm.wall1).c_str(),
+                rate(rm.wall2).c_str(), rm.wall1.median / rm.wall2.median, rm.cpu1.median / rm.cpu2.median,
+                rate(rg.cpu1).c_str(), rate(rg.wall1).c_str(), rate(rg.wall2).c_str(),
+                rg.wall1.median / rg.wall2.median, rg.cpu1.median / rg.cpu2.median);
     std::fflush(stdout);
 
     // deformation kernels (MVC weights; Green has n + m per vertex, reported in the same table)
@@ -266,8 +264,10 @@ int main(int argc, char** argv) {
       Deform_row row;
       row.name = m.name + (which ? " Green" : " MVC");
       std::vector<Vec3> basis;
-      if (which) gc.deformation_rule()(deformed, std::back_inserter(basis));
-      else mvc.deformation_rule()(deformed, std::back_inserter(basis));
+      if (which)
+        gc.deformation_rule()(deformed, std::back_inserter(basis));
+      else
+        mvc.deformation_rule()(deformed, std::back_inserter(basis));
       Binding_options so;
       so.storage = Weight_storage::sparse;
       const int frames = quick ? 5 : 21;
@@ -275,16 +275,30 @@ int main(int argc, char** argv) {
         Cage_binding<double> d = bind_points(gc, mp);
         Cage_binding<float> f = bind_points<float>(gc, mp);
         Cage_binding<double> s = bind_points(gc, mp, so);
-        row = {row.name, mp.size(), d.number_of_coordinates(), time_deform(d, basis, 1, frames),
-               time_deform(d, basis, 2, frames), time_deform(f, basis, 1, frames),
-               time_deform(s, basis, 1, frames), d.weights_bytes(), f.weights_bytes(), s.weights_bytes()};
+        row = {row.name,
+               mp.size(),
+               d.number_of_coordinates(),
+               time_deform(d, basis, 1, frames),
+               time_deform(d, basis, 2, frames),
+               time_deform(f, basis, 1, frames),
+               time_deform(s, basis, 1, frames),
+               d.weights_bytes(),
+               f.weights_bytes(),
+               s.weights_bytes()};
       } else {
         Cage_binding<double> d = bind_points(mvc, mp);
         Cage_binding<float> f = bind_points<float>(mvc, mp);
         Cage_binding<double> s = bind_points(mvc, mp, so);
-        row = {row.name, mp.size(), d.number_of_coordinates(), time_deform(d, basis, 1, frames),
-               time_deform(d, basis, 2, frames), time_deform(f, basis, 1, frames),
-               time_deform(s, basis, 1, frames), d.weights_bytes(), f.weights_bytes(), s.weights_bytes()};
+        row = {row.name,
+               mp.size(),
+               d.number_of_coordinates(),
+               time_deform(d, basis, 1, frames),
+               time_deform(d, basis, 2, frames),
+               time_deform(f, basis, 1, frames),
+               time_deform(s, basis, 1, frames),
+               d.weights_bytes(),
+               f.weights_bytes(),
+               s.weights_bytes()};
       }
       deform_rows.push_back(row);
     }
@@ -300,17 +314,19 @@ int main(int argc, char** argv) {
       Cage_binding<double> hb = bind_points(hc, mp);
       const double look = wall() - w1;
       char buf[512];
-      std::snprintf(buf, sizeof buf, "| %s | %d | %zu | %.2f | %zu | %.3f | %.2f | %zu | %zu |",
-                    m.name.c_str(), ho.resolution, hc.number_of_interior_nodes(), solve,
-                    hc.solver_iterations(), look, double(mp.size()) / look / 1e6,
-                    hb.count(Coordinate_status::approximate), hb.count(Coordinate_status::undefined));
+      std::snprintf(buf, sizeof buf, "| %s | %d | %zu | %.2f | %zu | %.3f | %.2f | %zu | %zu |", m.name.c_str(),
+                    ho.resolution, hc.number_of_interior_nodes(), solve, hc.solver_iterations(), look,
+                    double(mp.size()) / look / 1e6, hb.count(Coordinate_status::approximate),
+                    hb.count(Coordinate_status::undefined));
       harmonic_rows.push_back(buf);
     }
   }
 
-  std::printf("\n### Harmonic coordinates (2 threads, wall clock; tricubic lookup; one run each: the solve takes seconds)\n\n");
-  std::printf("| model | resolution | interior nodes | solve s | CG iterations (all coords, levels) | "
-              "bind s | M vertices/s | approximate | undefined (outside) |\n|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "\n### Harmonic coordinates (2 threads, wall clock; tricubic lookup; one run each: the solve takes seconds)\n\n");
+  std::printf(
+      "| model | resolution | interior nodes | solve s | CG iterations (all coords, levels) | "
+      "bind s | M vertices/s | approximate | undefined (outside) |\n|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& r : harmonic_rows) std::printf("%s\n", r.c_str());
 
   // A large binding (weights far beyond the 32 MB L3): mesh vertices jittered inside the cage.
@@ -336,9 +352,15 @@ int main(int argc, char** argv) {
       Cage_binding<double> d = bind_points(mvc, big);
       Cage_binding<float> f = bind_points<float>(mvc, big);
       Deform_row row{models[0].name + " MVC x" + std::to_string(target / mp.size() + 1) + " points",
-                     big.size(), d.number_of_coordinates(), time_deform(d, basis, 1, 11),
-                     time_deform(d, basis, 2, 11), time_deform(f, basis, 1, 11), {},
-                     d.weights_bytes(), f.weights_bytes(), 0};
+                     big.size(),
+                     d.number_of_coordinates(),
+                     time_deform(d, basis, 1, 11),
+                     time_deform(d, basis, 2, 11),
+                     time_deform(f, basis, 1, 11),
+                     {},
+                     d.weights_bytes(),
+                     f.weights_bytes(),
+                     0};
       {
         Cage_binding<double> s = bind_points(mvc, big, so);
         row.ts1 = time_deform(s, basis, 1, 11);
@@ -351,23 +373,27 @@ int main(int argc, char** argv) {
   std::printf("\n### Deformation per frame (%d frames, 11 for the large case; weights already bound)\n\n",
               quick ? 5 : 21);
   const double best1 = bw1.best(), best2 = bw2.best();
-  std::printf("Times are \"min / median\" of the frames; M vert/s and GB/s are of the fastest frame. "
-              "GB/s = weight bytes read per second; %% = of the best STREAM figure (copy, triad or "
-              "read) with the same thread count: %.1f GB/s (1T), %.1f GB/s (2T). Weights that fit "
-              "in the 32 MB L3 exceed 100%%; the last row (weights far beyond L3) is the DRAM-bound "
-              "case.\n\n", best1, best2);
-  std::printf("| binding | vertices | coords/vertex | dense double MB | 1T ms | 1T M vert/s | 1T GB/s (%%) | "
-              "2T ms | 2T GB/s (%%) | dense float MB | float 1T ms | float 1T GB/s (%%) | sparse MB | sparse 1T ms |\n");
+  std::printf(
+      "Times are \"min / median\" of the frames; M vert/s and GB/s are of the fastest frame. "
+      "GB/s = weight bytes read per second; %% = of the best STREAM figure (copy, triad or "
+      "read) with the same thread count: %.1f GB/s (1T), %.1f GB/s (2T). Weights that fit "
+      "in the 32 MB L3 exceed 100%%; the last row (weights far beyond L3) is the DRAM-bound "
+      "case.\n\n",
+      best1, best2);
+  std::printf(
+      "| binding | vertices | coords/vertex | dense double MB | 1T ms | 1T M vert/s | 1T GB/s (%%) | "
+      "2T ms | 2T GB/s (%%) | dense float MB | float 1T ms | float 1T GB/s (%%) | sparse MB | sparse 1T ms |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Deform_row& r : deform_rows) {
     const double gb1 = double(r.bd) / r.td1.min / 1e9, gb2 = double(r.bd) / r.td2.min / 1e9;
     const double gbf = double(r.bf) / r.tf1.min / 1e9;
     const auto ms = [](const cmgeom_bench::Timing& t) { return cmgeom_bench::min_median(t.scaled(1e3), "%.2f"); };
-    std::printf("| %s | %zu | %zu | %.1f | %s | %.1f | %.1f (%.0f%%) | %s | %.1f (%.0f%%) | %.1f | "
-                "%s | %.1f (%.0f%%) | %.1f | %s |\n",
-                r.name.c_str(), r.N, r.K, double(r.bd) / 1e6, ms(r.td1).c_str(), double(r.N) / r.td1.min / 1e6,
-                gb1, 100 * gb1 / best1, ms(r.td2).c_str(), gb2, 100 * gb2 / best2, double(r.bf) / 1e6,
-                ms(r.tf1).c_str(), gbf, 100 * gbf / best1, double(r.bs) / 1e6, ms(r.ts1).c_str());
+    std::printf(
+        "| %s | %zu | %zu | %.1f | %s | %.1f | %.1f (%.0f%%) | %s | %.1f (%.0f%%) | %.1f | "
+        "%s | %.1f (%.0f%%) | %.1f | %s |\n",
+        r.name.c_str(), r.N, r.K, double(r.bd) / 1e6, ms(r.td1).c_str(), double(r.N) / r.td1.min / 1e6, gb1,
+        100 * gb1 / best1, ms(r.td2).c_str(), gb2, 100 * gb2 / best2, double(r.bf) / 1e6, ms(r.tf1).c_str(), gbf,
+        100 * gbf / best1, double(r.bs) / 1e6, ms(r.ts1).c_str());
   }
   return 0;
 }

@@ -1,8 +1,8 @@
 // *Cages benchmark in the style of thesis Table 5.2 (never run by CTest): memory, bind time and
 // deform time per frame of a Cage_system (grid systems 2x1x1, 2x2x1, 3x3x3 around shared models,
 // and the twisted prism of Fig. 5.6 in 4 stacked cages) against one cage that is the union of the
-// cages (same surface vertices), for h in {1, 0.6, 0.5, 0.2} (0.5: the targets of the issue), mean value and Green coordinates (cage and
-// join transformations: the join cages always use mean value coordinates), 1 and 2 threads.
+// cages (same surface vertices), for h in {1, 0.6, 0.5, 0.2} (0.5: the targets of the issue), mean value and Green
+// coordinates (cage and join transformations: the join cages always use mean value coordinates), 1 and 2 threads.
 // Prints Markdown.
 //
 //   bench_Cage_system [--quick] [data dir]       tables
@@ -33,7 +33,6 @@ using namespace CMGeom::Cage_deformation;
 namespace CDI = CMGeom::Cage_deformation::internal;
 
 namespace {
-
 
 // Surface of the box [-0.5, 0.5]^2 x [0, 4] as a watertight triangle mesh on an a x a x c lattice.
 void prism_mesh(int a, int c, std::vector<Vec3>& pts, std::vector<std::array<std::uint32_t, 3>>& tris) {
@@ -116,9 +115,11 @@ struct Timing {
 
 // Seconds per frame: minimum and median over g_runs batches of `frames` frames.
 cmgeom_bench::Timing time_deform(const std::function<void()>& f, int frames) {
-  return cmgeom_bench::time_runs(g_runs, [&] {
-           for (int i = 0; i < frames; ++i) f();
-         }).scaled(1.0 / frames);
+  return cmgeom_bench::time_runs(g_runs,
+                                 [&] {
+                                   for (int i = 0; i < frames; ++i) f();
+                                 })
+      .scaled(1.0 / frames);
 }
 
 Timing run_stars(const Cage_system_description& d, const std::vector<Vec3>& pts, int threads) {
@@ -150,10 +151,12 @@ Timing run_single(const Cage_description& c, const std::vector<Vec3>& pts, int t
   const Cage_binding<double>& b = *bound;
   t.bytes = b.weights_bytes();
   std::vector<Vec3> basis;
-  t.deform = time_deform([&] {
-    coords.basis(c.deformed, basis);
-    b.deform(basis, t.out);
-  }, 20);
+  t.deform = time_deform(
+      [&] {
+        coords.basis(c.deformed, basis);
+        b.deform(basis, t.out);
+      },
+      20);
   return t;
 }
 
@@ -164,7 +167,8 @@ struct Case {
   bool prism;
 };
 
-void write_obj(const std::string& path, const std::vector<Vec3>& pts, const std::vector<std::array<std::uint32_t, 3>>& tris) {
+void write_obj(const std::string& path, const std::vector<Vec3>& pts,
+               const std::vector<std::array<std::uint32_t, 3>>& tris) {
   std::ofstream o(path);
   o.precision(17);
   for (const Vec3& p : pts) o << "v " << p[0] << " " << p[1] << " " << p[2] << "\n";
@@ -178,9 +182,12 @@ int main(int argc, char** argv) {
   std::string data = CMGEOM_DATA_DIR, prism_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else if (a == "--write-prism" && i + 1 < argc) prism_dir = argv[++i];
-    else data = a;
+    if (a == "--quick")
+      quick = true;
+    else if (a == "--write-prism" && i + 1 < argc)
+      prism_dir = argv[++i];
+    else
+      data = a;
   }
   const double total_twist = 3.14159265358979323846 / 2;
   std::vector<Vec3> prism;
@@ -209,7 +216,8 @@ int main(int argc, char** argv) {
     const char* path;
   };
   const std::string tmp = CMGEOM_TEST_TMP_DIR;
-  for (const M& m : {M{"FireHydrant", "cages/qmvc/FireHydrant.obj.gz"}, M{"armadilloman", "cages/pgc/armadilloman/armadilloman.obj"}}) {
+  for (const M& m : {M{"FireHydrant", "cages/qmvc/FireHydrant.obj.gz"},
+                     M{"armadilloman", "cages/pgc/armadilloman/armadilloman.obj"}}) {
     const std::string file = cmgeom_bench::readable_model(data + "/" + m.path, tmp, "bench_cages_");
     if (file.empty()) continue;
     std::vector<Vec3> pts;
@@ -232,18 +240,22 @@ int main(int argc, char** argv) {
     std::getline(la, l);
     std::printf("Load average at start: %s\n\n", l.c_str());
   }
-  std::printf("*Cages: memory = grouped sparse weights (double values, column patterns stored once per "
-              "group of rows, point indices or runs), "
-              "*setup* = system construction (borders, join cages), *bind* = coordinates of every "
-              "vertex, *deform* = one frame (hierarchy propagation + basis + grouped product), per "
-              "frame of a batch of 20. Times are \"min / median\" of %d runs (of the set-up, of the "
-              "binding, of the 20-frame batch); *mem x* and *deform x* use the medians. *single*: one cage that is the union of the cages (the same "
-              "surface vertices), dense double weights. *joined* = vertices with d_i < 1 (join data stored). "
-              "*mem x*, *deform x* = *Cages / single. "
-              "*err* = max / RMS distance between the *Cages and single-cage results, relative to "
-              "the bounding-box diagonal of the cages.\n\n", g_runs);
-  std::printf("| model | cages | coords | h | thr | vertices | joined | *Cages MB | single MB | setup ms | "
-              "*Cages bind ms | single bind ms | *Cages deform ms | single deform ms | mem x | deform x | err max / RMS |\n");
+  std::printf(
+      "*Cages: memory = grouped sparse weights (double values, column patterns stored once per "
+      "group of rows, point indices or runs), "
+      "*setup* = system construction (borders, join cages), *bind* = coordinates of every "
+      "vertex, *deform* = one frame (hierarchy propagation + basis + grouped product), per "
+      "frame of a batch of 20. Times are \"min / median\" of %d runs (of the set-up, of the "
+      "binding, of the 20-frame batch); *mem x* and *deform x* use the medians. *single*: one cage that is the union "
+      "of the cages (the same "
+      "surface vertices), dense double weights. *joined* = vertices with d_i < 1 (join data stored). "
+      "*mem x*, *deform x* = *Cages / single. "
+      "*err* = max / RMS distance between the *Cages and single-cage results, relative to "
+      "the bounding-box diagonal of the cages.\n\n",
+      g_runs);
+  std::printf(
+      "| model | cages | coords | h | thr | vertices | joined | *Cages MB | single MB | setup ms | "
+      "*Cages bind ms | single bind ms | *Cages deform ms | single deform ms | mem x | deform x | err max / RMS |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Case& c : cases) {
     for (Coordinate_type type : {Coordinate_type::mean_value, Coordinate_type::green}) {
@@ -279,14 +291,14 @@ int main(int argc, char** argv) {
           const auto ms = [](const cmgeom_bench::Timing& t, const char* f) {
             return cmgeom_bench::min_median(t.scaled(1e3), f);
           };
-          std::printf("| %s | %dx%dx%d | %s | %.1f | %d | %zu | %zu | %.2f | %.2f | %s | %s | %s | %s | %s | %.4f | %.2f | %.2g / %.2g |\n",
-                      c.model.c_str(), c.grid[0], c.grid[1], c.grid[2],
-                      type == Coordinate_type::green ? "Green" : "MVC", h, threads, c.pts.size(), a.joined,
-                      a.bytes / 1048576.0, b.bytes / 1048576.0, ms(a.setup, "%.1f").c_str(),
-                      ms(a.bind, "%.1f").c_str(), ms(b.bind, "%.1f").c_str(), ms(a.deform, "%.3f").c_str(),
-                      ms(b.deform, "%.3f").c_str(), double(a.bytes) / double(b.bytes),
-                      a.deform.median / b.deform.median,
-                      emax, std::sqrt(esum / double(c.pts.size())));
+          std::printf(
+              "| %s | %dx%dx%d | %s | %.1f | %d | %zu | %zu | %.2f | %.2f | %s | %s | %s | %s | %s | %.4f | %.2f | "
+              "%.2g / %.2g |\n",
+              c.model.c_str(), c.grid[0], c.grid[1], c.grid[2], type == Coordinate_type::green ? "Green" : "MVC", h,
+              threads, c.pts.size(), a.joined, a.bytes / 1048576.0, b.bytes / 1048576.0, ms(a.setup, "%.1f").c_str(),
+              ms(a.bind, "%.1f").c_str(), ms(b.bind, "%.1f").c_str(), ms(a.deform, "%.3f").c_str(),
+              ms(b.deform, "%.3f").c_str(), double(a.bytes) / double(b.bytes), a.deform.median / b.deform.median, emax,
+              std::sqrt(esum / double(c.pts.size())));
           std::fflush(stdout);
         }
       }

@@ -69,9 +69,12 @@ CMGeom::Surface_mesh pn_triangles(const CM::Compact_model& m, int level) {
     }
     auto w = [&](int i, int j) { return dot(P[j] - P[i], N[i]); };
     const Vec3 b300 = P[0], b030 = P[1], b003 = P[2];
-    const Vec3 b210 = (2 * P[0] + P[1] - w(0, 1) * N[0]) * (1. / 3), b120 = (2 * P[1] + P[0] - w(1, 0) * N[1]) * (1. / 3);
-    const Vec3 b021 = (2 * P[1] + P[2] - w(1, 2) * N[1]) * (1. / 3), b012 = (2 * P[2] + P[1] - w(2, 1) * N[2]) * (1. / 3);
-    const Vec3 b102 = (2 * P[2] + P[0] - w(2, 0) * N[2]) * (1. / 3), b201 = (2 * P[0] + P[2] - w(0, 2) * N[0]) * (1. / 3);
+    const Vec3 b210 = (2 * P[0] + P[1] - w(0, 1) * N[0]) * (1. / 3),
+               b120 = (2 * P[1] + P[0] - w(1, 0) * N[1]) * (1. / 3);
+    const Vec3 b021 = (2 * P[1] + P[2] - w(1, 2) * N[1]) * (1. / 3),
+               b012 = (2 * P[2] + P[1] - w(2, 1) * N[2]) * (1. / 3);
+    const Vec3 b102 = (2 * P[2] + P[0] - w(2, 0) * N[2]) * (1. / 3),
+               b201 = (2 * P[0] + P[2] - w(0, 2) * N[0]) * (1. / 3);
     const Vec3 E = (b210 + b120 + b021 + b012 + b102 + b201) * (1. / 6), V = (P[0] + P[1] + P[2]) * (1. / 3);
     const Vec3 b111 = E + 0.5 * (E - V);
     std::vector<CMGeom::Surface_mesh::Vertex_index> id;
@@ -121,15 +124,15 @@ Error metro(const CMGeom::Surface_mesh& ref, const CMGeom::Surface_mesh& app) {
     for (auto f : from.faces()) {
       auto h = from.halfedge(f);
       const std::array<CMGeom::Point_3, 3> t = {from.point(from.source(h)), from.point(from.target(h)),
-                                                 from.point(from.target(from.next(h)))};
+                                                from.point(from.target(from.next(h)))};
       area += std::sqrt(CGAL::to_double(CGAL::squared_area(t[0], t[1], t[2])));
       cumulative.push_back(area);
       tris.push_back(t);
     }
     const std::size_t count = 10 * std::max(ref.number_of_faces(), app.number_of_faces());
     for (std::size_t i = 0; i < count && area > 0; ++i) {
-      const std::size_t f = std::size_t(std::lower_bound(cumulative.begin(), cumulative.end(), u(rng) * area) -
-                                        cumulative.begin());
+      const std::size_t f =
+          std::size_t(std::lower_bound(cumulative.begin(), cumulative.end(), u(rng) * area) - cumulative.begin());
       const auto& t = tris[std::min(f, tris.size() - 1)];
       double a = u(rng), b = u(rng);
       if (a + b > 1) {
@@ -149,7 +152,6 @@ Error metro(const CMGeom::Surface_mesh& ref, const CMGeom::Surface_mesh& app) {
   return {std::sqrt(mx) / diag, std::sqrt(sum / double(n)) / diag};
 }
 
-
 // Reads model `md` of the data directory (gunzipped into `tmp` when needed); false, with a line on
 // stderr, when it is missing.
 bool read_model(const std::string& data, const Model& md, const std::string& tmp, CMGeom::Textured_mesh& tm) {
@@ -166,8 +168,9 @@ bool read_model(const std::string& data, const Model& md, const std::string& tmp
 
 // Regular against adaptive reconstructions at equal output vertex counts (see the file comment).
 int adaptive_table(const std::string& data, const std::vector<Model>& models, const std::string& tmp) {
-  std::printf("| model | base V/F | level | regular V | regular Hausdorff %% | regular RMS %% | chord-error V | tolerance %% | "
-              "chord-error Hausdorff %% | chord-error RMS %% | length V | length Hausdorff %% | length RMS %% |\n");
+  std::printf(
+      "| model | base V/F | level | regular V | regular Hausdorff %% | regular RMS %% | chord-error V | tolerance %% | "
+      "chord-error Hausdorff %% | chord-error RMS %% | length V | length Hausdorff %% | length RMS %% |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Model& md : models) {
     CMGeom::Textured_mesh tm;
@@ -198,10 +201,10 @@ int adaptive_table(const std::string& data, const std::vector<Model>& models, co
         }
       }
       const auto el = metro(mesh, CM::to_surface_mesh(len));
-      std::printf("| %s | %zu/%zu | %d | %zu | %.3f | %.4f | %zu | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n", name.c_str(),
-                  model.vertices.size(), model.faces.size(), level, budget, 100 * er.hausdorff, 100 * er.rms,
-                  ad.reconstruction.points.size(), 100 * ad.tolerance / diagonal, 100 * ea.hausdorff, 100 * ea.rms,
-                  len.points.size(), 100 * el.hausdorff, 100 * el.rms);
+      std::printf("| %s | %zu/%zu | %d | %zu | %.3f | %.4f | %zu | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n",
+                  name.c_str(), model.vertices.size(), model.faces.size(), level, budget, 100 * er.hausdorff,
+                  100 * er.rms, ad.reconstruction.points.size(), 100 * ad.tolerance / diagonal, 100 * ea.hausdorff,
+                  100 * ea.rms, len.points.size(), 100 * el.hausdorff, 100 * el.rms);
       std::fflush(stdout);
     }
   }
@@ -217,8 +220,8 @@ int main(int argc, char** argv) {
     ++argv;
   }
   const std::string data = argc > 1 ? argv[1] : CMGEOM_BENCH_DATA_DIR;
-  std::vector<Model> models = {{"classic/fandisk.obj", 250},      {"classic/trim-star.off", 1000},
-                               {"classic/camel.off", 1000},       {"classic/horse.ply", 1000},
+  std::vector<Model> models = {{"classic/fandisk.obj", 250},        {"classic/trim-star.off", 1000},
+                               {"classic/camel.off", 1000},         {"classic/horse.ply", 1000},
                                {"classic/decimated-max.obj", 1000}, {"classic/igea.ply.gz", 2000}};
   if (argc > 2) {
     models.clear();
@@ -232,9 +235,12 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(tmp);
   if (adaptive) return adaptive_table(data, models, tmp);
   std::printf("Threads: %d (TBB default concurrency)\n\n", tbb::info::default_concurrency());
-  std::printf("| model | fit | input V/F | base V/F | sharp | cones | build s | CM bytes | level | rec s (normal) min / median | "
-              "Mvert/s (normal) at min / median | rec s (closest) min / median | out V | CM Hausdorff %% | CM RMS %% | PN Hausdorff %% | PN RMS %% | plain F (equal bytes) | "
-              "plain Hausdorff %% | plain RMS %% |\n");
+  std::printf(
+      "| model | fit | input V/F | base V/F | sharp | cones | build s | CM bytes | level | rec s (normal) min / median "
+      "| "
+      "Mvert/s (normal) at min / median | rec s (closest) min / median | out V | CM Hausdorff %% | CM RMS %% | PN "
+      "Hausdorff %% | PN RMS %% | plain F (equal bytes) | "
+      "plain Hausdorff %% | plain RMS %% |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Model& md : models) {
     CMGeom::Textured_mesh tm;
@@ -284,13 +290,14 @@ int main(int argc, char** argv) {
             cmgeom_bench::time_runs(reconstruction_runs, [&] { rc = CM::reconstruct_regular(model, level, ro); });
         const auto err = metro(mesh, CM::to_surface_mesh(rc));
         const auto pn = metro(mesh, pn_triangles(model, level));
-        std::printf("| %s | %s | %zu/%zu | %zu/%zu | %zu | %zu | %.2f | %zu | %d | %s | %s | %s | %zu | %.3f | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n",
-                    name.c_str(), fit, mesh.number_of_vertices(), mesh.number_of_faces(), st.base_vertices, st.base_faces,
-                    st.sharp_edges, st.cone_vertices, build_s, bytes, level, cmgeom_bench::min_median(tn).c_str(),
-                    cmgeom_bench::rate_min_median(double(rn.points.size()) / 1e6, tn).c_str(),
-                    cmgeom_bench::min_median(tc).c_str(),
-                    rc.points.size(), 100 * err.hausdorff, 100 * err.rms, 100 * pn.hausdorff, 100 * pn.rms,
-                    plain.number_of_faces(), 100 * plain_err.hausdorff, 100 * plain_err.rms);
+        std::printf(
+            "| %s | %s | %zu/%zu | %zu/%zu | %zu | %zu | %.2f | %zu | %d | %s | %s | %s | %zu | %.3f | %.4f | %.3f | "
+            "%.4f | %zu | %.3f | %.4f |\n",
+            name.c_str(), fit, mesh.number_of_vertices(), mesh.number_of_faces(), st.base_vertices, st.base_faces,
+            st.sharp_edges, st.cone_vertices, build_s, bytes, level, cmgeom_bench::min_median(tn).c_str(),
+            cmgeom_bench::rate_min_median(double(rn.points.size()) / 1e6, tn).c_str(),
+            cmgeom_bench::min_median(tc).c_str(), rc.points.size(), 100 * err.hausdorff, 100 * err.rms,
+            100 * pn.hausdorff, 100 * pn.rms, plain.number_of_faces(), 100 * plain_err.hausdorff, 100 * plain_err.rms);
         std::fflush(stdout);
       }
     }

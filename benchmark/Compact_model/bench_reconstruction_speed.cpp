@@ -60,8 +60,10 @@ int main(int argc, char** argv) {
       models.push_back({a.substr(0, colon), std::atoi(a.c_str() + colon + 1)});
   }
   if (models.empty()) models = {{"classic/horse.ply", 1000}, {"classic/igea.ply.gz", 2000}};
-  std::printf("| model | base F | projection | threads | level | out V | fresh s min / median | fresh M vert/s at min / median | "
-              "reused s min / median | reused M vert/s at min / median |\n");
+  std::printf(
+      "| model | base F | projection | threads | level | out V | fresh s min / median | fresh M vert/s at min / median "
+      "| "
+      "reused s min / median | reused M vert/s at min / median |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& [file, faces] : models) {
     std::string path = data + "/" + file;

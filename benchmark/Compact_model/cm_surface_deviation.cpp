@@ -63,7 +63,8 @@ int main(int argc, char** argv) {
     for (int i = 0; i <= N; ++i)
       for (int j = 0; i + j <= N; ++j) {
         const double a[3] = {double(i) / N, double(j) / N, double(N - i - j) / N};
-        const CM::Vec3 p = a[0] * m.vertices[F[0].vertex] + a[1] * m.vertices[F[1].vertex] + a[2] * m.vertices[F[2].vertex];
+        const CM::Vec3 p =
+            a[0] * m.vertices[F[0].vertex] + a[1] * m.vertices[F[1].vertex] + a[2] * m.vertices[F[2].vertex];
         flat = std::max(flat, distance(p));
         for (int c = 0; c < 3; ++c)
           if (3 * a[c] >= 1.0)
@@ -79,14 +80,19 @@ int main(int argc, char** argv) {
   }
   std::printf("%s, %zu base vertices, %zu faces, %zu surfaces; distances in %% of the diagonal (%.4g)\n\n",
               path.c_str(), m.vertices.size(), m.faces.size(), m.surfaces.size(), diagonal);
-  std::printf("corner surfaces farther from the input than their flat face: %zu of %zu; more than twice as far "
-              "(+0.1 %%): %zu\n\n", worse, out.size(), much_worse);
-  std::printf("| face | corner | base vertex | surface | model | surface max %% | flat face max %% |\n|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "corner surfaces farther from the input than their flat face: %zu of %zu; more than twice as far "
+      "(+0.1 %%): %zu\n\n",
+      worse, out.size(), much_worse);
+  std::printf(
+      "| face | corner | base vertex | surface | model | surface max %% | flat face max %% "
+      "|\n|---|---|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < std::min(rows, out.size()); ++k) {
     const auto& r = out[k];
     const CM::Corner& c = m.faces[r.face][r.corner];
-    std::printf("| %zu | %d | %u | %u | %d | %.3f | %.3f |\n", r.face, r.corner, unsigned(c.vertex), unsigned(c.surface),
-                int(m.surfaces[c.surface].model), 100 * r.surface / diagonal, 100 * r.flat / diagonal);
+    std::printf("| %zu | %d | %u | %u | %d | %.3f | %.3f |\n", r.face, r.corner, unsigned(c.vertex),
+                unsigned(c.surface), int(m.surfaces[c.surface].model), 100 * r.surface / diagonal,
+                100 * r.flat / diagonal);
   }
   return 0;
 }

@@ -122,7 +122,8 @@ CD::Vec3 pose(const Box& b, const CD::Vec3& p) {
   return q;
 }
 
-void write_obj(const std::string& path, const std::vector<CD::Vec3>& P, const std::vector<std::vector<std::uint32_t>>& Q) {
+void write_obj(const std::string& path, const std::vector<CD::Vec3>& P,
+               const std::vector<std::vector<std::uint32_t>>& Q) {
   std::ofstream o(path);
   o.precision(17);
   for (const auto& p : P) o << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
@@ -298,9 +299,9 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
     }
   }
   for (const Row& r : rows) {
-    std::printf("| %s | %s (K=%zu) | %s | %zu | %.3f | %.3f | %.3f | %.3f | %s | %.2f |", name.c_str(), cage_name.c_str(),
-                K, r.method.c_str(), r.points, r.mesh_bytes / 1e6, r.coord_bytes / 1e6, r.other_bytes / 1e6, r.bind,
-                cmgeom_bench::min_median(r.per_deformation, "%.5f").c_str(),
+    std::printf("| %s | %s (K=%zu) | %s | %zu | %.3f | %.3f | %.3f | %.3f | %s | %.2f |", name.c_str(),
+                cage_name.c_str(), K, r.method.c_str(), r.points, r.mesh_bytes / 1e6, r.coord_bytes / 1e6,
+                r.other_bytes / 1e6, r.bind, cmgeom_bench::min_median(r.per_deformation, "%.5f").c_str(),
                 a.per_deformation.median / r.per_deformation.median);
     if (r.hausdorff >= 0)
       std::printf(" %.3f | %.4f |\n", r.hausdorff, r.rms);
@@ -312,7 +313,8 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
 
 // The points and triangles of `mesh` as arrays (vertex indices as in the mesh, which has no
 // removed elements after reading).
-void flatten(const CMGeom::Surface_mesh& mesh, std::vector<CD::Vec3>& pts, std::vector<std::array<std::uint32_t, 3>>& tris) {
+void flatten(const CMGeom::Surface_mesh& mesh, std::vector<CD::Vec3>& pts,
+             std::vector<std::array<std::uint32_t, 3>>& tris) {
   for (auto v : mesh.vertices()) pts.push_back({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
   for (auto f : mesh.faces()) {
     std::array<std::uint32_t, 3> t;
@@ -343,8 +345,10 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
   std::printf("Scale: %s, %zu vertices, %zu faces; CM %zu base faces (build %.1f s, file %.3f MB), level %d\n\n",
               fs::path(path).filename().string().c_str(), pts.size(), tris.size(), model.faces.size(), build_s,
               cm_bytes / 1e6, level);
-  std::printf("| cage | method | points | memory MB | bind s | s per pose min / median | speed-up vs (a) (medians) | memory ratio (a)/row | "
-              "Hausdorff %% vs (a) | RMS %% vs (a) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| cage | method | points | memory MB | bind s | s per pose min / median | speed-up vs (a) (medians) | memory "
+      "ratio (a)/row | "
+      "Hausdorff %% vs (a) | RMS %% vs (a) |\n|---|---|---|---|---|---|---|---|---|---|\n");
   const Box b = box_of(pts);
   std::vector<std::array<double, 3>> P;
   std::vector<std::vector<std::uint32_t>> Q;
@@ -384,10 +388,9 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
     auto report = [&](const std::string& method, const CM::Reconstruction& out, std::size_t bytes, double bind,
                       const cmgeom_bench::Timing& per_pose) {
       const auto e = CMGeom::Metrics::approximation_error(ref, mesh_of(to_cd(out.points), out.triangles), eo);
-      std::printf("| %s (K=%zu) | %s | %zu | %.1f | %.2f | %s | %.2f | %.1f | %.3f | %.4f |\n", cage_name.c_str(),
-                  a_K, method.c_str(), out.points.size(), bytes / 1e6, bind, cmgeom_bench::min_median(per_pose).c_str(),
-                  a_pose.median / per_pose.median,
-                  double(a_bytes) / double(bytes), 100 * e.hausdorff, 100 * e.rms);
+      std::printf("| %s (K=%zu) | %s | %zu | %.1f | %.2f | %s | %.2f | %.1f | %.3f | %.4f |\n", cage_name.c_str(), a_K,
+                  method.c_str(), out.points.size(), bytes / 1e6, bind, cmgeom_bench::min_median(per_pose).c_str(),
+                  a_pose.median / per_pose.median, double(a_bytes) / double(bytes), 100 * e.hausdorff, 100 * e.rms);
       std::fflush(stdout);
     };
     {
@@ -458,8 +461,10 @@ int main(int argc, char** argv) {
   const fs::path tmp = fs::temp_directory_path() / ("cmgeom_bench_dcm_" + std::to_string(::getpid()));
   fs::create_directories(tmp);
   std::printf("Threads: %d (TBB default concurrency)\n\n", tbb::info::default_concurrency());
-  std::printf("| model | cage | method | points | mesh MB | coordinates MB | maps MB | bind s | s per deformation min / median | "
-              "speed-up vs (a) | Hausdorff %% vs (a) | RMS %% vs (a) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| model | cage | method | points | mesh MB | coordinates MB | maps MB | bind s | s per deformation min / median "
+      "| "
+      "speed-up vs (a) | Hausdorff %% vs (a) | RMS %% vs (a) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& [file, base_faces] : models) {
     std::string path = (fs::path(data) / "classic" / file).string();
     if (!fs::exists(path)) {
@@ -506,11 +511,12 @@ int main(int argc, char** argv) {
             << "_deformed.obj\", \"coordinates\": \"" << (cage_name == "box" ? "mean_value" : "green") << "\"}]}\n";
       }
       if (cage_name == "box")
-        run(name, cage_name + " MVC", Single_cage_setup<CD::Mean_value_coordinates_3>(CD::Mean_value_coordinates_3(cage), posed),
-            pts, tris, model);
+        run(name, cage_name + " MVC",
+            Single_cage_setup<CD::Mean_value_coordinates_3>(CD::Mean_value_coordinates_3(cage), posed), pts, tris,
+            model);
       else
-        run(name, cage_name + " Green", Single_cage_setup<CD::Green_coordinates_3>(CD::Green_coordinates_3(cage), posed),
-            pts, tris, model);
+        run(name, cage_name + " Green",
+            Single_cage_setup<CD::Green_coordinates_3>(CD::Green_coordinates_3(cage), posed), pts, tris, model);
     }
   }
   fs::remove_all(tmp);

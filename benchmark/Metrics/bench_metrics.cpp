@@ -35,9 +35,7 @@
 
 namespace {
 
-double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // Reads a model, gunzipping "*.gz" into the temporary directory first.
 CMGeom::Textured_mesh load(const std::string& path) {
@@ -58,7 +56,8 @@ void bench_error(const std::string& name, const std::string& path, int reps) {
   const double diag = cmgeom_bench::diagonal(CGAL::Polygon_mesh_processing::bbox(ref));
   for (auto v : app.vertices()) {
     const auto p = app.point(v);
-    const double s = 0.002 * diag * std::sin(40 * p.x() / diag) * std::sin(40 * p.y() / diag) * std::sin(40 * p.z() / diag);
+    const double s =
+        0.002 * diag * std::sin(40 * p.x() / diag) * std::sin(40 * p.y() / diag) * std::sin(40 * p.z() / diag);
     app.point(v) = CMGeom::Point_3(p.x() + s, p.y() - s, p.z() + s);
   }
   namespace M = CMGeom::Metrics;
@@ -72,8 +71,12 @@ void bench_error(const std::string& name, const std::string& path, int reps) {
   const cmgeom_bench::Timing t1 = run_ours(1, e1), t2 = run_ours(2, e2);
   const auto& a = e1.reference_to_approximation;
   const auto& b = e1.approximation_to_reference;
-  auto np1 = CGAL::parameters::number_of_points_on_faces(a.face_samples).number_of_points_on_edges(a.edge_samples).random_seed(1);
-  auto np2 = CGAL::parameters::number_of_points_on_faces(b.face_samples).number_of_points_on_edges(b.edge_samples).random_seed(1);
+  auto np1 = CGAL::parameters::number_of_points_on_faces(a.face_samples)
+                 .number_of_points_on_edges(a.edge_samples)
+                 .random_seed(1);
+  auto np2 = CGAL::parameters::number_of_points_on_faces(b.face_samples)
+                 .number_of_points_on_edges(b.edge_samples)
+                 .random_seed(1);
   namespace PMP = CGAL::Polygon_mesh_processing;
   auto run_cgal = [&](auto tag, double& h) {
     return cmgeom_bench::time_runs(
@@ -106,7 +109,9 @@ int main(int argc, char** argv) {
   }
   std::printf("## Geometric error: samples per second (%d runs, both directions, trees included)\n\n", reps);
   std::printf("Times are \"min / median\" of the runs, M/s and the speed-up are of the medians.\n\n");
-  std::printf("| model | faces | samples | ours 1 thread | ours 2 threads | speed-up | CGAL sequential | CGAL parallel | Hausdorff ours / CGAL seq / CGAL par |\n");
+  std::printf(
+      "| model | faces | samples | ours 1 thread | ours 2 threads | speed-up | CGAL sequential | CGAL parallel | "
+      "Hausdorff ours / CGAL seq / CGAL par |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   bench_error("bunny (bunny.off)", data + "/classic/bunny.off", reps);
   bench_error("Stanford bunny", data + "/classic/stanford-bunny.obj.gz", reps);
@@ -126,9 +131,11 @@ int main(int argc, char** argv) {
   const cmgeom_bench::Timing t = cmgeom_bench::time_runs(reps, [&] { renderer.render(rm, o); });
   o.wireframe = true;
   const cmgeom_bench::Timing tw = cmgeom_bench::time_runs(reps, [&] { renderer.render(rm, o); });
-  std::printf("\n## Rendering (%s)\n\nLast two columns: \"min / median\" of the runs.\n\n"
-              "| mesh | faces | make_render_mesh | first picture | picture 1024x1024 4x MSAA | with wireframe |\n|---|---|---|---|---|---|\n",
-              renderer.description().c_str());
+  std::printf(
+      "\n## Rendering (%s)\n\nLast two columns: \"min / median\" of the runs.\n\n"
+      "| mesh | faces | make_render_mesh | first picture | picture 1024x1024 4x MSAA | with wireframe "
+      "|\n|---|---|---|---|---|---|\n",
+      renderer.description().c_str());
   std::printf("| Nefertiti | %zu | %.3f s | %.3f s | %s s | %s s |\n", nef.mesh().number_of_faces(), t_flat, first,
               cmgeom_bench::min_median(t, "%.3f").c_str(), cmgeom_bench::min_median(tw, "%.3f").c_str());
 #else

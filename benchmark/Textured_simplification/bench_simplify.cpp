@@ -68,7 +68,8 @@ std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
   std::stringstream ss(s);
   std::string item;
-  while (std::getline(ss, item, ',')) if (!item.empty()) out.push_back(item);
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
   return out;
 }
 
@@ -164,12 +165,15 @@ std::vector<Point> samples(const Mesh& m, std::size_t n, unsigned seed) {
   std::vector<Point> out;
   out.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t k = std::min<std::size_t>(std::lower_bound(cdf.begin(), cdf.end(), U(rng) * total) - cdf.begin(),
-                                                fs_.size() - 1);
+    const std::size_t k =
+        std::min<std::size_t>(std::lower_bound(cdf.begin(), cdf.end(), U(rng) * total) - cdf.begin(), fs_.size() - 1);
     auto h = m.halfedge(fs_[k]);
     const Point &a = m.point(m.source(h)), &b = m.point(m.target(h)), &c = m.point(m.target(m.next(h)));
     double s = U(rng), t = U(rng);
-    if (s + t > 1) { s = 1 - s; t = 1 - t; }
+    if (s + t > 1) {
+      s = 1 - s;
+      t = 1 - t;
+    }
     out.push_back(a + s * (b - a) + t * (c - a));
   }
   return out;
@@ -275,9 +279,9 @@ Mesh run_cgal_gh(const Mesh& in, std::size_t target, double& secs) {
 Mesh run_cgal_lt(const Mesh& in, std::size_t target, double& secs) {
   Mesh m = in;
   const double t0 = cpu_seconds();
-  SMS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target),
-                     CGAL::parameters::get_cost(SMS::LindstromTurk_cost<Mesh>())
-                         .get_placement(SMS::LindstromTurk_placement<Mesh>()));
+  SMS::edge_collapse(
+      m, TS::Face_count_stop_predicate<Mesh>(m, target),
+      CGAL::parameters::get_cost(SMS::LindstromTurk_cost<Mesh>()).get_placement(SMS::LindstromTurk_placement<Mesh>()));
   secs = cpu_seconds() - t0;
   m.collect_garbage();
   return m;
@@ -295,7 +299,8 @@ Mesh run_meshopt(const Soup& s, std::size_t target, double& secs) {
 Mesh run_openmesh(const Soup& s, std::size_t target, double& secs) {
   OMesh om;
   std::vector<OMesh::VertexHandle> vh;
-  for (std::size_t i = 0; i < s.xyz.size(); i += 3) vh.push_back(om.add_vertex(OMesh::Point(s.xyz[i], s.xyz[i + 1], s.xyz[i + 2])));
+  for (std::size_t i = 0; i < s.xyz.size(); i += 3)
+    vh.push_back(om.add_vertex(OMesh::Point(s.xyz[i], s.xyz[i + 1], s.xyz[i + 2])));
   for (std::size_t i = 0; i < s.tris.size(); i += 3) om.add_face(vh[s.tris[i]], vh[s.tris[i + 1]], vh[s.tris[i + 2]]);
   const double t0 = cpu_seconds();
   OpenMesh::Decimater::DecimaterT<OMesh> dec(om);
@@ -317,42 +322,68 @@ Mesh run_openmesh(const Soup& s, std::size_t target, double& secs) {
 
 // The tools by name (the default list and "cmgeom-plain-flips"). cmgeom-default is what
 // `cmgeom simplify` does without options: plain quadrics and the memoryful cost (Surface_memory.h).
-const char* const all_tools[] = {"cmgeom-default",       "cmgeom-default-whole", "cmgeom-weighted",      "cmgeom-weighted-sum",  "cmgeom-plain",
-                                 "cmgeom-weighted-flips", "cmgeom-plain-flips",   "cgal-engine-weighted",
-                                 "cgal-engine-plain",     "cgal-gh",              "cgal-lt",
-                                 "meshopt",               "openmesh"};
+const char* const all_tools[] = {"cmgeom-default",
+                                 "cmgeom-default-whole",
+                                 "cmgeom-weighted",
+                                 "cmgeom-weighted-sum",
+                                 "cmgeom-plain",
+                                 "cmgeom-weighted-flips",
+                                 "cmgeom-plain-flips",
+                                 "cgal-engine-weighted",
+                                 "cgal-engine-plain",
+                                 "cgal-gh",
+                                 "cgal-lt",
+                                 "meshopt",
+                                 "openmesh"};
 
 /// Runs `tool` once on `md` down to `target` faces; false if the name is not one of all_tools.
 bool run_tool(const std::string& tool, const Model& md, std::size_t target, Mesh& out, double& secs) {
-  if (tool == "cmgeom-default") out = run_cmgeom_default(md.mesh, target, true, secs);
-  else if (tool == "cmgeom-default-whole") out = run_cmgeom_default(md.mesh, target, false, secs);
-  else if (tool == "cmgeom-weighted") out = run_cmgeom(md.mesh, target, true, false, secs);
-  else if (tool == "cmgeom-plain") out = run_cmgeom(md.mesh, target, false, false, secs);
-  else if (tool == "cmgeom-weighted-flips") out = run_cmgeom(md.mesh, target, true, true, secs);
-  else if (tool == "cmgeom-weighted-sum") out = run_cmgeom(md.mesh, target, true, false, secs, TS::Quadric_merge::sum);
-  else if (tool == "cmgeom-plain-flips") out = run_cmgeom(md.mesh, target, false, true, secs);
-  else if (tool == "cgal-engine-weighted") out = run_cmgeom_policy_on_cgal(md.mesh, target, true, secs);
-  else if (tool == "cgal-engine-plain") out = run_cmgeom_policy_on_cgal(md.mesh, target, false, secs);
-  else if (tool == "cgal-gh") out = run_cgal_gh(md.mesh, target, secs);
-  else if (tool == "cgal-lt") out = run_cgal_lt(md.mesh, target, secs);
-  else if (tool == "meshopt") out = run_meshopt(md.soup, target, secs);
-  else if (tool == "openmesh") out = run_openmesh(md.soup, target, secs);
-  else return false;
+  if (tool == "cmgeom-default")
+    out = run_cmgeom_default(md.mesh, target, true, secs);
+  else if (tool == "cmgeom-default-whole")
+    out = run_cmgeom_default(md.mesh, target, false, secs);
+  else if (tool == "cmgeom-weighted")
+    out = run_cmgeom(md.mesh, target, true, false, secs);
+  else if (tool == "cmgeom-plain")
+    out = run_cmgeom(md.mesh, target, false, false, secs);
+  else if (tool == "cmgeom-weighted-flips")
+    out = run_cmgeom(md.mesh, target, true, true, secs);
+  else if (tool == "cmgeom-weighted-sum")
+    out = run_cmgeom(md.mesh, target, true, false, secs, TS::Quadric_merge::sum);
+  else if (tool == "cmgeom-plain-flips")
+    out = run_cmgeom(md.mesh, target, false, true, secs);
+  else if (tool == "cgal-engine-weighted")
+    out = run_cmgeom_policy_on_cgal(md.mesh, target, true, secs);
+  else if (tool == "cgal-engine-plain")
+    out = run_cmgeom_policy_on_cgal(md.mesh, target, false, secs);
+  else if (tool == "cgal-gh")
+    out = run_cgal_gh(md.mesh, target, secs);
+  else if (tool == "cgal-lt")
+    out = run_cgal_lt(md.mesh, target, secs);
+  else if (tool == "meshopt")
+    out = run_meshopt(md.soup, target, secs);
+  else if (tool == "openmesh")
+    out = run_openmesh(md.soup, target, secs);
+  else
+    return false;
   return true;
 }
 
 bool load(const std::string& data, const std::string& tmp, const std::string& name, Mesh& m) {
-  std::map<std::string, std::string> files = {
-      {"bunny", "classic/stanford-bunny.obj.gz"}, {"armadillo", "classic/armadillo.obj.gz"},
-      {"igea", "classic/igea.ply.gz"},            {"nefertiti", "classic/nefertiti.obj.gz"},
-      {"max-planck", "classic/decimated-max.obj"}, {"igea-sub", "classic/igea.ply.gz"}};
+  std::map<std::string, std::string> files = {{"bunny", "classic/stanford-bunny.obj.gz"},
+                                              {"armadillo", "classic/armadillo.obj.gz"},
+                                              {"igea", "classic/igea.ply.gz"},
+                                              {"nefertiti", "classic/nefertiti.obj.gz"},
+                                              {"max-planck", "classic/decimated-max.obj"},
+                                              {"igea-sub", "classic/igea.ply.gz"}};
   if (!files.count(name)) return false;
   const std::string path = cmgeom_bench::readable_model(data + "/" + files[name], tmp);
   if (path.empty()) return false;
   if (!CGAL::IO::read_polygon_mesh(path, m) || m.is_empty()) return false;
   // unreferenced vertices (stanford-bunny has 1113) play no role in simplification
   std::vector<Mesh::Vertex_index> isolated;
-  for (auto v : m.vertices()) if (m.is_isolated(v)) isolated.push_back(v);
+  for (auto v : m.vertices())
+    if (m.is_isolated(v)) isolated.push_back(v);
   for (auto v : isolated) m.remove_vertex(v);
   m.collect_garbage();
   if (name == "igea-sub") m = subdivide_midpoint(m);  // 1,074,744 faces
@@ -376,15 +407,25 @@ int main(int argc, char** argv) {
   std::string data = CMGEOM_BENCH_DATA_DIR, tmp = "/tmp/cmgeom-bench-simplify", out_file;
   std::vector<std::string> models = {"bunny", "armadillo", "igea", "nefertiti", "max-planck", "igea-sub"};
   std::vector<double> ratios = {0.1, 0.01};
-  std::vector<std::string> tools = {"cmgeom-default", "cmgeom-weighted", "cmgeom-weighted-sum", "cmgeom-plain",
-                                    "cmgeom-weighted-flips", "cgal-engine-weighted", "cgal-engine-plain",
-                                    "cgal-gh",              "cgal-lt",             "meshopt",
+  std::vector<std::string> tools = {"cmgeom-default",
+                                    "cmgeom-weighted",
+                                    "cmgeom-weighted-sum",
+                                    "cmgeom-plain",
+                                    "cmgeom-weighted-flips",
+                                    "cgal-engine-weighted",
+                                    "cgal-engine-plain",
+                                    "cgal-gh",
+                                    "cgal-lt",
+                                    "meshopt",
                                     "openmesh"};
   std::size_t n_samples = 100000, repeat = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
-      if (i + 1 >= argc) { std::cerr << "missing value after " << a << "\n"; std::exit(2); }
+      if (i + 1 >= argc) {
+        std::cerr << "missing value after " << a << "\n";
+        std::exit(2);
+      }
       return argv[++i];
     };
     // a number in [lo, hi], or a usage error (exit 2), not an exception
@@ -397,9 +438,12 @@ int main(int argc, char** argv) {
       }
       return x;
     };
-    if (a == "--data") data = next();
-    else if (a == "--tmp") tmp = next();
-    else if (a == "--models") models = split(next());
+    if (a == "--data")
+      data = next();
+    else if (a == "--tmp")
+      tmp = next();
+    else if (a == "--models")
+      models = split(next());
     else if (a == "--tools") {
       tools = split(next());
       for (const std::string& t : tools)
@@ -407,11 +451,14 @@ int main(int argc, char** argv) {
           std::cerr << "unknown tool '" << t << "' in --tools\n";
           return 2;
         }
-    }
-    else if (a == "--samples") n_samples = static_cast<std::size_t>(number(1, 1e9));
-    else if (a == "--min-weight") g_min_weight = number(1e-300, 1);
-    else if (a == "--repeat") repeat = static_cast<std::size_t>(number(1, 99));
-    else if (a == "--out") out_file = next();
+    } else if (a == "--samples")
+      n_samples = static_cast<std::size_t>(number(1, 1e9));
+    else if (a == "--min-weight")
+      g_min_weight = number(1e-300, 1);
+    else if (a == "--repeat")
+      repeat = static_cast<std::size_t>(number(1, 99));
+    else if (a == "--out")
+      out_file = next();
     else if (a == "--ratios") {
       ratios.clear();
       const std::string list = next();
@@ -486,18 +533,18 @@ int main(int argc, char** argv) {
   }
 
   std::ostringstream t;
-  t << "| model (faces) | target | tool | faces out | CPU s min / median | M input tri/s | Hausdorff | RMS | time / GH | "
+  t << "| model (faces) | target | tool | faces out | CPU s min / median | M input tri/s | Hausdorff | RMS | time / GH "
+       "| "
        "Hausdorff / GH | RMS / GH | GH / tool, paired |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const Row& r : rows) {
     const Row* gh = nullptr;
     for (const Row& g : rows)
       if (g.model == r.model && g.ratio == r.ratio && g.tool == "cgal-gh") gh = &g;
     t << "| " << r.model << " (" << r.faces_in << ") | " << fmt(100 * r.ratio) << "% (" << r.target << ") | " << r.tool
-      << " | " << r.faces_out << " | " << fmt(r.seconds_min) << " / " << fmt(r.seconds) << " | " << fmt(r.faces_in / std::max(r.seconds, 1e-9) / 1e6)
-      << " | " << sci(r.hausdorff) << " | " << sci(r.rms) << " | "
-      << (gh ? fmt(r.seconds / gh->seconds) : "-") << " | " << (gh ? fmt(r.hausdorff / gh->hausdorff) : "-")
-      << " | " << (gh ? fmt(r.rms / gh->rms) : "-") << " | " << (r.paired_speedup > 0 ? fmt(r.paired_speedup) : "-")
-      << " |\n";
+      << " | " << r.faces_out << " | " << fmt(r.seconds_min) << " / " << fmt(r.seconds) << " | "
+      << fmt(r.faces_in / std::max(r.seconds, 1e-9) / 1e6) << " | " << sci(r.hausdorff) << " | " << sci(r.rms) << " | "
+      << (gh ? fmt(r.seconds / gh->seconds) : "-") << " | " << (gh ? fmt(r.hausdorff / gh->hausdorff) : "-") << " | "
+      << (gh ? fmt(r.rms / gh->rms) : "-") << " | " << (r.paired_speedup > 0 ? fmt(r.paired_speedup) : "-") << " |\n";
   }
   std::cout << t.str();
   if (!out_file.empty()) {

@@ -94,8 +94,8 @@ CMGeom::Polygon_soup to_soup(const CMGeom::Textured_mesh& tm, const CMGeom::Imag
 
 struct Row {
   std::size_t faces = 0, charts = 0;
-  double seconds = 0;           // of one run
-  cmgeom_bench::Timing time;    // over the repetitions
+  double seconds = 0;         // of one run
+  cmgeom_bench::Timing time;  // over the repetitions
   bool ok = true;
   std::string note;
   CMGeom::Polygon_soup soup;
@@ -106,12 +106,12 @@ Row run_ours(const CMGeom::Textured_mesh& in, std::size_t target, bool frozen, b
   TS::Textured_simplification_options o;
   o.target_faces = target;
   o.constraints.freeze_chart_boundaries = frozen;
-  o.keep_charts = true;  // this benchmark measures the thesis' chart-preserving method,
+  o.keep_charts = true;       // this benchmark measures the thesis' chart-preserving method,
   o.quadric.weighted = true;  // with its weighted quadrics (§3.4.2)
   o.resample_textures = !frozen;
   const double t0 = now();
-  const auto r = gl ? TS::simplify_textured_mesh<TS::Osmesa_index_texture_resampler>(tm, o)
-                    : TS::simplify_textured_mesh(tm, o);
+  const auto r =
+      gl ? TS::simplify_textured_mesh<TS::Osmesa_index_texture_resampler>(tm, o) : TS::simplify_textured_mesh(tm, o);
   Row row;
   row.seconds = now() - t0;
   row.faces = r.faces_out;
@@ -132,10 +132,11 @@ Row run_cgal(const CMGeom::Textured_mesh& in, std::size_t target) {
   CC cc(m, get(CGAL::vertex_point, m), tm.uv_map(), co);
   const double t0 = now();
   CGAL::Surface_mesh_simplification::GarlandHeckbert_plane_policies<Mesh, CMGeom::Kernel> gh(m);
-  CGAL::Surface_mesh_simplification::edge_collapse(
-      m, TS::Face_count_stop_predicate<Mesh>(m, target),
-      CGAL::parameters::get_cost(gh.get_cost()).get_placement(gh.get_placement())
-          .filter(TS::Chart_constraint_filter<CC>(cc)).visitor(TS::Chart_constraint_visitor<CC>(cc, nullptr)));
+  CGAL::Surface_mesh_simplification::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target),
+                                                   CGAL::parameters::get_cost(gh.get_cost())
+                                                       .get_placement(gh.get_placement())
+                                                       .filter(TS::Chart_constraint_filter<CC>(cc))
+                                                       .visitor(TS::Chart_constraint_visitor<CC>(cc, nullptr)));
   Row row;
   row.seconds = now() - t0;
   m.collect_garbage();
@@ -151,8 +152,8 @@ Row run_meshopt(const CMGeom::Textured_mesh& in, std::size_t target) {
   // vertex buffer split at UV seams: one vertex per distinct (position, uv) pair
   const Mesh& m = in.mesh();
   std::map<std::pair<std::uint32_t, std::pair<double, double>>, std::uint32_t> key;
-  std::vector<float> vb;                 // x y z u v
-  std::vector<std::uint32_t> orig;       // split vertex -> mesh vertex
+  std::vector<float> vb;            // x y z u v
+  std::vector<std::uint32_t> orig;  // split vertex -> mesh vertex
   std::vector<std::uint32_t> ib;
   for (auto f : m.faces())
     for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
@@ -170,8 +171,8 @@ Row run_meshopt(const CMGeom::Textured_mesh& in, std::size_t target) {
     }
   std::vector<std::uint32_t> out(ib.size());
   const double t0 = now();
-  const std::size_t n = meshopt_simplify(out.data(), ib.data(), ib.size(), vb.data(), orig.size(), 5 * sizeof(float),
-                                         3 * target, 1e10f);
+  const std::size_t n =
+      meshopt_simplify(out.data(), ib.data(), ib.size(), vb.data(), orig.size(), 5 * sizeof(float), 3 * target, 1e10f);
   Row row;
   row.seconds = now() - t0;
   out.resize(n);
@@ -227,10 +228,14 @@ int main(int argc, char** argv) {
     }
     const std::string v = argv[i + 1];
     double x = 0;
-    if (a == "--models") models = v;
-    else if (a == "--fractions") fractions = v;
-    else if (a == "--size" && cmgeom_bench::parse_number(v, 16, 16384, x) && x == std::floor(x)) size = int(x);
-    else if (a == "--repeat" && cmgeom_bench::parse_number(v, 1, 99, x) && x == std::floor(x)) repeat = int(x);
+    if (a == "--models")
+      models = v;
+    else if (a == "--fractions")
+      fractions = v;
+    else if (a == "--size" && cmgeom_bench::parse_number(v, 16, 16384, x) && x == std::floor(x))
+      size = int(x);
+    else if (a == "--repeat" && cmgeom_bench::parse_number(v, 1, 99, x) && x == std::floor(x))
+      repeat = int(x);
     else {
       std::cerr << (a == "--size"     ? "bad value '" + v + "' for --size: expected an integer in [16, 16384]"
                     : a == "--repeat" ? "bad value '" + v + "' for --repeat: expected an integer in [1, 99]"
@@ -262,7 +267,8 @@ int main(int argc, char** argv) {
       return 2;
     }
   R::Renderer renderer;
-  std::cout << "| model | faces in | target | tool | faces out | charts in → out | seconds min / median | Hausdorff | RMS | image RMSE |\n"
+  std::cout << "| model | faces in | target | tool | faces out | charts in → out | seconds min / median | Hausdorff | "
+               "RMS | image RMSE |\n"
                "|---|---:|---:|---|---:|---|---:|---:|---:|---:|\n";
   for (const std::string& name : split(models)) {
     const auto& f = files.at(name);
@@ -305,8 +311,8 @@ int main(int argc, char** argv) {
           secs.push_back(now() - t0);
         }
         g.mesh().collect_garbage();
-        std::printf("| %s | %zu | %zu (%s) | geometry only | %zu | - | %s | - | - | - |\n", name.c_str(), faces_in, target,
-                    fs.c_str(), std::size_t(g.mesh().number_of_faces()),
+        std::printf("| %s | %zu | %zu (%s) | geometry only | %zu | - | %s | - | - | - |\n", name.c_str(), faces_in,
+                    target, fs.c_str(), std::size_t(g.mesh().number_of_faces()),
                     cmgeom_bench::min_median(cmgeom_bench::summarize(secs), "%.3f").c_str());
       }
       auto run_once = [&](const std::string& tl, std::size_t tgt) {
@@ -330,10 +336,9 @@ int main(int argc, char** argv) {
         CMGeom::Metrics::Error_options eo;
         const auto e = CMGeom::Metrics::approximation_error(ref_soup, r.soup, eo);
         const double rmse = image_rmse(renderer, ref, r.soup, size);
-        std::printf("| %s | %zu | %zu (%s) | %s | %zu | %zu → %zu | %s | %.5f | %.6f | %.2f |\n", name.c_str(), faces_in,
-                    tgt, target_label.c_str(), tool.c_str(), r.faces, charts_in, r.charts,
-                    cmgeom_bench::min_median(r.time, "%.3f").c_str(), e.hausdorff, e.rms,
-                    rmse);
+        std::printf("| %s | %zu | %zu (%s) | %s | %zu | %zu → %zu | %s | %.5f | %.6f | %.2f |\n", name.c_str(),
+                    faces_in, tgt, target_label.c_str(), tool.c_str(), r.faces, charts_in, r.charts,
+                    cmgeom_bench::min_median(r.time, "%.3f").c_str(), e.hausdorff, e.rms, rmse);
         std::fflush(stdout);
       };
       std::map<std::string, std::size_t> reached;

@@ -144,7 +144,8 @@ Obj read_obj(const std::string& path) {
                           " corner(s); at least 3 needed");
       if (current < 0) current = use_material("");
       for (std::size_t k = 1; k + 1 < c.size(); ++k)
-        obj.tris.push_back({{c[0].first, c[k].first, c[k + 1].first}, {c[0].second, c[k].second, c[k + 1].second}, current});
+        obj.tris.push_back(
+            {{c[0].first, c[k].first, c[k + 1].first}, {c[0].second, c[k].second, c[k + 1].second}, current});
     } else if (key == "usemtl") {
       if (rest.empty()) throw Input_error(where(path, line_no) + "usemtl without a material name");
       current = use_material(rest);
@@ -207,8 +208,8 @@ std::string number(double x) {  // shortest text that reads back as x
 
 void write_atomically(const std::string& path, const std::string& content) {
   const fs::path target(path);
-  const fs::path tmp = fs::absolute(target).parent_path() /
-                       ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  const fs::path tmp =
+      fs::absolute(target).parent_path() / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
   {
     std::ofstream out(tmp, std::ios::binary);
     out << content;
@@ -242,7 +243,8 @@ int run(int argc, char** argv) {
       }
       char* end = nullptr;
       faces = std::strtoll(v.c_str(), &end, 10);
-      if (v.empty() || end != v.c_str() + v.size() || faces < 1 || v.find_first_not_of("0123456789") != std::string::npos)
+      if (v.empty() || end != v.c_str() + v.size() || faces < 1 ||
+          v.find_first_not_of("0123456789") != std::string::npos)
         throw Usage_error("--faces needs a positive integer, got '" + v + "'");
     } else if (a.size() > 1 && a[0] == '-') {
       throw Usage_error("unknown option " + a);
@@ -303,8 +305,8 @@ int run(int argc, char** argv) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   result.resize(n);
 
-  std::vector<std::string> mtl_paths = mtl_override.empty() ? resolve_mtllibs(pos[0], obj.mtllibs)
-                                                            : std::vector<std::string>{mtl_override};
+  std::vector<std::string> mtl_paths =
+      mtl_override.empty() ? resolve_mtllibs(pos[0], obj.mtllibs) : std::vector<std::string>{mtl_override};
   std::vector<std::string> names = obj.materials;
   if (names.size() == 1 && names[0].empty() && !mtl_override.empty()) names[0] = first_material_name(mtl_override);
 
@@ -333,7 +335,8 @@ int run(int argc, char** argv) {
     fs_ += "\n";
   }
   std::string text = "# meshoptimizer " + std::to_string(MESHOPTIMIZER_VERSION / 1000) + "." +
-                     std::to_string(MESHOPTIMIZER_VERSION % 1000 / 10) + " meshopt_simplify, vertex buffer split at UV seams\n";
+                     std::to_string(MESHOPTIMIZER_VERSION % 1000 / 10) +
+                     " meshopt_simplify, vertex buffer split at UV seams\n";
   text += "# input " + fs::absolute(pos[0]).lexically_normal().string() + ": " + std::to_string(faces_in) +
           " faces, target " + std::to_string(faces) + ", output " + std::to_string(n / 3) + "\n";
   for (const std::string& m : mtl_paths) text += "mtllib " + m + "\n";

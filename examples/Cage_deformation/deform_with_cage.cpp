@@ -18,12 +18,11 @@ void deform_and_print(const char* name, const Coordinates& coords, const std::ve
   CD::Cage_binding<double> binding = CD::bind_points(coords, points);
   std::vector<CD::Vec3> out;
   binding.deform(coords.deformation_rule(), deformed_cage, out);
-  std::printf("%s (%zu coordinates per point, %zu weight bytes)\n", name,
-              binding.number_of_coordinates(), binding.weights_bytes());
+  std::printf("%s (%zu coordinates per point, %zu weight bytes)\n", name, binding.number_of_coordinates(),
+              binding.weights_bytes());
   for (std::size_t i = 0; i < points.size(); ++i)
-    std::printf("  (%.2f %.2f %.2f) -> (%.4f %.4f %.4f)  %s\n", points[i][0], points[i][1],
-                points[i][2], out[i][0], out[i][1], out[i][2],
-                CD::to_string(binding.status()[i]));
+    std::printf("  (%.2f %.2f %.2f) -> (%.4f %.4f %.4f)  %s\n", points[i][0], points[i][1], points[i][2], out[i][0],
+                out[i][1], out[i][2], CD::to_string(binding.status()[i]));
 }
 
 int main() {
@@ -38,8 +37,8 @@ int main() {
   for (int i = 4; i < 8; ++i) deformed[i][0] += 0.3;  // shear the top face
   deformed[6][2] += 0.5;                              // and lift one of its corners
 
-  const std::vector<CD::Vec3> points = {{0.5, 0.5, 0.5}, {0.25, 0.75, 0.9}, {1, 1, 1},
-                                        {0.5, 0.5, 1.2}};  // the last one is outside the cage
+  const std::vector<CD::Vec3> points = {
+      {0.5, 0.5, 0.5}, {0.25, 0.75, 0.9}, {1, 1, 1}, {0.5, 0.5, 1.2}};  // the last one is outside the cage
 
   deform_and_print("mean value", CD::Mean_value_coordinates_3(cage), points, deformed);
   deform_and_print("Green", CD::Green_coordinates_3(cage), points, deformed);

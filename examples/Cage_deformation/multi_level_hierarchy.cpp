@@ -27,8 +27,8 @@ int main() {
       for (int k = 0; k <= 10; ++k) points.push_back({0.05 + 0.05 * i, 0.1 * j, 0.1 * k});
 
   // Level 0: four box cages in a row (cells 0..3 along x), mean value coordinates, h = 0.5.
-  CD::Cage_system_description desc = CD::make_grid_cage_system(
-      CD::Vec3{0, -0.2, -0.2}, CD::Vec3{4, 1.2, 1.2}, 4, 1, 1, CD::Coordinate_type::mean_value, 0.5);
+  CD::Cage_system_description desc = CD::make_grid_cage_system(CD::Vec3{0, -0.2, -0.2}, CD::Vec3{4, 1.2, 1.2}, 4, 1, 1,
+                                                               CD::Coordinate_type::mean_value, 0.5);
 
   // Level 1: the forearm cage, a box around the last one and a half cells. It owns every leaf
   // vertex with x >= 3 (the face shared by cells 2 and 3, and the hand face x = 4): a parent

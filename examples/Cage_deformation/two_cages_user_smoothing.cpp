@@ -42,9 +42,8 @@ int main() {
 
   // Two box cages (a 2 x 1 x 1 grid around the bar) sharing the face x = 1; the second uses Green
   // coordinates; h = 0.5 keeps each cage's own transform on the half of it far from the border.
-  CD::Cage_system_description desc =
-      CD::make_grid_cage_system(CD::Vec3{-0.1, -0.1, -0.1}, CD::Vec3{2.1, 1.1, 1.1}, 2, 1, 1,
-                                CD::Coordinate_type::mean_value, 0.5);
+  CD::Cage_system_description desc = CD::make_grid_cage_system(CD::Vec3{-0.1, -0.1, -0.1}, CD::Vec3{2.1, 1.1, 1.1}, 2,
+                                                               1, 1, CD::Coordinate_type::mean_value, 0.5);
   desc.cages[1].coordinates = CD::Coordinate_type::green;
 
   // Pose: twist the far end face (x = 2.1) of the second cage by 40 degrees about the bar's axis.
@@ -53,7 +52,8 @@ int main() {
     const CD::Vec3 p = desc.cages[1].rest.vertices[v];
     if (p[0] < 2.0) continue;
     const double y = p[1] - 0.5, z = p[2] - 0.5;
-    desc.cages[1].deformed[v] = {p[0], 0.5 + std::cos(a) * y - std::sin(a) * z, 0.5 + std::sin(a) * y + std::cos(a) * z};
+    desc.cages[1].deformed[v] = {p[0], 0.5 + std::cos(a) * y - std::sin(a) * z,
+                                 0.5 + std::sin(a) * y + std::cos(a) * z};
   }
 
   const CD::Cage_system system(desc);
@@ -61,7 +61,7 @@ int main() {
 
   // Bind once per choice of smoothing functions; each frame is then one sparse product.
   std::vector<CD::Vec3> sine, smooth;
-  system.bind<double>(points).deform(basis, sine);                                   // defaults
+  system.bind<double>(points).deform(basis, sine);                                  // defaults
   system.bind<double>(points, Smoothstep(), Smoothstep_h()).deform(basis, smooth);  // user-defined
 
   // h per border: the second cage's side of the shared face gets h = 0.1 (the first cage keeps

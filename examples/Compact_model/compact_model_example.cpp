@@ -29,9 +29,8 @@ int main(int argc, char** argv) {
   CMGeom::IO::read_mesh(path, input);
 
   CM::Build_statistics st;
-  const CM::Compact_model model = CM::build_compact_model(input.mesh(), faces, CM::Build_options(),
-                                                          CM::Quadric_surface_traits(),
-                                                          CM::Weighted_quadric_simplifier(), &st);
+  const CM::Compact_model model = CM::build_compact_model(
+      input.mesh(), faces, CM::Build_options(), CM::Quadric_surface_traits(), CM::Weighted_quadric_simplifier(), &st);
   std::cout << "base: " << st.base_vertices << " vertices, " << st.base_faces << " faces, " << st.sharp_edges
             << " sharp edges, " << st.cone_vertices << " cone-type vertices\n";
 
@@ -46,8 +45,8 @@ int main(int argc, char** argv) {
             << " vertices\n";
 
   // Another traits class: cubic local surfaces where they fit better.
-  const CM::Compact_model cubic = CM::build_compact_model(input.mesh(), faces, CM::Build_options(),
-                                                          CM::Cubic_surface_traits());
+  const CM::Compact_model cubic =
+      CM::build_compact_model(input.mesh(), faces, CM::Build_options(), CM::Cubic_surface_traits());
   std::size_t cubics = 0;
   for (const auto& s : cubic.surfaces) cubics += s.model == CM::CUBIC_MODEL;
   std::cout << "cubic traits: " << cubics << " of " << cubic.surfaces.size() << " surfaces are cubic\n";
@@ -67,8 +66,9 @@ int main(int argc, char** argv) {
   controlled_options.error_control_level = 2;
   controlled_options.error_control_rounds = 4;
   CM::Build_statistics controlled_st;
-  const CM::Compact_model controlled = CM::build_compact_model(
-      input.mesh(), faces, controlled_options, CM::Cubic_surface_traits(), CM::Weighted_quadric_simplifier(), &controlled_st);
+  const CM::Compact_model controlled =
+      CM::build_compact_model(input.mesh(), faces, controlled_options, CM::Cubic_surface_traits(),
+                              CM::Weighted_quadric_simplifier(), &controlled_st);
   std::cout << "error control: " << controlled_st.error_control_points << " points added, "
             << controlled_st.error_control_rejected_rounds << " rounds undone\n";
   const std::pair<const CM::Compact_model*, const char*> variants[] = {

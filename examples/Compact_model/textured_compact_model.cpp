@@ -27,8 +27,8 @@ int main(int argc, char** argv) {
 
     CM::Textured_build_result textured;
     CM::Build_statistics st;
-    CM::Compact_model model =
-        CM::build_textured_compact_model(input, target, CM::Build_options(), CM::Quadric_surface_traits(), &textured, &st);
+    CM::Compact_model model = CM::build_textured_compact_model(input, target, CM::Build_options(),
+                                                               CM::Quadric_surface_traits(), &textured, &st);
     std::cout << path << ": base " << st.base_vertices << " vertices, " << st.base_faces << " faces, charts "
               << textured.simplification.charts_in << " -> " << textured.simplification.charts_out << "\n";
 

@@ -42,7 +42,8 @@ struct Distance_weighted_quadric_traits {
       A.noalias() += w * X * X.transpose();
       b += w * q.z * X;
     }
-    const Eigen::Matrix<double, 5, 1> C = Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, 5, 5>>(A).solve(b);
+    const Eigen::Matrix<double, 5, 1> C =
+        Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, 5, 5>>(A).solve(b);
     if (!C.allFinite()) return CM::fit_quadric(p);
     CM::Fit_result r;
     r.surface.model = CM::QUADRIC_MODEL;

@@ -25,11 +25,10 @@ int main(int argc, char** argv) {
 
   std::size_t seams = 0, corners_on_seams = 0;
   for (auto e : mesh.edges()) seams += CMGeom::is_seam_edge(e, mesh, tm.uv_map());
-  for (auto v : mesh.vertices())
-    corners_on_seams += CMGeom::number_of_charts_around_vertex(v, mesh, chart) > 1;
+  for (auto v : mesh.vertices()) corners_on_seams += CMGeom::number_of_charts_around_vertex(v, mesh, chart) > 1;
 
-  std::cout << path << ": " << mesh.number_of_vertices() << " vertices, " << mesh.number_of_faces()
-            << " faces, " << charts << " charts, " << seams << " seam edges, " << corners_on_seams
+  std::cout << path << ": " << mesh.number_of_vertices() << " vertices, " << mesh.number_of_faces() << " faces, "
+            << charts << " charts, " << seams << " seam edges, " << corners_on_seams
             << " vertices shared by several charts\n";
   for (const auto& m : tm.materials())
     std::cout << "material '" << m.name << "': texture " << (m.diffuse_texture.empty() ? "(none)" : m.diffuse_texture)

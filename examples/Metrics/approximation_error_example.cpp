@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
             << "rms       " << 100 * e.rms << " %\n";
   // The vertex field: where does the approximation deviate most?
   const auto worst = std::max_element(e.approximation_vertex_error.begin(), e.approximation_vertex_error.end());
-  std::cout << "worst approximation vertex: #" << (worst - e.approximation_vertex_error.begin()) << " at "
-            << *worst << "\n";
+  std::cout << "worst approximation vertex: #" << (worst - e.approximation_vertex_error.begin()) << " at " << *worst
+            << "\n";
   return e.hausdorff > 0. && e.rms <= e.hausdorff ? 0 : 1;
 }

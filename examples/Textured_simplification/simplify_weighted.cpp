@@ -26,7 +26,9 @@ struct Counting_visitor : TS::Edge_collapse_visitor_base {
   std::size_t* collapses;
   explicit Counting_visitor(std::size_t* c) : collapses(c) {}
   template <class Profile, class V>
-  void OnCollapsed(const Profile&, const V&) const { ++*collapses; }
+  void OnCollapsed(const Profile&, const V&) const {
+    ++*collapses;
+  }
 };
 
 static Mesh sphere(int n) {
@@ -82,17 +84,18 @@ int main(int argc, char** argv) {
   TS::Quadric_options plain;
   plain.weighted = false;
   TS::Area_weighted_quadric_policies<Mesh> plain_policy(c, plain);
-  TS::edge_collapse(c, TS::Face_count_stop_predicate<Mesh>(c, target),
-                    CMGeom::parameters::edge_flips(true, CGAL::parameters::get_cost(plain_policy).get_placement(plain_policy)));
+  TS::edge_collapse(
+      c, TS::Face_count_stop_predicate<Mesh>(c, target),
+      CMGeom::parameters::edge_flips(true, CGAL::parameters::get_cost(plain_policy).get_placement(plain_policy)));
   std::cout << "cmgeom engine, plain + flips: " << c.number_of_faces() << " faces\n";
 
   // 4. Swap in a policy CMGeom did not write: CGAL's Lindstrom-Turk cost and placement run on
   //    CMGeom's engine unchanged (both engines take the same GetCost / GetPlacement concepts).
   Mesh d = input;
   namespace SMS = CGAL::Surface_mesh_simplification;
-  TS::edge_collapse(d, TS::Face_count_stop_predicate<Mesh>(d, target),
-                    CGAL::parameters::get_cost(SMS::LindstromTurk_cost<Mesh>())
-                        .get_placement(SMS::LindstromTurk_placement<Mesh>()));
+  TS::edge_collapse(
+      d, TS::Face_count_stop_predicate<Mesh>(d, target),
+      CGAL::parameters::get_cost(SMS::LindstromTurk_cost<Mesh>()).get_placement(SMS::LindstromTurk_placement<Mesh>()));
   std::cout << "cmgeom engine, CGAL's Lindstrom-Turk: " << d.number_of_faces() << " faces\n";
 
   bool ok = true;

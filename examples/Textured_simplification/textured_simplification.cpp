@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
   CMGeom::Textured_mesh simplified = input;
   TS::Textured_simplification_options options;
   options.target_faces = target;
-  options.keep_charts = true;  // the thesis' method; the default instead bakes a new atlas (rebuild_atlas.h)
+  options.keep_charts = true;       // the thesis' method; the default instead bakes a new atlas (rebuild_atlas.h)
   options.quadric.weighted = true;  // and its weighted quadrics (§3.4.2; the default is plain)
   TS::Textured_simplification_result r;
   try {
@@ -58,8 +58,7 @@ int main(int argc, char** argv) {
   std::cout << path << ": " << r.faces_in << " -> " << r.faces_out << " faces (target " << target << "), "
             << r.charts_in << " -> " << r.charts_out << " charts, texture " << r.texture_width << "x"
             << r.texture_height << "\n"
-            << "  Hausdorff " << 100 * e.hausdorff << " % of the diagonal, RMS " << 100 * e.rms
-            << " %\n"
+            << "  Hausdorff " << 100 * e.hausdorff << " % of the diagonal, RMS " << 100 * e.rms << " %\n"
             << "  with frozen chart boundaries the same target stops at " << f.faces_out << " faces\n"
             << "  written: textured_simplified.obj\n";
   // Every chart survives, the target is met, every output corner has texture coordinates in the

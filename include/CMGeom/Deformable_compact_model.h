@@ -3,7 +3,8 @@
 //
 // Convenience header of the Deformable_compact_model package (thesis chapter 6): local
 // deformations of the CM base (§6.3), their transfer to the reconstruction (§6.4), and the
-// BaseDeformer models (affine, vertex moves, one cage, *Cages system). See doc/Deformable_compact_model/README.md. Complexity: see each header.
+// BaseDeformer models (affine, vertex moves, one cage, *Cages system). See doc/Deformable_compact_model/README.md.
+// Complexity: see each header.
 #ifndef CMGEOM_DEFORMABLE_COMPACT_MODEL_H
 #define CMGEOM_DEFORMABLE_COMPACT_MODEL_H
 

@@ -24,8 +24,7 @@ public:
 class IO_error : public Error {
 public:
   IO_error(std::string file, std::size_t line, std::string message)
-      : Error(format(file, line, message)), file_(std::move(file)), line_(line),
-        message_(std::move(message)) {}
+      : Error(format(file, line, message)), file_(std::move(file)), line_(line), message_(std::move(message)) {}
   IO_error(std::string file, std::string message) : IO_error(std::move(file), 0, std::move(message)) {}
 
   const std::string& file() const { return file_; }

@@ -32,10 +32,12 @@
 namespace CMGeom {
 namespace internal {
 #if CGAL_VERSION_NR >= 1060000000
-template <class T> using optional = std::optional<T>;
+template <class T>
+using optional = std::optional<T>;
 inline constexpr std::nullopt_t none = std::nullopt;
 #else
-template <class T> using optional = boost::optional<T>;
+template <class T>
+using optional = boost::optional<T>;
 inline const boost::none_t none = boost::none;
 #endif
 }  // namespace internal

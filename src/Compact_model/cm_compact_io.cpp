@@ -69,7 +69,8 @@ struct Varint_reader {
   std::int64_t i() { return unzigzag(u()); }
   std::uint64_t below(std::uint64_t bound, const char* name) {
     const std::uint64_t v = u();
-    if (v >= bound) fail(std::string(name) + " " + std::to_string(v) + " out of range (< " + std::to_string(bound) + ")");
+    if (v >= bound)
+      fail(std::string(name) + " " + std::to_string(v) + " out of range (< " + std::to_string(bound) + ")");
     return v;
   }
   void finish() const {
@@ -82,7 +83,7 @@ struct Varint_reader {
 // Connectivity in decoding order: faces (new vertex ids, rotated so that a face hanging on an
 // earlier one starts with the shared edge), and how each vertex is predicted.
 struct Vertex_prediction {
-  int kind = 0;                    // 0: previous vertex (or the origin for vertex 0), 1: parallelogram a + b - d
+  int kind = 0;  // 0: previous vertex (or the origin for vertex 0), 1: parallelogram a + b - d
   std::uint32_t a = 0, b = 0, d = 0;
 };
 struct Connectivity {
@@ -151,8 +152,10 @@ std::array<std::int64_t, 2> normal_to_grid(const Vec3& n, int bits) {
   double best_dot = -2.;
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 2; ++j) {
-      const std::int64_t a = std::min<std::int64_t>(std::int64_t(m), std::max<std::int64_t>(0, std::int64_t(std::floor(fu)) + i));
-      const std::int64_t b = std::min<std::int64_t>(std::int64_t(m), std::max<std::int64_t>(0, std::int64_t(std::floor(fv)) + j));
+      const std::int64_t a =
+          std::min<std::int64_t>(std::int64_t(m), std::max<std::int64_t>(0, std::int64_t(std::floor(fu)) + i));
+      const std::int64_t b =
+          std::min<std::int64_t>(std::int64_t(m), std::max<std::int64_t>(0, std::int64_t(std::floor(fv)) + j));
       const double d = internal::dot(normal_from_grid(a, b, bits), internal::normalized(n));
       if (d > best_dot) {
         best_dot = d;
@@ -225,7 +228,8 @@ std::string get_stream(internal::Le_reader& r, const char* what) {
     return std::string(src, stored);
   }
   const unsigned long long content = ZSTD_getFrameContentSize(src, stored);
-  if (content != raw) throw IO_error(r.file, std::string("corrupt file: ") + what + " stream is not a zstd frame of its size");
+  if (content != raw)
+    throw IO_error(r.file, std::string("corrupt file: ") + what + " stream is not a zstd frame of its size");
   std::string out(raw, '\0');
   const std::size_t n = ZSTD_decompress(raw ? &out[0] : nullptr, raw, src, stored);
   if (ZSTD_isError(n) || n != raw)
@@ -237,8 +241,8 @@ std::string get_stream(internal::Le_reader& r, const char* what) {
 
 struct Encoded_connectivity {
   Connectivity c;
-  std::vector<std::uint32_t> old_vertex;          // new id -> original id
-  std::vector<std::array<int, 3>> old_corner;     // per new face: original face index * 3 + corner
+  std::vector<std::uint32_t> old_vertex;       // new id -> original id
+  std::vector<std::array<int, 3>> old_corner;  // per new face: original face index * 3 + corner
   std::string stream;
 };
 
@@ -257,8 +261,9 @@ Encoded_connectivity encode_connectivity(const Compact_model& m) {
       if (a > b) std::swap(a, b);
       edges.push_back({a, b, 3 * f + std::size_t(e)});
     }
-  std::sort(edges.begin(), edges.end(),
-            [](const Edge& x, const Edge& y) { return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.fe < y.fe); });
+  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+    return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.fe < y.fe);
+  });
   std::vector<std::size_t> group_of(3 * F), group_begin;
   for (std::size_t i = 0; i < edges.size(); ++i) {
     if (i == 0 || edges[i].a != edges[i - 1].a || edges[i].b != edges[i - 1].b) group_begin.push_back(i);
@@ -468,9 +473,12 @@ std::string compact_cm_bytes(const Compact_model& m, const Compact_encoding& enc
       }
       Local_surface s = old_s;
       Fit_result fit;
-      if (old_s.model == QUADRIC_MODEL) fit = fit_quadric(pts);
-      else if (old_s.model == CUBIC_MODEL) fit = fit_cubic(pts);
-      else fit = fit_cone(pts);
+      if (old_s.model == QUADRIC_MODEL)
+        fit = fit_quadric(pts);
+      else if (old_s.model == CUBIC_MODEL)
+        fit = fit_cubic(pts);
+      else
+        fit = fit_cone(pts);
       if (fit.ok && fit.surface.model == old_s.model && sample_rms(fit.surface, pts) < sample_rms(old_s, pts))
         s = fit.surface;
       double r = sector_radius(p, c, std::uint32_t(v), corners);
@@ -582,7 +590,8 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
     throw IO_error(file, "corrupt file: invalid quantization parameters");
   const std::string cs = get_stream(r, "connectivity"), ss = get_stream(r, "sectors"), ps = get_stream(r, "positions"),
                     ns = get_stream(r, "normals"), fs = get_stream(r, "coefficients"), us = get_stream(r, "uvs");
-  if (r.pos != r.n) throw IO_error(file, "corrupt file: " + std::to_string(r.n - r.pos) + " unexpected bytes before the checksum");
+  if (r.pos != r.n)
+    throw IO_error(file, "corrupt file: " + std::to_string(r.n - r.pos) + " unexpected bytes before the checksum");
   if (F > cs.size()) throw IO_error(file, "corrupt file: the connectivity stream is too short for its faces");
 
   // Connectivity.
@@ -595,7 +604,8 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
     if (ns_sym > cs.size() - head.pos || ns_par > cs.size() - head.pos - ns_sym) head.fail("bad section sizes");
     const std::string sym_s = cs.substr(head.pos, ns_sym), par_s = cs.substr(head.pos + ns_sym, ns_par),
                       code_s = cs.substr(head.pos + ns_sym + ns_par);
-    Varint_reader sym{sym_s, file, "connectivity"}, par{par_s, file, "connectivity"}, code{code_s, file, "connectivity"};
+    Varint_reader sym{sym_s, file, "connectivity"}, par{par_s, file, "connectivity"},
+        code{code_s, file, "connectivity"};
     std::uint64_t next = 0, last_parent = 0;
     auto vertex = [&](const Vertex_prediction& p) -> std::uint32_t {
       const std::uint64_t k = code.u();
@@ -634,7 +644,9 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
     sym.finish();
     par.finish();
     code.finish();
-    if (next != V) throw IO_error(file, "corrupt file: " + std::to_string(next) + " vertices used, header says " + std::to_string(V));
+    if (next != V)
+      throw IO_error(file,
+                     "corrupt file: " + std::to_string(next) + " vertices used, header says " + std::to_string(V));
   }
 
   // Positions.
@@ -682,7 +694,8 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
     for (std::uint64_t v = 0; v < V; ++v)
       for (std::uint32_t g = first[v]; g < first[v + 1]; ++g) {
         const auto& corners = sector_corners[g];
-        if (corners.empty()) throw IO_error(file, "corrupt file: a sector of vertex " + std::to_string(v) + " has no corner");
+        if (corners.empty())
+          throw IO_error(file, "corrupt file: a sector of vertex " + std::to_string(v) + " has no corner");
         const auto pq = normal_to_grid(predicted_normal(p, c, corners), bits);
         std::int64_t nq[2];
         for (int i = 0; i < 2; ++i) {

@@ -20,8 +20,7 @@ template Compact_model build_compact_model<Cubic_surface_traits, Weighted_quadri
     const Weighted_quadric_simplifier&, Build_statistics*);
 
 template void reconstruct_regular<Quadric_surface_traits>(const Compact_model&, int, Reconstruction&,
-                                                          const Reconstruction_options&,
-                                                          const Quadric_surface_traits&);
+                                                          const Reconstruction_options&, const Quadric_surface_traits&);
 template Reconstruction reconstruct_regular<Quadric_surface_traits>(const Compact_model&, int,
                                                                     const Reconstruction_options&,
                                                                     const Quadric_surface_traits&);

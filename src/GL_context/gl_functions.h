@@ -14,6 +14,8 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+// The GL entry points the package loads, several per line.
+// clang-format off
 #define CMGEOM_GL_FUNCTIONS(X)                                                                    \
   X(GetString) X(GetIntegerv) X(GetError) X(Viewport) X(Clear) X(ClearColor) X(ClearDepth)        \
   X(Enable) X(Disable) X(DepthFunc) X(Finish) X(PixelStorei) X(ReadPixels) X(GenTextures)        \
@@ -30,6 +32,7 @@
   X(DisableVertexAttribArray) X(VertexAttrib1f) X(VertexAttrib2f) X(VertexAttrib3f)              \
   X(DrawArrays) X(PolygonOffset) X(LineWidth) X(Scissor) X(CopyImageSubData) X(BindBufferBase)     \
   X(VertexAttribIPointer) X(GetTexImage)
+// clang-format on
 
 namespace CMGeom {
 namespace internal {
@@ -43,8 +46,8 @@ struct GL_functions {
   template <class GetProc>
   bool load(GetProc getproc) {
     bool ok = true;
-#define CMGEOM_GL_LOAD(name)                                                  \
-  name = reinterpret_cast<decltype(name)>(getproc("gl" #name));               \
+#define CMGEOM_GL_LOAD(name)                                    \
+  name = reinterpret_cast<decltype(name)>(getproc("gl" #name)); \
   ok = ok && name != nullptr;
     CMGEOM_GL_FUNCTIONS(CMGEOM_GL_LOAD)
 #undef CMGEOM_GL_LOAD

@@ -24,9 +24,21 @@ std::string one_line(const char* log) {
 Osmesa_context::Osmesa_context(int major, int minor, const char* who) {
   // Core 3.3 is requested because llvmpipe refuses 4.6 but upgrades any lower core request to
   // 4.5; the version actually obtained is checked below.
-  const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
-                            OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                            OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+  const int attributes[] = {OSMESA_FORMAT,
+                            OSMESA_RGBA,
+                            OSMESA_DEPTH_BITS,
+                            0,
+                            OSMESA_STENCIL_BITS,
+                            0,
+                            OSMESA_ACCUM_BITS,
+                            0,
+                            OSMESA_PROFILE,
+                            OSMESA_CORE_PROFILE,
+                            OSMESA_CONTEXT_MAJOR_VERSION,
+                            3,
+                            OSMESA_CONTEXT_MINOR_VERSION,
+                            3,
+                            0};
   OSMesaContext c = OSMesaCreateContextAttribs(attributes, nullptr);
   if (!c) throw Error(std::string(who) + ": OSMesa cannot create an OpenGL core context");
   context_ = c;

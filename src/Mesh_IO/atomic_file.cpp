@@ -26,8 +26,7 @@ std::string Atomic_output::add(const std::string& final_path) {
   if (!fs::is_directory(dir, ec))
     throw IO_error(final_path, "cannot write: directory '" + dir.string() + "' does not exist");
   if (fs::is_directory(p, ec)) throw IO_error(final_path, "cannot write: it is a directory");
-  std::string tmp = final_path + ".tmp-" + std::to_string(::getpid()) + "-" +
-                    std::to_string(counter.fetch_add(1));
+  std::string tmp = final_path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
   files_.emplace_back(tmp, final_path);
   return tmp;
 }

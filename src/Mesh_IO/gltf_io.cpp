@@ -36,7 +36,10 @@ bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::st
 // "my%20duck.png" names the file "my duck.png"). A '%' not followed by two hex digits is kept.
 std::string percent_decoded(const std::string& uri) {
   auto hex = [](char c) {
-    return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
+    return c >= '0' && c <= '9'   ? c - '0'
+           : c >= 'a' && c <= 'f' ? c - 'a' + 10
+           : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                  : -1;
   };
   std::string s;
   for (std::size_t i = 0; i < uri.size(); ++i) {
@@ -70,15 +73,35 @@ Mat4 node_matrix(const tinygltf::Node& n) {
     return m;
   }
   Mat4 t = m, r = m, s = m;
-  if (n.translation.size() == 3) { t[12] = n.translation[0]; t[13] = n.translation[1]; t[14] = n.translation[2]; }
+  if (n.translation.size() == 3) {
+    t[12] = n.translation[0];
+    t[13] = n.translation[1];
+    t[14] = n.translation[2];
+  }
   if (n.rotation.size() == 4) {
     const double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
-    r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
-         2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
-         2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
-         0, 0, 0, 1};
+    r = {1 - 2 * (y * y + z * z),
+         2 * (x * y + z * w),
+         2 * (x * z - y * w),
+         0,
+         2 * (x * y - z * w),
+         1 - 2 * (x * x + z * z),
+         2 * (y * z + x * w),
+         0,
+         2 * (x * z + y * w),
+         2 * (y * z - x * w),
+         1 - 2 * (x * x + y * y),
+         0,
+         0,
+         0,
+         0,
+         1};
   }
-  if (n.scale.size() == 3) { s[0] = n.scale[0]; s[5] = n.scale[1]; s[10] = n.scale[2]; }
+  if (n.scale.size() == 3) {
+    s[0] = n.scale[0];
+    s[5] = n.scale[1];
+    s[10] = n.scale[2];
+  }
   return multiply(t, multiply(r, s));
 }
 
@@ -115,14 +138,45 @@ struct Accessor_reader {
         const unsigned char* p = data.data() + start + i * stride + std::size_t(c * csize);
         double v;
         switch (a.componentType) {
-          case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); v = f; break; }
-          case TINYGLTF_COMPONENT_TYPE_DOUBLE: { std::memcpy(&v, p, 8); break; }
-          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = *p / (a.normalized ? 255.0 : 1.0); break;
-          case TINYGLTF_COMPONENT_TYPE_BYTE: { std::int8_t b; std::memcpy(&b, p, 1); v = a.normalized ? std::max(b / 127.0, -1.0) : b; break; }
-          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t s; std::memcpy(&s, p, 2); v = s / (a.normalized ? 65535.0 : 1.0); break; }
-          case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t s; std::memcpy(&s, p, 2); v = a.normalized ? std::max(s / 32767.0, -1.0) : s; break; }
-          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t u; std::memcpy(&u, p, 4); v = u; break; }
-          default: throw IO_error(path, std::string(what) + ": unsupported component type");
+          case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+            float f;
+            std::memcpy(&f, p, 4);
+            v = f;
+            break;
+          }
+          case TINYGLTF_COMPONENT_TYPE_DOUBLE: {
+            std::memcpy(&v, p, 8);
+            break;
+          }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            v = *p / (a.normalized ? 255.0 : 1.0);
+            break;
+          case TINYGLTF_COMPONENT_TYPE_BYTE: {
+            std::int8_t b;
+            std::memcpy(&b, p, 1);
+            v = a.normalized ? std::max(b / 127.0, -1.0) : b;
+            break;
+          }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            std::uint16_t s;
+            std::memcpy(&s, p, 2);
+            v = s / (a.normalized ? 65535.0 : 1.0);
+            break;
+          }
+          case TINYGLTF_COMPONENT_TYPE_SHORT: {
+            std::int16_t s;
+            std::memcpy(&s, p, 2);
+            v = a.normalized ? std::max(s / 32767.0, -1.0) : s;
+            break;
+          }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+            std::uint32_t u;
+            std::memcpy(&u, p, 4);
+            v = u;
+            break;
+          }
+          default:
+            throw IO_error(path, std::string(what) + ": unsupported component type");
         }
         if (!std::isfinite(v)) throw IO_error(path, std::string(what) + ": non-finite value");
         out[i * std::size_t(nc) + std::size_t(c)] = v;
@@ -155,7 +209,8 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
   }
   if (!ok) {
     std::string msg = err.empty() ? "malformed glTF" : err;
-    for (char& c : msg) if (c == '\n') c = ' ';
+    for (char& c : msg)
+      if (c == '\n') c = ' ';
     throw IO_error(path, msg);
   }
   const Accessor_reader reader{model, path};
@@ -217,8 +272,7 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
     std::vector<std::uint32_t> local(nv), local_uv(nv, Polygon_soup::no_index);
     for (std::size_t i = 0; i < nv; ++i) {
       const double x = pos[3 * i], y = pos[3 * i + 1], z = pos[3 * i + 2];
-      std::array<double, 3> p = {M[0] * x + M[4] * y + M[8] * z + M[12],
-                                 M[1] * x + M[5] * y + M[9] * z + M[13],
+      std::array<double, 3> p = {M[0] * x + M[4] * y + M[8] * z + M[12], M[1] * x + M[5] * y + M[9] * z + M[13],
                                  M[2] * x + M[6] * y + M[10] * z + M[14]};
       auto [it, ins] = vertex_id.emplace(p, std::uint32_t(soup.positions.size()));
       if (ins) soup.positions.push_back(p);
@@ -234,8 +288,8 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
     if (prim.indices >= 0) {
       for (double d : reader.read(prim.indices, 1, "indices")) {
         if (d < 0 || d >= double(nv))
-          throw IO_error(path, "index " + std::to_string((long long)d) + " out of range (" +
-                                   std::to_string(nv) + " vertices)");
+          throw IO_error(
+              path, "index " + std::to_string((long long)d) + " out of range (" + std::to_string(nv) + " vertices)");
         idx.push_back(std::size_t(d));
       }
     } else {
@@ -289,8 +343,7 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
     for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.emplace_back(*it, M);
   }
   if (soup.number_of_faces() == 0) throw IO_error(path, "no triangles in the default scene");
-  if (any_uv && any_no_uv)
-    throw IO_error(path, "some primitives have TEXCOORD_0 and others do not");
+  if (any_uv && any_no_uv) throw IO_error(path, "some primitives have TEXCOORD_0 and others do not");
   if (!any_uv) soup.uvs.clear();
 }
 

@@ -158,8 +158,10 @@ std::vector<std::array<double, 3>> vertex_normals(const Surface_mesh& m) {
   }
   for (auto& v : n) {
     const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (l > 0 && std::isfinite(l)) v = {v[0] / l, v[1] / l, v[2] / l};
-    else v = {0, 0, 1};
+    if (l > 0 && std::isfinite(l))
+      v = {v[0] / l, v[1] / l, v[2] / l};
+    else
+      v = {0, 0, 1};
   }
   return n;
 }
@@ -171,8 +173,7 @@ std::vector<std::array<double, 3>> vertex_normals(const Surface_mesh& m) {
 // that makes cross(normal, tangent) * w point along increasing v as CMGeom stores it (image up,
 // the glTF viewers' convention for a tangent space without mirroring; w = -1 on mirrored charts).
 // A vertex whose faces have no UV area gets any tangent orthogonal to its normal.
-std::vector<std::array<double, 4>> vertex_tangents(const Textured_mesh& tm,
-                                                   const std::vector<Halfedge_index>& corner,
+std::vector<std::array<double, 4>> vertex_tangents(const Textured_mesh& tm, const std::vector<Halfedge_index>& corner,
                                                    const std::vector<std::uint32_t>& indices,
                                                    const std::vector<std::array<double, 3>>& normals) {
   using V = std::array<double, 3>;
@@ -200,8 +201,10 @@ std::vector<std::array<double, 4>> vertex_tangents(const Textured_mesh& tm,
     if (det == 0 || !std::isfinite(det)) continue;  // no UV area: no direction of u on this face
     // dP/du and dP/dv of the face, as unit vectors weighted by its area
     const double area = std::sqrt(dot(cross(e1, e2), cross(e1, e2)));
-    const V su = unit(V{(e1[0] * dv2 - e2[0] * dv1) / det, (e1[1] * dv2 - e2[1] * dv1) / det, (e1[2] * dv2 - e2[2] * dv1) / det});
-    const V sv = unit(V{(e2[0] * du1 - e1[0] * du2) / det, (e2[1] * du1 - e1[1] * du2) / det, (e2[2] * du1 - e1[2] * du2) / det});
+    const V su = unit(
+        V{(e1[0] * dv2 - e2[0] * dv1) / det, (e1[1] * dv2 - e2[1] * dv1) / det, (e1[2] * dv2 - e2[2] * dv1) / det});
+    const V sv = unit(
+        V{(e2[0] * du1 - e1[0] * du2) / det, (e2[1] * du1 - e1[1] * du2) / det, (e2[2] * du1 - e1[2] * du2) / det});
     for (std::uint32_t i : c)
       for (std::size_t k = 0; k < 3; ++k) {
         tu[i][k] += area * su[k];
@@ -214,8 +217,8 @@ std::vector<std::array<double, 4>> vertex_tangents(const Textured_mesh& tm,
     V t = unit(sub(tu[i], V{nv[0] * dot(nv, tu[i]), nv[1] * dot(nv, tu[i]), nv[2] * dot(nv, tu[i])}));
     if (dot(t, t) == 0) {  // any direction orthogonal to the normal: its smallest axis crossed with it
       const std::size_t a = std::abs(nv[0]) <= std::abs(nv[1]) && std::abs(nv[0]) <= std::abs(nv[2]) ? 0
-                            : std::abs(nv[1]) <= std::abs(nv[2])                                   ? 1
-                                                                                                    : 2;
+                            : std::abs(nv[1]) <= std::abs(nv[2])                                     ? 1
+                                                                                                     : 2;
       V axis{0, 0, 0};
       axis[a] = 1;
       t = unit(cross(nv, axis));
@@ -245,8 +248,7 @@ public:
     // materials of this level, shared with earlier levels when identical
     // (a texture needs texture coordinates: without them materials keep their colour only)
     std::vector<int> material_of(tm.materials().size(), -1);
-    for (std::size_t i = 0; i < tm.materials().size(); ++i)
-      material_of[i] = material(tm.materials()[i], tm.has_uvs());
+    for (std::size_t i = 0; i < tm.materials().size(); ++i) material_of[i] = material(tm.materials()[i], tm.has_uvs());
 
     const std::vector<std::array<double, 3>> normals =
         options_.normals ? vertex_normals(m) : std::vector<std::array<double, 3>>();
@@ -336,8 +338,7 @@ public:
       } else {
         const std::string name =
             stem + "_" + std::to_string(i) + (images_[i].mime_type == "image/png" ? ".png" : ".jpg");
-        write_file((dir / name).string(),
-                   std::string(images_[i].bytes.begin(), images_[i].bytes.end()), out);
+        write_file((dir / name).string(), std::string(images_[i].bytes.begin(), images_[i].bytes.end()), out);
         img.uri = uri_of_file_name(name);
       }
     }
@@ -353,8 +354,7 @@ public:
 
     tinygltf::TinyGLTF writer;
     std::ostringstream s;
-    if (!writer.WriteGltfSceneToStream(&model_, s, !binary, binary))
-      throw IO_error(path_, "glTF serialisation failed");
+    if (!writer.WriteGltfSceneToStream(&model_, s, !binary, binary)) throw IO_error(path_, "glTF serialisation failed");
     std::string text = s.str();
     if (!binary) {
       // tinygltf embeds buffers in a .gltf written to a stream; ours is the .bin file beside it
@@ -413,8 +413,8 @@ private:
     return int(model_.materials.size() - 1);
   }
 
-  int add_accessor(int view, int component, int type, std::size_t count, bool normalized,
-                   std::vector<double> min = {}, std::vector<double> max = {}) {
+  int add_accessor(int view, int component, int type, std::size_t count, bool normalized, std::vector<double> min = {},
+                   std::vector<double> max = {}) {
     tinygltf::Accessor a;
     a.bufferView = view;
     a.componentType = component;
@@ -428,8 +428,8 @@ private:
   }
 
   void add_primitive(const Textured_mesh& tm, const std::vector<Face_index>& faces,
-                     const std::vector<std::array<double, 3>>& normals, bool tangents,
-                     const std::array<double, 3>& lo, double step, tinygltf::Primitive& prim) {
+                     const std::vector<std::array<double, 3>>& normals, bool tangents, const std::array<double, 3>& lo,
+                     double step, tinygltf::Primitive& prim) {
     const Surface_mesh& m = tm.mesh();
     const bool uvs = tm.has_uvs();
     std::unordered_map<Corner_key, std::uint32_t, Corner_key_hash> id;
@@ -468,9 +468,9 @@ private:
           }
           put(b, std::uint16_t(0));  // vertex attributes are 4-byte aligned
         }
-        prim.attributes["POSITION"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 8),
-                                                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC3, n,
-                                                   false, mn, mx);
+        prim.attributes["POSITION"] =
+            add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 8), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                         TINYGLTF_TYPE_VEC3, n, false, mn, mx);
       } else {
         b.reserve(n * 12);
         for (Halfedge_index h : corner) {
@@ -483,8 +483,7 @@ private:
           }
         }
         prim.attributes["POSITION"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 12),
-                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, false,
-                                                   mn, mx);
+                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, false, mn, mx);
       }
     }
     // NORMAL
@@ -537,9 +536,9 @@ private:
           put(b, std::uint16_t(std::lround(t.x() * 65535.0)));
           put(b, std::uint16_t(std::lround((1.0 - t.y()) * 65535.0)));
         }
-        prim.attributes["TEXCOORD_0"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 4),
-                                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC2, n,
-                                                     true);
+        prim.attributes["TEXCOORD_0"] =
+            add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 4), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                         TINYGLTF_TYPE_VEC2, n, true);
       } else {
         for (Halfedge_index h : corner) {
           const Point_2 t = tm.uv(h);
@@ -555,13 +554,15 @@ private:
       std::vector<unsigned char> b;
       const bool short_indices = n < 65535;
       for (std::uint32_t i : indices) {
-        if (short_indices) put(b, std::uint16_t(i));
-        else put(b, i);
+        if (short_indices)
+          put(b, std::uint16_t(i));
+        else
+          put(b, i);
       }
-      prim.indices = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0),
-                                  short_indices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
-                                                : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                                  TINYGLTF_TYPE_SCALAR, indices.size(), false);
+      prim.indices =
+          add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0),
+                       short_indices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                       TINYGLTF_TYPE_SCALAR, indices.size(), false);
     }
   }
 

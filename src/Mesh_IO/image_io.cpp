@@ -99,8 +99,7 @@ std::string write_image(const std::string& path, const Image& image, Atomic_outp
   return tmp;
 }
 
-std::vector<unsigned char> encode_image(const Image& image, const std::string& extension,
-                                        const std::string& name) {
+std::vector<unsigned char> encode_image(const Image& image, const std::string& extension, const std::string& name) {
   if (image.empty()) throw IO_error(name, "refusing to encode an empty image");
   // The module writes files: encode into a private temporary file and take its bytes.
   namespace fs = std::filesystem;

@@ -82,8 +82,10 @@ std::string write(const std::string& file, const std::string& extension, const I
   spec.attribute("png:compressionLevel", 6);
   if (!o->open(file, spec)) return "cannot write image: " + one_line(o->geterror());
   bool ok;
-  if (image.format() == Image::Format::UInt8) ok = o->write_image(OIIO::TypeDesc::UINT8, image.bytes());
-  else ok = o->write_image(OIIO::TypeDesc::FLOAT, image.floats());  // OIIO converts (and clamps) for 8-bit
+  if (image.format() == Image::Format::UInt8)
+    ok = o->write_image(OIIO::TypeDesc::UINT8, image.bytes());
+  else
+    ok = o->write_image(OIIO::TypeDesc::FLOAT, image.floats());  // OIIO converts (and clamps) for 8-bit
   ok = o->close() && ok;
   if (!ok) return "cannot write image: " + one_line(o->geterror());
   return {};

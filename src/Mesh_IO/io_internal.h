@@ -31,8 +31,8 @@ void read_gltf(const std::string& path, Polygon_soup& soup);
 // Called once per material texture that the MTL should reference; returns the file name (relative
 // to the OBJ's directory) the texture was registered under in `out`, or "" to omit it.
 // kind is "diffuse" or "normal".
-using Texture_emitter = std::function<std::string(const Material& m, std::size_t index,
-                                                  const std::string& kind, Atomic_output& out)>;
+using Texture_emitter =
+    std::function<std::string(const Material& m, std::size_t index, const std::string& kind, Atomic_output& out)>;
 
 void write_obj(const std::string& path, const Textured_mesh& tm, Atomic_output& out,
                const Texture_emitter& emit_texture);
@@ -56,7 +56,8 @@ void write_ply(const std::string& path, const Textured_mesh& tm, Atomic_output& 
 void append_double(std::string& s, double x);
 
 // Calls f(line_number, begin, end) for every line of `data` (1-based numbers, '\n' excluded).
-template <class F> void for_each_line(const std::string& data, F&& f) {
+template <class F>
+void for_each_line(const std::string& data, F&& f) {
   std::size_t line_no = 0;
   const char* p = data.data();
   const char* const end = p + data.size();
@@ -72,8 +73,8 @@ template <class F> void for_each_line(const std::string& data, F&& f) {
 std::string slurp(const std::string& path);
 
 // Texture emitter that copies the source file of the texture next to the output.
-std::string copy_texture_file(const std::string& obj_path, const std::string& source,
-                              const std::string& suggested_name, Atomic_output& out);
+std::string copy_texture_file(const std::string& obj_path, const std::string& source, const std::string& suggested_name,
+                              Atomic_output& out);
 
 }  // namespace internal
 }  // namespace IO

@@ -99,9 +99,8 @@ std::string fix_slashes(std::string s) {
 // Texture map statement: options (-bm 1.0, -o u v w, ...) then a file name that may hold spaces.
 std::string texture_file_name(Line& l) {
   static const std::unordered_map<std::string, int> max_args = {
-      {"-blendu", 1}, {"-blendv", 1}, {"-boost", 1}, {"-mm", 2},   {"-o", 3},     {"-s", 3},
-      {"-t", 3},      {"-texres", 1}, {"-clamp", 1}, {"-bm", 1},   {"-imfchan", 1}, {"-type", 1},
-      {"-cc", 1}};
+      {"-blendu", 1}, {"-blendv", 1}, {"-boost", 1}, {"-mm", 2},      {"-o", 3},    {"-s", 3}, {"-t", 3},
+      {"-texres", 1}, {"-clamp", 1},  {"-bm", 1},    {"-imfchan", 1}, {"-type", 1}, {"-cc", 1}};
   for (;;) {
     l.skip_ws();
     const char* save = l.p;
@@ -125,8 +124,7 @@ std::string texture_file_name(Line& l) {
   return fix_slashes(l.rest());
 }
 
-void read_mtl(const std::string& mtl_path, Polygon_soup& soup,
-              std::unordered_map<std::string, int>& by_name) {
+void read_mtl(const std::string& mtl_path, Polygon_soup& soup, std::unordered_map<std::string, int>& by_name) {
   const std::string data = slurp(mtl_path);
   const fs::path dir = fs::path(mtl_path).parent_path();
   int current = -1;
@@ -158,18 +156,19 @@ void read_mtl(const std::string& mtl_path, Polygon_soup& soup,
           throw IO_error(mtl_path, line_no, "Kd needs three finite numbers");
         m.diffuse_color[std::size_t(i)] = v;
       }
-    } else if (key == "map_Kd" || key == "map_Bump" || key == "map_bump" || key == "bump" ||
-               key == "norm" || key == "map_Kn") {
+    } else if (key == "map_Kd" || key == "map_Bump" || key == "map_bump" || key == "bump" || key == "norm" ||
+               key == "map_Kn") {
       std::string name = texture_file_name(l);
       if (name.empty()) throw IO_error(mtl_path, line_no, std::string(key) + " without a file name");
       fs::path tex = fs::path(name).is_absolute() ? fs::path(name) : dir / name;
       std::error_code ec;
       if (!fs::is_regular_file(tex, ec))
-        throw IO_error(mtl_path, line_no, "texture image '" + name + "' not found (looked for " +
-                                              tex.string() + ")");
+        throw IO_error(mtl_path, line_no, "texture image '" + name + "' not found (looked for " + tex.string() + ")");
       const std::string abs = fs::absolute(tex).lexically_normal().string();
-      if (key == "map_Kd") m.diffuse_texture = abs;
-      else m.normal_texture = abs;
+      if (key == "map_Kd")
+        m.diffuse_texture = abs;
+      else
+        m.normal_texture = abs;
     }
   });
 }
@@ -247,8 +246,7 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
         std::string_view c = l.token();
         const std::size_t s1 = c.find('/');
         long long vi, ti = 0, ni = 0;
-        if (!parse_int(c.substr(0, s1), vi))
-          throw IO_error(path, line_no, "bad face corner '" + std::string(c) + "'");
+        if (!parse_int(c.substr(0, s1), vi)) throw IO_error(path, line_no, "bad face corner '" + std::string(c) + "'");
         if (s1 != std::string_view::npos) {
           std::string_view rest = c.substr(s1 + 1);
           const std::size_t s2 = rest.find('/');
@@ -265,9 +263,9 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
         auto resolve = [&](long long i, std::size_t count, const char* what) -> long long {
           long long r = i > 0 ? i - 1 : (i < 0 ? (long long)count + i : -1);
           if (i == 0 || r < 0 || r >= (long long)count)
-            throw IO_error(path, line_no, std::string(what) + " index " + std::to_string(i) +
-                                              " out of range (" + std::to_string(count) +
-                                              " defined so far)");
+            throw IO_error(path, line_no,
+                           std::string(what) + " index " + std::to_string(i) + " out of range (" +
+                               std::to_string(count) + " defined so far)");
           return r;
         };
         cv.push_back(resolve(vi, soup.positions.size(), "vertex"));
@@ -282,8 +280,7 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
       }
       if (cv.size() < 3)
         throw IO_error(path, line_no, "face with " + std::to_string(cv.size()) + " corner(s); at least 3 needed");
-      if (any_uv && any_no_uv)
-        throw IO_error(path, line_no, "face gives texture coordinates for some corners only");
+      if (any_uv && any_no_uv) throw IO_error(path, line_no, "face gives texture coordinates for some corners only");
       // Polygons are kept whole here; build_textured_mesh() splits them into fans.
       for (std::size_t k = 0; k < cv.size(); ++k) {
         soup.corner_vertex.push_back(std::uint32_t(cv[k]));
@@ -310,19 +307,18 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
       for (const std::string& n : names) {
         const fs::path mp = fs::path(n).is_absolute() ? fs::path(n) : dir / n;
         if (!fs::is_regular_file(mp, ec)) {
-          soup.warnings.push_back(path + ":" + std::to_string(line_no) + ": material library '" +
-                                  n + "' not found; materials keep their names only");
+          soup.warnings.push_back(path + ":" + std::to_string(line_no) + ": material library '" + n +
+                                  "' not found; materials keep their names only");
           continue;
         }
         read_mtl(mp.string(), soup, material_by_name);
       }
-    } else if (key == "o" || key == "g" || key == "s" || key == "l" || key == "p" ||
-               key == "vp" || key == "cstype" || key == "deg" || key == "curv" || key == "surf" ||
-               key == "mg" || key == "lod" || key == "shadow_obj" || key == "trace_obj" ||
-               key == "usemap" || key == "maplib" || key == "bevel" || key == "c_interp" ||
-               key == "d_interp" || key == "ctech" || key == "stech" || key == "end" ||
-               key == "parm" || key == "trim" || key == "hole" || key == "scrv" || key == "sp" ||
-               key == "con" || key == "bmat" || key == "step" || key == "call" || key == "csh") {
+    } else if (key == "o" || key == "g" || key == "s" || key == "l" || key == "p" || key == "vp" || key == "cstype" ||
+               key == "deg" || key == "curv" || key == "surf" || key == "mg" || key == "lod" || key == "shadow_obj" ||
+               key == "trace_obj" || key == "usemap" || key == "maplib" || key == "bevel" || key == "c_interp" ||
+               key == "d_interp" || key == "ctech" || key == "stech" || key == "end" || key == "parm" ||
+               key == "trim" || key == "hole" || key == "scrv" || key == "sp" || key == "con" || key == "bmat" ||
+               key == "step" || key == "call" || key == "csh") {
       // grouping, smoothing, free-form geometry: not part of the polygon mesh
     } else {
       // Exporters add their own statements (even a stray "V F 0" count line): skip them, say so.
@@ -347,8 +343,8 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
 
 // --------------------------------------------------------------------------------- writer
 
-std::string copy_texture_file(const std::string& obj_path, const std::string& source,
-                              const std::string& suggested_name, Atomic_output& out) {
+std::string copy_texture_file(const std::string& obj_path, const std::string& source, const std::string& suggested_name,
+                              Atomic_output& out) {
   std::error_code ec;
   if (source.empty()) return std::string();
   if (!fs::is_regular_file(source, ec)) throw IO_error(source, "texture image not found");

@@ -49,7 +49,8 @@ std::vector<Token_line> tokenize(const std::string& data, const std::string& pat
   return lines;
 }
 
-template <class T> bool number(std::string_view t, T& out) {
+template <class T>
+bool number(std::string_view t, T& out) {
   if (!t.empty() && t[0] == '+') t.remove_prefix(1);
   auto r = std::from_chars(t.data(), t.data() + t.size(), out);
   return r.ec == std::errc() && r.ptr == t.data() + t.size();
@@ -81,13 +82,14 @@ void read_off(const std::string& path, Polygon_soup& soup) {
   }
   if (li >= lines.size()) throw IO_error(path, "truncated: missing vertex/face counts");
   long long nv = -1, nf = -1;
-  if (lines[li].tokens.size() < 2 || !number(lines[li].tokens[0], nv) || !number(lines[li].tokens[1], nf) ||
-      nv < 0 || nf < 0)
+  if (lines[li].tokens.size() < 2 || !number(lines[li].tokens[0], nv) || !number(lines[li].tokens[1], nf) || nv < 0 ||
+      nf < 0)
     throw IO_error(path, lines[li].line, "expected '<#vertices> <#faces> [<#edges>]'");
   // A declared count larger than the file could hold is corrupt (and must not allocate).
   if (std::size_t(nv) + std::size_t(nf) > data.size())
-    throw IO_error(path, lines[li].line, "declares " + std::to_string(nv) + " vertices and " +
-                                             std::to_string(nf) + " faces, more than the file can hold");
+    throw IO_error(path, lines[li].line,
+                   "declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                       " faces, more than the file can hold");
   ++li;
   soup.positions.reserve(std::size_t(nv));
   for (long long i = 0; i < nv; ++i, ++li) {
@@ -95,19 +97,17 @@ void read_off(const std::string& path, Polygon_soup& soup) {
       throw IO_error(path, "truncated: " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
     const Token_line& l = lines[li];
     std::array<double, 3> x;
-    if (l.tokens.size() < 3)
-      throw IO_error(path, l.line, "vertex needs three coordinates");
+    if (l.tokens.size() < 3) throw IO_error(path, l.line, "vertex needs three coordinates");
     for (int k = 0; k < 3; ++k) {
       if (!number(l.tokens[std::size_t(k)], x[std::size_t(k)]))
         throw IO_error(path, l.line, "bad vertex coordinate '" + std::string(l.tokens[std::size_t(k)]) + "'");
-      if (!std::isfinite(x[std::size_t(k)]))
-        throw IO_error(path, l.line, "vertex coordinate is not finite");
+      if (!std::isfinite(x[std::size_t(k)])) throw IO_error(path, l.line, "vertex coordinate is not finite");
     }
     soup.positions.push_back(x);
     if (has_uv) {
       std::array<double, 2> t;
-      if (l.tokens.size() < 5 || !number(l.tokens[3], t[0]) || !number(l.tokens[4], t[1]) ||
-          !std::isfinite(t[0]) || !std::isfinite(t[1]))
+      if (l.tokens.size() < 5 || !number(l.tokens[3], t[0]) || !number(l.tokens[4], t[1]) || !std::isfinite(t[0]) ||
+          !std::isfinite(t[1]))
         throw IO_error(path, l.line, "STOFF vertex needs two finite texture coordinates");
       soup.uvs.push_back(t);
     }
@@ -125,8 +125,8 @@ void read_off(const std::string& path, Polygon_soup& soup) {
       if (!number(l.tokens[std::size_t(k + 1)], idx))
         throw IO_error(path, l.line, "bad vertex index '" + std::string(l.tokens[std::size_t(k + 1)]) + "'");
       if (idx < 0 || idx >= nv)
-        throw IO_error(path, l.line, "vertex index " + std::to_string(idx) + " out of range (" +
-                                         std::to_string(nv) + " vertices)");
+        throw IO_error(path, l.line,
+                       "vertex index " + std::to_string(idx) + " out of range (" + std::to_string(nv) + " vertices)");
       c[std::size_t(k)] = std::uint32_t(idx);
     }
     for (std::uint32_t k : c) {
@@ -145,11 +145,12 @@ namespace {
 // CGAL's PLY reader trusts the header (a "property" before any "element" crashes it, a huge
 // count allocates before reading): the header is checked here first, with line numbers.
 void check_ply_header(const std::string& data, const std::string& path) {
-  static const char* const scalar_types[] = {"char",  "uchar",  "short",  "ushort", "int",    "uint",
-                                             "float", "double", "int8",   "uint8",  "int16",  "uint16",
+  static const char* const scalar_types[] = {"char",  "uchar",  "short",   "ushort", "int",   "uint",
+                                             "float", "double", "int8",    "uint8",  "int16", "uint16",
                                              "int32", "uint32", "float32", "float64"};
   auto is_type = [](std::string_view t) {
-    for (const char* s : scalar_types) if (t == s) return true;
+    for (const char* s : scalar_types)
+      if (t == s) return true;
     return false;
   };
   std::size_t pos = 0, line_no = 0;
@@ -281,7 +282,9 @@ void read_ply_elements(std::istream& in, const std::string& path, std::vector<Po
         if (face) {
           std::vector<std::size_t> poly;
           for (long long i : idx) {
-            if (i < 0) throw IO_error(path, "face " + std::to_string(polygons.size()) + ": negative vertex index " + std::to_string(i));
+            if (i < 0)
+              throw IO_error(
+                  path, "face " + std::to_string(polygons.size()) + ": negative vertex index " + std::to_string(i));
             poly.push_back(std::size_t(i));
           }
           polygons.push_back(std::move(poly));
@@ -294,12 +297,15 @@ void read_ply_elements(std::istream& in, const std::string& path, std::vector<Po
             continue;
           }
           if (idx[k] < 0)
-            throw IO_error(path, "tristrips item " + std::to_string(j) + ": negative vertex index " + std::to_string(idx[k]));
+            throw IO_error(path,
+                           "tristrips item " + std::to_string(j) + ": negative vertex index " + std::to_string(idx[k]));
           if (k < start + 2) continue;
           const long long a = idx[k - 2], b = idx[k - 1], c = idx[k];
           if (a == b || b == c || a == c) continue;
-          if ((k - start) % 2 == 0) polygons.push_back({std::size_t(a), std::size_t(b), std::size_t(c)});
-          else polygons.push_back({std::size_t(b), std::size_t(a), std::size_t(c)});
+          if ((k - start) % 2 == 0)
+            polygons.push_back({std::size_t(a), std::size_t(b), std::size_t(c)});
+          else
+            polygons.push_back({std::size_t(b), std::size_t(a), std::size_t(c)});
         }
       }
     }
@@ -338,12 +344,11 @@ void read_ply(const std::string& path, Polygon_soup& soup) {
   }
   for (std::size_t f = 0; f < polygons.size(); ++f) {
     const auto& c = polygons[f];
-    if (c.size() < 3)
-      throw IO_error(path, "face " + std::to_string(f) + " has fewer than 3 corners");
+    if (c.size() < 3) throw IO_error(path, "face " + std::to_string(f) + " has fewer than 3 corners");
     for (std::size_t idx : c)
       if (idx >= points.size())
-        throw IO_error(path, "face " + std::to_string(f) + ": vertex index " + std::to_string(idx) +
-                                 " out of range (" + std::to_string(points.size()) + " vertices)");
+        throw IO_error(path, "face " + std::to_string(f) + ": vertex index " + std::to_string(idx) + " out of range (" +
+                                 std::to_string(points.size()) + " vertices)");
     for (std::size_t k : c) {
       soup.corner_vertex.push_back(std::uint32_t(k));
       soup.corner_uv.push_back(Polygon_soup::no_index);
@@ -357,7 +362,8 @@ void read_ply(const std::string& path, Polygon_soup& soup) {
 // ------------------------------------------------------------------------------- writers
 
 namespace {
-template <class F> void write_through(const std::string& tmp, const std::string& path, F&& body) {
+template <class F>
+void write_through(const std::string& tmp, const std::string& path, F&& body) {
   std::ofstream os(tmp, std::ios::binary);
   if (!os) throw IO_error(path, std::string("cannot write: ") + std::strerror(errno));
   body(os);
@@ -369,8 +375,7 @@ template <class F> void write_through(const std::string& tmp, const std::string&
 void write_off(const std::string& path, const Textured_mesh& tm, Atomic_output& out) {
   const Surface_mesh& m = tm.mesh();
   std::vector<std::uint32_t> vid(m.number_of_vertices() + m.number_of_removed_vertices(), 0);
-  std::string s = "OFF\n" + std::to_string(m.number_of_vertices()) + " " +
-                  std::to_string(m.number_of_faces()) + " 0\n";
+  std::string s = "OFF\n" + std::to_string(m.number_of_vertices()) + " " + std::to_string(m.number_of_faces()) + " 0\n";
   std::uint32_t next = 0;
   for (auto v : m.vertices()) {
     vid[std::size_t(v)] = next++;
@@ -394,10 +399,10 @@ void write_ply(const std::string& path, const Textured_mesh& tm, Atomic_output& 
   const Surface_mesh& m = tm.mesh();
   std::vector<std::uint32_t> vid(m.number_of_vertices() + m.number_of_removed_vertices(), 0);
   std::string s = "ply\nformat binary_little_endian 1.0\ncomment written by CMGeom " CMGEOM_VERSION_STR
-                  "\nelement vertex " + std::to_string(m.number_of_vertices()) +
+                  "\nelement vertex " +
+                  std::to_string(m.number_of_vertices()) +
                   "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
-                  std::to_string(m.number_of_faces()) +
-                  "\nproperty list uchar int vertex_indices\nend_header\n";
+                  std::to_string(m.number_of_faces()) + "\nproperty list uchar int vertex_indices\nend_header\n";
   static_assert(sizeof(double) == 8 && sizeof(std::int32_t) == 4, "PLY writer assumes IEEE sizes");
   auto put = [&s](const void* p, std::size_t n) { s.append(static_cast<const char*>(p), n); };
   std::uint32_t next = 0;

@@ -39,11 +39,11 @@ struct Union_find {
 
 // One face side of an undirected edge: the corners holding its two endpoints.
 struct Edge_entry {
-  std::uint32_t lo, hi;      // vertex ids, lo < hi
+  std::uint32_t lo, hi;  // vertex ids, lo < hi
   std::uint32_t face;
-  std::uint32_t corner_lo;   // corner of `lo` in `face`
+  std::uint32_t corner_lo;  // corner of `lo` in `face`
   std::uint32_t corner_hi;
-  bool forward;              // face walks lo -> hi
+  bool forward;  // face walks lo -> hi
 };
 
 std::vector<Edge_entry> edge_entries(const Polygon_soup& s) {
@@ -55,8 +55,10 @@ std::vector<Edge_entry> edge_entries(const Polygon_soup& s) {
       const std::uint32_t ca = b + i, cb = b + (i + 1) % n;
       const std::uint32_t va = s.corner_vertex[ca], vb = s.corner_vertex[cb];
       if (va == vb) continue;  // repeated vertex: no edge
-      if (va < vb) e.push_back({va, vb, f, ca, cb, true});
-      else e.push_back({vb, va, f, cb, ca, false});
+      if (va < vb)
+        e.push_back({va, vb, f, ca, cb, true});
+      else
+        e.push_back({vb, va, f, cb, ca, false});
     }
   }
   std::sort(e.begin(), e.end(), [](const Edge_entry& a, const Edge_entry& b) {
@@ -65,7 +67,8 @@ std::vector<Edge_entry> edge_entries(const Polygon_soup& s) {
   return e;
 }
 
-template <class F> void for_each_edge_group(const std::vector<Edge_entry>& e, F&& f) {
+template <class F>
+void for_each_edge_group(const std::vector<Edge_entry>& e, F&& f) {
   for (std::size_t i = 0; i < e.size();) {
     std::size_t j = i + 1;
     while (j < e.size() && e[j].lo == e[i].lo && e[j].hi == e[i].hi) ++j;
@@ -98,8 +101,7 @@ std::size_t count_soup_charts(const Polygon_soup& s, std::vector<int>* face_char
       for (std::size_t b = a + 1; b < j; ++b) {
         const Edge_entry &x = e[a], &y = e[b];
         if (!textured[x.face] || !textured[y.face]) continue;
-        if (same_uv(s, x.corner_lo, y.corner_lo) && same_uv(s, x.corner_hi, y.corner_hi))
-          uf.unite(x.face, y.face);
+        if (same_uv(s, x.corner_lo, y.corner_lo) && same_uv(s, x.corner_hi, y.corner_hi)) uf.unite(x.face, y.face);
       }
   });
   std::vector<int> id(nf, -1);
@@ -138,8 +140,10 @@ bool is_oriented_manifold_soup(const Polygon_soup& s, std::size_t vertices) {
   std::vector<std::uint32_t> first_root(vertices, Polygon_soup::no_index);
   for (std::uint32_t c = 0; c < corner_vertex.size(); ++c) {
     const std::uint32_t v = corner_vertex[c], r = corner_uf.find(c);
-    if (first_root[v] == Polygon_soup::no_index) first_root[v] = r;
-    else if (first_root[v] != r) return false;
+    if (first_root[v] == Polygon_soup::no_index)
+      first_root[v] = r;
+    else if (first_root[v] != r)
+      return false;
   }
   return true;
 }
@@ -174,8 +178,7 @@ Mesh_statistics analyze_soup(const Polygon_soup& s) {
         return K::Point_3(p[0], p[1], p[2]);
       };
       degenerate = true;
-      for (std::uint32_t i = 2; i < n && degenerate; ++i)
-        degenerate = CGAL::collinear(P(b), P(b + 1), P(b + i));
+      for (std::uint32_t i = 2; i < n && degenerate; ++i) degenerate = CGAL::collinear(P(b), P(b + 1), P(b + i));
     }
     if (degenerate) {
       if (st.degenerate_faces == 0) st.first_degenerate_face = f;
@@ -215,8 +218,10 @@ Mesh_statistics analyze_soup(const Polygon_soup& s) {
     for (std::uint32_t c = 0; c < s.corner_vertex.size(); ++c) {
       const std::uint32_t v = s.corner_vertex[c];
       const std::uint32_t r = corner_uf.find(c);
-      if (first_root[v] == Polygon_soup::no_index) first_root[v] = r;
-      else if (first_root[v] != r) nm[v] = true;
+      if (first_root[v] == Polygon_soup::no_index)
+        first_root[v] = r;
+      else if (first_root[v] != r)
+        nm[v] = true;
     }
     for (std::size_t v = 0; v < nm.size(); ++v)
       if (nm[v]) {
@@ -266,8 +271,7 @@ Mesh_statistics analyze_soup(const Polygon_soup& s) {
   st.euler_characteristic = int(st.vertices) - int(st.edges) + int(nf);
   if (st.manifold && st.oriented) {
     // chi = sum over components of (2 - 2 g_i - b_i)
-    const long long twice_g =
-        2 * (long long)st.components - st.euler_characteristic - (long long)st.boundary_loops;
+    const long long twice_g = 2 * (long long)st.components - st.euler_characteristic - (long long)st.boundary_loops;
     st.genus = twice_g >= 0 && twice_g % 2 == 0 ? int(twice_g / 2) : -1;
   }
   st.charts = s.uvs.empty() ? 0 : count_soup_charts(s);

@@ -26,10 +26,14 @@ std::string extension(const std::string& path) {
 Polygon_soup read_polygon_soup(const std::string& path) {
   Polygon_soup soup;
   const std::string ext = extension(path);
-  if (ext == ".obj") internal::read_obj(path, soup);
-  else if (ext == ".off") internal::read_off(path, soup);
-  else if (ext == ".ply") internal::read_ply(path, soup);
-  else if (ext == ".gltf" || ext == ".glb") internal::read_gltf(path, soup);
+  if (ext == ".obj")
+    internal::read_obj(path, soup);
+  else if (ext == ".off")
+    internal::read_off(path, soup);
+  else if (ext == ".ply")
+    internal::read_ply(path, soup);
+  else if (ext == ".gltf" || ext == ".glb")
+    internal::read_gltf(path, soup);
   else
     throw IO_error(path, "unsupported file type '" + ext + "' (expected .obj, .off, .ply, .gltf or .glb)");
   return soup;
@@ -120,22 +124,28 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
       }
     }
     if (zero_area)
-      throw IO_error(soup.face_location(first), plural(zero_area, "zero-area face", "zero-area faces") +
-                                                    " (first here); the option allow_degenerate_faces (--allow-degenerate) keeps them");
+      throw IO_error(soup.face_location(first),
+                     plural(zero_area, "zero-area face", "zero-area faces") +
+                         " (first here); the option allow_degenerate_faces (--allow-degenerate) keeps them");
   }
   if (!options.repair) {
     if (st.non_manifold_edges)
-      throw IO_error(soup.face_location(st.first_non_manifold_edge_face),
-                     plural(st.non_manifold_edges, "non-manifold edge", "non-manifold edges") +
-                         " (edges with more than two faces; first at this face); the option repair (--repair) splits them");
+      throw IO_error(
+          soup.face_location(st.first_non_manifold_edge_face),
+          plural(st.non_manifold_edges, "non-manifold edge", "non-manifold edges") +
+              " (edges with more than two faces; first at this face); the option repair (--repair) splits them");
     if (st.non_manifold_vertices) {
       std::size_t where = 0;
       for (std::size_t f = 0; f < nf; ++f)
         for (std::uint32_t c = soup.face_start[f]; c < soup.face_start[f + 1]; ++c)
-          if (soup.corner_vertex[c] == st.first_non_manifold_vertex) { where = f; f = nf; break; }
+          if (soup.corner_vertex[c] == st.first_non_manifold_vertex) {
+            where = f;
+            f = nf;
+            break;
+          }
       throw IO_error(soup.face_location(where),
-                     plural(st.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") + " (first: vertex " +
-                         std::to_string(st.first_non_manifold_vertex + 1) +
+                     plural(st.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") +
+                         " (first: vertex " + std::to_string(st.first_non_manifold_vertex + 1) +
                          ", used by this face); the option repair (--repair) duplicates them");
     }
     if (st.inconsistent_edges)
@@ -177,8 +187,9 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     CGAL::Polygon_mesh_processing::orient_polygon_soup(points, pv, CGAL::parameters::visitor(vis));
     if (pv.size() != polys.size()) throw IO_error(src, "repair changed the number of faces");
     if (!is_manifold_triangle_soup(pv, points.size()))
-      throw IO_error(src, "repair could not make the mesh manifold (duplicated or otherwise "
-                          "irreparable faces around non-manifold edges)");
+      throw IO_error(src,
+                     "repair could not make the mesh manifold (duplicated or otherwise "
+                     "irreparable faces around non-manifold edges)");
     if (options.warnings) {
       std::string what;
       auto add = [&](std::size_t n, const char* one, const char* many) {
@@ -188,7 +199,8 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
       };
       add(st.non_manifold_edges, "non-manifold edge split", "non-manifold edges split");
       add(st.non_manifold_vertices, "non-manifold vertex duplicated", "non-manifold vertices duplicated");
-      add(st.inconsistent_edges, "inconsistently oriented edge re-oriented", "inconsistently oriented edges re-oriented");
+      add(st.inconsistent_edges, "inconsistently oriented edge re-oriented",
+          "inconsistently oriented edges re-oriented");
       const std::size_t added = points.size() - original.size();
       if (added) what += (what.empty() ? "" : "; ") + plural(added, "vertex added", "vertices added");
       if (what.empty()) what = "faces re-oriented";
@@ -239,8 +251,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   }
   // Surface_mesh's own check: CGAL::is_valid_polygon_mesh() also rejects isolated vertices,
   // which are kept on purpose (vertex order survives read -> write).
-  if (!m.is_valid(false))
-    throw IO_error(src, "faces do not form a valid manifold mesh");
+  if (!m.is_valid(false)) throw IO_error(src, "faces do not form a valid manifold mesh");
   out.set_has_uvs(uv_seen);
   out.materials() = soup.materials;
 }

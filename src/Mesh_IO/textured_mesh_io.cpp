@@ -15,9 +15,11 @@ namespace fs = std::filesystem;
 void load_textures(Textured_mesh& mesh) {
   for (Material& m : mesh.materials()) {
     if (m.diffuse_image.empty()) {
-      if (!m.diffuse_texture.empty()) m.diffuse_image = read_image(m.diffuse_texture);
+      if (!m.diffuse_texture.empty())
+        m.diffuse_image = read_image(m.diffuse_texture);
       else if (!m.diffuse_texture_blob.empty())
-        m.diffuse_image = read_image_from_memory(m.diffuse_texture_blob, mesh.source() + " (material '" + m.name + "')");
+        m.diffuse_image =
+            read_image_from_memory(m.diffuse_texture_blob, mesh.source() + " (material '" + m.name + "')");
     }
     if (m.normal_image.empty() && !m.normal_texture.empty()) m.normal_image = read_image(m.normal_texture);
   }
@@ -66,8 +68,7 @@ void write_textured_gltf(const std::string& path, const std::vector<Gltf_level>&
   internal::write_gltf(path, levels, options, out, std::ref(encoder));
 }
 
-void write_textured_gltf(const std::string& path, const std::vector<Gltf_level>& levels,
-                         const Gltf_options& options) {
+void write_textured_gltf(const std::string& path, const std::vector<Gltf_level>& levels, const Gltf_options& options) {
   Atomic_output out;
   write_textured_gltf(path, levels, out, options);
   out.commit();
@@ -93,23 +94,22 @@ void write_textured_mesh(const std::string& path, const Textured_mesh& mesh, Ato
     throw IO_error(path, "unsupported output type '" + ext + "' (expected .obj, .off, .ply, .gltf or .glb)");
   const std::string stem = fs::path(path).stem().string();
   const fs::path dir = fs::path(path).parent_path();
-  internal::write_obj(path, mesh, out,
-                      [&](const Material& m, std::size_t i, const std::string& kind, Atomic_output& o) {
-                        const bool diffuse = kind == "diffuse";
-                        const Image& img = diffuse ? m.diffuse_image : m.normal_image;
-                        const std::string name = stem + "_" + std::to_string(i) + "_" + kind;
-                        if (!img.empty()) {
-                          write_image((dir / (name + ".png")).string(), img, o);
-                          return name + ".png";
-                        }
-                        if (diffuse && !m.diffuse_texture_blob.empty() && m.diffuse_texture.empty()) {
-                          Image decoded = read_image_from_memory(m.diffuse_texture_blob, m.name);
-                          write_image((dir / (name + ".png")).string(), decoded, o);
-                          return name + ".png";
-                        }
-                        return internal::copy_texture_file(path, diffuse ? m.diffuse_texture : m.normal_texture,
-                                                           name, o);
-                      });
+  internal::write_obj(
+      path, mesh, out, [&](const Material& m, std::size_t i, const std::string& kind, Atomic_output& o) {
+        const bool diffuse = kind == "diffuse";
+        const Image& img = diffuse ? m.diffuse_image : m.normal_image;
+        const std::string name = stem + "_" + std::to_string(i) + "_" + kind;
+        if (!img.empty()) {
+          write_image((dir / (name + ".png")).string(), img, o);
+          return name + ".png";
+        }
+        if (diffuse && !m.diffuse_texture_blob.empty() && m.diffuse_texture.empty()) {
+          Image decoded = read_image_from_memory(m.diffuse_texture_blob, m.name);
+          write_image((dir / (name + ".png")).string(), decoded, o);
+          return name + ".png";
+        }
+        return internal::copy_texture_file(path, diffuse ? m.diffuse_texture : m.normal_texture, name, o);
+      });
 }
 
 void write_textured_mesh(const std::string& path, const Textured_mesh& mesh, const Gltf_options& gltf_options) {

@@ -86,9 +86,7 @@ void main() {
   oColor = vec4(base * (ambient + (1.0 - ambient) * diffuse) + vec3(specular), 1.0);
 })";
 
-double srgb_to_linear(double c) {
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 // Column-major 4x4 matrices.
 using Mat4 = std::array<float, 16>;
@@ -180,8 +178,8 @@ struct Renderer::Impl {
   CMGeom::internal::Osmesa_context context{3, 3, "renderer"};
   CMGeom::internal::GL_functions& gl = context.gl;
   GLuint program = 0, colormap = 0, white = 0;
-  GLint u_mvp = -1, u_mv = -1, u_mode = -1, u_lit = -1, u_ortho = -1, u_color = -1, u_texture = -1,
-        u_colormap = -1, u_range = -1;
+  GLint u_mvp = -1, u_mv = -1, u_mode = -1, u_lit = -1, u_ortho = -1, u_color = -1, u_texture = -1, u_colormap = -1,
+        u_range = -1;
   GLint max_samples = 0;
   // Framebuffers, recreated when the size or sample count changes.
   int fb_width = 0, fb_height = 0, fb_samples = -1;
@@ -340,16 +338,21 @@ std::vector<Image> Renderer::render_views(const Render_mesh& mesh, const std::ve
   };
   attribute(0, buffers[0], mesh.positions, 3);
   attribute(1, buffers[1], mesh.normals, 3);
-  if (mesh.has_uvs()) attribute(2, buffers[2], mesh.uvs, 2);
-  else gl.DisableVertexAttribArray(2);
-  if (mesh.has_scalars()) attribute(3, buffers[3], mesh.scalars, 1);
-  else gl.DisableVertexAttribArray(3);
+  if (mesh.has_uvs())
+    attribute(2, buffers[2], mesh.uvs, 2);
+  else
+    gl.DisableVertexAttribArray(2);
+  if (mesh.has_scalars())
+    attribute(3, buffers[3], mesh.scalars, 1);
+  else
+    gl.DisableVertexAttribArray(3);
   gl.VertexAttrib2f(2, 0.f, 0.f);
   gl.VertexAttrib1f(3, 0.f);
   // Lines: the wireframe, then the chart boundaries, in one buffer.
   std::vector<float> lines(mesh.wire_lines);
   lines.insert(lines.end(), mesh.chart_lines.begin(), mesh.chart_lines.end());
-  const GLsizei wire_vertices = GLsizei(mesh.wire_lines.size() / 3), chart_vertices = GLsizei(mesh.chart_lines.size() / 3);
+  const GLsizei wire_vertices = GLsizei(mesh.wire_lines.size() / 3),
+                chart_vertices = GLsizei(mesh.chart_lines.size() / 3);
   gl.GenVertexArrays(1, &line_vao);
   gl.BindVertexArray(line_vao);
   if (!lines.empty()) attribute(0, buffers[4], lines, 3);
@@ -399,9 +402,15 @@ std::vector<Image> Renderer::render_views(const Render_mesh& mesh, const std::ve
         int mode = 0;
         std::array<double, 3> color = base;
         switch (o.shading) {
-          case Shading::Smooth: mode = 0; break;
-          case Shading::Flat: mode = 1; break;
-          case Shading::Field: mode = 3; break;
+          case Shading::Smooth:
+            mode = 0;
+            break;
+          case Shading::Flat:
+            mode = 1;
+            break;
+          case Shading::Field:
+            mode = 3;
+            break;
           case Shading::Textured:
             mode = mesh.has_uvs() ? 2 : 0;
             if (mode == 2 && r.texture) color = {{1., 1., 1.}};
@@ -436,7 +445,8 @@ std::vector<Image> Renderer::render_views(const Render_mesh& mesh, const std::ve
       I.check("rendering");
       Image img(W, H, 4);
       for (int y = 0; y < H; ++y)
-        std::memcpy(img.bytes() + std::size_t(y) * W * 4, pixels.data() + std::size_t(H - 1 - y) * W * 4, std::size_t(W) * 4);
+        std::memcpy(img.bytes() + std::size_t(y) * W * 4, pixels.data() + std::size_t(H - 1 - y) * W * 4,
+                    std::size_t(W) * 4);
       out.push_back(std::move(img));
     }
   } catch (...) {

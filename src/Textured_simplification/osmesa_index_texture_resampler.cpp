@@ -199,7 +199,8 @@ struct Osmesa_index_texture_resampler::Impl {
     x1 = std::min(x1, W - 1);
     y1 = std::min(y1, H - 1);
     for (int ty = y0 / tile; ty <= y1 / tile; ++ty)
-      for (int tx = x0 / tile; tx <= x1 / tile; ++tx) written[std::size_t(ty) * std::size_t(tiles_x) + std::size_t(tx)] = batch;
+      for (int tx = x0 / tile; tx <= x1 / tile; ++tx)
+        written[std::size_t(ty) * std::size_t(tiles_x) + std::size_t(tx)] = batch;
   }
 
   void add(const Collapse_record& rec) {
@@ -241,7 +242,9 @@ struct Osmesa_index_texture_resampler::Impl {
         ymax = std::max(ymax, c[1]);
       }
     }
-    if (xmin <= xmax) mark_written(int(std::floor(xmin)) - 1, int(std::floor(ymin)) - 1, int(std::ceil(xmax)) + 1, int(std::ceil(ymax)) + 1);
+    if (xmin <= xmax)
+      mark_written(int(std::floor(xmin)) - 1, int(std::floor(ymin)) - 1, int(std::ceil(xmax)) + 1,
+                   int(std::ceil(ymax)) + 1);
     if (++batch_collapses >= options.max_batch) flush();
   }
 
@@ -302,7 +305,8 @@ struct Osmesa_index_texture_resampler::Impl {
   }
 };
 
-Osmesa_index_texture_resampler::Osmesa_index_texture_resampler(Index_texture& it, const Osmesa_resampler_options& options)
+Osmesa_index_texture_resampler::Osmesa_index_texture_resampler(Index_texture& it,
+                                                               const Osmesa_resampler_options& options)
     : impl_(new Impl(it, options)) {
   Impl& I = *impl_;
   I.W = it.width();

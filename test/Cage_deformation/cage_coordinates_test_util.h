@@ -187,8 +187,7 @@ inline std::vector<Vec3> random_points(std::mt19937& rng, Vec3 lo, Vec3 hi, int 
 
 // ------------------------------------------------------------------ shared data
 // Points and polygons of a mesh or cage file, with the project's reader.
-inline bool read_soup(const std::string& path, std::vector<Vec3>& pts,
-                      std::vector<std::vector<std::size_t>>& polys) {
+inline bool read_soup(const std::string& path, std::vector<Vec3>& pts, std::vector<std::vector<std::size_t>>& polys) {
   try {
     read_polygons(path, pts, polys);
   } catch (const CMGeom::Error& e) {

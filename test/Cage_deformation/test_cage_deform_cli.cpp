@@ -7,8 +7,7 @@ namespace {
 // One directory per test and per executable, so that `ctest -j` may run them concurrently.
 std::string cli_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::string d = std::string(CMGEOM_TEST_TMP_DIR) + "/" + info->test_suite_name() + "_" +
-                        info->name();
+  const std::string d = std::string(CMGEOM_TEST_TMP_DIR) + "/" + info->test_suite_name() + "_" + info->name();
   std::filesystem::create_directories(d + "/cages");
   return d;
 }
@@ -63,13 +62,14 @@ TEST(CAGE_SUITE(Cage_cli), deform_keeps_vertex_order_and_reproduces_maps) {
                              {"green", random_similarity(rng, 1.3), ""}};
   for (const Case& c : cases) {
     write_text(d + "/cages/deformed.obj", cube_obj(c.map));
-    write_text(d + "/system.json", "{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": "
-                                   "\"cages/deformed.obj\", \"coordinates\": \"" +
-                                       c.coords + "\"" + c.extra + "}]}");
+    write_text(d + "/system.json",
+               "{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": "
+               "\"cages/deformed.obj\", \"coordinates\": \"" +
+                   c.coords + "\"" + c.extra + "}]}");
     const std::string out = d + "/out_" + c.coords + ".obj";
     std::string so, se;
-    ASSERT_EQ(run(std::string(CMGEOM_CMGEOM_EXE) + " deform " + d + "/mesh.obj --cages " + d +
-                      "/system.json -o " + out + " --json",
+    ASSERT_EQ(run(std::string(CMGEOM_CMGEOM_EXE) + " deform " + d + "/mesh.obj --cages " + d + "/system.json -o " +
+                      out + " --json",
                   &so, &se),
               0)
         << se;
@@ -87,14 +87,16 @@ TEST(CAGE_SUITE(Cage_cli), deform_keeps_vertex_order_and_reproduces_maps) {
   const Affine a = random_affine(rng);
   std::string obj = cube_obj(a);
   obj = obj.substr(0, obj.find("f "));
-  obj += "f 2 3 7\nf 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 7 6\nf 3 4 8\n"
-         "f 3 8 7\nf 4 1 5\nf 4 5 8\n";
+  obj +=
+      "f 2 3 7\nf 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 7 6\nf 3 4 8\n"
+      "f 3 8 7\nf 4 1 5\nf 4 5 8\n";
   write_text(d + "/cages/deformed.obj", obj);
-  write_text(d + "/system.json", "{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": "
-                                 "\"cages/deformed.obj\"}]}");
+  write_text(d + "/system.json",
+             "{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": "
+             "\"cages/deformed.obj\"}]}");
   std::string se;
-  ASSERT_EQ(run(std::string(CMGEOM_CMGEOM_EXE) + " deform " + d + "/mesh.obj --cages " + d +
-                    "/system.json -o " + d + "/out_faces.obj",
+  ASSERT_EQ(run(std::string(CMGEOM_CMGEOM_EXE) + " deform " + d + "/mesh.obj --cages " + d + "/system.json -o " + d +
+                    "/out_faces.obj",
                 nullptr, &se),
             0)
       << se;
@@ -123,17 +125,20 @@ TEST(CAGE_SUITE(Cage_cli), errors_are_one_line_and_leave_no_output) {
       {"{\"cages\": [{\"deformed\": \"cages/rest.obj\"}]}", "mesh.obj", "/cages/0/rest: missing"},
       {"{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": \"cages/missing.obj\"}]}", "mesh.obj", "missing.obj"},
       {"{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": \"cages/other.obj\"}]}", "mesh.obj", "same vertices"},
-      {"{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": \"cages/rest.obj\", \"coordinates\": \"bogus\"}]}", "mesh.obj", "unknown coordinates"},
-      {"{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": \"cages/rest.obj\", \"coordinates\": \"harmonic\", \"harmonic\": {\"resolution\": 16}}]}", "outside.obj", "outside the cage"}};
+      {"{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": \"cages/rest.obj\", \"coordinates\": \"bogus\"}]}",
+       "mesh.obj", "unknown coordinates"},
+      {"{\"cages\": [{\"rest\": \"cages/rest.obj\", \"deformed\": \"cages/rest.obj\", \"coordinates\": \"harmonic\", "
+       "\"harmonic\": {\"resolution\": 16}}]}",
+       "outside.obj", "outside the cage"}};
   for (const Bad& b : bad) {
     write_text(d + "/bad.json", b.json);
     const std::string out = d + "/bad_out.obj";
     std::filesystem::remove(out);
     std::string se;
-    EXPECT_EQ(run(std::string(CMGEOM_CMGEOM_EXE) + " deform " + d + "/" + b.mesh + " --cages " + d +
-                      "/bad.json -o " + out,
-                  nullptr, &se),
-              1)
+    EXPECT_EQ(
+        run(std::string(CMGEOM_CMGEOM_EXE) + " deform " + d + "/" + b.mesh + " --cages " + d + "/bad.json -o " + out,
+            nullptr, &se),
+        1)
         << b.json;
     EXPECT_NE(se.find(b.expect), std::string::npos) << se;
     EXPECT_EQ(std::count(se.begin(), se.end(), '\n'), 1) << se;

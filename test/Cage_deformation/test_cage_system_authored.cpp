@@ -128,8 +128,8 @@ TEST(Cage_system, one_authored_cage_is_the_plain_coordinates) {
       // Every point is finite (harmonic points outside the cage, status undefined, get zero
       // weights and go to the origin, still finite).
       EXPECT_EQ(finite, pts.size()) << a.name << " " << to_string(type);
-      std::cout << a.name << " " << to_string(type) << ": " << pts.size() << " points, max |system - plain| "
-                << err << " (cage diagonal " << diagonal(d.cages[0].deformed) << ")\n";
+      std::cout << a.name << " " << to_string(type) << ": " << pts.size() << " points, max |system - plain| " << err
+                << " (cage diagonal " << diagonal(d.cages[0].deformed) << ")\n";
     }
   }
 }
@@ -190,7 +190,8 @@ TEST(Cage_system, authored_cage_reproduces_affine_maps) {
         return r;
       };
       Cage_system_description d = one_cage_system(a, type);
-      for (std::size_t v = 0; v < d.cages[0].deformed.size(); ++v) d.cages[0].deformed[v] = map(d.cages[0].rest.vertices[v]);
+      for (std::size_t v = 0; v < d.cages[0].deformed.size(); ++v)
+        d.cages[0].deformed[v] = map(d.cages[0].rest.vertices[v]);
       const Cage_system s(d);
       const Cage_system_binding<double> b = s.bind(pts);
       std::vector<Vec3> out;

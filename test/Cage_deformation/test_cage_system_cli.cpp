@@ -35,8 +35,11 @@ TEST(Cage_system_cli, deform_and_influence_of_a_two_cage_system) {
     for (std::size_t k = 0; k < 8; ++k) c.deformed[k] = affine(c.rest.vertices[k]);
   write_cage_system(tmp("two.json"), d);
   std::string so, se;
-  ASSERT_EQ(run_cli("deform " + tmp("octa.obj") + " --cages " + tmp("two.json") + " -o " + tmp("two_out.obj") + " --json",
-                    &so, &se), 0) << se;
+  ASSERT_EQ(
+      run_cli("deform " + tmp("octa.obj") + " --cages " + tmp("two.json") + " -o " + tmp("two_out.obj") + " --json",
+              &so, &se),
+      0)
+      << se;
   EXPECT_NE(so.find("\"joined_vertices\""), std::string::npos) << so;
   std::vector<Vec3> pts;
   std::vector<std::vector<std::uint32_t>> polys;
@@ -44,7 +47,10 @@ TEST(Cage_system_cli, deform_and_influence_of_a_two_cage_system) {
   ASSERT_EQ(pts.size(), mv.size());
   for (std::size_t i = 0; i < mv.size(); ++i) EXPECT_LT(norm(sub(pts[i], affine(mv[i]))), 1e-9) << i;
   // Influence values: the library's d_i, in vertex order.
-  ASSERT_EQ(run_cli("influence " + tmp("octa.obj") + " --cages " + tmp("two.json") + " --values " + tmp("d.txt"), &so, &se), 0) << se;
+  ASSERT_EQ(
+      run_cli("influence " + tmp("octa.obj") + " --cages " + tmp("two.json") + " --values " + tmp("d.txt"), &so, &se),
+      0)
+      << se;
   const Cage_system s(read_cage_system(tmp("two.json")));
   const Cage_system_binding<float> b = s.bind<float>(mv);
   std::ifstream in(tmp("d.txt"));
@@ -57,7 +63,9 @@ TEST(Cage_system_cli, deform_and_influence_of_a_two_cage_system) {
   }
   EXPECT_LT(b.influence()[0], 0.01);  // (1, 0.5, 0.9) is on the border: d = 0
   // --grid --write-cages writes an editable system that reads back with the same cages.
-  ASSERT_EQ(run_cli("deform " + tmp("octa.obj") + " --grid 2,2,1 --h 0.5 --write-cages " + tmp("grid.json"), &so, &se), 0) << se;
+  ASSERT_EQ(run_cli("deform " + tmp("octa.obj") + " --grid 2,2,1 --h 0.5 --write-cages " + tmp("grid.json"), &so, &se),
+            0)
+      << se;
   const Cage_system_description g = read_cage_system(tmp("grid.json"));
   EXPECT_EQ(g.cages.size(), 4u);
   EXPECT_EQ(g.cages[3].h, 0.5);
@@ -67,7 +75,8 @@ TEST(Cage_system_cli, deform_and_influence_of_a_two_cage_system) {
   bad.cages.back().name = "copy";
   write_cage_system(tmp("bad.json"), bad);
   std::filesystem::remove(tmp("bad_out.obj"));
-  EXPECT_EQ(run_cli("deform " + tmp("octa.obj") + " --cages " + tmp("bad.json") + " -o " + tmp("bad_out.obj"), &so, &se), 1);
+  EXPECT_EQ(
+      run_cli("deform " + tmp("octa.obj") + " --cages " + tmp("bad.json") + " -o " + tmp("bad_out.obj"), &so, &se), 1);
   EXPECT_NE(se.find("overlap"), std::string::npos) << se;
   EXPECT_EQ(std::count(se.begin(), se.end(), '\n'), 1) << se;
   EXPECT_FALSE(std::filesystem::exists(tmp("bad_out.obj")));

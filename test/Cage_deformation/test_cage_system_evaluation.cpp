@@ -6,10 +6,11 @@
 // ------------------------------------------------------------------ C¹ across borders
 TEST(Cage_system, C1_across_every_border_and_jump_of_piecewise_mvc) {
   std::mt19937 rng(7);
-  for (const std::array<int, 3> g : {std::array<int, 3>{2, 1, 1}, std::array<int, 3>{2, 2, 1}, std::array<int, 3>{1, 1, 3},
-                                       std::array<int, 3>{2, 2, 2}, std::array<int, 3>{3, 3, 3}}) {
-    Cage_system_description d = make_grid_cage_system({-1, -0.8, -0.6}, {1.1, 0.9, 0.7}, g[0], g[1], g[2],
-                                                      Coordinate_type::mean_value, 0.6);
+  for (const std::array<int, 3> g :
+       {std::array<int, 3>{2, 1, 1}, std::array<int, 3>{2, 2, 1}, std::array<int, 3>{1, 1, 3},
+        std::array<int, 3>{2, 2, 2}, std::array<int, 3>{3, 3, 3}}) {
+    Cage_system_description d =
+        make_grid_cage_system({-1, -0.8, -0.6}, {1.1, 0.9, 0.7}, g[0], g[1], g[2], Coordinate_type::mean_value, 0.6);
     deform_all(d, bend);
     const Cage_system s(d);
     const std::vector<Vec3> B = s.basis(s.deformed_leaf_vertices());
@@ -18,9 +19,8 @@ TEST(Cage_system, C1_across_every_border_and_jump_of_piecewise_mvc) {
     EXPECT_LT(star.max_rel_jump, 1e-6) << g[0] << "x" << g[1] << "x" << g[2];
     EXPECT_LT(star.max_value_gap, 1e-12);
     const Border_result piecewise = probe_borders(s, B, Piecewise_smoothing(), rng);
-    std::cout << g[0] << "x" << g[1] << "x" << g[2] << ": " << star.probes
-              << " probes, Jacobian jump *Cages " << star.max_rel_jump << ", piecewise MVC "
-              << piecewise.max_rel_jump << "\n";
+    std::cout << g[0] << "x" << g[1] << "x" << g[2] << ": " << star.probes << " probes, Jacobian jump *Cages "
+              << star.max_rel_jump << ", piecewise MVC " << piecewise.max_rel_jump << "\n";
     EXPECT_GT(piecewise.max_rel_jump, 1e-2) << "piecewise MVC should show a Jacobian jump";
     EXPECT_LT(piecewise.max_value_gap, 1e-12) << "piecewise MVC is C0";
   }
@@ -41,8 +41,8 @@ TEST(Cage_system, heterogeneous_coordinates_stay_C1) {
   EXPECT_LT(r.max_value_gap, 1e-12);
   // Without the join, the Green cage is discontinuous across its faces.
   const Border_result p = probe_borders(s, B, Piecewise_smoothing(), rng);
-  std::cout << "MVC+Green+harmonic: Jacobian jump " << r.max_rel_jump << ", value gap without join "
-            << p.max_value_gap << "\n";
+  std::cout << "MVC+Green+harmonic: Jacobian jump " << r.max_rel_jump << ", value gap without join " << p.max_value_gap
+            << "\n";
   EXPECT_GT(p.max_value_gap, 1e-4);
 }
 
@@ -162,9 +162,10 @@ TEST(Cage_system, global_affine_map_is_reproduced) {
     for (int a = 0; a < 3; ++a) r[a] = A[a][0] * p[0] + A[a][1] * p[1] + A[a][2] * p[2] + A[a][3];
     return r;
   };
-  for (const std::array<int, 3> g : {std::array<int, 3>{2, 1, 1}, std::array<int, 3>{2, 2, 1}, std::array<int, 3>{3, 3, 3}}) {
-    Cage_system_description d = make_grid_cage_system({0, 0, 0}, {2, 1.5, 1}, g[0], g[1], g[2],
-                                                      Coordinate_type::mean_value, 0.6);
+  for (const std::array<int, 3> g :
+       {std::array<int, 3>{2, 1, 1}, std::array<int, 3>{2, 2, 1}, std::array<int, 3>{3, 3, 3}}) {
+    Cage_system_description d =
+        make_grid_cage_system({0, 0, 0}, {2, 1.5, 1}, g[0], g[1], g[2], Coordinate_type::mean_value, 0.6);
     for (auto& c : d.cages)
       for (std::size_t k = 0; k < 8; ++k) c.deformed[k] = affine(c.rest.vertices[k]);
     const Cage_system s(d);
@@ -180,8 +181,8 @@ TEST(Cage_system, global_affine_map_is_reproduced) {
 
 TEST(Cage_system, harmonic_parent_uses_the_lambda_rule_outside) {
   Cage_system_description d = make_grid_cage_system({0, 0, 0}, {1, 1, 1}, 1, 1, 1);
-  Cage_description P = make_grid_cage_system({-0.25, -0.25, -0.25}, {1.25, 1.25, 1.25}, 1, 1, 1,
-                                             Coordinate_type::harmonic).cages[0];
+  Cage_description P =
+      make_grid_cage_system({-0.25, -0.25, -0.25}, {1.25, 1.25, 1.25}, 1, 1, 1, Coordinate_type::harmonic).cages[0];
   P.harmonic.resolution = 16;
   d.cages.push_back(P);
   d.cages[0].parents.push_back({1, {0, 1, 2, 3, 4, 5, 6, 7}});

@@ -6,8 +6,8 @@ namespace {
 // A grid system under the `bend` pose whose join cages have harmonic coordinates (tricubic
 // lookup, resolution 20: a solve per join cage in well under a second).
 Cage_system_description harmonic_join_grid(int nx, int ny, int nz, Coordinate_type join) {
-  Cage_system_description d = make_grid_cage_system({-1, -0.8, -0.6}, {1.1, 0.9, 0.7}, nx, ny, nz,
-                                                    Coordinate_type::mean_value, 0.6);
+  Cage_system_description d =
+      make_grid_cage_system({-1, -0.8, -0.6}, {1.1, 0.9, 0.7}, nx, ny, nz, Coordinate_type::mean_value, 0.6);
   d.join_coordinates = join;
   d.join_harmonic.resolution = 20;
   deform_all(d, bend);

@@ -20,8 +20,10 @@ const char* cube_json =
 TEST(Cage_system_io, reads_inline_and_file_cages_and_round_trips) {
   std::ofstream(tmp("cube.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
                                     "f 1 5 7 3\nf 2 4 8 6\nf 1 2 6 5\nf 3 7 8 4\nf 1 3 4 2\nf 5 6 8 7\n";
-  const std::string path = write("ok.json", std::string(R"({"h": 0.5, "join_coordinates": "mean_value", "cages": [
-      {"name": "a", "rest": )") + cube_json + R"(, "deformed": [[0,0,0],[1,0,0],[0,1,0],[1,1,0],[0,0,1],[1,0,1],[0,1,1],[1,1,2]]},
+  const std::string path = write(
+      "ok.json", std::string(R"({"h": 0.5, "join_coordinates": "mean_value", "cages": [
+      {"name": "a", "rest": )") +
+                     cube_json + R"(, "deformed": [[0,0,0],[1,0,0],[0,1,0],[1,1,0],[0,0,1],[1,0,1],[0,1,1],[1,1,2]]},
       {"name": "b", "rest": "cage_system_cube.obj", "coordinates": "green", "h": 0.25,
        "border_h": [{"cage": "a", "h": 0.125}], "parent": {"cage": "a", "vertices": [0, 7]}}]})");
   const Cage_system_description d = read_cage_system(path);
@@ -65,18 +67,22 @@ TEST(Cage_system_io, errors_name_the_file_and_the_json_pointer) {
       {R"({"cages": []})", "/cages: expected a non-empty array"},
       {R"({"cages": [{"rest": )" + c + R"(, "h": 0}]})", "/cages/0/h: must be a number in (0, 1]"},
       {R"({"cages": [{"rest": )" + c + R"(, "hh": 1}]})", "/cages/0/hh: unknown key"},
-      {R"({"cages": [{"rest": )" + c + R"(, "coordinates": "wachspress"}]})", "/cages/0/coordinates: unknown coordinates"},
+      {R"({"cages": [{"rest": )" + c + R"(, "coordinates": "wachspress"}]})",
+       "/cages/0/coordinates: unknown coordinates"},
       {R"({"cages": [{"rest": )" + c + R"(, "deformed": [[0,0,0]]}]})", "/cages/0/deformed: has 1 vertices"},
       {R"({"cages": [{"rest": {"vertices": [[0,0,0],[1,0,0],[0,1,0],[0,0,"x"]], "faces": [[0,1,2]]}}]})",
        "/cages/0/rest/vertices/3/2: must be a number"},
       {R"({"cages": [{"rest": {"vertices": [[0,0,0],[1,0,0],[0,1,0],[0,0,1]], "faces": [[0,1,2],[0,1,3]]}}]})",
        "/cages/0/rest:"},
-      {R"({"cages": [{"rest": {"vertices": [[0,0,0]], "faces": [[0,1,7]]}}]})", "/cages/0/rest/faces/0/1: index out of range"},
-      {R"({"cages": [{"rest": )" + c + R"(, "parent": {"cage": 0}}]})", "/cages/0/parent/cage: a cage cannot be its own parent"},
+      {R"({"cages": [{"rest": {"vertices": [[0,0,0]], "faces": [[0,1,7]]}}]})",
+       "/cages/0/rest/faces/0/1: index out of range"},
+      {R"({"cages": [{"rest": )" + c + R"(, "parent": {"cage": 0}}]})",
+       "/cages/0/parent/cage: a cage cannot be its own parent"},
       {R"({"cages": [{"rest": )" + c + R"(, "parent": {"cage": 1}}, {"rest": )" + c + R"(, "parent": {"cage": 0}}]})",
        "the parent links form a cycle"},
       {R"({"cages": [{"rest": )" + c + R"(, "parent": [{"cage": 1, "vertices": [1]}, {"cage": 2, "vertices": [1]}]},
-                     {"rest": )" + c + R"(}, {"rest": )" + c + R"(}]})",
+                     {"rest": )" +
+           c + R"(}, {"rest": )" + c + R"(}]})",
        "owned twice"},
       {R"({"cages": [{"rest": "no_such_file.obj"}]})", "/cages/0/rest: "},
       {R"({"join_coordinates": "green", "cages": [{"rest": )" + c + R"(}]})", "/join_coordinates: join cages need C1"},
@@ -90,7 +96,8 @@ TEST(Cage_system_io, errors_name_the_file_and_the_json_pointer) {
       {R"({"cages": [{"rest": )" + c + R"(, "border_h": [{"cage": 0, "h": 0.5}]}]})",
        "/cages/0/border_h/0/cage: a cage has no border with itself"},
       {R"({"cages": [{"rest": )" + c + R"(, "border_h": [{"cage": 1, "h": 0.5}, {"cage": 1, "h": 0.2}]},
-                     {"rest": )" + c + R"(}]})",
+                     {"rest": )" +
+           c + R"(}]})",
        "/cages/0/border_h/1/cage: this border is given twice"},
       {R"({"cages": [{"rest": )" + c + R"(, "border_h": [{"h": 0.5}]}]})", "/cages/0/border_h/0/cage: missing"},
   };

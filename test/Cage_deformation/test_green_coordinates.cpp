@@ -35,8 +35,7 @@ TEST(CAGE_SUITE(Cage_Green), exact_under_similarities_not_under_shear) {
     Affine a = random_similarity(rng, scale);
     std::vector<Vec3> out;
     b.deform(gc.deformation_rule(), transformed(cage.vertices, a), out);
-    for (std::size_t i = 0; i < pts.size(); ++i)
-      EXPECT_LT(norm(sub(out[i], a(pts[i]))), 1e-9 * L * scale);
+    for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_LT(norm(sub(out[i], a(pts[i]))), 1e-9 * L * scale);
   }
   // A non-uniform scale is not reproduced (Green coordinates are quasi-conformal).
   Affine s{{{2, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {0, 0, 0}};

@@ -50,8 +50,8 @@ TEST(CAGE_SUITE(Cage_Harmonic), rest_pose_affine_maps_partition_of_unity) {
 TEST(CAGE_SUITE(Cage_Harmonic), non_negative_and_interpolating_with_closest_point_values) {
   std::mt19937 rng(43);
   Triangle_cage cage = l_cage();
-  Harmonic_coordinates_3 hc(cage, harmonic_options(32, Harmonic_interpolation::trilinear,
-                                                   Harmonic_boundary_values::closest_point));
+  Harmonic_coordinates_3 hc(
+      cage, harmonic_options(32, Harmonic_interpolation::trilinear, Harmonic_boundary_values::closest_point));
   const double h = hc.spacing();
   double worst_repro = 0;
   for (const Vec3& x : random_points(rng, {0, 0, 0}, {2, 2, 1}, 2000)) {

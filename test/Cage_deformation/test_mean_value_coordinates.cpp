@@ -57,8 +57,7 @@ TEST(CAGE_SUITE(Cage_MVC), linear_precision_under_random_affine_maps) {
     Affine a = random_affine(rng);
     std::vector<Vec3> def = transformed(cage.vertices, a), out;
     b.deform(mvc.deformation_rule(), def, out);
-    for (std::size_t i = 0; i < pts.size(); ++i)
-      EXPECT_LT(norm(sub(out[i], a(pts[i]))), 1e-9 * cage.bbox_diagonal());
+    for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_LT(norm(sub(out[i], a(pts[i]))), 1e-9 * cage.bbox_diagonal());
   }
 }
 
@@ -86,8 +85,7 @@ TEST(CAGE_SUITE(Cage_MVC), exact_on_vertices_edges_faces) {
     }
     // random point on the face: its barycentric coordinates
     double b0 = U(rng), b1 = U(rng) * (1 - b0), b2 = 1 - b0 - b1;
-    Vec3 x = add(add(mul(b0, cage.vertices[t[0]]), mul(b1, cage.vertices[t[1]])),
-                 mul(b2, cage.vertices[t[2]]));
+    Vec3 x = add(add(mul(b0, cage.vertices[t[0]]), mul(b1, cage.vertices[t[1]])), mul(b2, cage.vertices[t[2]]));
     std::vector<double> w = coordinates(mvc, x, &st);
     EXPECT_EQ(st, Coordinate_status::on_boundary);
     EXPECT_NEAR(w[t[0]], b0, 1e-12);
@@ -102,8 +100,8 @@ TEST(CAGE_SUITE(Cage_MVC), face_planes_and_continuity) {
   const double L = cage.bbox_diagonal();
   // (0.5, 1, 0.5) is inside the cage, in the plane y = 1 of the top face of cube (1,0,0);
   // (2.5, 1, 0.5) is outside, in the same plane; (1.5, 1, 0.5) is on that face.
-  for (Vec3 x : {Vec3{0.5, 1, 0.5}, Vec3{2.5, 1, 0.5}, Vec3{1.5, 1, 0.5}, Vec3{1, 1, 0.5},
-                 Vec3{3, 1, 1}, Vec3{1, 3, 0}}) {
+  for (Vec3 x :
+       {Vec3{0.5, 1, 0.5}, Vec3{2.5, 1, 0.5}, Vec3{1.5, 1, 0.5}, Vec3{1, 1, 0.5}, Vec3{3, 1, 1}, Vec3{1, 3, 0}}) {
     std::vector<double> w0 = coordinates(mvc, x);
     ASSERT_TRUE(all_finite(w0));
     EXPECT_LT(norm(sub(combine(w0, cage.vertices), x)), 1e-9 * L);
@@ -141,8 +139,7 @@ TEST(CAGE_SUITE(Cage_MVC), scale_invariance) {
       for (std::size_t k = 0; k < a.size(); ++k) EXPECT_NEAR(a[k], b[k], 1e-9);
       std::vector<double> ga = coordinates(g1, x), gb = coordinates(gs, xs);
       // vertex terms are scale free, face terms scale like a length
-      for (std::size_t k = 0; k < ga.size(); ++k)
-        EXPECT_NEAR(ga[k], k < c1.vertices.size() ? gb[k] : gb[k] / s, 1e-8);
+      for (std::size_t k = 0; k < ga.size(); ++k) EXPECT_NEAR(ga[k], k < c1.vertices.size() ? gb[k] : gb[k] / s, 1e-8);
     }
   }
 }
@@ -167,12 +164,17 @@ TEST(CAGE_SUITE(Cage_MVC), permuting_vertices_permutes_weights) {
 // the signed solid-angle element handles rays that cross the cage several times), by a degree-5
 // Dunavant rule on a 32 x 32 subdivision of every triangle.
 std::vector<double> mvc_quadrature(const Triangle_cage& cage, const Vec3& x) {
-  static const double W[7] = {0.225, 0.132394152788506, 0.132394152788506, 0.132394152788506,
-                              0.125939180544827, 0.125939180544827, 0.125939180544827};
+  static const double W[7] = {0.225,
+                              0.132394152788506,
+                              0.132394152788506,
+                              0.132394152788506,
+                              0.125939180544827,
+                              0.125939180544827,
+                              0.125939180544827};
   const double a1 = 0.059715871789770, b1 = 0.470142064105115;
   const double a2 = 0.797426985353087, b2 = 0.101286507323456;
-  const double P[7][3] = {{1. / 3, 1. / 3, 1. / 3}, {a1, b1, b1}, {b1, a1, b1}, {b1, b1, a1},
-                          {a2, b2, b2},             {b2, a2, b2}, {b2, b2, a2}};
+  const double P[7][3] = {
+      {1. / 3, 1. / 3, 1. / 3}, {a1, b1, b1}, {b1, a1, b1}, {b1, b1, a1}, {a2, b2, b2}, {b2, a2, b2}, {b2, b2, a2}};
   const int S = 32;
   std::vector<double> w(cage.vertices.size(), 0.0);
   for (const auto& t : cage.triangles) {

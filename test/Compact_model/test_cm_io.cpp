@@ -39,8 +39,12 @@ TEST(CompactModelFile, RoundTripIsBitExact) {
 std::string version1_bytes(const Compact_model& m) {
   std::string out("CMGEOMCM", 8);
   auto u8 = [&](unsigned v) { out.push_back(char(v & 0xffu)); };
-  auto u32 = [&](std::uint32_t v) { for (int i = 0; i < 4; ++i) u8(v >> (8 * i)); };
-  auto u64 = [&](std::uint64_t v) { for (int i = 0; i < 8; ++i) u8(unsigned(v >> (8 * i))); };
+  auto u32 = [&](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) u8(v >> (8 * i));
+  };
+  auto u64 = [&](std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) u8(unsigned(v >> (8 * i)));
+  };
   auto f32 = [&](double d) {
     const float f = float(d);
     std::uint32_t v;
@@ -51,20 +55,35 @@ std::string version1_bytes(const Compact_model& m) {
   u32(1);
   u32(m.has_uvs() ? 1 : 0);
   for (std::size_t n : {m.vertices.size(), m.normals.size(), m.surfaces.size(), cones.size(), m.faces.size()}) u64(n);
-  for (const auto& v : m.vertices) { f32(v.x); f32(v.y); f32(v.z); }
-  for (const auto& v : m.normals) { f32(v.x); f32(v.y); f32(v.z); }
+  for (const auto& v : m.vertices) {
+    f32(v.x);
+    f32(v.y);
+    f32(v.z);
+  }
+  for (const auto& v : m.normals) {
+    f32(v.x);
+    f32(v.y);
+    f32(v.z);
+  }
   for (const auto& s : m.surfaces) {
     u8(s.model);
     for (int k = 0; k < number_of_coefficients(s.model); ++k) f32(s.c[k]);
   }
   for (std::uint32_t c : cones) u32(c);
   for (const auto& f : m.faces)
-    for (const Corner& c : f) { u32(c.vertex); u32(c.surface); u32(c.normal); }
+    for (const Corner& c : f) {
+      u32(c.vertex);
+      u32(c.surface);
+      u32(c.normal);
+    }
   if (m.has_uvs()) {
     u32(std::uint32_t(m.texture.size()));
     out += m.texture;
     for (const auto& f : m.uvs)
-      for (const auto& uv : f) { f32(uv[0]); f32(uv[1]); }
+      for (const auto& uv : f) {
+        f32(uv[0]);
+        f32(uv[1]);
+      }
   }
   u64(CMGeom::CM::internal::fnv1a64(reinterpret_cast<const unsigned char*>(out.data()), out.size()));
   return out;
@@ -117,8 +136,7 @@ TEST(CompactModelFile, Version2IsSmallerAndVersion1StillReads) {
   Compact_model fan;
   fan.vertices.push_back(Vec3(0, 0, 0));
   const int n = 256;
-  for (int i = 0; i < n; ++i)
-    fan.vertices.push_back(Vec3(std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0));
+  for (int i = 0; i < n; ++i) fan.vertices.push_back(Vec3(std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0));
   for (int i = 0; i < n; ++i) {
     fan.normals.push_back(Vec3(0, 0, 1));
     Local_surface s;
@@ -129,8 +147,7 @@ TEST(CompactModelFile, Version2IsSmallerAndVersion1StillReads) {
   fan.surfaces.push_back(Local_surface());
   const std::uint32_t shared = std::uint32_t(n);
   for (int i = 0; i < n; ++i)
-    fan.faces.push_back({Corner{0, std::uint32_t(i), std::uint32_t(i)},
-                         Corner{std::uint32_t(1 + i), shared, shared},
+    fan.faces.push_back({Corner{0, std::uint32_t(i), std::uint32_t(i)}, Corner{std::uint32_t(1 + i), shared, shared},
                          Corner{std::uint32_t(1 + (i + 1) % n), shared, shared}});
   round_to_float(fan);
   const std::string fb = cm_bytes(fan);
@@ -169,8 +186,8 @@ TEST(CompactModelFile, CorruptOrTruncatedFilesGiveOneLineErrors) {
       EXPECT_EQ(msg.rfind("bad.cm: ", 0), 0u) << msg;
     }
   };
-  for (std::size_t len : {std::size_t(0), std::size_t(5), std::size_t(40), std::size_t(63), bytes.size() / 2,
-                          bytes.size() - 1})
+  for (std::size_t len :
+       {std::size_t(0), std::size_t(5), std::size_t(40), std::size_t(63), bytes.size() / 2, bytes.size() - 1})
     expect_io_error(bytes.substr(0, len), "truncated to " + std::to_string(len));
   // Every single-byte corruption is caught (structure, checksum or validation).
   for (std::size_t pos = 0; pos < bytes.size(); pos += std::max<std::size_t>(1, bytes.size() / 400)) {

@@ -61,8 +61,7 @@ double distance_between(const Reconstruction& a, const Reconstruction& b, bool h
 // Rewrites the trailing FNV-1a checksum so that a modified file passes it (to reach the checks
 // behind it).
 void reseal(std::string& bytes) {
-  const std::uint64_t h =
-      internal::fnv1a64(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size() - 8);
+  const std::uint64_t h = internal::fnv1a64(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size() - 8);
   for (int i = 0; i < 8; ++i) bytes[bytes.size() - 8 + std::size_t(i)] = char((h >> (8 * i)) & 0xffu);
 }
 
@@ -121,8 +120,7 @@ TEST(CompactModelCompactFile, CoarserToleranceGivesSmallerFilesAndLargerDifferen
     const Compact_model q = quantized_model(f.model, rough);
     EXPECT_NO_THROW(q.validate());
   } catch (const CMGeom::Invalid_input&) {
-  } catch (const CMGeom::IO_error&) {
-  }
+  } catch (const CMGeom::IO_error&) {}
 }
 
 TEST(CompactModelCompactFile, TextureCoordinatesAndPathSurvive) {
@@ -135,7 +133,8 @@ TEST(CompactModelCompactFile, TextureCoordinatesAndPathSurvive) {
   std::vector<std::array<float, 2>> per_vertex(m.vertices.size());
   for (auto& uv : per_vertex) uv = {u(rng), u(rng)};
   for (std::size_t f = 0; f < m.faces.size(); ++f)
-    for (int k = 0; k < 3; ++k) m.uvs[f][k] = f % 10 == 0 ? std::array<float, 2>{u(rng), u(rng)} : per_vertex[m.faces[f][k].vertex];
+    for (int k = 0; k < 3; ++k)
+      m.uvs[f][k] = f % 10 == 0 ? std::array<float, 2>{u(rng), u(rng)} : per_vertex[m.faces[f][k].vertex];
   m.texture = "textures/atlas é.png";
   const Compact_model q = quantized_model(m);
   ASSERT_TRUE(q.has_uvs());

@@ -103,8 +103,7 @@ TEST(CompactModelSurfaces, ClosestPointNewtonIsOrthogonalAndCloser) {
     const Vec3 n = surface_normal(f, s, uv[0], uv[1]);
     const Vec3 d = p - q;
     EXPECT_NEAR(CMGeom::CM::internal::length(CMGeom::CM::internal::cross(d, n)), 0., 1e-9);
-    EXPECT_LE(CMGeom::CM::internal::length(d),
-              CMGeom::CM::internal::length(p - project_along_normal(f, s, p)) + 1e-12);
+    EXPECT_LE(CMGeom::CM::internal::length(d), CMGeom::CM::internal::length(p - project_along_normal(f, s, p)) + 1e-12);
   }
 }
 

@@ -26,8 +26,7 @@ TEST(CompactModelReconstruction, ParaboloidReproducedAtEveryLevel) {
 TEST(CompactModelReconstruction, ParabolicCylinderReproducedAdaptively) {
   auto g = [](double x, double) { return 0.8 * x * x - 0.3 * x; };
   const Compact_model m = height_field_model(0.8, 0, 0, -0.3, 0, 3);
-  const Reconstruction r =
-      reconstruct_adaptive(m, Region_of_interest_criterion{Vec3(0.5, 0.5, 0.), 0.6}, 4);
+  const Reconstruction r = reconstruct_adaptive(m, Region_of_interest_criterion{Vec3(0.5, 0.5, 0.), 0.6}, 4);
   double err = 0;
   for (const Vec3& p : r.points) err = std::max(err, std::abs(p.z - g(p.x, p.y)));
   EXPECT_LT(err, 1e-9);
@@ -118,7 +117,8 @@ TEST(CompactModelReconstruction, IdentityVertexMapsAlongNormalGiveThePlainRecons
   Reconstruction_options plain, mapped;
   plain.projection = mapped.projection = Projection::along_normal;
   mapped.vertex_maps = &maps;
-  for (int level : {2, 4}) EXPECT_TRUE(same(reconstruct_regular(m, level, plain), reconstruct_regular(m, level, mapped)));
+  for (int level : {2, 4})
+    EXPECT_TRUE(same(reconstruct_regular(m, level, plain), reconstruct_regular(m, level, mapped)));
 }
 
 // The same with every kind of local surface: the row kernel evaluates quadrics and cones itself
@@ -203,8 +203,8 @@ TEST(CompactModelReconstruction, ReusedBufferGivesTheFreshResult) {
   // Growing, shrinking, the other projection, and a textured model followed by an untextured one:
   // every field is rewritten, nothing of the previous content survives.
   for (const Projection proj : {Projection::along_normal, Projection::closest_point})
-    for (const auto& [model, level] : {std::pair<const Compact_model*, int>{&m, 1}, {&m, 3}, {&textured, 2},
-                                       {&m, 2}, {&textured, 1}}) {
+    for (const auto& [model, level] :
+         {std::pair<const Compact_model*, int>{&m, 1}, {&m, 3}, {&textured, 2}, {&m, 2}, {&textured, 1}}) {
       Reconstruction_options o;
       o.projection = proj;
       const Reconstruction fresh = reconstruct_regular(*model, level, o);

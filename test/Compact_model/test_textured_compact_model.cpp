@@ -115,7 +115,10 @@ TEST(CompactModelTextured, ReconstructionShowsTheInputsAppearance) {
       const double area = std::sqrt(CGAL::to_double(T.squared_area()));
       double w[3];
       for (int k = 0; k < 3; ++k)
-        w[k] = std::sqrt(CGAL::to_double(CMGeom::Kernel::Triangle_3(q, tri.p[std::size_t((k + 1) % 3)], tri.p[std::size_t((k + 2) % 3)]).squared_area())) / area;
+        w[k] = std::sqrt(CGAL::to_double(
+                   CMGeom::Kernel::Triangle_3(q, tri.p[std::size_t((k + 1) % 3)], tri.p[std::size_t((k + 2) % 3)])
+                       .squared_area())) /
+               area;
       const double s = w[0] + w[1] + w[2];
       ref_uv = CMGeom::Point_2((w[0] * tri.uv[0].x() + w[1] * tri.uv[1].x() + w[2] * tri.uv[2].x()) / s,
                                (w[0] * tri.uv[0].y() + w[1] * tri.uv[1].y() + w[2] * tri.uv[2].y()) / s);

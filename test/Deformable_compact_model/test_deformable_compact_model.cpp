@@ -246,7 +246,8 @@ TEST(DeformableCMTransfer, AffineDeformationReproducesTheAffineMapOfTheReconstru
       const Vec3 n = plain.normals[i];
       const Vec3 r0(kShear[0][0], kShear[0][1], kShear[0][2]), r1(kShear[1][0], kShear[1][1], kShear[1][2]),
           r2(kShear[2][0], kShear[2][1], kShear[2][2]);
-      const Vec3 cn(CM::internal::dot(CM::internal::cross(r1, r2), n), CM::internal::dot(CM::internal::cross(r2, r0), n),
+      const Vec3 cn(CM::internal::dot(CM::internal::cross(r1, r2), n),
+                    CM::internal::dot(CM::internal::cross(r2, r0), n),
                     CM::internal::dot(CM::internal::cross(r0, r1), n));
       EXPECT_NEAR(CM::internal::dot(CM::internal::normalized(cn), def.normals[i]), 1., 1e-12);
     }

@@ -79,12 +79,13 @@ int run_one(const std::uint8_t* data, std::size_t size) {
         if (!tm.mesh().is_valid(false)) {
           std::ofstream("fuzz-finding.bin", std::ios::binary)
               .write(reinterpret_cast<const char*>(data), std::streamsize(size));
-          std::fprintf(stderr, "finding: build_textured_mesh produced an invalid mesh (repair=%d); "
-                               "input saved to fuzz-finding.bin\n", int(repair));
+          std::fprintf(stderr,
+                       "finding: build_textured_mesh produced an invalid mesh (repair=%d); "
+                       "input saved to fuzz-finding.bin\n",
+                       int(repair));
           std::abort();
         }
-      } catch (const CMGeom::Error&) {
-      }
+      } catch (const CMGeom::Error&) {}
     }
   } catch (const CMGeom::Error&) {
     // a clear error is a correct answer to bad input
@@ -103,9 +104,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> dirs;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--smoke" && i + 1 < argc) runs = std::stoul(argv[++i]);
-    else if (a == "--seed" && i + 1 < argc) seed = std::stoull(argv[++i]);
-    else dirs.push_back(a);
+    if (a == "--smoke" && i + 1 < argc)
+      runs = std::stoul(argv[++i]);
+    else if (a == "--seed" && i + 1 < argc)
+      seed = std::stoull(argv[++i]);
+    else
+      dirs.push_back(a);
   }
   std::vector<std::vector<std::uint8_t>> pool;
   for (const std::string& d : dirs) {
@@ -117,7 +121,8 @@ int main(int argc, char** argv) {
       if (!e.is_regular_file() || e.file_size() > 300000) continue;  // keep runs quick
       const std::string ext = CMGeom::IO::extension(e.path().string());
       int f = -1;
-      for (int k = 0; k < n_formats; ++k) if (ext == formats[k]) f = k;
+      for (int k = 0; k < n_formats; ++k)
+        if (ext == formats[k]) f = k;
       if (f < 0) continue;
       std::ifstream in(e.path(), std::ios::binary);
       std::vector<std::uint8_t> bytes(1, std::uint8_t(f));

@@ -78,7 +78,8 @@ inline std::string expected_embedded_texture(const std::string& source) {
 // Decodes encoded image bytes in memory (IO::read_image_from_memory, as the readers of embedded
 // textures do), checking that the same bytes written as a file decode to the same pixels.
 inline Image decode_image(const std::string& bytes, const std::string& dir) {
-  const Image in_memory = IO::read_image_from_memory(std::vector<unsigned char>(bytes.begin(), bytes.end()), "embedded");
+  const Image in_memory =
+      IO::read_image_from_memory(std::vector<unsigned char>(bytes.begin(), bytes.end()), "embedded");
   const std::string path = (fs::path(dir) / (is_png(bytes) ? "decoded.png" : "decoded.jpg")).string();
   std::ofstream(path, std::ios::binary) << bytes;
   const Image from_file = IO::read_image(path);
@@ -207,8 +208,8 @@ inline double bbox_diagonal(const Textured_mesh& tm) {
 
 // How far the read-back values may be from the written ones.
 struct Tolerance {
-  double position;                          // per coordinate
-  double uv = -1;                           // per coordinate; < 0: float rounding of the value
+  double position;  // per coordinate
+  double uv = -1;   // per coordinate; < 0: float rounding of the value
   double uv_bound(double x) const { return uv >= 0 ? uv : FLT_EPSILON * (2 + std::abs(x)); }
 };
 
@@ -218,7 +219,8 @@ struct Tolerance {
 // first corner may differ: a face is a cycle) and a material of the same name and colour.
 inline void expect_same_faces(const Textured_mesh& original, const Textured_mesh& back, const Tolerance& tol) {
   std::vector<Face_record> a = face_records(original);
-  std::stable_sort(a.begin(), a.end(), [](const Face_record& x, const Face_record& y) { return x.material < y.material; });
+  std::stable_sort(a.begin(), a.end(),
+                   [](const Face_record& x, const Face_record& y) { return x.material < y.material; });
   const std::vector<Face_record> b = face_records(back);
   ASSERT_EQ(a.size(), b.size());
   ASSERT_EQ(back.has_uvs(), original.has_uvs());
@@ -234,11 +236,14 @@ inline void expect_same_faces(const Textured_mesh& original, const Textured_mesh
     for (std::size_t k = 0; k < 3; ++k) {
       const Point_3 &p = a[i].p[k], &q = b[i].p[(k + r) % 3];
       for (int c = 0; c < 3; ++c)
-        ASSERT_LE(std::abs(p[c] - q[c]), tol.position) << "face " << i << " corner " << k << ": " << p << " read back as " << q;
+        ASSERT_LE(std::abs(p[c] - q[c]), tol.position)
+            << "face " << i << " corner " << k << ": " << p << " read back as " << q;
       if (original.has_uvs()) {
         const Point_2 &s = a[i].uv[k], &t = b[i].uv[(k + r) % 3];
-        ASSERT_LE(std::abs(s.x() - t.x()), tol.uv_bound(s.x())) << "face " << i << " corner " << k << ": " << s << " vs " << t;
-        ASSERT_LE(std::abs(s.y() - t.y()), tol.uv_bound(s.y())) << "face " << i << " corner " << k << ": " << s << " vs " << t;
+        ASSERT_LE(std::abs(s.x() - t.x()), tol.uv_bound(s.x()))
+            << "face " << i << " corner " << k << ": " << s << " vs " << t;
+        ASSERT_LE(std::abs(s.y() - t.y()), tol.uv_bound(s.y()))
+            << "face " << i << " corner " << k << ": " << s << " vs " << t;
       }
     }
     if (!original.materials().empty()) {
@@ -254,7 +259,8 @@ inline void expect_same_faces(const Textured_mesh& original, const Textured_mesh
 
 // Checks that every texture file of `original` (PNG or JPEG) reached `back` byte for byte (PNG
 // colour-space chunks aside): as a file beside the .gltf, or embedded in the .glb.
-inline void expect_same_texture_bytes(const Textured_mesh& original, const Textured_mesh& back, const std::string& written) {
+inline void expect_same_texture_bytes(const Textured_mesh& original, const Textured_mesh& back,
+                                      const std::string& written) {
   const bool glb = IO::extension(written) == ".glb";
   for (const Material& ma : original.materials()) {
     SCOPED_TRACE(ma.name);
@@ -271,7 +277,8 @@ inline void expect_same_texture_bytes(const Textured_mesh& original, const Textu
     } else {
       ASSERT_FALSE(mb->diffuse_texture.empty());
       EXPECT_EQ(fs::path(mb->diffuse_texture).parent_path(), fs::absolute(written).parent_path().lexically_normal());
-      EXPECT_TRUE(file_bytes(mb->diffuse_texture) == source) << mb->diffuse_texture << " differs from " << ma.diffuse_texture;
+      EXPECT_TRUE(file_bytes(mb->diffuse_texture) == source)
+          << mb->diffuse_texture << " differs from " << ma.diffuse_texture;
     }
     if (!ma.normal_texture.empty() && !glb) {  // the reader keeps normal maps of .gltf files only
       ASSERT_FALSE(mb->normal_texture.empty());
@@ -308,11 +315,11 @@ inline std::string gltf_validator_missing() {
   const fs::path dir = CMGEOM_GLTF_VALIDATOR_DIR;
   if (std::system("command -v node > /dev/null 2>&1") != 0)
     return "node is not on PATH: install Node.js and npm (scripts/install-deps.sh does), then run "
-           "'npm install' in " + dir.string();
+           "'npm install' in " +
+           dir.string();
   std::error_code ec;
   if (!fs::is_directory(dir / "node_modules" / "gltf-validator", ec))
-    return "the glTF validator is not installed: run 'npm install' in " + dir.string() +
-           " (scripts/test.sh does)";
+    return "the glTF validator is not installed: run 'npm install' in " + dir.string() + " (scripts/test.sh does)";
   return std::string();
 }
 
@@ -336,9 +343,8 @@ inline Validation validate_gltf(const std::string& file) {
   Validation v;
   v.report = file_bytes(report_file);
   fs::remove(report_file);
-  if (status != 0 ||
-      std::sscanf(v.report.c_str(), "errors=%d warnings=%d infos=%d hints=%d", &v.errors, &v.warnings, &v.infos,
-                  &v.hints) != 4)
+  if (status != 0 || std::sscanf(v.report.c_str(), "errors=%d warnings=%d infos=%d hints=%d", &v.errors, &v.warnings,
+                                 &v.infos, &v.hints) != 4)
     ADD_FAILURE() << "the validator could not validate " << file << ":\n" << v.report;
   return v;
 }

@@ -23,11 +23,17 @@ TEST(Mesh_IO_gltf, EmbeddedBufferWeldedFlippedAndTextured) {
       {"textures", {{{"source", 0}}}},
       {"images", {{{"uri", "tex.png"}}}},
       {"buffers", {{{"uri", "quad.bin"}, {"byteLength", bin.size()}}}},
-      {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 72}},
-                       {{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 48}}}},
-      {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 6}, {"type", "VEC3"},
-                      {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
-                     {{"bufferView", 1}, {"componentType", 5126}, {"count", 6}, {"type", "VEC2"}}}}};
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 72}},
+        {{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 48}}}},
+      {"accessors",
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", 6},
+         {"type", "VEC3"},
+         {"min", {0, 0, 0}},
+         {"max", {1, 1, 0}}},
+        {{"bufferView", 1}, {"componentType", 5126}, {"count", 6}, {"type", "VEC2"}}}}};
   const std::string path = write_text(dir, "quad.gltf", j.dump());
   Textured_mesh tm;
   IO::read_textured_mesh(path, tm);

@@ -34,7 +34,8 @@ TEST(Mesh_IO_gltf_write, TextureNeitherPngNorJpegIsRefusedByWriteMesh) {
   ASSERT_FALSE(is_png(file_bytes(tga)));
   // the second material's texture is the TGA: the first one's image and the buffers are not kept
   const Textured_mesh cube = textured_cube(
-      {textured_material("fine", {1, 1, 1}, write_png(in, "fine.png", 2)), textured_material("tga", {1, 1, 1}, tga)}, 1);
+      {textured_material("fine", {1, 1, 1}, write_png(in, "fine.png", 2)), textured_material("tga", {1, 1, 1}, tga)},
+      1);
   for (const char* name : {"cube.gltf", "cube.glb"}) {
     SCOPED_TRACE(name);
     try {

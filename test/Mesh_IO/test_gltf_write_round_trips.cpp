@@ -165,8 +165,9 @@ TEST(Mesh_IO_gltf_write, NormalMapsGetUnitTangentsAlongUWithHandedness) {
     if (!mirrored.mesh().is_border(h)) mirrored.set_uv(h, Point_2(1 - mirrored.uv(h).x(), mirrored.uv(h).y()));
   Textured_mesh no_normal_map = plain;
   no_normal_map.materials()[0].normal_texture.clear();
-  for (const auto& [mesh, stem, x_sign] : {std::make_tuple(&plain, "plain", 1.0), std::make_tuple(&mirrored, "mirrored", -1.0),
-                                           std::make_tuple(&no_normal_map, "no_normal_map", 0.0)}) {
+  for (const auto& [mesh, stem, x_sign] :
+       {std::make_tuple(&plain, "plain", 1.0), std::make_tuple(&mirrored, "mirrored", -1.0),
+        std::make_tuple(&no_normal_map, "no_normal_map", 0.0)}) {
     SCOPED_TRACE(stem);
     const std::string path = out_path(dir, std::string(stem) + ".gltf");
     IO::write_mesh(path, *mesh);
@@ -202,7 +203,8 @@ TEST(Mesh_IO_gltf_write, PngColourSpaceChunksAreDroppedAndPixelsKept) {
   Textured_mesh back;
   IO::read_mesh(path, back);
   ASSERT_EQ(back.materials().size(), 1u);
-  const std::string blob(back.materials()[0].diffuse_texture_blob.begin(), back.materials()[0].diffuse_texture_blob.end());
+  const std::string blob(back.materials()[0].diffuse_texture_blob.begin(),
+                         back.materials()[0].diffuse_texture_blob.end());
   std::vector<std::string> kept;
   for (const std::string& c : source_chunks)
     if (c != "iCCP" && c != "sRGB" && c != "gAMA" && c != "cHRM") kept.push_back(c);

@@ -7,10 +7,10 @@
 namespace {
 
 struct Bad_case {
-  const char* name;     // file name the test writes
+  const char* name;  // file name the test writes
   std::string content;
-  const char* expect;   // part of the message
-  std::size_t line;     // expected line (0: none)
+  const char* expect;  // part of the message
+  std::size_t line;    // expected line (0: none)
   IO::Read_options options = IO::Read_options();
 };
 
@@ -18,7 +18,11 @@ std::vector<Bad_case> bad_cases() {
   std::vector<Bad_case> v;
   const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
   v.push_back({"empty.obj", "", "empty file", 0});
-  v.push_back({"garbage.obj", std::string("\x7f" "ELF\x02\x01\x01\0\0\0binary", 16), "", 0});
+  v.push_back({"garbage.obj",
+               std::string("\x7f"
+                           "ELF\x02\x01\x01\0\0\0binary",
+                           16),
+               "", 0});
   v.push_back({"unknown.obj", "v 0 0 0\nhello world\n", "no faces", 0});  // unknown lines only warn
   v.push_back({"short_vertex.obj", "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "three numbers", 1});
   v.push_back({"nan.obj", "v 0 nan 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "not finite", 1});
@@ -40,7 +44,8 @@ std::vector<Bad_case> bad_cases() {
                "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv -1 0 0\nv 0 -1 0\nv 0 0 -1\n"
                "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 5 6\nf 1 6 7\nf 1 7 5\nf 5 7 6\n",
                "non-manifold vertex", 0});
-  v.push_back({"orientation.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 3 4\n", "inconsistently oriented", 0});
+  v.push_back(
+      {"orientation.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 3 4\n", "inconsistently oriented", 0});
   v.push_back({"missing_texture.obj", "mtllib missing_texture.mtl\n" + tri + "vt 0 0\nusemtl m\nf 1/1 2/1 3/1\n",
                "not found", 2});
   v.push_back({"empty.off", "", "empty file", 0});
@@ -50,7 +55,8 @@ std::vector<Bad_case> bad_cases() {
   v.push_back({"nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", "not finite", 4});
   v.push_back({"notply.ply", "this is not a ply file\n", "not a PLY file", 1});
   // an ASCII PLY of three vertices, then its face or strip element
-  const std::string ply3 = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  const std::string ply3 =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
   const std::string ply3_face = ply3 + "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
   const std::string ply3_strip = ply3 + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n";
   v.push_back({"truncated.ply", ply3_face + "0 0 0\n1 0 0\n", "", 0});
@@ -58,9 +64,11 @@ std::vector<Bad_case> bad_cases() {
   // Regression (fuzzing): CGAL's PLY reader crashed on a property declared before any element.
   v.push_back({"prop_first.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 1\nend_header\n0\n",
                "property before any element", 3});
-  v.push_back({"huge.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
-                           "property float y\nproperty float z\nelement face 1\n"
-                           "property list uchar int vertex_indices\nend_header\n", "more than the file can hold", 0});
+  v.push_back({"huge.ply",
+               "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
+               "property float y\nproperty float z\nelement face 1\n"
+               "property list uchar int vertex_indices\nend_header\n",
+               "more than the file can hold", 0});
   v.push_back({"no_end.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "no end_header", 0});
   v.push_back({"strip_negative.ply", ply3_strip + "0 0 0\n1 0 0\n0 1 0\n4 0 1 -2 2\n", "negative vertex index", 0});
   v.push_back({"strip_range.ply", ply3_strip + "0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n", "out of range", 0});
@@ -93,8 +101,18 @@ TEST(Mesh_IO_bad_input, EveryCaseGivesOneLineErrorWithFileAndLine) {
       if (c.line) EXPECT_NE(msg.find(":" + std::to_string(c.line) + ":"), std::string::npos) << msg;
     }
   }
-  EXPECT_THROW({ Textured_mesh tm; IO::read_mesh((fs::path(dir) / "absent.obj").string(), tm); }, IO_error);
-  EXPECT_THROW({ Textured_mesh tm; IO::read_mesh(dir, tm); }, IO_error);  // a directory
+  EXPECT_THROW(
+      {
+        Textured_mesh tm;
+        IO::read_mesh((fs::path(dir) / "absent.obj").string(), tm);
+      },
+      IO_error);
+  EXPECT_THROW(
+      {
+        Textured_mesh tm;
+        IO::read_mesh(dir, tm);
+      },
+      IO_error);  // a directory
 }
 
 TEST(Mesh_IO_bad_input, CliFailsWithOneLineAndWritesNothing) {
@@ -185,9 +203,9 @@ TEST(Mesh_IO_bad_input, OrientedManifoldCheckAgreesWithCgal) {
     bowtie.push_back(u);
   }
   const Tris repeated = {{0, 1, 1}}, open = {{0, 1, 2}, {0, 2, 3}}, same_direction = {{0, 1, 2}, {0, 1, 3}};
-  const std::vector<std::pair<const Tris*, bool>> cases = {{&tetra, true},   {&flipped, false},  {&doubled, false},
-                                                           {&bowtie, false}, {&repeated, false}, {&open, true},
-                                                           {&same_direction, false}};
+  const std::vector<std::pair<const Tris*, bool>> cases = {
+      {&tetra, true},     {&flipped, false}, {&doubled, false},       {&bowtie, false},
+      {&repeated, false}, {&open, true},     {&same_direction, false}};
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const auto& [soup, expected] = cases[c];
     Polygon_soup ps;
@@ -201,7 +219,8 @@ TEST(Mesh_IO_bad_input, OrientedManifoldCheckAgreesWithCgal) {
     }
     const bool ours = IO::internal::is_oriented_manifold_soup(ps, vertices);
     EXPECT_EQ(ours, expected) << "case " << c;
-    if (std::none_of(soup->begin(), soup->end(), [](const auto& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }))
+    if (std::none_of(soup->begin(), soup->end(),
+                     [](const auto& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }))
       EXPECT_EQ(ours, CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(*soup)) << "case " << c;
   }
 }

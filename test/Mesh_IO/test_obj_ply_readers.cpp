@@ -23,17 +23,21 @@ std::vector<std::array<std::size_t, 3>> oriented_triangles(const Textured_mesh& 
 TEST(Mesh_IO_ply, TriangleStripsReadAsTheTrianglesTheyEncode) {
   const std::string dir = scratch_dir();
   const std::string verts = "0 0 0\n1 0 0\n2 0 0\n0 1 0\n1 1 0\n2 1 0\n0 2 0\n1 2 0\n2 2 0\n";
-  const std::string head = "ply\nformat ascii 1.0\ncomment strips as MeshLab writes them\nelement vertex 9\n"
-                           "property float x\nproperty float y\nproperty float z\n";
-  const std::string strips = write_text(dir, "strips.ply",
-                                        head + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n" +
-                                            verts + "13 3 0 4 1 5 2 -1 6 3 7 4 8 5\n");
-  const std::string joined = write_text(dir, "joined.ply",
-                                        head + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n" +
-                                            verts + "14 3 0 4 1 5 2 2 6 6 3 7 4 8 5\n");
-  const std::string faces = write_text(dir, "faces.ply",
-                                       head + "element face 8\nproperty list uchar int vertex_indices\nend_header\n" + verts +
-                                           "3 3 0 4\n3 4 0 1\n3 4 1 5\n3 5 1 2\n3 6 3 7\n3 7 3 4\n3 7 4 8\n3 8 4 5\n");
+  const std::string head =
+      "ply\nformat ascii 1.0\ncomment strips as MeshLab writes them\nelement vertex 9\n"
+      "property float x\nproperty float y\nproperty float z\n";
+  const std::string strips =
+      write_text(dir, "strips.ply",
+                 head + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n" + verts +
+                     "13 3 0 4 1 5 2 -1 6 3 7 4 8 5\n");
+  const std::string joined =
+      write_text(dir, "joined.ply",
+                 head + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n" + verts +
+                     "14 3 0 4 1 5 2 2 6 6 3 7 4 8 5\n");
+  const std::string faces =
+      write_text(dir, "faces.ply",
+                 head + "element face 8\nproperty list uchar int vertex_indices\nend_header\n" + verts +
+                     "3 3 0 4\n3 4 0 1\n3 4 1 5\n3 5 1 2\n3 6 3 7\n3 7 3 4\n3 7 4 8\n3 8 4 5\n");
   Textured_mesh a, b, c;
   IO::read_mesh(strips, a);
   IO::read_mesh(faces, c);
@@ -50,9 +54,11 @@ TEST(Mesh_IO_ply, TriangleStripsReadAsTheTrianglesTheyEncode) {
   IO::read_mesh(joined, b);
   EXPECT_EQ(oriented_triangles(b), oriented_triangles(c));
   // binary little endian: the same strip
-  std::string bin = "ply\nformat binary_little_endian 1.0\nelement vertex 9\nproperty float x\nproperty float y\n"
-                    "property float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n";
-  const float xyz[9][3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {0, 2, 0}, {1, 2, 0}, {2, 2, 0}};
+  std::string bin =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 9\nproperty float x\nproperty float y\n"
+      "property float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n";
+  const float xyz[9][3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0},
+                           {2, 1, 0}, {0, 2, 0}, {1, 2, 0}, {2, 2, 0}};
   bin.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
   const std::int32_t list[] = {13, 3, 0, 4, 1, 5, 2, -1, 6, 3, 7, 4, 8, 5};
   bin.append(reinterpret_cast<const char*>(list), sizeof list);

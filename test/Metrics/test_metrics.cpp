@@ -281,8 +281,8 @@ TEST(Metrics, ImageError) {
   EXPECT_EQ(e.pixels, 8u);
   EXPECT_EQ(e.rmse, 0.);
   EXPECT_TRUE(std::isinf(e.psnr));
-  b.bytes()[b.index(1, 1, 0)] = 30;  // one channel of one covered pixel differs by 30
-  a.bytes()[a.index(3, 3, 3)] = 255; // one more pixel covered in a only, equal colour (black)
+  b.bytes()[b.index(1, 1, 0)] = 30;   // one channel of one covered pixel differs by 30
+  a.bytes()[a.index(3, 3, 3)] = 255;  // one more pixel covered in a only, equal colour (black)
   e = M::image_error(a, b);
   EXPECT_EQ(e.pixels, 9u);
   EXPECT_NEAR(e.rmse, std::sqrt(900. / 27.), 1e-12);

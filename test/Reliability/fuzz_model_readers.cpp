@@ -91,8 +91,7 @@ void run_cm(const std::uint8_t* data, std::size_t size, bool fix_checksum) {
     CM::Reconstruction_options opt;
     opt.parallel = false;
     (void)CM::reconstruct_regular(m, 1, opt);
-  } catch (const CMGeom::Error&) {
-  }
+  } catch (const CMGeom::Error&) {}
 }
 
 void run_cage_system(const std::uint8_t* data, std::size_t size) {
@@ -119,9 +118,14 @@ int run_one(const std::uint8_t* data, std::size_t size) {
   ++g_runs[data[0] % 3];
   try {
     switch (data[0] % 3) {
-      case 0: run_cm(data, size, false); break;
-      case 1: run_cm(data, size, true); break;
-      default: run_cage_system(data, size);
+      case 0:
+        run_cm(data, size, false);
+        break;
+      case 1:
+        run_cm(data, size, true);
+        break;
+      default:
+        run_cage_system(data, size);
     }
   } catch (const std::exception& e) {
     finding(data, size, std::string("exception that is not a CMGeom::Error: ") + e.what());
@@ -172,9 +176,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> dirs;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--smoke" && i + 1 < argc) runs = std::stoul(argv[++i]);
-    else if (a == "--seed" && i + 1 < argc) seed = std::stoull(argv[++i]);
-    else dirs.push_back(a);
+    if (a == "--smoke" && i + 1 < argc)
+      runs = std::stoul(argv[++i]);
+    else if (a == "--seed" && i + 1 < argc)
+      seed = std::stoull(argv[++i]);
+    else
+      dirs.push_back(a);
   }
   std::vector<cmgeom_fuzz::Bytes> pool;
   for (const std::string& d : dirs) {

@@ -31,13 +31,22 @@ inline Bytes mutate(Bytes s, std::mt19937_64& rng, const std::vector<Bytes>& poo
   const int rounds = 1 + int(rng() % 4);
   for (int r = 0; r < rounds; ++r) {
     switch (rng() % (binary_integers ? 10 : 9)) {
-      case 0: if (s.size() > 1) s[1 + pick(s.size() - 1)] ^= std::uint8_t(1u << (rng() % 8)); break;
-      case 1: if (s.size() > 1) s.erase(s.begin() + std::ptrdiff_t(1 + pick(s.size() - 1))); break;
-      case 2: s.insert(s.begin() + std::ptrdiff_t(1 + pick(s.size())), std::uint8_t(rng())); break;
-      case 3: if (s.size() > 2) s.resize(1 + pick(s.size() - 1)); break;  // truncation
+      case 0:
+        if (s.size() > 1) s[1 + pick(s.size() - 1)] ^= std::uint8_t(1u << (rng() % 8));
+        break;
+      case 1:
+        if (s.size() > 1) s.erase(s.begin() + std::ptrdiff_t(1 + pick(s.size() - 1)));
+        break;
+      case 2:
+        s.insert(s.begin() + std::ptrdiff_t(1 + pick(s.size())), std::uint8_t(rng()));
+        break;
+      case 3:
+        if (s.size() > 2) s.resize(1 + pick(s.size() - 1));
+        break;   // truncation
       case 4: {  // change a digit, or a whole number into a huge or negative one
         std::vector<std::size_t> digits;
-        for (std::size_t i = 1; i < s.size(); ++i) if (s[i] >= '0' && s[i] <= '9') digits.push_back(i);
+        for (std::size_t i = 1; i < s.size(); ++i)
+          if (s[i] >= '0' && s[i] <= '9') digits.push_back(i);
         if (digits.empty()) break;
         const std::size_t at = digits[pick(digits.size())];
         static const char* const repl[] = {"0", "-1", "4294967295", "99999999999", "nan", "inf", "1e308", "-0"};
@@ -48,15 +57,20 @@ inline Bytes mutate(Bytes s, std::mt19937_64& rng, const std::vector<Bytes>& poo
       }
       case 5: {  // duplicate or drop a line
         std::vector<std::size_t> nl;
-        for (std::size_t i = 1; i < s.size(); ++i) if (s[i] == '\n') nl.push_back(i);
+        for (std::size_t i = 1; i < s.size(); ++i)
+          if (s[i] == '\n') nl.push_back(i);
         if (nl.size() < 2) break;
         const std::size_t k = pick(nl.size() - 1);
         Bytes line(s.begin() + std::ptrdiff_t(nl[k] + 1), s.begin() + std::ptrdiff_t(nl[k + 1] + 1));
-        if (rng() % 2) s.insert(s.begin() + std::ptrdiff_t(nl[k] + 1), line.begin(), line.end());
-        else s.erase(s.begin() + std::ptrdiff_t(nl[k] + 1), s.begin() + std::ptrdiff_t(nl[k + 1] + 1));
+        if (rng() % 2)
+          s.insert(s.begin() + std::ptrdiff_t(nl[k] + 1), line.begin(), line.end());
+        else
+          s.erase(s.begin() + std::ptrdiff_t(nl[k] + 1), s.begin() + std::ptrdiff_t(nl[k + 1] + 1));
         break;
       }
-      case 6: if (!s.empty()) s[0] = std::uint8_t(rng()); break;  // same bytes, another reader
+      case 6:
+        if (!s.empty()) s[0] = std::uint8_t(rng());
+        break;   // same bytes, another reader
       case 7: {  // splice with another seed
         const auto& o = pool[pick(pool.size())];
         if (o.size() < 2 || s.size() < 2) break;
@@ -77,8 +91,14 @@ inline Bytes mutate(Bytes s, std::mt19937_64& rng, const std::vector<Bytes>& poo
         if (s.size() < 1 + width) break;
         const std::size_t at = 1 + pick((s.size() - 1) / width) * width;
         if (at + width > s.size()) break;
-        static const std::uint64_t vals[] = {0, 1, 0xffffffffull, 0x7fffffffull, 0x80000000ull,
-                                             0xffffffffffffffffull, 0x100000000ull, 0x0fffffffffffffffull};
+        static const std::uint64_t vals[] = {0,
+                                             1,
+                                             0xffffffffull,
+                                             0x7fffffffull,
+                                             0x80000000ull,
+                                             0xffffffffffffffffull,
+                                             0x100000000ull,
+                                             0x0fffffffffffffffull};
         std::uint64_t v = vals[rng() % 8];
         if (rng() % 4 == 0) {  // or one more than the value there (an index just past the end)
           v = 0;

@@ -123,7 +123,8 @@ protected:
     std::cout << "    rejected (exit " << r.exit_code << "): " << error_line << "\n";
     if (r.exit_code == 1)  // usage errors (exit code 2) are CLI11's own format
       EXPECT_EQ(error_line.rfind("cmgeom ", 0), 0u) << error_line;
-    for (const std::string& n : names) EXPECT_NE(error_line.find(n), std::string::npos) << "'" << n << "' not in: " << error_line;
+    for (const std::string& n : names)
+      EXPECT_NE(error_line.find(n), std::string::npos) << "'" << n << "' not in: " << error_line;
     std::vector<std::string> left;
     for (const auto& e : fs::recursive_directory_iterator(out)) left.push_back(e.path().string());
     EXPECT_TRUE(left.empty()) << "left behind: " << (left.empty() ? "" : left.front());
@@ -227,7 +228,8 @@ std::string tiled_grid_obj(const std::string& mtllib) {
   if (!mtllib.empty()) o << "mtllib " << mtllib << "\n";
   const int n = 16;
   for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) o << "v " << double(i) / n << " " << double(j) / n << " " << 0.05 * ((i * j) % 3) << "\n";
+    for (int i = 0; i <= n; ++i)
+      o << "v " << double(i) / n << " " << double(j) / n << " " << 0.05 * ((i * j) % 3) << "\n";
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) o << "vt " << 3.0 * i / n - 1 << " " << 3.0 * j / n - 1 << "\n";
   if (!mtllib.empty()) o << "usemtl tiles\n";
@@ -316,8 +318,9 @@ TEST_F(Bad_input, RenderFieldWithNaN) {
 // A material whose texture file is missing: the reader reports it (file and line of the MTL).
 TEST_F(Bad_input, RenderMissingTexture) {
   input("m.mtl", "newmtl skin\nmap_Kd nothere.png\n");
-  const std::string m = input("tex.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
-                                         "usemtl skin\nf 1/1 2/2 3/3\n");
+  const std::string m = input("tex.obj",
+                              "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                              "usemtl skin\nf 1/1 2/2 3/3\n");
   expect_rejected("render " + q(m) + " -o " + q(output("r.png")) + " --size 64x64", {"nothere.png"});
 }
 
@@ -431,7 +434,7 @@ TEST_F(Bad_input, CmReconstructIndexOutOfRange) {
   for (std::uint64_t v = 0; v < nv; ++v) sectors += std::uint8_t(bytes[at + v]);
   at += std::size_t(nv);
   if (!(std::uint8_t(bytes[12]) & 2u)) at += 8 * sectors;  // explicit sector table
-  put_u32(bytes, at, std::uint32_t(nv + nn + 5));  // first corner's vertex index
+  put_u32(bytes, at, std::uint32_t(nv + nn + 5));          // first corner's vertex index
   fix_checksum(bytes);
   const std::string cm = input("index.cm", bytes);
   expect_rejected("cm reconstruct " + q(cm) + " -o " + q(output("r.ply")), {"index.cm"});
@@ -462,8 +465,10 @@ protected:
                      const std::string& extra = "") {
     input("rest.obj", rest);
     input("deformed.obj", deformed);
-    return input("system.json", "{\"cages\": [{\"rest\": \"rest.obj\", \"deformed\": \"deformed.obj\", "
-                                "\"coordinates\": \"" + coords + "\"" + extra + "}]}");
+    return input("system.json",
+                 "{\"cages\": [{\"rest\": \"rest.obj\", \"deformed\": \"deformed.obj\", "
+                 "\"coordinates\": \"" +
+                     coords + "\"" + extra + "}]}");
   }
   std::string mesh() { return input("sphere.obj", cmgeom_test::icosphere_obj(1)); }
 };
@@ -475,7 +480,8 @@ TEST_F(Bad_cages, DeformOpenCage) {
 
 TEST_F(Bad_cages, DeformMismatchedRestAndDeformedCages) {
   const std::string s = system(box_cage(2), box_cage(2) + "v 9 9 9\n");
-  expect_rejected("deform " + q(mesh()) + " --cages " + q(s) + " -o " + q(output("d.ply")), {"system.json", "/cages/0/deformed"});
+  expect_rejected("deform " + q(mesh()) + " --cages " + q(s) + " -o " + q(output("d.ply")),
+                  {"system.json", "/cages/0/deformed"});
 }
 
 TEST_F(Bad_cages, DeformFlatCage) {
@@ -500,14 +506,15 @@ TEST_F(Bad_cages, DeformUnknownCoordinates) {
 }
 
 TEST_F(Bad_cages, DeformMissingCageFile) {
-  const std::string s = input("system.json", "{\"cages\": [{\"rest\": \"nothere.obj\", \"deformed\": \"nothere.obj\"}]}");
+  const std::string s =
+      input("system.json", "{\"cages\": [{\"rest\": \"nothere.obj\", \"deformed\": \"nothere.obj\"}]}");
   expect_rejected("deform " + q(mesh()) + " --cages " + q(s) + " -o " + q(output("d.ply")), {"nothere.obj"});
 }
 
 // Harmonic coordinates are undefined outside the cage: a mesh that sticks out is an error.
 TEST_F(Bad_cages, DeformHarmonicCageNotEnclosingTheMesh) {
-  const std::string s = system(box_cage(0.5), box_cage(0.5, false, 0.2), "harmonic",
-                               ", \"harmonic\": {\"resolution\": 16}");
+  const std::string s =
+      system(box_cage(0.5), box_cage(0.5, false, 0.2), "harmonic", ", \"harmonic\": {\"resolution\": 16}");
   expect_rejected("deform " + q(mesh()) + " --cages " + q(s) + " -o " + q(output("d.ply")), {"outside"});
 }
 
@@ -538,7 +545,8 @@ TEST_F(Bad_cages, DeformMeanValueCageNotEnclosingTheMeshExtends) {
 TEST_F(Bad_cages, CmDeformMismatchedCages) {
   const std::string cm = good_cm();
   const std::string s = system(box_cage(2), box_cage(2) + "v 9 9 9\n");
-  expect_rejected("cm deform " + q(cm) + " --cages " + q(s) + " -o " + q(output("d.ply")), {"system.json", "/cages/0/deformed"});
+  expect_rejected("cm deform " + q(cm) + " --cages " + q(s) + " -o " + q(output("d.ply")),
+                  {"system.json", "/cages/0/deformed"});
 }
 
 TEST_F(Bad_cages, CmDeformCorruptCm) {

@@ -85,7 +85,7 @@ std::vector<std::thread> g_workers;
 bool g_stop = false;
 
 thread_local slot_id t_slot = 0;
-thread_local int t_arena_limit = 0;  // max_concurrency of the task_arena being executed (0: none)
+thread_local int t_arena_limit = 0;      // max_concurrency of the task_arena being executed (0: none)
 thread_local std::vector<Item> t_local;  // tasks spawned while only this thread may run them
 thread_local task_group_context* t_context = nullptr;
 
@@ -281,8 +281,7 @@ void wait_for(d1::wait_context& w, task_group_context& ctx) {
       continue;
     }
     std::unique_lock<std::mutex> lock(g_mutex);
-    g_cv.wait_for(lock, std::chrono::milliseconds(1),
-                  [&] { return !g_queue.empty() || !external_waiter::pending(w); });
+    g_cv.wait_for(lock, std::chrono::milliseconds(1), [&] { return !g_queue.empty() || !external_waiter::pending(w); });
   }
   std::exception_ptr e;
   {
@@ -326,9 +325,7 @@ void __TBB_EXPORTED_FUNC deallocate(d1::small_object_pool&, void* p, std::size_t
 void __TBB_EXPORTED_FUNC deallocate(d1::small_object_pool&, void* p, std::size_t) {
   ::operator delete(p, std::align_val_t(d1::task_alignment));
 }
-void* __TBB_EXPORTED_FUNC cache_aligned_allocate(std::size_t n) {
-  return ::operator new(n, std::align_val_t(128));
-}
+void* __TBB_EXPORTED_FUNC cache_aligned_allocate(std::size_t n) { return ::operator new(n, std::align_val_t(128)); }
 void __TBB_EXPORTED_FUNC cache_aligned_deallocate(void* p) { ::operator delete(p, std::align_val_t(128)); }
 
 void __TBB_EXPORTED_FUNC initialize(d1::task_group_context& c) { Ctx::create(c); }
@@ -392,17 +389,20 @@ std::size_t __TBB_EXPORTED_FUNC global_control_active_value(int p) {
 
 void __TBB_EXPORTED_FUNC throw_exception(d0::exception_id id) {
   switch (id) {
-    case d0::exception_id::bad_alloc: throw std::bad_alloc();
-    case d0::exception_id::nonpositive_step: throw std::invalid_argument("Step must be positive");
-    case d0::exception_id::out_of_range: throw std::out_of_range("Index out of requested size range");
-    default: throw std::runtime_error("oneTBB exception " + std::to_string(int(id)));
+    case d0::exception_id::bad_alloc:
+      throw std::bad_alloc();
+    case d0::exception_id::nonpositive_step:
+      throw std::invalid_argument("Step must be positive");
+    case d0::exception_id::out_of_range:
+      throw std::out_of_range("Index out of requested size range");
+    default:
+      throw std::runtime_error("oneTBB exception " + std::to_string(int(id)));
   }
 }
 
 void __TBB_EXPORTED_FUNC assertion_failure(const char* location, int line, const char* expression,
                                            const char* comment) {
-  std::fprintf(stderr, "oneTBB assertion %s failed at %s:%d: %s\n", expression, location, line,
-               comment ? comment : "");
+  std::fprintf(stderr, "oneTBB assertion %s failed at %s:%d: %s\n", expression, location, line, comment ? comment : "");
   std::abort();
 }
 

@@ -16,21 +16,26 @@ struct Chart_regions {
   double u0 = 0, v0 = 0, su = 1, sv = 1;
   int G = 128;
   std::vector<std::vector<std::size_t>> cells;
-  Chart_regions(const std::vector<std::array<UV2, 3>>& t, const std::vector<int>& i) : tris(t), ids(i), cells(std::size_t(G) * G) {
+  Chart_regions(const std::vector<std::array<UV2, 3>>& t, const std::vector<int>& i)
+      : tris(t), ids(i), cells(std::size_t(G) * G) {
     double u1 = -1e300, v1 = -1e300;
     u0 = v0 = 1e300;
     for (const auto& tri : tris)
       for (const auto& p : tri) {
-        u0 = std::min(u0, p[0]); v0 = std::min(v0, p[1]);
-        u1 = std::max(u1, p[0]); v1 = std::max(v1, p[1]);
+        u0 = std::min(u0, p[0]);
+        v0 = std::min(v0, p[1]);
+        u1 = std::max(u1, p[0]);
+        v1 = std::max(v1, p[1]);
       }
     su = G / std::max(u1 - u0, 1e-12) * 0.999999;
     sv = G / std::max(v1 - v0, 1e-12) * 0.999999;
     for (std::size_t k = 0; k < tris.size(); ++k) {
       double a0 = 1e300, b0 = 1e300, a1 = -1e300, b1 = -1e300;
       for (const auto& p : tris[k]) {
-        a0 = std::min(a0, p[0]); b0 = std::min(b0, p[1]);
-        a1 = std::max(a1, p[0]); b1 = std::max(b1, p[1]);
+        a0 = std::min(a0, p[0]);
+        b0 = std::min(b0, p[1]);
+        a1 = std::max(a1, p[0]);
+        b1 = std::max(b1, p[1]);
       }
       for (int y = cell_y(b0); y <= cell_y(b1); ++y)
         for (int x = cell_x(a0); x <= cell_x(a1); ++x) cells[std::size_t(y) * G + x].push_back(k);
@@ -87,7 +92,10 @@ Layout_counts count_layout(const std::vector<std::array<UV2, 3>>& in_tris, const
   for (const auto& kv : votes) {
     int best = -1, bv = -1;
     for (const auto& kc : kv.second)
-      if (kc.second > bv) { bv = kc.second; best = kc.first; }
+      if (kc.second > bv) {
+        bv = kc.second;
+        best = kc.first;
+      }
     match[kv.first] = best;
   }
   // charts may grow across concave corners by slivers within 2 texels (1024 per UV unit) of
@@ -96,7 +104,10 @@ Layout_counts count_layout(const std::vector<std::array<UV2, 3>>& in_tris, const
   const TS::Index_texture margin(dom, in_tris, in_ids, 3);
   for (std::size_t i = 0; i < out_tris.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      if (!match.count(out_ids[i])) { ++n.outside; continue; }
+      if (!match.count(out_ids[i])) {
+        ++n.outside;
+        continue;
+      }
       if (at[i][c].count(match[out_ids[i]])) continue;
       const UV2 t = dom.to_texel(out_tris[i][c]);
       if (margin.chart_of(float(t[0]), float(t[1])) != std::uint32_t(match[out_ids[i]] + 1)) ++n.outside;
@@ -159,9 +170,8 @@ TEST(TexturedSimplification, ChartConstraintsOnEveryTexturedModel) {
     EXPECT_EQ(r.charts_out, charts_out);
     check_layout(in_tris, in_ids, out_tris, out_ids, m.file);
     std::cout << m.file << ": " << r.faces_in << " -> " << r.faces_out << " faces (target " << o.target_faces
-              << "), charts " << charts_in << " -> " << charts_out << ", refused: topology "
-              << r.statistics.topology << ", uv " << r.statistics.uv_fold << ", projection "
-              << r.statistics.projection_overlap << "\n";
+              << "), charts " << charts_in << " -> " << charts_out << ", refused: topology " << r.statistics.topology
+              << ", uv " << r.statistics.uv_fold << ", projection " << r.statistics.projection_overlap << "\n";
     // The target is reached, or the run says it stopped at the chart limit (chart corners never
     // move, concave boundary corners move only by slivers within 2 texels, wedges whose input UVs
     // are folded are frozen; measured: bunny10k 1291 faces for 999, Duck 726 for 421,

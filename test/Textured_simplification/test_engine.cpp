@@ -37,7 +37,8 @@ TEST(TexturedSimplificationEngine, ExtremeTargetKeepsTopology) {
 // orientation, link vertices, border edges), compared as sets on every halfedge of an open mesh.
 TEST(TexturedSimplificationEngine, ProfileNeighbourhoodMatchesCgalEdgeProfile) {
   Mesh m;
-  if (!read_mesh(data_dir() + "/classic/mech-holes-shark.off", m)) GTEST_SKIP() << "shared data not found: " << data_dir();
+  if (!read_mesh(data_dir() + "/classic/mech-holes-shark.off", m))
+    GTEST_SKIP() << "shared data not found: " << data_dir();
   ASSERT_FALSE(CGAL::is_closed(m));
   using VPM = Mesh::Property_map<vertex_descriptor, Point>;
   using Ours = TS::Collapse_profile<Mesh, VPM, K>;
@@ -76,13 +77,14 @@ TEST(TexturedSimplificationEngine, ProfileNeighbourhoodMatchesCgalEdgeProfile) {
 // policies reach the target and leave a valid mesh of the same topology close to the input.
 TEST(TexturedSimplificationEngine, CgalPoliciesRunOnTheEngine) {
   Mesh input;
-  if (!read_mesh(data_dir() + "/classic/mech-holes-shark.off", input)) GTEST_SKIP() << "shared data not found: " << data_dir();
+  if (!read_mesh(data_dir() + "/classic/mech-holes-shark.off", input))
+    GTEST_SKIP() << "shared data not found: " << data_dir();
   const long chi = euler_characteristic(input);
   const std::size_t target = live_faces(input) / 5;
   Mesh lt = input;
-  TS::edge_collapse(lt, TS::Face_count_stop_predicate<Mesh>(lt, target),
-                    CGAL::parameters::get_cost(SMS::LindstromTurk_cost<Mesh>())
-                        .get_placement(SMS::LindstromTurk_placement<Mesh>()));
+  TS::edge_collapse(
+      lt, TS::Face_count_stop_predicate<Mesh>(lt, target),
+      CGAL::parameters::get_cost(SMS::LindstromTurk_cost<Mesh>()).get_placement(SMS::LindstromTurk_placement<Mesh>()));
   Mesh gh = input;
   SMS::GarlandHeckbert_plane_policies<Mesh, K> policies(gh);
   TS::edge_collapse(gh, TS::Face_count_stop_predicate<Mesh>(gh, target),
@@ -100,7 +102,7 @@ TEST(TexturedSimplificationEngine, CgalPoliciesRunOnTheEngine) {
   // Lindstrom-Turk on either engine: every vertex of the input stays as close to the result.
   auto worst = [&](const Mesh& m) {
     CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle_primitive<Mesh>>> tree(faces(m).first,
-                                                                                                faces(m).second, m);
+                                                                                               faces(m).second, m);
     double d = 0;
     for (auto v : vertices(input)) d = std::max(d, std::sqrt(tree.squared_distance(input.point(v))));
     return d / diag;
@@ -111,7 +113,8 @@ TEST(TexturedSimplificationEngine, CgalPoliciesRunOnTheEngine) {
 
 TEST(TexturedSimplificationEngine, OpenMeshBoundaryAndExactCounts) {
   Mesh m;
-  if (!read_mesh(data_dir() + "/classic/mech-holes-shark.off", m)) GTEST_SKIP() << "shared data not found: " << data_dir();
+  if (!read_mesh(data_dir() + "/classic/mech-holes-shark.off", m))
+    GTEST_SKIP() << "shared data not found: " << data_dir();
   ASSERT_FALSE(CGAL::is_closed(m));
   const long chi = euler_characteristic(m);
   // odd target on an open mesh: boundary collapses remove one face, so it is reachable exactly
@@ -137,8 +140,9 @@ TEST(TexturedSimplificationEngine, OpenMeshBoundaryAndExactCounts) {
   EXPECT_GE(live_faces(m3), f3 / 4 - 1);
   Mesh m4;
   read_mesh(data_dir() + "/classic/mech-holes-shark.off", m4);
-  TS::edge_collapse(m4, TS::Stop_if_any<TS::Face_count_stop_predicate<Mesh>, TS::Vertex_count_stop_predicate<Mesh>>(
-                            TS::Face_count_stop_predicate<Mesh>(m4, 10), TS::Vertex_count_stop_predicate<Mesh>(m4, 2000)));
+  TS::edge_collapse(m4,
+                    TS::Stop_if_any<TS::Face_count_stop_predicate<Mesh>, TS::Vertex_count_stop_predicate<Mesh>>(
+                        TS::Face_count_stop_predicate<Mesh>(m4, 10), TS::Vertex_count_stop_predicate<Mesh>(m4, 2000)));
   EXPECT_EQ(m4.number_of_vertices(), 2000u);
 }
 
@@ -151,8 +155,7 @@ TEST(TexturedSimplificationEngine, SameQualityAsCgalEngine) {
     o.weighted = weighted;
     Mesh a = m, b = m;
     Policy pa(a, o), pb(b, o);
-    TS::edge_collapse(a, TS::Face_count_stop_predicate<Mesh>(a, 800),
-                      CGAL::parameters::get_cost(pa).get_placement(pa));
+    TS::edge_collapse(a, TS::Face_count_stop_predicate<Mesh>(a, 800), CGAL::parameters::get_cost(pa).get_placement(pa));
     SMS::edge_collapse(b, TS::Face_count_stop_predicate<Mesh>(b, 800),
                        CGAL::parameters::get_cost(pb).get_placement(pb).filter(TS::No_normal_flip_filter<>()));
     EXPECT_EQ(live_faces(a), live_faces(b));
@@ -186,15 +189,16 @@ TEST(TexturedSimplificationEngine, IdenticalToCgalEngineOnASmallMesh) {
     ASSERT_EQ(a.number_of_faces(), b.number_of_faces());
     auto sorted_points = [](const Mesh& mesh) {
       std::vector<std::array<double, 3>> pts;
-      for (vertex_descriptor v : mesh.vertices()) pts.push_back({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
+      for (vertex_descriptor v : mesh.vertices())
+        pts.push_back({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
       std::sort(pts.begin(), pts.end());
       return pts;
     };
     const auto pa_pts = sorted_points(a), pb_pts = sorted_points(b);
     std::size_t same = 0;
     for (const auto& p : pa_pts) same += std::binary_search(pb_pts.begin(), pb_pts.end(), p);
-    std::cout << (weighted ? "weighted" : "plain") << ": " << same << " of " << pa_pts.size()
-              << " vertices identical" << std::endl;
+    std::cout << (weighted ? "weighted" : "plain") << ": " << same << " of " << pa_pts.size() << " vertices identical"
+              << std::endl;
     EXPECT_EQ(same, pa_pts.size()) << "weighted=" << weighted;
   }
 }

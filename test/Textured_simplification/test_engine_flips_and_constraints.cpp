@@ -53,7 +53,8 @@ TEST(TexturedSimplificationEngine, WeightedMetricKeepsThinCurvedHorn) {
     TS::Quadric_options o;
     o.weighted = weighted;
     Policy p(m, o);
-    TS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target), CGAL::parameters::get_cost(p).get_placement(p));
+    TS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, target),
+                      CGAL::parameters::get_cost(p).get_placement(p));
     m.collect_garbage();
     Distance_to_mesh d(m);
     double mx = 0;

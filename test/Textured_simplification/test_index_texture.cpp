@@ -33,7 +33,8 @@ void red_filled_atlas_shows_no_red(bool keep_charts) {
   for (int k = 0; k < 4 && marker < 0; ++k) {
     bool used = false;
     for (int y = 0; y < atlas.height() && !used; ++y)
-      for (int x = 0; x < atlas.width() && !used; ++x) used = in_chart(x, y) && close_to(atlas, x, y, candidates[k], 0.25f);
+      for (int x = 0; x < atlas.width() && !used; ++x)
+        used = in_chart(x, y) && close_to(atlas, x, y, candidates[k], 0.25f);
     if (!used) marker = k;
   }
   ASSERT_GE(marker, 0);
@@ -135,8 +136,10 @@ TEST(TexturedSimplification, ResamplingIsIdentityOnAFlatIsometricPatch) {
   TS::Index_texture_resampler rs(it);
   TS::Area_weighted_quadric_policies<CMGeom::Surface_mesh> policy(m);
   TS::edge_collapse(m, TS::Face_count_stop_predicate<CMGeom::Surface_mesh>(m, 60),
-                    CGAL::parameters::get_cost(policy).get_placement(policy).filter(TS::Chart_constraint_filter<CC>(cc)).visitor(
-                        TS::Chart_constraint_visitor<CC, TS::Index_texture_resampler>(cc, &rs)));
+                    CGAL::parameters::get_cost(policy)
+                        .get_placement(policy)
+                        .filter(TS::Chart_constraint_filter<CC>(cc))
+                        .visitor(TS::Chart_constraint_visitor<CC, TS::Index_texture_resampler>(cc, &rs)));
   EXPECT_GT(cc.statistics().accepted, 100u);
   // On a flat patch whose UVs are its xy coordinates scaled, PM maps are similarities and the
   // composed maps are the identity: each texel keeps its own coordinates (up to float rounding
@@ -183,14 +186,18 @@ void expect_backends_bit_identical(const Model& model, int texels, double ratio,
   TS::Area_weighted_quadric_policies<CMGeom::Surface_mesh> policy(m);
   const auto target = std::size_t(ratio * double(m.number_of_faces()));
   TS::edge_collapse(m, TS::Face_count_stop_predicate<CMGeom::Surface_mesh>(m, target),
-                    CGAL::parameters::get_cost(policy).get_placement(policy).filter(TS::Chart_constraint_filter<CC>(cc)).visitor(
-                        TS::Chart_constraint_visitor<CC, Both_backends>(cc, &both)));
+                    CGAL::parameters::get_cost(policy)
+                        .get_placement(policy)
+                        .filter(TS::Chart_constraint_filter<CC>(cc))
+                        .visitor(TS::Chart_constraint_visitor<CC, Both_backends>(cc, &both)));
   gl.synchronize();
   ASSERT_GT(gl.collapses(), 100u) << model.file;
   std::cout << "  " << model.file << ": " << gl.collapses() << " collapses resampled in " << gl.draws() << " draws\n";
   EXPECT_LE(gl.draws(), gl.collapses());
-  if (max_batch == 1) EXPECT_GT(gl.draws() * 2, gl.collapses()) << "expected about one draw per collapse";
-  else EXPECT_LT(gl.draws() * 3, gl.collapses()) << "independent collapses were not batched";
+  if (max_batch == 1)
+    EXPECT_GT(gl.draws() * 2, gl.collapses()) << "expected about one draw per collapse";
+  else
+    EXPECT_LT(gl.draws() * 3, gl.collapses()) << "independent collapses were not batched";
   std::size_t changed = 0, differ = 0;
   long long first = -1;
   const std::size_t n = original.data().size();

@@ -35,8 +35,8 @@ Mesh lod_torus(int n, int m) {
     for (int j = 0; j < m; ++j) {
       const double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m;
       const double r = 0.35 + 0.03 * std::sin(5 * a) * std::cos(3 * b);
-      v[std::size_t(i * m + j)] =
-          t.add_vertex(Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
+      v[std::size_t(i * m + j)] = t.add_vertex(
+          Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
     }
   auto at = [&](int i, int j) { return v[std::size_t(((i + n) % n) * m + (j + m) % m)]; };
   for (int i = 0; i < n; ++i)

@@ -45,7 +45,8 @@ struct Greedy_order_checker : TS::Edge_collapse_visitor_base {
     const double cost = CGAL::to_double(*(*policy)(p, placement));
     ++*collapses;
     // the engine's fold-over guarantee holds at the placement used, moved or not
-    if (TS::internal::collapse_flips_a_face(m, get(CGAL::vertex_point, m), p.v0_v1(), TS::internal::to_vec3(*placement)))
+    if (TS::internal::collapse_flips_a_face(m, get(CGAL::vertex_point, m), p.v0_v1(),
+                                            TS::internal::to_vec3(*placement)))
       ++*folding;
     const auto own = (*policy)(p);
     if (*own != *placement) ++*moved;
@@ -96,7 +97,9 @@ TEST(TexturedSimplificationEngine, CollapsesInOrderOfTheCostAtTheFilteredPlaceme
     checker.failures = &failures;
     const std::size_t target = live_faces(a) / 3;
     TS::edge_collapse(a, TS::Face_count_stop_predicate<Mesh>(a, target),
-                      CGAL::parameters::get_cost(policy).get_placement(policy).filter(Snap_to_even_endpoint_filter())
+                      CGAL::parameters::get_cost(policy)
+                          .get_placement(policy)
+                          .filter(Snap_to_even_endpoint_filter())
                           .visitor(checker));
     EXPECT_EQ(live_faces(a), target);
     EXPECT_TRUE(CGAL::is_valid_polygon_mesh(a));
@@ -150,11 +153,17 @@ struct Cost_recorder : TS::Edge_collapse_visitor_base {
   State* s;
   explicit Cost_recorder(State* st) : s(st) {}
   template <class Profile, class OFT, class S>
-  void OnSelected(const Profile&, const OFT& cost, S, S) const { s->last = cost ? CGAL::to_double(*cost) : -1; }
+  void OnSelected(const Profile&, const OFT& cost, S, S) const {
+    s->last = cost ? CGAL::to_double(*cost) : -1;
+  }
   template <class Profile, class OP>
-  void OnCollapsing(const Profile&, const OP&) const { s->collapsed.push_back(s->last); }
+  void OnCollapsing(const Profile&, const OP&) const {
+    s->collapsed.push_back(s->last);
+  }
   template <class Profile>
-  void OnStopConditionReached(const Profile&) const { s->stop_cost = s->last; }
+  void OnStopConditionReached(const Profile&) const {
+    s->stop_cost = s->last;
+  }
 };
 
 TEST(TexturedSimplificationEngine, MaxCostStopsAtTheFirstEdgeAboveTheThreshold) {

@@ -15,8 +15,8 @@ TEST(TexturedSimplificationQuadric, PlaneQuadricIsSquaredDistance) {
 
 TEST(TexturedSimplificationQuadric, MinimiserOfThreePlanesIsTheirIntersection) {
   Quadric q = Quadric::plane({1, 0, 0}, -1.0, 1.0);  // x = 1
-  q += Quadric::plane({0, 1, 0}, -2.0, 2.0);          // y = 2
-  q += Quadric::plane({0, 0, 1}, 3.0, 0.5);           // z = -3
+  q += Quadric::plane({0, 1, 0}, -2.0, 2.0);         // y = 2
+  q += Quadric::plane({0, 0, 1}, 3.0, 0.5);          // z = -3
   const auto u = q.minimiser_on_edge({0, 0, 0}, {1, 2, -2});
   EXPECT_NEAR(u[0], 1.0, 1e-12);
   EXPECT_NEAR(u[1], 2.0, 1e-12);

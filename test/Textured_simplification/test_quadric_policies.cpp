@@ -11,8 +11,10 @@ TEST(TexturedSimplificationPolicy, FlatGridHasClampedWeightsAndStaysPlanar) {
   // interior vertices are flat (weight 0, clamped); border vertices carry boundary quadrics,
   // whose planes are orthogonal to the normal, hence large weights
   for (vertex_descriptor v : m.vertices()) {
-    if (m.is_border(v)) EXPECT_GT(policy.weight(v), 0.5);
-    else EXPECT_DOUBLE_EQ(policy.weight(v), policy.options().min_weight);
+    if (m.is_border(v))
+      EXPECT_GT(policy.weight(v), 0.5);
+    else
+      EXPECT_DOUBLE_EQ(policy.weight(v), policy.options().min_weight);
   }
   TS::Face_count_stop_predicate<Mesh> stop(m, 100);
   TS::edge_collapse(m, stop, CGAL::parameters::get_cost(policy).get_placement(policy));
@@ -62,7 +64,8 @@ TEST(TexturedSimplificationPolicy, RunsUnderCgalEngineWithUpdateHook) {
   Checking_visitor::Stats stats;
   TS::Face_count_stop_predicate<Mesh> stop(m, 1000);
   const int removed = SMS::edge_collapse(m, stop,
-                                         CGAL::parameters::get_cost(policy).get_placement(policy)
+                                         CGAL::parameters::get_cost(policy)
+                                             .get_placement(policy)
                                              .filter(TS::No_normal_flip_filter<>())
                                              .visitor(Checking_visitor(&stats)));
   EXPECT_EQ(counts.init, 1u);

@@ -198,7 +198,8 @@ double bilinear(const CMGeom::Image& img, double u, double v, int c) {
   auto at = [&](int x, int y) {
     return double(img.value(std::clamp(x, 0, img.width() - 1), std::clamp(y, 0, img.height() - 1), c));
   };
-  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+         fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
 }
 
 // For every output texel centre inside an output UV triangle: its 3D point (barycentric in the
@@ -226,7 +227,8 @@ void for_each_output_texel(const CMGeom::Textured_mesh& out, int W, int H, F&& f
         // texels on edges are covered by one of the two faces)
         if (b1 < 1e-9 || b2 < 1e-9 || b1 + b2 > 1 - 1e-9) continue;
         const double b0 = 1 - b1 - b2;
-        const Point_3 q(b0 * p[0].x() + b1 * p[1].x() + b2 * p[2].x(), b0 * p[0].y() + b1 * p[1].y() + b2 * p[2].y(), 0);
+        const Point_3 q(b0 * p[0].x() + b1 * p[1].x() + b2 * p[2].x(), b0 * p[0].y() + b1 * p[1].y() + b2 * p[2].y(),
+                        0);
         f(x, H - 1 - y, q, t, p);
       }
   }
@@ -247,7 +249,8 @@ TEST(RebuiltAtlas, ReproducesTheColoursOfAFlatModel) {
   std::size_t n = 0;
   for_each_output_texel(sq.tm, out.width(), out.height(), [&](int x, int y, const Point_3& q, auto&, auto&) {
     const Point_2 uv = sq.uv_of(q);  // where the original shows this point
-    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(out.value(x, y, c)) - bilinear(in, uv.x(), uv.y(), c)));
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, std::abs(double(out.value(x, y, c)) - bilinear(in, uv.x(), uv.y(), c)));
     ++n;
   });
   EXPECT_GT(n, 10000u);
@@ -259,7 +262,8 @@ TEST(RebuiltAtlas, ReproducesTheColoursOfAFlatModel) {
 // triangle: T and B follow the UV gradients, N the face (here +z).
 Vector_3 object_normal(const double* t, const std::array<Point_2, 3>& uv, const std::array<Point_3, 3>& p) {
   const Vector_3 e1 = p[1] - p[0], e2 = p[2] - p[0];
-  const double du1 = uv[1].x() - uv[0].x(), dv1 = uv[1].y() - uv[0].y(), du2 = uv[2].x() - uv[0].x(), dv2 = uv[2].y() - uv[0].y();
+  const double du1 = uv[1].x() - uv[0].x(), dv1 = uv[1].y() - uv[0].y(), du2 = uv[2].x() - uv[0].x(),
+               dv2 = uv[2].y() - uv[0].y();
   const double det = du1 * dv2 - du2 * dv1;
   Vector_3 T = (e1 * dv2 - e2 * dv1) / det, B = (e2 * du1 - e1 * du2) / det;
   T = T / std::sqrt(T.squared_length());
@@ -287,13 +291,14 @@ TEST(RebuiltAtlas, CarriesATangentSpaceNormalMapThroughTheNewFrames) {
     ASSERT_FALSE(nm.empty()) << "the normal map was dropped";
     double worst = 0;
     std::size_t n = 0;
-    for_each_output_texel(sq.tm, nm.width(), nm.height(), [&](int x, int y, const Point_3&, const auto& t, const auto& p) {
-      double v[3];
-      for (int c = 0; c < 3; ++c) v[c] = 2.0 * nm.value(x, y, c) - 1.0;
-      const Vector_3 got = object_normal(v, t, p);
-      worst = std::max(worst, std::acos(std::clamp(got * expected, -1.0, 1.0)) * 180 / 3.14159265358979);
-      ++n;
-    });
+    for_each_output_texel(
+        sq.tm, nm.width(), nm.height(), [&](int x, int y, const Point_3&, const auto& t, const auto& p) {
+          double v[3];
+          for (int c = 0; c < 3; ++c) v[c] = 2.0 * nm.value(x, y, c) - 1.0;
+          const Vector_3 got = object_normal(v, t, p);
+          worst = std::max(worst, std::acos(std::clamp(got * expected, -1.0, 1.0)) * 180 / 3.14159265358979);
+          ++n;
+        });
     EXPECT_GT(n, 1000u);
     EXPECT_LE(worst, 1.5) << "degrees between the carried and the original object-space normal";
   }
@@ -333,7 +338,8 @@ TEST(RebuiltAtlas, CommandLineReportsRepairStopReasonAndMissingTexture) {
   std::string out, err;
   // repaired by default, one warning line saying what changed; the chart-keeping mode stops
   // above the target and says why on stderr and in the JSON
-  ASSERT_EQ(run("simplify '" + helmet + "' -o '" + dir + "/k.obj' --ratio 0.1 --keep-charts --json", &out, &err, dir), 0)
+  ASSERT_EQ(run("simplify '" + helmet + "' -o '" + dir + "/k.obj' --ratio 0.1 --keep-charts --json", &out, &err, dir),
+            0)
       << err;
   EXPECT_NE(err.find("warning: " + helmet + ": repaired: 7 non-manifold edges split"), std::string::npos) << err;
   EXPECT_NE(err.find("chart limit"), std::string::npos) << err;
@@ -378,7 +384,8 @@ std::pair<double, double> angle_stats(const CMGeom::Surface_mesh& m) {
     for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) p[std::size_t(k++)] = m.point(v);
     double smallest = 180;
     for (int i = 0; i < 3; ++i) {
-      const Vector_3 a = p[std::size_t((i + 1) % 3)] - p[std::size_t(i)], b = p[std::size_t((i + 2) % 3)] - p[std::size_t(i)];
+      const Vector_3 a = p[std::size_t((i + 1) % 3)] - p[std::size_t(i)],
+                     b = p[std::size_t((i + 2) % 3)] - p[std::size_t(i)];
       const double c = (a * b) / std::sqrt(a.squared_length() * b.squared_length());
       smallest = std::min(smallest, std::acos(std::clamp(c, -1.0, 1.0)) * 180 / 3.14159265358979);
     }

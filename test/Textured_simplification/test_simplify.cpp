@@ -34,8 +34,8 @@ Mesh ripple_torus(int n, int m) {
     for (int j = 0; j < m; ++j) {
       const double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m;
       const double r = 0.3 + 0.03 * std::sin(5 * a) * std::cos(3 * b);
-      v[std::size_t(i * m + j)] =
-          t.add_vertex(Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
+      v[std::size_t(i * m + j)] = t.add_vertex(
+          Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
     }
   auto at = [&](int i, int j) { return v[std::size_t(((i + n) % n) * m + (j + m) % m)]; };
   for (int i = 0; i < n; ++i)
@@ -79,11 +79,11 @@ std::string bytes_of(const Mesh& m) {
 }  // namespace
 
 TEST(SimplifyOneCall, RatioRuleRoundsHalvesUp) {
-  EXPECT_EQ(TS::target_faces_for_ratio(10, 0.25), 3u);   // 2.5
-  EXPECT_EQ(TS::target_faces_for_ratio(6, 0.25), 2u);    // 1.5
-  EXPECT_EQ(TS::target_faces_for_ratio(2, 0.25), 1u);    // 0.5
-  EXPECT_EQ(TS::target_faces_for_ratio(3, 0.125), 0u);   // 0.375
-  EXPECT_EQ(TS::target_faces_for_ratio(9, 0.125), 1u);   // 1.125
+  EXPECT_EQ(TS::target_faces_for_ratio(10, 0.25), 3u);  // 2.5
+  EXPECT_EQ(TS::target_faces_for_ratio(6, 0.25), 2u);   // 1.5
+  EXPECT_EQ(TS::target_faces_for_ratio(2, 0.25), 1u);   // 0.5
+  EXPECT_EQ(TS::target_faces_for_ratio(3, 0.125), 0u);  // 0.375
+  EXPECT_EQ(TS::target_faces_for_ratio(9, 0.125), 1u);  // 1.125
   EXPECT_EQ(TS::target_faces_for_ratio(7, 1.0), 7u);
   EXPECT_EQ(TS::target_faces_for_ratio(2400, 0.1), 240u);
   for (double bad : {0.0, -0.25, 1.0000001, std::numeric_limits<double>::quiet_NaN()})
@@ -105,7 +105,7 @@ TEST(SimplifyOneCall, RatioGivesTheMeshOfItsCount) {
       {ripple_torus(40, 30), 0.0625, TS::Simplification_engine::cgal, false, false},
       {wavy_sheet(30), 0.25, TS::Simplification_engine::cmgeom, false, false},  // 450: an exact count
       {wavy_sheet(31), 0.3, TS::Simplification_engine::cgal, false, false},
-      {wavy_sheet(25), 0.01, TS::Simplification_engine::cmgeom, true, false},   // 12.5 -> 13
+      {wavy_sheet(25), 0.01, TS::Simplification_engine::cmgeom, true, false},  // 12.5 -> 13
       {ripple_torus(80, 60), 0.05, TS::Simplification_engine::cmgeom, true, true},
   };
   for (const Case& c : cases) {
@@ -293,9 +293,12 @@ TEST(SimplifyOneCall, MaxCostLeavesOnlyDearerCollapses) {
         for (std::size_t k : state.merged[a]) q += vertex_q[k];
         for (std::size_t k : state.merged[b]) q += vertex_q[k];
         const auto [cost, x] = edge_cost(q, vec(m.point(m.source(h))), vec(m.point(m.target(h))));
-        if (cost > bound * (1 + 1e-9)) ++dearer;
-        else if (!CGAL::Euler::does_satisfy_link_condition(e, m) || flips(m, h, x)) ++blocked;
-        else ++cheaper_and_free;
+        if (cost > bound * (1 + 1e-9))
+          ++dearer;
+        else if (!CGAL::Euler::does_satisfy_link_condition(e, m) || flips(m, h, x))
+          ++blocked;
+        else
+          ++cheaper_and_free;
       }
       EXPECT_EQ(cheaper_and_free, 0u) << dearer << " dearer, " << blocked << " blocked";
       EXPECT_GT(dearer, 0u);

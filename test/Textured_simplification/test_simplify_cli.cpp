@@ -25,7 +25,8 @@ TEST(TexturedSimplificationCli, SimplifyJsonAndErrors) {
   const std::string out = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_bunny.off";
   fs::remove(out);
   for (const std::string engine : {"cmgeom", "cgal"}) {
-    const auto [code, text] = run("'" + exe + "' simplify '" + in + "' -o '" + out + "' --faces 1000 --json --engine " + engine);
+    const auto [code, text] =
+        run("'" + exe + "' simplify '" + in + "' -o '" + out + "' --faces 1000 --json --engine " + engine);
     ASSERT_EQ(code, 0) << text;
     const auto j = nlohmann::json::parse(text);
     EXPECT_EQ(j["faces_in"].get<std::size_t>(), 6966u);
@@ -47,7 +48,10 @@ TEST(TexturedSimplificationCli, SimplifyJsonAndErrors) {
   }
   // bad input: exit code 1, one line on stderr, no output written
   const std::string bad = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_bad.obj";
-  { std::ofstream f(bad); f << "v 0 0 0\nv 1 0 0\nf 1 2 7\n"; }
+  {
+    std::ofstream f(bad);
+    f << "v 0 0 0\nv 1 0 0\nf 1 2 7\n";
+  }
   const std::string out2 = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_never.obj";
   fs::remove(out2);
   EXPECT_EQ(run("'" + exe + "' simplify '" + bad + "' -o '" + out2 + "' --ratio 0.5").first, 1);

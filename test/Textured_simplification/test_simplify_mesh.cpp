@@ -33,8 +33,8 @@ Mesh rippled_torus(int n, int m) {
     for (int j = 0; j < m; ++j) {
       const double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m;
       const double r = 0.35 + 0.02 * std::sin(7 * a) * std::cos(5 * b);
-      v[std::size_t(i * m + j)] =
-          t.add_vertex(Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
+      v[std::size_t(i * m + j)] = t.add_vertex(
+          Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
     }
   auto at = [&](int i, int j) { return v[std::size_t(((i + n) % n) * m + (j + m) % m)]; };
   for (int i = 0; i < n; ++i)
@@ -181,8 +181,8 @@ TEST(SimplifyMesh, InPartsKeepsTopologyTargetAndError) {
       const auto ew = CMGeom::Metrics::approximation_error(input, whole);
       // the cuts cost little: measured on these two (16 parts of about 1,200 faces, far smaller than
       // the defaults allow), Hausdorff 0.71-1.35x, RMS 0.98-1.04x that of the whole at once (printed)
-      std::cout << "in parts / whole, " << input.number_of_faces() << " faces to " << target
-                << ": Hausdorff " << ep.hausdorff / ew.hausdorff << ", RMS " << ep.rms / ew.rms << '\n';
+      std::cout << "in parts / whole, " << input.number_of_faces() << " faces to " << target << ": Hausdorff "
+                << ep.hausdorff / ew.hausdorff << ", RMS " << ep.rms / ew.rms << '\n';
       EXPECT_LE(ep.hausdorff, 1.5 * ew.hausdorff) << "ratio " << ratio;
       EXPECT_LE(ep.rms, 1.2 * ew.rms) << "ratio " << ratio;
     }
@@ -201,8 +201,8 @@ TEST(SimplifyMesh, SmallInputsAndLowRatiosSkipTheParts) {
   EXPECT_THROW(TS::simplify_mesh(s, 10, o), std::invalid_argument);
   // a quad is refused, and the mesh is left as it was
   Mesh q;
-  const auto a = q.add_vertex(Point_3(0, 0, 0)), b = q.add_vertex(Point_3(1, 0, 0)),
-             c = q.add_vertex(Point_3(1, 1, 0)), d = q.add_vertex(Point_3(0, 1, 0));
+  const auto a = q.add_vertex(Point_3(0, 0, 0)), b = q.add_vertex(Point_3(1, 0, 0)), c = q.add_vertex(Point_3(1, 1, 0)),
+             d = q.add_vertex(Point_3(0, 1, 0));
   q.add_face(a, b, c, d);
   EXPECT_THROW(TS::simplify_mesh(q, 1), CMGeom::Invalid_input);
   EXPECT_EQ(q.number_of_faces(), 1u);

@@ -35,8 +35,7 @@ Mesh umbrella(double h, Mesh::Vertex_index& centre, Mesh::Vertex_index& first) {
   Mesh m;
   centre = m.add_vertex(Point_3(0, 0, h));
   std::vector<Mesh::Vertex_index> ring;
-  for (int k = 0; k < 6; ++k)
-    ring.push_back(m.add_vertex(Point_3(std::cos(k * M_PI / 3), std::sin(k * M_PI / 3), 0)));
+  for (int k = 0; k < 6; ++k) ring.push_back(m.add_vertex(Point_3(std::cos(k * M_PI / 3), std::sin(k * M_PI / 3), 0)));
   for (int k = 0; k < 6; ++k) m.add_face(centre, ring[std::size_t(k)], ring[std::size_t((k + 1) % 6)]);
   first = ring[0];
   return m;
@@ -78,9 +77,10 @@ TEST(SurfaceMemory, EveryPointStaysOnALiveFaceThroughASimplification) {
   EXPECT_EQ(memory.number_of_points(), m.number_of_vertices());
   TS::Area_weighted_quadric_policies<Mesh> policy(m, TS::Quadric_options{false});
   TS::Face_count_stop_predicate<Mesh> stop(m, m.number_of_faces() / 20);
-  TS::edge_collapse(m, stop,
-                    CMGeom::parameters::surface_memory(
-                        &memory, CMGeom::parameters::edge_flips(true, CGAL::parameters::get_cost(policy).get_placement(policy))));
+  TS::edge_collapse(
+      m, stop,
+      CMGeom::parameters::surface_memory(
+          &memory, CMGeom::parameters::edge_flips(true, CGAL::parameters::get_cost(policy).get_placement(policy))));
   std::size_t count = 0, dead = 0;
   double area = 0;
   memory.for_each_point([&](Mesh::Face_index f, const auto&, double a) {
@@ -122,10 +122,14 @@ TEST(SurfaceMemory, LargeInputsKeepAtMostTheRequestedNumberOfPoints) {
 // all 16 cases; Hausdorff lower in 8, at most 1.37x higher (texturedknot, 10 %), and on fuze at
 // 10 %, whose base rim the quadric alone cuts off, 0.0129 instead of 0.0297.
 TEST(SurfaceMemory, LowersTheErrorOfTheQuadricOnTheSharedTexturedModels) {
-  const char* const models[][2] = {{"spot", "spot.obj"},   {"bob", "bob_tri.obj"},
-                                   {"fuze", "fuze.obj"},   {"DamagedHelmet", "DamagedHelmet.obj"},
-                                   {"WaterBottle", "WaterBottle.obj"}, {"Duck", "Duck.obj"},
-                                   {"bunny10k_textured", "bunny10k_textured.obj"}, {"texturedknot", "texturedknot.obj"}};
+  const char* const models[][2] = {{"spot", "spot.obj"},
+                                   {"bob", "bob_tri.obj"},
+                                   {"fuze", "fuze.obj"},
+                                   {"DamagedHelmet", "DamagedHelmet.obj"},
+                                   {"WaterBottle", "WaterBottle.obj"},
+                                   {"Duck", "Duck.obj"},
+                                   {"bunny10k_textured", "bunny10k_textured.obj"},
+                                   {"texturedknot", "texturedknot.obj"}};
   int ran = 0, rms_lower = 0, cases = 0;
   double h_ratio_max = 0, fuze_h[2] = {0, 0};
   for (const auto& model : models) {

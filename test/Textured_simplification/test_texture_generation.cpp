@@ -17,8 +17,10 @@ TEST(TexturedSimplification, RasterizerCoversExactlyTheTexelsWhoseCentrePassesTh
   for (int trial = 0; trial < 3000; ++trial) {
     std::array<UV2, 3> t;
     for (int c = 0; c < 3; ++c) {
-      if (trial % 3 == 0) t[c] = {{grid(rng) + 0.5, grid(rng) + 0.5}};  // corners on texel centres
-      else t[c] = {{coord(rng), coord(rng)}};
+      if (trial % 3 == 0)
+        t[c] = {{grid(rng) + 0.5, grid(rng) + 0.5}};  // corners on texel centres
+      else
+        t[c] = {{coord(rng), coord(rng)}};
     }
     if (trial % 5 == 0) t[2] = {{t[0][0] + 1e-3 * (t[1][0] - t[0][0]) + 0.01, t[0][1] + 1e-3 * (t[1][1] - t[0][1])}};
     std::vector<int> count(std::size_t(W) * H, 0);

@@ -65,8 +65,10 @@ Resampled resample(CMGeom::Textured_mesh tm) {
     TS::Index_texture_resampler resampler(it);
     TS::Area_weighted_quadric_policies<CMGeom::Surface_mesh> policy(m);
     TS::edge_collapse(m, TS::Face_count_stop_predicate<CMGeom::Surface_mesh>(m, m.number_of_faces() / 4),
-                      CGAL::parameters::get_cost(policy).get_placement(policy).filter(TS::Chart_constraint_filter<CC>(cc)).visitor(
-                          TS::Chart_constraint_visitor<CC, TS::Index_texture_resampler>(cc, &resampler)));
+                      CGAL::parameters::get_cost(policy)
+                          .get_placement(policy)
+                          .filter(TS::Chart_constraint_filter<CC>(cc))
+                          .visitor(TS::Chart_constraint_visitor<CC, TS::Index_texture_resampler>(cc, &resampler)));
     out.collapses = resampler.collapses();
     out.parallel = resampler.parallel_collapses();
   }

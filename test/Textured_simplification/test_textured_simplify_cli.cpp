@@ -28,7 +28,10 @@ TEST(TexturedSimplification, CommandLineWritesObjMtlPng) {
   };
   std::string text;
   for (const char* name : {"a", "b"}) {
-    ASSERT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir + "/" + name + ".obj' --ratio 0.3 --keep-charts --json", &text), 0);
+    ASSERT_EQ(
+        run("'" + exe + "' simplify '" + in + "' -o '" + dir + "/" + name + ".obj' --ratio 0.3 --keep-charts --json",
+            &text),
+        0);
   }
   const auto j = nlohmann::json::parse(text);
   for (const char* key : {"faces_in", "faces_out", "charts_in", "charts_out", "seconds", "stopped_by"})
@@ -56,13 +59,18 @@ TEST(TexturedSimplification, CommandLineWritesObjMtlPng) {
   EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir + "/c.ply' --ratio 0.3"), 1);
 #ifdef CMGEOM_HAS_OSMESA
   // the OpenGL backend writes the same files, byte for byte
-  ASSERT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir + "/gl.obj' --ratio 0.3 --keep-charts --texture-backend osmesa --json", &text), 0);
+  ASSERT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir +
+                    "/gl.obj' --ratio 0.3 --keep-charts --texture-backend osmesa --json",
+                &text),
+            0);
   EXPECT_EQ(nlohmann::json::parse(text).value("texture_backend", ""), "osmesa");
   EXPECT_EQ(slurp(dir + "/a_0_diffuse.png"), slurp(dir + "/gl_0_diffuse.png"));
   std::string g = slurp(dir + "/gl.obj");
   EXPECT_EQ(a, g.substr(g.find("\nv ")));
 #else
-  EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir + "/c.obj' --ratio 0.3 --keep-charts --texture-backend osmesa"), 1);
+  EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir +
+                "/c.obj' --ratio 0.3 --keep-charts --texture-backend osmesa"),
+            1);
 #endif
   EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + dir + "/c.obj' --ratio 0.3 --texture-size 4"), 1);
   EXPECT_FALSE(fs::exists(dir + "/c.obj"));

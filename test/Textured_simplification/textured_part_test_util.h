@@ -43,10 +43,14 @@ struct Model {
   const char* dir;
   const char* file;
 };
-const Model kModels[] = {{"spot", "spot.obj"},       {"bob", "bob_tri.obj"},
-                         {"fuze", "fuze.obj"},       {"DamagedHelmet", "DamagedHelmet.obj"},
-                         {"WaterBottle", "WaterBottle.obj"}, {"Duck", "Duck.obj"},
-                         {"bunny10k_textured", "bunny10k_textured.obj"}, {"texturedknot", "texturedknot.obj"}};
+const Model kModels[] = {{"spot", "spot.obj"},
+                         {"bob", "bob_tri.obj"},
+                         {"fuze", "fuze.obj"},
+                         {"DamagedHelmet", "DamagedHelmet.obj"},
+                         {"WaterBottle", "WaterBottle.obj"},
+                         {"Duck", "Duck.obj"},
+                         {"bunny10k_textured", "bunny10k_textured.obj"},
+                         {"texturedknot", "texturedknot.obj"}};
 
 inline std::string model_path(const Model& m) {
   return std::string(CMGEOM_DATA_DIR) + "/textured/" + m.dir + "/" + m.file;
@@ -57,13 +61,16 @@ inline bool read_model(const Model& m, CMGeom::Textured_mesh& tm, bool textures)
   if (!fs::exists(path)) return false;
   CMGeom::IO::Read_options ro;
   ro.repair = true;  // DamagedHelmet has a few non-manifold edges
-  if (textures) CMGeom::IO::read_textured_mesh(path, tm, ro);
-  else CMGeom::IO::read_mesh(path, tm, ro);
+  if (textures)
+    CMGeom::IO::read_textured_mesh(path, tm, ro);
+  else
+    CMGeom::IO::read_mesh(path, tm, ro);
   return true;
 }
 
 // Per-face UV triangles and chart ids (independent of the package: charts.h from Mesh_IO).
-inline std::size_t layout(const CMGeom::Textured_mesh& tm, std::vector<std::array<UV2, 3>>& tris, std::vector<int>& ids) {
+inline std::size_t layout(const CMGeom::Textured_mesh& tm, std::vector<std::array<UV2, 3>>& tris,
+                          std::vector<int>& ids) {
   return TS::internal::uv_layout(tm, tris, ids);
 }
 

@@ -140,13 +140,17 @@ inline std::vector<Point> sample_surface(const Mesh& m, std::size_t n, unsigned 
   out.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double r = U(rng) * total;
-    const std::size_t k = std::min<std::size_t>(std::lower_bound(cdf.begin(), cdf.end(), r) - cdf.begin(), fs_.size() - 1);
+    const std::size_t k =
+        std::min<std::size_t>(std::lower_bound(cdf.begin(), cdf.end(), r) - cdf.begin(), fs_.size() - 1);
     const halfedge_descriptor h = m.halfedge(fs_[k]);
     const Point& a = m.point(m.source(h));
     const Point& b = m.point(m.target(h));
     const Point& c = m.point(m.target(m.next(h)));
     double s = U(rng), t = U(rng);
-    if (s + t > 1) { s = 1 - s; t = 1 - t; }
+    if (s + t > 1) {
+      s = 1 - s;
+      t = 1 - t;
+    }
     out.push_back(a + s * (b - a) + t * (c - a));
   }
   return out;
@@ -203,20 +207,30 @@ struct Checking_visitor : TS::Edge_collapse_visitor_base {
       if (!(face_area_vector(m, f) * n_old > 0)) ++stats->flipped_faces;
   }
   template <class TM, class H>
-  void OnFlipped(const TM&, const H&) const { ++stats->flips; }
+  void OnFlipped(const TM&, const H&) const {
+    ++stats->flips;
+  }
 };
 
 // A policy wrapper counting the Update_tag hook calls made by an engine.
 struct Counting_policy : Policy {
-  struct Counts { std::size_t init = 0, update = 0; };
+  struct Counts {
+    std::size_t init = 0, update = 0;
+  };
   Counts* counts;
   Counting_policy(Mesh& m, Counts* c, const TS::Quadric_options& o = {}) : Policy(m, o), counts(c) {}
   using Get_cost = Counting_policy;
   using Get_placement = Counting_policy;
   template <class VPM, class GT>
-  void initialize(const Mesh& m, const VPM& vpm, const GT& gt) const { ++counts->init; Policy::initialize(m, vpm, gt); }
+  void initialize(const Mesh& m, const VPM& vpm, const GT& gt) const {
+    ++counts->init;
+    Policy::initialize(m, vpm, gt);
+  }
   template <class Profile>
-  void update_after_collapse(const Profile& p, vertex_descriptor v) const { ++counts->update; Policy::update_after_collapse(p, v); }
+  void update_after_collapse(const Profile& p, vertex_descriptor v) const {
+    ++counts->update;
+    Policy::update_after_collapse(p, v);
+  }
 };
 
 // The closed, manifold, triangulated meshes of shared/data/classic (by path).
@@ -302,9 +316,15 @@ void check_simplification_invariants(const std::string& name, Mesh m, std::size_
   // cover every halfedge exactly once
   std::size_t fan_total = 0, fan_halfedges = 0;
   for (vertex_descriptor v : m.vertices()) {
-    for (halfedge_descriptor h : CGAL::halfedges_around_target(m.halfedge(v), m)) { (void)h; ++fan_halfedges; }
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
+      (void)h;
+      ++fan_halfedges;
+    }
     std::size_t around = 0;
-    for (halfedge_descriptor h : CGAL::halfedges_around_target(m.halfedge(v), m)) { (void)h; ++around; }
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
+      (void)h;
+      ++around;
+    }
     ASSERT_GE(around, 3u) << name;
     ++fan_total;
   }

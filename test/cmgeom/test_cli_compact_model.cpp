@@ -40,7 +40,8 @@ TEST(cmgeom_cli, CmBuildCompactWritesASmallerVersion3FileThatReconstructsAlike) 
   const std::string dir = cmgeom_test::scratch_dir();
   for (const char* texture : {"", " --no-texture"}) {
     SCOPED_TRACE(texture);
-    const auto v2 = cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/v2.cm' --ratio 0.1 --json" + texture, dir);
+    const auto v2 =
+        cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/v2.cm' --ratio 0.1 --json" + texture, dir);
     ASSERT_EQ(v2.exit_code, 0) << v2.err;
     const auto v3 = cmgeom_test::run_cli(
         "cm build " + spot() + " -o '" + dir + "/v3.cm' --ratio 0.1 --compact --json" + texture, dir);
@@ -56,9 +57,8 @@ TEST(cmgeom_cli, CmBuildCompactWritesASmallerVersion3FileThatReconstructsAlike) 
     EXPECT_LT(3 * bytes.size(), nlohmann::json::parse(v2.out)["bytes"].get<std::size_t>());
     // Both reconstruct to the same connectivity, and the geometry differs by far less than the CM's error.
     for (const char* v : {"v2", "v3"}) {
-      const auto r = cmgeom_test::run_cli("cm reconstruct '" + dir + "/" + v + ".cm' -o '" + dir + "/" + v +
-                                              ".obj' --level 2 --json",
-                                          dir);
+      const auto r = cmgeom_test::run_cli(
+          "cm reconstruct '" + dir + "/" + v + ".cm' -o '" + dir + "/" + v + ".obj' --level 2 --json", dir);
       ASSERT_EQ(r.exit_code, 0) << r.err;
     }
     const auto e = cmgeom_test::run_cli("error '" + dir + "/v2.obj' '" + dir + "/v3.obj' --json", dir);
@@ -69,24 +69,24 @@ TEST(cmgeom_cli, CmBuildCompactWritesASmallerVersion3FileThatReconstructsAlike) 
 
 TEST(cmgeom_cli, CmBuildMeetsAnErrorBoundOrAByteBound) {
   const std::string dir = cmgeom_test::scratch_dir();
-  const auto a = cmgeom_test::run_cli(
-      "cm build " + spot() + " -o '" + dir + "/e.cm' --no-texture --max-error 0.01 --json", dir);
+  const auto a =
+      cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/e.cm' --no-texture --max-error 0.01 --json", dir);
   ASSERT_EQ(a.exit_code, 0) << a.err;
   const auto ja = nlohmann::json::parse(a.out);
   EXPECT_LE(ja["rate"]["hausdorff"].get<double>(), 0.01);
   EXPECT_EQ(ja["bytes"].get<std::size_t>(), fs::file_size(dir + "/e.cm"));
   // Measured again by `cmgeom error` (more samples) at the chosen level: within the bound.
   const int level = ja["rate"]["level"].get<int>();
-  ASSERT_EQ(cmgeom_test::run_cli("cm reconstruct '" + dir + "/e.cm' -o '" + dir + "/e.obj' --level " +
-                                     std::to_string(level),
-                                 dir)
+  ASSERT_EQ(cmgeom_test::run_cli(
+                "cm reconstruct '" + dir + "/e.cm' -o '" + dir + "/e.obj' --level " + std::to_string(level), dir)
                 .exit_code,
             0);
   const auto err = cmgeom_test::run_cli("error " + spot() + " '" + dir + "/e.obj' --json", dir);
   ASSERT_EQ(err.exit_code, 0) << err.err;
   EXPECT_LE(nlohmann::json::parse(err.out)["hausdorff"].get<double>(), 0.0105);
 
-  const auto b = cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/b.cm' --no-texture --bytes 4000 --json", dir);
+  const auto b =
+      cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/b.cm' --no-texture --bytes 4000 --json", dir);
   ASSERT_EQ(b.exit_code, 0) << b.err;
   EXPECT_LE(fs::file_size(dir + "/b.cm"), 4000u);
   EXPECT_EQ(nlohmann::json::parse(b.out)["format_version"].get<int>(), 3);

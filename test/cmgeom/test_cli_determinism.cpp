@@ -60,22 +60,26 @@ TEST(cmgeom_cli, PipelineCommandsAreDeterministic) {
   for (const char* c : {"mean_value", "green"})
     cmgeom_test::write_text(base, std::string(c) + ".json",
                             std::string("{\"cages\": [{\"rest\": \"rest.obj\", \"deformed\": \"deformed.obj\", "
-                                        "\"coordinates\": \"") + c + "\"}]}");
+                                        "\"coordinates\": \"") +
+                                c + "\"}]}");
   const std::string cages = base;
-  check_deterministic({
-      {"simplify weighted", "simplify {in} -o {dir}/w.obj --ratio 0.2 --policy weighted", {"w.obj"}},
-      {"simplify plain", "simplify {in} -o {dir}/p.ply --ratio 0.2 --policy plain --no-texture", {"p.ply"}},
-      {"error", "error {in} {dir}/w.obj --field {dir}/field.txt --json", {"field.txt"}},
-      {"render", "render {dir}/w.obj -o {dir}/w.png --size 256x256 --wireframe", {"w.png"}},
-      {"cm build", "cm build {in} -o {dir}/spot.cm --ratio 0.1", {"spot.cm"}},
-      {"cm build joint", "cm build {in} -o {dir}/spot_joint.cm --ratio 0.1 --joint-fit", {"spot_joint.cm"}},
-      {"cm build error control",
-       "cm build {in} -o {dir}/spot_ec.cm --ratio 0.1 --joint-fit --error-bound 0.02 --error-rounds 3 --error-level 1",
-       {"spot_ec.cm"}},
-      {"cm reconstruct", "cm reconstruct {dir}/spot.cm -o {dir}/cm.ply --level 2", {"cm.ply"}},
-      {"deform mean value", "deform {in} --cages '" + cages + "/mean_value.json' -o {dir}/mv.ply", {"mv.ply"}},
-      {"deform green", "deform {in} --cages '" + cages + "/green.json' -o {dir}/g.ply", {"g.ply"}},
-  }, base);
+  check_deterministic(
+      {
+          {"simplify weighted", "simplify {in} -o {dir}/w.obj --ratio 0.2 --policy weighted", {"w.obj"}},
+          {"simplify plain", "simplify {in} -o {dir}/p.ply --ratio 0.2 --policy plain --no-texture", {"p.ply"}},
+          {"error", "error {in} {dir}/w.obj --field {dir}/field.txt --json", {"field.txt"}},
+          {"render", "render {dir}/w.obj -o {dir}/w.png --size 256x256 --wireframe", {"w.png"}},
+          {"cm build", "cm build {in} -o {dir}/spot.cm --ratio 0.1", {"spot.cm"}},
+          {"cm build joint", "cm build {in} -o {dir}/spot_joint.cm --ratio 0.1 --joint-fit", {"spot_joint.cm"}},
+          {"cm build error control",
+           "cm build {in} -o {dir}/spot_ec.cm --ratio 0.1 --joint-fit --error-bound 0.02 --error-rounds 3 "
+           "--error-level 1",
+           {"spot_ec.cm"}},
+          {"cm reconstruct", "cm reconstruct {dir}/spot.cm -o {dir}/cm.ply --level 2", {"cm.ply"}},
+          {"deform mean value", "deform {in} --cages '" + cages + "/mean_value.json' -o {dir}/mv.ply", {"mv.ply"}},
+          {"deform green", "deform {in} --cages '" + cages + "/green.json' -o {dir}/g.ply", {"g.ply"}},
+      },
+      base);
 }
 
 TEST(cmgeom_cli, CommandsOfTheCageAndTextureStagesAreDeterministic) {
@@ -83,26 +87,38 @@ TEST(cmgeom_cli, CommandsOfTheCageAndTextureStagesAreDeterministic) {
   // a single box cage for cm deform, and a textured simplification of Spot with its texture.
   const std::string base = cmgeom_test::scratch_dir();
   const std::string faces = R"("faces": [[0,3,2,1],[4,5,6,7],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]])";
-  cmgeom_test::write_text(base, "two.json", std::string(R"({"cages": [
+  cmgeom_test::write_text(
+      base, "two.json",
+      std::string(R"({"cages": [
     {"name": "left", "rest": {"vertices": [[-3,-3,-3],[0,-3,-3],[0,3,-3],[-3,3,-3],[-3,-3,3],[0,-3,3],[0,3,3],[-3,3,3]], )") +
-    faces + R"(}, "deformed": [[-3,-3,-3],[0,-3,-3],[0,3,-3],[-3.5,3,-3],[-3,-3,3],[0,-3,3],[0,3,3],[-3.5,3,3.5]]},
+          faces +
+          R"(}, "deformed": [[-3,-3,-3],[0,-3,-3],[0,3,-3],[-3.5,3,-3],[-3,-3,3],[0,-3,3],[0,3,3],[-3.5,3,3.5]]},
     {"name": "right", "rest": {"vertices": [[0,-3,-3],[3,-3,-3],[3,3,-3],[0,3,-3],[0,-3,3],[3,-3,3],[3,3,3],[0,3,3]], )" +
-    faces + R"(}, "deformed": [[0,-3,-3],[3,-3,-3],[3.5,3,-3],[0,3,-3],[0,-3,3],[3,-3,3],[3.5,3,3],[0,3,3]],
+          faces + R"(}, "deformed": [[0,-3,-3],[3,-3,-3],[3.5,3,-3],[0,3,-3],[0,-3,3],[3,-3,3],[3.5,3,3],[0,3,3]],
      "coordinates": "green"}]})");
   // cm deform reads one cage given by files.
   const char* quads = "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
-  cmgeom_test::write_text(base, "box.obj", std::string("v -3 -3 -3\nv 3 -3 -3\nv 3 3 -3\nv -3 3 -3\n"
-                                                       "v -3 -3 3\nv 3 -3 3\nv 3 3 3\nv -3 3 3\n") + quads);
-  cmgeom_test::write_text(base, "box_sheared.obj", std::string("v -3 -3 -3\nv 3 -3 -3\nv 4 3 -3\nv -2 3 -3\n"
-                                                               "v -3 -3 3\nv 3 -3 3\nv 4 3 3.5\nv -2 3 3.5\n") + quads);
+  cmgeom_test::write_text(base, "box.obj",
+                          std::string("v -3 -3 -3\nv 3 -3 -3\nv 3 3 -3\nv -3 3 -3\n"
+                                      "v -3 -3 3\nv 3 -3 3\nv 3 3 3\nv -3 3 3\n") +
+                              quads);
+  cmgeom_test::write_text(base, "box_sheared.obj",
+                          std::string("v -3 -3 -3\nv 3 -3 -3\nv 4 3 -3\nv -2 3 -3\n"
+                                      "v -3 -3 3\nv 3 -3 3\nv 4 3 3.5\nv -2 3 3.5\n") +
+                              quads);
   cmgeom_test::write_text(base, "one.json", R"({"cages": [{"rest": "box.obj", "deformed": "box_sheared.obj"}]})");
-  check_deterministic({
-      {"simplify textured", "simplify {in} -o {dir}/t.obj --ratio 0.2", {"t.obj", "t.mtl", "t_0_diffuse.png"}},
-      {"deform two cages", "deform {in} --cages '" + base + "/two.json' -o {dir}/two.ply", {"two.ply"}},
-      {"influence", "influence {in} --cages '" + base + "/two.json' -o {dir}/inf.png --size 128x128 --values {dir}/inf.txt",
-       {"inf.png", "inf.txt"}},
-      {"influence grid", "influence {in} --grid 2,2,1 --values {dir}/grid.txt", {"grid.txt"}},
-      {"cm build", "cm build {in} -o {dir}/spot.cm --ratio 0.1", {"spot.cm"}},
-      {"cm deform", "cm deform {dir}/spot.cm --cages '" + base + "/one.json' -o {dir}/cmd.ply --level 1", {"cmd.ply"}},
-  }, base);
+  check_deterministic(
+      {
+          {"simplify textured", "simplify {in} -o {dir}/t.obj --ratio 0.2", {"t.obj", "t.mtl", "t_0_diffuse.png"}},
+          {"deform two cages", "deform {in} --cages '" + base + "/two.json' -o {dir}/two.ply", {"two.ply"}},
+          {"influence",
+           "influence {in} --cages '" + base + "/two.json' -o {dir}/inf.png --size 128x128 --values {dir}/inf.txt",
+           {"inf.png", "inf.txt"}},
+          {"influence grid", "influence {in} --grid 2,2,1 --values {dir}/grid.txt", {"grid.txt"}},
+          {"cm build", "cm build {in} -o {dir}/spot.cm --ratio 0.1", {"spot.cm"}},
+          {"cm deform",
+           "cm deform {dir}/spot.cm --cages '" + base + "/one.json' -o {dir}/cmd.ply --level 1",
+           {"cmd.ply"}},
+      },
+      base);
 }

@@ -38,7 +38,8 @@ TEST(cmgeom_cli, SimplifiedGlbOfEveryTexturedModelIsValidAndRendersLikeTheObj) {
     // spot's OBJ names no texture: its image is beside it
     const fs::path spot_texture = model.parent_path() / "spot_texture.png";
     const std::string texture = fs::exists(spot_texture) ? " --texture " + quoted(spot_texture.string()) : "";
-    const std::string obj = (fs::path(dir) / (name + ".obj")).string(), glb = (fs::path(dir) / (name + ".glb")).string();
+    const std::string obj = (fs::path(dir) / (name + ".obj")).string(),
+                      glb = (fs::path(dir) / (name + ".glb")).string();
     std::size_t faces[2] = {0, 0};
     for (int k = 0; k < 2; ++k) {
       const auto s = cmgeom_test::run_cli("--quiet simplify " + quoted(model.string()) + " --ratio 0.1 -o " +
@@ -71,8 +72,8 @@ TEST(cmgeom_cli, SimplifiedGlbOfEveryTexturedModelIsValidAndRendersLikeTheObj) {
     if (rmse == -2.0) GTEST_SKIP() << "this build of cmgeom has no renderer: the GLB files were validated only";
     EXPECT_GE(rmse, 0.0);
     EXPECT_LE(rmse, 0.5) << "the GLB renders unlike the OBJ";
-    std::cout << name << ": " << faces[0] << " faces; validator: " << validation << "; RMSE OBJ vs GLB "
-              << rmse << "\n";
+    std::cout << name << ": " << faces[0] << " faces; validator: " << validation << "; RMSE OBJ vs GLB " << rmse
+              << "\n";
     if (name == "Duck") {
       // against the original: the GLB in its own atlas scores as the OBJ does; in the original's
       // texture (--reference-texture) it is far off, so the comparisons above saw the GLB's atlas

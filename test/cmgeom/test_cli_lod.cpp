@@ -74,7 +74,8 @@ TEST(cmgeom_cli, LodWritesOneGlbNodePerLevelListedByMsftLod) {
     ASSERT_TRUE(j.is_object());
     ASSERT_EQ(j["nodes"].size(), 3u);
     EXPECT_EQ(j["nodes"][0]["extensions"]["MSFT_lod"]["ids"], nlohmann::json::array({1, 2}));
-    for (const std::size_t i : {std::size_t(1), std::size_t(2)}) EXPECT_FALSE(j["nodes"][i].contains("extensions")) << i;
+    for (const std::size_t i : {std::size_t(1), std::size_t(2)})
+      EXPECT_FALSE(j["nodes"][i].contains("extensions")) << i;
     ASSERT_EQ(j["scenes"].size(), 1u);
     EXPECT_EQ(j["scene"], 0);
     EXPECT_EQ(j["scenes"][0]["nodes"], nlohmann::json::array({0}));
@@ -91,8 +92,10 @@ TEST(cmgeom_cli, LodWritesOneGlbNodePerLevelListedByMsftLod) {
       const double error = extras["error"].get<double>();
       EXPECT_DOUBLE_EQ(error, levels[i]["hausdorff"].get<double>());
       EXPECT_GE(error, 0.0);
-      if (i == 0) EXPECT_EQ(error, 0.0);  // the input itself
-      else EXPECT_GT(error, previous_error);
+      if (i == 0)
+        EXPECT_EQ(error, 0.0);  // the input itself
+      else
+        EXPECT_GT(error, previous_error);
       previous_error = error;
     }
     // the images: one shared atlas, or the input's texture and an atlas per simplified level
@@ -136,7 +139,7 @@ TEST(cmgeom_cli, LodRefusalsNameTheProblemAndWriteNothing) {
   struct Refusal {
     std::string input, args;  // args: "{out}" = the case's output directory
     int exit_code;
-    std::string named;        // what the error line must say
+    std::string named;  // what the error line must say
   };
   const std::vector<Refusal> refusals = {
       {duck, "-o {out}/x.glb --ratios 1,1", 1, "the levels must decrease strictly (in faces: 4212 then 4212)"},
@@ -165,21 +168,24 @@ TEST(cmgeom_cli, LodRefusalsNameTheProblemAndWriteNothing) {
     const auto r = cmgeom_test::run_cli("--quiet lod " + quoted(c.input) + " " + args, dir);
     EXPECT_EQ(r.exit_code, c.exit_code) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_EQ(r.err.compare(0, c.exit_code == 2 ? 21 : 19, c.exit_code == 2 ? "cmgeom: usage error: " : "cmgeom lod: error: "), 0)
+    EXPECT_EQ(r.err.compare(0, c.exit_code == 2 ? 21 : 19,
+                            c.exit_code == 2 ? "cmgeom: usage error: " : "cmgeom lod: error: "),
+              0)
         << r.err;
     EXPECT_NE(r.err.find(c.named), std::string::npos) << r.err;
     EXPECT_EQ(r.out, "");
     EXPECT_TRUE(entries_of(out).empty()) << "left behind: " << ::testing::PrintToString(entries_of(out));
   }
   // the same sphere without --shared-texture is a valid chain (the refusal is about the texture)
-  const auto ok = cmgeom_test::run_cli("--quiet lod " + quoted(sphere) + " -o " + quoted(dir + "/sphere.glb") +
-                                           " --ratios 1,0.25 --json", dir);
+  const auto ok = cmgeom_test::run_cli(
+      "--quiet lod " + quoted(sphere) + " -o " + quoted(dir + "/sphere.glb") + " --ratios 1,0.25 --json", dir);
   ASSERT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_EQ(nlohmann::json::parse(ok.out)["textured"], false);
   // a refused run keeps an existing output as it was
   const std::string kept = cmgeom_test::write_text(dir, "kept.glb", "not replaced");
   const auto r = cmgeom_test::run_cli("--quiet lod " + quoted(duck) + " -o " + quoted(kept) +
-                                          " --ratios 1,0.25 --obj-prefix " + quoted(dir + "/missing/P"), dir);
+                                          " --ratios 1,0.25 --obj-prefix " + quoted(dir + "/missing/P"),
+                                      dir);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_EQ(bytes_of(kept), "not replaced");
 }
@@ -206,7 +212,8 @@ TEST(cmgeom_cli, LodObjPrefixWritesEveryLevelAsObj) {
     const std::size_t map = mtl.find("map_Kd ");
     ASSERT_NE(map, std::string::npos) << mtl;
     const std::string texture = mtl.substr(map + 7, mtl.find('\n', map) - map - 7);
-    EXPECT_EQ(bytes_of((fs::path(dir) / texture).string()).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << texture;
+    EXPECT_EQ(bytes_of((fs::path(dir) / texture).string()).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8))
+        << texture;
   }
   EXPECT_FALSE(fs::exists(prefix + "_3.obj"));
 }

@@ -25,9 +25,9 @@ TEST(cmgeom_cli, PipelineRunsEveryStageAndReportsIt) {
     ++pictures;
   }
   EXPECT_GE(pictures, 15u);
-  for (const char* f : {"simplified_weighted.obj", "simplified_plain.obj", "model.cm", "cm_regular.ply",
-                        "cm_adaptive.ply", "rest_cages.json", "cages.json", "deformed.obj", "dcm_cages.obj",
-                        "dcm_affine.obj", "report.html"})
+  for (const char* f :
+       {"simplified_weighted.obj", "simplified_plain.obj", "model.cm", "cm_regular.ply", "cm_adaptive.ply",
+        "rest_cages.json", "cages.json", "deformed.obj", "dcm_cages.obj", "dcm_affine.obj", "report.html"})
     EXPECT_TRUE(fs::is_regular_file(fs::path(out) / f)) << f;
   // The deformable CM against the full mesh deformed by the same cages, measured by the error
   // command independently of the pipeline. What the method guarantees (thesis §6.3-6.4): the
@@ -37,9 +37,8 @@ TEST(cmgeom_cli, PipelineRunsEveryStageAndReportsIt) {
   // affine maps. The pipeline's cages stretch their edges by at most 1.5 (0.52-1.50 measured), so
   // the bound is 1.5 x the rest distance, absolute units (measured: 3.69 % against 3.40 % at rest,
   // of the diagonals; a deformable CM that loses its local maps moves far beyond it).
-  const auto rest = cmgeom_test::run_cli("error '" + std::string(CMGEOM_SOURCE_DIR) + "/data/spot/spot.obj' '" + out +
-                                             "/cm_regular.ply' --json",
-                                         dir);
+  const auto rest = cmgeom_test::run_cli(
+      "error '" + std::string(CMGEOM_SOURCE_DIR) + "/data/spot/spot.obj' '" + out + "/cm_regular.ply' --json", dir);
   ASSERT_EQ(rest.exit_code, 0) << rest.err;
   const auto e = cmgeom_test::run_cli("error '" + out + "/deformed.obj' '" + out + "/dcm_cages.obj' --json", dir);
   ASSERT_EQ(e.exit_code, 0) << e.err;
@@ -54,10 +53,12 @@ TEST(cmgeom_cli, PipelineRunsEveryStageAndReportsIt) {
 TEST(cmgeom_cli, PipelineStopsAtTheFailingStageAndKeepsTheFinishedOnes) {
   const std::string dir = cmgeom_test::scratch_dir();
   const std::string out = (fs::path(dir) / "out").string();
-  const std::string bad = cmgeom_test::write_text(dir, "bad.json", "{\"cages\": [{\"rest\": {\"vertices\": [[0,0,0]]}}]}");
+  const std::string bad =
+      cmgeom_test::write_text(dir, "bad.json", "{\"cages\": [{\"rest\": {\"vertices\": [[0,0,0]]}}]}");
   // A small untextured sphere keeps the three stages that must finish quick.
   const std::string sphere = cmgeom_test::write_text(dir, "sphere.obj", cmgeom_test::icosphere_obj(3));
-  const auto r = cmgeom_test::run_cli("pipeline --model '" + sphere + "' -o '" + out + "' --size 64x64 --cages '" + bad + "'", dir);
+  const auto r = cmgeom_test::run_cli(
+      "pipeline --model '" + sphere + "' -o '" + out + "' --size 64x64 --cages '" + bad + "'", dir);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("*Cages deformation"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("bad.json"), std::string::npos) << r.err;

@@ -14,7 +14,8 @@ TEST(cmgeom_cli, CmReconstructAndDeformReportReconstructionTimeWithinTheCommandT
   const std::vector<std::pair<std::string, std::string>> commands = {
       {"reconstruct regular", "cm reconstruct " + cm + " -o '" + dir + "/r.ply' --level 2 --json"},
       {"reconstruct along N", "cm reconstruct " + cm + " -o '" + dir + "/n.ply' --level 2 --projection normal --json"},
-      {"reconstruct adaptive", "cm reconstruct " + cm + " -o '" + dir + "/a.ply' --edge-length 0.05 --max-level 3 --json"},
+      {"reconstruct adaptive",
+       "cm reconstruct " + cm + " -o '" + dir + "/a.ply' --edge-length 0.05 --max-level 3 --json"},
       {"deform", "cm deform " + cm + " --affine 1,0.2,0,0,0,1,0,0,0,0,1.5,0 -o '" + dir + "/d.ply' --level 2 --json"}};
   for (const auto& [name, args] : commands) {
     SCOPED_TRACE(name);

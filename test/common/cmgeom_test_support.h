@@ -28,11 +28,11 @@ inline std::string shared_data(const std::string& relative) {
 }
 
 /// Skips the current test when the shared data set (../shared/data) is missing.
-#define CMGEOM_REQUIRE_SHARED_DATA()                                                            \
-  do {                                                                                          \
-    if (cmgeom_test::shared_data("SOURCES.md").empty())                                         \
-      GTEST_SKIP() << "shared data not found at " CMGEOM_DATA_DIR                               \
-                      " (set -DCMGEOM_DATA_DIR); this test needs the public models";            \
+#define CMGEOM_REQUIRE_SHARED_DATA()                                                 \
+  do {                                                                               \
+    if (cmgeom_test::shared_data("SOURCES.md").empty())                              \
+      GTEST_SKIP() << "shared data not found at " CMGEOM_DATA_DIR                    \
+                      " (set -DCMGEOM_DATA_DIR); this test needs the public models"; \
   } while (0)
 
 /// A fresh, empty scratch directory unique to the current test.

@@ -52,8 +52,7 @@ int run_impl(const std::vector<std::string>& args, std::string* error) {
   // Sorted by name so that --help lists the sub-commands alphabetically, whatever the link order.
   std::vector<const Registered_command*> commands;
   for (const auto& c : registry()) commands.push_back(&c);
-  std::sort(commands.begin(), commands.end(),
-            [](const auto* a, const auto* b) { return a->name < b->name; });
+  std::sort(commands.begin(), commands.end(), [](const auto* a, const auto* b) { return a->name < b->name; });
   std::map<CLI::App*, std::pair<std::string, Runner>> runners;
   for (const auto* c : commands) {
     CLI::App* sub = app.add_subcommand(c->name, c->description);
@@ -77,8 +76,7 @@ int run_impl(const std::vector<std::string>& args, std::string* error) {
 
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0)
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                  std::size_t(threads));
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
   // --quiet holds for this command and the commands it runs in-process (the pipeline's stages,
   // whose arguments do not repeat it); the previous setting comes back when it returns.
   struct Quiet_scope {
@@ -183,8 +181,7 @@ void Progress::set_quiet(bool quiet) { quiet_progress.store(quiet); }
 bool Progress::quiet() { return quiet_progress.load(); }
 
 Progress::Progress(std::string label)
-    : label_(std::move(label)), start_(now_seconds()), uncaught_(std::uncaught_exceptions()),
-      tty_(::isatty(2) != 0) {}
+    : label_(std::move(label)), start_(now_seconds()), uncaught_(std::uncaught_exceptions()), tty_(::isatty(2) != 0) {}
 
 Progress::Progress(std::string label, double total, std::string unit) : Progress(std::move(label)) {
   set_total(total, std::move(unit));
@@ -234,7 +231,8 @@ void Progress::draw(double fraction, double elapsed) {
     rate = rate_text(fraction * total_ / elapsed) + " " + unit_ + "/s";
   } else if (fraction >= 0.02) {
     const double left = elapsed * (1 - fraction) / fraction;
-    rate = left < 1 ? std::string("under 1 s left") : "about " + std::to_string(static_cast<long>(left + 0.5)) + " s left";
+    rate =
+        left < 1 ? std::string("under 1 s left") : "about " + std::to_string(static_cast<long>(left + 0.5)) + " s left";
   }
   char head[32];
   std::snprintf(head, sizeof head, " %3d%%", percent);
@@ -248,8 +246,7 @@ void Progress::draw(double fraction, double elapsed) {
 
 void Progress::done() {
   if (finished_) return;
-  while (busy_.test_and_set(std::memory_order_acquire)) {
-  }
+  while (busy_.test_and_set(std::memory_order_acquire)) {}
   finished_ = true;
   busy_.clear(std::memory_order_release);
   if (quiet()) return;

@@ -130,8 +130,7 @@ struct Cage_source {
   // Invalid_input unless --h is in (0, 1].
   void check_h() const;
   // The file read, or the grid around `points` (Invalid_input on a malformed --grid).
-  CMGeom::Cage_deformation::Cage_system_description description(
-      const std::vector<std::array<double, 3>>& points) const;
+  CMGeom::Cage_deformation::Cage_system_description description(const std::vector<std::array<double, 3>>& points) const;
 };
 
 // Which grid options a cage command offers besides --cages.
@@ -155,10 +154,10 @@ CMGeom::Polygon_soup read_polygon_soup_with_progress(const std::string& path);
 // Registers a sub-command from a .cpp file: CMGEOM_CLI_COMMAND(info, "…") { return [&]{...}; }
 #define CMGEOM_CLI_CONCAT2(a, b) a##b
 #define CMGEOM_CLI_CONCAT(a, b) CMGEOM_CLI_CONCAT2(a, b)
-#define CMGEOM_CLI_COMMAND(NAME, DESCRIPTION)                                                 \
-  static cmgeom_cli::Runner CMGEOM_CLI_CONCAT(cmgeom_setup_, NAME)(CLI::App & app);            \
-  static const cmgeom_cli::Command_registration CMGEOM_CLI_CONCAT(cmgeom_reg_, NAME)(          \
-      #NAME, DESCRIPTION, &CMGEOM_CLI_CONCAT(cmgeom_setup_, NAME));                            \
+#define CMGEOM_CLI_COMMAND(NAME, DESCRIPTION)                                         \
+  static cmgeom_cli::Runner CMGEOM_CLI_CONCAT(cmgeom_setup_, NAME)(CLI::App & app);   \
+  static const cmgeom_cli::Command_registration CMGEOM_CLI_CONCAT(cmgeom_reg_, NAME)( \
+      #NAME, DESCRIPTION, &CMGEOM_CLI_CONCAT(cmgeom_setup_, NAME));                   \
   static cmgeom_cli::Runner CMGEOM_CLI_CONCAT(cmgeom_setup_, NAME)(CLI::App & app)
 
 #endif

@@ -85,7 +85,9 @@ void write_reconstruction(const CM::Reconstruction& out, const std::string& text
 
 }  // namespace
 
-CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a CM file, 'cm reconstruct' a mesh from it, 'cm deform' it") {
+CMGEOM_CLI_COMMAND(
+    cm,
+    "Compact Models (thesis chapters 4 and 6): 'cm build' a CM file, 'cm reconstruct' a mesh from it, 'cm deform' it") {
   app.require_subcommand(1);
   // ------------------------------------------------------------------ cm build
   struct Build_args {
@@ -104,13 +106,15 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
   build->add_option("-o,--output", b->output, "Output CM file")->required();
   auto* faces = build->add_option("--faces", b->faces, "Faces of the base (simplified) mesh");
   auto* ratio = build->add_option("--ratio", b->ratio, "Base faces as a fraction of the input faces, in (0, 1]");
-  auto* max_error = build->add_option("--max-error", b->max_error,
-                                      "Rate-distortion: the smallest model whose reconstruction is within this symmetric "
-                                      "Hausdorff distance, a fraction of the bounding-box diagonal (chooses base size, "
-                                      "quantization and level; writes the compact file)");
-  auto* max_bytes = build->add_option("--bytes", b->max_bytes,
-                                      "Rate-distortion: the lowest-error model whose compact file fits in this many bytes "
-                                      "(with --max-error: the smallest within both)");
+  auto* max_error =
+      build->add_option("--max-error", b->max_error,
+                        "Rate-distortion: the smallest model whose reconstruction is within this symmetric "
+                        "Hausdorff distance, a fraction of the bounding-box diagonal (chooses base size, "
+                        "quantization and level; writes the compact file)");
+  auto* max_bytes =
+      build->add_option("--bytes", b->max_bytes,
+                        "Rate-distortion: the lowest-error model whose compact file fits in this many bytes "
+                        "(with --max-error: the smallest within both)");
   auto* rate_level = build->add_option("--max-level", b->max_level,
                                        "Rate-distortion: highest reconstruction level considered, 1-6 (default 3)");
   faces->excludes(ratio);
@@ -124,8 +128,9 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
                     "Error control (thesis §4.5.3): absolute distance bound, 0 = off (default)");
   build->add_option("--error-rounds", b->error_rounds,
                     "Most rounds of error control (default 2; a round that does not lower the error is undone)");
-  build->add_option("--error-level", b->error_level,
-                    "Reconstruction level at which error control measures (default 2; use the level you will reconstruct at)");
+  build->add_option(
+      "--error-level", b->error_level,
+      "Reconstruction level at which error control measures (default 2; use the level you will reconstruct at)");
   build->add_flag("--cubic", b->cubic, "Cubic local surfaces instead of the thesis' quadrics");
   build->add_flag("--joint-fit", b->joint_fit,
                   "Refit all local surfaces together so that their blend follows the input (CMGeom addition; "
@@ -137,11 +142,13 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
   build->add_flag("--compact", b->compact,
                   "Write the compact, quantized CM file (format version 3: positions on a grid, normals and "
                   "coefficients quantized, entropy coded; CMGeom addition)");
-  auto* tolerance = build->add_option("--tolerance", b->tolerance,
-                                      "Compact file: grid step of the positions and twice the coefficient tolerance, as a "
-                                      "fraction of the input's bounding-box diagonal (default 1e-4)");
-  auto* normal_bits = build->add_option("--normal-bits", b->normal_bits,
-                                        "Compact file: bits per octahedral coordinate of the frame normals, 6-20 (default 12)");
+  auto* tolerance =
+      build->add_option("--tolerance", b->tolerance,
+                        "Compact file: grid step of the positions and twice the coefficient tolerance, as a "
+                        "fraction of the input's bounding-box diagonal (default 1e-4)");
+  auto* normal_bits =
+      build->add_option("--normal-bits", b->normal_bits,
+                        "Compact file: bits per octahedral coordinate of the frame normals, 6-20 (default 12)");
   build->add_flag("--json", b->json, "Print a JSON report on stdout");
 
   // ------------------------------------------------------------------ cm reconstruct
@@ -176,30 +183,38 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
     bool json = false;
   };
   auto d = std::make_shared<Def_args>();
-  CLI::App* def = app.add_subcommand("deform", "Deform a CM's base and reconstruct the deformed model (thesis chapter 6)");
+  CLI::App* def =
+      app.add_subcommand("deform", "Deform a CM's base and reconstruct the deformed model (thesis chapter 6)");
   def->add_option("input", d->input, "CM file")->required();
   auto* d_cages = cmgeom_cli::add_cage_source_options(*def, d->cages, cmgeom_cli::Cage_grid_options::none);
-  auto* d_affine = def->add_option("--affine", d->affine, "Affine map instead of a cage: a11,a12,a13,b1,a21,...,b3 (12 numbers)");
+  auto* d_affine =
+      def->add_option("--affine", d->affine, "Affine map instead of a cage: a11,a12,a13,b1,a21,...,b3 (12 numbers)");
   d_cages->excludes(d_affine);
   d_affine->excludes(d_cages);
   def->add_option("-o,--output", d->output, "Output mesh (.obj, .off, .ply)")->required();
   auto* d_level = def->add_option("--level", d->level, "Regular subdivision level (default 2)");
-  auto* d_edge = def->add_option("--edge-length", d->edge_length, "Adaptive: split edges longer than this (deformed lengths)");
+  auto* d_edge =
+      def->add_option("--edge-length", d->edge_length, "Adaptive: split edges longer than this (deformed lengths)");
   auto* d_roi = def->add_option("--roi", d->roi, "Adaptive: region of interest x,y,z,radius (deformed space)");
-  auto* d_sil = def->add_option("--silhouette", d->silhouette, "Adaptive: refine the deformed silhouette seen from x,y,z");
+  auto* d_sil =
+      def->add_option("--silhouette", d->silhouette, "Adaptive: refine the deformed silhouette seen from x,y,z");
   d_level->excludes(d_edge)->excludes(d_roi)->excludes(d_sil);
   d_edge->excludes(d_roi)->excludes(d_sil);
   d_roi->excludes(d_sil);
   def->add_option("--max-level", d->max_level, "Adaptive: maximum halvings of a base edge (default 6)");
   def->add_option("--projection", d->projection, "Projection onto local surfaces: closest (Newton) or normal")
       ->check(CLI::IsMember({"closest", "normal"}));
-  def->add_option("--flatness", d->flatness, "Local maps: regularise 1-rings flatter than this (default 0.01; 0 = never, planar 1-rings then only translate)");
+  def->add_option(
+      "--flatness", d->flatness,
+      "Local maps: regularise 1-rings flatter than this (default 0.01; 0 = never, planar 1-rings then only translate)");
   def->add_flag("--json", d->json, "Print a JSON report on stdout");
 
-  return [build, rec, def, b, r, d, faces, ratio, level, edge, roi, sil, d_cages, d_affine, d_edge, d_roi, d_sil, tolerance, normal_bits, max_error, max_bytes, rate_level]() -> int {
+  return [build, rec, def, b, r, d, faces, ratio, level, edge, roi, sil, d_cages, d_affine, d_edge, d_roi, d_sil,
+          tolerance, normal_bits, max_error, max_bytes, rate_level]() -> int {
     if (def->parsed()) {
       const double t_command = cmgeom_cli::now_seconds();
-      if (d_cages->count() == 0 && d_affine->count() == 0) throw CMGeom::Invalid_input("one of --cages or --affine is required");
+      if (d_cages->count() == 0 && d_affine->count() == 0)
+        throw CMGeom::Invalid_input("one of --cages or --affine is required");
       if (d->max_level < 0 || d->max_level > 20) throw CMGeom::Invalid_input("--max-level must be in [0, 20]");
       if (!(d->flatness >= 0 && d->flatness <= 1)) throw CMGeom::Invalid_input("--flatness must be in [0, 1]");
       CM::Compact_model model = CM::read_cm(d->input);
@@ -215,7 +230,8 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
       std::size_t weights_bytes = 0;
       if (d_affine->count()) {
         const auto a = parse_numbers(d->affine, 12, "--affine");
-        DCM::Affine_deformer af({{{a[0], a[1], a[2]}, {a[4], a[5], a[6]}, {a[8], a[9], a[10]}}}, CM::Vec3(a[3], a[7], a[11]));
+        DCM::Affine_deformer af({{{a[0], a[1], a[2]}, {a[4], a[5], a[6]}, {a[8], a[9], a[10]}}},
+                                CM::Vec3(a[3], a[7], a[11]));
         af.bind(dcm.base_vertices());
         const double t0 = cmgeom_cli::now_seconds();
         af.deform(deformed);
@@ -304,8 +320,9 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
         });
       } else {
         if (d->level < 0 || d->level > 12) throw CMGeom::Invalid_input("--level must be in [0, 12]");
-        out = reconstruct_with_progress(ro, model.faces.size() << (2 * d->level),
-                                        [&](const CM::Reconstruction_options& o) { return dcm.reconstruct_regular(d->level, o); });
+        out = reconstruct_with_progress(
+            ro, model.faces.size() << (2 * d->level),
+            [&](const CM::Reconstruction_options& o) { return dcm.reconstruct_regular(d->level, o); });
       }
       const double reconstruct_seconds = cmgeom_cli::now_seconds() - t0;  // the library call alone
       write_reconstruction(out, model.texture, d->output);
@@ -351,7 +368,8 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
       if (!(b->sharp_angle > 0 && b->sharp_angle < 180))
         throw CMGeom::Invalid_input("--sharp-angle must be in (0, 180) degrees");
       if (!(b->error_bound >= 0)) throw CMGeom::Invalid_input("--error-bound must be >= 0");
-      if (b->error_rounds < 0 || b->error_rounds > 100) throw CMGeom::Invalid_input("--error-rounds must be in [0, 100]");
+      if (b->error_rounds < 0 || b->error_rounds > 100)
+        throw CMGeom::Invalid_input("--error-rounds must be in [0, 100]");
       if (b->error_level < 0 || b->error_level > 8) throw CMGeom::Invalid_input("--error-level must be in [0, 8]");
       if (b->texture_size < 0 || b->texture_size > 16384)
         throw CMGeom::Invalid_input("--texture-size must be in [0, 16384]");
@@ -371,16 +389,17 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
       // written next to the CM file as <output stem>.png.
       const bool textured = tm.has_uvs() && !b->no_texture;
       if (textured && rate)
-        throw CMGeom::Invalid_input(b->input + ": --max-error and --bytes build geometry-only models: add --no-texture");
+        throw CMGeom::Invalid_input(b->input +
+                                    ": --max-error and --bytes build geometry-only models: add --no-texture");
       if (textured) {
         cmgeom_cli::Progress stage("load textures", double(tm.materials().size()), "materials");
         CMGeom::IO::load_textures(tm);
       }
       // a ratio's face count is simplify_mesh()'s (target_faces_for_ratio), at least 2
-      const std::size_t target =
-          faces->count() ? b->faces
-                         : std::max<std::size_t>(2, CMGeom::Textured_simplification::target_faces_for_ratio(
-                                                        mesh.number_of_faces(), rate ? 1.0 : b->ratio));
+      const std::size_t target = faces->count()
+                                     ? b->faces
+                                     : std::max<std::size_t>(2, CMGeom::Textured_simplification::target_faces_for_ratio(
+                                                                    mesh.number_of_faces(), rate ? 1.0 : b->ratio));
       CM::Build_options opt;
       opt.sharp_angle = b->sharp_angle;
       opt.error_bound = b->error_bound;
@@ -419,11 +438,14 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
       } else if (textured) {
         CMGeom::Textured_simplification::Textured_simplification_options to = CM::textured_base_options();
         to.texture_size = b->texture_size;
-        model = b->cubic ? CM::build_textured_compact_model(tm, target, opt, CM::Cubic_surface_traits(), &tr, &st, to)
-                         : CM::build_textured_compact_model(tm, target, opt, CM::Quadric_surface_traits(), &tr, &st, to);
+        model = b->cubic
+                    ? CM::build_textured_compact_model(tm, target, opt, CM::Cubic_surface_traits(), &tr, &st, to)
+                    : CM::build_textured_compact_model(tm, target, opt, CM::Quadric_surface_traits(), &tr, &st, to);
       } else {
-        model = b->cubic ? CM::build_compact_model(mesh, target, opt, CM::Cubic_surface_traits(), CM::Weighted_quadric_simplifier(), &st)
-                         : CM::build_compact_model(mesh, target, opt, CM::Quadric_surface_traits(), CM::Weighted_quadric_simplifier(), &st);
+        model = b->cubic ? CM::build_compact_model(mesh, target, opt, CM::Cubic_surface_traits(),
+                                                   CM::Weighted_quadric_simplifier(), &st)
+                         : CM::build_compact_model(mesh, target, opt, CM::Quadric_surface_traits(),
+                                                   CM::Weighted_quadric_simplifier(), &st);
       }
       const double seconds = cmgeom_cli::now_seconds() - t0;
       stage.done();
@@ -444,8 +466,9 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
         } else if (b->compact) {
           CM::Compact_encoding enc;
           const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(mesh);
-          const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                            CGAL::square(box.zmax() - box.zmin()));
+          const double diagonal =
+              std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                        CGAL::square(box.zmax() - box.zmin()));
           enc.tolerance = (tolerance->count() ? b->tolerance : 1e-4) * diagonal;
           enc.normal_bits = b->normal_bits;
           bytes = CM::write_compact_cm(b->output, model, enc, out, &parts);
@@ -489,10 +512,10 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
         }
         if (b->compact || rate) {
           j["format_version"] = 3;
-          j["bytes_per_part"] = {{"header", parts.header},       {"connectivity", parts.connectivity},
-                                 {"sectors", parts.sectors},     {"positions", parts.positions},
-                                 {"normals", parts.normals},     {"coefficients", parts.coefficients},
-                                 {"uvs", parts.uvs},             {"checksum", parts.checksum}};
+          j["bytes_per_part"] = {{"header", parts.header},   {"connectivity", parts.connectivity},
+                                 {"sectors", parts.sectors}, {"positions", parts.positions},
+                                 {"normals", parts.normals}, {"coefficients", parts.coefficients},
+                                 {"uvs", parts.uvs},         {"checksum", parts.checksum}};
         }
         j["seconds"] = seconds;
         cmgeom_cli::print_json(j);
@@ -527,12 +550,14 @@ CMGEOM_CLI_COMMAND(cm, "Compact Models (thesis chapters 4 and 6): 'cm build' a C
       const auto v = parse_numbers(r->silhouette, 3, "--silhouette");
       mode = "silhouette";
       out = reconstruct_with_progress(ro, 0, [&](const CM::Reconstruction_options& o) {
-        return CM::reconstruct_adaptive(model, CM::Silhouette_criterion{CM::Vec3(v[0], v[1], v[2]), 0.2}, r->max_level, o);
+        return CM::reconstruct_adaptive(model, CM::Silhouette_criterion{CM::Vec3(v[0], v[1], v[2]), 0.2}, r->max_level,
+                                        o);
       });
     } else {
       if (r->level < 0 || r->level > 12) throw CMGeom::Invalid_input("--level must be in [0, 12]");
-      out = reconstruct_with_progress(ro, model.faces.size() << (2 * r->level),
-                                      [&](const CM::Reconstruction_options& o) { return CM::reconstruct_regular(model, r->level, o); });
+      out = reconstruct_with_progress(
+          ro, model.faces.size() << (2 * r->level),
+          [&](const CM::Reconstruction_options& o) { return CM::reconstruct_regular(model, r->level, o); });
     }
     const double reconstruct_seconds = cmgeom_cli::now_seconds() - t0;  // the library call alone
     write_reconstruction(out, model.texture, r->output);

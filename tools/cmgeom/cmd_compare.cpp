@@ -85,8 +85,7 @@ CMGEOM_CLI_COMMAND(compare, "Image-space error (RMSE, PSNR) between two meshes o
     }
     R::Image_space_error_options opt;
     opt.size = *size;
-    if (*reference_texture)
-      opt.approximation_texture = R::Image_space_error_options::Approximation_texture::Reference;
+    if (*reference_texture) opt.approximation_texture = R::Image_space_error_options::Approximation_texture::Reference;
     opt.keep_images = !output->empty();
     R::Renderer renderer;
     // The views are drawn inside image_space_error(), which has no hook: the stage reports its
@@ -108,9 +107,12 @@ CMGEOM_CLI_COMMAND(compare, "Image-space error (RMSE, PSNR) between two meshes o
       const char* rows[3] = {"ref", "approx", "diff"};
       for (int r = 0; r < 3; ++r)
         for (std::size_t i : axis) {
-          if (r == 0) cells.push_back(R::to_rgb(e.reference_images[i]));
-          else if (r == 1) cells.push_back(R::to_rgb(e.approximation_images[i]));
-          else cells.push_back(difference_picture(e.reference_images[i], e.approximation_images[i]));
+          if (r == 0)
+            cells.push_back(R::to_rgb(e.reference_images[i]));
+          else if (r == 1)
+            cells.push_back(R::to_rgb(e.approximation_images[i]));
+          else
+            cells.push_back(difference_picture(e.reference_images[i], e.approximation_images[i]));
           captions.push_back(std::string(rows[r]) + " " + opt.views[i].name);
         }
       CMGeom::IO::write_image(*output, R::make_grid(cells, captions, int(axis.size())));
@@ -126,7 +128,8 @@ CMGEOM_CLI_COMMAND(compare, "Image-space error (RMSE, PSNR) between two meshes o
     j["mean_squared_rgb"] = e.total.mean_squared_rgb;
     nlohmann::ordered_json pv = nlohmann::ordered_json::array();
     for (std::size_t i = 0; i < e.per_view.size(); ++i)
-      pv.push_back({{"view", opt.views[i].name}, {"rmse", e.per_view[i].rmse}, {"psnr", psnr_json(e.per_view[i].psnr)}});
+      pv.push_back(
+          {{"view", opt.views[i].name}, {"rmse", e.per_view[i].rmse}, {"psnr", psnr_json(e.per_view[i].psnr)}});
     j["per_view"] = pv;
     j["seconds"] = t1 - t0;
     if (*json) {
@@ -134,9 +137,11 @@ CMGEOM_CLI_COMMAND(compare, "Image-space error (RMSE, PSNR) between two meshes o
       return 0;
     }
     char buf[256];
-    std::snprintf(buf, sizeof buf, "views          %zu at %dx%d (%s)\nrmse           %.4f (8-bit units)\npsnr           %.2f dB\n"
+    std::snprintf(buf, sizeof buf,
+                  "views          %zu at %dx%d (%s)\nrmse           %.4f (8-bit units)\npsnr           %.2f dB\n"
                   "covered pixels %zu\ntime           %.2f s\n",
-                  e.total.views, *size, *size, renderer.description().c_str(), e.total.rmse, e.total.psnr, e.total.pixels, t1 - t0);
+                  e.total.views, *size, *size, renderer.description().c_str(), e.total.rmse, e.total.psnr,
+                  e.total.pixels, t1 - t0);
     std::cout << "reference      " << *reference << "\napproximation  " << *approximation << "\n" << buf;
     if (!output->empty()) std::cout << "grid           " << *output << "\n";
     return 0;

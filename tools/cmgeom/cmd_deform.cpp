@@ -93,8 +93,8 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     options.progress = [&](double fraction) {
       if (stage) stage->update(fraction);
     };
-    const CD::Deform_result r = a->weights == "float" ? CD::deform<float>(points, desc, options)
-                                                      : CD::deform<double>(points, desc, options);
+    const CD::Deform_result r =
+        a->weights == "float" ? CD::deform<float>(points, desc, options) : CD::deform<double>(points, desc, options);
     stage.reset();
     if (const std::size_t bad = r.count(CD::Coordinate_status::undefined))
       throw CMGeom::Invalid_input(a->input + ": " + std::to_string(bad) + " of " + std::to_string(points.size()) +
@@ -150,9 +150,9 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
       cmgeom_cli::print_json(j);
     } else {
       std::cout << "deformed " << points.size() << " vertices with " << desc.cages.size() << " cage"
-                << (single ? "" : "s") << " (" << coordinates << ", " << cage_vertices
-                << " cage vertices): bind " << r.bind_seconds << " s, deform " << r.deform_seconds
-                << " s, weights " << r.weights_bytes << " bytes -> " << a->output << "\n";
+                << (single ? "" : "s") << " (" << coordinates << ", " << cage_vertices << " cage vertices): bind "
+                << r.bind_seconds << " s, deform " << r.deform_seconds << " s, weights " << r.weights_bytes
+                << " bytes -> " << a->output << "\n";
     }
     return 0;
   };

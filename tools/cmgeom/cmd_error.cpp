@@ -92,7 +92,8 @@ CMGEOM_CLI_COMMAND(error, "Metro-style geometric error (Hausdorff, mean, RMS) be
     // (polygon soups), without the manifold repair a halfedge mesh would need.
     if (!field->empty()) {
       const std::string ext = CMGeom::IO::extension(*field);
-      if (ext != ".ply" && ext != ".txt") throw CMGeom::IO_error(*field, "unsupported field file extension (use .ply or .txt)");
+      if (ext != ".ply" && ext != ".txt")
+        throw CMGeom::IO_error(*field, "unsupported field file extension (use .ply or .txt)");
     }
     const CMGeom::Polygon_soup ref = cmgeom_cli::read_polygon_soup_with_progress(*reference);
     const CMGeom::Polygon_soup app_mesh = cmgeom_cli::read_polygon_soup_with_progress(*approximation);
@@ -126,7 +127,8 @@ CMGEOM_CLI_COMMAND(error, "Metro-style geometric error (Hausdorff, mean, RMS) be
     j["diagonal"] = e.diagonal;
     j["samples"] = e.samples;
     j["seed"] = *seed;
-    j["absolute"] = {{"hausdorff", e.hausdorff * e.diagonal}, {"mean", e.mean * e.diagonal}, {"rms", e.rms * e.diagonal}};
+    j["absolute"] = {
+        {"hausdorff", e.hausdorff * e.diagonal}, {"mean", e.mean * e.diagonal}, {"rms", e.rms * e.diagonal}};
     j["reference_to_approximation"] = one_sided(e.reference_to_approximation);
     j["approximation_to_reference"] = one_sided(e.approximation_to_reference);
     if (textured) {
@@ -157,7 +159,8 @@ CMGEOM_CLI_COMMAND(error, "Metro-style geometric error (Hausdorff, mean, RMS) be
                   e.approximation_to_reference.max);
     std::cout << buf;
     if (textured) {
-      std::snprintf(buf, sizeof buf, "texture dev.   %.6g of the diagonal (%.4f %%, %.6g absolute; %zu of %zu samples matched)\n",
+      std::snprintf(buf, sizeof buf,
+                    "texture dev.   %.6g of the diagonal (%.4f %%, %.6g absolute; %zu of %zu samples matched)\n",
                     td.deviation, 100 * td.deviation, td.absolute, td.matched_samples, td.samples);
       std::cout << buf;
     }

@@ -100,10 +100,11 @@ CMGEOM_CLI_COMMAND(influence, "Influence map d_i of a *Cages system on a mesh (P
     j["joined_vertices"] = b.joined_points();
     j["outside_vertices"] = b.outside();
     j["mean_influence"] = mean;
-    if (a->as_json) cmgeom_cli::print_json(j);
+    if (a->as_json)
+      cmgeom_cli::print_json(j);
     else
-      std::cout << "influence of " << sys.leaf_cages().size() << " leaf cages on " << d.size() << " vertices: "
-                << b.joined_points() << " with join terms (d < 1), mean d " << mean << "\n";
+      std::cout << "influence of " << sys.leaf_cages().size() << " leaf cages on " << d.size()
+                << " vertices: " << b.joined_points() << " with join terms (d < 1), mean d " << mean << "\n";
     return 0;
   };
 }

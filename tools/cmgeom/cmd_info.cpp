@@ -76,8 +76,10 @@ CMGEOM_CLI_COMMAND(info, "Print vertices, faces, charts, topology and materials 
         t["height"] = h;
         return t;
       };
-      if (!m.diffuse_texture.empty()) mj["diffuse_texture"] = texture(m.diffuse_texture);
-      else if (!m.diffuse_texture_blob.empty()) mj["diffuse_texture"] = "embedded";
+      if (!m.diffuse_texture.empty())
+        mj["diffuse_texture"] = texture(m.diffuse_texture);
+      else if (!m.diffuse_texture_blob.empty())
+        mj["diffuse_texture"] = "embedded";
       if (!m.normal_texture.empty()) mj["normal_texture"] = texture(m.normal_texture);
       mats.push_back(mj);
     }

@@ -56,13 +56,15 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   auto o = std::make_shared<Options>();
   app.add_option("input", o->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
   app.add_option("-o,--output", o->output, "Output scene (.glb or .gltf)")->required();
-  auto* ratios = app.add_option("--ratios", o->ratios,
-                                "Levels as fractions of the input's faces, decreasing, comma-separated (e.g. 1,0.25,0.05,0.01)");
+  auto* ratios =
+      app.add_option("--ratios", o->ratios,
+                     "Levels as fractions of the input's faces, decreasing, comma-separated (e.g. 1,0.25,0.05,0.01)");
   auto* faces = app.add_option("--faces", o->faces, "Levels as face counts, decreasing, comma-separated");
-  auto* errors = app.add_option("--max-errors", o->max_errors,
-                                "Levels by error bound instead: symmetric Hausdorff distances as fractions of the bounding-box "
-                                "diagonal, increasing, comma-separated (e.g. 0,0.002,0.01,0.05; 0 is the input); each level is "
-                                "the smallest snapshot of the run within its bound");
+  auto* errors =
+      app.add_option("--max-errors", o->max_errors,
+                     "Levels by error bound instead: symmetric Hausdorff distances as fractions of the bounding-box "
+                     "diagonal, increasing, comma-separated (e.g. 0,0.002,0.01,0.05; 0 is the input); each level is "
+                     "the smallest snapshot of the run within its bound");
   ratios->excludes(faces);
   faces->excludes(ratios);
   errors->excludes(ratios);
@@ -77,7 +79,8 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input");
   app.add_flag("--no-error", o->no_error, "Do not measure the levels' errors (no 'error' in the nodes' extras)");
   app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");
-  app.add_flag("--no-repair", o->no_repair, "Refuse non-manifold or inconsistently oriented input instead of repairing it");
+  app.add_flag("--no-repair", o->no_repair,
+               "Refuse non-manifold or inconsistently oriented input instead of repairing it");
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
   cmgeom_cli::add_gltf_options(app, o->gltf);
 
@@ -97,7 +100,8 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     for (const auto& w : warnings) std::cerr << "cmgeom lod: warning: " << w << "\n";
     if (!CGAL::is_triangle_mesh(tm.mesh())) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
     if (!o->texture.empty() && !o->no_texture) {
-      if (!tm.has_uvs()) throw CMGeom::Invalid_input(o->input + ": --texture given but the mesh has no texture coordinates");
+      if (!tm.has_uvs())
+        throw CMGeom::Invalid_input(o->input + ": --texture given but the mesh has no texture coordinates");
       if (tm.materials().empty()) tm.materials().emplace_back();
       for (auto& m : tm.materials()) {
         if (m.name.empty()) m.name = "material";
@@ -116,7 +120,8 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     for (const auto& m : tm.materials()) has_image |= !m.diffuse_image.empty();
     const bool textured = tm.has_uvs() && has_image;
     if (o->shared_texture && !textured)
-      throw CMGeom::Invalid_input(o->input + ": --shared-texture needs a textured input (UVs and a texture; see --texture)");
+      throw CMGeom::Invalid_input(o->input +
+                                  ": --shared-texture needs a textured input (UVs and a texture; see --texture)");
     if (tm.has_uvs() && !textured)
       std::cerr << "cmgeom lod: note: the input names no texture: texture coordinates are dropped\n";
 
@@ -148,8 +153,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     }
     for (std::size_t i = 1; i < lo.target_faces.size(); ++i)
       if (lo.target_faces[i] >= lo.target_faces[i - 1])
-        throw CMGeom::Invalid_input("the levels must decrease strictly (in faces: " + std::to_string(lo.target_faces[i - 1]) +
-                                    " then " + std::to_string(lo.target_faces[i]) + ")");
+        throw CMGeom::Invalid_input(
+            "the levels must decrease strictly (in faces: " + std::to_string(lo.target_faces[i - 1]) + " then " +
+            std::to_string(lo.target_faces[i]) + ")");
     lo.quadric.weighted = o->policy == "weighted";
     lo.shared_texture = o->shared_texture;
     lo.measure_error = !o->no_error;
@@ -163,9 +169,10 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     bar.done();
     const double seconds = cmgeom_cli::now_seconds() - t0;
     if (o->shared_texture && r.shared_texture_hidden > 0.05)
-      std::cerr << "cmgeom lod: warning: the shared atlas hides " << std::lround(100 * r.shared_texture_hidden)
-                << " % of the input's texture (parts of the input fold onto one place of the coarsest level, which is too "
-                   "coarse for one atlas): raise the smallest ratio, or drop --shared-texture\n";
+      std::cerr
+          << "cmgeom lod: warning: the shared atlas hides " << std::lround(100 * r.shared_texture_hidden)
+          << " % of the input's texture (parts of the input fold onto one place of the coarsest level, which is too "
+             "coarse for one atlas): raise the smallest ratio, or drop --shared-texture\n";
 
     std::vector<CMGeom::IO::Gltf_level> levels;
     for (std::size_t i = 0; i < r.levels.size(); ++i) {
@@ -204,8 +211,10 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
         const auto& l = r.levels[i];
         nlohmann::ordered_json e;
         e["level"] = i;
-        if (lo.max_errors.empty()) e["target_faces"] = l.target_faces;
-        else e["max_error"] = lo.max_errors[i];
+        if (lo.max_errors.empty())
+          e["target_faces"] = l.target_faces;
+        else
+          e["max_error"] = lo.max_errors[i];
         e["faces"] = l.mesh.mesh().number_of_faces();
         e["vertices"] = l.mesh.mesh().number_of_vertices();
         e["is_input"] = l.is_input;
@@ -229,8 +238,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       std::cout << o->input << ": " << r.levels.size() << " levels (";
       for (std::size_t i = 0; i < r.levels.size(); ++i)
         std::cout << (i ? ", " : "") << r.levels[i].mesh.mesh().number_of_faces();
-      std::cout << " faces) in " << seconds << " s" << (textured ? (o->shared_texture ? ", one shared atlas" : ", an atlas per level") : "")
-                << " -> " << o->output << "\n";
+      std::cout << " faces) in " << seconds << " s"
+                << (textured ? (o->shared_texture ? ", one shared atlas" : ", an atlas per level") : "") << " -> "
+                << o->output << "\n";
     }
     return 0;
   };

@@ -72,7 +72,8 @@ public:
     commands_.push_back(line);
     const auto r = cmgeom_cli::run_captured(args);
     if (r.exit_code != 0)
-      throw Stage_failed("'" + line + "' failed: " + (r.error.empty() ? "exit code " + std::to_string(r.exit_code) : r.error));
+      throw Stage_failed("'" + line +
+                         "' failed: " + (r.error.empty() ? "exit code " + std::to_string(r.exit_code) : r.error));
     if (r.output.empty() || r.output.front() != '{') return json();
     try {
       return json::parse(r.output);
@@ -162,7 +163,8 @@ json bent_cage_system(const json& rest, const CGAL::Bbox_3& box, int along, int 
 
 }  // namespace
 
-CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the bundled Spot) and write report.md/.html") {
+CMGEOM_CLI_COMMAND(pipeline,
+                   "Run the whole framework on a model (default: the bundled Spot) and write report.md/.html") {
   struct Options {
     std::string model, output, cages, size = "768x768";
     double ratio = 0.1, cm_ratio = 0.05;
@@ -220,8 +222,9 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
       p.begin("Input model");
       const json info = p.run({"info", model, "--json"});
       {
-        std::vector<std::string> args = {"render", model, "-o", p.path("input.png"), "--size", o->size, "--caption",
-                                         textured ? "input: chart boundaries in red" : "input"};
+        std::vector<std::string> args = {
+            "render", model,   "-o",        p.path("input.png"),
+            "--size", o->size, "--caption", textured ? "input: chart boundaries in red" : "input"};
         if (textured) args.insert(args.end(), {"--charts", "--atlas", p.path("input_atlas.png")});
         p.run(args);
       }
@@ -229,8 +232,8 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
       {
         auto& s = section(p.end());
         s.table = {{"vertices", "faces", "charts", "genus", "components", "closed"},
-                   {{num(info["referenced_vertices"]), num(info["faces"]), num(info["charts"]),
-                     num(info["genus"]), num(info["components"]), info["closed"].dump()}}};
+                   {{num(info["referenced_vertices"]), num(info["faces"]), num(info["charts"]), num(info["genus"]),
+                     num(info["components"]), info["closed"].dump()}}};
         s.pictures.push_back({"input.png", textured ? "Input model, chart boundaries in red" : "Input model"});
         if (textured) {
           s.pictures.push_back({"input_shaded.png", "Input geometry"});
@@ -238,12 +241,13 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
         }
       }
 
-      p.begin(textured ? "Simplification (thesis chapter 3): new atlas (plain and area-weighted quadrics) and the thesis' "
-                         "chart-preserving method"
-                       : "Simplification (thesis chapter 3): area-weighted quadric vs plain Garland-Heckbert");
+      p.begin(textured
+                  ? "Simplification (thesis chapter 3): new atlas (plain and area-weighted quadrics) and the thesis' "
+                    "chart-preserving method"
+                  : "Simplification (thesis chapter 3): area-weighted quadric vs plain Garland-Heckbert");
       {
-        Report::Table table{{"run", "faces in", "faces out", "charts in", "charts out", "seconds",
-                             "Hausdorff (% diag)", "RMS (% diag)", "image RMSE (26 views)"},
+        Report::Table table{{"run", "faces in", "faces out", "charts in", "charts out", "seconds", "Hausdorff (% diag)",
+                             "RMS (% diag)", "image RMSE (26 views)"},
                             {}};
         std::vector<Report::Picture> pictures;
         struct Run {
@@ -253,27 +257,29 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
         std::vector<Run> runs = {{"weighted", "weighted quadric", {"--policy", "weighted"}},
                                  {"plain", "plain quadric", {"--policy", "plain"}}};
         if (textured)  // the thesis' own method: weighted quadrics, charts kept, index texture
-          runs.push_back({"charts_kept", "weighted quadric, charts kept (thesis §3.5)", {"--policy", "weighted", "--keep-charts"}});
+          runs.push_back({"charts_kept",
+                          "weighted quadric, charts kept (thesis §3.5)",
+                          {"--policy", "weighted", "--keep-charts"}});
         for (const Run& run : runs) {
           const std::string mesh_out = p.path("simplified_" + run.tag + ".obj");
           std::vector<std::string> cmd = {"simplify", model, "-o", mesh_out, "--ratio", general(o->ratio), "--json"};
           cmd.insert(cmd.end(), run.args.begin(), run.args.end());
           const json js = p.run(cmd);
           const json je = p.run({"error", model, mesh_out, "--json"});
-          const json jc = p.run({"compare", model, mesh_out, "--json", "-o", p.path("compare_" + run.tag + ".png"),
-                                 "--size", "256"});
-          std::vector<std::string> render = {"render", mesh_out, "-o", p.path("simplified_" + run.tag + ".png"),
-                                             "--size", o->size, "--wireframe", "--caption", run.caption};
+          const json jc = p.run(
+              {"compare", model, mesh_out, "--json", "-o", p.path("compare_" + run.tag + ".png"), "--size", "256"});
+          std::vector<std::string> render = {
+              "render",      mesh_out,    "-o",       p.path("simplified_" + run.tag + ".png"), "--size", o->size,
+              "--wireframe", "--caption", run.caption};
           if (textured)  // chart boundaries in red, and the new atlas (thesis Fig. 3.8-3.13)
             render.insert(render.end(), {"--charts", "--atlas", p.path("simplified_" + run.tag + "_atlas.png")});
           p.run(render);
-          table.rows.push_back({run.caption, num(js["faces_in"]), num(js["faces_out"]), num(js.value("charts_in", json())),
-                                num(js.value("charts_out", json())), num(js["seconds"]), pct(je["hausdorff"]),
-                                pct(je["rms"]), num(jc["rmse"])});
+          table.rows.push_back({run.caption, num(js["faces_in"]), num(js["faces_out"]),
+                                num(js.value("charts_in", json())), num(js.value("charts_out", json())),
+                                num(js["seconds"]), pct(je["hausdorff"]), pct(je["rms"]), num(jc["rmse"])});
           pictures.push_back({"simplified_" + run.tag + ".png", run.caption + ", " + num(js["faces_out"]) + " faces" +
-                                                                   (textured ? ", chart boundaries in red" : "")});
-          if (textured)
-            pictures.push_back({"simplified_" + run.tag + "_atlas.png", run.caption + ": texture atlas"});
+                                                                    (textured ? ", chart boundaries in red" : "")});
+          if (textured) pictures.push_back({"simplified_" + run.tag + "_atlas.png", run.caption + ": texture atlas"});
           pictures.push_back({"compare_" + run.tag + ".png",
                               run.caption + ": reference / simplified / difference over 6 of the 26 views"});
         }
@@ -284,11 +290,11 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
 
       p.begin("Compact Model (thesis chapter 4): build, regular and adaptive reconstruction");
       {
-        const json jb = p.run({"cm", "build", model, "-o", p.path("model.cm"), "--ratio", general(o->cm_ratio),
-                               "--json"});
-        Report::Table table{{"reconstruction", "vertices", "faces", "seconds (library call)", "Hausdorff (% diag)",
-                             "RMS (% diag)"},
-                            {}};
+        const json jb =
+            p.run({"cm", "build", model, "-o", p.path("model.cm"), "--ratio", general(o->cm_ratio), "--json"});
+        Report::Table table{
+            {"reconstruction", "vertices", "faces", "seconds (library call)", "Hausdorff (% diag)", "RMS (% diag)"},
+            {}};
         std::vector<Report::Picture> pictures;
         struct Variant {
           std::string name, caption;
@@ -306,8 +312,8 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
           const json je = p.run({"error", model, mesh_out, "--json", "--field", field, "--field-on", "approximation"});
           p.run({"render", mesh_out, "-o", p.path("cm_" + v.name + ".png"), "--size", o->size, "--wireframe",
                  "--caption", "CM " + v.caption});
-          p.run({"render", mesh_out, "-o", p.path("cm_" + v.name + "_error.png"), "--size", o->size, "--field",
-                 field, "--label", "distance to the input"});
+          p.run({"render", mesh_out, "-o", p.path("cm_" + v.name + "_error.png"), "--size", o->size, "--field", field,
+                 "--label", "distance to the input"});
           table.rows.push_back({v.caption, num(jr["vertices"]), num(jr["faces"]), num(jr["reconstruct_seconds"]),
                                 pct(je["hausdorff"]), pct(je["rms"])});
           pictures.push_back({"cm_" + v.name + ".png", "CM reconstruction, " + v.caption});
@@ -319,9 +325,12 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
                  num(jb["bytes"]) + " bytes; built in " + num(jb["seconds"]) + " s." +
                  (jb.value("textured", false)
                       ? " A textured CM (thesis §4.5.4): the base was simplified under the chart constraints of "
-                        "chapter 3 (" + num(jb["charts_out"]) + " charts kept) and carries per-corner texture "
-                        "coordinates" + std::string(jb.contains("atlas") ? " and a new atlas, model.png" : "") +
-                        "; the deformable CM below wears the texture."
+                        "chapter 3 (" +
+                            num(jb["charts_out"]) +
+                            " charts kept) and carries per-corner texture "
+                            "coordinates" +
+                            std::string(jb.contains("atlas") ? " and a new atlas, model.png" : "") +
+                            "; the deformable CM below wears the texture."
                       : std::string());
         s.table = table;
         s.pictures = pictures;
@@ -331,9 +340,8 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
       std::string system = o->cages;
       {
         std::string text;
-        Report::Table table{{"cage system", "cages", "coordinates", "set-up ms", "bind ms", "deform ms",
-                             "weights (bytes)"},
-                            {}};
+        Report::Table table{
+            {"cage system", "cages", "coordinates", "set-up ms", "bind ms", "deform ms", "weights (bytes)"}, {}};
         std::vector<Report::Picture> pictures;
         struct System {
           std::string name, file;
@@ -352,14 +360,16 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
           const json rest = json::parse(in);
           for (const bool mixed : {false, true}) {
             const std::string name = mixed ? "cages.json" : "cages_mean_value.json";
-            CMGeom::IO::write_file_atomically(p.path(name), bent_cage_system(rest, box.bbox(), axis[2], axis[1], 30.0, mixed).dump(1) + "\n");
-            systems.push_back({mixed ? "grid " + grid + ", mean value + Green" : "grid " + grid + ", mean value",
-                               p.path(name)});
+            CMGeom::IO::write_file_atomically(
+                p.path(name), bent_cage_system(rest, box.bbox(), axis[2], axis[1], 30.0, mixed).dump(1) + "\n");
+            systems.push_back(
+                {mixed ? "grid " + grid + ", mean value + Green" : "grid " + grid + ", mean value", p.path(name)});
           }
           system = p.path("cages.json");
-          text = "Cages: a grid of box cages around the model (rest_cages.json, written by the first command), "
-                 "deformed by the pipeline's default bend: rotation about the shortest box axis by 30 degrees "
-                 "times the position along the longest axis (cages_mean_value.json, cages.json).";
+          text =
+              "Cages: a grid of box cages around the model (rest_cages.json, written by the first command), "
+              "deformed by the pipeline's default bend: rotation about the shortest box axis by 30 degrees "
+              "times the position along the longest axis (cages_mean_value.json, cages.json).";
         } else {
           systems.push_back({fs::path(system).filename().string(), system});
         }
@@ -367,20 +377,23 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
           const bool main_system = systems[i].file == system;
           const std::string stem = main_system ? "deformed" : "deformed_mean_value";
           const json jd = p.run({"deform", model, "--cages", systems[i].file, "-o", p.path(stem + ".obj"), "--json"});
-          p.run({"render", p.path(stem + ".obj"), "-o", p.path(stem + ".png"), "--size", o->size, "--view", view, "--caption",
-                 "*Cages: " + systems[i].name});
-          std::string coordinates = jd["coordinates"].is_string() ? jd["coordinates"].get<std::string>() : jd["coordinates"].dump();
+          p.run({"render", p.path(stem + ".obj"), "-o", p.path(stem + ".png"), "--size", o->size, "--view", view,
+                 "--caption", "*Cages: " + systems[i].name});
+          std::string coordinates =
+              jd["coordinates"].is_string() ? jd["coordinates"].get<std::string>() : jd["coordinates"].dump();
           table.rows.push_back({systems[i].name, num(jd["cages"]), coordinates, ms(jd["setup_seconds"]),
                                 ms(jd["bind_seconds"]), ms(jd["deform_seconds"]), num(jd["weights_bytes"])});
           pictures.push_back({stem + ".png", "deformed by " + systems[i].name});
         }
-        const json ji = p.run({"influence", model, "--cages", system, "-o", p.path("influence.png"), "--size", o->size,
-                               "--json"});
-        pictures.push_back({"influence.png", "influence map d (thesis §5.3.3): 1 where a cage's own transformation acts alone, 0 on the cage borders where the join cage takes over"});
+        const json ji =
+            p.run({"influence", model, "--cages", system, "-o", p.path("influence.png"), "--size", o->size, "--json"});
+        pictures.push_back({"influence.png",
+                            "influence map d (thesis §5.3.3): 1 where a cage's own transformation acts alone, 0 on the "
+                            "cage borders where the join cage takes over"});
         auto& s = section(p.end());
         s.text = text + (text.empty() ? "" : " ") + "Influence: " + num(ji["joined_vertices"]) + " of " +
-                 num(ji["vertices"]) + " vertices are blended with the join cage (d < 1), mean d = " +
-                 num(ji["mean_influence"]) + ".";
+                 num(ji["vertices"]) +
+                 " vertices are blended with the join cage (d < 1), mean d = " + num(ji["mean_influence"]) + ".";
         s.table = table;
         s.pictures = pictures;
       }
@@ -395,26 +408,26 @@ CMGEOM_CLI_COMMAND(pipeline, "Run the whole framework on a model (default: the b
                                "--level", std::to_string(o->level), "--json"});
         const json je = p.run({"error", p.path("deformed.obj"), p.path("dcm_cages.obj"), "--json"});
         p.run({"render", p.path("dcm_cages.obj"), "-o", p.path("dcm_cages.png"), "--size", o->size, "--view", view,
-               "--wireframe",
-               "--caption", "deformable CM, cages"});
+               "--wireframe", "--caption", "deformable CM, cages"});
         table.rows.push_back({"cages (" + fs::path(system).filename().string() + ")", num(jc["base_vertices"]),
                               num(jc["faces"]), ms(jc["deform_seconds"]), ms(jc["reconstruct_seconds"]),
                               pct(je["hausdorff"]), pct(je["rms"])});
         pictures.push_back({"dcm_cages.png", "deformable CM deformed by the cages, level " + std::to_string(o->level)});
         // The affine map: the shear x' = x + 0.3 z (y and z unchanged).
         const double shear = 0.3;
-        const json ja = p.run({"cm", "deform", p.path("model.cm"), "--affine",
-                               "1,0," + general(shear) + ",0,0,1,0,0,0,0,1,0", "-o", p.path("dcm_affine.obj"),
-                               "--level", std::to_string(o->level), "--json"});
+        const json ja =
+            p.run({"cm", "deform", p.path("model.cm"), "--affine", "1,0," + general(shear) + ",0,0,1,0,0,0,0,1,0", "-o",
+                   p.path("dcm_affine.obj"), "--level", std::to_string(o->level), "--json"});
         p.run({"render", p.path("dcm_affine.obj"), "-o", p.path("dcm_affine.png"), "--size", o->size, "--wireframe",
                "--caption", "deformable CM, affine shear"});
         table.rows.push_back({"affine shear x += " + general(shear) + " z", num(ja["base_vertices"]), num(ja["faces"]),
                               ms(ja["deform_seconds"]), ms(ja["reconstruct_seconds"]), "-", "-"});
         pictures.push_back({"dcm_affine.png", "deformable CM under the shear x += " + general(shear) + " z"});
         auto& s = section(p.end());
-        s.text = "Only the CM base is deformed; the local surfaces follow through their local frames "
-                 "(thesis §6.3) and the reconstruction is compared with the full-resolution mesh deformed by "
-                 "the same cages.";
+        s.text =
+            "Only the CM base is deformed; the local surfaces follow through their local frames "
+            "(thesis §6.3) and the reconstruction is compared with the full-resolution mesh deformed by "
+            "the same cages.";
         s.table = table;
         s.pictures = pictures;
       }

@@ -95,7 +95,8 @@ std::vector<double> read_field(const std::string& path) {
 
 CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wireframe, charts, fields)") {
   struct Args {
-    std::string mesh, output, view = "iso", views, size = "1024x1024", field, range, caption, atlas, texture, label = "value";
+    std::string mesh, output, view = "iso", views, size = "1024x1024", field, range, caption, atlas, texture,
+                              label = "value";
     bool flat = false, no_texture = false, wireframe = false, charts = false, ortho = false;
   };
   auto a = std::make_shared<Args>();
@@ -108,13 +109,15 @@ CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wi
   app.add_flag("--no-texture", a->no_texture, "Ignore the texture of a textured mesh");
   app.add_flag("--wireframe", a->wireframe, "Draw the edges");
   app.add_flag("--charts", a->charts, "Draw the chart boundaries (UV seams) in red");
-  app.add_option("--field", a->field, "Per-vertex values (.txt one per line, or .ply 'quality') shown with a colour map");
+  app.add_option("--field", a->field,
+                 "Per-vertex values (.txt one per line, or .ply 'quality') shown with a colour map");
   app.add_option("--range", a->range, "Colour-map range lo,hi (default: range of the values)");
   app.add_option("--label", a->label, "Title of the colour-map legend (default 'value')");
   app.add_flag("--ortho", a->ortho, "Orthographic projection");
   app.add_option("--caption", a->caption, "Caption in the bottom-left corner");
   app.add_option("--atlas", a->atlas, "Also write the texture atlas with its UV layout to this PNG");
-  app.add_option("--texture", a->texture, "Texture image for a mesh with UVs but no material (replaces the material's)");
+  app.add_option("--texture", a->texture,
+                 "Texture image for a mesh with UVs but no material (replaces the material's)");
   return [a]() -> int {
 #ifndef CMGEOM_HAS_OSMESA
     throw CMGeom::Error(CMGeom::Rendering::rendering_unavailable_message());
@@ -142,9 +145,10 @@ CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wi
     R::Render_options o;
     o.width = w;
     o.height = h;
-    o.shading = !field.empty() ? R::Shading::Field
+    o.shading = !field.empty()                     ? R::Shading::Field
                 : (rm.texture() && !a->no_texture) ? R::Shading::Textured
-                : a->flat ? R::Shading::Flat : R::Shading::Smooth;
+                : a->flat                          ? R::Shading::Flat
+                                                   : R::Shading::Smooth;
     o.wireframe = a->wireframe;
     o.charts = a->charts;
     if (a->charts && !tm.has_uvs()) throw CMGeom::Invalid_input(a->mesh + ": --charts needs texture coordinates");

@@ -65,7 +65,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
                                   "Geometry only: stop when the cheapest collapse left costs more than this (quadric "
                                   "error: area x squared distance, see the manual); with --faces or --ratio, whichever "
                                   "comes first");
-  app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default: lowest measured error) or weighted (thesis §3.4.2)")
+  app.add_option("--policy", o->policy,
+                 "Cost: plain (Garland-Heckbert, the default: lowest measured error) or weighted (thesis §3.4.2)")
       ->check(CLI::IsMember({"weighted", "plain"}));
   app.add_option("--merge", o->merge,
                  "Weighted policy's quadric merge: thesis ((w_i Q_i + w_j Q_j)/(w_i + w_j), 3.4.2) or sum "
@@ -82,8 +83,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   auto* backend = app.add_option("--texture-backend", o->texture_backend,
                                  "Index-texture resampling backend (textured input): cpu (reference) or osmesa")
                       ->check(CLI::IsMember({"cpu", "osmesa"}));
-  auto* tsize = app.add_option("--texture-size", o->texture_size,
-                               "Texels per UV unit of the index and output textures (default: the input texture's size)");
+  auto* tsize =
+      app.add_option("--texture-size", o->texture_size,
+                     "Texels per UV unit of the index and output textures (default: the input texture's size)");
   app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
   app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input (UVs dropped)");
   app.add_flag("--memoryless", o->memoryless,
@@ -115,7 +117,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     Mesh& mesh = tm.mesh();
     if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
     if (!o->texture.empty() && !o->no_texture) {
-      if (!tm.has_uvs()) throw CMGeom::Invalid_input(o->input + ": --texture given but the mesh has no texture coordinates");
+      if (!tm.has_uvs())
+        throw CMGeom::Invalid_input(o->input + ": --texture given but the mesh has no texture coordinates");
       if (tm.materials().empty()) tm.materials().emplace_back();
       for (auto& m : tm.materials()) {
         if (m.name.empty()) m.name = "material";
@@ -138,17 +141,20 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
           beside += (beside.empty() ? "" : ", ") + e.path().filename().string();
       }
       if (!beside.empty())
-        throw CMGeom::Invalid_input(o->input + ": has texture coordinates but names no texture (its folder holds " + beside +
-                                    "); pass --texture FILE to simplify it textured, or --no-texture for geometry only");
+        throw CMGeom::Invalid_input(
+            o->input + ": has texture coordinates but names no texture (its folder holds " + beside +
+            "); pass --texture FILE to simplify it textured, or --no-texture for geometry only");
     }
     const bool textured = tm.has_uvs() && has_texture && !o->no_texture;
     if (o->keep_charts && !textured)
-      throw CMGeom::Invalid_input(o->input + ": --keep-charts needs a textured input (UVs and a texture; see --texture)");
+      throw CMGeom::Invalid_input(o->input +
+                                  ": --keep-charts needs a textured input (UVs and a texture; see --texture)");
     if (o->freeze_seams && !o->keep_charts) throw CMGeom::Invalid_input("--freeze-seams needs --keep-charts");
     if (backend->count() && !o->keep_charts)
       throw CMGeom::Invalid_input("--texture-backend selects the index-texture resampler of --keep-charts");
     if ((backend->count() || tsize->count() || o->freeze_seams) && !textured)
-      throw CMGeom::Invalid_input(o->input + ": texture options need a textured input (UVs and a texture; see --texture)");
+      throw CMGeom::Invalid_input(o->input +
+                                  ": texture options need a textured input (UVs and a texture; see --texture)");
 
     const std::size_t faces_in = mesh.number_of_faces();
     // the face target (none with --max-cost alone: then the progress counts to a single face)
@@ -168,8 +174,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       if (max_cost->count())
         throw CMGeom::Invalid_input("--max-cost simplifies geometry only: pass --no-texture (or --faces / --ratio)");
       if (o->flips && o->keep_charts)
-        throw CMGeom::Invalid_input("--flips is not supported with --keep-charts (flips would need UV rules); drop "
-                                    "--keep-charts: the new atlas is made after the flips");
+        throw CMGeom::Invalid_input(
+            "--flips is not supported with --keep-charts (flips would need UV rules); drop "
+            "--keep-charts: the new atlas is made after the flips");
 #ifndef CMGEOM_HAS_OSMESA
       if (o->texture_backend == "osmesa")
         throw CMGeom::Invalid_input("--texture-backend osmesa is not available in this build (no OSMesa); use cpu");
@@ -193,20 +200,23 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
 #ifdef CMGEOM_HAS_OSMESA
       const TS::Textured_simplification_result r =
           o->texture_backend == "osmesa"
-              ? TS::simplify_textured_mesh<TS::Osmesa_index_texture_resampler>(tm, to, cmgeom_cli::Collapse_progress_visitor(&state))
+              ? TS::simplify_textured_mesh<TS::Osmesa_index_texture_resampler>(
+                    tm, to, cmgeom_cli::Collapse_progress_visitor(&state))
               : TS::simplify_textured_mesh(tm, to, cmgeom_cli::Collapse_progress_visitor(&state));
 #else
-      const TS::Textured_simplification_result r = TS::simplify_textured_mesh(tm, to, cmgeom_cli::Collapse_progress_visitor(&state));
+      const TS::Textured_simplification_result r =
+          TS::simplify_textured_mesh(tm, to, cmgeom_cli::Collapse_progress_visitor(&state));
 #endif
       const double seconds = cmgeom_cli::now_seconds() - t0;
       bar.done();
       CMGeom::IO::write_textured_mesh(o->output, tm, o->gltf);
       if (r.stopped_by != TS::Stop_reason::target)
-        std::cerr << "cmgeom simplify: stopped at " << r.faces_out << " faces for a target of " << target << " ("
-                  << (r.stopped_by == TS::Stop_reason::chart_limit
-                          ? "chart limit: no collapse left that keeps the input's charts; drop --keep-charts to go further"
-                          : "no valid collapse left")
-                  << ")\n";
+        std::cerr
+            << "cmgeom simplify: stopped at " << r.faces_out << " faces for a target of " << target << " ("
+            << (r.stopped_by == TS::Stop_reason::chart_limit
+                    ? "chart limit: no collapse left that keeps the input's charts; drop --keep-charts to go further"
+                    : "no valid collapse left")
+            << ")\n";
       if (o->json) {
         nlohmann::ordered_json j;
         j["input"] = o->input;
@@ -244,8 +254,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         cmgeom_cli::print_json(j);
       } else {
         std::cout << o->input << ": " << r.faces_in << " -> " << r.faces_out << " faces, " << r.charts_in << " -> "
-                  << r.charts_out << " charts in " << seconds << " s (textured, " << (r.charts_kept ? "charts kept" : "new atlas")
-                  << ", " << o->policy << " policy)\n";
+                  << r.charts_out << " charts in " << seconds << " s (textured, "
+                  << (r.charts_kept ? "charts kept" : "new atlas") << ", " << o->policy << " policy)\n";
       }
       return 0;
     }
@@ -290,8 +300,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["seconds"] = seconds;
       cmgeom_cli::print_json(j);
     } else {
-      std::cout << o->input << ": " << faces_in << " -> " << faces_out << " faces in " << seconds << " s ("
-                << o->engine << " engine, " << o->policy << " policy" << (o->flips ? ", flips" : "") << ")\n";
+      std::cout << o->input << ": " << faces_in << " -> " << faces_out << " faces in " << seconds << " s (" << o->engine
+                << " engine, " << o->policy << " policy" << (o->flips ? ", flips" : "") << ")\n";
     }
     return 0;
   };

@@ -8,6 +8,4 @@
 #include <string>
 #include <vector>
 
-int main(int argc, char** argv) {
-  return cmgeom_cli::run(std::vector<std::string>(argv + 1, argv + argc));
-}
+int main(int argc, char** argv) { return cmgeom_cli::run(std::vector<std::string>(argv + 1, argv + argc)); }

@@ -89,9 +89,12 @@ private:
 inline Any_cage_coordinates make_cage_coordinates(Coordinate_type type, const Triangle_cage& cage,
                                                   const Harmonic_options& harmonic = Harmonic_options()) {
   switch (type) {
-    case Coordinate_type::green: return Any_cage_coordinates(Green_coordinates_3(cage));
-    case Coordinate_type::harmonic: return Any_cage_coordinates(Harmonic_coordinates_3(cage, harmonic));
-    case Coordinate_type::mean_value: break;
+    case Coordinate_type::green:
+      return Any_cage_coordinates(Green_coordinates_3(cage));
+    case Coordinate_type::harmonic:
+      return Any_cage_coordinates(Harmonic_coordinates_3(cage, harmonic));
+    case Coordinate_type::mean_value:
+      break;
   }
   return Any_cage_coordinates(Mean_value_coordinates_3(cage));
 }

@@ -30,7 +30,6 @@
 #include <unordered_map>
 #include <vector>
 
-
 namespace CMGeom {
 namespace Cage_deformation {
 
@@ -65,20 +64,15 @@ public:
   std::size_t weights_bytes() const {
     return values_.size() * sizeof(Weight) + columns_.size() * sizeof(std::uint32_t) +
            row_start_.size() * sizeof(std::size_t) + point_of_.size() * sizeof(std::uint32_t) +
-           group_column_start_.size() * sizeof(std::size_t) +
-           group_row_start_.size() * sizeof(std::uint32_t) +
+           group_column_start_.size() * sizeof(std::size_t) + group_row_start_.size() * sizeof(std::uint32_t) +
            group_value_start_.size() * sizeof(std::size_t) + blocks_.size() * sizeof(blocks_[0]) +
            runs_.size() * sizeof(runs_[0]);
   }
   /// Number of column patterns (grouped storage; 0 otherwise).
-  std::size_t number_of_groups() const {
-    return group_row_start_.empty() ? 0 : group_row_start_.size() - 1;
-  }
+  std::size_t number_of_groups() const { return group_row_start_.empty() ? 0 : group_row_start_.size() - 1; }
   std::size_t number_of_stored_weights() const { return values_.size(); }
   const std::vector<Coordinate_status>& status() const { return status_; }
-  std::size_t count(Coordinate_status s) const {
-    return std::size_t(std::count(status_.begin(), status_.end(), s));
-  }
+  std::size_t count(Coordinate_status s) const { return std::size_t(std::count(status_.begin(), status_.end(), s)); }
 
   /// Weight of coordinate k for point v (0 when not stored). O(1) dense, O(row) sparse, O(N)
   /// grouped (the stored row of a point is searched; meant for tests and inspection).
@@ -93,7 +87,8 @@ public:
     if (s >= rows_) return 0;
     const std::size_t g =
         std::size_t(std::upper_bound(group_row_start_.begin(), group_row_start_.end(), std::uint32_t(s)) -
-                    group_row_start_.begin()) - 1;
+                    group_row_start_.begin()) -
+        1;
     const std::size_t n = group_column_start_[g + 1] - group_column_start_[g];
     for (std::size_t c = 0; c < n; ++c)
       if (columns_[group_column_start_[g] + c] == k)
@@ -112,13 +107,12 @@ public:
                         });
       return;
     }
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows_, 512),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        if (storage_ == Weight_storage::dense)
-                          dense_rows(r.begin(), r.end(), B, out);
-                        else
-                          sparse_rows(r.begin(), r.end(), B, out);
-                      });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows_, 512), [&](const tbb::blocked_range<std::size_t>& r) {
+      if (storage_ == Weight_storage::dense)
+        dense_rows(r.begin(), r.end(), B, out);
+      else
+        sparse_rows(r.begin(), r.end(), B, out);
+    });
   }
   void deform(const std::vector<Vec3>& basis, std::vector<Vec3>& out) const {
     out.resize(rows_);
@@ -126,8 +120,7 @@ public:
   }
   /// Convenience: basis from a CageDeformationRule and the deformed cage vertices.
   template <class Rule>
-  void deform(const Rule& rule, const std::vector<Vec3>& deformed_vertices,
-              std::vector<Vec3>& out) const {
+  void deform(const Rule& rule, const std::vector<Vec3>& deformed_vertices, std::vector<Vec3>& out) const {
     std::vector<Vec3> basis;
     basis.reserve(rule.number_of_coordinates());
     rule(deformed_vertices, std::back_inserter(basis));
@@ -142,11 +135,10 @@ public:
                                        std::vector<std::uint32_t> columns, std::vector<Weight> values,
                                        std::vector<Coordinate_status> status,
                                        Weight_storage storage = Weight_storage::sparse) {
-    CGAL_precondition(!row_start.empty() && row_start.back() == columns.size() &&
-                      columns.size() == values.size() && status.size() + 1 == row_start.size());
+    CGAL_precondition(!row_start.empty() && row_start.back() == columns.size() && columns.size() == values.size() &&
+                      status.size() + 1 == row_start.size());
     CGAL_precondition(storage != Weight_storage::dense);
-    if (storage == Weight_storage::grouped)
-      return grouped_from_rows(K, row_start, columns, values, std::move(status));
+    if (storage == Weight_storage::grouped) return grouped_from_rows(K, row_start, columns, values, std::move(status));
     Cage_binding b;
     b.rows_ = status.size();
     b.K_ = K;
@@ -178,8 +170,7 @@ private:
   static constexpr std::uint32_t rows_per_block = 256;
 
   static Cage_binding grouped_from_rows(std::size_t K, const std::vector<std::size_t>& row_start,
-                                        const std::vector<std::uint32_t>& columns,
-                                        const std::vector<Weight>& values,
+                                        const std::vector<std::uint32_t>& columns, const std::vector<Weight>& values,
                                         std::vector<Coordinate_status> status) {
     const std::size_t N = status.size();
     CGAL_precondition(N < std::size_t(std::numeric_limits<std::uint32_t>::max()));
@@ -194,7 +185,8 @@ private:
     std::vector<std::uint32_t> group_of(N), count;
     auto same = [&](std::size_t a, std::size_t c) {
       return row_start[a + 1] - row_start[a] == row_start[c + 1] - row_start[c] &&
-             std::equal(columns.begin() + std::ptrdiff_t(row_start[a]), columns.begin() + std::ptrdiff_t(row_start[a + 1]),
+             std::equal(columns.begin() + std::ptrdiff_t(row_start[a]),
+                        columns.begin() + std::ptrdiff_t(row_start[a + 1]),
                         columns.begin() + std::ptrdiff_t(row_start[c]));
     };
     for (std::size_t v = 0; v < N; ++v) {
@@ -289,7 +281,8 @@ private:
     kernel(Wb, rows, tmp, nullptr);
     std::size_t r = std::size_t(std::upper_bound(runs_.begin(), runs_.end(), blk.begin,
                                                  [](std::uint32_t s, const Run& x) { return s < x.stored; }) -
-                                runs_.begin()) - 1;
+                                runs_.begin()) -
+                    1;
     for (std::uint32_t s = blk.begin; s < blk.end;) {
       const std::uint32_t run_end = r + 1 < runs_.size() ? runs_[r + 1].stored : std::uint32_t(rows_);
       const std::uint32_t stop = std::min(run_end, blk.end);
@@ -311,8 +304,8 @@ private:
 
   // Rows b..e of the row-major block W (K weights per row). Column k of a row multiplies
   // B[cols[k]] (B[k] when cols is null); row v goes to out[points[v]] (out[v] when null).
-  static void dense_rows_scalar(const Weight* W, std::size_t K, std::size_t b, std::size_t e, const Vec3* B,
-                                Vec3* out, const std::uint32_t* cols, const std::uint32_t* points) {
+  static void dense_rows_scalar(const Weight* W, std::size_t K, std::size_t b, std::size_t e, const Vec3* B, Vec3* out,
+                                const std::uint32_t* cols, const std::uint32_t* points) {
     for (std::size_t v = b; v < e; ++v) {
       const Weight* w = W + v * K;
       double s[4][3] = {};
@@ -349,11 +342,10 @@ private:
   // The basis is transposed to SoA in chunks of 1024 columns (24 KB, stays in L1), so each row is
   // three streaming dot products over its weights; float weights are widened to double.
   // `cols` and `points` as in dense_rows_scalar.
-  __attribute__((target("avx2,fma"))) static void dense_rows_avx2(const Weight* W, std::size_t K,
-                                                                   std::size_t b, std::size_t e,
-                                                                   const Vec3* B, Vec3* out,
-                                                                   const std::uint32_t* cols,
-                                                                   const std::uint32_t* points) {
+  __attribute__((target("avx2,fma"))) static void dense_rows_avx2(const Weight* W, std::size_t K, std::size_t b,
+                                                                  std::size_t e, const Vec3* B, Vec3* out,
+                                                                  const std::uint32_t* cols,
+                                                                  const std::uint32_t* points) {
     constexpr std::size_t chunk = 1024;  // basis columns transposed per pass (24 KB, in L1)
     alignas(32) double bx[chunk], by[chunk], bz[chunk];
     for (std::size_t k0 = 0; k0 < K; k0 += chunk) {
@@ -432,7 +424,7 @@ private:
 /// range of CGAL points or 3-arrays), in parallel; results do not depend on the thread count.
 template <class Weight = double, class Coordinates, class PointRange>
 Cage_binding<Weight> bind_points(const Coordinates& coords, const PointRange& points,
-                          const Binding_options& options = Binding_options()) {
+                                 const Binding_options& options = Binding_options()) {
   Cage_binding<Weight> b;
   const std::size_t N = std::size_t(std::distance(std::begin(points), std::end(points)));
   const std::size_t K = coords.number_of_coordinates();
@@ -447,12 +439,10 @@ Cage_binding<Weight> bind_points(const Coordinates& coords, const PointRange& po
   progress.phase(0., options.storage == Weight_storage::dense ? 1. : 0.95, N);
   if (options.storage == Weight_storage::dense) {
     b.values_.resize(N * K);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t v = r.begin(); v < r.end(); ++v)
-                          b.status_[v] = coords(*(first + v), b.values_.data() + v * K);
-                        progress.add(r.size());
-                      });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t v = r.begin(); v < r.end(); ++v) b.status_[v] = coords(*(first + v), b.values_.data() + v * K);
+      progress.add(r.size());
+    });
     progress.finish();
     return b;
   }
@@ -486,9 +476,8 @@ Cage_binding<Weight> bind_points(const Coordinates& coords, const PointRange& po
     b.columns_.insert(b.columns_.end(), cols[bi].begin(), cols[bi].end());
   }
   if (options.storage == Weight_storage::grouped)  // one returned object (see the note below)
-    b = Cage_binding<Weight>::from_sparse_rows(K, std::move(b.row_start_), std::move(b.columns_),
-                                               std::move(b.values_), std::move(b.status_),
-                                               Weight_storage::grouped);
+    b = Cage_binding<Weight>::from_sparse_rows(K, std::move(b.row_start_), std::move(b.columns_), std::move(b.values_),
+                                               std::move(b.status_), Weight_storage::grouped);
   progress.finish();
   // bind_points returns `b` from every path: a second returned object made the ThreadSanitizer
   // build (test scheduler of test/Reliability/tsan_tbb_runtime.cpp) crash in the parallel loop

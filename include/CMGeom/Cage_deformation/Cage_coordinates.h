@@ -37,11 +37,16 @@ enum class Coordinate_status : unsigned char {
 
 inline const char* to_string(Coordinate_status s) {
   switch (s) {
-    case Coordinate_status::regular: return "regular";
-    case Coordinate_status::on_boundary: return "on_boundary";
-    case Coordinate_status::extended: return "extended";
-    case Coordinate_status::approximate: return "approximate";
-    case Coordinate_status::undefined: return "undefined";
+    case Coordinate_status::regular:
+      return "regular";
+    case Coordinate_status::on_boundary:
+      return "on_boundary";
+    case Coordinate_status::extended:
+      return "extended";
+    case Coordinate_status::approximate:
+      return "approximate";
+    case Coordinate_status::undefined:
+      return "undefined";
   }
   return "?";
 }

@@ -93,7 +93,7 @@ public:
     std::size_t cage = 0;  ///< index of the leaf cage (in description order)
     double d = 1;          ///< d_i(p), the influence of T_i (1: T_i only)
     Coordinate_status status = Coordinate_status::regular;
-    bool inside = true;    ///< inside some leaf cage (winding number ≥ ½)
+    bool inside = true;  ///< inside some leaf cage (winding number ≥ ½)
     std::vector<Entry> entries;
   };
 
@@ -172,8 +172,8 @@ public:
         std::vector<Vec3> basis;
         coords_[l.cage].basis(final[l.cage], basis);
         for (std::uint32_t k : l.vertices)
-          final[c][k] = follow_parent(l.cage, basis, cd.rest.vertices[k],
-                                      internal::sub(deformed[c][k], cd.rest.vertices[k]));
+          final[c][k] =
+              follow_parent(l.cage, basis, cd.rest.vertices[k], internal::sub(deformed[c][k], cd.rest.vertices[k]));
       }
     }
     std::vector<Vec3> g(topo_.vertices.size());
@@ -287,8 +287,7 @@ public:
       for (std::size_t k = 0; k < wbar[a].size(); ++k)
         if (s * wbar[a][k] != 0) r.entries.push_back({cl.global[k], s * wbar[a][k]});
     }
-    std::sort(r.entries.begin(), r.entries.end(),
-              [](const Entry& x, const Entry& y) { return x.column < y.column; });
+    std::sort(r.entries.begin(), r.entries.end(), [](const Entry& x, const Entry& y) { return x.column < y.column; });
     std::size_t m = 0;
     for (std::size_t e = 0; e < r.entries.size(); ++e) {
       if (m > 0 && r.entries[m - 1].column == r.entries[e].column)
@@ -392,8 +391,7 @@ private:
       for (const auto& l : desc_.cages[c].parents)
         for (std::uint32_t k : l.vertices) {
           std::vector<double> w(coords_[l.cage].number_of_coordinates());
-          if (coords_[l.cage].evaluate(desc_.cages[c].rest.vertices[k], w.data()) ==
-              Coordinate_status::undefined)
+          if (coords_[l.cage].evaluate(desc_.cages[c].rest.vertices[k], w.data()) == Coordinate_status::undefined)
             throw Invalid_input("cage " + std::to_string(c) + " vertex " + std::to_string(k) +
                                 " lies outside its parent cage " + std::to_string(l.cage) +
                                 ", whose coordinates are undefined there");
@@ -415,8 +413,7 @@ private:
 
   Vec3 follow_parent(std::size_t parent, const std::vector<Vec3>& basis, const Vec3& r, const Vec3& t) const {
     std::vector<double> w(coords_[parent].number_of_coordinates());
-    if (coords_[parent].evaluate(internal::add(r, t), w.data()) != Coordinate_status::undefined)
-      return apply(basis, w);
+    if (coords_[parent].evaluate(internal::add(r, t), w.data()) != Coordinate_status::undefined) return apply(basis, w);
     // λ rule of §5.3.4 for coordinates not defined outside the cage.
     coords_[parent].evaluate(r, w.data());
     const Vec3 Tr = apply(basis, w);
@@ -508,9 +505,8 @@ Cage_system_binding<Weight> Cage_system::bind(const PointRange& points, const F&
     out.outside_ += !inside[v];
     out.joined_ += out.d_[v] < 1;
   }
-  out.b_ = Cage_binding<Weight>::from_sparse_rows(K_, std::move(row_start), std::move(columns),
-                                                  std::move(values), std::move(status),
-                                                  Weight_storage::grouped);
+  out.b_ = Cage_binding<Weight>::from_sparse_rows(K_, std::move(row_start), std::move(columns), std::move(values),
+                                                  std::move(status), Weight_storage::grouped);
   progress.finish();
   return out;
 }

@@ -28,9 +28,12 @@ enum class Coordinate_type { mean_value, green, harmonic };
 
 inline const char* to_string(Coordinate_type t) {
   switch (t) {
-    case Coordinate_type::mean_value: return "mean_value";
-    case Coordinate_type::green: return "green";
-    case Coordinate_type::harmonic: return "harmonic";
+    case Coordinate_type::mean_value:
+      return "mean_value";
+    case Coordinate_type::green:
+      return "green";
+    case Coordinate_type::harmonic:
+      return "harmonic";
   }
   return "?";
 }
@@ -49,14 +52,14 @@ struct Cage_border_h {
 };
 
 struct Cage_description {
-  std::string name;                ///< optional label (for messages and parent references)
-  std::string rest_source;         ///< file it was read from, or "inline"
-  Triangle_cage rest;              ///< validated, outward oriented
-  bool reoriented = false;         ///< the rest cage was given inward and has been flipped
-  std::vector<Vec3> deformed;      ///< deformed vertex positions (same order as rest.vertices)
+  std::string name;            ///< optional label (for messages and parent references)
+  std::string rest_source;     ///< file it was read from, or "inline"
+  Triangle_cage rest;          ///< validated, outward oriented
+  bool reoriented = false;     ///< the rest cage was given inward and has been flipped
+  std::vector<Vec3> deformed;  ///< deformed vertex positions (same order as rest.vertices)
   Coordinate_type coordinates = Coordinate_type::mean_value;
-  Harmonic_options harmonic;       ///< used when coordinates == harmonic
-  double h = 1.0;                  ///< h_i of §5.3.3, in (0, 1]
+  Harmonic_options harmonic;  ///< used when coordinates == harmonic
+  double h = 1.0;             ///< h_i of §5.3.3, in (0, 1]
   /// Borders with their own h (see Cage_system::distance()); the others use h.
   std::vector<Cage_border_h> border_h;
   std::vector<Cage_parent_link> parents;  ///< empty for top-level cages

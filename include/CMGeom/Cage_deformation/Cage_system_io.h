@@ -38,8 +38,7 @@ namespace Cage_deformation {
 /// Vertex positions and polygons (corners in file order) of any mesh file the project reads
 /// (CMGeom::IO::read_polygon_soup: OBJ, OFF, PLY, glTF); throws IO_error on bad files.
 template <class Index>
-void read_polygons(const std::string& path, std::vector<Vec3>& points,
-                   std::vector<std::vector<Index>>& polygons) {
+void read_polygons(const std::string& path, std::vector<Vec3>& points, std::vector<std::vector<Index>>& polygons) {
   const Polygon_soup soup = IO::read_polygon_soup(path);
   points.assign(soup.positions.begin(), soup.positions.end());
   polygons.clear();
@@ -116,10 +115,14 @@ private:
   static std::string escape(const std::string& k) {
     std::string r;
     for (char c : k.substr(0, 64)) {
-      if (c == '~') r += "~0";
-      else if (c == '/') r += "~1";
-      else if (static_cast<unsigned char>(c) < 0x20) r += '?';
-      else r += c;
+      if (c == '~')
+        r += "~0";
+      else if (c == '/')
+        r += "~1";
+      else if (static_cast<unsigned char>(c) < 0x20)
+        r += '?';
+      else
+        r += c;
     }
     if (k.size() > 64) r += "...";
     return r;
@@ -166,9 +169,12 @@ private:
     }
     if (v.contains("interpolation")) {
       const std::string s = v["interpolation"].is_string() ? v["interpolation"].get<std::string>() : "";
-      if (s == "tricubic") o.interpolation = Harmonic_interpolation::tricubic;
-      else if (s == "trilinear") o.interpolation = Harmonic_interpolation::trilinear;
-      else fail(ptr + "/interpolation", "must be \"tricubic\" or \"trilinear\"");
+      if (s == "tricubic")
+        o.interpolation = Harmonic_interpolation::tricubic;
+      else if (s == "trilinear")
+        o.interpolation = Harmonic_interpolation::trilinear;
+      else
+        fail(ptr + "/interpolation", "must be \"tricubic\" or \"trilinear\"");
     }
     return o;
   }
@@ -210,8 +216,7 @@ private:
       if (!f.is_array()) fail(ptr + "/faces", "must be an array of polygons");
       for (std::size_t i = 0; i < f.size(); ++i) {
         const std::string pi = ptr + "/faces/" + std::to_string(i);
-        if (!f[i].is_array() || f[i].size() < 3)
-          fail(pi, "must be an array of at least 3 vertex indices");
+        if (!f[i].is_array() || f[i].size() < 3) fail(pi, "must be an array of at least 3 vertex indices");
         std::vector<std::uint32_t> poly;
         for (std::size_t k = 0; k < f[i].size(); ++k)
           poly.push_back(index(f[i][k], pi + "/" + std::to_string(k), pts.size()));
@@ -347,8 +352,8 @@ private:
         }
         for (std::size_t k = 0; k < link.vertices.size(); ++k)
           if (owned[link.vertices[k]]++)
-            fail(lp + "/vertices", "vertex " + std::to_string(link.vertices[k]) +
-                                       " is owned twice (a vertex has at most one parent)");
+            fail(lp + "/vertices",
+                 "vertex " + std::to_string(link.vertices[k]) + " is owned twice (a vertex has at most one parent)");
         d.cages[i].parents.push_back(std::move(link));
       }
     }

@@ -33,9 +33,7 @@ class Green_rule {
 public:
   Green_rule() = default;
   explicit Green_rule(const Triangle_cage& rest) : rest_(std::make_shared<Triangle_cage>(rest)) {}
-  std::size_t number_of_coordinates() const {
-    return rest_->vertices.size() + rest_->triangles.size();
-  }
+  std::size_t number_of_coordinates() const { return rest_->vertices.size() + rest_->triangles.size(); }
   template <class OutputIterator>
   void operator()(const std::vector<Vec3>& def, OutputIterator basis) const {
     using namespace internal;
@@ -72,8 +70,7 @@ public:
     ng_.resize(g.m);
     for (std::size_t t = 0; t < g.m; ++t)
       for (int k = 0; k < 3; ++k)  // n x g_k, g_k = q_{k+1} - q_{k+2}
-        ng_[t][k] = internal::cross(g.normal[t], internal::sub(g.v[g.tri[t][(k + 1) % 3]],
-                                                               g.v[g.tri[t][(k + 2) % 3]]));
+        ng_[t][k] = internal::cross(g.normal[t], internal::sub(g.v[g.tri[t][(k + 1) % 3]], g.v[g.tri[t][(k + 2) % 3]]));
     nx_.resize(g.m);
     ny_.resize(g.m);
     nz_.resize(g.m);
@@ -225,8 +222,7 @@ private:
       // (R + l)/(R - l). Near the edge (angle between e_a and e_b >= 90 degrees) R - l cancels:
       // there R - l = 2|e_a x e_b|^2 / ((r_a r_b - e_a.e_b)(R + l)); elsewhere R - l >= 0.29
       // min(r_a, r_b) is computed directly (and the other form would be 0/0 on the edge's line).
-      const double ratio = dab < 0 ? (R + l) * (R + l) * (s.r[a] * s.r[b] - dab) / (2.0 * cr2)
-                                   : (R + l) / (R - l);
+      const double ratio = dab < 0 ? (R + l) * (R + l) * (s.r[a] * s.r[b] - dab) / (2.0 * cr2) : (R + l) / (R - l);
       s.C[e] = std::log(ratio) * inv4pi / l;
       s.jx[e] = jx;  // e_a x e_b, canonical direction
       s.jy[e] = jy;
@@ -275,9 +271,8 @@ private:
 #ifdef CMGEOM_CAGE_SIMD_AVX2
   // evaluate() on 4 edges / 4 triangles per instruction; corner contributions go to s.pc
   // (index k * m + t) and are summed per vertex afterwards (no scatter conflicts).
-  __attribute__((target("avx2,fma"))) double evaluate_avx2(const internal::Cage_geometry& g,
-                                                            Scratch& s, double* phi,
-                                                            double* psi) const {
+  __attribute__((target("avx2,fma"))) double evaluate_avx2(const internal::Cage_geometry& g, Scratch& s, double* phi,
+                                                           double* psi) const {
     const std::size_t m = g.m, E = g.E;
     const __m256d zero = _mm256_setzero_pd();
     const __m256d inv4pi = _mm256_set1_pd(0.25 / internal::k_pi);
@@ -298,7 +293,8 @@ private:
       const __m256d cr2 = _mm256_fmadd_pd(jx, jx, _mm256_fmadd_pd(jy, jy, _mm256_mul_pd(jz, jz)));
       const __m256d Rl = _mm256_add_pd(R, l);
       const __m256d near = _mm256_cmp_pd(dab, zero, _CMP_LT_OQ);
-      const __m256d num = _mm256_blendv_pd(Rl, _mm256_mul_pd(_mm256_mul_pd(Rl, Rl), _mm256_fmsub_pd(ra, rb, dab)), near);
+      const __m256d num =
+          _mm256_blendv_pd(Rl, _mm256_mul_pd(_mm256_mul_pd(Rl, Rl), _mm256_fmsub_pd(ra, rb, dab)), near);
       const __m256d den = _mm256_blendv_pd(_mm256_sub_pd(R, l), _mm256_add_pd(cr2, cr2), near);
       const __m256d C = _mm256_div_pd(_mm256_mul_pd(internal::log_avx2(_mm256_div_pd(num, den)), inv4pi), l);
       _mm256_storeu_pd(s.C.data() + e, C);
@@ -314,8 +310,7 @@ private:
       const double dab = s.ex[a] * s.ex[b] + s.ey[a] * s.ey[b] + s.ez[a] * s.ez[b];
       const double l = g.edge_length[e], R = s.r[a] + s.r[b];
       const double cr2 = jx * jx + jy * jy + jz * jz;
-      const double ratio = dab < 0 ? (R + l) * (R + l) * (s.r[a] * s.r[b] - dab) / (2.0 * cr2)
-                                   : (R + l) / (R - l);
+      const double ratio = dab < 0 ? (R + l) * (R + l) * (s.r[a] * s.r[b] - dab) / (2.0 * cr2) : (R + l) / (R - l);
       s.C[e] = internal::fast_log(ratio) * (0.25 / internal::k_pi) / l;
       s.jx[e] = jx;
       s.jy[e] = jy;
@@ -341,7 +336,8 @@ private:
         J[k][2] = _mm256_mul_pd(ms, internal::gather_avx2(s.jz.data(), ie));
         C[k] = internal::gather_avx2(s.C.data(), ie);
       }
-      const __m256d det = _mm256_sub_pd(zero, _mm256_fmadd_pd(ex[0], J[0][0], _mm256_fmadd_pd(ey[0], J[0][1], _mm256_mul_pd(ez[0], J[0][2]))));
+      const __m256d det = _mm256_sub_pd(
+          zero, _mm256_fmadd_pd(ex[0], J[0][0], _mm256_fmadd_pd(ey[0], J[0][1], _mm256_mul_pd(ez[0], J[0][2]))));
       // (lambdas would not inherit the target attribute: the three dot products are spelled out)
       const __m256d d01 = _mm256_fmadd_pd(ex[0], ex[1], _mm256_fmadd_pd(ey[0], ey[1], _mm256_mul_pd(ez[0], ez[1])));
       const __m256d d12 = _mm256_fmadd_pd(ex[1], ex[2], _mm256_fmadd_pd(ey[1], ey[2], _mm256_mul_pd(ez[1], ez[2])));
@@ -387,8 +383,8 @@ private:
       }
       const double det = -(s.ex[q[0]] * J[0][0] + s.ey[q[0]] * J[0][1] + s.ez[q[0]] * J[0][2]);
       auto d = [&](std::size_t i, std::size_t j) { return s.ex[i] * s.ex[j] + s.ey[i] * s.ey[j] + s.ez[i] * s.ez[j]; };
-      const double den = s.r[q[0]] * s.r[q[1]] * s.r[q[2]] + d(q[0], q[1]) * s.r[q[2]] +
-                         d(q[1], q[2]) * s.r[q[0]] + d(q[2], q[0]) * s.r[q[1]];
+      const double den = s.r[q[0]] * s.r[q[1]] * s.r[q[2]] + d(q[0], q[1]) * s.r[q[2]] + d(q[1], q[2]) * s.r[q[0]] +
+                         d(q[2], q[0]) * s.r[q[1]];
       const double omega = internal::fast_atan2(det, den) * (0.5 / internal::k_pi);
       winding += omega;
       double ps = -omega * det * inv2a_[t];
@@ -401,8 +397,7 @@ private:
         Pz += C * ngz_[k * m + t];
       }
       psi[t] = ps;
-      for (std::size_t k = 0; k < 3; ++k)
-        s.pc[k * m + t] = (Px * J[k][0] + Py * J[k][1] + Pz * J[k][2]) * inv2a_[t];
+      for (std::size_t k = 0; k < 3; ++k) s.pc[k * m + t] = (Px * J[k][0] + Py * J[k][1] + Pz * J[k][2]) * inv2a_[t];
     }
     for (std::size_t i = 0; i < g.n; ++i) {
       double acc = 0;

@@ -61,8 +61,8 @@ inline Cage_system_description make_grid_cage_system(const Vec3& lo, const Vec3&
           gid.push_back(id(i + di, j + dj, k + dk));
         }
         // Outward quads (local corner bits x = 1, y = 2, z = 4), counter-clockwise from outside.
-        const std::array<std::array<std::uint32_t, 4>, 6> quads{{{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                                                  {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}};
+        const std::array<std::array<std::uint32_t, 4>, 6> quads{
+            {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}};
         for (const auto& q : quads) {
           int s = 0;  // start the fan at the corner with the smallest lattice id
           for (int r = 1; r < 4; ++r)
@@ -84,10 +84,8 @@ inline Cage_system_description make_grid_cage_system(const Vec3& lo, const Vec3&
 /// 3-arrays), enlarged on every side by `margin` times its diagonal (a flat model still gets
 /// cages of positive thickness).
 template <class PointRange>
-Cage_system_description make_grid_cage_system(const PointRange& points, int nx, int ny, int nz,
-                                              double margin = 0.05,
-                                              Coordinate_type type = Coordinate_type::mean_value,
-                                              double h = 1.0) {
+Cage_system_description make_grid_cage_system(const PointRange& points, int nx, int ny, int nz, double margin = 0.05,
+                                              Coordinate_type type = Coordinate_type::mean_value, double h = 1.0) {
   if (std::begin(points) == std::end(points)) throw Invalid_input("grid cage system: no points");
   if (!(margin >= 0 && margin <= 10)) throw Invalid_input("grid cage system: the margin must be in [0, 10]");
   Vec3 lo = internal::to_vec3(*std::begin(points)), hi = lo;

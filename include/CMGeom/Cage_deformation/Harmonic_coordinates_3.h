@@ -45,8 +45,7 @@ class Harmonic_coordinates_3 {
 public:
   using Deformation_rule = Vertex_deformation_rule;
 
-  explicit Harmonic_coordinates_3(const Triangle_cage& cage,
-                                  const Harmonic_options& options = Harmonic_options())
+  explicit Harmonic_coordinates_3(const Triangle_cage& cage, const Harmonic_options& options = Harmonic_options())
       : cage_(std::make_shared<Triangle_cage>(cage)),
         g_(std::make_shared<internal::Cage_geometry>(cage)),
         opt_(options),
@@ -81,8 +80,7 @@ public:
     // coordinates return exactly there.
     const double tol = 1e-8 * g_->L;
     for (std::size_t t = 0; t < g_->m; ++t)
-      if (std::abs(g_->signed_distance(t, x)) <= tol && g_->distance_to_triangle(t, x) <= tol)
-        return mvc_(x, out);
+      if (std::abs(g_->signed_distance(t, x)) <= tol && g_->distance_to_triangle(t, x) <= tol) return mvc_(x, out);
     if (g_->winding_number(x) < 0.5) {
       for (std::size_t i = 0; i < K; ++i) *out++ = 0.0;
       return Coordinate_status::undefined;
@@ -119,11 +117,9 @@ private:
     std::size_t unknowns = 0;
     std::vector<std::int32_t> unknown;  // valid index -> unknown index (or -1 for boundary)
     std::vector<std::int32_t> unknown_valid;
-    std::vector<std::array<std::int32_t, 6>> nbr;  // per unknown: valid indices of neighbours
+    std::vector<std::array<std::int32_t, 6>> nbr;          // per unknown: valid indices of neighbours
     std::vector<std::array<std::int32_t, 6>> nbr_unknown;  // same as unknown indices, -1 if boundary
-    std::size_t node(int i, int j, int k) const {
-      return (std::size_t(k) * ny + std::size_t(j)) * nx + std::size_t(i);
-    }
+    std::size_t node(int i, int j, int k) const { return (std::size_t(k) * ny + std::size_t(j)) * nx + std::size_t(i); }
   };
 
   struct Scratch {
@@ -196,8 +192,7 @@ private:
       const std::size_t q = stack.back();
       stack.pop_back();
       const int i = int(q % G.nx), j = int((q / G.nx) % G.ny), k = int(q / (std::size_t(G.nx) * G.ny));
-      const int nb[6][3] = {{i - 1, j, k}, {i + 1, j, k}, {i, j - 1, k},
-                            {i, j + 1, k}, {i, j, k - 1}, {i, j, k + 1}};
+      const int nb[6][3] = {{i - 1, j, k}, {i + 1, j, k}, {i, j - 1, k}, {i, j + 1, k}, {i, j, k - 1}, {i, j, k + 1}};
       for (const auto& c : nb) {
         if (c[0] < 0 || c[1] < 0 || c[2] < 0 || c[0] >= G.nx || c[1] >= G.ny || c[2] >= G.nz) continue;
         const std::size_t r = G.node(c[0], c[1], c[2]);
@@ -224,8 +219,7 @@ private:
     }
     G.unknowns = G.unknown_valid.size();
     G.nbr.resize(G.unknowns);
-    const std::ptrdiff_t off[6] = {-1, 1, -G.nx, G.nx, -std::ptrdiff_t(G.nx) * G.ny,
-                                   std::ptrdiff_t(G.nx) * G.ny};
+    const std::ptrdiff_t off[6] = {-1, 1, -G.nx, G.nx, -std::ptrdiff_t(G.nx) * G.ny, std::ptrdiff_t(G.nx) * G.ny};
     for (std::size_t u = 0; u < G.unknowns; ++u) {
       const std::size_t q = std::size_t(G.valid_node[G.unknown_valid[u]]);
       for (int d = 0; d < 6; ++d) G.nbr[u][d] = G.valid[std::size_t(std::ptrdiff_t(q) + off[d])];
@@ -271,8 +265,10 @@ private:
       for (int d = 0; d < 6; ++d) {
         const std::int32_t nb = G.nbr[u][d];
         const std::int32_t nu = G.unknown[std::size_t(nb)];
-        if (nu < 0) b += val(nb);
-        else ax -= val(nb);
+        if (nu < 0)
+          b += val(nb);
+        else
+          ax -= val(nb);
       }
       bnorm += b * b;
       r[u] = b - ax;
@@ -311,8 +307,7 @@ private:
   }
 
   // Starting values of `fine` interior unknowns: trilinear lookup in the coarser level.
-  void prolong(const Grid& C, const std::vector<double>& cv, const Grid& F,
-               std::vector<double>& fv) const {
+  void prolong(const Grid& C, const std::vector<double>& cv, const Grid& F, std::vector<double>& fv) const {
     const std::size_t K = g_->n;
     tbb::parallel_for(std::size_t(0), F.unknowns, [&](std::size_t u) {
       const std::size_t v = std::size_t(F.unknown_valid[u]);
@@ -360,8 +355,10 @@ private:
     double ws = 0;
     bool missing = false;
     for (int c = 0; c < 8; ++c) {
-      if (idx[c] >= 0) ws += w[c];
-      else if (w[c] > 0) missing = true;
+      if (idx[c] >= 0)
+        ws += w[c];
+      else if (w[c] > 0)
+        missing = true;
       if (idx[c] >= 0 && std::size_t(idx[c]) >= G.first_ghost && w[c] > 0) missing = true;
     }
     if (ws <= 1e-12) return false;

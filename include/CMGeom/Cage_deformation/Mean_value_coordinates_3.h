@@ -87,7 +87,7 @@ public:
     else
 #endif
       edges_scalar(g, s, 0, [](double y, double x) { return std::atan2(y, x); });
-    // 4. Per triangle: mean vector and its expansion in the vertex directions.
+      // 4. Per triangle: mean vector and its expansion in the vertex directions.
 #ifdef CMGEOM_CAGE_SIMD_AVX2
     if (internal::has_avx2()) {
       triangles_avx2(g, s);
@@ -119,8 +119,7 @@ public:
         // det[u0,u1,u2] = u0 . (u1 x u2) = D / (d0 d1 d2); N_k / D = c_k / (d_k det).
         const double det = s.ux[q[0]] * c[0][0] + s.uy[q[0]] * c[0][1] + s.uz[q[0]] * c[0][2];
         const double f = 0.5 / det;
-        for (int k = 0; k < 3; ++k)
-          s.w[q[k]] += f * (mx * c[k][0] + my * c[k][1] + mz * c[k][2]);
+        for (int k = 0; k < 3; ++k) s.w[q[k]] += f * (mx * c[k][0] + my * c[k][1] + mz * c[k][2]);
       }
     double sum = 0;
     for (std::size_t i = 0; i < g.n; ++i) {
@@ -179,8 +178,7 @@ private:
 
 #ifdef CMGEOM_CAGE_SIMD_AVX2
   // Step 3 on four edges at a time (gathers of the endpoint directions, branch-free atan2).
-  __attribute__((target("avx2,fma"))) static void edges_avx2(const internal::Cage_geometry& g,
-                                                              Scratch& s) {
+  __attribute__((target("avx2,fma"))) static void edges_avx2(const internal::Cage_geometry& g, Scratch& s) {
     std::size_t e = 0;
     for (; e + 4 <= g.E; e += 4) {
       const __m128i ia = _mm_loadu_si128(reinterpret_cast<const __m128i*>(g.edge_a.data() + e));
@@ -194,13 +192,11 @@ private:
       const __m256d cx = _mm256_fmsub_pd(ay, bz, _mm256_mul_pd(az, by));
       const __m256d cy = _mm256_fmsub_pd(az, bx, _mm256_mul_pd(ax, bz));
       const __m256d cz = _mm256_fmsub_pd(ax, by, _mm256_mul_pd(ay, bx));
-      const __m256d sn = _mm256_sqrt_pd(
-          _mm256_fmadd_pd(cx, cx, _mm256_fmadd_pd(cy, cy, _mm256_mul_pd(cz, cz))));
+      const __m256d sn = _mm256_sqrt_pd(_mm256_fmadd_pd(cx, cx, _mm256_fmadd_pd(cy, cy, _mm256_mul_pd(cz, cz))));
       const __m256d cs = _mm256_fmadd_pd(ax, bx, _mm256_fmadd_pd(ay, by, _mm256_mul_pd(az, bz)));
       const __m256d th = internal::atan2_nonneg_avx2(sn, cs);
       const __m256d pos = _mm256_cmp_pd(sn, _mm256_setzero_pd(), _CMP_GT_OQ);
-      const __m256d f = _mm256_and_pd(
-          pos, _mm256_div_pd(th, _mm256_blendv_pd(_mm256_set1_pd(1.0), sn, pos)));
+      const __m256d f = _mm256_and_pd(pos, _mm256_div_pd(th, _mm256_blendv_pd(_mm256_set1_pd(1.0), sn, pos)));
       _mm256_storeu_pd(s.cx.data() + e, cx);
       _mm256_storeu_pd(s.cy.data() + e, cy);
       _mm256_storeu_pd(s.cz.data() + e, cz);
@@ -214,8 +210,7 @@ private:
 
   // Step 4 on four triangles at a time: gathers of the edge quantities, corner contributions
   // stored per corner (no scatter conflicts between triangles sharing a vertex).
-  __attribute__((target("avx2,fma"))) static void triangles_avx2(const internal::Cage_geometry& g,
-                                                                  Scratch& s) {
+  __attribute__((target("avx2,fma"))) static void triangles_avx2(const internal::Cage_geometry& g, Scratch& s) {
     const std::size_t m = g.m;
     std::size_t t = 0;
     const __m256d half = _mm256_set1_pd(0.5), one = _mm256_set1_pd(1.0);
@@ -223,8 +218,7 @@ private:
       __m256d mx = _mm256_setzero_pd(), my = mx, mz = mx;
       __m256d c[3][3];
       for (int k = 0; k < 3; ++k) {
-        const __m128i ie =
-            _mm_loadu_si128(reinterpret_cast<const __m128i*>(g.corner_edge.data() + k * m + t));
+        const __m128i ie = _mm_loadu_si128(reinterpret_cast<const __m128i*>(g.corner_edge.data() + k * m + t));
         const __m256d sg = _mm256_loadu_pd(g.corner_sign.data() + k * m + t);
         c[k][0] = _mm256_mul_pd(sg, internal::gather_avx2(s.cx.data(), ie));
         c[k][1] = _mm256_mul_pd(sg, internal::gather_avx2(s.cy.data(), ie));
@@ -234,10 +228,10 @@ private:
         mz = _mm256_fmadd_pd(sg, internal::gather_avx2(s.gz.data(), ie), mz);
       }
       const __m128i iq = _mm_loadu_si128(reinterpret_cast<const __m128i*>(g.corner_vertex.data() + t));
-      const __m256d det = _mm256_fmadd_pd(
-          internal::gather_avx2(s.ux.data(), iq), c[0][0],
-          _mm256_fmadd_pd(internal::gather_avx2(s.uy.data(), iq), c[0][1],
-                          _mm256_mul_pd(internal::gather_avx2(s.uz.data(), iq), c[0][2])));
+      const __m256d det =
+          _mm256_fmadd_pd(internal::gather_avx2(s.ux.data(), iq), c[0][0],
+                          _mm256_fmadd_pd(internal::gather_avx2(s.uy.data(), iq), c[0][1],
+                                          _mm256_mul_pd(internal::gather_avx2(s.uz.data(), iq), c[0][2])));
       const __m256d keep = _mm256_loadu_pd(s.keep.data() + t);
       const __m256d f = _mm256_and_pd(keep, _mm256_div_pd(half, _mm256_blendv_pd(one, det, keep)));
       for (int k = 0; k < 3; ++k) {
@@ -260,8 +254,7 @@ private:
       const std::size_t q0 = std::size_t(g.corner_vertex[t]);
       const double det = s.ux[q0] * c[0][0] + s.uy[q0] * c[0][1] + s.uz[q0] * c[0][2];
       const double f = s.skip[t] ? 0.0 : 0.5 / det;
-      for (std::size_t k = 0; k < 3; ++k)
-        s.wc[k * m + t] = f * (mx * c[k][0] + my * c[k][1] + mz * c[k][2]);
+      for (std::size_t k = 0; k < 3; ++k) s.wc[k * m + t] = f * (mx * c[k][0] + my * c[k][1] + mz * c[k][2]);
     }
   }
 #endif

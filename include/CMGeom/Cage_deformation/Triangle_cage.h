@@ -87,8 +87,7 @@ struct Triangle_cage {
   /// Signed enclosed volume: positive when the triangles are oriented outwards.
   double signed_volume() const {
     double v = 0;
-    for (const auto& t : triangles)
-      v += internal::dot(vertices[t[0]], internal::cross(vertices[t[1]], vertices[t[2]]));
+    for (const auto& t : triangles) v += internal::dot(vertices[t[0]], internal::cross(vertices[t[1]], vertices[t[2]]));
     return v / 6.0;
   }
 
@@ -112,13 +111,11 @@ Triangle_cage make_triangle_cage(const PointRange& points, const PolygonRange& p
   std::size_t f = 0;
   for (const auto& poly : polygons) {
     std::vector<std::uint32_t> c(poly.begin(), poly.end());
-    if (c.size() < 3)
-      throw Invalid_input("cage polygon " + std::to_string(f) + " has fewer than 3 corners");
+    if (c.size() < 3) throw Invalid_input("cage polygon " + std::to_string(f) + " has fewer than 3 corners");
     for (std::uint32_t i : c)
       if (i >= cage.vertices.size())
-        throw Invalid_input("cage polygon " + std::to_string(f) + " uses vertex " +
-                            std::to_string(i) + " but the cage has " +
-                            std::to_string(cage.vertices.size()) + " vertices");
+        throw Invalid_input("cage polygon " + std::to_string(f) + " uses vertex " + std::to_string(i) +
+                            " but the cage has " + std::to_string(cage.vertices.size()) + " vertices");
     for (std::size_t k = 1; k + 1 < c.size(); ++k) cage.triangles.push_back({c[0], c[k], c[k + 1]});
     ++f;
   }
@@ -158,8 +155,7 @@ inline bool validate_cage(Triangle_cage& cage, const std::string& name = "cage",
     throw Invalid_input(name + ": a cage needs at least 4 vertices and 4 triangles");
   for (std::size_t i = 0; i < cage.vertices.size(); ++i)
     for (double c : cage.vertices[i])
-      if (!std::isfinite(c))
-        throw Invalid_input(name + ": vertex " + std::to_string(i) + " is not finite");
+      if (!std::isfinite(c)) throw Invalid_input(name + ": vertex " + std::to_string(i) + " is not finite");
   const double L = cage.bbox_diagonal();
   if (!(L > 0)) throw Invalid_input(name + ": all vertices coincide");
 
@@ -175,25 +171,25 @@ inline bool validate_cage(Triangle_cage& cage, const std::string& name = "cage",
     for (int k = 0; k < 3; ++k)
       if (weld[tr[k]] == weld[tr[(k + 1) % 3]])
         throw Invalid_input(name + ": triangle " + std::to_string(t) + " repeats a vertex");
-    const Vec3 n = cross(sub(cage.vertices[tr[1]], cage.vertices[tr[0]]),
-                         sub(cage.vertices[tr[2]], cage.vertices[tr[0]]));
-    if (!(norm(n) > 1e-14 * L * L))
-      throw Invalid_input(name + ": triangle " + std::to_string(t) + " has zero area");
+    const Vec3 n =
+        cross(sub(cage.vertices[tr[1]], cage.vertices[tr[0]]), sub(cage.vertices[tr[2]], cage.vertices[tr[0]]));
+    if (!(norm(n) > 1e-14 * L * L)) throw Invalid_input(name + ": triangle " + std::to_string(t) + " has zero area");
     for (int k = 0; k < 3; ++k) ++directed[{weld[tr[k]], weld[tr[(k + 1) % 3]]}];
   }
   for (const auto& [e, count] : directed) {
     if (count > 1)
-      throw Invalid_input(name + ": triangles are not consistently oriented or not manifold "
-                          "(edge " + std::to_string(e.first) + "-" + std::to_string(e.second) +
+      throw Invalid_input(name +
+                          ": triangles are not consistently oriented or not manifold "
+                          "(edge " +
+                          std::to_string(e.first) + "-" + std::to_string(e.second) +
                           " is used twice in the same direction)");
     auto it = directed.find({e.second, e.first});
     if (it == directed.end())
-      throw Invalid_input(name + ": the cage is not closed (edge " + std::to_string(e.first) +
-                          "-" + std::to_string(e.second) + " has one triangle)");
+      throw Invalid_input(name + ": the cage is not closed (edge " + std::to_string(e.first) + "-" +
+                          std::to_string(e.second) + " has one triangle)");
   }
   const double vol = cage.signed_volume();
-  if (std::abs(vol) <= 1e-12 * L * L * L)
-    throw Invalid_input(name + ": the cage encloses no volume");
+  if (std::abs(vol) <= 1e-12 * L * L * L) throw Invalid_input(name + ": the cage encloses no volume");
   if (vol < 0) {
     if (orient == Cage_orientation::require_outward)
       throw Invalid_input(name + ": triangles are oriented inwards (negative volume)");

@@ -55,8 +55,8 @@ struct Deform_result {
   /// Columns of the binding: the coordinates of the cage, or the global basis of the system.
   std::size_t coordinates = 0;
   std::size_t weights_bytes = 0;
-  std::size_t joined_points = 0;   ///< a system: points with join terms (d_i < 1)
-  std::size_t outside_points = 0;  ///< a system: points outside every leaf cage
+  std::size_t joined_points = 0;        ///< a system: points with join terms (d_i < 1)
+  std::size_t outside_points = 0;       ///< a system: points outside every leaf cage
   std::array<std::size_t, 5> status{};  ///< points per Coordinate_status (see count())
   double setup_seconds = 0, bind_seconds = 0, deform_seconds = 0;
 

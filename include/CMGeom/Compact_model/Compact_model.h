@@ -45,8 +45,8 @@ struct Compact_model {
   std::vector<Vec3> normals;            ///< unit frame normals N (§4.4.1)
   std::vector<Local_surface> surfaces;  ///< coefficient lists with their model id
   std::vector<std::array<Corner, 3>> faces;
-  std::vector<Face_uvs> uvs;            ///< empty, or one entry per face (§4.5.4)
-  std::string texture;                  ///< texture image path of a textured model ("" otherwise)
+  std::vector<Face_uvs> uvs;  ///< empty, or one entry per face (§4.5.4)
+  std::string texture;        ///< texture image path of a textured model ("" otherwise)
 
   bool has_uvs() const { return !uvs.empty(); }
   std::size_t number_of_vertices() const { return vertices.size(); }
@@ -111,8 +111,9 @@ struct Compact_model {
     }
     for (std::size_t i = 0; i < surfaces.size(); ++i) {
       const int k = number_of_coefficients(surfaces[i].model);
-      if (k == 0) fail("coefficient list " + std::to_string(i) + " has unknown model id " +
-                       std::to_string(int(surfaces[i].model)));
+      if (k == 0)
+        fail("coefficient list " + std::to_string(i) + " has unknown model id " +
+             std::to_string(int(surfaces[i].model)));
       for (int j = 0; j < 9; ++j)
         if (!std::isfinite(surfaces[i].c[j]) || (j >= k && surfaces[i].c[j] != 0.))
           fail("coefficient list " + std::to_string(i) + " has an invalid coefficient");

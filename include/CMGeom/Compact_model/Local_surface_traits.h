@@ -58,10 +58,14 @@ enum Surface_model : std::uint8_t { QUADRIC_MODEL = 0, CONE_MODEL = 1, CUBIC_MOD
 /// Number of stored coefficients of a model (0 for an unknown id).
 inline int number_of_coefficients(std::uint8_t model) {
   switch (model) {
-    case QUADRIC_MODEL: return 5;
-    case CONE_MODEL: return 6;
-    case CUBIC_MODEL: return 9;
-    default: return 0;
+    case QUADRIC_MODEL:
+      return 5;
+    case CONE_MODEL:
+      return 6;
+    case CUBIC_MODEL:
+      return 9;
+    default:
+      return 0;
   }
 }
 

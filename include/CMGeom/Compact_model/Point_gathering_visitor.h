@@ -74,7 +74,10 @@ private:
     const auto n = std::uint32_t(point_.size());
     point_.push_back(point);
     next_.push_back(nil);
-    if (head_[set] == nil) head_[set] = n; else next_[tail_[set]] = n;
+    if (head_[set] == nil)
+      head_[set] = n;
+    else
+      next_[tail_[set]] = n;
     tail_[set] = n;
   }
   std::vector<std::uint32_t> point_, next_, head_, tail_;

@@ -50,18 +50,18 @@ namespace CM {
 
 /// Options of build_compact_model().
 struct Build_options {
-  double sharp_angle = 40.;            ///< degrees, §4.4.2 threshold
-  double redistribution_angle = 30.;   ///< degrees, §4.3 threshold
-  bool redistribute = true;            ///< §4.3 redistribution step
-  bool cones = true;                   ///< allow cone-type vertices (§4.4.3)
+  double sharp_angle = 40.;           ///< degrees, §4.4.2 threshold
+  double redistribution_angle = 30.;  ///< degrees, §4.3 threshold
+  bool redistribute = true;           ///< §4.3 redistribution step
+  bool cones = true;                  ///< allow cone-type vertices (§4.4.3)
   /// A smooth vertex becomes cone-type when the cone's fitting error is below this fraction of
   /// the quadric's. 1 is the thesis' "minimum fitting error" rule.
   double cone_error_ratio = 1.0;
   /// Sectors with fewer points get a tangent plane instead of the traits' surface; cones need
   /// twice as many.
   int min_quadric_points = 8;
-  double error_bound = 0.;             ///< absolute; > 0 enables error control (§4.5.3)
-  int error_control_level = 2;         ///< level of the reconstruction error control measures
+  double error_bound = 0.;      ///< absolute; > 0 enables error control (§4.5.3)
+  int error_control_level = 2;  ///< level of the reconstruction error control measures
   /// Most rounds of error control; a round that does not lower the largest distance (both ways,
   /// at `error_control_level`) is undone (internal::Compact_model_builder::control_error).
   int error_control_rounds = 2;
@@ -70,7 +70,7 @@ struct Build_options {
   /// cubic traits, bound 0.3 % of the diagonal, level 3; Hausdorff 0.49 % without control):
   /// 1 -> 0.36 %, 3 and 10 -> 0.30 %, 30 and 100 -> 0.41 and 0.35 % (rounds undone).
   double error_control_weight = 10.;
-  bool round_to_float = true;          ///< what the CM file stores (keeps write/read exact)
+  bool round_to_float = true;  ///< what the CM file stores (keeps write/read exact)
   /// Also fit a sector with the points of its faces (§4.4.1: R_i ∪ R_j ∪ R_k with that foot
   /// face), not only v's own set R^n (§4.4.3). Off by default: measured on Fandisk (250 base
   /// faces, level 3) it raised the Hausdorff error from 0.87 % to 1.6 % of the diagonal.
@@ -101,12 +101,12 @@ struct Build_options {
 /// What build_compact_model() did.
 struct Build_statistics {
   std::size_t base_vertices = 0, base_faces = 0, sharp_edges = 0, dart_promotions = 0, cone_vertices = 0;
-  std::size_t gathering_nodes = 0;     ///< list nodes of the gathering (V + 2E)
-  std::size_t point_memberships = 0;   ///< sum of |R_i| after redistribution
-  std::size_t error_control_points = 0;     ///< points added by the kept rounds
+  std::size_t gathering_nodes = 0;                ///< list nodes of the gathering (V + 2E)
+  std::size_t point_memberships = 0;              ///< sum of |R_i| after redistribution
+  std::size_t error_control_points = 0;           ///< points added by the kept rounds
   std::size_t error_control_rejected_rounds = 0;  ///< rounds undone (they did not lower the error)
-  std::size_t unsupported_surfaces = 0;  ///< surfaces replaced by a plane (support check)
-  bool joint_fit = false;                ///< the joint refit ran and replaced the surfaces
+  std::size_t unsupported_surfaces = 0;           ///< surfaces replaced by a plane (support check)
+  bool joint_fit = false;                         ///< the joint refit ran and replaced the surfaces
 };
 
 namespace internal {
@@ -146,7 +146,6 @@ inline double angle_degrees(const Vec3& a, const Vec3& b) {
   const double c = dot(normalized(a), normalized(b));
   return std::acos(std::max(-1., std::min(1., c))) * 180. / 3.14159265358979323846;
 }
-
 
 // ---- Joint refit (step 5b, CMGeom addition) -------------------------------------------------
 // The unknowns of a sector: none (kind 0: cone, frame plane or no surface; kept as fitted), the
@@ -193,20 +192,19 @@ struct Joint_fit_cache {
 
 // What the joint refit reads from the build (all indexed as in build_compact_model()).
 struct Joint_fit_input {
-  const std::vector<Vec3>& base;                                   // base vertices
-  const std::vector<std::array<std::uint32_t, 3>>& faces;          // base faces (vertex ids)
-  const std::vector<Vec3>& face_normal;                            // twice-area-weighted
-  const std::vector<std::array<std::uint32_t, 3>>& face_sector;    // sector of each corner
-  const std::vector<Vec3>& points;                                 // input vertices
-  const std::vector<Vec3>& point_normal;                           // input vertex normals
-  const std::vector<std::array<std::uint32_t, 3>>& triangles;      // input faces
-  const std::vector<std::uint8_t>& kind;                           // per sector, see above
-  const std::vector<std::vector<Vec3>>& local_points;              // per sector, its fit's points
-  const std::vector<double>& scale;                                // per sector, longest base edge
+  const std::vector<Vec3>& base;                                 // base vertices
+  const std::vector<std::array<std::uint32_t, 3>>& faces;        // base faces (vertex ids)
+  const std::vector<Vec3>& face_normal;                          // twice-area-weighted
+  const std::vector<std::array<std::uint32_t, 3>>& face_sector;  // sector of each corner
+  const std::vector<Vec3>& points;                               // input vertices
+  const std::vector<Vec3>& point_normal;                         // input vertex normals
+  const std::vector<std::array<std::uint32_t, 3>>& triangles;    // input faces
+  const std::vector<std::uint8_t>& kind;                         // per sector, see above
+  const std::vector<std::vector<Vec3>>& local_points;            // per sector, its fit's points
+  const std::vector<double>& scale;                              // per sector, longest base edge
   // Error control's points (step 6), weights relative to the mean weight of an input sample.
   const std::vector<Joint_sample>& extra_samples;
 };
-
 
 // Offsets of each sector's unknowns in the joint system for the sectors' kinds (offset[s] to
 // offset[s + 1]); returns their number.
@@ -260,7 +258,8 @@ public:
     if (dot(nf_, smp.n) < 0.5) return;
     const Vec3 x = to_vec3(hit.first);
     const Vec3 &A = in_.base[in_.faces[f][0]], &B = in_.base[in_.faces[f][1]], &C = in_.base[in_.faces[f][2]];
-    double al[3] = {dot(cross(C - B, x - B), in_.face_normal[f]) / n2, dot(cross(A - C, x - C), in_.face_normal[f]) / n2,
+    double al[3] = {dot(cross(C - B, x - B), in_.face_normal[f]) / n2,
+                    dot(cross(A - C, x - C), in_.face_normal[f]) / n2,
                     dot(cross(B - A, x - A), in_.face_normal[f]) / n2};
     double W[3], sw = 0.;
     for (int k = 0; k < 3; ++k) {
@@ -480,9 +479,9 @@ void add_joint_sector_rows(const Joint_fit_input& in, const std::vector<std::uin
 
 // Solves the joint system by sparse LDLT; on success `refit` is the model's surfaces with the
 // solved coefficients (back in the sectors' own units). False when the solve fails.
-inline bool solve_joint_system(const Joint_system& sys, const Joint_fit_input& in, const std::vector<std::uint8_t>& kind,
-                               const std::vector<std::size_t>& offset, const Compact_model& model,
-                               std::vector<Local_surface>& refit) {
+inline bool solve_joint_system(const Joint_system& sys, const Joint_fit_input& in,
+                               const std::vector<std::uint8_t>& kind, const std::vector<std::size_t>& offset,
+                               const Compact_model& model, std::vector<Local_surface>& refit) {
   const std::size_t ns = kind.size(), n = offset[ns];
   Eigen::SparseMatrix<double> M(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
   M.setFromTriplets(sys.trip.begin(), sys.trip.end());
@@ -496,7 +495,8 @@ inline bool solve_joint_system(const Joint_system& sys, const Joint_fit_input& i
     Local_surface& sf = refit[s];
     for (int j = 0; j < m; ++j) {
       const int cj = joint_coefficient(kind[s], j);
-      sf.c[std::size_t(cj)] = c[Eigen::Index(offset[s] + std::size_t(j))] * std::pow(1. / in.scale[s], joint_degree(cj));
+      sf.c[std::size_t(cj)] =
+          c[Eigen::Index(offset[s] + std::size_t(j))] * std::pow(1. / in.scale[s], joint_degree(cj));
     }
   }
   return true;
@@ -511,16 +511,19 @@ inline bool solve_joint_system(const Joint_system& sys, const Joint_fit_input& i
 // unchanged; with 1 % of the edge instead of a fifth, so many sectors were held that Fandisk
 // went back to 0.76 %.
 template <class Mesh, class Traits>
-bool hold_sectors_at_sharp_edges(const Mesh& base_mesh, const Joint_fit_input& in, const std::vector<std::uint8_t>& kind,
-                                 const Traits& traits, const Compact_model& model,
-                                 const std::vector<Local_surface>& refit, Joint_input_distance& distance,
-                                 std::vector<std::uint8_t>& keep) {
-  auto corner_of = [&](std::size_t f, std::uint32_t v) { return in.faces[f][0] == v ? 0 : in.faces[f][1] == v ? 1 : 2; };
+bool hold_sectors_at_sharp_edges(const Mesh& base_mesh, const Joint_fit_input& in,
+                                 const std::vector<std::uint8_t>& kind, const Traits& traits,
+                                 const Compact_model& model, const std::vector<Local_surface>& refit,
+                                 Joint_input_distance& distance, std::vector<std::uint8_t>& keep) {
+  auto corner_of = [&](std::size_t f, std::uint32_t v) {
+    return in.faces[f][0] == v ? 0 : in.faces[f][1] == v ? 1 : 2;
+  };
   bool any = false;
   for (auto e : edges(base_mesh)) {
     const auto h = halfedge(e, base_mesh);
     if (is_border_edge(h, base_mesh)) continue;
-    const std::size_t f[2] = {std::size_t(face(h, base_mesh).idx()), std::size_t(face(opposite(h, base_mesh), base_mesh).idx())};
+    const std::size_t f[2] = {std::size_t(face(h, base_mesh).idx()),
+                              std::size_t(face(opposite(h, base_mesh), base_mesh).idx())};
     const std::uint32_t v[2] = {std::uint32_t(source(h, base_mesh).idx()), std::uint32_t(target(h, base_mesh).idx())};
     std::uint32_t sec[2][2];
     bool sharp[2];
@@ -534,11 +537,14 @@ bool hold_sectors_at_sharp_edges(const Mesh& base_mesh, const Joint_fit_input& i
     const double tol = 0.2 * length(B - A);
     for (int end = 0; end < 2; ++end) {
       if (!sharp[end]) continue;
-      const Local_frame f0(in.base[v[end]], model.normals[sec[end][0]]), f1(in.base[v[end]], model.normals[sec[end][1]]);
+      const Local_frame f0(in.base[v[end]], model.normals[sec[end][0]]),
+          f1(in.base[v[end]], model.normals[sec[end][1]]);
       for (const double t : {0.25, 0.5, 0.75}) {
         const Vec3 p = (1. - t) * A + t * B;
-        const double d_own = distance(sharp_edge_point(f0, model.surfaces[sec[end][0]], f1, model.surfaces[sec[end][1]], p, dir, traits));
-        const double d_refit = distance(sharp_edge_point(f0, refit[sec[end][0]], f1, refit[sec[end][1]], p, dir, traits));
+        const double d_own = distance(
+            sharp_edge_point(f0, model.surfaces[sec[end][0]], f1, model.surfaces[sec[end][1]], p, dir, traits));
+        const double d_refit =
+            distance(sharp_edge_point(f0, refit[sec[end][0]], f1, refit[sec[end][1]], p, dir, traits));
         if (d_refit > 2. * d_own + tol) {
           for (int side = 0; side < 2; ++side)
             if (kind[sec[end][side]] != 0) keep[sec[end][side]] = 1, any = true;
@@ -570,8 +576,8 @@ bool hold_sectors_at_sharp_edges(const Mesh& base_mesh, const Joint_fit_input& i
 // Returns whether the surfaces were replaced.
 // `progress` (optional) counts the input samples as they are located.
 template <class Mesh, class Traits>
-bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locality, double stiffness,
-                 int guard_rounds, const Traits& traits, Compact_model& model, Joint_fit_cache* cache = nullptr,
+bool joint_refit(const Mesh& base_mesh, const Joint_fit_input& in, double locality, double stiffness, int guard_rounds,
+                 const Traits& traits, Compact_model& model, Joint_fit_cache* cache = nullptr,
                  CMGeom::internal::Progress_reporter* progress = nullptr) {
   const std::size_t ns = in.kind.size(), nf = in.faces.size();
   // kind[s]: the sector's unknowns in this round; the guard sets it to 0 for sectors it holds.
@@ -637,14 +643,16 @@ struct Error_measure {
   }
 };
 
-inline void check_build_arguments(const CMGeom::Surface_mesh& input, std::size_t target_faces, const Build_options& opt) {
+inline void check_build_arguments(const CMGeom::Surface_mesh& input, std::size_t target_faces,
+                                  const Build_options& opt) {
   if (input.number_of_faces() == 0) throw Invalid_input("build_compact_model: the input mesh has no face");
   if (!CGAL::is_triangle_mesh(input)) throw Invalid_input("build_compact_model: the input is not a triangle mesh");
   if (target_faces < 2) throw Invalid_input("build_compact_model: the target must be at least 2 faces");
   if (!(opt.error_bound >= 0.) || opt.error_control_rounds < 0 || opt.error_control_level < 0 ||
       opt.error_control_level > 8 || !(opt.error_control_weight > 0.) || !std::isfinite(opt.error_control_weight))
-    throw Invalid_input("build_compact_model: error control needs error_bound >= 0, error_control_rounds >= 0, "
-                        "error_control_level in [0, 8] and a finite error_control_weight > 0");
+    throw Invalid_input(
+        "build_compact_model: error control needs error_bound >= 0, error_control_rounds >= 0, "
+        "error_control_level in [0, 8] and a finite error_control_weight > 0");
 }
 
 // The state of one build_compact_model() call and its steps, one member each, called in the
@@ -659,16 +667,18 @@ public:
   using Weights = Build_progress_weights;
 
   Compact_model_builder(const Mesh& input, const Build_options& opt, const Traits& traits)
-      : input_(input), opt_(opt), traits_(traits), progress_(opt.progress),
+      : input_(input),
+        opt_(opt),
+        traits_(traits),
+        progress_(opt.progress),
         error_control_(opt.error_bound > 0. && opt.error_control_rounds > 0),
         refit_weight_(opt.joint_fit ? Weights::joint : Weights::fit) {
     // Progress: each step's share of [0, 1] (see Build_progress_weights). Error control: at most
     // error_control_rounds + 1 measures and error_control_rounds refits.
-    weight_sum_ = Weights::simplify + Weights::gather + Weights::sharp + Weights::fit +
-                  (opt.joint_fit ? Weights::joint : 0.) +
-                  (error_control_ ? Weights::measure * (opt.error_control_rounds + 1) +
-                                        refit_weight_ * opt.error_control_rounds
-                                  : 0.);
+    weight_sum_ =
+        Weights::simplify + Weights::gather + Weights::sharp + Weights::fit + (opt.joint_fit ? Weights::joint : 0.) +
+        (error_control_ ? Weights::measure * (opt.error_control_rounds + 1) + refit_weight_ * opt.error_control_rounds
+                        : 0.);
   }
 
   // 0. Input copy without garbage (vertex index = original point id), its triangles, points and
@@ -680,7 +690,8 @@ public:
     input_triangles_.reserve(work_.number_of_faces());
     for (face_descriptor f : work_.faces()) {
       auto h = work_.halfedge(f);
-      input_triangles_.push_back({std::uint32_t(work_.target(h).idx()), std::uint32_t(work_.target(work_.next(h)).idx()),
+      input_triangles_.push_back({std::uint32_t(work_.target(h).idx()),
+                                  std::uint32_t(work_.target(work_.next(h)).idx()),
                                   std::uint32_t(work_.source(h).idx())});
     }
     P_.resize(nv_);
@@ -715,7 +726,8 @@ public:
     if (target_faces < work_.number_of_faces()) {
       Build_progress_visitor counter;
       counter.progress = &progress_;
-      simplify(work_, target_faces, Point_gathering_visitor<decltype(vim), Build_progress_visitor>(&gathered, vim, counter));
+      simplify(work_, target_faces,
+               Point_gathering_visitor<decltype(vim), Build_progress_visitor>(&gathered, vim, counter));
     }
     work_.collect_garbage();
     const auto original_id = work_.property_map<vertex_descriptor, std::uint32_t>("v:cm_original").first;
@@ -877,7 +889,8 @@ public:
       progress_.add(1);
       if (work_.is_border(e)) continue;
       const auto h = work_.halfedge(e);
-      const std::uint32_t f0 = std::uint32_t(work_.face(h).idx()), f1 = std::uint32_t(work_.face(work_.opposite(h)).idx());
+      const std::uint32_t f0 = std::uint32_t(work_.face(h).idx()),
+                          f1 = std::uint32_t(work_.face(work_.opposite(h)).idx());
       const Vec3 mid = 0.5 * (to_vec3(work_.point(work_.source(h))) + to_vec3(work_.point(work_.target(h))));
       if (face_points_[f0].size() < 3 || face_points_[f1].size() < 3) continue;
       std::uint32_t m = face_points_[f0][0];
@@ -1008,8 +1021,7 @@ public:
   void store_base_mesh() {
     model_.faces.resize(nf_);
     for (std::size_t f = 0; f < nf_; ++f)
-      for (int k = 0; k < 3; ++k)
-        model_.faces[f][k] = Corner{BF_[f][k], face_sector_[f][k], face_sector_[f][k]};
+      for (int k = 0; k < 3; ++k) model_.faces[f][k] = Corner{BF_[f][k], face_sector_[f][k], face_sector_[f][k]};
     if constexpr (simplifier_keeps_uvs<Simplifier>::value) {
       const auto uv = work_.property_map<Mesh::Halfedge_index, CMGeom::Point_2>("h:uv");
       if (!uv.second) throw Invalid_input("build_compact_model: the simplifier kept no texture coordinates");
@@ -1092,8 +1104,8 @@ public:
 private:
   using Input_tree = CGAL::AABB_tree<CGAL::AABB_traits<CMGeom::Kernel, CGAL::AABB_face_graph_triangle_primitive<Mesh>>>;
   using Triangle = CMGeom::Kernel::Triangle_3;
-  using Rec_tree = CGAL::AABB_tree<
-      CGAL::AABB_traits<CMGeom::Kernel, CGAL::AABB_triangle_primitive<CMGeom::Kernel, std::vector<Triangle>::const_iterator>>>;
+  using Rec_tree = CGAL::AABB_tree<CGAL::AABB_traits<
+      CMGeom::Kernel, CGAL::AABB_triangle_primitive<CMGeom::Kernel, std::vector<Triangle>::const_iterator>>>;
   static constexpr std::uint32_t nil_id = 0xffffffffu;
 
   // Starts the next step of the progress, `weight` long (of Build_progress_weights), `work`
@@ -1147,7 +1159,9 @@ private:
       if (cone.ok && cone.error < opt_.cone_error_ratio * best.error) best = cone;
     }
     surface = best.ok ? best.surface : Local_surface();
-    sector_kind_[s] = !best.ok || best.surface.is_cone() ? 0 : pts.size() >= std::size_t(opt_.min_quadric_points) ? 2 : 1;
+    sector_kind_[s] = !best.ok || best.surface.is_cone()                   ? 0
+                      : pts.size() >= std::size_t(opt_.min_quadric_points) ? 2
+                                                                           : 1;
     if (opt_.max_surface_departure > 0.) check_support(s, fr, pts);
     sector_points_[s] = std::move(pts);
   }
@@ -1194,8 +1208,9 @@ private:
   void run_joint_refit() {
     if (!opt_.joint_fit) return;
     local_fit_ = model_.surfaces;
-    const Joint_fit_input in{base_, BF_, face_normal_, face_sector_, P_, Nrm_, input_triangles_,
-                             sector_kind_, sector_points_, sector_scale_, error_samples_};
+    const Joint_fit_input in{
+        base_,          BF_,           face_normal_,  face_sector_, P_, Nrm_, input_triangles_, sector_kind_,
+        sector_points_, sector_scale_, error_samples_};
     st_.joint_fit = joint_refit(work_, in, opt_.joint_fit_locality, opt_.joint_fit_stiffness, 2, traits_, model_,
                                 &joint_cache_, &progress_);
   }
@@ -1240,7 +1255,8 @@ private:
       const Vec3 foot_point = to_vec3(hit.first);
       const double d = length(foot_point - x);
       m.note(d);
-      if (may_add && d > opt_.error_bound) m.off.push_back({foot_point, input_face_unit_normal(hit.second), d, sector_near(bf, x)});
+      if (may_add && d > opt_.error_bound)
+        m.off.push_back({foot_point, input_face_unit_normal(hit.second), d, sector_near(bf, x)});
       progress_.add(1);
     };
     std::vector<std::uint8_t> done(rec.points.size(), 0);
@@ -1256,7 +1272,8 @@ private:
     // Input -> reconstruction: every input vertex and face centroid.
     std::vector<Triangle> tris;
     tris.reserve(rec.triangles.size());
-    for (const auto& t : rec.triangles) tris.emplace_back(to_point(rec.points[t[0]]), to_point(rec.points[t[1]]), to_point(rec.points[t[2]]));
+    for (const auto& t : rec.triangles)
+      tris.emplace_back(to_point(rec.points[t[0]]), to_point(rec.points[t[1]]), to_point(rec.points[t[2]]));
     Rec_tree rec_tree(tris.begin(), tris.end());
     rec_tree.accelerate_distance_queries();
     auto to_reconstruction = [&](const Vec3& x, const Vec3& n) {
@@ -1309,7 +1326,7 @@ private:
   Build_statistics st_;
   CMGeom::internal::Progress_reporter progress_;
   const bool error_control_;
-  const double refit_weight_;  // the share of one refit of error control
+  const double refit_weight_;                 // the share of one refit of error control
   double weight_sum_ = 0., step_start_ = 0.;  // `step_start_`: where the next step begins
 
   // The input (step 0).
@@ -1320,8 +1337,8 @@ private:
   // The base and its sets (steps 1-3).
   std::size_t nb_ = 0, nf_ = 0;
   std::vector<Vec3> base_;
-  std::vector<std::uint32_t> base_original_;     // original point id the base vertex sits on
-  std::vector<std::vector<std::uint32_t>> R_;    // R_i of each base vertex
+  std::vector<std::uint32_t> base_original_;      // original point id the base vertex sits on
+  std::vector<std::vector<std::uint32_t>> R_;     // R_i of each base vertex
   std::vector<std::array<std::uint32_t, 3>> BF_;  // base faces (vertex ids)
   std::vector<Vec3> face_normal_;                 // twice-area-weighted
   std::vector<std::vector<std::uint32_t>> foot_, face_points_;

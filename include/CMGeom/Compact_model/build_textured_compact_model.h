@@ -86,8 +86,7 @@ template <class Traits = Quadric_surface_traits>
 Compact_model build_textured_compact_model(
     const Textured_mesh& input, std::size_t target_faces, const Build_options& opt = Build_options(),
     const Traits& traits = Traits(), Textured_build_result* result = nullptr, Build_statistics* stats = nullptr,
-    const CMGeom::Textured_simplification::Textured_simplification_options& texture_options =
-        textured_base_options()) {
+    const CMGeom::Textured_simplification::Textured_simplification_options& texture_options = textured_base_options()) {
   if (!input.has_uvs())
     throw Invalid_input("build_textured_compact_model: '" + input.source() + "' has no texture coordinates");
   Textured_build_result local;

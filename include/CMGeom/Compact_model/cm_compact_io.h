@@ -38,8 +38,8 @@ struct Compact_encoding {
 
 /// Stored bytes of each part of a version 3 file (stream headers included).
 struct CM_file_parts {
-  std::size_t header = 0, connectivity = 0, sectors = 0, positions = 0, normals = 0, coefficients = 0,
-              uvs = 0, checksum = 0;
+  std::size_t header = 0, connectivity = 0, sectors = 0, positions = 0, normals = 0, coefficients = 0, uvs = 0,
+              checksum = 0;
   std::size_t total() const {
     return header + connectivity + sectors + positions + normals + coefficients + uvs + checksum;
   }
@@ -64,9 +64,8 @@ inline std::size_t write_compact_cm(const std::string& path, const Compact_model
 }
 
 /// Same, registered in `out` (the file appears when `out` is committed).
-inline std::size_t write_compact_cm(const std::string& path, const Compact_model& m,
-                                    const Compact_encoding& encoding, IO::Atomic_output& out,
-                                    CM_file_parts* parts = nullptr) {
+inline std::size_t write_compact_cm(const std::string& path, const Compact_model& m, const Compact_encoding& encoding,
+                                    IO::Atomic_output& out, CM_file_parts* parts = nullptr) {
   const std::string bytes = compact_cm_bytes(m, encoding, parts);
   IO::write_file(path, bytes, out);
   return bytes.size();

@@ -79,8 +79,7 @@ struct Le_reader {
   void need(std::size_t k, const char* what) const {
     if (k > n - pos)
       throw IO_error(file, std::string("truncated file: ") + what + " needs " + std::to_string(k) +
-                               " bytes at offset " + std::to_string(pos) + ", " + std::to_string(n - pos) +
-                               " left");
+                               " bytes at offset " + std::to_string(pos) + ", " + std::to_string(n - pos) + " left");
   }
   std::uint8_t u8() { return p[pos++]; }
   std::uint32_t u32() {

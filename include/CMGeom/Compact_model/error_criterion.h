@@ -45,8 +45,8 @@ struct Chord_error_criterion {
 /// What reconstruct_to_vertex_budget() found.
 struct Vertex_budget_result {
   Reconstruction reconstruction;
-  double tolerance = 0.;       ///< the Chord_error_criterion tolerance of `reconstruction`
-  int reconstructions = 0;     ///< adaptive reconstructions run
+  double tolerance = 0.;    ///< the Chord_error_criterion tolerance of `reconstruction`
+  int reconstructions = 0;  ///< adaptive reconstructions run
 };
 
 /// Adaptive reconstruction with Chord_error_criterion whose tolerance is chosen so that the

@@ -100,9 +100,8 @@ Vec3 closest_point(const Local_frame& f, const Local_surface& s, const Vec3& p, 
 /// direction `t` (§4.5.1, points on sharp edges). `converged` (optional) tells whether Newton
 /// converged; when it did not, the mean of the two projections along N moved into pi is returned.
 template <class Traits = Quadric_surface_traits>
-Vec3 sharp_edge_point(const Local_frame& f1, const Local_surface& s1, const Local_frame& f2,
-                      const Local_surface& s2, const Vec3& p, const Vec3& t, const Traits& traits = Traits(),
-                      bool* converged = nullptr) {
+Vec3 sharp_edge_point(const Local_frame& f1, const Local_surface& s1, const Local_frame& f2, const Local_surface& s2,
+                      const Vec3& p, const Vec3& t, const Traits& traits = Traits(), bool* converged = nullptr) {
   using internal::dot;
   Vec3 q = 0.5 * (project_along_normal(f1, s1, p, traits) + project_along_normal(f2, s2, p, traits));
   q -= dot(q - p, t) * t;

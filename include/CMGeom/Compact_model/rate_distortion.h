@@ -46,13 +46,13 @@ struct Rate_target {
 
 /// What build_compact_model_for() chose and measured.
 struct Rate_choice {
-  std::size_t base_faces = 0;  ///< target faces passed to build_compact_model
-  int level = 0;               ///< reconstruction level the error was measured at
-  Compact_encoding encoding;   ///< write the model with this to get `bytes`
-  std::size_t bytes = 0;       ///< size of the version 3 file
+  std::size_t base_faces = 0;       ///< target faces passed to build_compact_model
+  int level = 0;                    ///< reconstruction level the error was measured at
+  Compact_encoding encoding;        ///< write the model with this to get `bytes`
+  std::size_t bytes = 0;            ///< size of the version 3 file
   double hausdorff = 0., rms = 0.;  ///< at `level`, fractions of the diagonal
-  int candidates = 0;          ///< models built and measured
-  bool met = false;            ///< the target holds
+  int candidates = 0;               ///< models built and measured
+  bool met = false;                 ///< the target holds
 };
 
 namespace internal {
@@ -72,10 +72,10 @@ struct Rate_candidate {
 /// what was chosen. Write the result with write_compact_cm(path, model, choice.encoding). Throws
 /// Invalid_input for an invalid target or input.
 template <class Traits = Quadric_surface_traits>
-Compact_model build_compact_model_for(const CMGeom::Surface_mesh& input, const Rate_target& target,
-                                      Rate_choice& choice, const Build_options& options = Build_options(),
-                                      const Traits& traits = Traits()) {
-  if (!(target.max_error >= 0.) || !std::isfinite(target.max_error) || (target.max_error == 0. && target.max_bytes == 0))
+Compact_model build_compact_model_for(const CMGeom::Surface_mesh& input, const Rate_target& target, Rate_choice& choice,
+                                      const Build_options& options = Build_options(), const Traits& traits = Traits()) {
+  if (!(target.max_error >= 0.) || !std::isfinite(target.max_error) ||
+      (target.max_error == 0. && target.max_bytes == 0))
     throw Invalid_input("build_compact_model_for: set max_error (> 0, a fraction of the diagonal) or max_bytes");
   if (target.max_level < 1 || target.max_level > 6)
     throw Invalid_input("build_compact_model_for: max_level must be in [1, 6]");

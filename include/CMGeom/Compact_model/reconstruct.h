@@ -41,8 +41,7 @@
 // the scalar kernel otherwise). Each lane performs exactly the scalar operations, in the same
 // order (no FMA: the project compiles with -ffp-contract=off and the kernel enables AVX only), so
 // the results are bit-identical to the scalar kernel's, whichever runs.
-#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__) && defined(__SSE2__) && \
-    !defined(CMGEOM_NO_SIMD)
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__) && defined(__SSE2__) && !defined(CMGEOM_NO_SIMD)
 #define CMGEOM_CM_SIMD_ROWS 1
 #include <immintrin.h>
 #endif
@@ -130,7 +129,7 @@ namespace internal {
 // Edges of the base mesh, faces' sides, and per-corner frames (computed once).
 struct Base_topology {
   struct Edge {
-    std::uint32_t a, b;             // a < b
+    std::uint32_t a, b;              // a < b
     std::uint32_t face[2], side[2];  // side k of a face joins its corners k and k+1; face[1] = npos if border
   };
   static constexpr std::uint32_t npos = 0xffffffffu;
@@ -213,7 +212,8 @@ inline void apply_vertex_maps(const std::vector<Vertex_affine_map>& maps, int n,
     if (w[k] == 0.) continue;
     const Vertex_affine_map& T = maps[v[k]];
     const Vec3 d = s.point - T.rest;
-    const Vec3 Md(T.M[0][0] * d.x + T.M[0][1] * d.y + T.M[0][2] * d.z, T.M[1][0] * d.x + T.M[1][1] * d.y + T.M[1][2] * d.z,
+    const Vec3 Md(T.M[0][0] * d.x + T.M[0][1] * d.y + T.M[0][2] * d.z,
+                  T.M[1][0] * d.x + T.M[1][1] * d.y + T.M[1][2] * d.z,
                   T.M[2][0] * d.x + T.M[2][1] * d.y + T.M[2][2] * d.z);
     q += w[k] * (Md + T.deformed);
     for (int i = 0; i < 3; ++i)
@@ -291,8 +291,8 @@ public:
   // one step (one square root, one division). interior() and along_normal_row() both use it, so
   // regular, adaptive and (identity-)mapped reconstructions along N agree bit for bit.
   CMGEOM_ALWAYS_INLINE void add_along_normal(const Local_frame& fr, const Local_surface& s,
-                                             const std::array<Vec3, 3>& L, double a0, double a1, double a2,
-                                             double w, double inv, Vec3& p, Vec3& q) const {
+                                             const std::array<Vec3, 3>& L, double a0, double a1, double a2, double w,
+                                             double inv, Vec3& p, Vec3& q) const {
     const double x = a0 * L[0].x + a1 * L[1].x + a2 * L[2].x;
     const double y = a0 * L[0].y + a1 * L[1].y + a2 * L[2].y;
     double d[5];
@@ -359,7 +359,7 @@ public:
   // same order in every lane (Vec3 arithmetic spelled out component-wise, left to right). Lanes
   // past the end of the row repeat its last point and are not stored.
   __attribute__((target("avx"))) void along_normal_row_avx(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts,
-                                                            Vec3* nrm) const {
+                                                           Vec3* nrm) const {
     using D = simd::d4;
     using M = simd::m4;
     constexpr int W = 4;
@@ -438,7 +438,8 @@ public:
       const D len = simd::sqrt(qx * qx + qy * qy + qz * qz);
       const M pos = len > zero;
       const D r = simd::select(pos, one / len, one);
-      const D nx = simd::select(pos, qx * r, qx), ny = simd::select(pos, qy * r, qy), nz = simd::select(pos, qz * r, qz);
+      const D nx = simd::select(pos, qx * r, qx), ny = simd::select(pos, qy * r, qy),
+              nz = simd::select(pos, qz * r, qz);
       const int valid = int(std::min<std::size_t>(W, last + 1 - i0));
       for (int l = 0; l < valid; ++l) {
         pts[i0 + l - 1] = Vec3(px[l], py[l], pz[l]);
@@ -497,7 +498,8 @@ public:
         const Local_surface& s1 = m_.surfaces[k1.surface];
         const Vec3 q = sharp_edge_point(fr0, s0, fr1, s1, p, t, traits_);
         const Vec3 l0 = fr0.to_local(q), l1 = fr1.to_local(q);
-        return {q, normalized(surface_normal(fr0, s0, l0.x, l0.y, traits_) + surface_normal(fr1, s1, l1.x, l1.y, traits_))};
+        return {
+            q, normalized(surface_normal(fr0, s0, l0.x, l0.y, traits_) + surface_normal(fr1, s1, l1.x, l1.y, traits_))};
       }
     }
     return project(f0, c0, p);
@@ -557,7 +559,8 @@ private:
 // body(begin, end) over consecutive blocks of [0, n): per-block scratch memory lives in the body.
 // `progress` (optional) counts the elements done, a block at a time.
 template <class Body>
-void for_blocks(std::size_t n, bool parallel, const Body& body, CMGeom::internal::Progress_reporter* progress = nullptr) {
+void for_blocks(std::size_t n, bool parallel, const Body& body,
+                CMGeom::internal::Progress_reporter* progress = nullptr) {
   if (parallel) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const tbb::blocked_range<std::size_t>& r) {
       body(r.begin(), r.end());
@@ -574,7 +577,8 @@ void for_blocks(std::size_t n, bool parallel, const Body& body, CMGeom::internal
 }
 
 template <class Body>
-void for_range(std::size_t n, bool parallel, const Body& body, CMGeom::internal::Progress_reporter* progress = nullptr) {
+void for_range(std::size_t n, bool parallel, const Body& body,
+               CMGeom::internal::Progress_reporter* progress = nullptr) {
   for_blocks(
       n, parallel,
       [&](std::size_t begin, std::size_t end) {
@@ -596,7 +600,8 @@ template <class Traits = Quadric_surface_traits>
 void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
                          const Reconstruction_options& opt = Reconstruction_options(),
                          const Traits& traits = Traits()) {
-  if (level < 0 || level > 12) throw Invalid_input("reconstruction level must be in [0, 12], got " + std::to_string(level));
+  if (level < 0 || level > 12)
+    throw Invalid_input("reconstruction level must be in [0, 12], got " + std::to_string(level));
   m.validate();
   const internal::Base_topology topo(m);
   const internal::Evaluator<Traits> ev(m, topo, traits, opt.projection, opt.vertex_maps);
@@ -640,91 +645,94 @@ void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
       &progress);
   progress.phase(edge_share, 1., F);
   const bool along_n_rows = opt.projection == Projection::along_normal;
-  internal::for_blocks(F, opt.parallel, [&](std::size_t f_begin, std::size_t f_end) {
-    std::vector<std::uint32_t> grid((n + 1) * (n + 2) / 2);
-    std::vector<std::array<float, 2>> grid_uv(m.has_uvs() ? grid.size() : 0);
-    for (std::size_t f = f_begin; f != f_end; ++f) {
-      const auto& Fc = m.faces[f];
-      // Output index of grid point (i, j): corner 0 at (0,0), corner 1 at (n,0), corner 2 at (0,n).
-      auto on_side = [&](int side, std::size_t k_from_start) -> std::uint32_t {
-        const auto& e = topo.edges[topo.face_edges[f][side]];
-        const std::size_t k = (Fc[side].vertex == e.a) ? k_from_start : n - k_from_start;
-        return std::uint32_t(edge_base + topo.face_edges[f][side] * per_edge + k - 1);
-      };
-      auto index = [&](std::size_t i, std::size_t j) -> std::uint32_t {
-        if (i == 0 && j == 0) return Fc[0].vertex;
-        if (i == n && j == 0) return Fc[1].vertex;
-        if (i == 0 && j == n) return Fc[2].vertex;
-        if (j == 0) return on_side(0, i);
-        if (i + j == n) return on_side(1, j);
-        if (i == 0) return on_side(2, n - j);
-        // interior, rows j = 1..n-2, i = 1..n-1-j
-        const std::size_t before = (j - 1) * (n - 2) - (j - 1) * (j - 2) / 2;
-        return std::uint32_t(face_base + f * per_face + before + (i - 1));
-      };
-      // Interior points, row by row; their ids in a row are consecutive (see index()).
-      for (std::size_t j = 1; j + 1 < n; ++j) {
-        const std::uint32_t id = index(1, j);
-        if (along_n_rows) {
-          ev.along_normal_row(std::uint32_t(f), j, n, &r.points[id], &r.normals[id]);
-          continue;
-        }
-        for (std::size_t i = 1; i + j < n; ++i) {
-          const double a1 = double(i) / double(n), a2 = double(j) / double(n), a0 = double(n - i - j) / double(n);
-          const Sample s = ev.interior(std::uint32_t(f), a0, a1, a2);
-          r.points[id + i - 1] = s.point;
-          r.normals[id + i - 1] = s.normal;
-        }
-      }
-      // The output id (and texture coordinates) of every grid point, computed once, then the
-      // triangles: grid point (i, j) is entry row(j) + i.
-      auto row = [n](std::size_t j) { return j * (n + 1) - j * (j - 1) / 2; };
-      for (std::size_t j = 0; j <= n; ++j) {
-        std::uint32_t* g = grid.data() + row(j);
-        const std::size_t last = n - j;  // row j holds i = 0 .. last
-        g[0] = index(0, j);
-        g[last] = index(last, j);
-        if (j == 0) {
-          for (std::size_t i = 1; i < last; ++i) g[i] = index(i, 0);
-        } else if (last >= 2) {  // interior ids of a row are consecutive
-          const std::uint32_t first = index(1, j);
-          for (std::size_t i = 1; i < last; ++i) g[i] = first + std::uint32_t(i - 1);
-        }
-      }
-      // Triangles (i,j) (i+1,j) (i,j+1) and (i+1,j) (i+1,j+1) (i,j+1), row by row.
-      std::array<std::uint32_t, 3>* T = r.triangles.data() + f * n * n;
-      for (std::size_t j = 0; j < n; ++j) {
-        const std::uint32_t* g0 = grid.data() + row(j);
-        const std::uint32_t* g1 = grid.data() + row(j + 1);
-        const std::size_t last = n - 1 - j;  // i = 0 .. last
-        for (std::size_t i = 0; i < last; ++i) {
-          *T++ = {g0[i], g0[i + 1], g1[i]};
-          *T++ = {g0[i + 1], g1[i + 1], g1[i]};
-        }
-        *T++ = {g0[last], g0[last + 1], g1[last]};
-      }
-      std::fill_n(r.base_face.data() + f * n * n, n * n, std::uint32_t(f));
-      if (m.has_uvs()) {
-        for (std::size_t j = 0; j <= n; ++j)
-          for (std::size_t i = 0; i + j <= n; ++i)
-            grid_uv[row(j) + i] = internal::interpolate_uv(m.uvs[f], double(n - i - j) / double(n), double(i) / double(n),
-                                                           double(j) / double(n));
-        std::array<float, 2>* U = r.corner_uvs.data() + 3 * f * n * n;
-        auto put = [&](std::size_t a, std::size_t b, std::size_t c) {
-          *U++ = grid_uv[a];
-          *U++ = grid_uv[b];
-          *U++ = grid_uv[c];
-        };
-        for (std::size_t j = 0; j < n; ++j) {
-          const std::size_t r0 = row(j), r1 = row(j + 1);
-          for (std::size_t i = 0; i + j < n; ++i) {
-            put(r0 + i, r0 + i + 1, r1 + i);
-            if (i + j + 2 <= n) put(r0 + i + 1, r1 + i + 1, r1 + i);
+  internal::for_blocks(
+      F, opt.parallel,
+      [&](std::size_t f_begin, std::size_t f_end) {
+        std::vector<std::uint32_t> grid((n + 1) * (n + 2) / 2);
+        std::vector<std::array<float, 2>> grid_uv(m.has_uvs() ? grid.size() : 0);
+        for (std::size_t f = f_begin; f != f_end; ++f) {
+          const auto& Fc = m.faces[f];
+          // Output index of grid point (i, j): corner 0 at (0,0), corner 1 at (n,0), corner 2 at (0,n).
+          auto on_side = [&](int side, std::size_t k_from_start) -> std::uint32_t {
+            const auto& e = topo.edges[topo.face_edges[f][side]];
+            const std::size_t k = (Fc[side].vertex == e.a) ? k_from_start : n - k_from_start;
+            return std::uint32_t(edge_base + topo.face_edges[f][side] * per_edge + k - 1);
+          };
+          auto index = [&](std::size_t i, std::size_t j) -> std::uint32_t {
+            if (i == 0 && j == 0) return Fc[0].vertex;
+            if (i == n && j == 0) return Fc[1].vertex;
+            if (i == 0 && j == n) return Fc[2].vertex;
+            if (j == 0) return on_side(0, i);
+            if (i + j == n) return on_side(1, j);
+            if (i == 0) return on_side(2, n - j);
+            // interior, rows j = 1..n-2, i = 1..n-1-j
+            const std::size_t before = (j - 1) * (n - 2) - (j - 1) * (j - 2) / 2;
+            return std::uint32_t(face_base + f * per_face + before + (i - 1));
+          };
+          // Interior points, row by row; their ids in a row are consecutive (see index()).
+          for (std::size_t j = 1; j + 1 < n; ++j) {
+            const std::uint32_t id = index(1, j);
+            if (along_n_rows) {
+              ev.along_normal_row(std::uint32_t(f), j, n, &r.points[id], &r.normals[id]);
+              continue;
+            }
+            for (std::size_t i = 1; i + j < n; ++i) {
+              const double a1 = double(i) / double(n), a2 = double(j) / double(n), a0 = double(n - i - j) / double(n);
+              const Sample s = ev.interior(std::uint32_t(f), a0, a1, a2);
+              r.points[id + i - 1] = s.point;
+              r.normals[id + i - 1] = s.normal;
+            }
+          }
+          // The output id (and texture coordinates) of every grid point, computed once, then the
+          // triangles: grid point (i, j) is entry row(j) + i.
+          auto row = [n](std::size_t j) { return j * (n + 1) - j * (j - 1) / 2; };
+          for (std::size_t j = 0; j <= n; ++j) {
+            std::uint32_t* g = grid.data() + row(j);
+            const std::size_t last = n - j;  // row j holds i = 0 .. last
+            g[0] = index(0, j);
+            g[last] = index(last, j);
+            if (j == 0) {
+              for (std::size_t i = 1; i < last; ++i) g[i] = index(i, 0);
+            } else if (last >= 2) {  // interior ids of a row are consecutive
+              const std::uint32_t first = index(1, j);
+              for (std::size_t i = 1; i < last; ++i) g[i] = first + std::uint32_t(i - 1);
+            }
+          }
+          // Triangles (i,j) (i+1,j) (i,j+1) and (i+1,j) (i+1,j+1) (i,j+1), row by row.
+          std::array<std::uint32_t, 3>* T = r.triangles.data() + f * n * n;
+          for (std::size_t j = 0; j < n; ++j) {
+            const std::uint32_t* g0 = grid.data() + row(j);
+            const std::uint32_t* g1 = grid.data() + row(j + 1);
+            const std::size_t last = n - 1 - j;  // i = 0 .. last
+            for (std::size_t i = 0; i < last; ++i) {
+              *T++ = {g0[i], g0[i + 1], g1[i]};
+              *T++ = {g0[i + 1], g1[i + 1], g1[i]};
+            }
+            *T++ = {g0[last], g0[last + 1], g1[last]};
+          }
+          std::fill_n(r.base_face.data() + f * n * n, n * n, std::uint32_t(f));
+          if (m.has_uvs()) {
+            for (std::size_t j = 0; j <= n; ++j)
+              for (std::size_t i = 0; i + j <= n; ++i)
+                grid_uv[row(j) + i] = internal::interpolate_uv(m.uvs[f], double(n - i - j) / double(n),
+                                                               double(i) / double(n), double(j) / double(n));
+            std::array<float, 2>* U = r.corner_uvs.data() + 3 * f * n * n;
+            auto put = [&](std::size_t a, std::size_t b, std::size_t c) {
+              *U++ = grid_uv[a];
+              *U++ = grid_uv[b];
+              *U++ = grid_uv[c];
+            };
+            for (std::size_t j = 0; j < n; ++j) {
+              const std::size_t r0 = row(j), r1 = row(j + 1);
+              for (std::size_t i = 0; i + j < n; ++i) {
+                put(r0 + i, r0 + i + 1, r1 + i);
+                if (i + j + 2 <= n) put(r0 + i + 1, r1 + i + 1, r1 + i);
+              }
+            }
           }
         }
-      }
-    }
-  }, &progress);
+      },
+      &progress);
   progress.finish();
 }
 
@@ -784,41 +792,44 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
     std::vector<Sample> s;
   };
   std::vector<Edge_points> ep(E);
-  internal::for_range(E, opt.parallel, [&](std::size_t e) {
-    const auto& ed = topo.edges[e];
-    const std::uint32_t f0 = ed.face[0];
-    const Sample sa = ev.vertex(f0, ev.corner_of(f0, ed.a)), sb = ev.vertex(f0, ev.corner_of(f0, ed.b));
-    // Depth-first over segments, left to right, so t comes out sorted.
-    struct Item {
-      std::int64_t t0, t1;
-      Sample s0, s1;
-      int level;
-    };
-    std::vector<Item> stack{{0, kOne, sa, sb, 0}};
-    while (!stack.empty()) {
-      const Item it = stack.back();
-      stack.pop_back();
-      if (it.level >= max_level || !criterion(it.s0, it.s1)) continue;
-      const std::int64_t tm = (it.t0 + it.t1) / 2;
-      const Sample sm = ev.on_edge(std::uint32_t(e), double(tm) / double(kOne));
-      // Right half pushed first so the left one is processed (and its points emitted) first;
-      // points are emitted in order by an in-order traversal below.
-      stack.push_back({tm, it.t1, sm, it.s1, it.level + 1});
-      stack.push_back({it.t0, tm, it.s0, sm, it.level + 1});
-      ep[e].t.push_back(tm);
-      ep[e].s.push_back(sm);
-    }
-    // Sort by parameter (the pre-order above is not sorted).
-    std::vector<std::size_t> order(ep[e].t.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return ep[e].t[x] < ep[e].t[y]; });
-    Edge_points sorted;
-    for (std::size_t i : order) {
-      sorted.t.push_back(ep[e].t[i]);
-      sorted.s.push_back(ep[e].s[i]);
-    }
-    ep[e] = std::move(sorted);
-  }, &progress);
+  internal::for_range(
+      E, opt.parallel,
+      [&](std::size_t e) {
+        const auto& ed = topo.edges[e];
+        const std::uint32_t f0 = ed.face[0];
+        const Sample sa = ev.vertex(f0, ev.corner_of(f0, ed.a)), sb = ev.vertex(f0, ev.corner_of(f0, ed.b));
+        // Depth-first over segments, left to right, so t comes out sorted.
+        struct Item {
+          std::int64_t t0, t1;
+          Sample s0, s1;
+          int level;
+        };
+        std::vector<Item> stack{{0, kOne, sa, sb, 0}};
+        while (!stack.empty()) {
+          const Item it = stack.back();
+          stack.pop_back();
+          if (it.level >= max_level || !criterion(it.s0, it.s1)) continue;
+          const std::int64_t tm = (it.t0 + it.t1) / 2;
+          const Sample sm = ev.on_edge(std::uint32_t(e), double(tm) / double(kOne));
+          // Right half pushed first so the left one is processed (and its points emitted) first;
+          // points are emitted in order by an in-order traversal below.
+          stack.push_back({tm, it.t1, sm, it.s1, it.level + 1});
+          stack.push_back({it.t0, tm, it.s0, sm, it.level + 1});
+          ep[e].t.push_back(tm);
+          ep[e].s.push_back(sm);
+        }
+        // Sort by parameter (the pre-order above is not sorted).
+        std::vector<std::size_t> order(ep[e].t.size());
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return ep[e].t[x] < ep[e].t[y]; });
+        Edge_points sorted;
+        for (std::size_t i : order) {
+          sorted.t.push_back(ep[e].t[i]);
+          sorted.s.push_back(ep[e].s[i]);
+        }
+        ep[e] = std::move(sorted);
+      },
+      &progress);
   std::vector<std::size_t> edge_offset(E + 1, V);
   for (std::size_t e = 0; e < E; ++e) edge_offset[e + 1] = edge_offset[e] + ep[e].t.size();
 
@@ -830,117 +841,120 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
   };
   std::vector<Face_out> fo(F);
   progress.phase(0.3, 0.95, F);
-  internal::for_range(F, opt.parallel, [&](std::size_t fi) {
-    const std::uint32_t f = std::uint32_t(fi);
-    const auto& Fc = m.faces[f];
-    Face_out& out = fo[f];
-    struct Node {
-      std::int64_t id;
-      Sample s;
-    };
-    std::unordered_map<Bary, Node, internal::Bary_hash> memo;
-    const Bary corner[3] = {{0, 0}, {kOne, 0}, {0, kOne}};
-    for (int c = 0; c < 3; ++c) memo.emplace(corner[c], Node{std::int64_t(Fc[c].vertex), ev.vertex(f, c)});
-    // Side k of the face holds points with u_{k+2} = 0; its parameter from corner k is u_{k+1}.
-    auto coord = [](const Bary& b, int k) { return k == 0 ? b.u0() : (k == 1 ? b.u1 : b.u2); };
-    auto side_of = [&](const Bary& b) -> int {
-      for (int k = 0; k < 3; ++k)
-        if (coord(b, (k + 2) % 3) == 0) return k;
-      return -1;
-    };
-    auto edge_lookup = [&](int side, const Bary& b) -> const Node* {
-      const std::uint32_t e = topo.face_edges[f][side];
-      const auto& ed = topo.edges[e];
-      const std::int64_t from_start = coord(b, (side + 1) % 3);
-      const std::int64_t t = Fc[side].vertex == ed.a ? from_start : kOne - from_start;
-      const auto it = std::lower_bound(ep[e].t.begin(), ep[e].t.end(), t);
-      if (it == ep[e].t.end() || *it != t) return nullptr;
-      const std::size_t k = std::size_t(it - ep[e].t.begin());
-      auto ins = memo.emplace(b, Node{std::int64_t(edge_offset[e] + k), ep[e].s[k]});
-      return &ins.first->second;
-    };
-    auto node = [&](const Bary& b) -> const Node& {
-      auto it = memo.find(b);
-      if (it != memo.end()) return it->second;
-      const int side = side_of(b);
-      if (side >= 0) {
-        const Node* n = edge_lookup(side, b);
-        CGAL_assertion(n != nullptr);
-        return *n;
-      }
-      const Sample s = ev.interior(f, double(b.u0()) / double(kOne), double(b.u1) / double(kOne),
-                                   double(b.u2) / double(kOne));
-      out.interior.push_back(s);
-      return memo.emplace(b, Node{-std::int64_t(out.interior.size()), s}).first->second;
-    };
-    // Does sub-edge (p, q) get split? Base-edge segments: the edge decided (its point exists).
-    auto split = [&](const Bary& p, const Bary& q, int level) -> bool {
-      const Bary mid = midpoint(p, q);
-      for (int k = 0; k < 3; ++k) {
-        const int opp = (k + 2) % 3;
-        if (coord(p, opp) == 0 && coord(q, opp) == 0) return memo.count(mid) || edge_lookup(k, mid) != nullptr;
-      }
-      return level < max_level && criterion(node(p).s, node(q).s);
-    };
-    struct Tri {
-      Bary p[3];
-      int level[3];  // level of edge p[k] p[k+1]
-    };
-    std::vector<Tri> stack{{{corner[0], corner[1], corner[2]}, {0, 0, 0}}};
-    while (!stack.empty()) {
-      const Tri T = stack.back();
-      stack.pop_back();
-      bool sp[3];
-      int nsplit = 0;
-      for (int k = 0; k < 3; ++k) nsplit += (sp[k] = split(T.p[k], T.p[(k + 1) % 3], T.level[k]));
-      if (nsplit == 0) {
-        std::array<std::int64_t, 3> ids;
-        for (int k = 0; k < 3; ++k) ids[k] = node(T.p[k]).id;
-        out.tri.push_back(ids);
-        out.bary.push_back({T.p[0], T.p[1], T.p[2]});
-        continue;
-      }
-      const int ln = std::max({T.level[0], T.level[1], T.level[2]}) + 1;
-      Bary M[3];
-      for (int k = 0; k < 3; ++k)
-        if (sp[k]) {
-          M[k] = midpoint(T.p[k], T.p[(k + 1) % 3]);
-          node(M[k]);
+  internal::for_range(
+      F, opt.parallel,
+      [&](std::size_t fi) {
+        const std::uint32_t f = std::uint32_t(fi);
+        const auto& Fc = m.faces[f];
+        Face_out& out = fo[f];
+        struct Node {
+          std::int64_t id;
+          Sample s;
+        };
+        std::unordered_map<Bary, Node, internal::Bary_hash> memo;
+        const Bary corner[3] = {{0, 0}, {kOne, 0}, {0, kOne}};
+        for (int c = 0; c < 3; ++c) memo.emplace(corner[c], Node{std::int64_t(Fc[c].vertex), ev.vertex(f, c)});
+        // Side k of the face holds points with u_{k+2} = 0; its parameter from corner k is u_{k+1}.
+        auto coord = [](const Bary& b, int k) { return k == 0 ? b.u0() : (k == 1 ? b.u1 : b.u2); };
+        auto side_of = [&](const Bary& b) -> int {
+          for (int k = 0; k < 3; ++k)
+            if (coord(b, (k + 2) % 3) == 0) return k;
+          return -1;
+        };
+        auto edge_lookup = [&](int side, const Bary& b) -> const Node* {
+          const std::uint32_t e = topo.face_edges[f][side];
+          const auto& ed = topo.edges[e];
+          const std::int64_t from_start = coord(b, (side + 1) % 3);
+          const std::int64_t t = Fc[side].vertex == ed.a ? from_start : kOne - from_start;
+          const auto it = std::lower_bound(ep[e].t.begin(), ep[e].t.end(), t);
+          if (it == ep[e].t.end() || *it != t) return nullptr;
+          const std::size_t k = std::size_t(it - ep[e].t.begin());
+          auto ins = memo.emplace(b, Node{std::int64_t(edge_offset[e] + k), ep[e].s[k]});
+          return &ins.first->second;
+        };
+        auto node = [&](const Bary& b) -> const Node& {
+          auto it = memo.find(b);
+          if (it != memo.end()) return it->second;
+          const int side = side_of(b);
+          if (side >= 0) {
+            const Node* n = edge_lookup(side, b);
+            CGAL_assertion(n != nullptr);
+            return *n;
+          }
+          const Sample s =
+              ev.interior(f, double(b.u0()) / double(kOne), double(b.u1) / double(kOne), double(b.u2) / double(kOne));
+          out.interior.push_back(s);
+          return memo.emplace(b, Node{-std::int64_t(out.interior.size()), s}).first->second;
+        };
+        // Does sub-edge (p, q) get split? Base-edge segments: the edge decided (its point exists).
+        auto split = [&](const Bary& p, const Bary& q, int level) -> bool {
+          const Bary mid = midpoint(p, q);
+          for (int k = 0; k < 3; ++k) {
+            const int opp = (k + 2) % 3;
+            if (coord(p, opp) == 0 && coord(q, opp) == 0) return memo.count(mid) || edge_lookup(k, mid) != nullptr;
+          }
+          return level < max_level && criterion(node(p).s, node(q).s);
+        };
+        struct Tri {
+          Bary p[3];
+          int level[3];  // level of edge p[k] p[k+1]
+        };
+        std::vector<Tri> stack{{{corner[0], corner[1], corner[2]}, {0, 0, 0}}};
+        while (!stack.empty()) {
+          const Tri T = stack.back();
+          stack.pop_back();
+          bool sp[3];
+          int nsplit = 0;
+          for (int k = 0; k < 3; ++k) nsplit += (sp[k] = split(T.p[k], T.p[(k + 1) % 3], T.level[k]));
+          if (nsplit == 0) {
+            std::array<std::int64_t, 3> ids;
+            for (int k = 0; k < 3; ++k) ids[k] = node(T.p[k]).id;
+            out.tri.push_back(ids);
+            out.bary.push_back({T.p[0], T.p[1], T.p[2]});
+            continue;
+          }
+          const int ln = std::max({T.level[0], T.level[1], T.level[2]}) + 1;
+          Bary M[3];
+          for (int k = 0; k < 3; ++k)
+            if (sp[k]) {
+              M[k] = midpoint(T.p[k], T.p[(k + 1) % 3]);
+              node(M[k]);
+            }
+          // Children are pushed in reverse so they are processed (and their triangles emitted) in
+          // the listed order; the order only matters for determinism, which any fixed order gives.
+          std::vector<Tri> kids;
+          if (nsplit == 3) {
+            kids.push_back({{T.p[0], M[0], M[2]}, {T.level[0] + 1, ln, T.level[2] + 1}});
+            kids.push_back({{M[0], T.p[1], M[1]}, {T.level[0] + 1, T.level[1] + 1, ln}});
+            kids.push_back({{M[2], M[1], T.p[2]}, {ln, T.level[1] + 1, T.level[2] + 1}});
+            kids.push_back({{M[0], M[1], M[2]}, {ln, ln, ln}});
+          } else if (nsplit == 1) {
+            const int k = sp[0] ? 0 : (sp[1] ? 1 : 2);
+            const Bary &a = T.p[k], &b = T.p[(k + 1) % 3], &c = T.p[(k + 2) % 3];
+            kids.push_back({{a, M[k], c}, {T.level[k] + 1, ln, T.level[(k + 2) % 3]}});
+            kids.push_back({{M[k], b, c}, {T.level[k] + 1, T.level[(k + 1) % 3], ln}});
+          } else {
+            // Two split edges k and k+1 (cyclically); the unsplit one is k+2.
+            const int u = !sp[0] ? 0 : (!sp[1] ? 1 : 2);
+            const int k = (u + 1) % 3, k1 = (u + 2) % 3;
+            const Bary &a = T.p[k], &b = T.p[k1], &c = T.p[u];  // edges a-b (k) and b-c (k1) split
+            const Bary &mab = M[k], &mbc = M[k1];
+            kids.push_back({{mab, b, mbc}, {T.level[k] + 1, T.level[k1] + 1, ln}});
+            // Quad a, mab, mbc, c: cut along the shorter reconstructed diagonal (ties: a-mbc).
+            const double d1 = internal::squared_length(node(a).s.point - node(mbc).s.point);
+            const double d2 = internal::squared_length(node(mab).s.point - node(c).s.point);
+            if (d1 <= d2) {
+              kids.push_back({{a, mab, mbc}, {T.level[k] + 1, ln, ln}});
+              kids.push_back({{a, mbc, c}, {ln, T.level[k1] + 1, T.level[u]}});
+            } else {
+              kids.push_back({{a, mab, c}, {T.level[k] + 1, ln, T.level[u]}});
+              kids.push_back({{mab, mbc, c}, {ln, T.level[k1] + 1, ln}});
+            }
+          }
+          for (auto it = kids.rbegin(); it != kids.rend(); ++it) stack.push_back(*it);
         }
-      // Children are pushed in reverse so they are processed (and their triangles emitted) in
-      // the listed order; the order only matters for determinism, which any fixed order gives.
-      std::vector<Tri> kids;
-      if (nsplit == 3) {
-        kids.push_back({{T.p[0], M[0], M[2]}, {T.level[0] + 1, ln, T.level[2] + 1}});
-        kids.push_back({{M[0], T.p[1], M[1]}, {T.level[0] + 1, T.level[1] + 1, ln}});
-        kids.push_back({{M[2], M[1], T.p[2]}, {ln, T.level[1] + 1, T.level[2] + 1}});
-        kids.push_back({{M[0], M[1], M[2]}, {ln, ln, ln}});
-      } else if (nsplit == 1) {
-        const int k = sp[0] ? 0 : (sp[1] ? 1 : 2);
-        const Bary &a = T.p[k], &b = T.p[(k + 1) % 3], &c = T.p[(k + 2) % 3];
-        kids.push_back({{a, M[k], c}, {T.level[k] + 1, ln, T.level[(k + 2) % 3]}});
-        kids.push_back({{M[k], b, c}, {T.level[k] + 1, T.level[(k + 1) % 3], ln}});
-      } else {
-        // Two split edges k and k+1 (cyclically); the unsplit one is k+2.
-        const int u = !sp[0] ? 0 : (!sp[1] ? 1 : 2);
-        const int k = (u + 1) % 3, k1 = (u + 2) % 3;
-        const Bary &a = T.p[k], &b = T.p[k1], &c = T.p[u];  // edges a-b (k) and b-c (k1) split
-        const Bary &mab = M[k], &mbc = M[k1];
-        kids.push_back({{mab, b, mbc}, {T.level[k] + 1, T.level[k1] + 1, ln}});
-        // Quad a, mab, mbc, c: cut along the shorter reconstructed diagonal (ties: a-mbc).
-        const double d1 = internal::squared_length(node(a).s.point - node(mbc).s.point);
-        const double d2 = internal::squared_length(node(mab).s.point - node(c).s.point);
-        if (d1 <= d2) {
-          kids.push_back({{a, mab, mbc}, {T.level[k] + 1, ln, ln}});
-          kids.push_back({{a, mbc, c}, {ln, T.level[k1] + 1, T.level[u]}});
-        } else {
-          kids.push_back({{a, mab, c}, {T.level[k] + 1, ln, T.level[u]}});
-          kids.push_back({{mab, mbc, c}, {ln, T.level[k1] + 1, ln}});
-        }
-      }
-      for (auto it = kids.rbegin(); it != kids.rend(); ++it) stack.push_back(*it);
-    }
-  }, &progress);
+      },
+      &progress);
   progress.phase(0.95, 1., 0);
 
   // 3. Assemble in order: base vertices, edge points, face interiors; triangles by face.
@@ -979,7 +993,7 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
         for (int c = 0; c < 3; ++c) {
           const Bary& b = fo[f].bary[t][c];
           r.corner_uvs.push_back(internal::interpolate_uv(m.uvs[f], double(b.u0()) / double(kOne),
-                                                           double(b.u1) / double(kOne), double(b.u2) / double(kOne)));
+                                                          double(b.u1) / double(kOne), double(b.u2) / double(kOne)));
         }
     }
   }

@@ -26,7 +26,8 @@ inline void to_textured_mesh(const Reconstruction& r, Textured_mesh& out, const 
   Surface_mesh& m = out.mesh();
   m.reserve(r.points.size(), 3 * r.triangles.size() / 2 + 16, r.triangles.size());
   std::vector<Surface_mesh::Vertex_index> vs(r.points.size());
-  for (std::size_t i = 0; i < r.points.size(); ++i) vs[i] = m.add_vertex(Point_3(r.points[i].x, r.points[i].y, r.points[i].z));
+  for (std::size_t i = 0; i < r.points.size(); ++i)
+    vs[i] = m.add_vertex(Point_3(r.points[i].x, r.points[i].y, r.points[i].z));
   const bool uv = r.corner_uvs.size() == 3 * r.triangles.size() && !r.triangles.empty();
   for (std::size_t t = 0; t < r.triangles.size(); ++t) {
     const auto& T = r.triangles[t];

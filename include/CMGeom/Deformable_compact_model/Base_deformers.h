@@ -115,8 +115,8 @@ public:
   /// Deformed cage vertices (same number and order as the rest cage's).
   void set_pose(const std::vector<Cage_deformation::Vec3>& deformed_cage_vertices) {
     if (deformed_cage_vertices.size() != coords_.cage().vertices.size())
-      throw Invalid_input("cage pose has " + std::to_string(deformed_cage_vertices.size()) + " vertices, the cage has " +
-                          std::to_string(coords_.cage().vertices.size()));
+      throw Invalid_input("cage pose has " + std::to_string(deformed_cage_vertices.size()) +
+                          " vertices, the cage has " + std::to_string(coords_.cage().vertices.size()));
     pose_ = deformed_cage_vertices;
   }
   void bind(const std::vector<Vec3>& rest) {

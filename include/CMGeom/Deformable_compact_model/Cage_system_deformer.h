@@ -23,7 +23,8 @@
 namespace CMGeom {
 namespace DCM {
 
-template <class Weight = double, class F = Cage_deformation::Sine_smoothing, class Fh = Cage_deformation::Sine_h_smoothing>
+template <class Weight = double, class F = Cage_deformation::Sine_smoothing,
+          class Fh = Cage_deformation::Sine_h_smoothing>
 class Cage_system_deformer {
 public:
   /// Keeps a reference to `system` (which must outlive the deformer); the initial pose is the

@@ -106,7 +106,8 @@ public:
   /// Reconstructs `m` at `level` at rest (CM::reconstruct_regular) and records the blend.
   template <class Traits = CM::Quadric_surface_traits>
   Deformable_reconstruction(const CM::Compact_model& m, int level,
-                            CM::Reconstruction_options opt = CM::Reconstruction_options(), const Traits& traits = Traits())
+                            CM::Reconstruction_options opt = CM::Reconstruction_options(),
+                            const Traits& traits = Traits())
       : parallel_(opt.parallel) {
     opt.vertex_maps = nullptr;
     rest_ = CM::reconstruct_regular(m, level, opt, traits);

@@ -54,7 +54,7 @@ public:
     const std::size_t V = rest_.size();
     // Neighbours and oriented (next, previous) corners of every vertex, as CSR arrays.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> nb;  // (vertex, neighbour)
-    std::vector<std::array<std::uint32_t, 3>> fans;         // (vertex, next, previous)
+    std::vector<std::array<std::uint32_t, 3>> fans;           // (vertex, next, previous)
     nb.reserve(6 * m.faces.size());
     fans.reserve(3 * m.faces.size());
     for (const auto& f : m.faces)
@@ -189,7 +189,7 @@ private:
     for (std::size_t k = ring_start_[v]; same && k < ring_start_[v + 1]; ++k) same = P[ring_[k]] == rest_[ring_[k]];
     T.identity = same;
     if (same || degenerate_[v]) return T;  // M = I (exact identity, or translation)
-    Mat3 W{};  // V* = sum b a^T + mu s n' n^T
+    Mat3 W{};                              // V* = sum b a^T + mu s n' n^T
     double aa = 0., bb = 0.;
     for (std::size_t k = ring_start_[v]; k < ring_start_[v + 1]; ++k) {
       const Vec3 a = rest_[ring_[k]] - rest_[v], b = P[ring_[k]] - P[v];
@@ -223,8 +223,9 @@ private:
 };
 
 /// One-shot form: the maps T_v of `m`'s base for the deformed base positions `deformed` (§6.3).
-inline std::vector<Vertex_affine_map> local_deformations(const CM::Compact_model& m, const std::vector<Vec3>& deformed,
-                                                         const Local_deformation_options& opt = Local_deformation_options()) {
+inline std::vector<Vertex_affine_map> local_deformations(
+    const CM::Compact_model& m, const std::vector<Vec3>& deformed,
+    const Local_deformation_options& opt = Local_deformation_options()) {
   return Local_deformation_solver(m, opt).compute(deformed);
 }
 

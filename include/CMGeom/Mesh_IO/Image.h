@@ -26,7 +26,10 @@ public:
       : width_(width), height_(height), channels_(channels), format_(format) {
     CGAL_precondition(width >= 0 && height >= 0 && channels >= 1 && channels <= 4);
     const std::size_t n = std::size_t(width) * std::size_t(height) * std::size_t(channels);
-    if (format == Format::UInt8) bytes_.assign(n, 0); else floats_.assign(n, 0.f);
+    if (format == Format::UInt8)
+      bytes_.assign(n, 0);
+    else
+      floats_.assign(n, 0.f);
   }
 
   int width() const { return width_; }
@@ -35,8 +38,7 @@ public:
   Format format() const { return format_; }
   bool empty() const { return width_ == 0 || height_ == 0; }
   std::size_t index(int x, int y, int c = 0) const {
-    return (std::size_t(y) * std::size_t(width_) + std::size_t(x)) * std::size_t(channels_) +
-           std::size_t(c);
+    return (std::size_t(y) * std::size_t(width_) + std::size_t(x)) * std::size_t(channels_) + std::size_t(c);
   }
 
   /// 8-bit storage (precondition: format() == UInt8).
@@ -62,8 +64,8 @@ public:
   }
 
   friend bool operator==(const Image& a, const Image& b) {
-    return a.width_ == b.width_ && a.height_ == b.height_ && a.channels_ == b.channels_ &&
-           a.format_ == b.format_ && a.bytes_ == b.bytes_ && a.floats_ == b.floats_;
+    return a.width_ == b.width_ && a.height_ == b.height_ && a.channels_ == b.channels_ && a.format_ == b.format_ &&
+           a.bytes_ == b.bytes_ && a.floats_ == b.floats_;
   }
 
 private:

@@ -33,8 +33,8 @@ struct Polygon_soup {
   std::vector<int> face_material;            ///< index into materials (0 if none)
   std::vector<std::size_t> face_line;        ///< 1-based file line of each face (0 if binary)
   std::vector<Material> materials;
-  std::string source;                        ///< file name, for messages
-  std::vector<std::string> warnings;         ///< non-fatal remarks ("file:line: ...")
+  std::string source;                 ///< file name, for messages
+  std::vector<std::string> warnings;  ///< non-fatal remarks ("file:line: ...")
 
   std::size_t number_of_faces() const { return face_start.size() - 1; }
   std::size_t face_size(std::size_t f) const { return face_start[f + 1] - face_start[f]; }
@@ -46,24 +46,24 @@ struct Polygon_soup {
 /// What `analyze_soup()` measures. Counts refer to the polygons as they are in the file (before
 /// the fan triangulation build_textured_mesh() does) and before any repair.
 struct Mesh_statistics {
-  std::size_t vertices = 0;              ///< referenced vertices
+  std::size_t vertices = 0;  ///< referenced vertices
   std::size_t unreferenced_vertices = 0;
   std::size_t faces = 0;
   std::size_t edges = 0;
-  std::size_t components = 0;            ///< connected components (faces linked through vertices)
+  std::size_t components = 0;  ///< connected components (faces linked through vertices)
   std::size_t boundary_edges = 0;
-  std::size_t boundary_loops = 0;        ///< cycles of boundary edges (at a non-manifold vertex, one pairing is chosen)
-  std::size_t non_manifold_edges = 0;    ///< edges with more than two faces
-  std::size_t non_manifold_vertices = 0; ///< vertices whose faces form several fans
-  std::size_t inconsistent_edges = 0;    ///< manifold edges whose two faces disagree in orientation
-  std::size_t degenerate_faces = 0;      ///< repeated vertex or zero area
-  std::size_t invalid_coordinates = 0;   ///< NaN or infinite position or UV values
-  std::size_t charts = 0;                ///< UV charts (0 without UVs)
+  std::size_t boundary_loops = 0;      ///< cycles of boundary edges (at a non-manifold vertex, one pairing is chosen)
+  std::size_t non_manifold_edges = 0;  ///< edges with more than two faces
+  std::size_t non_manifold_vertices = 0;  ///< vertices whose faces form several fans
+  std::size_t inconsistent_edges = 0;     ///< manifold edges whose two faces disagree in orientation
+  std::size_t degenerate_faces = 0;       ///< repeated vertex or zero area
+  std::size_t invalid_coordinates = 0;    ///< NaN or infinite position or UV values
+  std::size_t charts = 0;                 ///< UV charts (0 without UVs)
   bool closed = false;
   bool manifold = false;
   bool oriented = false;
   int euler_characteristic = 0;
-  int genus = -1;                        ///< total genus, -1 when not manifold
+  int genus = -1;  ///< total genus, -1 when not manifold
   std::size_t first_non_manifold_vertex = Polygon_soup::no_index;
   std::size_t first_non_manifold_edge_face = Polygon_soup::no_index;
   std::size_t first_degenerate_face = Polygon_soup::no_index;

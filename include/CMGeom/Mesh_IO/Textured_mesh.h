@@ -44,13 +44,13 @@ using Surface_mesh = CGAL::Surface_mesh<Point_3>;
 struct Material {
   std::string name;
   std::array<double, 3> diffuse_color{{0.8, 0.8, 0.8}};  ///< Kd (multiplies the texture)
-  std::string diffuse_texture;  ///< absolute path of map_Kd / baseColorTexture, empty if none
-  std::string normal_texture;   ///< absolute path of map_Bump / bump / norm, empty if none
+  std::string diffuse_texture;                           ///< absolute path of map_Kd / baseColorTexture, empty if none
+  std::string normal_texture;                            ///< absolute path of map_Bump / bump / norm, empty if none
   /// Encoded image bytes (PNG/JPEG) when the texture is embedded in the file (glTF buffers or
   /// data URIs) instead of being a file of its own.
   std::vector<unsigned char> diffuse_texture_blob;
-  Image diffuse_image;          ///< decoded diffuse texture (empty until loaded)
-  Image normal_image;           ///< decoded normal map (empty until loaded)
+  Image diffuse_image;  ///< decoded diffuse texture (empty until loaded)
+  Image normal_image;   ///< decoded normal map (empty until loaded)
 
   bool has_diffuse_texture() const {
     return !diffuse_texture.empty() || !diffuse_texture_blob.empty() || !diffuse_image.empty();
@@ -74,8 +74,7 @@ public:
   /// false until set.
   explicit Textured_mesh(Mesh mesh) : mesh_(std::move(mesh)) { bind_maps(); }
   Textured_mesh(const Textured_mesh& other)
-      : mesh_(other.mesh_), materials_(other.materials_), has_uvs_(other.has_uvs_),
-        source_(other.source_) {
+      : mesh_(other.mesh_), materials_(other.materials_), has_uvs_(other.has_uvs_), source_(other.source_) {
     bind_maps();
   }
   Textured_mesh& operator=(const Textured_mesh& other) {
@@ -89,8 +88,10 @@ public:
     return *this;
   }
   Textured_mesh(Textured_mesh&& other) noexcept
-      : mesh_(std::move(other.mesh_)), materials_(std::move(other.materials_)),
-        has_uvs_(other.has_uvs_), source_(std::move(other.source_)) {
+      : mesh_(std::move(other.mesh_)),
+        materials_(std::move(other.materials_)),
+        has_uvs_(other.has_uvs_),
+        source_(std::move(other.source_)) {
     bind_maps();
     other.bind_maps();
   }

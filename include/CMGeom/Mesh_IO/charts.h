@@ -24,8 +24,7 @@ namespace CMGeom {
 
 /// True when `e` is an interior edge whose two faces disagree on the UV of one of its ends.
 template <class FaceGraph, class UVMap>
-bool is_seam_edge(typename boost::graph_traits<FaceGraph>::edge_descriptor e, const FaceGraph& g,
-                  const UVMap& uv) {
+bool is_seam_edge(typename boost::graph_traits<FaceGraph>::edge_descriptor e, const FaceGraph& g, const UVMap& uv) {
   const auto h = halfedge(e, g);
   const auto o = opposite(h, g);
   if (is_border(h, g) || is_border(o, g)) return false;
@@ -35,8 +34,8 @@ bool is_seam_edge(typename boost::graph_traits<FaceGraph>::edge_descriptor e, co
 
 /// True for seam edges and mesh-border edges.
 template <class FaceGraph, class UVMap>
-bool is_chart_boundary_edge(typename boost::graph_traits<FaceGraph>::edge_descriptor e,
-                            const FaceGraph& g, const UVMap& uv) {
+bool is_chart_boundary_edge(typename boost::graph_traits<FaceGraph>::edge_descriptor e, const FaceGraph& g,
+                            const UVMap& uv) {
   return is_border(e, g) || is_seam_edge(e, g, uv);
 }
 
@@ -93,7 +92,10 @@ std::size_t number_of_charts_around_vertex(typename boost::graph_traits<FaceGrap
     for (std::size_t i = 0; i < n && i < 16; ++i) known |= seen[i] == c;
     for (int m : more) known |= m == c;
     if (known) continue;
-    if (n < 16) seen[n] = c; else more.push_back(c);
+    if (n < 16)
+      seen[n] = c;
+    else
+      more.push_back(c);
     ++n;
   }
   return n;

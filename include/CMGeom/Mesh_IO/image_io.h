@@ -39,8 +39,7 @@ std::string write_image(const std::string& path, const Image& image, Atomic_outp
 
 /// Encodes an image in memory in the format of `extension` (".png", ".jpg"): the bytes a file
 /// written by write_image() would hold. `name` appears in error messages.
-std::vector<unsigned char> encode_image(const Image& image, const std::string& extension,
-                                        const std::string& name);
+std::vector<unsigned char> encode_image(const Image& image, const std::string& extension, const std::string& name);
 
 }  // namespace IO
 }  // namespace CMGeom

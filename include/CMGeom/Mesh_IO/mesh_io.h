@@ -7,7 +7,8 @@
 // "<file>[:<line>]: <what is wrong>". Writers are atomic: every file is written to a temporary and
 // renamed into place only when all of them are complete, so a failure never leaves a partial output.
 //
-// Manual: doc/Mesh_IO/README.md, "Reading and writing (`<CMGeom/Mesh_IO/mesh_io.h>`, `<CMGeom/Mesh_IO/textured_mesh_io.h>`)".
+// Manual: doc/Mesh_IO/README.md, "Reading and writing (`<CMGeom/Mesh_IO/mesh_io.h>`,
+// `<CMGeom/Mesh_IO/textured_mesh_io.h>`)".
 #ifndef CMGEOM_MESH_IO_MESH_IO_H
 #define CMGEOM_MESH_IO_MESH_IO_H
 
@@ -43,13 +44,11 @@ Polygon_soup read_polygon_soup(const std::string& path);
 /// Validates a soup and builds the halfedge mesh: triangles only (readers triangulate),
 /// manifold, consistently oriented, finite, non-degenerate (see Read_options), UVs on all
 /// faces or on none, texture files present. Vertex order is that of the soup.
-void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out,
-                         const Read_options& options = Read_options());
+void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Read_options& options = Read_options());
 
 /// read_polygon_soup + build_textured_mesh. Texture images are not decoded here (see
 /// read_textured_mesh() in textured_mesh_io.h); their paths are checked to exist.
-void read_mesh(const std::string& path, Textured_mesh& out,
-               const Read_options& options = Read_options());
+void read_mesh(const std::string& path, Textured_mesh& out, const Read_options& options = Read_options());
 
 /// Writes .obj (with .mtl when there are materials; texture files referenced by the
 /// materials are copied beside it), .off, .ply (binary little-endian), .gltf (with a .bin and
@@ -75,9 +74,9 @@ struct Gltf_options {
 /// One level of detail for write_gltf().
 struct Gltf_level {
   const Textured_mesh* mesh = nullptr;
-  std::string name;    ///< node and mesh name
-  double error = -1;   ///< written in the node's extras ("error") when >= 0
-  double ratio = -1;   ///< written in the node's extras ("ratio") when >= 0
+  std::string name;   ///< node and mesh name
+  double error = -1;  ///< written in the node's extras ("error") when >= 0
+  double ratio = -1;  ///< written in the node's extras ("ratio") when >= 0
 };
 
 /// Writes a glTF 2.0 scene (.gltf + .bin + images, or a single .glb) atomically: one node and

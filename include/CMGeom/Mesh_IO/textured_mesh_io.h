@@ -17,8 +17,7 @@ namespace IO {
 void load_textures(Textured_mesh& mesh);
 
 /// read_mesh() + load_textures().
-void read_textured_mesh(const std::string& path, Textured_mesh& out,
-                        const Read_options& options = Read_options());
+void read_textured_mesh(const std::string& path, Textured_mesh& out, const Read_options& options = Read_options());
 
 /// Writes the mesh; for .obj, textures are written as PNG files named
 /// "<stem>_<material>_<diffuse|normal>.png" beside it (decoded images are encoded again; textures

@@ -67,11 +67,11 @@ struct One_sided_error {
 
 /// Result of approximation_error().
 struct Approximation_error {
-  double hausdorff = 0.;  ///< symmetric Hausdorff / diagonal
-  double mean = 0.;       ///< pooled mean distance / diagonal
-  double rms = 0.;        ///< pooled RMS distance / diagonal
-  double diagonal = 0.;   ///< bounding-box diagonal of the reference (absolute)
-  std::size_t samples = 0;  ///< samples of both directions together
+  double hausdorff = 0.;                       ///< symmetric Hausdorff / diagonal
+  double mean = 0.;                            ///< pooled mean distance / diagonal
+  double rms = 0.;                             ///< pooled RMS distance / diagonal
+  double diagonal = 0.;                        ///< bounding-box diagonal of the reference (absolute)
+  std::size_t samples = 0;                     ///< samples of both directions together
   One_sided_error reference_to_approximation;  ///< samples on the reference, absolute units
   One_sided_error approximation_to_reference;  ///< samples on the approximation, absolute units
   /// Distance of every vertex of the reference (order of vertices(reference)) to the
@@ -125,8 +125,8 @@ struct Sample_set {
 inline void hilbert_order(Sample_set& s) {
   s.order.resize(s.points.size());
   std::iota(s.order.begin(), s.order.end(), std::size_t(0));  // size_t: Pointer_property_map's key
-  using Sort_traits = CGAL::Spatial_sort_traits_adapter_3<
-      Error_kernel, CGAL::Pointer_property_map<Error_kernel::Point_3>::const_type>;
+  using Sort_traits =
+      CGAL::Spatial_sort_traits_adapter_3<Error_kernel, CGAL::Pointer_property_map<Error_kernel::Point_3>::const_type>;
   const std::vector<Error_kernel::Point_3>& points = s.points;
   CGAL::hilbert_sort(s.order.begin(), s.order.end(), Sort_traits(CGAL::make_property_map(points)));
 }
@@ -160,8 +160,7 @@ inline Sample_set make_samples(const Flat_mesh& m, const Sampling_plan& plan, st
 }
 
 /// Measures every sample against `tree`; fills `field[vertex]` for vertex samples when non-null.
-inline One_sided_error measure(const Sample_set& s, const Triangle_tree& target,
-                               std::vector<double>* field) {
+inline One_sided_error measure(const Sample_set& s, const Triangle_tree& target, std::vector<double>* field) {
   const std::size_t n = s.points.size();
   const std::vector<std::size_t>& order = s.order;
   // Fixed block size: partial results per block, reduced in block order => deterministic
@@ -265,11 +264,9 @@ inline Approximation_error approximation_error_flat(const Flat_mesh& ref, const 
 /// triangles. Named parameters `np1`, `np2`: `vertex_point_map` of each mesh (default: the
 /// internal `vertex_point` property). Throws Invalid_input if a mesh has no face, a non-triangle
 /// face, a non-finite coordinate, or if the reference has an empty bounding box.
-template <class TriangleMesh1, class TriangleMesh2,
-          class NP1 = CGAL::parameters::Default_named_parameters,
+template <class TriangleMesh1, class TriangleMesh2, class NP1 = CGAL::parameters::Default_named_parameters,
           class NP2 = CGAL::parameters::Default_named_parameters>
-Approximation_error approximation_error(const TriangleMesh1& reference,
-                                        const TriangleMesh2& approximation,
+Approximation_error approximation_error(const TriangleMesh1& reference, const TriangleMesh2& approximation,
                                         const Error_options& options = Error_options(),
                                         const NP1& np1 = CGAL::parameters::default_values(),
                                         const NP2& np2 = CGAL::parameters::default_values()) {

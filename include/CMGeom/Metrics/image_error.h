@@ -30,10 +30,10 @@ namespace Metrics {
 
 /// Result of an image comparison over one or several views.
 struct Image_error {
-  double rmse = 0.;              ///< per-channel RMSE in 8-bit units over covered pixels
+  double rmse = 0.;                                       ///< per-channel RMSE in 8-bit units over covered pixels
   double psnr = std::numeric_limits<double>::infinity();  ///< dB, +inf when identical
-  double mean_squared_rgb = 0.;  ///< eq. 2.1 over covered pixels, RGB in [0,1]
-  std::size_t pixels = 0;        ///< covered pixels (summed over views)
+  double mean_squared_rgb = 0.;                           ///< eq. 2.1 over covered pixels, RGB in [0,1]
+  std::size_t pixels = 0;                                 ///< covered pixels (summed over views)
   std::size_t views = 0;
 };
 
@@ -41,8 +41,8 @@ struct Image_error {
 class Image_error_accumulator {
 public:
   void add(const Image& a, const Image& b) {
-    if (a.width() != b.width() || a.height() != b.height() || a.channels() != 4 ||
-        b.channels() != 4 || a.format() != Image::Format::UInt8 || b.format() != Image::Format::UInt8)
+    if (a.width() != b.width() || a.height() != b.height() || a.channels() != 4 || b.channels() != 4 ||
+        a.format() != Image::Format::UInt8 || b.format() != Image::Format::UInt8)
       throw Invalid_input("image_error: the two images must be RGBA 8-bit of the same size");
     const std::uint8_t* pa = a.bytes();
     const std::uint8_t* pb = b.bytes();

@@ -26,11 +26,11 @@ namespace Metrics {
 
 /// Result of texture_deviation().
 struct Texture_deviation {
-  double deviation = 0.;           ///< max over both directions / reference diagonal
-  double absolute = 0.;            ///< same, absolute units
-  double diagonal = 0.;            ///< reference bounding-box diagonal
-  std::size_t samples = 0;         ///< samples of both surfaces that were tried
-  std::size_t matched_samples = 0; ///< samples whose (u,v) exists on the other surface
+  double deviation = 0.;            ///< max over both directions / reference diagonal
+  double absolute = 0.;             ///< same, absolute units
+  double diagonal = 0.;             ///< reference bounding-box diagonal
+  std::size_t samples = 0;          ///< samples of both surfaces that were tried
+  std::size_t matched_samples = 0;  ///< samples whose (u,v) exists on the other surface
 };
 
 namespace internal {
@@ -42,8 +42,7 @@ struct UV_flat_mesh {
 };
 
 template <class TriangleMesh, class VertexPointMap, class UVMap>
-UV_flat_mesh make_uv_flat_mesh(const TriangleMesh& tm, VertexPointMap vpm, UVMap uv,
-                               const std::string& what) {
+UV_flat_mesh make_uv_flat_mesh(const TriangleMesh& tm, VertexPointMap vpm, UVMap uv, const std::string& what) {
   UV_flat_mesh m;
   m.geometry = make_flat_mesh(tm, vpm, what);
   for (auto f : faces(tm)) {
@@ -75,9 +74,8 @@ struct UV_tree {
 };
 
 /// Max over samples of `from` of the distance to the same-(u,v) point of `to`.
-inline double one_sided_texture_deviation(const UV_flat_mesh& from, const UV_flat_mesh& to,
-                                          const UV_tree& to_tree, std::size_t target,
-                                          std::uint64_t seed, std::size_t& tried,
+inline double one_sided_texture_deviation(const UV_flat_mesh& from, const UV_flat_mesh& to, const UV_tree& to_tree,
+                                          std::size_t target, std::uint64_t seed, std::size_t& tried,
                                           std::size_t& matched) {
   using K = Error_kernel;
   // Parameter-space samples: (face, barycentrics). Corners first, then face samples.
@@ -100,10 +98,11 @@ inline double one_sided_texture_deviation(const UV_flat_mesh& from, const UV_fla
     samples.push_back({f, 0, 0, 1});
   }
   Sampling_plan plan = metro_plan(from.geometry, target, false, false, true);
-  sample_surface(from.geometry, plan, seed, [](std::size_t) {}, [](std::size_t, double) {},
-                 [&](std::size_t f, double b0, double b1, double b2) {
-                   if (!uv_degenerate(f)) samples.push_back({std::uint32_t(f), b0, b1, b2});
-                 });
+  sample_surface(
+      from.geometry, plan, seed, [](std::size_t) {}, [](std::size_t, double) {},
+      [&](std::size_t f, double b0, double b1, double b2) {
+        if (!uv_degenerate(f)) samples.push_back({std::uint32_t(f), b0, b1, b2});
+      });
   constexpr std::size_t block = 1024;
   const std::size_t nblocks = (samples.size() + block - 1) / block;
   std::vector<double> block_max(nblocks, 0.);
@@ -169,12 +168,12 @@ inline Texture_deviation texture_deviation_flat(const UV_flat_mesh& a, const UV_
   Texture_deviation r;
   r.diagonal = a.geometry.diagonal();
   if (!(r.diagonal > 0.)) throw Invalid_input("texture_deviation: the reference mesh has a zero-size bounding box");
-  const std::size_t target = options.samples ? options.samples
-                                             : 10 * std::max(a.uvs.size(), b.uvs.size());
+  const std::size_t target = options.samples ? options.samples : 10 * std::max(a.uvs.size(), b.uvs.size());
   auto run = [&] {
     UV_tree ta(a), tb(b);
     const double d1 = one_sided_texture_deviation(a, b, tb, target, options.seed, r.samples, r.matched_samples);
-    const double d2 = one_sided_texture_deviation(b, a, ta, target, options.seed ^ 0x5bd1e995ull, r.samples, r.matched_samples);
+    const double d2 =
+        one_sided_texture_deviation(b, a, ta, target, options.seed ^ 0x5bd1e995ull, r.samples, r.matched_samples);
     r.absolute = std::max(d1, d2);
   };
   if (options.threads > 0) {
@@ -196,9 +195,8 @@ inline Texture_deviation texture_deviation_flat(const UV_flat_mesh& a, const UV_
 template <class TriangleMesh1, class UVMap1, class TriangleMesh2, class UVMap2,
           class NP1 = CGAL::parameters::Default_named_parameters,
           class NP2 = CGAL::parameters::Default_named_parameters>
-Texture_deviation texture_deviation(const TriangleMesh1& reference, UVMap1 uv1,
-                                    const TriangleMesh2& approximation, UVMap2 uv2,
-                                    const Error_options& options = Error_options(),
+Texture_deviation texture_deviation(const TriangleMesh1& reference, UVMap1 uv1, const TriangleMesh2& approximation,
+                                    UVMap2 uv2, const Error_options& options = Error_options(),
                                     const NP1& np1 = CGAL::parameters::default_values(),
                                     const NP2& np2 = CGAL::parameters::default_values()) {
   using CGAL::parameters::choose_parameter;

@@ -29,14 +29,14 @@ struct Render_mesh {
     const Image* texture = nullptr;
   };
 
-  std::vector<float> positions;    ///< 3 floats per corner, 3 corners per triangle
-  std::vector<float> normals;      ///< 3 floats per corner (area-weighted vertex normals)
-  std::vector<float> uvs;          ///< 2 floats per corner; empty when the mesh has no UVs
-  std::vector<float> scalars;      ///< 1 float per corner; empty when there is no field
-  std::vector<Range> ranges;       ///< cover all triangles
-  std::vector<float> wire_lines;   ///< 3 floats per end point, 2 end points per edge
-  std::vector<float> chart_lines;  ///< same, for the chart boundaries (UV seams)
-  std::vector<float> uv_lines;     ///< 2 floats per end point: every edge of the UV layout
+  std::vector<float> positions;                    ///< 3 floats per corner, 3 corners per triangle
+  std::vector<float> normals;                      ///< 3 floats per corner (area-weighted vertex normals)
+  std::vector<float> uvs;                          ///< 2 floats per corner; empty when the mesh has no UVs
+  std::vector<float> scalars;                      ///< 1 float per corner; empty when there is no field
+  std::vector<Range> ranges;                       ///< cover all triangles
+  std::vector<float> wire_lines;                   ///< 3 floats per end point, 2 end points per edge
+  std::vector<float> chart_lines;                  ///< same, for the chart boundaries (UV seams)
+  std::vector<float> uv_lines;                     ///< 2 floats per end point: every edge of the UV layout
   std::array<double, 6> bbox{{0, 0, 0, 0, 0, 0}};  ///< xmin ymin zmin xmax ymax zmax
   double scalar_min = 0., scalar_max = 0.;         ///< finite range of `scalars`
 

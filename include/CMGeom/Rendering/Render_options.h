@@ -44,8 +44,8 @@ struct Render_options {
   double azimuth = 30.;    ///< degrees
   double elevation = 20.;  ///< degrees
   Projection projection = Projection::Perspective;
-  double field_of_view = 30.;  ///< vertical, degrees (perspective only)
-  double margin = 1.05;        ///< bounding sphere radius multiplier
+  double field_of_view = 30.;     ///< vertical, degrees (perspective only)
+  double margin = 1.05;           ///< bounding sphere radius multiplier
   double ortho_half_height = 0.;  ///< > 0: orthographic half extent of the smaller side (world units)
   bool has_fit_box = false;
   std::array<double, 6> fit_box{{0, 0, 0, 0, 0, 0}};  ///< xmin ymin zmin xmax ymax zmax

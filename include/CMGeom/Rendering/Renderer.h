@@ -45,8 +45,7 @@ public:
   /// The texture atlas of `mesh` (its first texture, or a light grey square when it has none)
   /// with its UV layout drawn over it in `line_color`; square picture of size x size covering
   /// UV space [0,1]^2, v = 1 at the top. Requires mesh.has_uvs().
-  Image render_uv_atlas(const Render_mesh& mesh, int size,
-                        std::array<double, 3> line_color = {{0.05, 0.15, 0.75}});
+  Image render_uv_atlas(const Render_mesh& mesh, int size, std::array<double, 3> line_color = {{0.05, 0.15, 0.75}});
 
   /// "renderer, GL version" of the context, e.g. "llvmpipe (LLVM 15.0.6, 256 bits), 4.5 (Core Profile) Mesa 22.3.6".
   std::string description() const;

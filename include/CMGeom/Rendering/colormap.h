@@ -33,8 +33,7 @@ inline std::array<std::uint8_t, 3> viridis(double t) {
   const int i = x >= 10. ? 9 : int(x);
   const double f = x - i;
   std::array<std::uint8_t, 3> c{};
-  for (int d = 0; d < 3; ++d)
-    c[d] = std::uint8_t(std::lround(255. * (k[i][d] + f * (k[i + 1][d] - k[i][d]))));
+  for (int d = 0; d < 3; ++d) c[d] = std::uint8_t(std::lround(255. * (k[i][d] + f * (k[i + 1][d] - k[i][d]))));
   return c;
 }
 

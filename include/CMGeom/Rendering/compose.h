@@ -148,7 +148,8 @@ inline void draw_caption(Image& img, const std::string& caption) {
 /// An opaque RGB copy of an RGB or RGBA 8-bit image (alpha dropped: renders are already
 /// composited over their background).
 inline Image to_rgb(const Image& in) {
-  if (in.format() != Image::Format::UInt8 || in.channels() < 3) throw Invalid_input("to_rgb: 8-bit RGB(A) image expected");
+  if (in.format() != Image::Format::UInt8 || in.channels() < 3)
+    throw Invalid_input("to_rgb: 8-bit RGB(A) image expected");
   Image out(in.width(), in.height(), 3);
   for (int y = 0; y < in.height(); ++y)
     for (int x = 0; x < in.width(); ++x)
@@ -174,7 +175,8 @@ inline Image make_grid(const std::vector<Image>& cells, const std::vector<std::s
     const int cx = gap + int(i % columns) * (w + gap), cy = gap + int(i / columns) * (h + strip + gap);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
-        for (int k = 0; k < 3; ++k) out.bytes()[out.index(cx + x, cy + y, k)] = cells[i].bytes()[cells[i].index(x, y, k)];
+        for (int k = 0; k < 3; ++k)
+          out.bytes()[out.index(cx + x, cy + y, k)] = cells[i].bytes()[cells[i].index(x, y, k)];
     if (i < captions.size()) draw_text(out, cx + 2 * s, cy + h + 4 * s, captions[i], {{20, 20, 20}}, s);
   }
   return out;

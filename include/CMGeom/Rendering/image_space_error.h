@@ -28,18 +28,18 @@ namespace CMGeom {
 namespace Rendering {
 
 struct Image_space_error_options {
-  int size = 512;                          ///< square renders of size x size pixels
+  int size = 512;  ///< square renders of size x size pixels
   std::vector<View> views = cube_views_26();
   /// Shading of both meshes; Textured falls back to Smooth when the reference has no texture.
   Shading shading = Shading::Textured;
-  bool keep_images = false;                ///< return the renders as well
+  bool keep_images = false;  ///< return the renders as well
   /// Which texture the approximation wears (see the file comment).
   enum class Approximation_texture { Own_or_reference, Reference };
   Approximation_texture approximation_texture = Approximation_texture::Own_or_reference;
 };
 
 struct Image_space_error {
-  Metrics::Image_error total;              ///< over all views
+  Metrics::Image_error total;  ///< over all views
   std::vector<Metrics::Image_error> per_view;
   std::vector<Image> reference_images, approximation_images;  ///< when keep_images
 };
@@ -50,15 +50,17 @@ inline Image_space_error image_space_error(Renderer& renderer, const Render_mesh
                                            const Image_space_error_options& options = Image_space_error_options()) {
   const Image* texture = reference.texture();
   Render_mesh approx = approximation;
-  const bool own = options.approximation_texture == Image_space_error_options::Approximation_texture::Own_or_reference &&
-                   approximation.has_uvs() && approximation.texture() != nullptr;
+  const bool own =
+      options.approximation_texture == Image_space_error_options::Approximation_texture::Own_or_reference &&
+      approximation.has_uvs() && approximation.texture() != nullptr;
   if (!own)
     for (auto& r : approx.ranges) r.texture = approximation.has_uvs() ? texture : nullptr;
   std::vector<Render_options> views;
   for (const View& v : options.views) {
     Render_options o;
     o.width = o.height = options.size;
-    o.shading = (options.shading == Shading::Textured && !(texture && reference.has_uvs())) ? Shading::Smooth : options.shading;
+    o.shading =
+        (options.shading == Shading::Textured && !(texture && reference.has_uvs())) ? Shading::Smooth : options.shading;
     o.view(v.azimuth, v.elevation).fit_to(reference.bbox);
     views.push_back(o);
   }

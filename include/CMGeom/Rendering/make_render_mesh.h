@@ -53,7 +53,7 @@ struct No_uv_map {};
 /// Inputs of make_render_mesh() beyond the mesh: all optional.
 template <class UVMap = internal::No_uv_map>
 struct Render_mesh_inputs {
-  const UVMap* uv = nullptr;                 ///< per-corner UVs (enables textures and charts)
+  const UVMap* uv = nullptr;                   ///< per-corner UVs (enables textures and charts)
   const std::vector<double>* field = nullptr;  ///< one value per vertex, order of vertices(tm)
   /// Texture of a face: `texture_of(face index in faces(tm) order)`; null = none.
   std::function<const Image*(std::size_t)> texture_of;
@@ -61,8 +61,7 @@ struct Render_mesh_inputs {
 
 /// Flattens `tm` through the vertex point map `vpm` (see the file comment).
 template <class FaceGraph, class VertexPointMap, class UVMap>
-Render_mesh make_render_mesh(const FaceGraph& tm, VertexPointMap vpm,
-                             const Render_mesh_inputs<UVMap>& in) {
+Render_mesh make_render_mesh(const FaceGraph& tm, VertexPointMap vpm, const Render_mesh_inputs<UVMap>& in) {
   Render_mesh rm;
   auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
   std::vector<std::array<double, 3>> p;
@@ -72,8 +71,8 @@ Render_mesh make_render_mesh(const FaceGraph& tm, VertexPointMap vpm,
     p.push_back({{CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())}});
   }
   if (in.field && in.field->size() != p.size())
-    throw Invalid_input("scalar field has " + std::to_string(in.field->size()) +
-                        " values but the mesh has " + std::to_string(p.size()) + " vertices");
+    throw Invalid_input("scalar field has " + std::to_string(in.field->size()) + " values but the mesh has " +
+                        std::to_string(p.size()) + " vertices");
   // Area-weighted vertex normals (the cross product's length is twice the area).
   std::vector<std::array<double, 3>> n(p.size(), {{0., 0., 0.}});
   struct Corner_tri {
@@ -90,7 +89,8 @@ Render_mesh make_render_mesh(const FaceGraph& tm, VertexPointMap vpm,
     ++fi;
     for (std::size_t k = 1; k + 1 < hs.size(); ++k) {
       Corner_tri t{{get(index, target(hs[0], tm)), get(index, target(hs[k], tm)), get(index, target(hs[k + 1], tm))},
-                   {hs[0], hs[k], hs[k + 1]}, tex};
+                   {hs[0], hs[k], hs[k + 1]},
+                   tex};
       const auto &a = p[t.v[0]], &b = p[t.v[1]], &c = p[t.v[2]];
       const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
       const double cr[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
@@ -101,7 +101,8 @@ Render_mesh make_render_mesh(const FaceGraph& tm, VertexPointMap vpm,
   }
   // Group triangles by texture so that each range is one draw call; stable, so the order of
   // faces within a texture is kept.
-  std::stable_sort(tris.begin(), tris.end(), [](const Corner_tri& a, const Corner_tri& b) { return std::less<const Image*>()(a.tex, b.tex); });
+  std::stable_sort(tris.begin(), tris.end(),
+                   [](const Corner_tri& a, const Corner_tri& b) { return std::less<const Image*>()(a.tex, b.tex); });
   const bool with_uv = in.uv != nullptr;
   rm.positions.reserve(tris.size() * 9);
   rm.normals.reserve(tris.size() * 9);
@@ -251,7 +252,8 @@ inline Render_mesh make_render_mesh(const Polygon_soup& s, const std::vector<dou
     }
     for (std::uint32_t i = 1; i + 1 < k; ++i) {
       Tri t{{s.corner_vertex[b], s.corner_vertex[b + i], s.corner_vertex[b + i + 1]},
-            {uv_of(b), uv_of(b + i), uv_of(b + i + 1)}, tex};
+            {uv_of(b), uv_of(b + i), uv_of(b + i + 1)},
+            tex};
       const auto &a = s.positions[t.v[0]], &q = s.positions[t.v[1]], &c = s.positions[t.v[2]];
       const double u[3] = {q[0] - a[0], q[1] - a[1], q[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
       const double cr[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
@@ -261,7 +263,8 @@ inline Render_mesh make_render_mesh(const Polygon_soup& s, const std::vector<dou
     }
   }
   if (tris.empty()) throw Invalid_input("cannot render a mesh without faces");
-  std::stable_sort(tris.begin(), tris.end(), [](const Tri& a, const Tri& b) { return std::less<const Image*>()(a.tex, b.tex); });
+  std::stable_sort(tris.begin(), tris.end(),
+                   [](const Tri& a, const Tri& b) { return std::less<const Image*>()(a.tex, b.tex); });
   const bool with_uv = s.has_uvs() && !s.corner_uv.empty();
   double smin = HUGE_VAL, smax = -HUGE_VAL;
   rm.bbox = {{HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
@@ -300,7 +303,8 @@ inline Render_mesh make_render_mesh(const Polygon_soup& s, const std::vector<dou
   }
   // Sides: sorted by end points, each undirected side once in the wireframe; a chart boundary
   // when its textured faces disagree on the UV values at its ends.
-  std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+  std::sort(sides.begin(), sides.end(),
+            [](const Side& x, const Side& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
   auto push_line = [&](std::vector<float>& out, std::uint32_t a, std::uint32_t b) {
     for (std::uint32_t v : {a, b})
       for (int d = 0; d < 3; ++d) out.push_back(float(s.positions[v][d]));
@@ -313,8 +317,10 @@ inline Render_mesh make_render_mesh(const Polygon_soup& s, const std::vector<dou
     for (; j < sides.size() && sides[j].a == sides[i].a && sides[j].b == sides[i].b; ++j) {
       if (sides[j].ua == none || sides[j].ub == none) continue;
       ++textured;
-      if (!first) first = &sides[j];
-      else if (s.uvs[first->ua] != s.uvs[sides[j].ua] || s.uvs[first->ub] != s.uvs[sides[j].ub]) seam = true;
+      if (!first)
+        first = &sides[j];
+      else if (s.uvs[first->ua] != s.uvs[sides[j].ua] || s.uvs[first->ub] != s.uvs[sides[j].ub])
+        seam = true;
     }
     push_line(rm.wire_lines, sides[i].a, sides[i].b);
     if (seam && textured >= 2) push_line(rm.chart_lines, sides[i].a, sides[i].b);

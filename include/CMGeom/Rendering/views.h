@@ -58,8 +58,8 @@ inline View parse_view(const std::string& s) {
     const char* name;
     double az, el;
   };
-  static const P presets[] = {{"front", 0, 0},   {"back", 180, 0}, {"left", -90, 0}, {"right", 90, 0},
-                              {"top", 0, 90},    {"bottom", 0, -90}, {"iso", 30, 20}};
+  static const P presets[] = {{"front", 0, 0}, {"back", 180, 0},   {"left", -90, 0}, {"right", 90, 0},
+                              {"top", 0, 90},  {"bottom", 0, -90}, {"iso", 30, 20}};
   for (const P& p : presets)
     if (s == p.name) return View{p.az, p.el, p.name};
   const auto comma = s.find(',');
@@ -72,7 +72,8 @@ inline View parse_view(const std::string& s) {
         std::abs(el) <= 90.)
       return View{az, el, s};
   }
-  throw Invalid_input("bad view '" + s + "': expected az,el in degrees (|el| <= 90) or one of front, back, left, right, top, bottom, iso");
+  throw Invalid_input("bad view '" + s +
+                      "': expected az,el in degrees (|el| <= 90) or one of front, back, left, right, top, bottom, iso");
 }
 
 }  // namespace Rendering

@@ -62,9 +62,8 @@ struct Quadric_options {
 /// \tparam TriangleMesh a model of `FaceListGraph` and `HalfedgeListGraph`
 /// \tparam GeomTraits a CGAL kernel; its `Point_3` is the placement type
 template <class TriangleMesh,
-          class GeomTraits = typename CGAL::Kernel_traits<
-              typename boost::property_traits<typename boost::property_map<
-                  TriangleMesh, CGAL::vertex_point_t>::type>::value_type>::Kernel>
+          class GeomTraits = typename CGAL::Kernel_traits<typename boost::property_traits<
+              typename boost::property_map<TriangleMesh, CGAL::vertex_point_t>::type>::value_type>::Kernel>
 class Area_weighted_quadric_policies {
 public:
   using Triangle_mesh = TriangleMesh;
@@ -85,17 +84,18 @@ public:
   using Cost_depends_on_endpoints_only = CGAL::Tag_true;
 
   explicit Area_weighted_quadric_policies(TriangleMesh& tm, const Quadric_options& options = Quadric_options())
-      : vim_(CGAL::get_initialized_vertex_index_map(tm)), data_(std::make_shared<std::vector<Record>>()),
-        keep_once_(std::make_shared<bool>(false)), options_(options) {
+      : vim_(CGAL::get_initialized_vertex_index_map(tm)),
+        data_(std::make_shared<std::vector<Record>>()),
+        keep_once_(std::make_shared<bool>(false)),
+        options_(options) {
     // Checked here because a bad value does not fail loudly later: min_weight > 1 or NaN is
     // undefined behaviour in std::clamp, min_weight = 0 lets two flat endpoints merge as 0/0.
     if (!(options.min_weight > 0.0 && options.min_weight <= 1.0))
       throw std::invalid_argument("Area_weighted_quadric_policies: min_weight must be in (0, 1], got " +
                                   std::to_string(options.min_weight));
     if (!(options.boundary_weight >= 0.0 && std::isfinite(options.boundary_weight)))
-      throw std::invalid_argument(
-          "Area_weighted_quadric_policies: boundary_weight must be finite and >= 0, got " +
-          std::to_string(options.boundary_weight));
+      throw std::invalid_argument("Area_weighted_quadric_policies: boundary_weight must be finite and >= 0, got " +
+                                  std::to_string(options.boundary_weight));
     resize(tm);
   }
 

@@ -50,11 +50,11 @@ struct Star_triangle {
 
 /// Everything the texture resampling of §3.6 needs about one accepted collapse.
 struct Collapse_record {
-  std::vector<Star_triangle> star;  ///< every face incident to v0 or v1, before the collapse
+  std::vector<Star_triangle> star;      ///< every face incident to v0 or v1, before the collapse
   internal::Vec3 placement{{0, 0, 0}};  ///< 3D position of the kept vertex
-  std::array<UV2, 2> new_uv{};      ///< UV of the kept vertex in wedge 0 / wedge 1
+  std::array<UV2, 2> new_uv{};          ///< UV of the kept vertex in wedge 0 / wedge 1
   int wedges = 1;
-  internal::Vec3 normal{{0, 0, 1}};    ///< normal of the tangent plane π (unit)
+  internal::Vec3 normal{{0, 0, 1}};  ///< normal of the tangent plane π (unit)
   bool chart_boundary_edge = false;
 
   /// The new triangle t' made from star triangle `k` (precondition: !star[k].removed).
@@ -152,7 +152,10 @@ public:
     bool conflict = false;
     auto flood = [&](face_descriptor seed, int label) {
       if (seed == GT::null_face()) return;
-      if (label_of(seed) != -1) { conflict = true; return; }
+      if (label_of(seed) != -1) {
+        conflict = true;
+        return;
+      }
       label_of(seed) = label;
       for (vertex_descriptor v : {v0, v1}) {
         bool changed = true;
@@ -165,11 +168,17 @@ public:
             int& a = label_of(face(g, tm_));
             int& b = label_of(face(opposite(g, tm_), tm_));
             if (a == label && b != label) {
-              if (b != -1) { conflict = true; return; }
+              if (b != -1) {
+                conflict = true;
+                return;
+              }
               b = label;
               changed = true;
             } else if (b == label && a != label) {
-              if (a != -1) { conflict = true; return; }
+              if (a != -1) {
+                conflict = true;
+                return;
+              }
               a = label;
               changed = true;
             }
@@ -184,7 +193,7 @@ public:
     for (int& l : labels_) {
       if (l >= 0) continue;
       if (!half_edge) return refuse(stats_.topology);  // more than two UV wedges around v0 or v1
-      l = 2;  // a face of the fixed vertex in another wedge: unchanged
+      l = 2;                                           // a face of the fixed vertex in another wedge: unchanged
     }
 
     // record the star
@@ -284,7 +293,10 @@ public:
   TriangleMesh& mesh() const { return tm_; }
 
 private:
-  template <class P> static UV2 to_uv(const P& p) { return {{CGAL::to_double(p.x()), CGAL::to_double(p.y())}}; }
+  template <class P>
+  static UV2 to_uv(const P& p) {
+    return {{CGAL::to_double(p.x()), CGAL::to_double(p.y())}};
+  }
   static double cross2(const UV2& a, const UV2& b, const UV2& c) {
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
   }
@@ -391,10 +403,10 @@ private:
       // chart's texels (the thesis asks for empty texture near concave boundaries instead).
       // a concave corner may still be cut when the caller's region test accepts the sliver
       // (p, x, y) / (x, y, q) the chart would grow by (e.g. it stays within the chart's own texels)
-      const bool x_convex = double(sign) * cross2(bp_[w], ua, ub) >= 0 ||
-                            (may_grow_ && may_grow_({{bp_[w], ua, ub}}, wedge_face_[w]));
-      const bool y_convex = double(sign) * cross2(ua, ub, bq_[w]) >= 0 ||
-                            (may_grow_ && may_grow_({{ua, ub, bq_[w]}}, wedge_face_[w]));
+      const bool x_convex =
+          double(sign) * cross2(bp_[w], ua, ub) >= 0 || (may_grow_ && may_grow_({{bp_[w], ua, ub}}, wedge_face_[w]));
+      const bool y_convex =
+          double(sign) * cross2(ua, ub, bq_[w]) >= 0 || (may_grow_ && may_grow_({{ua, ub, bq_[w]}}, wedge_face_[w]));
       if (x_convex && y_convex) candidates[nc++] = {{ua[0] + t * Dx, ua[1] + t * Dy}};
       if (x_convex) candidates[nc++] = ub;  // x moves onto y
       if (y_convex) candidates[nc++] = ua;
@@ -529,16 +541,36 @@ struct Chart_constraint_visitor : Edge_collapse_visitor_base {
   Inner inner;
   Chart_constraint_visitor() = default;
   Chart_constraint_visitor(CC& c, Resampler* r, Inner in = Inner()) : cc(&c), resample(r), inner(in) {}
-  template <class TM> void OnStarted(TM& tm) { inner.OnStarted(tm); }
-  template <class TM> void OnFinished(TM& tm) { inner.OnFinished(tm); }
-  template <class Profile> void OnStopConditionReached(const Profile& p) { inner.OnStopConditionReached(p); }
-  template <class Profile, class OFT> void OnCollected(const Profile& p, const OFT& c) { inner.OnCollected(p, c); }
-  template <class Profile, class OFT, class S> void OnSelected(const Profile& p, const OFT& c, S a, S b) {
+  template <class TM>
+  void OnStarted(TM& tm) {
+    inner.OnStarted(tm);
+  }
+  template <class TM>
+  void OnFinished(TM& tm) {
+    inner.OnFinished(tm);
+  }
+  template <class Profile>
+  void OnStopConditionReached(const Profile& p) {
+    inner.OnStopConditionReached(p);
+  }
+  template <class Profile, class OFT>
+  void OnCollected(const Profile& p, const OFT& c) {
+    inner.OnCollected(p, c);
+  }
+  template <class Profile, class OFT, class S>
+  void OnSelected(const Profile& p, const OFT& c, S a, S b) {
     inner.OnSelected(p, c, a, b);
   }
-  template <class Profile, class OP> void OnCollapsing(const Profile& p, const OP& pl) { inner.OnCollapsing(p, pl); }
-  template <class Profile> void OnNonCollapsable(const Profile& p) { inner.OnNonCollapsable(p); }
-  template <class Profile, class V> void OnCollapsed(const Profile& p, const V& v) {
+  template <class Profile, class OP>
+  void OnCollapsing(const Profile& p, const OP& pl) {
+    inner.OnCollapsing(p, pl);
+  }
+  template <class Profile>
+  void OnNonCollapsable(const Profile& p) {
+    inner.OnNonCollapsable(p);
+  }
+  template <class Profile, class V>
+  void OnCollapsed(const Profile& p, const V& v) {
     if (resample) (*resample)(cc->record());
     cc->apply(v);
     inner.OnCollapsed(p, v);
@@ -546,8 +578,8 @@ struct Chart_constraint_visitor : Edge_collapse_visitor_base {
 };
 
 template <class TriangleMesh, class VertexPointMap, class UVMap>
-Chart_constraint_filter<Chart_constraints<TriangleMesh, VertexPointMap, UVMap>>
-make_chart_constraint_filter(Chart_constraints<TriangleMesh, VertexPointMap, UVMap>& cc) {
+Chart_constraint_filter<Chart_constraints<TriangleMesh, VertexPointMap, UVMap>> make_chart_constraint_filter(
+    Chart_constraints<TriangleMesh, VertexPointMap, UVMap>& cc) {
   return Chart_constraint_filter<Chart_constraints<TriangleMesh, VertexPointMap, UVMap>>(cc);
 }
 

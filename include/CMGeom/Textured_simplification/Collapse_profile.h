@@ -45,11 +45,18 @@ public:
   };
   using Triangle_vector = std::vector<Triangle>;
 
-  Collapse_profile(halfedge_descriptor h_v0v1, const TriangleMesh& tm, const VertexPointMap& vpm,
-                   const GeomTraits& gt)
-      : tm_(&tm), vpm_(vpm), gt_(&gt), h_(h_v0v1), o_(opposite(h_v0v1, tm)),
-        v0_(source(h_v0v1, tm)), v1_(target(h_v0v1, tm)), p0_(get(vpm, v0_)), p1_(get(vpm, v1_)),
-        left_(!is_border(h_, tm)), right_(!is_border(o_, tm)) {}
+  Collapse_profile(halfedge_descriptor h_v0v1, const TriangleMesh& tm, const VertexPointMap& vpm, const GeomTraits& gt)
+      : tm_(&tm),
+        vpm_(vpm),
+        gt_(&gt),
+        h_(h_v0v1),
+        o_(opposite(h_v0v1, tm)),
+        v0_(source(h_v0v1, tm)),
+        v1_(target(h_v0v1, tm)),
+        p0_(get(vpm, v0_)),
+        p1_(get(vpm, v1_)),
+        left_(!is_border(h_, tm)),
+        right_(!is_border(o_, tm)) {}
 
   /// Reads the apexes and the halfedges of the two incident faces now (they are otherwise read
   /// on first use: cost evaluations rarely need them, and each costs a cache miss). The engine
@@ -74,13 +81,31 @@ public:
   vertex_descriptor v0() const { return v0_; }
   vertex_descriptor v1() const { return v1_; }
   /// null unless left_face_exists()
-  vertex_descriptor vL() const { load_apexes(); return vL_; }
-  halfedge_descriptor v1_vL() const { load_apexes(); return v1vL_; }
-  halfedge_descriptor vL_v0() const { load_apexes(); return vLv0_; }
+  vertex_descriptor vL() const {
+    load_apexes();
+    return vL_;
+  }
+  halfedge_descriptor v1_vL() const {
+    load_apexes();
+    return v1vL_;
+  }
+  halfedge_descriptor vL_v0() const {
+    load_apexes();
+    return vLv0_;
+  }
   /// null unless right_face_exists()
-  vertex_descriptor vR() const { load_apexes(); return vR_; }
-  halfedge_descriptor v0_vR() const { load_apexes(); return v0vR_; }
-  halfedge_descriptor vR_v1() const { load_apexes(); return vRv1_; }
+  vertex_descriptor vR() const {
+    load_apexes();
+    return vR_;
+  }
+  halfedge_descriptor v0_vR() const {
+    load_apexes();
+    return v0vR_;
+  }
+  halfedge_descriptor vR_v1() const {
+    load_apexes();
+    return vRv1_;
+  }
   const Point& p0() const { return p0_; }
   const Point& p1() const { return p1_; }
   bool left_face_exists() const { return left_; }
@@ -125,8 +150,10 @@ private:
         add_link(source(h, tm));
         const bool edge_v0v1 = (h == h_ || h == o_);
         if (!edge_v0v1 || c == v0_) {  // the edge v0v1 once
-          if (is_border(h, tm)) border_edges_.push_back(h);
-          else if (is_border(o, tm)) border_edges_.push_back(o);
+          if (is_border(h, tm))
+            border_edges_.push_back(h);
+          else if (is_border(o, tm))
+            border_edges_.push_back(o);
         }
         if (!is_border(h, tm)) {  // faces holding both v0 and v1 are the edge's, listed first
           const vertex_descriptor a = source(h, tm), b = target(h, tm), d = target(next(h, tm), tm);

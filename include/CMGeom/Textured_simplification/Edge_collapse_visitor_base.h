@@ -12,16 +12,25 @@ namespace Textured_simplification {
 /// A visitor that does nothing; derive from it and override what you need (the member functions
 /// are templates on the profile type, so one visitor serves both engines).
 struct Edge_collapse_visitor_base {
-  template <class TM> void OnStarted(TM&) const {}
-  template <class TM> void OnFinished(TM&) const {}
-  template <class Profile> void OnStopConditionReached(const Profile&) const {}
-  template <class Profile, class OFT> void OnCollected(const Profile&, const OFT&) const {}
-  template <class Profile, class OFT, class S> void OnSelected(const Profile&, const OFT&, S, S) const {}
-  template <class Profile, class OP> void OnCollapsing(const Profile&, const OP&) const {}
-  template <class Profile, class V> void OnCollapsed(const Profile&, const V&) const {}
-  template <class Profile> void OnNonCollapsable(const Profile&) const {}
+  template <class TM>
+  void OnStarted(TM&) const {}
+  template <class TM>
+  void OnFinished(TM&) const {}
+  template <class Profile>
+  void OnStopConditionReached(const Profile&) const {}
+  template <class Profile, class OFT>
+  void OnCollected(const Profile&, const OFT&) const {}
+  template <class Profile, class OFT, class S>
+  void OnSelected(const Profile&, const OFT&, S, S) const {}
+  template <class Profile, class OP>
+  void OnCollapsing(const Profile&, const OP&) const {}
+  template <class Profile, class V>
+  void OnCollapsed(const Profile&, const V&) const {}
+  template <class Profile>
+  void OnNonCollapsable(const Profile&) const {}
   /// CMGeom extension (not in CGAL's concept): called after an edge flip; `h` is the new edge.
-  template <class TM, class H> void OnFlipped(const TM&, const H&) const {}
+  template <class TM, class H>
+  void OnFlipped(const TM&, const H&) const {}
 };
 
 }  // namespace Textured_simplification

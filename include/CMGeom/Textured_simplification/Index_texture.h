@@ -51,9 +51,7 @@ void parallel_rows(int height, const F& f) {
 struct Texture_domain {
   double u0 = 0, v0 = 0, du = 1, dv = 1;
   int width = 0, height = 0;
-  UV2 to_texel(const UV2& uv) const {
-    return {{(uv[0] - u0) / du * width, (uv[1] - v0) / dv * height}};
-  }
+  UV2 to_texel(const UV2& uv) const { return {{(uv[0] - u0) / du * width, (uv[1] - v0) / dv * height}}; }
   UV2 from_texel(double x, double y) const { return {{u0 + x / width * du, v0 + y / height * dv}}; }
   /// Normalised output UV (the output texture covers exactly the domain).
   UV2 to_output_uv(const UV2& uv) const { return {{(uv[0] - u0) / du, (uv[1] - v0) / dv}}; }
@@ -142,9 +140,12 @@ void rasterize_triangle(const std::array<UV2, 3>& t, int W, int H, int y_begin, 
     for (int i = 0; i < 3 && lo <= hi; ++i) {
       const std::int64_t e0 = A[i] * (std::int64_t(xlo) * S + HALF) + B[i] * py + C[i];
       const std::int64_t step = A[i] * S;
-      if (step > 0) lo = (std::max)(lo, xlo + (e0 >= 0 ? 0 : ceil_div(-e0, step)));
-      else if (step < 0) hi = (std::min)(hi, xlo + (e0 < 0 ? -1 : e0 / -step));
-      else if (e0 < 0) hi = lo - 1;
+      if (step > 0)
+        lo = (std::max)(lo, xlo + (e0 >= 0 ? 0 : ceil_div(-e0, step)));
+      else if (step < 0)
+        hi = (std::min)(hi, xlo + (e0 < 0 ? -1 : e0 / -step));
+      else if (e0 < 0)
+        hi = lo - 1;
     }
     for (std::int64_t x = lo; x <= hi; ++x) f(int(x), y);
   }
@@ -167,8 +168,11 @@ public:
   /// tests, never for resampling).
   Index_texture(const Texture_domain& domain, const std::vector<std::array<UV2, 3>>& triangles,
                 const std::vector<int>& chart_ids, int chart_margin = 2, bool mark_overlaps = false)
-      : domain_(domain), w_(domain.width), h_(domain.height),
-        idx_(std::size_t(2) * std::size_t(w_) * std::size_t(h_)), chart_(std::size_t(w_) * std::size_t(h_), 0u) {
+      : domain_(domain),
+        w_(domain.width),
+        h_(domain.height),
+        idx_(std::size_t(2) * std::size_t(w_) * std::size_t(h_)),
+        chart_(std::size_t(w_) * std::size_t(h_), 0u) {
     internal::parallel_rows(h_, [&](int y0, int y1) {
       for (int y = y0; y < y1; ++y)
         for (int x = 0; x < w_; ++x) {
@@ -461,7 +465,8 @@ public:
       const double fr = std::floor(y0 - 0.5) - 1.0, lr = std::ceil(y1 - 0.5) + 1.0;
       if (lr < 0.0 || fr > double(H - 1)) continue;
       const int first = int((std::max)(fr, 0.0)), last = int((std::min)(lr, double(H - 1)));
-      for (int r = first; r <= last; r += rows_per_task) items_.push_back({k, r, (std::min)(r + rows_per_task, last + 1)});
+      for (int r = first; r <= last; r += rows_per_task)
+        items_.push_back({k, r, (std::min)(r + rows_per_task, last + 1)});
     }
     if (pending_.size() < items_.size()) pending_.resize(items_.size());
     auto resample_item = [&](std::size_t i) {

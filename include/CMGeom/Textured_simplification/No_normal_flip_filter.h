@@ -21,7 +21,9 @@ namespace Textured_simplification {
 /// The identity filter (accepts every placement).
 struct Identity_filter {
   template <class Profile, class Placement>
-  Placement operator()(const Profile&, const Placement& p) const { return p; }
+  Placement operator()(const Profile&, const Placement& p) const {
+    return p;
+  }
 };
 
 /// Vetoes fold-overs (see the file comment). \tparam BaseFilter a `PlacementFilter` applied first.

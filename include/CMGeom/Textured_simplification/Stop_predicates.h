@@ -62,9 +62,13 @@ private:
   // Surface_mesh knows its live counts (number_of_faces() excludes removed elements, while BGL's
   // num_faces() does not); other graphs are counted by iteration.
   template <class P>
-  static std::size_t live_faces(const CGAL::Surface_mesh<P>& m) { return m.number_of_faces(); }
+  static std::size_t live_faces(const CGAL::Surface_mesh<P>& m) {
+    return m.number_of_faces();
+  }
   template <class P>
-  static std::size_t live_vertices(const CGAL::Surface_mesh<P>& m) { return m.number_of_vertices(); }
+  static std::size_t live_vertices(const CGAL::Surface_mesh<P>& m) {
+    return m.number_of_vertices();
+  }
   template <class G>
   static std::size_t live_faces(const G& g) {
     const auto r = faces(g);

@@ -127,8 +127,8 @@ public:
           break;
         }
     if (!any) return 0.;
-    star_of_collapse(tm, h, V3(CGAL::to_double(placement.x()), CGAL::to_double(placement.y()),
-                                CGAL::to_double(placement.z())));
+    star_of_collapse(
+        tm, h, V3(CGAL::to_double(placement.x()), CGAL::to_double(placement.y()), CGAL::to_double(placement.z())));
     if (tris_.empty()) return 0.;
     double sum = 0.;
     for (std::size_t j = 0; j < faces_.size(); ++j) {
@@ -308,7 +308,7 @@ private:
   double floor_sq_ = 0.;
   std::size_t faces_alive_ = 0;
   std::vector<Item> items_;
-  std::vector<std::uint32_t> head_;    // per face: its first point, or nil
+  std::vector<std::uint32_t> head_;                                // per face: its first point, or nil
   std::vector<std::pair<std::uint32_t, face_descriptor>> moving_;  // detached points and their former face
   mutable std::vector<face_descriptor> faces_;
   mutable std::vector<Tri> tris_;

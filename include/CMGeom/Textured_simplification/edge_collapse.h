@@ -32,7 +32,8 @@ namespace CMGeom {
 namespace Textured_simplification {
 
 /// Simplifies `tm` in place by edge collapses until `should_stop` says so; returns the number of
-/// removed edges (as CGAL's edge_collapse does: 3 per interior collapse, 2 on a border). `tm` keeps removed elements until `collect_garbage()` (Surface_mesh).
+/// removed edges (as CGAL's edge_collapse does: 3 per interior collapse, 2 on a border). `tm` keeps removed elements
+/// until `collect_garbage()` (Surface_mesh).
 ///
 /// \tparam TriangleMesh a model of `MutableFaceGraph` and `HalfedgeListGraph`, triangulated and
 ///   2-manifold (with or without boundary)
@@ -49,8 +50,7 @@ namespace Textured_simplification {
 ///   \cgalParamNBegin{vertex_point_map}, \cgalParamNBegin{geom_traits}: as in CGAL.
 ///   `CMGeom::parameters::edge_flips(bool)`: flips of §3.5.1 after each collapse (default false).
 /// \cgalNamedParamsEnd
-template <class TriangleMesh, class StopPredicate,
-          class NamedParameters = CGAL::parameters::Default_named_parameters>
+template <class TriangleMesh, class StopPredicate, class NamedParameters = CGAL::parameters::Default_named_parameters>
 int edge_collapse(TriangleMesh& tm, const StopPredicate& should_stop,
                   const NamedParameters& np = CGAL::parameters::default_values()) {
   using CGAL::parameters::choose_parameter;
@@ -61,20 +61,20 @@ int edge_collapse(TriangleMesh& tm, const StopPredicate& should_stop,
   using Default_policy = Area_weighted_quadric_policies<TriangleMesh, GT>;
 
   const GT gt = choose_parameter<GT>(get_parameter(np, CGAL::internal_np::geom_traits));
-  const VPM vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
-                                   get_property_map(CGAL::vertex_point, tm));
+  const VPM vpm =
+      choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point), get_property_map(CGAL::vertex_point, tm));
   const auto ecm = choose_parameter(get_parameter(np, CGAL::internal_np::edge_is_constrained),
                                     CGAL::Constant_property_map<edge_descriptor, bool>(false));
   const bool flips = choose_parameter(get_parameter(np, CMGeom::internal_np::edge_flips), false);
 
   using Cost_np = typename CGAL::internal_np::Lookup_named_param_def<CGAL::internal_np::get_cost_policy_t,
                                                                      NamedParameters, Default_policy>::type;
-  using Placement_np = typename CGAL::internal_np::Lookup_named_param_def<
-      CGAL::internal_np::get_placement_policy_t, NamedParameters, Default_policy>::type;
+  using Placement_np = typename CGAL::internal_np::Lookup_named_param_def<CGAL::internal_np::get_placement_policy_t,
+                                                                          NamedParameters, Default_policy>::type;
   using Filter = typename CGAL::internal_np::Lookup_named_param_def<CGAL::internal_np::filter_t, NamedParameters,
                                                                     Identity_filter>::type;
-  using Visitor = typename CGAL::internal_np::Lookup_named_param_def<CGAL::internal_np::visitor_t,
-                                                                     NamedParameters, Edge_collapse_visitor_base>::type;
+  using Visitor = typename CGAL::internal_np::Lookup_named_param_def<CGAL::internal_np::visitor_t, NamedParameters,
+                                                                     Edge_collapse_visitor_base>::type;
 
   const Filter filter = choose_parameter<Filter>(get_parameter(np, CGAL::internal_np::filter));
   Visitor visitor = choose_parameter<Visitor>(get_parameter(np, CGAL::internal_np::visitor));

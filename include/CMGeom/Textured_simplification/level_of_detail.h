@@ -75,10 +75,10 @@ struct Level_of_detail_options {
 struct Level_of_detail {
   Textured_mesh mesh;
   std::size_t target_faces = 0;
-  bool is_input = false;          ///< the input itself (target >= its face count)
-  double hausdorff = -1;          ///< symmetric Hausdorff / bounding-box diagonal (-1: not measured)
-  double rms = -1;                ///< RMS distance / diagonal (-1: not measured)
-  Atlas_result atlas;             ///< its atlas (per-level mode), or the shared one (coarsest level)
+  bool is_input = false;  ///< the input itself (target >= its face count)
+  double hausdorff = -1;  ///< symmetric Hausdorff / bounding-box diagonal (-1: not measured)
+  double rms = -1;        ///< RMS distance / diagonal (-1: not measured)
+  Atlas_result atlas;     ///< its atlas (per-level mode), or the shared one (coarsest level)
 };
 
 struct Level_of_detail_result {
@@ -107,17 +107,42 @@ inline Surface_mesh compact_copy(const Surface_mesh& from) {
 template <class Visitor>
 struct Forwarding_visitor {
   Visitor visitor;
-  template <class TM> void OnStarted(TM& tm) const { visitor.OnStarted(tm); }
-  template <class TM> void OnFinished(TM& tm) const { visitor.OnFinished(tm); }
-  template <class P> void OnStopConditionReached(const P& p) const { visitor.OnStopConditionReached(p); }
-  template <class P, class C> void OnCollected(const P& p, const C& c) const { visitor.OnCollected(p, c); }
-  template <class P, class C, class S> void OnSelected(const P& p, const C& c, S i, S n) const {
+  template <class TM>
+  void OnStarted(TM& tm) const {
+    visitor.OnStarted(tm);
+  }
+  template <class TM>
+  void OnFinished(TM& tm) const {
+    visitor.OnFinished(tm);
+  }
+  template <class P>
+  void OnStopConditionReached(const P& p) const {
+    visitor.OnStopConditionReached(p);
+  }
+  template <class P, class C>
+  void OnCollected(const P& p, const C& c) const {
+    visitor.OnCollected(p, c);
+  }
+  template <class P, class C, class S>
+  void OnSelected(const P& p, const C& c, S i, S n) const {
     visitor.OnSelected(p, c, i, n);
   }
-  template <class P, class Pl> void OnCollapsing(const P& p, const Pl& pl) const { visitor.OnCollapsing(p, pl); }
-  template <class P, class V> void OnCollapsed(const P& p, const V& v) const { visitor.OnCollapsed(p, v); }
-  template <class P> void OnNonCollapsable(const P& p) const { visitor.OnNonCollapsable(p); }
-  template <class TM, class H> void OnFlipped(const TM& tm, const H& h) const { visitor.OnFlipped(tm, h); }
+  template <class P, class Pl>
+  void OnCollapsing(const P& p, const Pl& pl) const {
+    visitor.OnCollapsing(p, pl);
+  }
+  template <class P, class V>
+  void OnCollapsed(const P& p, const V& v) const {
+    visitor.OnCollapsed(p, v);
+  }
+  template <class P>
+  void OnNonCollapsable(const P& p) const {
+    visitor.OnNonCollapsable(p);
+  }
+  template <class TM, class H>
+  void OnFlipped(const TM& tm, const H& h) const {
+    visitor.OnFlipped(tm, h);
+  }
 };
 
 /// Visitor that copies the mesh each time the face count reaches the next level's target, and
@@ -132,7 +157,8 @@ struct Snapshot_visitor : Forwarding_visitor<Visitor> {
   State* state;
   Snapshot_visitor(State* s, const Visitor& v) : Forwarding_visitor<Visitor>{v}, state(s) {}
 
-  template <class P, class V> void OnCollapsed(const P& p, const V& v) const {
+  template <class P, class V>
+  void OnCollapsed(const P& p, const V& v) const {
     this->visitor.OnCollapsed(p, v);
     const auto& mesh = p.surface_mesh();
     // (the last target is the run's stop: the mesh left at the end is that level)
@@ -163,7 +189,8 @@ struct Error_snapshot_visitor : Forwarding_visitor<Visitor> {
   State* state;
   Error_snapshot_visitor(State* s, const Visitor& v) : Forwarding_visitor<Visitor>{v}, state(s) {}
 
-  template <class P, class V> void OnCollapsed(const P& p, const V& v) const {
+  template <class P, class V>
+  void OnCollapsed(const P& p, const V& v) const {
     this->visitor.OnCollapsed(p, v);
     const auto& mesh = p.surface_mesh();
     if (state->stop || double(mesh.number_of_faces()) > state->next) return;
@@ -334,8 +361,8 @@ inline void map_through_atlas(const Textured_mesh& coarse, Textured_mesh& fine, 
 /// the fraction of the texels the original's faces cover that went to another face (hidden:
 /// parts of the original that fold onto the same place of the coarse surface).
 inline double paint_atlas_from_original(const Atlas_source& source, const Textured_mesh& coarse,
-                                      const Textured_mesh& original_mapped, const std::vector<int>& chart_of_face,
-                                      const std::vector<double>& depth_of_face, Image& image) {
+                                        const Textured_mesh& original_mapped, const std::vector<int>& chart_of_face,
+                                        const std::vector<double>& depth_of_face, Image& image) {
   using Face = Surface_mesh::Face_index;
   const int W = image.width(), H = image.height(), C = image.channels();
   if (W <= 0 || H <= 0 || C != source.colour_channels()) return 0.0;
@@ -355,9 +382,8 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
   };
   for (Face f : cm.faces()) {
     const int c = get(chart_map, f);
-    rasterize_triangle(texel_triangle(coarse, f), W, H, [&](int x, int y) {
-      owner[std::size_t(y) * std::size_t(W) + std::size_t(x)] = c;
-    });
+    rasterize_triangle(texel_triangle(coarse, f), W, H,
+                       [&](int x, int y) { owner[std::size_t(y) * std::size_t(W) + std::size_t(x)] = c; });
   }
   const Surface_mesh& om = original_mapped.mesh();
   const std::size_t nf = om.number_of_faces();
@@ -436,8 +462,10 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
   if (by_error) {
     const auto& b = options.max_errors;
     for (std::size_t i = 0; i < b.size(); ++i) {
-      if (!(b[i] >= 0) || !std::isfinite(b[i])) throw Invalid_input("simplify_to_levels: an error bound is negative or not finite");
-      if (i > 0 && b[i] <= b[i - 1]) throw Invalid_input("simplify_to_levels: the error bounds must be strictly increasing");
+      if (!(b[i] >= 0) || !std::isfinite(b[i]))
+        throw Invalid_input("simplify_to_levels: an error bound is negative or not finite");
+      if (i > 0 && b[i] <= b[i - 1])
+        throw Invalid_input("simplify_to_levels: the error bounds must be strictly increasing");
     }
     if (!(options.error_step > 0 && options.error_step < 1))
       throw Invalid_input("simplify_to_levels: error_step must be in (0, 1)");
@@ -569,8 +597,9 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       std::vector<int> chart_of_face;
       std::vector<double> depth_of_face;
       internal::map_through_atlas(coarsest.mesh, original, options.max_extrapolation, &chart_of_face, &depth_of_face);
-      res.shared_texture_hidden = internal::paint_atlas_from_original(
-          *source, coarsest.mesh, original, chart_of_face, depth_of_face, coarsest.mesh.materials().front().diffuse_image);
+      res.shared_texture_hidden =
+          internal::paint_atlas_from_original(*source, coarsest.mesh, original, chart_of_face, depth_of_face,
+                                              coarsest.mesh.materials().front().diffuse_image);
       original.materials() = coarsest.mesh.materials();
       for (std::size_t i = 1; i < kept; ++i) res.levels[i].mesh = original;
       tbb::parallel_for(kept, res.levels.size() - 1, [&](std::size_t i) {
@@ -578,7 +607,8 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       });
       for (std::size_t i = 0; i + 1 < res.levels.size(); ++i) res.levels[i].atlas = coarsest.atlas;
     } else {
-      for (std::size_t i = kept; i < res.levels.size(); ++i) res.levels[i].atlas = rebuild_atlas(*source, res.levels[i].mesh, ao);
+      for (std::size_t i = kept; i < res.levels.size(); ++i)
+        res.levels[i].atlas = rebuild_atlas(*source, res.levels[i].mesh, ao);
     }
   } else if (!textured) {
     for (auto& l : res.levels)

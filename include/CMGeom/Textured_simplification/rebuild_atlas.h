@@ -108,7 +108,9 @@ public:
 
   /// Faces whose `usable` entry is 0 are never returned.
   Facing_closest_point(Triangles triangles, std::vector<Vector_3> normals, std::vector<char> usable)
-      : tris_(std::move(triangles)), normals_(std::move(normals)), usable_(std::move(usable)),
+      : tris_(std::move(triangles)),
+        normals_(std::move(normals)),
+        usable_(std::move(usable)),
         tree_(tris_.cbegin(), tris_.cend()) {
     tree_.build();
   }
@@ -191,7 +193,8 @@ public:
       throw Invalid_input("rebuild_atlas: chart_cone_degrees must be in (0, 90), got " +
                           std::to_string(options.chart_cone_degrees));
     if (options.gutter_texels < 1 || options.gutter_texels > 64)
-      throw Invalid_input("rebuild_atlas: gutter_texels must be in [1, 64], got " + std::to_string(options.gutter_texels));
+      throw Invalid_input("rebuild_atlas: gutter_texels must be in [1, 64], got " +
+                          std::to_string(options.gutter_texels));
     if (om.has_garbage()) throw Invalid_input("rebuild_atlas: the original mesh must be garbage-free");
     const auto& mats = *mats_;
     // materials in use, and the images the new atlas needs
@@ -219,7 +222,8 @@ public:
     }
     for (std::size_t i = 0; i < used_.size(); ++i)
       if (used_[i] && used_count_++ == 0) first_used_ = i;
-    if (!any_image) throw Invalid_input("rebuild_atlas: '" + original.source() + "' has no decoded texture to bake from");
+    if (!any_image)
+      throw Invalid_input("rebuild_atlas: '" + original.source() + "' has no decoded texture to bake from");
     int W = W_, H = H_;
     if (derived_size) {
       // the input texture's texel density over the UV range the input uses: UVs that repeat the
@@ -241,26 +245,30 @@ public:
       H = W;
     }
     if (W < 8 || H < 8 || W > 16384 || H > 16384)
-      throw Invalid_input("rebuild_atlas: texture size " + std::to_string(W) + " x " + std::to_string(H) + " out of [8, 16384]");
+      throw Invalid_input("rebuild_atlas: texture size " + std::to_string(W) + " x " + std::to_string(H) +
+                          " out of [8, 16384]");
     W_ = W;
     H_ = H;
     // the triangles, with tangent frames when a normal map is carried, and their chart ids
     source_.resize(om.number_of_faces());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, source_.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        const Surface_mesh::Face_index f(static_cast<Surface_mesh::size_type>(i));
-        Source& s = source_[i];
-        for (int k = 0; k < 3; ++k) {
-          const auto h = I::corner_halfedge(om, f, k);
-          s.p[std::size_t(k)] = om.point(om.target(h));
-          const Point_2 t = original.uv(h);
-          s.uv[std::size_t(k)] = {{t.x(), t.y()}};
-        }
-        s.material = original.material(f);
-        if (any_normal_) s.frame = I::tangent_frame(s.p, s.uv);
-        else s.frame[2] = I::unit_or_zero(CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]));
-      }
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, source_.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                          const Surface_mesh::Face_index f(static_cast<Surface_mesh::size_type>(i));
+                          Source& s = source_[i];
+                          for (int k = 0; k < 3; ++k) {
+                            const auto h = I::corner_halfedge(om, f, k);
+                            s.p[std::size_t(k)] = om.point(om.target(h));
+                            const Point_2 t = original.uv(h);
+                            s.uv[std::size_t(k)] = {{t.x(), t.y()}};
+                          }
+                          s.material = original.material(f);
+                          if (any_normal_)
+                            s.frame = I::tangent_frame(s.p, s.uv);
+                          else
+                            s.frame[2] = I::unit_or_zero(CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]));
+                        }
+                      });
     // a plain array, not a dynamic property of the mesh: adding one would change the mesh while
     // simplify_mesh reads it on another core (simplify_textured_mesh takes the source meanwhile)
     std::vector<int> chart_of(om.num_faces(), -1);
@@ -284,7 +292,8 @@ public:
       std::vector<std::array<UV2, 3>> uv_tris(source_.size());
       std::vector<int> ids(source_.size());
       for (std::size_t f = 0; f < source_.size(); ++f) {
-        for (int k = 0; k < 3; ++k) uv_tris[f][std::size_t(k)] = {{source_[f].uv[std::size_t(k)][0], source_[f].uv[std::size_t(k)][1]}};
+        for (int k = 0; k < 3; ++k)
+          uv_tris[f][std::size_t(k)] = {{source_[f].uv[std::size_t(k)][0], source_[f].uv[std::size_t(k)][1]}};
         ids[f] = int(source_[f].chart) - 1;
       }
       int rw = 0, rh = 0;
@@ -317,7 +326,8 @@ public:
       if (chart_has_texels[c]) continue;
       std::array<UV2, 3> t;
       for (int k = 0; k < 3; ++k)
-        t[std::size_t(k)] = region_.domain().to_texel({{source_[f].uv[std::size_t(k)][0], source_[f].uv[std::size_t(k)][1]}});
+        t[std::size_t(k)] =
+            region_.domain().to_texel({{source_[f].uv[std::size_t(k)][0], source_[f].uv[std::size_t(k)][1]}});
       rasterize_triangle(t, region_.width(), region_.height(), [&](int, int) { chart_has_texels[c] = 1; });
     }
     bool any = false;
@@ -351,7 +361,8 @@ public:
     const double v = w0 * s.uv[0][1] + w1 * s.uv[1][1] + w2 * s.uv[2][1];
     const auto& mats = *mats_;
     float c[4] = {1, 1, 1, 1};
-    const Material* mat = s.material >= 0 && std::size_t(s.material) < mats.size() ? &mats[std::size_t(s.material)] : nullptr;
+    const Material* mat =
+        s.material >= 0 && std::size_t(s.material) < mats.size() ? &mats[std::size_t(s.material)] : nullptr;
     if (mat && !mat->diffuse_image.empty()) {
       const UV2 a = region_.domain().to_texel({{u, v}});
       sample_original(region_, mat->diffuse_image, float(a[0]), float(a[1]), c, s.chart);
@@ -415,7 +426,8 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   for (auto f : sm.faces()) {
     const std::size_t i = std::size_t(f);
     for (int k = 0; k < 3; ++k) corner_point[i][std::size_t(k)] = sm.point(sm.target(I::corner_halfedge(sm, f, k)));
-    const Vector_3 c = CGAL::cross_product(corner_point[i][1] - corner_point[i][0], corner_point[i][2] - corner_point[i][0]);
+    const Vector_3 c =
+        CGAL::cross_product(corner_point[i][1] - corner_point[i][0], corner_point[i][2] - corner_point[i][0]);
     area[i] = 0.5 * std::sqrt(c.squared_length());
     normal[i] = I::unit_or_zero(c);
   }
@@ -442,7 +454,8 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
       const auto& T = face_uv[fi];
       std::array<UV2, 3> tex;
       for (int k = 0; k < 3; ++k) tex[std::size_t(k)] = {{T[std::size_t(k)][0] * W, T[std::size_t(k)][1] * H}};
-      const double det = (tex[1][0] - tex[0][0]) * (tex[2][1] - tex[0][1]) - (tex[2][0] - tex[0][0]) * (tex[1][1] - tex[0][1]);
+      const double det =
+          (tex[1][0] - tex[0][0]) * (tex[2][1] - tex[0][1]) - (tex[2][0] - tex[0][0]) * (tex[1][1] - tex[0][1]);
       if (det == 0) continue;
       std::array<Vector_3, 3> new_frame;
       if (any_normal) new_frame = I::tangent_frame(P, T);
@@ -450,10 +463,13 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
       std::size_t hint = std::size_t(-1);
       rasterize_triangle(tex, W, H, [&](int x, int y) {
         const double cx = x + 0.5, cy = y + 0.5;
-        const double b1 = ((cx - tex[0][0]) * (tex[2][1] - tex[0][1]) - (tex[2][0] - tex[0][0]) * (cy - tex[0][1])) / det;
-        const double b2 = ((tex[1][0] - tex[0][0]) * (cy - tex[0][1]) - (cx - tex[0][0]) * (tex[1][1] - tex[0][1])) / det;
+        const double b1 =
+            ((cx - tex[0][0]) * (tex[2][1] - tex[0][1]) - (tex[2][0] - tex[0][0]) * (cy - tex[0][1])) / det;
+        const double b2 =
+            ((tex[1][0] - tex[0][0]) * (cy - tex[0][1]) - (cx - tex[0][0]) * (tex[1][1] - tex[0][1])) / det;
         const double b0 = 1 - b1 - b2;
-        const Point_3 p = CGAL::ORIGIN + (b0 * (P[0] - CGAL::ORIGIN) + b1 * (P[1] - CGAL::ORIGIN) + b2 * (P[2] - CGAL::ORIGIN));
+        const Point_3 p =
+            CGAL::ORIGIN + (b0 * (P[0] - CGAL::ORIGIN) + b1 * (P[1] - CGAL::ORIGIN) + b2 * (P[2] - CGAL::ORIGIN));
         const double pq[3] = {p.x(), p.y(), p.z()};
         // the closest facing original point: the previous texel's face first (a tight bound),
         // then the tree within that bound; if nothing faces this way within reach, the closest
@@ -484,7 +500,8 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
           const double u = w0 * s->uv[0][0] + w1 * s->uv[1][0] + w2 * s->uv[2][0];
           const double v = w0 * s->uv[0][1] + w1 * s->uv[1][1] + w2 * s->uv[2][1];
           const UV2 tx = region.domain().to_texel({{u, v}});
-          const Material* mat = s->material >= 0 && std::size_t(s->material) < mats.size() ? &mats[std::size_t(s->material)] : nullptr;
+          const Material* mat =
+              s->material >= 0 && std::size_t(s->material) < mats.size() ? &mats[std::size_t(s->material)] : nullptr;
           Vector_3 nobj = s->frame[2];
           if (mat && !mat->normal_image.empty()) {
             float t[4] = {0.5f, 0.5f, 1.f, 1.f};
@@ -543,7 +560,8 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
 /// baked from `original` (UVs and decoded textures, IO::load_textures); see the file comment.
 /// Throws Invalid_input when `original` has no UVs or no decoded image, or for option values
 /// out of range.
-inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& simplified, const Atlas_options& options = {}) {
+inline Atlas_result rebuild_atlas(const Textured_mesh& original, Textured_mesh& simplified,
+                                  const Atlas_options& options = {}) {
   Atlas_source src(original, options);
   src.prepare();
   return rebuild_atlas(src, simplified, options);

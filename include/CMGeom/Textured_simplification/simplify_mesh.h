@@ -112,12 +112,12 @@ struct Mesh_simplification_options {
 /// What simplify_mesh() did.
 struct Mesh_simplification_result {
   std::size_t faces_in = 0, faces_out = 0;
-  std::size_t target_faces = 0;        ///< the face target (a ratio's count); 0 with max_cost alone
+  std::size_t target_faces = 0;  ///< the face target (a ratio's count); 0 with max_cost alone
   Stop_reason stopped_by = Stop_reason::target;
-  std::size_t parts = 0;               ///< parts simplified at once (0: the whole at once)
-  std::size_t faces_after_parts = 0;   ///< faces when the parts were put back together
-  double seconds_parts = 0;            ///< the parts: cutting, simplifying, putting back
-  double seconds = 0;                  ///< all of it
+  std::size_t parts = 0;              ///< parts simplified at once (0: the whole at once)
+  std::size_t faces_after_parts = 0;  ///< faces when the parts were put back together
+  double seconds_parts = 0;           ///< the parts: cutting, simplifying, putting back
+  double seconds = 0;                 ///< all of it
 };
 
 namespace internal {
@@ -190,8 +190,10 @@ inline int part_levels(std::size_t faces, std::size_t target, const Mesh_simplif
 /// Calls fn with the policy's own placement, or with Endpoint_placement over it.
 template <class Policy, class Fn>
 void collapse_with_placement(const Policy& policy, bool endpoint, Fn fn) {
-  if (endpoint) fn(Endpoint_placement<Policy>{policy});
-  else fn(policy);
+  if (endpoint)
+    fn(Endpoint_placement<Policy>{policy});
+  else
+    fn(policy);
 }
 
 /// The first stage (see the file comment): on return `mesh` is the parts put back together,
@@ -229,9 +231,9 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     if (options.surface_memory) {
       Surface_memory_options mo = options.memory;
       if (mo.max_points > 0)
-        mo.max_points = (std::max)(std::size_t(1), std::size_t(std::ceil(double(mo.max_points) *
-                                                                          double(pm.number_of_vertices()) /
-                                                                          double(vertices_in))));
+        mo.max_points = (std::max)(
+            std::size_t(1),
+            std::size_t(std::ceil(double(mo.max_points) * double(pm.number_of_vertices()) / double(vertices_in))));
       pmem = &part_memory[k].emplace(pm, pm.points(), mo);
     }
     // its share of the target, but at least two faces per locked vertex: a part emptied down to
@@ -239,9 +241,9 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     // torus cut into 16 parts: at 2 % Hausdorff 4.6x that of the whole at once without this floor,
     // 1.35x with it)
     const std::size_t locked = std::size_t(std::count(part.locked.begin(), part.locked.end(), std::uint8_t(1)));
-    const std::size_t stop = (std::max)(
-        2 * locked, std::size_t(std::ceil(options.parts_stop_factor * double(target) *
-                                                            double(pm.number_of_faces()) / double(faces_in))));
+    const std::size_t stop =
+        (std::max)(2 * locked, std::size_t(std::ceil(options.parts_stop_factor * double(target) *
+                                                     double(pm.number_of_faces()) / double(faces_in))));
     collapse_with_placement(pp, options.endpoint_placement, [&](const auto& placement) {
       using Base = std::decay_t<decltype(placement)>;
       edge_collapse(pm, Face_count_stop_predicate<Mesh>(pm, stop),
@@ -358,8 +360,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
   if (options.max_cost && !(*options.max_cost >= 0.0 && std::isfinite(*options.max_cost)))
     throw std::invalid_argument("simplify_mesh: max_cost must be finite and >= 0, got " +
                                 std::to_string(*options.max_cost));
-  if (!(options.parts_stop_factor >= 1.0))
-    throw std::invalid_argument("simplify_mesh: parts_stop_factor must be >= 1");
+  if (!(options.parts_stop_factor >= 1.0)) throw std::invalid_argument("simplify_mesh: parts_stop_factor must be >= 1");
   const bool cgal = options.engine == Simplification_engine::cgal;
   if (cgal && (options.surface_memory || options.flips))
     throw std::invalid_argument("simplify_mesh: CGAL's engine has no memoryful cost and no flips");
@@ -373,8 +374,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
   if (!target || *target < res.faces_in) {
     Policy policy(mesh, options.quadric);
     std::optional<Memory> memory;
-    const int levels =
-        target && !options.max_cost && !cgal ? internal::part_levels(res.faces_in, *target, options) : 0;
+    const int levels = target && !options.max_cost && !cgal ? internal::part_levels(res.faces_in, *target, options) : 0;
     if (levels > 0) {
       internal::simplify_in_parts(mesh, *target, levels, options, policy, memory);
       res.parts = std::size_t(1) << levels;
@@ -390,15 +390,17 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
     Memory* m = memory ? &*memory : nullptr;
     internal::collapse_with_placement(policy, options.endpoint_placement, [&](const auto& placement) {
       if (cgal)
-        CGAL::Surface_mesh_simplification::edge_collapse(
-            mesh, stop,
-            CGAL::parameters::get_cost(policy).get_placement(placement).filter(No_normal_flip_filter<>()).visitor(visitor));
+        CGAL::Surface_mesh_simplification::edge_collapse(mesh, stop,
+                                                         CGAL::parameters::get_cost(policy)
+                                                             .get_placement(placement)
+                                                             .filter(No_normal_flip_filter<>())
+                                                             .visitor(visitor));
       else
-        edge_collapse(mesh, stop,
-                      CMGeom::parameters::surface_memory(
-                          m, CMGeom::parameters::edge_flips(
-                                 options.flips,
-                                 CGAL::parameters::get_cost(policy).get_placement(placement).visitor(visitor))));
+        edge_collapse(
+            mesh, stop,
+            CMGeom::parameters::surface_memory(
+                m, CMGeom::parameters::edge_flips(
+                       options.flips, CGAL::parameters::get_cost(policy).get_placement(placement).visitor(visitor))));
     });
   }
   mesh.collect_garbage();

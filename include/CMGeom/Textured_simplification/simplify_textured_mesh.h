@@ -172,7 +172,7 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
     }
     take.wait();
   } catch (...) {
-    take.wait();  // (a second wait returns at once; an exception of the source was thrown already)
+    take.wait();     // (a second wait returns at once; an exception of the source was thrown already)
     prepare.wait();  // `source` must outlive the tasks
     throw;
   }
@@ -192,15 +192,17 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
 }
 
 template <class Resampler, class Visitor>
-Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm, const Textured_simplification_options& options,
+Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm,
+                                                           const Textured_simplification_options& options,
                                                            Visitor visitor) {
   using Mesh = Surface_mesh;
   Mesh& mesh = tm.mesh();
   if (!tm.has_uvs()) throw Invalid_input("simplify_textured_mesh: the mesh has no texture coordinates");
   if (!CGAL::is_triangle_mesh(mesh)) throw Invalid_input("simplify_textured_mesh: not a triangle mesh");
   if (options.flips && options.keep_charts)
-    throw Invalid_input("simplify_textured_mesh: edge flips need a new atlas (keep_charts = false): a flip across a "
-                        "chart would need UV rules the chart constraints do not have");
+    throw Invalid_input(
+        "simplify_textured_mesh: edge flips need a new atlas (keep_charts = false): a flip across a "
+        "chart would need UV rules the chart constraints do not have");
   Textured_simplification_result res;
   res.faces_in = mesh.number_of_faces();
 
@@ -223,8 +225,9 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm, co
   const bool resample = options.resample_textures && textured != nullptr;
   if (!options.keep_charts && resample) return rebuild_path(tm, options, visitor);
   if (options.flips)  // the chart-keeping path below has no flips: never drop them silently
-    throw Invalid_input("simplify_textured_mesh: edge flips need a new atlas, which needs a decoded texture and "
-                        "resample_textures");
+    throw Invalid_input(
+        "simplify_textured_mesh: edge flips need a new atlas, which needs a decoded texture and "
+        "resample_textures");
 
   std::vector<std::array<UV2, 3>> tris;
   std::vector<int> chart_ids;
@@ -266,7 +269,8 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm, co
         if (region.chart_of(float(t[c][0]), float(t[c][1])) != own) return false;
       }
       bool inside = true;
-      rasterize_triangle(t, region.width(), region.height(), [&](int x, int y) { inside &= region.chart(x, y) == own; });
+      rasterize_triangle(t, region.width(), region.height(),
+                         [&](int x, int y) { inside &= region.chart(x, y) == own; });
       return inside;
     });
   }
@@ -279,7 +283,10 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm, co
     Chart_constraint_visitor<CC, Resampler, Visitor> vis(cc, resampler ? &*resampler : nullptr, visitor);
     internal::collapse_with_placement(policy, options.endpoint_placement, [&](const auto& placement) {
       edge_collapse(mesh, stop,
-                    CGAL::parameters::get_cost(policy).get_placement(placement).filter(Chart_constraint_filter<CC>(cc)).visitor(vis));
+                    CGAL::parameters::get_cost(policy)
+                        .get_placement(placement)
+                        .filter(Chart_constraint_filter<CC>(cc))
+                        .visitor(vis));
     });
   }
   if (resampler) resampler->synchronize();

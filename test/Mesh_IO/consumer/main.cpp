@@ -30,10 +30,9 @@ int main(int argc, char** argv) {
   CMGeom::IO::read_mesh(path, back);
   auto ids = back.mesh().add_property_map<CMGeom::Surface_mesh::Face_index, int>("f:chart", -1).first;
   const std::size_t charts = CMGeom::compute_chart_ids(back.mesh(), back.uv_map(), ids);
-  const bool ok = back.mesh().number_of_vertices() == 4 && back.mesh().number_of_faces() == 4 &&
-                  back.has_uvs() && charts == 4;  // every face has its own UVs: 4 charts
-  std::printf("consumer: %zu vertices, %zu faces, %zu charts: %s\n",
-              std::size_t(back.mesh().number_of_vertices()), std::size_t(back.mesh().number_of_faces()),
-              charts, ok ? "ok" : "MISMATCH");
+  const bool ok = back.mesh().number_of_vertices() == 4 && back.mesh().number_of_faces() == 4 && back.has_uvs() &&
+                  charts == 4;  // every face has its own UVs: 4 charts
+  std::printf("consumer: %zu vertices, %zu faces, %zu charts: %s\n", std::size_t(back.mesh().number_of_vertices()),
+              std::size_t(back.mesh().number_of_faces()), charts, ok ? "ok" : "MISMATCH");
   return ok ? 0 : 1;
 }

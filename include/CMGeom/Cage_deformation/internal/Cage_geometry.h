@@ -42,8 +42,8 @@ struct Cage_geometry {
   std::vector<std::array<std::uint32_t, 3>> tri;
   std::vector<std::array<std::uint32_t, 3>> tri_edge;  // edge opposite corner k: (k+1, k+2)
   std::vector<std::array<double, 3>> tri_sign;         // +1 if (k+1 -> k+2) is canonical
-  std::vector<Vec3> normal;                           // unit, outward
-  std::vector<double> offset;                         // normal . q0
+  std::vector<Vec3> normal;                            // unit, outward
+  std::vector<double> offset;                          // normal . q0
   std::vector<double> area;
   // barycentric of the projection: beta_k(x) = bary[k] . x + bary_off[k]
   std::vector<std::array<Vec3, 3>> bary;
@@ -117,7 +117,8 @@ struct Cage_geometry {
     for (std::size_t i = 0; i < n; ++i) vertex_corner_start[i + 1] += vertex_corner_start[i];
     vertex_corner.resize(3 * m);
     std::vector<std::int32_t> fill(vertex_corner_start.begin(), vertex_corner_start.end() - 1);
-    for (std::size_t c = 0; c < 3 * m; ++c) vertex_corner[std::size_t(fill[std::size_t(corner_vertex[c])]++)] = std::int32_t(c);
+    for (std::size_t c = 0; c < 3 * m; ++c)
+      vertex_corner[std::size_t(fill[std::size_t(corner_vertex[c])]++)] = std::int32_t(c);
   }
 
   double signed_distance(std::size_t t, const Vec3& x) const { return dot(normal[t], x) - offset[t]; }
@@ -138,8 +139,7 @@ struct Cage_geometry {
 
   /// Euclidean distance from x to triangle t; `bary` receives the barycentric coordinates of
   /// the closest point of the closed triangle.
-  double distance_to_triangle(std::size_t t, const Vec3& x,
-                              std::array<double, 3>* bary_out = nullptr) const {
+  double distance_to_triangle(std::size_t t, const Vec3& x, std::array<double, 3>* bary_out = nullptr) const {
     const std::array<double, 3> b = plane_barycentrics(t, x);
     const double h = signed_distance(t, x);
     if (b[0] >= 0 && b[1] >= 0 && b[2] >= 0) {
@@ -196,7 +196,8 @@ struct Cage_geometry {
         ex[k] = _mm256_sub_pd(gather_avx2(base, i3), px);
         ey[k] = _mm256_sub_pd(gather_avx2(base + 1, i3), py);
         ez[k] = _mm256_sub_pd(gather_avx2(base + 2, i3), pz);
-        r[k] = _mm256_sqrt_pd(_mm256_fmadd_pd(ex[k], ex[k], _mm256_fmadd_pd(ey[k], ey[k], _mm256_mul_pd(ez[k], ez[k]))));
+        r[k] =
+            _mm256_sqrt_pd(_mm256_fmadd_pd(ex[k], ex[k], _mm256_fmadd_pd(ey[k], ey[k], _mm256_mul_pd(ez[k], ez[k]))));
       }
       // det = e0 . (e1 x e2)
       const __m256d cx = _mm256_fmsub_pd(ey[1], ez[2], _mm256_mul_pd(ez[1], ey[2]));

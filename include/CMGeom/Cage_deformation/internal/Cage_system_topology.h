@@ -131,13 +131,11 @@ struct Cage_system_topology {
         } else if (!owned[c][k] && !owned[first[it->second].first][first[it->second].second]) {
           const auto [c0, k0] = first[it->second];
           if (norm(sub(d.cages[c0].deformed[k0], cd.deformed[k])) > 1e-9 * L)
-            throw Invalid_input("cages " + std::to_string(c0) + " and " + std::to_string(c) +
-                                " share rest vertex " + std::to_string(it->second) +
-                                " but give it different deformed positions");
+            throw Invalid_input("cages " + std::to_string(c0) + " and " + std::to_string(c) + " share rest vertex " +
+                                std::to_string(it->second) + " but give it different deformed positions");
         }
         global_of[c].push_back(it->second);
-        if (incident[it->second].empty() || incident[it->second].back() != c)
-          incident[it->second].push_back(c);
+        if (incident[it->second].empty() || incident[it->second].back() != c) incident[it->second].push_back(c);
       }
       const double eps = 1e-9 * std::max(L, 1e-300);
       for (int a = 0; a < 3; ++a) {
@@ -175,8 +173,7 @@ struct Cage_system_topology {
     for (const auto& [key, users] : faces) {
       if (users.size() == 1) continue;
       if (users.size() > 2 || users[0].second == users[1].second || users[0].first == users[1].first)
-        throw Invalid_input("leaf cages " + std::to_string(users[0].first) + " and " +
-                            std::to_string(users[1].first) +
+        throw Invalid_input("leaf cages " + std::to_string(users[0].first) + " and " + std::to_string(users[1].first) +
                             " overlap (a face is used twice with the same orientation or by more "
                             "than two cages)");
       for (int s = 0; s < 2; ++s) {
@@ -265,7 +262,8 @@ struct Cage_system_topology {
       }
       if (cl.local.empty()) {
         std::set<std::array<std::uint32_t, 3>> surface;
-        for (const auto& t : cl.cage.triangles) surface.insert(sorted({cl.global[t[0]], cl.global[t[1]], cl.global[t[2]]}));
+        for (const auto& t : cl.cage.triangles)
+          surface.insert(sorted({cl.global[t[0]], cl.global[t[1]], cl.global[t[2]]}));
         for (std::size_t j : leaves) {
           if (std::binary_search(cl.cages.begin(), cl.cages.end(), j)) continue;
           std::set<std::uint32_t> group;

@@ -121,10 +121,8 @@ CMGEOM_AVX2_FN __m256d atan2_nonneg_avx2(__m256d y, __m256d x) {
   const __m256d rz = _mm256_cmp_pd(den, zero, _CMP_EQ_OQ);
   __m256d s = _mm256_div_pd(y, _mm256_blendv_pd(den, one, rz));
   const __m256d big = _mm256_cmp_pd(s, _mm256_set1_pd(k_tan_pi_8), _CMP_GT_OQ);
-  const __m256d s1 = _mm256_blendv_pd(
-      s, _mm256_div_pd(_mm256_sub_pd(s, one), _mm256_add_pd(s, one)), big);
-  const __m256d s2 =
-      _mm256_div_pd(s1, _mm256_add_pd(one, _mm256_sqrt_pd(_mm256_fmadd_pd(s1, s1, one))));
+  const __m256d s1 = _mm256_blendv_pd(s, _mm256_div_pd(_mm256_sub_pd(s, one), _mm256_add_pd(s, one)), big);
+  const __m256d s2 = _mm256_div_pd(s1, _mm256_add_pd(one, _mm256_sqrt_pd(_mm256_fmadd_pd(s1, s1, one))));
   const __m256d two = _mm256_set1_pd(2.0);
   __m256d a = _mm256_mul_pd(_mm256_mul_pd(two, s2), atan_series_avx2(_mm256_mul_pd(s2, s2)));
   a = _mm256_add_pd(a, _mm256_and_pd(big, _mm256_set1_pd(0.25 * k_pi)));
@@ -149,8 +147,7 @@ CMGEOM_AVX2_FN __m256d log_avx2(__m256d x) {
   __m256i e64 = _mm256_sub_epi64(_mm256_srli_epi64(bits, 52), _mm256_set1_epi64x(1023));
   // e64 is small: convert through the 2^52 + 2^51 magic number.
   const __m256d magic = _mm256_set1_pd(6755399441055744.0);
-  __m256d e = _mm256_sub_pd(
-      _mm256_castsi256_pd(_mm256_add_epi64(e64, _mm256_castpd_si256(magic))), magic);
+  __m256d e = _mm256_sub_pd(_mm256_castsi256_pd(_mm256_add_epi64(e64, _mm256_castpd_si256(magic))), magic);
   const __m256d big = _mm256_cmp_pd(m, _mm256_set1_pd(1.4142135623730951), _CMP_GT_OQ);
   m = _mm256_blendv_pd(m, _mm256_mul_pd(m, _mm256_set1_pd(0.5)), big);
   e = _mm256_add_pd(e, _mm256_and_pd(big, _mm256_set1_pd(1.0)));
@@ -167,8 +164,7 @@ CMGEOM_AVX2_FN __m256d log_avx2(__m256d x) {
 /// 4-lane gather base[idx[k]] (masked form with a zero source: the unmasked intrinsic leaves
 /// its source undefined, which GCC 12 reports under -Wall).
 CMGEOM_AVX2_FN __m256d gather_avx2(const double* base, __m128i idx) {
-  return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, idx,
-                                  _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), 8);
+  return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, idx, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), 8);
 }
 
 inline bool has_avx2() {

@@ -26,8 +26,7 @@ namespace internal {
 // unit that keeps the normal matrix well conditioned for tiny or huge models), solved by LDLT,
 // minimum-norm solution when rank deficient; coefficients are scaled back by h^-(i+j).
 template <int K, class Rhs>
-bool fit_monomials(const std::vector<Vec3>& pts, const std::array<std::array<int, 2>, K>& exps, Rhs rhs,
-                   double* out) {
+bool fit_monomials(const std::vector<Vec3>& pts, const std::array<std::array<int, 2>, K>& exps, Rhs rhs, double* out) {
   for (int k = 0; k < K; ++k) out[k] = 0.;
   if (pts.empty()) return false;
   double r2 = 0.;
@@ -88,8 +87,8 @@ inline double rms_height_error(const Local_surface& s, const std::vector<Vec3>& 
 CMGEOM_CM_INLINE Fit_result fit_quadric(const std::vector<Vec3>& local_points) {
   Fit_result r;
   r.surface.model = QUADRIC_MODEL;
-  r.ok = internal::fit_monomials<5>(local_points, internal::quadric_exponents(),
-                                     [](const Vec3& p) { return p.z; }, r.surface.c.data());
+  r.ok = internal::fit_monomials<5>(
+      local_points, internal::quadric_exponents(), [](const Vec3& p) { return p.z; }, r.surface.c.data());
   r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
   return r;
 }
@@ -99,7 +98,8 @@ CMGEOM_CM_INLINE Fit_result fit_plane(const std::vector<Vec3>& local_points) {
   Fit_result r;
   r.surface.model = QUADRIC_MODEL;
   double de[2];
-  r.ok = internal::fit_monomials<2>(local_points, e, [](const Vec3& p) { return p.z; }, de);
+  r.ok = internal::fit_monomials<2>(
+      local_points, e, [](const Vec3& p) { return p.z; }, de);
   r.surface.c[3] = de[0];
   r.surface.c[4] = de[1];
   r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
@@ -109,8 +109,8 @@ CMGEOM_CM_INLINE Fit_result fit_plane(const std::vector<Vec3>& local_points) {
 CMGEOM_CM_INLINE Fit_result fit_cone(const std::vector<Vec3>& local_points) {
   Fit_result r;
   r.surface.model = CONE_MODEL;
-  r.ok = internal::fit_monomials<5>(local_points, internal::quadric_exponents(),
-                                     [](const Vec3& p) { return p.z * p.z; }, r.surface.c.data());
+  r.ok = internal::fit_monomials<5>(
+      local_points, internal::quadric_exponents(), [](const Vec3& p) { return p.z * p.z; }, r.surface.c.data());
   double side = 0.;
   for (const Vec3& p : local_points) side += p.z;
   r.surface.c[5] = side < 0. ? -1. : 1.;
@@ -123,8 +123,8 @@ CMGEOM_CM_INLINE Fit_result fit_cubic(const std::vector<Vec3>& local_points) {
   if (local_points.size() < 9) return q;
   Fit_result r;
   r.surface.model = CUBIC_MODEL;
-  r.ok = internal::fit_monomials<9>(local_points, internal::cubic_exponents(),
-                                     [](const Vec3& p) { return p.z; }, r.surface.c.data());
+  r.ok = internal::fit_monomials<9>(
+      local_points, internal::cubic_exponents(), [](const Vec3& p) { return p.z; }, r.surface.c.data());
   r.error = r.ok ? internal::rms_height_error(r.surface, local_points) : std::numeric_limits<double>::infinity();
   return (r.ok && r.error <= q.error) ? r : q;
 }

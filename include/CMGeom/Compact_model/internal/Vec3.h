@@ -18,9 +18,24 @@ struct Vec3 {
   Vec3() = default;
   Vec3(double a, double b, double c) : x(a), y(b), z(c) {}
   double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
-  Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
-  Vec3& operator-=(const Vec3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
-  Vec3& operator*=(double s) { x *= s; y *= s; z *= s; return *this; }
+  Vec3& operator+=(const Vec3& o) {
+    x += o.x;
+    y += o.y;
+    z += o.z;
+    return *this;
+  }
+  Vec3& operator-=(const Vec3& o) {
+    x -= o.x;
+    y -= o.y;
+    z -= o.z;
+    return *this;
+  }
+  Vec3& operator*=(double s) {
+    x *= s;
+    y *= s;
+    z *= s;
+    return *this;
+  }
   bool operator==(const Vec3& o) const { return x == o.x && y == o.y && z == o.z; }
   bool operator!=(const Vec3& o) const { return !(*this == o); }
 };

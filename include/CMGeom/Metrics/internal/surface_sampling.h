@@ -52,8 +52,7 @@ struct Flat_mesh {
   double diagonal() const {
     const auto b = bbox();
     if (b[0] > b[3]) return 0.;
-    return std::sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) +
-                     (b[5] - b[2]) * (b[5] - b[2]));
+    return std::sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
   }
 };
 
@@ -82,8 +81,7 @@ Flat_mesh make_flat_mesh(const TriangleMesh& tm, VertexPointMap vpm, const std::
     for (auto i : t) m.used[i] = 1;
     m.triangles.push_back(t);
   }
-  for (auto e : edges(tm))
-    m.edges.push_back({{get(index, source(e, tm)), get(index, target(e, tm))}});
+  for (auto e : edges(tm)) m.edges.push_back({{get(index, source(e, tm)), get(index, target(e, tm))}});
   for (char u : m.used) m.used_vertices += std::size_t(u);
   if (m.triangles.empty()) throw Invalid_input(what + ": the mesh has no face");
   for (const auto& p : m.points)
@@ -107,13 +105,11 @@ inline double triangle_area(const std::array<double, 3>& a, const std::array<dou
                             const std::array<double, 3>& c) {
   const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
   const double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  const double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
-               z = u[0] * w[1] - u[1] * w[0];
+  const double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2], z = u[0] * w[1] - u[1] * w[0];
   return 0.5 * std::sqrt(x * x + y * y + z * z);
 }
 inline double distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                   (a[2] - b[2]) * (a[2] - b[2]));
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
 /// Which parts of the surface are sampled and how densely.
@@ -138,16 +134,17 @@ inline Sampling_plan metro_plan(const Flat_mesh& m, std::size_t target, bool sam
   const double rest = double(target) - (sample_vertices ? double(m.used_vertices) : 0.);
   if (rest <= 0.) return plan;
   double s = 0.;
-  if (A > 0.) s = (-L + std::sqrt(L * L + 4. * A * rest)) / (2. * A);
-  else if (L > 0.) s = rest / L;
+  if (A > 0.)
+    s = (-L + std::sqrt(L * L + 4. * A * rest)) / (2. * A);
+  else if (L > 0.)
+    s = rest / L;
   plan.linear_density = s;
   plan.areal_density = s * s;
   return plan;
 }
 
 /// Number of n x n similar-triangle subdivisions of face `f` of area `area` under `plan`.
-inline std::uint32_t face_subdivision(const Sampling_plan& plan, double area, std::uint64_t seed,
-                                      std::size_t f) {
+inline std::uint32_t face_subdivision(const Sampling_plan& plan, double area, std::uint64_t seed, std::size_t f) {
   const double c = plan.areal_density * area;
   const double r = std::sqrt(c);
   std::uint32_t n = std::uint32_t(r);
@@ -161,8 +158,8 @@ inline std::uint32_t face_subdivision(const Sampling_plan& plan, double area, st
 /// order (vertices, edges, faces) that only depends on the mesh, the plan and the seed.
 /// `face_sample(f, b0, b1, b2)` receives the face index and barycentric coordinates as well.
 template <class VertexFn, class FaceFn, class EdgeFn>
-void sample_surface(const Flat_mesh& m, const Sampling_plan& plan, std::uint64_t seed,
-                    VertexFn vertex, EdgeFn edge_sample, FaceFn face_sample) {
+void sample_surface(const Flat_mesh& m, const Sampling_plan& plan, std::uint64_t seed, VertexFn vertex,
+                    EdgeFn edge_sample, FaceFn face_sample) {
   if (plan.vertices)
     for (std::size_t i = 0; i < m.points.size(); ++i)
       if (m.used[i]) vertex(i);

@@ -57,7 +57,8 @@ struct has_update<C, true> : std::integral_constant<bool, C::Update_tag::value> 
 template <class C, class P, class = void>
 struct has_before_collapse : std::false_type {};
 template <class C, class P>
-struct has_before_collapse<C, P, std::void_t<decltype(std::declval<const C&>().before_collapse(std::declval<const P&>()))>>
+struct has_before_collapse<C, P,
+                           std::void_t<decltype(std::declval<const C&>().before_collapse(std::declval<const P&>()))>>
     : std::true_type {};
 
 template <class C, bool = has_Cost_depends_on_endpoints_only<C>::value>
@@ -73,8 +74,7 @@ template <class C, class P, class Profile>
 struct has_fused_cost<
     C, P, Profile,
     std::void_t<decltype(std::declval<const C&>().cost_at_own_placement(std::declval<const Profile&>())),
-                decltype(std::declval<const C&>().shares_state_with(std::declval<const P&>()))>>
-    : std::true_type {};
+                decltype(std::declval<const C&>().shares_state_with(std::declval<const P&>()))>> : std::true_type {};
 
 template <class TM>
 struct is_surface_mesh : std::false_type {};
@@ -86,10 +86,11 @@ struct is_surface_mesh<CGAL::Surface_mesh<P>> : std::true_type {};
 template <class C, class P, class V, class T, class = void>
 struct has_normal_hint : std::false_type {};
 template <class C, class P, class V, class T>
-struct has_normal_hint<C, P, V, T,
-                       std::void_t<decltype(std::declval<const C&>().update_after_collapse(
-                           std::declval<const P&>(), std::declval<V>(), std::declval<const T&>(),
-                           std::declval<const Vec3&>()))>> : std::true_type {};
+struct has_normal_hint<
+    C, P, V, T,
+    std::void_t<decltype(std::declval<const C&>().update_after_collapse(
+        std::declval<const P&>(), std::declval<V>(), std::declval<const T&>(), std::declval<const Vec3&>()))>>
+    : std::true_type {};
 
 // A cost policy with a prefetch(vertex) hint (see Area_weighted_quadric_policies::prefetch).
 template <class C, class V, class = void>
@@ -101,11 +102,12 @@ struct has_prefetch<C, V, std::void_t<decltype(std::declval<const C&>().prefetch
 template <class V, class TM, class H, class = void>
 struct has_on_flipped : std::false_type {};
 template <class V, class TM, class H>
-struct has_on_flipped<V, TM, H, std::void_t<decltype(std::declval<V&>().OnFlipped(std::declval<const TM&>(), std::declval<H>()))>>
+struct has_on_flipped<V, TM, H,
+                      std::void_t<decltype(std::declval<V&>().OnFlipped(std::declval<const TM&>(), std::declval<H>()))>>
     : std::true_type {};
 
-template <class TM, class VPM, class GT, class ECM, class GetCost, class GetPlacement, class Filter,
-          class Visitor, class StopPredicate, class Memory = std::nullptr_t>
+template <class TM, class VPM, class GT, class ECM, class GetCost, class GetPlacement, class Filter, class Visitor,
+          class StopPredicate, class Memory = std::nullptr_t>
 class Edge_collapse_engine {
   using GTraits = boost::graph_traits<TM>;
   using vertex_descriptor = typename GTraits::vertex_descriptor;
@@ -121,11 +123,21 @@ class Edge_collapse_engine {
 
 public:
   Edge_collapse_engine(TM& tm, const StopPredicate& stop, const VPM& vpm, const GT& gt, const ECM& ecm,
-                       const GetCost& cost, const GetPlacement& placement, const Filter& filter,
-                       Visitor& visitor, bool flips, Memory memory = Memory())
-      : tm_(tm), stop_(stop), vpm_(vpm), gt_(gt), ecm_(ecm), get_cost_(cost), get_placement_(placement),
-        filter_(filter), visitor_(visitor), flips_(flips), memory_(memory),
-        vim_(CGAL::get_initialized_vertex_index_map(tm)), eim_(CGAL::get_initialized_edge_index_map(tm)) {
+                       const GetCost& cost, const GetPlacement& placement, const Filter& filter, Visitor& visitor,
+                       bool flips, Memory memory = Memory())
+      : tm_(tm),
+        stop_(stop),
+        vpm_(vpm),
+        gt_(gt),
+        ecm_(ecm),
+        get_cost_(cost),
+        get_placement_(placement),
+        filter_(filter),
+        visitor_(visitor),
+        flips_(flips),
+        memory_(memory),
+        vim_(CGAL::get_initialized_vertex_index_map(tm)),
+        eim_(CGAL::get_initialized_edge_index_map(tm)) {
     if constexpr (fused_cost) fused_ = get_cost_.shares_state_with(get_placement_);
   }
 
@@ -139,7 +151,8 @@ public:
   }
 
 private:
-  template <class B> void initialize_cost(B) {}
+  template <class B>
+  void initialize_cost(B) {}
   void initialize_cost(std::true_type) { get_cost_.initialize(tm_, vpm_, gt_); }
   void after_collapse(const Profile&, vertex_descriptor, std::false_type) {}
   struct No_token {};
@@ -149,15 +162,19 @@ private:
     after_collapse(p, v, std::integral_constant<bool, has_update<GetCost>::value>());
   }
   template <class Token>
-  void after_collapse(const Profile& p, vertex_descriptor v, const Token& t) { get_cost_.update_after_collapse(p, v, t); }
+  void after_collapse(const Profile& p, vertex_descriptor v, const Token& t) {
+    get_cost_.update_after_collapse(p, v, t);
+  }
   void after_collapse(const Profile& p, vertex_descriptor v, std::true_type) { get_cost_.update_after_collapse(p, v); }
 
   std::uint32_t id(edge_descriptor e) const { return static_cast<std::uint32_t>(get(eim_, e)); }
   /// The edge of index i. On Surface_mesh the index is the edge's position, so no table (whose
   /// lookup would add one cache miss to the chain of dependent loads behind every pop).
   edge_descriptor edge_at(std::uint32_t i) const {
-    if constexpr (edge_index_is_position) return edge_descriptor(i);
-    else return edge_of_[i];
+    if constexpr (edge_index_is_position)
+      return edge_descriptor(i);
+    else
+      return edge_of_[i];
   }
   std::uint32_t& flags(std::uint32_t i) { return heap_.user(i); }
 
@@ -165,15 +182,19 @@ private:
 
   void prefetch_point(vertex_descriptor v) const {
 #if defined(__GNUC__)
-    if constexpr (std::is_lvalue_reference<decltype(get(vpm_, v))>::value) __builtin_prefetch(&get(vpm_, v));
-    else (void)v;
+    if constexpr (std::is_lvalue_reference<decltype(get(vpm_, v))>::value)
+      __builtin_prefetch(&get(vpm_, v));
+    else
+      (void)v;
 #else
     (void)v;
 #endif
   }
   void prefetch_vertex(vertex_descriptor v) const {
-    if constexpr (has_prefetch<GetCost, vertex_descriptor>::value) get_cost_.prefetch(v);
-    else (void)v;
+    if constexpr (has_prefetch<GetCost, vertex_descriptor>::value)
+      get_cost_.prefetch(v);
+    else
+      (void)v;
   }
 
   /// The cost of the edge at the placement policy's placement.
@@ -240,7 +261,10 @@ private:
       if constexpr (!edge_index_is_position) edge_of_[i] = e;
       CGAL_assertion(edge_at(i) == e);
       ++initial_edges_;
-      if (get(ecm_, e)) { flags(i) |= CONSTRAINED; continue; }
+      if (get(ecm_, e)) {
+        flags(i) |= CONSTRAINED;
+        continue;
+      }
       evaluate(e);
       if (std::is_same<Visitor, Edge_collapse_visitor_base>::value) continue;
       const Profile p = profile_of(e);
@@ -291,8 +315,8 @@ private:
       const halfedge_descriptor next_top =
           heap_.empty() ? GTraits::null_halfedge() : halfedge(edge_at(heap_.top()), tm_);
       const bool ok_topo =
-          internal::is_collapse_topologically_valid(tm_, vim_, p.v0_v1(), mark_, stamp_,
-                                                    [this](vertex_descriptor n) { prefetch_point(n); }, next_top) &&
+          internal::is_collapse_topologically_valid(
+              tm_, vim_, p.v0_v1(), mark_, stamp_, [this](vertex_descriptor n) { prefetch_point(n); }, next_top) &&
           !(has_constraints_ && is_constrained_vertex(p.v0()) && is_constrained_vertex(p.v1()));
       if (next_top != GTraits::null_halfedge()) {
         // its halfedge records are in the cache now: ask for its endpoints' points and data
@@ -391,13 +415,13 @@ private:
     // Vertex ids are read before the collapse: graphs such as Polyhedron_3 free the removed
     // vertex, and its id lives in the vertex record.
     const std::size_t id0 = std::size_t(get(vim_, p.v0())), id1 = std::size_t(get(vim_, p.v1()));
-    auto token = before_collapse(p, std::integral_constant<bool, has_update<GetCost>::value &&
-                                                              has_before_collapse<GetCost, Profile>::value>());
+    auto token = before_collapse(p, std::integral_constant < bool,
+                                 has_update<GetCost>::value&& has_before_collapse<GetCost, Profile>::value > ());
     if constexpr (has_memory) {
       if (memory_) memory_->before_collapse(tm_, p.v0_v1());
     }
-    vertex_descriptor v_kept = has_constraints_ ? CGAL::Euler::collapse_edge(e, tm_, ecm_)
-                                                : CGAL::Euler::collapse_edge(e, tm_);
+    vertex_descriptor v_kept =
+        has_constraints_ ? CGAL::Euler::collapse_edge(e, tm_, ecm_) : CGAL::Euler::collapse_edge(e, tm_);
     {
       const bool kept_v0 = v_kept == p.v0();
       if (rejected_near(kept_v0 ? id1 : id0)) set_rejected_near(kept_v0 ? id0 : id1);
@@ -408,8 +432,10 @@ private:
     }
     visitor_.OnCollapsed(p, v_kept);
     if constexpr (normal_hint) {
-      if (star_normal) get_cost_.update_after_collapse(p, v_kept, token, *star_normal);
-      else after_collapse(p, v_kept, token);
+      if (star_normal)
+        get_cost_.update_after_collapse(p, v_kept, token, *star_normal);
+      else
+        after_collapse(p, v_kept, token);
     } else {
       (void)star_normal;
       after_collapse(p, v_kept, token);

@@ -86,7 +86,10 @@ public:
       const float k = to_key(key);
       if (k == old) return;  // same float key, same id: the node's place is unchanged
       base_[p].key = k;
-      if (k < old) sift_up(p); else sift_down(p);
+      if (k < old)
+        sift_up(p);
+      else
+        sift_down(p);
     }
   }
 
@@ -138,9 +141,7 @@ private:
     float key;
     std::uint32_t id;
   };
-  static bool less(float ka, std::uint32_t ia, float kb, std::uint32_t ib) {
-    return ka < kb || (ka == kb && ia < ib);
-  }
+  static bool less(float ka, std::uint32_t ia, float kb, std::uint32_t ib) { return ka < kb || (ka == kb && ia < ib); }
   void sift_up(std::uint32_t p) {
     const Node n = base_[p];
     while (p > 0) {

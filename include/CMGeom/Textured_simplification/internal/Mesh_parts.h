@@ -105,24 +105,25 @@ struct Mesh_part {
 /// Returns the faces of each part.
 template <class Point>
 std::vector<std::vector<std::uint32_t>> split_faces(const CGAL::Surface_mesh<Point>& m, int levels,
-                                                   std::vector<std::uint32_t>& label) {
+                                                    std::vector<std::uint32_t>& label) {
   std::vector<std::array<double, 3>> centre(m.num_faces());
   std::vector<std::uint32_t> order;
   order.reserve(m.number_of_faces());
   for (auto f : m.faces()) order.push_back(std::uint32_t(f));
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 8192), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      const typename CGAL::Surface_mesh<Point>::Face_index f(order[i]);
-      std::array<double, 3> c{0, 0, 0};
-      for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
-        const Point& p = m.point(v);
-        c[0] += CGAL::to_double(p.x());
-        c[1] += CGAL::to_double(p.y());
-        c[2] += CGAL::to_double(p.z());
-      }
-      centre[order[i]] = c;  // three times the centroid: the order is the same
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 8192),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        const typename CGAL::Surface_mesh<Point>::Face_index f(order[i]);
+                        std::array<double, 3> c{0, 0, 0};
+                        for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+                          const Point& p = m.point(v);
+                          c[0] += CGAL::to_double(p.x());
+                          c[1] += CGAL::to_double(p.y());
+                          c[2] += CGAL::to_double(p.z());
+                        }
+                        centre[order[i]] = c;  // three times the centroid: the order is the same
+                      }
+                    });
   std::vector<std::pair<std::size_t, std::size_t>> ranges{{0, order.size()}};
   for (int level = 0; level < levels; ++level) {
     std::vector<std::pair<std::size_t, std::size_t>> next(2 * ranges.size());

@@ -56,23 +56,43 @@ struct Symmetric_quadric {
   }
 
   Symmetric_quadric& operator+=(const Symmetric_quadric& o) {
-    a00 += o.a00; a01 += o.a01; a02 += o.a02; a11 += o.a11; a12 += o.a12; a22 += o.a22;
-    b0 += o.b0; b1 += o.b1; b2 += o.b2; c += o.c;
+    a00 += o.a00;
+    a01 += o.a01;
+    a02 += o.a02;
+    a11 += o.a11;
+    a12 += o.a12;
+    a22 += o.a22;
+    b0 += o.b0;
+    b1 += o.b1;
+    b2 += o.b2;
+    c += o.c;
     return *this;
   }
   Symmetric_quadric& operator*=(double s) {
-    a00 *= s; a01 *= s; a02 *= s; a11 *= s; a12 *= s; a22 *= s;
-    b0 *= s; b1 *= s; b2 *= s; c *= s;
+    a00 *= s;
+    a01 *= s;
+    a02 *= s;
+    a11 *= s;
+    a12 *= s;
+    a22 *= s;
+    b0 *= s;
+    b1 *= s;
+    b2 *= s;
+    c *= s;
     return *this;
   }
   /// s0 * q0 + s1 * q1
-  static Symmetric_quadric combine(const Symmetric_quadric& q0, double s0,
-                                   const Symmetric_quadric& q1, double s1) {
+  static Symmetric_quadric combine(const Symmetric_quadric& q0, double s0, const Symmetric_quadric& q1, double s1) {
     Symmetric_quadric q;
-    q.a00 = s0 * q0.a00 + s1 * q1.a00; q.a01 = s0 * q0.a01 + s1 * q1.a01;
-    q.a02 = s0 * q0.a02 + s1 * q1.a02; q.a11 = s0 * q0.a11 + s1 * q1.a11;
-    q.a12 = s0 * q0.a12 + s1 * q1.a12; q.a22 = s0 * q0.a22 + s1 * q1.a22;
-    q.b0 = s0 * q0.b0 + s1 * q1.b0; q.b1 = s0 * q0.b1 + s1 * q1.b1; q.b2 = s0 * q0.b2 + s1 * q1.b2;
+    q.a00 = s0 * q0.a00 + s1 * q1.a00;
+    q.a01 = s0 * q0.a01 + s1 * q1.a01;
+    q.a02 = s0 * q0.a02 + s1 * q1.a02;
+    q.a11 = s0 * q0.a11 + s1 * q1.a11;
+    q.a12 = s0 * q0.a12 + s1 * q1.a12;
+    q.a22 = s0 * q0.a22 + s1 * q1.a22;
+    q.b0 = s0 * q0.b0 + s1 * q1.b0;
+    q.b1 = s0 * q0.b1 + s1 * q1.b1;
+    q.b2 = s0 * q0.b2 + s1 * q1.b2;
     q.c = s0 * q0.c + s1 * q1.c;
     return q;
   }
@@ -165,13 +185,19 @@ struct Symmetric_quadric {
                              u0.dot(u1) / ((g01 + g12) * g12)};
         double best_c = -1;
         for (int i = 0; i < 3; ++i)
-          if (c[i] > best_c) { best_c = c[i]; best = i; }
+          if (c[i] > best_c) {
+            best_c = c[i];
+            best = i;
+          }
       } else {
         es.computeDirect(A);  // same eigenvalues, now with eigenvectors
         double best_dot = -1;
         for (int i = 0; i < 3; ++i) {
           const double dd = std::abs(es.eigenvectors().col(i).dot(n));
-          if (dd > best_dot) { best_dot = dd; best = i; }
+          if (dd > best_dot) {
+            best_dot = dd;
+            best = i;
+          }
         }
       }
     }

@@ -140,8 +140,7 @@ inline bool segments_cross(const Atlas_uv& p, const Atlas_uv& q, const Atlas_uv&
     return c != a && c != b && (std::min)(a[0], b[0]) <= c[0] && c[0] <= (std::max)(a[0], b[0]) &&
            (std::min)(a[1], b[1]) <= c[1] && c[1] <= (std::max)(a[1], b[1]);
   };
-  return (o1 == 0 && on(p, q, r)) || (o2 == 0 && on(p, q, s)) || (o3 == 0 && on(r, s, p)) ||
-         (o4 == 0 && on(r, s, q));
+  return (o1 == 0 && on(p, q, r)) || (o2 == 0 && on(p, q, s)) || (o3 == 0 && on(r, s, p)) || (o4 == 0 && on(r, s, q));
 }
 
 /// LSCM parameterisation of one chart (a disk: see grow_charts), written into `chart.uvs` in
@@ -154,9 +153,10 @@ inline bool parameterize_chart(const Surface_mesh& m, Atlas_chart& chart) {
   const std::size_t n = chart.faces.size();
   chart.uvs.assign(n, {});
   chart.area_3d = 0;
-  for (std::uint32_t f : chart.faces) chart.area_3d += std::sqrt(CGAL::squared_area(
-      m.point(m.target(corner_halfedge(m, F(f), 0))), m.point(m.target(corner_halfedge(m, F(f), 1))),
-      m.point(m.target(corner_halfedge(m, F(f), 2)))));
+  for (std::uint32_t f : chart.faces)
+    chart.area_3d += std::sqrt(CGAL::squared_area(m.point(m.target(corner_halfedge(m, F(f), 0))),
+                                                  m.point(m.target(corner_halfedge(m, F(f), 1))),
+                                                  m.point(m.target(corner_halfedge(m, F(f), 2)))));
   if (n == 1) {  // a lone triangle: its isometric layout
     const F f(chart.faces[0]);
     const Point_3 a = m.point(m.target(corner_halfedge(m, f, 0))), b = m.point(m.target(corner_halfedge(m, f, 1))),
@@ -273,9 +273,11 @@ inline std::vector<Atlas_chart> make_charts(const Surface_mesh& m, const std::ve
     }
     first = false;
     std::vector<char> ok(candidates.size(), 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i < r.end(); ++i) ok[i] = parameterize_chart(m, candidates[i]) ? 1 : 0;
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i)
+                          ok[i] = parameterize_chart(m, candidates[i]) ? 1 : 0;
+                      });
     work.clear();
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       if (ok[i]) {
@@ -371,14 +373,15 @@ inline double pack_charts(std::vector<Atlas_chart>& charts, int W, int H, int gu
   while (place(hi)) hi *= 2;  // make sure `hi` does not fit
   for (int it = 0; it < 40; ++it) {
     const double mid = 0.5 * (lo + hi);
-    if (place(mid)) lo = mid;
-    else hi = mid;
+    if (place(mid))
+      lo = mid;
+    else
+      hi = mid;
   }
   place(lo);
   for (std::size_t c = 0; c < charts.size(); ++c)
     for (auto& t : charts[c].uvs)
-      for (auto& p : t)
-        p = {{(at[c][0] + gutter + 0.5 + p[0] * lo) / W, (at[c][1] + gutter + 0.5 + p[1] * lo) / H}};
+      for (auto& p : t) p = {{(at[c][0] + gutter + 0.5 + p[0] * lo) / W, (at[c][1] + gutter + 0.5 + p[1] * lo) / H}};
   return lo;
 }
 

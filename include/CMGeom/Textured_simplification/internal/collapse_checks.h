@@ -33,8 +33,8 @@ inline Vec3 to_vec3(const Point& p) {
 /// the same sum as over its star then, up to the order of the additions.
 template <class TriangleMesh, class VertexPointMap>
 bool collapse_flips_a_face(const TriangleMesh& tm, const VertexPointMap& vpm,
-                           typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h_v0v1,
-                           const Vec3& x, Vec3* star_normal = nullptr) {
+                           typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h_v0v1, const Vec3& x,
+                           Vec3* star_normal = nullptr) {
   using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
   using face_descriptor = typename boost::graph_traits<TriangleMesh>::face_descriptor;
   const auto v0 = source(h_v0v1, tm);
@@ -77,13 +77,13 @@ bool collapse_flips_a_face(const TriangleMesh& tm, const VertexPointMap& vpm,
 /// (walking a star is a chain of dependent memory accesses; independent chains overlap). The
 /// verdict does not depend on `warm`.
 struct Ignore_neighbour {
-  template <class V> void operator()(const V&) const {}
+  template <class V>
+  void operator()(const V&) const {}
 };
 template <class TriangleMesh, class VertexIndexMap, class MarkVector, class OnNeighbour = Ignore_neighbour>
 bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMap& vim,
                                      typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h,
-                                     MarkVector& mark, unsigned& stamp,
-                                     const OnNeighbour& on_neighbour = OnNeighbour(),
+                                     MarkVector& mark, unsigned& stamp, const OnNeighbour& on_neighbour = OnNeighbour(),
                                      typename boost::graph_traits<TriangleMesh>::halfedge_descriptor warm =
                                          boost::graph_traits<TriangleMesh>::null_halfedge()) {
   using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
@@ -97,13 +97,11 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
   if (left) {
     vL = target(next(h, tm), tm);
     // an isolated triangle (both other edges on the border) would vanish to a segment
-    if (is_border(opposite(next(h, tm), tm), tm) && is_border(opposite(prev(h, tm), tm), tm))
-      return false;
+    if (is_border(opposite(next(h, tm), tm), tm) && is_border(opposite(prev(h, tm), tm), tm)) return false;
   }
   if (right) {
     vR = target(next(o, tm), tm);
-    if (is_border(opposite(next(o, tm), tm), tm) && is_border(opposite(prev(o, tm), tm), tm))
-      return false;
+    if (is_border(opposite(next(o, tm), tm), tm) && is_border(opposite(prev(o, tm), tm), tm)) return false;
   }
 
   // The neighbours of v0 and of v1 go to small local arrays (no random access into a
@@ -167,10 +165,16 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
       shared = mark[get(vim, k)] == stamp;
     } else {
       for (std::size_t j = 0; j < deg0; ++j)
-        if (ring0[j] == k) { shared = true; break; }
+        if (ring0[j] == k) {
+          shared = true;
+          break;
+        }
     }
     if (!shared) return true;
-    if ((left && k == vL) || (right && k == vR)) { ++common; return true; }
+    if ((left && k == vL) || (right && k == vR)) {
+      ++common;
+      return true;
+    }
     return false;  // k, v0, v1 is not a face: collapsing would pinch the surface
   };
   std::size_t common = 0;

@@ -38,7 +38,12 @@ void add_restricted_metric(const Policy& policy, V v, const Vec3& t1, const Vec3
     m[2] += dot(t2, At2);
     tr += q.trace();
   } else {
-    (void)policy; (void)v; (void)t1; (void)t2; (void)m; (void)tr;
+    (void)policy;
+    (void)v;
+    (void)t1;
+    (void)t2;
+    (void)m;
+    (void)tr;
   }
 }
 
@@ -52,8 +57,7 @@ bool should_flip(const TriangleMesh& tm, const VertexPointMap& vpm,
   const auto va = source(h, tm), vb = target(h, tm);
   const auto vc = target(next(h, tm), tm), vd = target(next(o, tm), tm);
   if (vc == vd) return false;
-  const Vec3 a = to_vec3(get(vpm, va)), b = to_vec3(get(vpm, vb)), c = to_vec3(get(vpm, vc)),
-             d = to_vec3(get(vpm, vd));
+  const Vec3 a = to_vec3(get(vpm, va)), b = to_vec3(get(vpm, vb)), c = to_vec3(get(vpm, vc)), d = to_vec3(get(vpm, vd));
   // feature guard and plane
   const Vec3 nL = cross(sub(b, a), sub(c, a));  // triangle (a, b, c)
   const Vec3 nR = cross(sub(a, b), sub(d, b));  // triangle (b, a, d)
@@ -64,8 +68,8 @@ bool should_flip(const TriangleMesh& tm, const VertexPointMap& vpm,
   const Vec3 n1 = cross(sub(a, c), sub(d, c));
   const Vec3 n2 = cross(sub(b, d), sub(c, d));
   const Vec3 n = add(scale(nL, 1 / lL), scale(nR, 1 / lR));
-  if (!(dot(n1, n) > 0) || !(dot(n2, n) > 0) || !(dot(n1, nL) > 0) || !(dot(n1, nR) > 0) ||
-      !(dot(n2, nL) > 0) || !(dot(n2, nR) > 0))
+  if (!(dot(n1, n) > 0) || !(dot(n2, n) > 0) || !(dot(n1, nL) > 0) || !(dot(n1, nR) > 0) || !(dot(n2, nL) > 0) ||
+      !(dot(n2, nR) > 0))
     return false;
 
   // tangent-plane basis
@@ -83,10 +87,18 @@ bool should_flip(const TriangleMesh& tm, const VertexPointMap& vpm,
   add_restricted_metric(policy, vb, t1, t2, m, tr);
   add_restricted_metric(policy, vc, t1, t2, m, tr);
   add_restricted_metric(policy, vd, t1, t2, m, tr);
-  if (tr > 0) { m[0] /= tr; m[1] /= tr; m[2] /= tr; }
-  m[0] += 0.01; m[2] += 0.01;
+  if (tr > 0) {
+    m[0] /= tr;
+    m[1] /= tr;
+    m[2] /= tr;
+  }
+  m[0] += 0.01;
+  m[2] += 0.01;
   // metric inner products of 2-D vectors: <x, y>_M = x^T M y; |x × y|_M = sqrt(det M) |x × y|
-  auto proj = [&](const Vec3& p) { const Vec3 q = sub(p, a); return std::pair<double, double>(dot(q, t1), dot(q, t2)); };
+  auto proj = [&](const Vec3& p) {
+    const Vec3 q = sub(p, a);
+    return std::pair<double, double>(dot(q, t1), dot(q, t2));
+  };
   const auto A2 = proj(a), B2 = proj(b), C2 = proj(c), D2 = proj(d);
   const double sdet = std::sqrt((std::max)(m[0] * m[2] - m[1] * m[1], 1e-300));
   auto cot = [&](const std::pair<double, double>& apex, const std::pair<double, double>& p,
@@ -101,10 +113,18 @@ bool should_flip(const TriangleMesh& tm, const VertexPointMap& vpm,
 
   // topology: the new edge (c, d) must not exist, a and b keep >= 3 neighbours
   std::size_t deg_a = 0, deg_b = 0;
-  for (auto hh : CGAL::halfedges_around_target(va, tm)) { (void)hh; ++deg_a; }
-  for (auto hh : CGAL::halfedges_around_target(vb, tm)) { (void)hh; ++deg_b; }
+  for (auto hh : CGAL::halfedges_around_target(va, tm)) {
+    (void)hh;
+    ++deg_a;
+  }
+  for (auto hh : CGAL::halfedges_around_target(vb, tm)) {
+    (void)hh;
+    ++deg_b;
+  }
   if (deg_a <= 3 || deg_b <= 3) return false;
-  (void)vim; (void)mark; (void)stamp;
+  (void)vim;
+  (void)mark;
+  (void)stamp;
   for (auto hh : CGAL::halfedges_around_target(vc, tm))
     if (source(hh, tm) == vd) return false;
   return true;
