@@ -126,6 +126,9 @@ function(cmgeom_add_gtest name)
   target_include_directories(${name} PRIVATE ${CMAKE_BINARY_DIR}/generated
                                              ${PROJECT_SOURCE_DIR}/test/common)
   cmgeom_use_pch(${name})
+  # One source file per component keeps the tests readable, but each file parses CGAL and GTest
+  # again: compile them in batches of eight (one unity file each), as the tool does.
+  set_target_properties(${name} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
   if(NOT A_TIMEOUT)
     set(A_TIMEOUT 600)
   endif()

@@ -7,6 +7,7 @@
 #include <CMGeom/Cage_deformation.h>
 
 #include "cmgeom_test_config.h"
+#include "cage_coordinates_test_util.h"  // random_points
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -39,23 +40,12 @@ using Mat3 = std::array<Vec3, 3>;  // columns
 // A smooth, clearly non-affine map of space, applied to the cage vertices.
 inline Vec3 bend(const Vec3& p) {
   return {p[0] + 0.15 * std::sin(1.3 * p[1] + 0.4) + 0.1 * p[2] * p[2],
-          p[1] + 0.2 * std::cos(1.1 * p[0]) + 0.05 * p[0] * p[2],
-          p[2] + 0.12 * std::sin(0.9 * p[0] + 1.7 * p[1])};
+          p[1] + 0.2 * std::cos(1.1 * p[0]) + 0.05 * p[0] * p[2], p[2] + 0.12 * std::sin(0.9 * p[0] + 1.7 * p[1])};
 }
 
 inline void deform_all(Cage_system_description& d, Vec3 (*map)(const Vec3&)) {
   for (auto& c : d.cages)
     for (std::size_t k = 0; k < c.deformed.size(); ++k) c.deformed[k] = map(c.rest.vertices[k]);
-}
-
-inline std::vector<Vec3> random_points(std::mt19937& rng, Vec3 lo, Vec3 hi, int n) {
-  std::vector<Vec3> r;
-  for (int i = 0; i < n; ++i) {
-    Vec3 p;
-    for (int a = 0; a < 3; ++a) p[a] = std::uniform_real_distribution<double>(lo[a], hi[a])(rng);
-    r.push_back(p);
-  }
-  return r;
 }
 
 inline double max_abs(const Mat3& a) {
@@ -122,9 +112,9 @@ Border_result probe_borders(const Cage_system& s, const std::vector<Vec3>& B, co
           for (int col = 0; col < 2; ++col) D[col] = sub(Ji[col], Jj[col]);
           D[2] = add(Ji[2], Jj[2]);
           r.max_rel_jump = std::max(r.max_rel_jump, max_abs(D) / max_abs(Ji));
-          r.max_value_gap = std::max(r.max_value_gap,
-                                     norm(sub(s.evaluate(q, i, B, Sine_smoothing(), fh),
-                                              s.evaluate(q, j, B, Sine_smoothing(), fh))) / L);
+          r.max_value_gap = std::max(
+              r.max_value_gap,
+              norm(sub(s.evaluate(q, i, B, Sine_smoothing(), fh), s.evaluate(q, j, B, Sine_smoothing(), fh))) / L);
           ++r.probes;
         }
       }

@@ -11,14 +11,18 @@ TEST(CompactModelBuild, GatheringIsLinearAndCoversEveryVertex) {
   auto vim = get(CGAL::vertex_index, s);
   Gathered_points g(s, vim);
   EXPECT_EQ(g.number_of_nodes(), V + 2 * E);
+  // A simplifier may collect garbage (renumbering the vertices) once it is done; the gathering is
+  // keyed by the indices the collapses saw, so each vertex carries its input index, as in the builder.
+  auto input_index = s.add_property_map<Surface_mesh::Vertex_index, std::uint32_t>("v:input_index", 0).first;
+  for (auto v : s.vertices()) input_index[v] = std::uint32_t(v.idx());
   Weighted_quadric_simplifier()(s, 50, Point_gathering_visitor<decltype(vim)>(&g, vim));
   EXPECT_EQ(g.number_of_nodes(), V + 2 * E);  // merging never allocates
   std::vector<int> seen(V, 0);
   std::size_t total = 0;
   for (auto v : s.vertices()) {
-    const auto pts = g.points_of(std::uint32_t(v.idx()));
+    const auto pts = g.points_of(input_index[v]);
     EXPECT_FALSE(pts.empty());
-    EXPECT_TRUE(std::binary_search(pts.begin(), pts.end(), std::uint32_t(v.idx())));
+    EXPECT_TRUE(std::binary_search(pts.begin(), pts.end(), input_index[v]));
     for (auto p : pts) seen[p] = 1;
     total += pts.size();
   }
@@ -75,8 +79,13 @@ TEST(CompactModelBuild, BoxCreasesAreAllFoundAndOnlyThem) {
       if (on_crease(m.vertices[a], m.vertices[b])) crease.insert({a, b});
     }
   EXPECT_GE(crease.size(), 12u);
-  for (const auto& e : crease) EXPECT_TRUE(sharp_set.count(e)) << "crease edge " << e.first << "-" << e.second << " missed";
-  for (const auto& e : sharp_set) EXPECT_TRUE(crease.count(e)) << "edge " << e.first << "-" << e.second << " wrongly sharp: (" << m.vertices[e.first].x << "," << m.vertices[e.first].y << "," << m.vertices[e.first].z << ") (" << m.vertices[e.second].x << "," << m.vertices[e.second].y << "," << m.vertices[e.second].z << ")";
+  for (const auto& e : crease)
+    EXPECT_TRUE(sharp_set.count(e)) << "crease edge " << e.first << "-" << e.second << " missed";
+  for (const auto& e : sharp_set)
+    EXPECT_TRUE(crease.count(e)) << "edge " << e.first << "-" << e.second << " wrongly sharp: ("
+                                 << m.vertices[e.first].x << "," << m.vertices[e.first].y << ","
+                                 << m.vertices[e.first].z << ") (" << m.vertices[e.second].x << ","
+                                 << m.vertices[e.second].y << "," << m.vertices[e.second].z << ")";
   // Corners have three sectors: reconstruction keeps the box (flat faces, exact creases).
   const Reconstruction r = reconstruct_regular(m, 2);
   double err = 0;
@@ -130,8 +139,8 @@ TEST(CompactModelBuild, SupportCheckKeepsCoarseBasesOnTheSurface) {
   Build_options unchecked;
   unchecked.max_surface_departure = 0.;
   Build_statistics st;
-  const Compact_model checked_model =
-      build_compact_model(tm.mesh(), 100, Build_options(), Quadric_surface_traits(), Weighted_quadric_simplifier(), &st);
+  const Compact_model checked_model = build_compact_model(tm.mesh(), 100, Build_options(), Quadric_surface_traits(),
+                                                          Weighted_quadric_simplifier(), &st);
   const Compact_model unchecked_model = build_compact_model(tm.mesh(), 100, unchecked);
   EXPECT_GT(st.unsupported_surfaces, 0u);
   const double without = max_distance_to(reconstruct_regular(unchecked_model, 2), tm.mesh());
@@ -168,8 +177,7 @@ TEST(CompactModelBuild, SupportCheckKeepsCoarseBasesOnTheSurface) {
     using CMGeom::CM::internal::length;
     const Vec3 &a = m.vertices[F[0].vertex], &b = m.vertices[F[1].vertex], &c = m.vertices[F[2].vertex];
     const double longest = std::max({length(b - a), length(c - b), length(a - c)});
-    for (int k = 0; k < 3; ++k)
-      sector_bound[F[k].surface] = std::max(sector_bound[F[k].surface], departure * longest);
+    for (int k = 0; k < 3; ++k) sector_bound[F[k].surface] = std::max(sector_bound[F[k].surface], departure * longest);
   }
   std::vector<double> face_bound(m.faces.size(), 0.);
   for (std::size_t f = 0; f < m.faces.size(); ++f) {
@@ -178,16 +186,16 @@ TEST(CompactModelBuild, SupportCheckKeepsCoarseBasesOnTheSurface) {
     double base_distance = 0.;
     for (int i = 0; i <= 4; ++i)
       for (int j = 0; i + j <= 4; ++j)
-        base_distance = std::max(base_distance, distance(0.25 * (double(i) * a + double(j) * b + double(4 - i - j) * c)));
-    face_bound[f] = base_distance +
-                    1.5 * std::max({sector_bound[F[0].surface], sector_bound[F[1].surface], sector_bound[F[2].surface]});
+        base_distance =
+            std::max(base_distance, distance(0.25 * (double(i) * a + double(j) * b + double(4 - i - j) * c)));
+    face_bound[f] = base_distance + 1.5 * std::max({sector_bound[F[0].surface], sector_bound[F[1].surface],
+                                                    sector_bound[F[2].surface]});
   }
   const Reconstruction r = reconstruct_regular(checked_model, 2);
   std::vector<double> allowed(r.points.size(), 0.);  // a point on a base edge: the larger bound
   for (std::size_t t = 0; t < r.triangles.size(); ++t)
     for (std::uint32_t v : r.triangles[t]) allowed[v] = std::max(allowed[v], face_bound[r.base_face[t]]);
-  for (std::size_t v = 0; v < r.points.size(); ++v)
-    EXPECT_LE(distance(r.points[v]), allowed[v]) << "point " << v;
+  for (std::size_t v = 0; v < r.points.size(); ++v) EXPECT_LE(distance(r.points[v]), allowed[v]) << "point " << v;
 }
 
 // Error-control options outside their ranges are refused before any work, with the range named.
@@ -203,15 +211,16 @@ TEST(CompactModelBuild, ProgressHookReportsEveryStepAndChangesNothing) {
   Progress_record record;
   hooked.progress = record.hook();
   Build_statistics st;
-  const Compact_model with = build_compact_model(sphere, 200, hooked, Quadric_surface_traits(),
-                                                 Weighted_quadric_simplifier(), &st);
+  const Compact_model with =
+      build_compact_model(sphere, 200, hooked, Quadric_surface_traits(), Weighted_quadric_simplifier(), &st);
   EXPECT_TRUE(with == build_compact_model(sphere, 200, plain));
   EXPECT_GT(st.error_control_points + st.error_control_rejected_rounds, 0u);  // error control ran a refit
   // Eight steps at most (simplification, gathering, sharp edges, fits, joint refit, two measures,
   // one refit), about 256 calls each; the simplification alone removes ~8,000 faces.
   record.check(8 * 260);
   // Every step moves it: no jump from the simplification's end to 1.
-  EXPECT_GT(std::count_if(record.fractions.begin(), record.fractions.end(), [](double f) { return f > 0.2 && f < 0.9; }), 10);
+  EXPECT_GT(
+      std::count_if(record.fractions.begin(), record.fractions.end(), [](double f) { return f > 0.2 && f < 0.9; }), 10);
 }
 
 }  // namespace
