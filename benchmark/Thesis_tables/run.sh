@@ -32,6 +32,36 @@ model() {  # model FILE -> a readable path (gunzipped into the temp dir when nee
   fi
 }
 run() { "$cmgeom" --threads 1 "$@"; }
+# Timed commands run `reps` times (3; 1 with --quick); their cells give the minimum and the median.
+reps=3
+[[ -n "$quick" ]] && reps=1
+# trun OUT.json ARGS...: `run ARGS...` (a --json command) reps times into OUT.json.1..reps; OUT.json
+# is the first run's report (for the cells that are not times). The status is the last run's.
+trun() {
+  local out=$1 k rc=0
+  shift
+  for ((k = 1; k <= reps; ++k)); do
+    rc=0
+    run "$@" > "$out.$k" || rc=$?
+  done
+  cp "$out.1" "$out"
+  return $rc
+}
+# min_median DIGITS < numbers: "min / median" (the value alone for a single number).
+min_median() {
+  LC_ALL=C sort -g | LC_ALL=C awk -v d="$1" '{x[NR] = $1} END {
+    if (NR == 0) { printf "-"; exit }
+    m = NR % 2 ? x[(NR + 1) / 2] : (x[NR / 2] + x[NR / 2 + 1]) / 2
+    if (NR == 1) printf "%.*f", d, x[1]; else printf "%.*f / %.*f", d, x[1], d, m }'
+}
+# tm KEY OUT.json [DIGITS]: min / median of KEY over the runs of trun OUT.json.
+tm() { local f; for f in "$2".[0-9]*; do jnum "$1" "$f"; done | min_median "${3:-3}"; }
+# tsum KEY1 KEY2 OUT.json [DIGITS]: min / median of KEY1 + KEY2 over the runs.
+tsum() {
+  local f
+  for f in "$3".[0-9]*; do LC_ALL=C awk -v a="$(jnum "$1" "$f")" -v b="$(jnum "$2" "$f")" 'BEGIN{printf "%.9g\n", a + b}'; done |
+    min_median "${4:-4}"
+}
 read_bbox() {  # INFO_JSON (of `cmgeom info --json`) -> the arrays lo and hi (its bounding box)
   lo=($(sed -n '/"bbox_min"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
   hi=($(sed -n '/"bbox_max"/,/]/p' "$1" | grep -o '[-0-9.eE+]\{2,\}'))
@@ -46,8 +76,8 @@ out="$here/RESULTS.md.tmp"
   echo "load average at the start $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores: seconds from a loaded machine read high)."
   echo "Thesis columns are the published 2011 figures (quoted, not recomputed); ours are measured in this run"
   echo "on the same or the nearest public model (named in the first column, with its face count)."
-  echo "Errors are Metro-style, in % of the bounding-box diagonal (\`cmgeom error\`). Our timings are of one"
-  echo "run each (the thesis reports one figure per cell)."
+  echo "Errors are Metro-style, in % of the bounding-box diagonal (\`cmgeom error\`). Our timings are the"
+  echo "minimum / median of $reps runs (the thesis reports one figure per cell)."
   echo
   describe_run --threads 1
 } > "$out"
@@ -78,13 +108,13 @@ rows31t=("Bunny|69630 -> 3524|19.50|132.20|$data/textured/bunny10k_textured/bunn
 for row in "${rows31t[@]}"; do
   IFS='|' read -r name tfaces tno tflip m ratio <<< "$row"
   [[ -f "$m" ]] || { echo "Thesis_tables: $m missing, row $name skipped" >&2; continue; }
-  run --quiet simplify "$m" -o "$tmp/k.obj" --ratio "$ratio" --keep-charts --json > "$tmp/k.json" 2> "$tmp/k.err" || true
-  run --quiet simplify "$m" -o "$tmp/a.obj" --ratio "$ratio" --json > "$tmp/a.json"
-  run --quiet simplify "$m" -o "$tmp/b.obj" --ratio "$ratio" --flips --json > "$tmp/b.json"
+  trun "$tmp/k.json" --quiet simplify "$m" -o "$tmp/k.obj" --ratio "$ratio" --keep-charts --json 2> "$tmp/k.err" || true
+  trun "$tmp/a.json" --quiet simplify "$m" -o "$tmp/a.obj" --ratio "$ratio" --json
+  trun "$tmp/b.json" --quiet simplify "$m" -o "$tmp/b.obj" --ratio "$ratio" --flips --json
   kfaces="$(jnum faces_in "$tmp/k.json") -> $(jnum faces_out "$tmp/k.json")"
   grep -q '"stopped_by": "chart_limit"' "$tmp/k.json" && kfaces="$kfaces (chart limit)"
-  echo "| $name | $tfaces | $tno | $tflip | $(basename "$m") | charts kept | $kfaces | $(fixed "$(jnum seconds "$tmp/k.json")") | refused |" >> "$out"
-  echo "| $name | $tfaces | $tno | $tflip | $(basename "$m") | new atlas | $(jnum faces_in "$tmp/a.json") -> $(jnum faces_out "$tmp/a.json") | $(fixed "$(jnum seconds "$tmp/a.json")") | $(fixed "$(jnum seconds "$tmp/b.json")") |" >> "$out"
+  echo "| $name | $tfaces | $tno | $tflip | $(basename "$m") | charts kept | $kfaces | $(tm seconds "$tmp/k.json") | refused |" >> "$out"
+  echo "| $name | $tfaces | $tno | $tflip | $(basename "$m") | new atlas | $(jnum faces_in "$tmp/a.json") -> $(jnum faces_out "$tmp/a.json") | $(tm seconds "$tmp/a.json") | $(tm seconds "$tmp/b.json") |" >> "$out"
 done
 rows31=("Bunny|69630 -> 3524|19.50|132.20|stanford-bunny.obj.gz|3524"
         "Cow|92864 -> 1856|32.40|162.91|cow.obj|116")
@@ -92,9 +122,9 @@ rows31=("Bunny|69630 -> 3524|19.50|132.20|stanford-bunny.obj.gz|3524"
 for row in "${rows31[@]}"; do
   IFS='|' read -r name tfaces tno tflip file target <<< "$row"
   m=$(model "$file")
-  run simplify "$m" -o "$tmp/s.off" --faces "$target" --repair --json > "$tmp/a.json"
-  run simplify "$m" -o "$tmp/s.off" --faces "$target" --repair --flips --json > "$tmp/b.json"
-  echo "| $name | $tfaces | $tno | $tflip | $file | geometry only (not like with like) | $(jnum faces_in "$tmp/a.json") -> $(jnum faces_out "$tmp/a.json") | $(fixed "$(jnum seconds "$tmp/a.json")") | $(fixed "$(jnum seconds "$tmp/b.json")") |" >> "$out"
+  trun "$tmp/a.json" simplify "$m" -o "$tmp/s.off" --faces "$target" --repair --json
+  trun "$tmp/b.json" simplify "$m" -o "$tmp/s.off" --faces "$target" --repair --flips --json
+  echo "| $name | $tfaces | $tno | $tflip | $file | geometry only (not like with like) | $(jnum faces_in "$tmp/a.json") -> $(jnum faces_out "$tmp/a.json") | $(tm seconds "$tmp/a.json") | $(tm seconds "$tmp/b.json") |" >> "$out"
 done
 
 # ------------------------------------------------------------------ Table 4.1
@@ -131,7 +161,7 @@ for row in "${rows41[@]}"; do
   m=$(model "$file")
   key="$file-$base"
   if [[ ! -f "$tmp/$key.cm" ]]; then
-    run cm build "$m" -o "$tmp/$key.cm" --faces "$base" --json > "$tmp/$key.build.json"
+    trun "$tmp/$key.build.json" cm build "$m" -o "$tmp/$key.cm" --faces "$base" --json
     run info "$m" --json > "$tmp/$key.info.json"
   fi
   diag=$(jnum diagonal "$tmp/$key.info.json")
@@ -143,9 +173,9 @@ for row in "${rows41[@]}"; do
     silhouette) args=(--silhouette "$(LC_ALL=C awk -v c="$c" -v d="$diag" 'BEGIN{split(c,p,","); printf "%.9g,%.9g,%.9g", p[1], p[2], p[3] + 2 * d}')" --max-level 3); label="adaptive, silhouette" ;;
     *) read -r -a args <<< "$rec"; label="regular, level ${rec#--level }" ;;
   esac
-  run cm reconstruct "$tmp/$key.cm" -o "$tmp/r.ply" "${args[@]}" --json > "$tmp/rec.json"
+  trun "$tmp/rec.json" cm reconstruct "$tmp/$key.cm" -o "$tmp/r.ply" "${args[@]}" --json
   size=$(stat -c %s "$data/classic/$file")
-  echo "| $name | $torig | $tcm | $tgen | $trec | $file ($(jnum input_faces "$tmp/$key.build.json")) | $(jnum base_faces "$tmp/$key.build.json") | $label | $(mb "$size") | $(mb "$(jnum bytes "$tmp/$key.build.json")") | $(fixed "$(jnum seconds "$tmp/$key.build.json")" 2) | $(fixed "$(jnum seconds "$tmp/rec.json")" 3) | $(jnum vertices "$tmp/rec.json") |" >> "$out"
+  echo "| $name | $torig | $tcm | $tgen | $trec | $file ($(jnum input_faces "$tmp/$key.build.json")) | $(jnum base_faces "$tmp/$key.build.json") | $label | $(mb "$size") | $(mb "$(jnum bytes "$tmp/$key.build.json")") | $(tm seconds "$tmp/$key.build.json" 2) | $(tm seconds "$tmp/rec.json" 3) | $(jnum vertices "$tmp/rec.json") |" >> "$out"
 done
 
 # ------------------------------------------------------------------ Tables 4.2 and 4.3
@@ -247,9 +277,9 @@ rows51=("mean_value|1.0|45.45|3.8481|103.2508|0.5277" "mean_value|0.6|29.75|3.79
 [[ -n "$quick" ]] && rows51=("${rows51[0]}" "${rows51[2]}")
 for row in "${rows51[@]}"; do
   IFS='|' read -r coords h tmb tcc ttot tdef <<< "$row"
-  run deform "$camel" --grid "$grid" --coordinates "$coords" --h "$h" -o "$tmp/d.ply" --json > "$tmp/d.json"
+  trun "$tmp/d.json" deform "$camel" --grid "$grid" --coordinates "$coords" --h "$h" -o "$tmp/d.ply" --json
   joined=$(jnum joined_vertices "$tmp/d.json")
-  echo "| $coords | $h | $tmb | $tcc | $ttot | $tdef | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(fixed "$(jnum setup_seconds "$tmp/d.json")" 4) | $(sum "$(jnum setup_seconds "$tmp/d.json")" "$(jnum bind_seconds "$tmp/d.json")") | $(fixed "$(jnum deform_seconds "$tmp/d.json")" 5) | ${joined:--} |" >> "$out"
+  echo "| $coords | $h | $tmb | $tcc | $ttot | $tdef | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(tm setup_seconds "$tmp/d.json" 4) | $(tsum setup_seconds bind_seconds "$tmp/d.json") | $(tm deform_seconds "$tmp/d.json" 5) | ${joined:--} |" >> "$out"
 done
 
 # ------------------------------------------------------------------ Table 5.2
@@ -272,11 +302,11 @@ for row in "${rows52[@]}"; do
   IFS='|' read -r name coords kind tmb tcc ttot tdef <<< "$row"
   if [[ "$kind" == single ]]; then
     cage_json "$tmp/camel_union.obj" "$coords" "$tmp/single.json"
-    run deform "$camel" --cages "$tmp/single.json" -o "$tmp/d.ply" --json > "$tmp/d.json"
+    trun "$tmp/d.json" deform "$camel" --cages "$tmp/single.json" -o "$tmp/d.ply" --json
   else
-    run deform "$camel" --grid "$grid" --coordinates "$coords" --h 0.5 -o "$tmp/d.ply" --json > "$tmp/d.json"
+    trun "$tmp/d.json" deform "$camel" --grid "$grid" --coordinates "$coords" --h 0.5 -o "$tmp/d.ply" --json
   fi
-  echo "| $name | $tmb | $tcc | $ttot | $tdef | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(fixed "$(jnum setup_seconds "$tmp/d.json")" 4) | $(sum "$(jnum setup_seconds "$tmp/d.json")" "$(jnum bind_seconds "$tmp/d.json")") | $(fixed "$(jnum deform_seconds "$tmp/d.json")" 5) |" >> "$out"
+  echo "| $name | $tmb | $tcc | $ttot | $tdef | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(tm setup_seconds "$tmp/d.json" 4) | $(tsum setup_seconds bind_seconds "$tmp/d.json") | $(tm deform_seconds "$tmp/d.json" 5) |" >> "$out"
 done
 
 # ------------------------------------------------------------------ Table 5.3
@@ -302,8 +332,8 @@ rows53=("bunny.off|3,2,2|mean_value" "horse.ply|3,2,2|green" "armadillo.obj.gz|2
 for row in "${rows53[@]}"; do
   IFS='|' read -r file g coords <<< "$row"
   m=$(model "$file")
-  run deform "$m" --grid "$g" --coordinates "$coords" --h 0.5 -o "$tmp/d.ply" --json > "$tmp/d.json"
-  echo "| ours | $file | $coords | $(jnum vertices "$tmp/d.json") | $(jnum cages "$tmp/d.json") | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(sum "$(jnum setup_seconds "$tmp/d.json")" "$(jnum bind_seconds "$tmp/d.json")") | $(fixed "$(jnum deform_seconds "$tmp/d.json")" 5) |" >> "$out"
+  trun "$tmp/d.json" deform "$m" --grid "$g" --coordinates "$coords" --h 0.5 -o "$tmp/d.ply" --json
+  echo "| ours | $file | $coords | $(jnum vertices "$tmp/d.json") | $(jnum cages "$tmp/d.json") | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(tsum setup_seconds bind_seconds "$tmp/d.json") | $(tm deform_seconds "$tmp/d.json" 5) |" >> "$out"
 done
 
 # ------------------------------------------------------------------ Tables 6.1-6.3
@@ -355,23 +385,23 @@ for row in "${rows6[@]}"; do
     run convert "$m" -o "$tmp/$key.ply" > /dev/null
     base=$(( $(jnum faces "$tmp/$key.info.json") / 20 ))
     run simplify "$m" -o "$tmp/$key.simplified.ply" --faces "$base" > /dev/null
-    run cm build "$m" -o "$tmp/$key.cm" --faces "$base" --json > "$tmp/$key.build.json"
+    trun "$tmp/$key.build.json" cm build "$m" -o "$tmp/$key.cm" --faces "$base" --json
   fi
   cage_json "$tmp/$key.cage.obj" "$coords" "$tmp/$key.$coords.json"
   case "$version" in
     Original|Simplified)
       mesh=$([[ "$version" == Original ]] && echo "$tmp/$key.ply" || echo "$tmp/$key.simplified.ply")
-      run deform "$mesh" --cages "$tmp/$key.$coords.json" -o "$tmp/d.ply" --json > "$tmp/d.json"
+      trun "$tmp/d.json" deform "$mesh" --cages "$tmp/$key.$coords.json" -o "$tmp/d.ply" --json
       run info "$mesh" --json > "$tmp/i.json"
-      def=$(jnum deform_seconds "$tmp/d.json")
-      echo "| $name | $version | $tc | $tfaces | $tmesh | $tcoord | $tcage | $trec | $tdef | $ttot | $(jnum faces "$tmp/i.json") | $(mb "$(stat -c %s "$mesh")") | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(fixed "$(jnum bind_seconds "$tmp/d.json")" 3) | - | $(fixed "$def" 5) | $(fixed "$def" 5) |" >> "$out"
+      def=$(tm deform_seconds "$tmp/d.json" 5)
+      echo "| $name | $version | $tc | $tfaces | $tmesh | $tcoord | $tcage | $trec | $tdef | $ttot | $(jnum faces "$tmp/i.json") | $(mb "$(stat -c %s "$mesh")") | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(tm bind_seconds "$tmp/d.json" 3) | - | $def | $def |" >> "$out"
       ;;
     *)
       level=${version##* }
-      run cm reconstruct "$tmp/$key.cm" -o "$tmp/r.ply" --level "$level" --json > "$tmp/r.json"
-      run cm deform "$tmp/$key.cm" --cages "$tmp/$key.$coords.json" -o "$tmp/d.ply" --level "$level" --json > "$tmp/d.json"
-      total=$(sum "$(jnum deform_seconds "$tmp/d.json")" "$(jnum reconstruct_seconds "$tmp/d.json")")
-      echo "| $name | $version | $tc | $tfaces | $tmesh | $tcoord | $tcage | $trec | $tdef | $ttot | $(jnum faces "$tmp/d.json") | $(mb "$(stat -c %s "$tmp/$key.cm")") | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(fixed "$(jnum bind_seconds "$tmp/d.json")" 3) | $(fixed "$(jnum seconds "$tmp/r.json")" 3) | $(fixed "$(jnum base_deform_seconds "$tmp/d.json")" 5) | $total |" >> "$out"
+      trun "$tmp/r.json" cm reconstruct "$tmp/$key.cm" -o "$tmp/r.ply" --level "$level" --json
+      trun "$tmp/d.json" cm deform "$tmp/$key.cm" --cages "$tmp/$key.$coords.json" -o "$tmp/d.ply" --level "$level" --json
+      total=$(tsum deform_seconds reconstruct_seconds "$tmp/d.json")
+      echo "| $name | $version | $tc | $tfaces | $tmesh | $tcoord | $tcage | $trec | $tdef | $ttot | $(jnum faces "$tmp/d.json") | $(mb "$(stat -c %s "$tmp/$key.cm")") | $(mb "$(jnum weights_bytes "$tmp/d.json")") | $(tm bind_seconds "$tmp/d.json" 3) | $(tm seconds "$tmp/r.json" 3) | $(tm base_deform_seconds "$tmp/d.json" 5) | $total |" >> "$out"
       ;;
   esac
 done
