@@ -33,7 +33,7 @@ line=$(describe_run)
   echo "$line"
   echo
   echo "Columns: base V/F of the CM; \`sharp\` sharp edges and \`cones\` cone-type vertices found; \`build s\`"
-  echo "CM build time (simplification + gathering + fitting); \`CM bytes\` size of the CM file (float32);"
+  echo "CM build time (simplification + gathering + fitting; min / median of 3 builds); \`CM bytes\` size of the CM file (float32);"
   echo "\`rec s\` reconstruction time at the level (\"min / median\" of 5 runs), along N and closest point"
   echo "(Newton); \`Mvert/s\` output vertices per second along N (of the fastest / the median run); errors are Metro-style (every vertex plus 10 x F"
   echo "random area-uniform samples of each mesh measured against the other, Hausdorff = max, RMS pooled)"
