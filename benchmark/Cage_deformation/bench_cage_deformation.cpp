@@ -260,48 +260,22 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
 
     // deformation kernels (MVC weights; Green has n + m per vertex, reported in the same table)
-    for (int which = 0; which < 2; ++which) {
-      Deform_row row;
-      row.name = m.name + (which ? " Green" : " MVC");
+    const auto deform_row = [&](const auto& coordinates, const char* kind) {
       std::vector<Vec3> basis;
-      if (which)
-        gc.deformation_rule()(deformed, std::back_inserter(basis));
-      else
-        mvc.deformation_rule()(deformed, std::back_inserter(basis));
+      coordinates.deformation_rule()(deformed, std::back_inserter(basis));
       Binding_options so;
       so.storage = Weight_storage::sparse;
       const int frames = quick ? 5 : 21;
-      if (which) {
-        Cage_binding<double> d = bind_points(gc, mp);
-        Cage_binding<float> f = bind_points<float>(gc, mp);
-        Cage_binding<double> s = bind_points(gc, mp, so);
-        row = {row.name,
-               mp.size(),
-               d.number_of_coordinates(),
-               time_deform(d, basis, 1, frames),
-               time_deform(d, basis, 2, frames),
-               time_deform(f, basis, 1, frames),
-               time_deform(s, basis, 1, frames),
-               d.weights_bytes(),
-               f.weights_bytes(),
-               s.weights_bytes()};
-      } else {
-        Cage_binding<double> d = bind_points(mvc, mp);
-        Cage_binding<float> f = bind_points<float>(mvc, mp);
-        Cage_binding<double> s = bind_points(mvc, mp, so);
-        row = {row.name,
-               mp.size(),
-               d.number_of_coordinates(),
-               time_deform(d, basis, 1, frames),
-               time_deform(d, basis, 2, frames),
-               time_deform(f, basis, 1, frames),
-               time_deform(s, basis, 1, frames),
-               d.weights_bytes(),
-               f.weights_bytes(),
-               s.weights_bytes()};
-      }
-      deform_rows.push_back(row);
-    }
+      Cage_binding<double> d = bind_points(coordinates, mp);
+      Cage_binding<float> f = bind_points<float>(coordinates, mp);
+      Cage_binding<double> s = bind_points(coordinates, mp, so);
+      deform_rows.push_back({m.name + kind, mp.size(), d.number_of_coordinates(), time_deform(d, basis, 1, frames),
+                             time_deform(d, basis, 2, frames), time_deform(f, basis, 1, frames),
+                             time_deform(s, basis, 1, frames), d.weights_bytes(), f.weights_bytes(),
+                             s.weights_bytes()});
+    };
+    deform_row(mvc, " MVC");
+    deform_row(gc, " Green");
 
     // harmonic: solve once, then look up (points outside the cage are flagged, not counted)
     if (!quick && harmonic_rows.size() < 3) {

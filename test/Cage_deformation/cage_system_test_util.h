@@ -7,7 +7,7 @@
 #include <CMGeom/Cage_deformation.h>
 
 #include "cmgeom_test_config.h"
-#include "cage_coordinates_test_util.h"  // random_points
+#include "cage_coordinates_test_util.h"  // random_points, the namespace and vector helpers in scope
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -24,14 +24,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-
-using namespace CMGeom::Cage_deformation;
-using CMGeom::Cage_deformation::internal::add;
-using CMGeom::Cage_deformation::internal::cross;
-using CMGeom::Cage_deformation::internal::dot;
-using CMGeom::Cage_deformation::internal::mul;
-using CMGeom::Cage_deformation::internal::norm;
-using CMGeom::Cage_deformation::internal::sub;
 
 namespace {
 

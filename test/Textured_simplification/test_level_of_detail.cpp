@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cmgeom_test_surface_meshes.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -28,24 +30,7 @@ using CMGeom::Point_3;
 using Mesh = CMGeom::Surface_mesh;
 
 // A rippled torus, n x m quads split in two (closed, so every collapse removes two faces).
-Mesh lod_torus(int n, int m) {
-  Mesh t;
-  std::vector<Mesh::Vertex_index> v(std::size_t(n * m));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      const double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m;
-      const double r = 0.35 + 0.03 * std::sin(5 * a) * std::cos(3 * b);
-      v[std::size_t(i * m + j)] = t.add_vertex(
-          Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
-    }
-  auto at = [&](int i, int j) { return v[std::size_t(((i + n) % n) * m + (j + m) % m)]; };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      t.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      t.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-  return t;
-}
+Mesh lod_torus(int n, int m) { return cmgeom_test::rippled_torus(n, m, 0.35, 0.03, 5, 3); }
 
 // The faces of a mesh as triangles of points, each rotated to start at its smallest point, sorted.
 std::vector<std::array<Point_3, 3>> sorted_triangles(const Mesh& m) {

@@ -13,6 +13,8 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "cmgeom_test_surface_meshes.h"
+
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -27,41 +29,11 @@ using Mesh = CMGeom::Surface_mesh;
 using Point_3 = CMGeom::Point_3;
 
 // A closed torus with a ripple: n x m quads, each split in two.
-Mesh ripple_torus(int n, int m) {
-  Mesh t;
-  std::vector<Mesh::Vertex_index> v(std::size_t(n * m));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      const double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m;
-      const double r = 0.3 + 0.03 * std::sin(5 * a) * std::cos(3 * b);
-      v[std::size_t(i * m + j)] = t.add_vertex(
-          Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
-    }
-  auto at = [&](int i, int j) { return v[std::size_t(((i + n) % n) * m + (j + m) % m)]; };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      t.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      t.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-  return t;
-}
+Mesh ripple_torus(int n, int m) { return cmgeom_test::rippled_torus(n, m, 0.3, 0.03, 5, 3); }
 
 // A wavy square sheet on an n x n grid (one border loop).
 Mesh wavy_sheet(int n) {
-  Mesh t;
-  std::vector<Mesh::Vertex_index> v;
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; j <= n; ++j) {
-      const double x = double(i) / n, y = double(j) / n;
-      v.push_back(t.add_vertex(Point_3(x, y, 0.04 * std::sin(8 * x) * std::sin(6 * y))));
-    }
-  auto at = [&](int i, int j) { return v[std::size_t(i * (n + 1) + j)]; };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      t.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      t.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-  return t;
+  return cmgeom_test::height_field(n, [](double x, double y) { return 0.04 * std::sin(8 * x) * std::sin(6 * y); });
 }
 
 // Every bit of the mesh that a writer would see: points (exact) and faces, in index order.

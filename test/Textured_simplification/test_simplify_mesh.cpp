@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cmgeom_test_surface_meshes.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -26,41 +28,12 @@ using Mesh = CMGeom::Surface_mesh;
 using Point_3 = CMGeom::Point_3;
 
 // A rippled torus, n x m quads split in two: closed, genus 1, every vertex of degree 6.
-Mesh rippled_torus(int n, int m) {
-  Mesh t;
-  std::vector<Mesh::Vertex_index> v(std::size_t(n * m));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      const double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m;
-      const double r = 0.35 + 0.02 * std::sin(7 * a) * std::cos(5 * b);
-      v[std::size_t(i * m + j)] = t.add_vertex(
-          Point_3((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
-    }
-  auto at = [&](int i, int j) { return v[std::size_t(((i + n) % n) * m + (j + m) % m)]; };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      t.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      t.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-  return t;
-}
+Mesh rippled_torus(int n, int m) { return cmgeom_test::rippled_torus(n, m, 0.35, 0.02, 7, 5); }
 
 // A bumpy height field on an n x n grid: one border loop.
 Mesh bumpy_sheet(int n) {
-  Mesh t;
-  std::vector<Mesh::Vertex_index> v;
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; j <= n; ++j) {
-      const double x = double(i) / n, y = double(j) / n;
-      v.push_back(t.add_vertex(Point_3(x, y, 0.05 * std::sin(9 * x) * std::cos(7 * y) + 0.02 * std::sin(31 * x * y))));
-    }
-  auto at = [&](int i, int j) { return v[std::size_t(i * (n + 1) + j)]; };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      t.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      t.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-  return t;
+  return cmgeom_test::height_field(
+      n, [](double x, double y) { return 0.05 * std::sin(9 * x) * std::cos(7 * y) + 0.02 * std::sin(31 * x * y); });
 }
 
 long euler_characteristic(const Mesh& m) {
