@@ -5,6 +5,13 @@
 //
 //   bench_simplify [--data DIR] [--tmp DIR] [--models a,b,...] [--ratios 0.1,0.01]
 //                  [--tools t1,t2,...] [--samples N] [--min-weight w] [--repeat R] [--out FILE]
+//                  [--max-errors E1,E2,...]
+//
+// --max-errors: instead of the ratio table, the guaranteed-error table: for each model and bound
+// E (fraction of the diagonal), `simplify_mesh` with `max_error` = E (CMGeom's defaults
+// otherwise), its face count and measured Hausdorff H; then, for each peer of --tools (default
+// cgal-gh, cgal-lt, meshopt, openmesh), the smallest face count found (bisection on the target
+// count, to 3 %) at which the peer's measured Hausdorff is <= H.
 //
 // Timing: process CPU seconds of the simplification call alone (set-up of the policy included,
 // mesh IO and format conversion excluded); with --repeat R each configuration runs R times and
@@ -276,6 +283,18 @@ Mesh run_cgal_gh(const Mesh& in, std::size_t target, double& secs) {
   return m;
 }
 
+// `cmgeom simplify --max-error E`: simplify_mesh with a guaranteed bound and no face target.
+Mesh run_cmgeom_bounded(const Mesh& in, double max_error, double& secs, double& bound) {
+  Mesh m = in;
+  const double t0 = cpu_seconds();
+  TS::Mesh_simplification_options o;
+  o.max_error = max_error;
+  const TS::Mesh_simplification_result r = TS::simplify_mesh(m, o);
+  secs = cpu_seconds() - t0;
+  bound = r.error_bound;
+  return m;
+}
+
 Mesh run_cgal_lt(const Mesh& in, std::size_t target, double& secs) {
   Mesh m = in;
   const double t0 = cpu_seconds();
@@ -375,6 +394,8 @@ bool load(const std::string& data, const std::string& tmp, const std::string& na
                                               {"igea", "classic/igea.ply.gz"},
                                               {"nefertiti", "classic/nefertiti.obj.gz"},
                                               {"max-planck", "classic/decimated-max.obj"},
+                                              {"fandisk", "classic/fandisk.obj"},
+                                              {"ogre", "classic/ogre.obj.gz"},
                                               {"igea-sub", "classic/igea.ply.gz"}};
   if (!files.count(name)) return false;
   const std::string path = cmgeom_bench::readable_model(data + "/" + files[name], tmp);
@@ -401,6 +422,65 @@ std::string sci(double v) {
   return s.str();
 }
 
+// The guaranteed-error table (see --max-errors in the file comment).
+struct Bounded_row {
+  std::string model;
+  std::size_t faces_in = 0;
+  double e = 0, seconds = 0, bound = 0, hausdorff = 0, rms = 0;
+  std::size_t faces_out = 0;
+  std::map<std::string, std::size_t> peer_faces;  // smallest count found within H; 0: none
+  std::map<std::string, int> peer_runs;
+};
+
+// Smallest target count (to 3 %) at which `tool`'s measured Hausdorff is <= h, starting from
+// `start`; 0 if even the input's count is not (cannot happen: no collapse, no error).
+std::size_t smallest_count_within(const std::string& tool, const Model& md, std::size_t start, double h,
+                                  std::size_t n_samples, int& runs) {
+  const std::size_t faces_in = md.mesh.number_of_faces();
+  std::map<std::size_t, bool> memo;
+  auto ok = [&](std::size_t t) {
+    t = std::clamp<std::size_t>(t, 4, faces_in);
+    auto it = memo.find(t);
+    if (it != memo.end()) return it->second;
+    Mesh out;
+    double secs = 0;
+    run_tool(tool, md, t, out, secs);
+    Row r;
+    measure(md, out, n_samples, r);
+    ++runs;
+    return memo[t] = r.hausdorff <= h;
+  };
+  std::size_t lo, hi;  // ok(hi), !ok(lo)
+  if (ok(start)) {
+    hi = start;
+    lo = hi;
+    for (;;) {
+      if (lo <= 4) return 4;
+      lo = (std::max<std::size_t>)(4, lo / 4);
+      if (!ok(lo)) break;
+      hi = lo;
+    }
+  } else {
+    lo = start;
+    hi = start;
+    for (;;) {
+      if (hi >= faces_in) return ok(faces_in) ? faces_in : 0;
+      hi = (std::min)(faces_in, hi * 2);
+      if (ok(hi)) break;
+      lo = hi;
+    }
+  }
+  while (double(hi) > 1.03 * double(lo) && hi - lo > 1) {
+    const std::size_t mid = std::size_t(std::sqrt(double(lo) * double(hi)));
+    if (mid <= lo || mid >= hi) break;
+    if (ok(mid))
+      hi = mid;
+    else
+      lo = mid;
+  }
+  return hi;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -419,6 +499,8 @@ int main(int argc, char** argv) {
                                     "meshopt",
                                     "openmesh"};
   std::size_t n_samples = 100000, repeat = 1;
+  std::vector<double> max_errors;
+  bool tools_given = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -446,6 +528,7 @@ int main(int argc, char** argv) {
       models = split(next());
     else if (a == "--tools") {
       tools = split(next());
+      tools_given = true;
       for (const std::string& t : tools)
         if (std::find(std::begin(all_tools), std::end(all_tools), t) == std::end(all_tools)) {
           std::cerr << "unknown tool '" << t << "' in --tools\n";
@@ -470,10 +553,91 @@ int main(int argc, char** argv) {
         }
         ratios.push_back(x);
       }
+    } else if (a == "--max-errors") {
+      const std::string list = next();
+      for (const auto& r : split(list)) {
+        double x = 0;
+        if (!cmgeom_bench::parse_number(r, 0, 1, x) || x == 0) {
+          std::cerr << "bad bound '" << r << "' in --max-errors " << list << ": expected numbers in (0, 1]\n";
+          return 2;
+        }
+        max_errors.push_back(x);
+      }
     } else {
       std::cerr << "unknown option " << a << "\n";
       return 2;
     }
+  }
+
+  if (!max_errors.empty()) {
+    if (!tools_given) tools = {"cgal-gh", "cgal-lt", "meshopt", "openmesh"};
+    std::vector<Bounded_row> rows;
+    for (const std::string& name : models) {
+      Model md;
+      md.name = name;
+      if (!load(data, tmp, name, md.mesh)) {
+        std::cerr << "skipping " << name << ": cannot read it under " << data << "\n";
+        continue;
+      }
+      md.soup = to_soup(md.mesh);
+      CGAL::Bbox_3 bb;
+      for (auto v : md.mesh.vertices()) bb += md.mesh.point(v).bbox();
+      md.diagonal = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
+                              CGAL::square(bb.zmax() - bb.zmin()));
+      md.samples = samples(md.mesh, n_samples, 42);
+      md.to_input = std::make_unique<Distance>(md.mesh);
+      for (double e : max_errors) {
+        Bounded_row b;
+        b.model = name;
+        b.faces_in = md.mesh.number_of_faces();
+        b.e = e;
+        const Mesh out = run_cmgeom_bounded(md.mesh, e, b.seconds, b.bound);
+        b.faces_out = out.number_of_faces();
+        Row r;
+        measure(md, out, n_samples, r);
+        b.hausdorff = r.hausdorff;
+        b.rms = r.rms;
+        for (const std::string& tool : tools) {
+          int runs = 0;
+          b.peer_faces[tool] = smallest_count_within(tool, md, b.faces_out, b.hausdorff, n_samples, runs);
+          b.peer_runs[tool] = runs;
+        }
+        std::cerr << name << " E " << e << ": " << b.faces_out << " faces, H " << b.hausdorff << ", bound " << b.bound
+                  << ", " << b.seconds << " s" << std::endl;
+        rows.push_back(b);
+      }
+    }
+    std::ostringstream t;
+    t << "| model (faces) | E | faces | CPU s | bound | Hausdorff | RMS | H <= E |";
+    for (const std::string& tool : tools) t << " " << tool << " faces at <= H |";
+    t << " faces / fewest peer's |\n|---|---:|---:|---:|---:|---:|---:|---|";
+    for (std::size_t k = 0; k < tools.size(); ++k) t << "---:|";
+    t << "---:|\n";
+    std::size_t within = 0, held = 0;
+    double worst_ratio = 0;
+    for (const Bounded_row& b : rows) {
+      std::size_t fewest = 0;
+      for (const auto& [tool, f] : b.peer_faces)
+        if (f > 0 && (fewest == 0 || f < fewest)) fewest = f;
+      const double ratio = fewest > 0 ? double(b.faces_out) / double(fewest) : 0.;
+      worst_ratio = (std::max)(worst_ratio, ratio);
+      within += ratio > 0 && ratio <= 1.5;
+      held += b.hausdorff <= b.e;
+      t << "| " << b.model << " (" << b.faces_in << ") | " << fmt(100 * b.e) << "% | " << b.faces_out << " | "
+        << fmt(b.seconds) << " | " << sci(b.bound) << " | " << sci(b.hausdorff) << " | " << sci(b.rms) << " | "
+        << (b.hausdorff <= b.e ? "yes" : "**no**") << " |";
+      for (const std::string& tool : tools) t << " " << b.peer_faces.at(tool) << " |";
+      t << " " << fmt(ratio) << " |\n";
+    }
+    t << "\nMeasured Hausdorff <= E in " << held << " of " << rows.size() << " cases; face count within 1.5x of the "
+      << "fewest any peer needs for the same measured Hausdorff in " << within << " of " << rows.size()
+      << " (largest ratio " << fmt(worst_ratio) << ").\n";
+    std::cout << t.str();
+    if (!out_file.empty()) {
+      std::ofstream f(out_file);
+      f << t.str();
+    }
+    return 0;
   }
 
   std::vector<Row> rows;

@@ -13,6 +13,7 @@
 #include <CMGeom/Textured_simplification/Index_texture.h>
 #include <CMGeom/Textured_simplification/Collapse_profile.h>
 #include <CMGeom/Textured_simplification/Endpoint_placement.h>
+#include <CMGeom/Textured_simplification/Hausdorff_bound.h>
 #include <CMGeom/Textured_simplification/No_normal_flip_filter.h>
 #include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/Surface_memory.h>

@@ -1,6 +1,8 @@
 // Tests of `cmgeom simplify`: the JSON report and errors.
 #include "textured_simplification_test_util.h"
 
+#include <CMGeom/Metrics/approximation_error.h>
+
 // ------------------------------------------------------------------------- command line
 
 namespace {
@@ -59,4 +61,37 @@ TEST(TexturedSimplificationCli, SimplifyJsonAndErrors) {
   EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + out2 + "' --ratio 1.5").first, 1);
   EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + out2 + "'").first, 1);
   EXPECT_FALSE(fs::exists(out2));
+}
+
+// `cmgeom simplify --max-error E`: the report says what stopped it and the bound kept, and the
+// output's Hausdorff distance to the input, measured by dense sampling here, is within E; a bound
+// that is not > 0, or one with --keep-charts, is refused with no output written.
+TEST(TexturedSimplificationCli, MaxErrorReportAndBound) {
+  const std::string exe = CMGEOM_CMGEOM_EXE;
+  if (!fs::exists(exe)) GTEST_SKIP() << "cmgeom not built: " << exe;
+  const std::string in = data_dir() + "/classic/bunny.off";
+  if (!fs::exists(in)) GTEST_SKIP() << "shared data not found: " << data_dir();
+  const std::string out = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_bunny_bounded.off";
+  fs::remove(out);
+  const auto [code, text] = run("'" + exe + "' simplify '" + in + "' -o '" + out + "' --max-error 0.01 --json");
+  ASSERT_EQ(code, 0) << text;
+  const auto j = nlohmann::json::parse(text);
+  EXPECT_EQ(j["stopped_by"].get<std::string>(), "max_error");
+  EXPECT_DOUBLE_EQ(j["max_error"].get<double>(), 0.01);
+  EXPECT_LE(j["error_bound"].get<double>(), 0.01);
+  EXPECT_FALSE(j.contains("target_faces"));
+  EXPECT_LT(j["faces_out"].get<std::size_t>(), 6966u / 4);
+  Mesh input, output;
+  ASSERT_TRUE(CGAL::IO::read_polygon_mesh(in, input));
+  ASSERT_TRUE(CGAL::IO::read_polygon_mesh(out, output));
+  EXPECT_EQ(output.number_of_faces(), j["faces_out"].get<std::size_t>());
+  CMGeom::Metrics::Error_options eo;
+  eo.samples = 20 * input.number_of_faces();
+  // measured on the file as written (its coordinates as stored)
+  EXPECT_LE(CMGeom::Metrics::approximation_error(input, output, eo).hausdorff, 0.01);
+  const std::string never = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_never_bounded.off";
+  fs::remove(never);
+  EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --max-error 0").first, 1);
+  EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --max-error -0.5").first, 1);
+  EXPECT_FALSE(fs::exists(never));
 }

@@ -1,4 +1,4 @@
-// cmgeom simplify <in> -o <out> (--faces N | --ratio r | --max-cost c) [--quantize] [--policy weighted|plain]
+// cmgeom simplify <in> -o <out> (--faces N | --ratio r | --max-cost c | --max-error E) [--policy weighted|plain]
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
 //                 [--no-texture] [--keep-charts] [--freeze-seams] [--no-repair] [--memoryless]
@@ -11,7 +11,9 @@
 // texture part of chapter 3 (chart constraints §3.5, index texture §3.3/§3.6), which stops where
 // the charts allow no more collapses. Anything else is simplified as geometry only, UVs dropped.
 // A non-manifold or inconsistently oriented input is repaired (a one-line warning says what
-// changed) unless --no-repair. Outputs are written atomically. The geometry is simplified by
+// changed) unless --no-repair. --max-error E guarantees a Hausdorff distance of at most E (a
+// fraction of the input's diagonal) between output and input (Hausdorff_bound.h). Outputs are
+// written atomically. The geometry is simplified by
 // one call of simplify_mesh() (the target, the ratio's rounding and the engine are its own).
 #include "cli_common.h"
 #include "collapse_progress.h"
@@ -46,7 +48,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     std::string input, output, policy = "plain", engine = "cmgeom", merge = "thesis";
     std::string texture_backend = "cpu", texture;
     std::size_t faces = 0;
-    double ratio = 0, max_cost = 0;
+    double ratio = 0, max_cost = 0, max_error = 0;
     int texture_size = 0;
     bool flips = false, json = false, repair = false, no_repair = false, no_texture = false, freeze_seams = false,
          memoryless = false;
@@ -65,6 +67,11 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
                                   "Geometry only: stop when the cheapest collapse left costs more than this (quadric "
                                   "error: area x squared distance, see the manual); with --faces or --ratio, whichever "
                                   "comes first");
+  auto* max_error = app.add_option(
+      "--max-error", o->max_error,
+      "Guaranteed bound on the Hausdorff distance between output and input (both ways), as a fraction of the "
+      "input's bounding-box diagonal, e.g. 0.005: collapses that could exceed it are refused. Alone: simplify as "
+      "far as the bound allows; with --faces or --ratio, whichever comes first. Not with --keep-charts");
   app.add_option("--policy", o->policy,
                  "Cost: plain (Garland-Heckbert, the default: lowest measured error) or weighted (thesis §3.4.2)")
       ->check(CLI::IsMember({"weighted", "plain"}));
@@ -96,9 +103,11 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   app.add_flag("--freeze-seams", o->freeze_seams,
                "Textured input, with --keep-charts: never move chart-boundary vertices (baseline)");
 
-  return [o, faces, ratio, max_cost, backend, tsize]() -> int {
-    if (faces->count() == 0 && ratio->count() == 0 && max_cost->count() == 0)
-      throw CMGeom::Invalid_input("one of --faces, --ratio or --max-cost is required");
+  return [o, faces, ratio, max_cost, max_error, backend, tsize]() -> int {
+    if (faces->count() == 0 && ratio->count() == 0 && max_cost->count() == 0 && max_error->count() == 0)
+      throw CMGeom::Invalid_input("one of --faces, --ratio, --max-cost or --max-error is required");
+    if (max_error->count() && !(o->max_error > 0 && std::isfinite(o->max_error)))
+      throw CMGeom::Invalid_input("--max-error must be finite and > 0, got " + std::to_string(o->max_error));
     if (ratio->count() && !(o->ratio > 0 && o->ratio <= 1))
       throw CMGeom::Invalid_input("--ratio must be in (0, 1], got " + std::to_string(o->ratio));
     if (faces->count() && o->faces == 0) throw CMGeom::Invalid_input("--faces must be at least 1");
@@ -157,7 +166,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
                                   ": texture options need a textured input (UVs and a texture; see --texture)");
 
     const std::size_t faces_in = mesh.number_of_faces();
-    // the face target (none with --max-cost alone: then the progress counts to a single face)
+    // the face target (none with --max-cost or --max-error alone: the progress counts to a single face)
     const bool has_target = faces->count() || ratio->count();
     const std::size_t target = faces->count()   ? o->faces
                                : ratio->count() ? TS::target_faces_for_ratio(faces_in, o->ratio)
@@ -173,6 +182,10 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       if (o->engine != "cmgeom") throw CMGeom::Invalid_input("textured simplification runs on --engine cmgeom only");
       if (max_cost->count())
         throw CMGeom::Invalid_input("--max-cost simplifies geometry only: pass --no-texture (or --faces / --ratio)");
+      if (max_error->count() && o->keep_charts)
+        throw CMGeom::Invalid_input(
+            "--max-error is not supported with --keep-charts (the chart constraints have no error bound); drop "
+            "--keep-charts");
       if (o->flips && o->keep_charts)
         throw CMGeom::Invalid_input(
             "--flips is not supported with --keep-charts (flips would need UV rules); drop "
@@ -188,7 +201,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         throw CMGeom::Invalid_input(o->output + ": textured output must be .obj, .gltf or .glb (or pass --no-texture)");
       CMGeom::IO::load_textures(tm);
       TS::Textured_simplification_options to;
-      to.target_faces = target;
+      to.target_faces = has_target ? target : 0;
+      if (max_error->count()) to.max_error = o->max_error;
       to.quadric = qo;
       to.texture_size = o->texture_size;
       to.constraints.freeze_chart_boundaries = o->freeze_seams;
@@ -215,7 +229,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
             << "cmgeom simplify: stopped at " << r.faces_out << " faces for a target of " << target << " ("
             << (r.stopped_by == TS::Stop_reason::chart_limit
                     ? "chart limit: no collapse left that keeps the input's charts; drop --keep-charts to go further"
-                    : "no valid collapse left")
+                : r.stopped_by == TS::Stop_reason::max_error ? "no collapse left within --max-error"
+                                                             : "no valid collapse left")
             << ")\n";
       if (o->json) {
         nlohmann::ordered_json j;
@@ -230,7 +245,11 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         j["surface_memory"] = !o->memoryless && !r.charts_kept;
         if (r.charts_kept) j["texture_backend"] = o->texture_backend;
         j["faces_in"] = r.faces_in;
-        j["target_faces"] = target;
+        if (has_target) j["target_faces"] = target;
+        if (max_error->count()) {
+          j["max_error"] = o->max_error;
+          j["error_bound"] = r.error_bound;
+        }
         j["faces_out"] = r.faces_out;
         j["stopped_by"] = TS::to_string(r.stopped_by);
         j["vertices_out"] = mesh.number_of_vertices();
@@ -266,6 +285,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     if (faces->count()) so.target_faces = o->faces;
     if (ratio->count()) so.target_ratio = o->ratio;
     if (max_cost->count()) so.max_cost = o->max_cost;
+    if (max_error->count()) so.max_error = o->max_error;
     so.engine = o->engine == "cgal" ? TS::Simplification_engine::cgal : TS::Simplification_engine::cmgeom;
     so.quadric = qo;
     so.surface_memory = !o->memoryless && o->engine == "cmgeom";
@@ -274,9 +294,11 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     const double seconds = r.seconds;
     bar.done();
     const std::size_t faces_out = r.faces_out;
-    if (r.stopped_by == TS::Stop_reason::no_collapse && has_target)
-      std::cerr << "cmgeom simplify: stopped at " << faces_out << " faces for a target of " << target
-                << " (no valid collapse left)\n";
+    if ((r.stopped_by == TS::Stop_reason::no_collapse || r.stopped_by == TS::Stop_reason::max_error) && has_target)
+      std::cerr << "cmgeom simplify: stopped at " << faces_out << " faces for a target of " << target << " ("
+                << (r.stopped_by == TS::Stop_reason::max_error ? "no collapse left within --max-error"
+                                                               : "no valid collapse left")
+                << ")\n";
 
     tm.set_has_uvs(false);  // geometry only: no UVs, no materials
     tm.materials().clear();
@@ -294,6 +316,10 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["faces_in"] = faces_in;
       if (has_target) j["target_faces"] = target;
       if (max_cost->count()) j["max_cost"] = o->max_cost;
+      if (max_error->count()) {
+        j["max_error"] = o->max_error;
+        j["error_bound"] = r.error_bound;
+      }
       j["faces_out"] = faces_out;
       j["stopped_by"] = TS::to_string(r.stopped_by);
       j["vertices_out"] = mesh.number_of_vertices();

@@ -21,6 +21,7 @@
 #include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
 #include <CMGeom/Textured_simplification/Edge_collapse_visitor_base.h>
 #include <CMGeom/Textured_simplification/Endpoint_placement.h>
+#include <CMGeom/Textured_simplification/Hausdorff_bound.h>
 #include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/edge_collapse.h>
@@ -59,13 +60,15 @@ enum class Stop_reason {
   target,       ///< the face target was reached (or there was nothing to do)
   chart_limit,  ///< no collapse left that keeps the charts (simplify_textured_mesh, keep_charts)
   no_collapse,  ///< no valid collapse left at all (topology: e.g. a tetrahedron)
-  max_cost      ///< the cheapest collapse left costs more than `max_cost`
+  max_cost,     ///< the cheapest collapse left costs more than `max_cost`
+  max_error     ///< no collapse left that keeps the Hausdorff bound `max_error`
 };
 
 inline const char* to_string(Stop_reason r) {
   return r == Stop_reason::target        ? "target"
          : r == Stop_reason::chart_limit ? "chart_limit"
          : r == Stop_reason::max_cost    ? "max_cost"
+         : r == Stop_reason::max_error   ? "max_error"
                                          : "no_collapse";
 }
 
@@ -82,6 +85,12 @@ struct Mesh_simplification_options {
   /// endpoints of area x squared distance to their planes, plus the border term), raised by the
   /// memoryful cost where that one is higher. Finite and >= 0.
   std::optional<double> max_cost;
+  /// A guaranteed bound on the Hausdorff distance between the output and the input, both ways,
+  /// as a fraction of the input's bounding-box diagonal (Hausdorff_bound.h): collapses and flips
+  /// that would break it are refused, and without a face target the collapses go on until none
+  /// is left within it. Finite and > 0. Never simplified in parts.
+  std::optional<double> max_error;
+  Hausdorff_bound_options error_bound;
   /// The collapse engine. `cgal` runs the quadrics alone: `surface_memory` and `flips` must then
   /// be false, and there are no parts.
   Simplification_engine engine = Simplification_engine::cmgeom;
@@ -112,7 +121,10 @@ struct Mesh_simplification_options {
 /// What simplify_mesh() did.
 struct Mesh_simplification_result {
   std::size_t faces_in = 0, faces_out = 0;
-  std::size_t target_faces = 0;  ///< the face target (a ratio's count); 0 with max_cost alone
+  std::size_t target_faces = 0;  ///< the face target (a ratio's count); 0 without one
+  /// With max_error: the largest distance the bound's tests accepted, as a fraction of the input's
+  /// diagonal (<= max_error; a bound on the output's Hausdorff distance to the input).
+  double error_bound = 0;
   Stop_reason stopped_by = Stop_reason::target;
   std::size_t parts = 0;              ///< parts simplified at once (0: the whole at once)
   std::size_t faces_after_parts = 0;  ///< faces when the parts were put back together
@@ -309,6 +321,22 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
 
 namespace internal {
 
+/// The diagonal of the bounding box of the mesh's vertices (0 for an empty mesh).
+template <class Mesh>
+double bbox_diagonal(const Mesh& mesh) {
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = (std::min)(lo[k], CGAL::to_double(p[k]));
+      hi[k] = (std::max)(hi[k], CGAL::to_double(p[k]));
+    }
+  }
+  if (!(lo[0] <= hi[0])) return 0.;
+  return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                   (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
 /// The stop of simplify_mesh(): a face count and/or a cost bound, remembering which one fired.
 template <class Mesh>
 struct Target_stop {
@@ -331,13 +359,14 @@ struct Target_stop {
 
 }  // namespace internal
 
-/// Simplifies `mesh` to the target of `options` (a face count, a ratio of the input's faces or a
-/// cost bound; fewer faces than asked only when no valid collapse is left) with the quadrics of
-/// `options.quadric` and, unless switched off, the memoryful cost; large inputs with a face
-/// target on all cores (see the file comment; never with `max_cost`). Throws
-/// std::invalid_argument for invalid options (no target, both a count and a ratio, a ratio out of
-/// (0, 1], a negative or non-finite max_cost, parts_stop_factor < 1, memory or flips on CGAL's
-/// engine), CMGeom::Invalid_input when `mesh` is not a triangle mesh. `visitor` sees the
+/// Simplifies `mesh` to the target of `options` (a face count, a ratio of the input's faces, a
+/// cost bound and/or a guaranteed error bound; fewer faces than asked only when no valid collapse
+/// is left) with the quadrics of `options.quadric` and, unless switched off, the memoryful cost;
+/// large inputs with a face target on all cores (see the file comment; never with `max_cost` or
+/// `max_error`). Throws std::invalid_argument for invalid options (no target, both a count and a
+/// ratio, a ratio out of (0, 1], a negative or non-finite max_cost, a max_error not > 0 or not
+/// finite, parts_stop_factor < 1, memory or flips on CGAL's engine), CMGeom::Invalid_input when
+/// `mesh` is not a triangle mesh or, with max_error, its vertices all lie at one point. `visitor` sees the
 /// collapses on the whole mesh (not those of the parts). The mesh is garbage-free on return; its
 /// property maps stay, with default values after a simplification in parts (the mesh is then
 /// rebuilt: every index changes, and isolated vertices are dropped).
@@ -354,17 +383,25 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
   using Clock = std::chrono::steady_clock;
   if (options.target_faces && options.target_ratio)
     throw std::invalid_argument("simplify_mesh: give a face count or a ratio, not both");
-  if (!options.target_faces && !options.target_ratio && !options.max_cost)
-    throw std::invalid_argument("simplify_mesh: no target (target_faces, target_ratio or max_cost)");
+  if (!options.target_faces && !options.target_ratio && !options.max_cost && !options.max_error)
+    throw std::invalid_argument("simplify_mesh: no target (target_faces, target_ratio, max_cost or max_error)");
   if (options.target_ratio) target_faces_for_ratio(0, *options.target_ratio);  // checks it
   if (options.max_cost && !(*options.max_cost >= 0.0 && std::isfinite(*options.max_cost)))
     throw std::invalid_argument("simplify_mesh: max_cost must be finite and >= 0, got " +
                                 std::to_string(*options.max_cost));
+  if (options.max_error && !(*options.max_error > 0.0 && std::isfinite(*options.max_error)))
+    throw std::invalid_argument("simplify_mesh: max_error must be finite and > 0, got " +
+                                std::to_string(*options.max_error));
+  if (options.error_bound.max_depth < 0 || options.error_bound.max_depth > 16)
+    throw std::invalid_argument("simplify_mesh: error_bound.max_depth must be in [0, 16]");
   if (!(options.parts_stop_factor >= 1.0)) throw std::invalid_argument("simplify_mesh: parts_stop_factor must be >= 1");
   const bool cgal = options.engine == Simplification_engine::cgal;
   if (cgal && (options.surface_memory || options.flips))
     throw std::invalid_argument("simplify_mesh: CGAL's engine has no memoryful cost and no flips");
   if (!CGAL::is_triangle_mesh(mesh)) throw Invalid_input("simplify_mesh: not a triangle mesh");
+  const double diagonal = options.max_error ? internal::bbox_diagonal(mesh) : 0.;
+  if (options.max_error && !(diagonal > 0.) && mesh.number_of_faces() > 0)
+    throw Invalid_input("simplify_mesh: max_error on a mesh whose vertices all lie at one point");
   const auto t0 = Clock::now();
   Mesh_simplification_result res;
   res.faces_in = mesh.number_of_faces();
@@ -374,7 +411,9 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
   if (!target || *target < res.faces_in) {
     Policy policy(mesh, options.quadric);
     std::optional<Memory> memory;
-    const int levels = target && !options.max_cost && !cgal ? internal::part_levels(res.faces_in, *target, options) : 0;
+    const int levels = target && !options.max_cost && !options.max_error && !cgal
+                           ? internal::part_levels(res.faces_in, *target, options)
+                           : 0;
     if (levels > 0) {
       internal::simplify_in_parts(mesh, *target, levels, options, policy, memory);
       res.parts = std::size_t(1) << levels;
@@ -388,20 +427,31 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
     internal::Target_stop<Mesh> stop{{}, options.max_cost, &res.stopped_by};
     if (target) stop.count.emplace(mesh, *target);
     Memory* m = memory ? &*memory : nullptr;
-    internal::collapse_with_placement(policy, options.endpoint_placement, [&](const auto& placement) {
+    using Bound = Hausdorff_bound<Mesh, VPM>;
+    std::optional<Bound> bound;
+    if (options.max_error) bound.emplace(mesh, mesh.points(), *options.max_error * diagonal, options.error_bound);
+    auto run = [&](const auto& placement, const auto& cgal_filter, const auto& own_filter, const auto& vis) {
       if (cgal)
-        CGAL::Surface_mesh_simplification::edge_collapse(mesh, stop,
-                                                         CGAL::parameters::get_cost(policy)
-                                                             .get_placement(placement)
-                                                             .filter(No_normal_flip_filter<>())
-                                                             .visitor(visitor));
+        CGAL::Surface_mesh_simplification::edge_collapse(
+            mesh, stop, CGAL::parameters::get_cost(policy).get_placement(placement).filter(cgal_filter).visitor(vis));
       else
         edge_collapse(
             mesh, stop,
             CMGeom::parameters::surface_memory(
                 m, CMGeom::parameters::edge_flips(
-                       options.flips, CGAL::parameters::get_cost(policy).get_placement(placement).visitor(visitor))));
+                       options.flips,
+                       CGAL::parameters::get_cost(policy).get_placement(placement).filter(own_filter).visitor(vis))));
+    };
+    // without a bound the filter and the visitor only forward (one instantiation for both cases)
+    Bound* b = bound ? &*bound : nullptr;
+    internal::collapse_with_placement(policy, options.endpoint_placement, [&](const auto& placement) {
+      run(placement, Hausdorff_bound_filter<Bound, No_normal_flip_filter<>>{b}, Hausdorff_bound_filter<Bound>{b},
+          Hausdorff_bound_visitor<Bound, Visitor>(b, visitor));
     });
+    if (bound) {
+      res.error_bound = bound->bound() / diagonal;
+      if (res.stopped_by == Stop_reason::no_collapse && bound->refused() > 0) res.stopped_by = Stop_reason::max_error;
+    }
   }
   mesh.collect_garbage();
   res.faces_out = mesh.number_of_faces();

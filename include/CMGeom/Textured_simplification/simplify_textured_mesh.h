@@ -42,6 +42,11 @@ namespace Textured_simplification {
 
 struct Textured_simplification_options {
   std::size_t target_faces = 0;
+  /// A guaranteed bound on the Hausdorff distance between output and input geometry, as a fraction
+  /// of the input's bounding-box diagonal (simplify_mesh()'s `max_error`, Hausdorff_bound.h),
+  /// whichever of it and `target_faces` comes first. New-atlas path only (Invalid_input with
+  /// keep_charts).
+  std::optional<double> max_error;
   /// true: the thesis' method (§3.5): collapses never change the input's charts, the index
   /// texture is rewritten at every collapse; the simplification stops where no collapse keeps
   /// the charts (Stop_reason::chart_limit), which can be far above the target on models with
@@ -91,6 +96,8 @@ struct Textured_simplification_result {
   double seconds_texture = 0;   ///< index texture set-up, output texture generation and dilation
                                 ///< (new-atlas path: the input's extraction overlaps the collapses)
   Chart_constraint_statistics statistics;
+  /// With max_error: the bound kept, as a fraction of the input's diagonal (see simplify_mesh()).
+  double error_bound = 0;
 };
 
 namespace internal {
@@ -166,9 +173,12 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
       so.surface_memory = options.surface_memory;
       so.flips = options.flips;
       so.endpoint_placement = options.endpoint_placement;
-      so.target_faces = options.target_faces;
+      if (options.target_faces > 0 || !options.max_error) so.target_faces = options.target_faces;
+      so.max_error = options.max_error;
       so.before_changing_input = [&take] { take.wait(); };
-      simplify_mesh(mesh, so, visitor);
+      const Mesh_simplification_result r = simplify_mesh(mesh, so, visitor);
+      res.stopped_by = r.stopped_by;
+      res.error_bound = r.error_bound;
     }
     take.wait();
   } catch (...) {
@@ -180,7 +190,7 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   mesh.collect_garbage();
   res.seconds_collapse = internal::seconds_since(t0);
   res.faces_out = mesh.number_of_faces();
-  res.stopped_by = res.faces_out > options.target_faces ? Stop_reason::no_collapse : Stop_reason::target;
+  if (res.faces_out <= options.target_faces) res.stopped_by = Stop_reason::target;
   const auto t1 = std::chrono::steady_clock::now();
   prepare.wait();
   res.atlas = rebuild_atlas(*source, tm, ao);
@@ -228,6 +238,10 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm,
     throw Invalid_input(
         "simplify_textured_mesh: edge flips need a new atlas, which needs a decoded texture and "
         "resample_textures");
+  if (options.max_error)  // nor an error bound
+    throw Invalid_input(
+        "simplify_textured_mesh: max_error needs a new atlas (keep_charts = false), which needs a decoded "
+        "texture and resample_textures");
 
   std::vector<std::array<UV2, 3>> tris;
   std::vector<int> chart_ids;

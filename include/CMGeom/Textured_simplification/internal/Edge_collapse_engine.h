@@ -99,6 +99,17 @@ template <class C, class V>
 struct has_prefetch<C, V, std::void_t<decltype(std::declval<const C&>().prefetch(std::declval<V>()))>>
     : std::true_type {};
 
+// A filter that also rules on edge flips (allows_flip(tm, h) before, flipped(tm, h) after; see
+// Hausdorff_bound_filter).
+template <class F, class TM, class H, class = void>
+struct has_flip_check : std::false_type {};
+template <class F, class TM, class H>
+struct has_flip_check<
+    F, TM, H,
+    std::void_t<decltype(std::declval<const F&>().allows_flip(std::declval<const TM&>(), std::declval<H>())),
+                decltype(std::declval<const F&>().flipped(std::declval<const TM&>(), std::declval<H>()))>>
+    : std::true_type {};
+
 template <class V, class TM, class H, class = void>
 struct has_on_flipped : std::false_type {};
 template <class V, class TM, class H>
@@ -521,7 +532,11 @@ private:
       const std::uint32_t i = id(e);
       if (flags(i) & (DEAD | CONSTRAINED)) continue;
       if (!internal::should_flip(tm_, vpm_, h, get_cost_, vim_, mark_, stamp_)) continue;
+      if constexpr (has_flip_check<Filter, TM, halfedge_descriptor>::value) {
+        if (!filter_.allows_flip(tm_, h)) continue;
+      }
       CGAL::Euler::flip_edge(h, tm_);
+      if constexpr (has_flip_check<Filter, TM, halfedge_descriptor>::value) filter_.flipped(tm_, h);
       if constexpr (has_memory) {
         if (memory_) memory_->after_flip(tm_, h);
       }
