@@ -1,10 +1,11 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// simplify_mesh(): geometric simplification of a Surface_mesh to a face count in one call, as
-// `cmgeom simplify --no-texture` and the new-atlas path of simplify_textured_mesh() run it: the
-// quadrics of Area_weighted_quadric_policies, completed by the memoryful cost of Surface_memory
-// (unless switched off), on CMGeom's engine (edge_collapse.h), edge flips on request.
+// simplify_mesh(): geometric simplification of a Surface_mesh in one call (a face count, a ratio, a cost
+// bound or a guaranteed error bound), as `cmgeom simplify --no-texture` and the new-atlas path of
+// simplify_textured_mesh() run it: the quadrics of Area_weighted_quadric_policies, completed by the
+// memoryful cost of Surface_memory (unless switched off), on CMGeom's engine (edge_collapse.h), edge
+// flips on request; the error bound is Hausdorff_bound.h's.
 //
 // Key choice: large inputs (at least `parts_min_faces` faces, asked for at most 1/16 of them by
 // default) are simplified on all cores. They are cut into 2^k parts (internal/Mesh_parts.h), each
