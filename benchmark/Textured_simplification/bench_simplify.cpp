@@ -411,6 +411,25 @@ bool load(const std::string& data, const std::string& tmp, const std::string& na
   return true;
 }
 
+// Reads model `name` and sets up what every tool's run is measured with (its soup, diagonal,
+// samples and distance tree); false, with a message, when it cannot be read.
+bool prepare_model(const std::string& data, const std::string& tmp, const std::string& name, std::size_t n_samples,
+                   Model& md) {
+  md.name = name;
+  if (!load(data, tmp, name, md.mesh)) {
+    std::cerr << "skipping " << name << ": cannot read it under " << data << "\n";
+    return false;
+  }
+  md.soup = to_soup(md.mesh);
+  CGAL::Bbox_3 bb;
+  for (auto v : md.mesh.vertices()) bb += md.mesh.point(v).bbox();
+  md.diagonal = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
+                          CGAL::square(bb.zmax() - bb.zmin()));
+  md.samples = samples(md.mesh, n_samples, 42);
+  md.to_input = std::make_unique<Distance>(md.mesh);
+  return true;
+}
+
 std::string fmt(double v, int prec = 3) {
   std::ostringstream s;
   s << std::setprecision(prec) << v;
@@ -429,13 +448,12 @@ struct Bounded_row {
   double e = 0, seconds = 0, bound = 0, hausdorff = 0, rms = 0;
   std::size_t faces_out = 0;
   std::map<std::string, std::size_t> peer_faces;  // smallest count found within H; 0: none
-  std::map<std::string, int> peer_runs;
 };
 
 // Smallest target count (to 3 %) at which `tool`'s measured Hausdorff is <= h, starting from
 // `start`; 0 if even the input's count is not (cannot happen: no collapse, no error).
 std::size_t smallest_count_within(const std::string& tool, const Model& md, std::size_t start, double h,
-                                  std::size_t n_samples, int& runs) {
+                                  std::size_t n_samples) {
   const std::size_t faces_in = md.mesh.number_of_faces();
   std::map<std::size_t, bool> memo;
   auto ok = [&](std::size_t t) {
@@ -447,7 +465,6 @@ std::size_t smallest_count_within(const std::string& tool, const Model& md, std:
     run_tool(tool, md, t, out, secs);
     Row r;
     measure(md, out, n_samples, r);
-    ++runs;
     return memo[t] = r.hausdorff <= h;
   };
   std::size_t lo, hi;  // ok(hi), !ok(lo)
@@ -574,18 +591,7 @@ int main(int argc, char** argv) {
     std::vector<Bounded_row> rows;
     for (const std::string& name : models) {
       Model md;
-      md.name = name;
-      if (!load(data, tmp, name, md.mesh)) {
-        std::cerr << "skipping " << name << ": cannot read it under " << data << "\n";
-        continue;
-      }
-      md.soup = to_soup(md.mesh);
-      CGAL::Bbox_3 bb;
-      for (auto v : md.mesh.vertices()) bb += md.mesh.point(v).bbox();
-      md.diagonal = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
-                              CGAL::square(bb.zmax() - bb.zmin()));
-      md.samples = samples(md.mesh, n_samples, 42);
-      md.to_input = std::make_unique<Distance>(md.mesh);
+      if (!prepare_model(data, tmp, name, n_samples, md)) continue;
       for (double e : max_errors) {
         Bounded_row b;
         b.model = name;
@@ -597,11 +603,8 @@ int main(int argc, char** argv) {
         measure(md, out, n_samples, r);
         b.hausdorff = r.hausdorff;
         b.rms = r.rms;
-        for (const std::string& tool : tools) {
-          int runs = 0;
-          b.peer_faces[tool] = smallest_count_within(tool, md, b.faces_out, b.hausdorff, n_samples, runs);
-          b.peer_runs[tool] = runs;
-        }
+        for (const std::string& tool : tools)
+          b.peer_faces[tool] = smallest_count_within(tool, md, b.faces_out, b.hausdorff, n_samples);
         std::cerr << name << " E " << e << ": " << b.faces_out << " faces, H " << b.hausdorff << ", bound " << b.bound
                   << ", " << b.seconds << " s" << std::endl;
         rows.push_back(b);
@@ -643,18 +646,7 @@ int main(int argc, char** argv) {
   std::vector<Row> rows;
   for (const std::string& name : models) {
     Model md;
-    md.name = name;
-    if (!load(data, tmp, name, md.mesh)) {
-      std::cerr << "skipping " << name << ": cannot read it under " << data << "\n";
-      continue;
-    }
-    md.soup = to_soup(md.mesh);
-    CGAL::Bbox_3 bb;
-    for (auto v : md.mesh.vertices()) bb += md.mesh.point(v).bbox();
-    md.diagonal = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
-                            CGAL::square(bb.zmax() - bb.zmin()));
-    md.samples = samples(md.mesh, n_samples, 42);
-    md.to_input = std::make_unique<Distance>(md.mesh);
+    if (!prepare_model(data, tmp, name, n_samples, md)) continue;
     const std::size_t faces_in = md.mesh.number_of_faces();
     for (double ratio : ratios) {
       const std::size_t target = static_cast<std::size_t>(std::llround(ratio * double(faces_in)));

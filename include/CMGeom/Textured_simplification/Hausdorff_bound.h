@@ -19,6 +19,7 @@
 #include <CMGeom/Compact_model/internal/Vec3.h>
 #include <CMGeom/Textured_simplification/Edge_collapse_visitor_base.h>
 #include <CMGeom/Textured_simplification/No_normal_flip_filter.h>
+#include <CMGeom/Textured_simplification/internal/collapse_checks.h>
 
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/iterator.h>
@@ -110,50 +111,28 @@ public:
   /// Whether the collapse of halfedge `h` (v0 -> v1) with the kept vertex at `x` keeps the
   /// bound. If it does, the pieces' new faces are remembered for collapsed().
   bool allows_collapse(const TriangleMesh& tm, halfedge_descriptor h, const V3& x) {
-    plan_.valid = false;
-    olds_.clear();
-    news_.clear();
-    homes_.clear();
-    const face_descriptor fl = is_border(h, tm) ? GT::null_face() : face(h, tm);
-    const halfedge_descriptor o = opposite(h, tm);
-    const face_descriptor fr = is_border(o, tm) ? GT::null_face() : face(o, tm);
-    if (fl != GT::null_face()) olds_.push_back(fl);
-    if (fr != GT::null_face()) olds_.push_back(fr);
-    for (int side = 0; side < 2; ++side)
-      for (halfedge_descriptor g : CGAL::halfedges_around_target(side == 0 ? source(h, tm) : target(h, tm), tm)) {
-        if (is_border(g, tm)) continue;
-        const face_descriptor f = face(g, tm);
-        if (f == fl || f == fr) continue;
-        olds_.push_back(f);
-        news_.push_back(make_tri(x, point(target(next(g, tm), tm)), point(source(g, tm))));
-        homes_.push_back(f);
-      }
-    add_ring(tm);
-    const bool ok = test();
-    if (ok) {
-      plan_.valid = true;
-      plan_.flip = false;
-      plan_.h = h;
-      plan_.x = x;
-    } else {
-      ++refused_;
-    }
-    return ok;
+    start_test();
+    internal::for_each_face_of_collapse(
+        tm, h, [&](face_descriptor f) { olds_.push_back(f); },
+        [&](face_descriptor f, halfedge_descriptor g) {
+          olds_.push_back(f);
+          news_.push_back(make_tri(x, point(target(next(g, tm), tm)), point(source(g, tm))));
+          homes_.push_back(f);
+        });
+    plan_.x = x;
+    return decide(tm, h, false);
   }
 
   /// Call after the collapse allowed last by allows_collapse(), `kept` the vertex kept at its
   /// new place: the pieces move to their new faces. Does nothing for any other collapse.
   void collapsed(const TriangleMesh& tm, halfedge_descriptor h, vertex_descriptor kept) {
     if (!plan_.valid || plan_.flip || plan_.h != h || point(kept) != plan_.x) return;
-    commit(tm);
+    commit();
   }
 
   /// Whether flipping the edge of halfedge `h` keeps the bound (remembered for flipped()).
   bool allows_flip(const TriangleMesh& tm, halfedge_descriptor h) {
-    plan_.valid = false;
-    olds_.clear();
-    news_.clear();
-    homes_.clear();
+    start_test();
     const halfedge_descriptor o = opposite(h, tm);
     if (is_border(h, tm) || is_border(o, tm)) return false;
     // faces (a, b, c) and (b, a, d) become (b, c, d) and (c, a, d)
@@ -166,16 +145,7 @@ public:
     homes_.push_back(GT::null_face());  // resolved in flipped()
     homes_.push_back(GT::null_face());
     flip_b_ = b;
-    add_ring(tm);
-    const bool ok = test();
-    if (ok) {
-      plan_.valid = true;
-      plan_.flip = true;
-      plan_.h = h;
-    } else {
-      ++refused_;
-    }
-    return ok;
+    return decide(tm, h, true);
   }
 
   /// Call after flipping the edge allowed last by allows_flip(); `h` is the new edge.
@@ -187,7 +157,7 @@ public:
     for (vertex_descriptor v : CGAL::vertices_around_face(halfedge(f0, tm), tm)) f0_has_b |= v == flip_b_;
     homes_[0] = f0_has_b ? f0 : f1;
     homes_[1] = f0_has_b ? f1 : f0;
-    commit(tm);
+    commit();
   }
 
 private:
@@ -233,6 +203,28 @@ private:
     return V3(CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z()));
   }
 
+  /// Forgets the last test's plan and faces.
+  void start_test() {
+    plan_.valid = false;
+    olds_.clear();
+    news_.clear();
+    homes_.clear();
+  }
+
+  /// Completes olds_ / news_ / homes_ with the ring, runs both tests and remembers the plan of an
+  /// allowed change of `h` (a flip or, with plan_.x set, a collapse).
+  bool decide(const TriangleMesh& tm, halfedge_descriptor h, bool flip) {
+    add_ring(tm);
+    if (!test()) {
+      ++refused_;
+      return false;
+    }
+    plan_.valid = true;
+    plan_.flip = flip;
+    plan_.h = h;
+    return true;
+  }
+
   /// The faces across the outer edges of the changed faces: unchanged, they may take pieces too.
   void add_ring(const TriangleMesh& tm) {
     ring_begin_ = homes_.size();
@@ -274,8 +266,8 @@ private:
     for (std::size_t k = ring_begin_; k < homes_.size(); ++k)
       for (std::uint32_t i = head_[std::size_t(homes_[k])]; i != nil; i = pieces_[i].next) cand_.push_back(i);
     // 2. every point of every new face lies within E of a piece
+    level_.resize(std::size_t(options_.max_depth) + 1);
     for (const Tri& t : news_) {
-      level_.resize(std::size_t(options_.max_depth) + 1);
       std::vector<std::uint32_t>& first = level_[0];
       first.clear();
       for (std::uint32_t i : cand_)
@@ -392,7 +384,7 @@ private:
   }
 
   /// Applies the last accepted test: the pieces of olds_ move to their homes (cut ones replaced).
-  void commit(const TriangleMesh&) {
+  void commit() {
     plan_.valid = false;
     for (face_descriptor f : olds_) head_[std::size_t(f)] = nil;
     // a cut piece's record is reused for its first part; the other parts get free records

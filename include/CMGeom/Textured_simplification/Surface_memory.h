@@ -14,6 +14,7 @@
 #define CMGEOM_TEXTURED_SIMPLIFICATION_SURFACE_MEMORY_H
 
 #include <CMGeom/Compact_model/internal/Vec3.h>
+#include <CMGeom/Textured_simplification/internal/collapse_checks.h>
 
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/iterator.h>
@@ -288,20 +289,13 @@ private:
   void star_of_collapse(const TriangleMesh& tm, halfedge_descriptor h, const V3& x) const {
     faces_.clear();
     tris_.clear();
-    const face_descriptor fl = is_border(h, tm) ? GT::null_face() : face(h, tm);
-    const halfedge_descriptor o = opposite(h, tm);
-    const face_descriptor fr = is_border(o, tm) ? GT::null_face() : face(o, tm);
-    if (fl != GT::null_face()) faces_.push_back(fl);
-    if (fr != GT::null_face()) faces_.push_back(fr);
-    removed_ = faces_.size();
-    for (int side = 0; side < 2; ++side)
-      for (halfedge_descriptor g : CGAL::halfedges_around_target(side == 0 ? source(h, tm) : target(h, tm), tm)) {
-        if (is_border(g, tm)) continue;
-        const face_descriptor f = face(g, tm);
-        if (f == fl || f == fr) continue;
-        faces_.push_back(f);
-        tris_.push_back(make_tri(x, point(target(next(g, tm), tm)), point(source(g, tm))));
-      }
+    internal::for_each_face_of_collapse(
+        tm, h, [&](face_descriptor f) { faces_.push_back(f); },
+        [&](face_descriptor f, halfedge_descriptor g) {
+          faces_.push_back(f);
+          tris_.push_back(make_tri(x, point(target(next(g, tm), tm)), point(source(g, tm))));
+        });
+    removed_ = faces_.size() - tris_.size();
   }
 
   VertexPointMap vpm_;

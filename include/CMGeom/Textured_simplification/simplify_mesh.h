@@ -29,6 +29,7 @@
 #include <CMGeom/Textured_simplification/internal/Mesh_parts.h>
 #include <CMGeom/Textured_simplification/parameters.h>
 
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 #include <CGAL/boost/graph/helpers.h>
@@ -325,17 +326,10 @@ namespace internal {
 /// The diagonal of the bounding box of the mesh's vertices (0 for an empty mesh).
 template <class Mesh>
 double bbox_diagonal(const Mesh& mesh) {
-  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (auto v : mesh.vertices()) {
-    const auto& p = mesh.point(v);
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = (std::min)(lo[k], CGAL::to_double(p[k]));
-      hi[k] = (std::max)(hi[k], CGAL::to_double(p[k]));
-    }
-  }
-  if (!(lo[0] <= hi[0])) return 0.;
-  return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                   (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  if (mesh.is_empty()) return 0.;
+  const CGAL::Bbox_3 b = CGAL::Polygon_mesh_processing::bbox(mesh);
+  return std::sqrt(CGAL::square(b.xmax() - b.xmin()) + CGAL::square(b.ymax() - b.ymin()) +
+                   CGAL::square(b.zmax() - b.zmin()));
 }
 
 /// The stop of simplify_mesh(): a face count and/or a cost bound, remembering which one fired.

@@ -64,6 +64,30 @@ bool collapse_flips_a_face(const TriangleMesh& tm, const VertexPointMap& vpm,
   return false;
 }
 
+/// Walks the faces a collapse of halfedge `h_v0v1` changes: `removed(f)` for each face of the
+/// edge (none, one or two), then `surviving(f, g)` for every other face around v0, then around v1,
+/// `g` the halfedge of f that ends at v0 or v1, so that with the kept vertex at x the face becomes
+/// the triangle (x, target(next(g)), source(g)). (collapse_flips_a_face walks the same faces with
+/// an early exit of its own.)
+template <class TriangleMesh, class Removed, class Surviving>
+void for_each_face_of_collapse(const TriangleMesh& tm,
+                               typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h_v0v1, Removed removed,
+                               Surviving surviving) {
+  using GT = boost::graph_traits<TriangleMesh>;
+  const typename GT::face_descriptor fl = is_border(h_v0v1, tm) ? GT::null_face() : face(h_v0v1, tm);
+  const typename GT::halfedge_descriptor o = opposite(h_v0v1, tm);
+  const typename GT::face_descriptor fr = is_border(o, tm) ? GT::null_face() : face(o, tm);
+  if (fl != GT::null_face()) removed(fl);
+  if (fr != GT::null_face()) removed(fr);
+  for (int side = 0; side < 2; ++side)
+    for (typename GT::halfedge_descriptor g :
+         CGAL::halfedges_around_target(side == 0 ? source(h_v0v1, tm) : target(h_v0v1, tm), tm)) {
+      if (is_border(g, tm)) continue;
+      const typename GT::face_descriptor f = face(g, tm);
+      if (f != fl && f != fr) surviving(f, g);
+    }
+}
+
 /// Link condition of Dey et al. / Hoppe et al. for collapsing halfedge `h_v0v1` of a manifold
 /// triangle mesh, plus the cases where the result would be degenerate although the link
 /// condition holds (a tetrahedron, an isolated triangle, a kept vertex with fewer than three
