@@ -155,6 +155,25 @@ TEST(cmgeom_cli, ProgressOnAPipeIsOneLinePerLongStageAndQuietIsSilent) {
   EXPECT_NE(bad.err.find("missing.obj"), std::string::npos) << bad.err;
 }
 
+// A simplification stopped by a bound rather than a face target (--max-cost alone): the final
+// progress line counts the faces actually removed, as the report does.
+TEST(cmgeom_cli, ProgressOfABoundedSimplificationCountsTheFacesRemoved) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string sphere = large_sphere(dir);
+  const auto r = cmgeom_test::run_cli(
+      "simplify '" + sphere + "' -o '" + dir + "/b.obj' --max-cost 1e-7 --engine cgal --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const long faces_in = j.at("faces_in").get<long>(), faces_out = j.at("faces_out").get<long>();
+  // the bound stops the run well before the single face the bar counts towards
+  ASSERT_GT(faces_out, 1);
+  ASSERT_LT(faces_out, faces_in);
+  const std::regex line("cmgeom: simplify: done in [0-9]+\\.[0-9]{2} s \\(([0-9]+) faces removed\\)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.err, m, line)) << r.err;
+  EXPECT_EQ(std::stol(m[1].str()), faces_in - faces_out) << r.err;
+}
+
 // --quiet holds for the commands the pipeline runs in-process, whose own arguments do not
 // repeat it: a successful run prints nothing on stderr.
 TEST(cmgeom_cli, QuietPipelinePrintsNothingOnStderr) {

@@ -166,7 +166,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
                                   ": texture options need a textured input (UVs and a texture; see --texture)");
 
     const std::size_t faces_in = mesh.number_of_faces();
-    // the face target (none with --max-cost or --max-error alone: the progress counts to a single face)
+    // the face target (none with --max-cost or --max-error alone: the progress bar then counts towards
+    // a single face, and its final line gives the faces actually removed)
     const bool has_target = faces->count() || ratio->count();
     const std::size_t target = faces->count()   ? o->faces
                                : ratio->count() ? TS::target_faces_for_ratio(faces_in, o->ratio)
@@ -222,6 +223,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
           TS::simplify_textured_mesh(tm, to, cmgeom_cli::Collapse_progress_visitor(&state));
 #endif
       const double seconds = cmgeom_cli::now_seconds() - t0;
+      // the final line gives the faces actually removed (fewer than planned when a bound, the
+      // charts or the mesh stopped the run first)
+      bar.set_total(double(r.faces_in - r.faces_out), "faces removed");
       bar.done();
       CMGeom::IO::write_textured_mesh(o->output, tm, o->gltf);
       if (r.stopped_by != TS::Stop_reason::target)
@@ -292,6 +296,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     so.flips = o->flips;
     const TS::Mesh_simplification_result r = TS::simplify_mesh(mesh, so, cmgeom_cli::Collapse_progress_visitor(&state));
     const double seconds = r.seconds;
+    bar.set_total(double(r.faces_in - r.faces_out), "faces removed");
     bar.done();
     const std::size_t faces_out = r.faces_out;
     if ((r.stopped_by == TS::Stop_reason::no_collapse || r.stopped_by == TS::Stop_reason::max_error) && has_target)
