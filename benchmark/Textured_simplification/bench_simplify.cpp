@@ -45,6 +45,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdlib>
 #include <ctime>
 #include <optional>
@@ -204,6 +205,16 @@ struct Model {
 };
 
 void measure(const Model& in, const Mesh& out, std::size_t n_samples, Row& r) {
+  // an output with a non-finite coordinate (a peer's placement can give one on degenerate
+  // input) is infinitely far: reported as inf, never measured (the distance queries need
+  // finite points)
+  for (auto v : out.vertices()) {
+    const Point& p = out.point(v);
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
+      r.hausdorff = r.rms = std::numeric_limits<double>::infinity();
+      return;
+    }
+  }
   Distance to_out(out);
   double mx = 0, s2 = 0;
   for (const Point& p : in.samples) {
@@ -465,6 +476,8 @@ std::size_t smallest_count_within(const std::string& tool, const Model& md, std:
     run_tool(tool, md, t, out, secs);
     Row r;
     measure(md, out, n_samples, r);
+    if (!std::isfinite(r.hausdorff))
+      std::cerr << tool << " on " << md.name << " at " << t << " faces: non-finite coordinates in the output\n";
     return memo[t] = r.hausdorff <= h;
   };
   std::size_t lo, hi;  // ok(hi), !ok(lo)

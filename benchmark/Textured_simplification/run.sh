@@ -7,8 +7,10 @@
 # RESULTS-scale.md (run_textured_scale.sh: a 989k-face textured mesh, time against geometry only
 # and one thread against two), RESULTS-policy.md (run_policy_comparison.sh: weighted against plain
 # quadrics on the textured models) and RESULTS-memory.md (run_memory_comparison.sh: geometry-only
-# simplification with and without the memoryful cost against CGAL and meshoptimizer) and RESULTS-lod.md
-# (run_lod.py: level-of-detail chains against meshoptimizer-style LODs). Each script writes its whole
+# simplification with and without the memoryful cost against CGAL and meshoptimizer), RESULTS-lod.md
+# (run_lod.py: level-of-detail chains against meshoptimizer-style LODs) and RESULTS-max-error.md
+# (run_max_error_bench.sh: the guaranteed error bound's face counts against the peers' at equal
+# measured error). Each script writes its whole
 # file (machine, threads and peer versions from common/describe_run.sh); none is edited by hand.
 #   bash benchmark/Textured_simplification/run.sh <build-dir> [--quick]   (called by benchmark/run.sh)
 set -euo pipefail
@@ -23,6 +25,7 @@ if [[ "${2:-}" == "--quick" ]]; then
   bash "$here/run_textured_scale.sh" "$build" --repeat 1
   python3 "$here/run_lod.py" --build "$build" --models spot --reps 2 --out "$here/RESULTS-lod.md" \
     --describe "$describe"
+  bash "$here/run_max_error_bench.sh" "$build" --quick
 else
   sh "$here/run_bench.sh" "$build" --repeat 3
   sh "$here/run_textured_bench.sh" "$build"
@@ -31,4 +34,5 @@ else
   bash "$here/run_policy_comparison.sh" "$build"
   bash "$here/run_memory_comparison.sh" "$build"
   python3 "$here/run_lod.py" --build "$build" --out "$here/RESULTS-lod.md" --describe "$describe"
+  bash "$here/run_max_error_bench.sh" "$build"
 fi

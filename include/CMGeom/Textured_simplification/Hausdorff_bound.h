@@ -9,8 +9,10 @@
 // to it, and every point of every new face lies within E of one of the pieces near it. Both tests
 // are exact on triangles: the distance to a triangle is convex, so a triangle is within E of
 // another when its three corners are; one that fits in no single triangle is cut in four, down to
-// a depth limit. Conservative: an allowed change is always within E, a refused one may have been.
-// Complexity: O(F) set-up; a test O(k m), k pieces near the edge, m pieces a new face is cut in.
+// a depth limit. The input's flat regions are also grouped into convex planar patches, so that a new
+// face across many small flat triangles is tested against their union at once. Conservative: an
+// allowed change is always within E, a refused one may have been.
+// Complexity: O(F) set-up; a test O(k m), k pieces near the edge, m parts a new face is cut in.
 //
 // Manual: doc/Textured_simplification/README.md, "A guaranteed error bound: `max_error`".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_HAUSDORFF_BOUND_H
@@ -78,10 +80,12 @@ public:
     std::size_t nf = 0;
     for (face_descriptor f : faces(tm)) nf = (std::max)(nf, std::size_t(f) + 1);
     head_.assign(nf, nil);
+    const std::vector<std::uint32_t> face_patch = make_patches(tm, nf);
     for (face_descriptor f : faces(tm)) {
       const halfedge_descriptor h = halfedge(f, tm);
       Piece p;
       p.t = make_tri(point(source(h, tm)), point(target(h, tm)), point(target(next(h, tm), tm)));
+      p.patch = face_patch[std::size_t(f)];
       p.next = head_[std::size_t(f)];
       head_[std::size_t(f)] = std::uint32_t(pieces_.size());
       pieces_.push_back(p);
@@ -98,6 +102,9 @@ public:
   std::size_t number_of_pieces() const { return live_pieces_; }
   /// Number of collapses and flips refused because they would have broken the bound.
   std::size_t refused() const { return refused_; }
+  /// Number of flat patches: convex planar polygons, each the union of two or more adjacent
+  /// input faces (see make_patches()).
+  std::size_t number_of_patches() const { return patches_.size(); }
 
   /// Calls `fn(face, a, b, c)` for every piece, `face` the current face it is attached to and
   /// a, b, c its corners (CM::internal::Vec3).
@@ -168,7 +175,16 @@ private:
   };
   struct Piece {
     Tri t;
+    std::uint32_t patch = nil;  // the flat patch of the input face it comes from, if any
     std::uint32_t next = nil;
+  };
+  /// A convex planar polygon that is the union of adjacent input faces, each within tau of its
+  /// plane (origin o, orthonormal u, v, normal n); corners_[begin, end) are its corners in (u, v),
+  /// counterclockwise about n.
+  struct Patch {
+    V3 o, u, v, n;
+    double slack;  // every point of the patch lies within it of an input face
+    std::uint32_t begin, end;
   };
   struct Placed {         // a piece of a moving piece (whole or cut) and the index of its new face in homes_
     std::uint32_t piece;  // the moving piece it comes from
@@ -201,6 +217,147 @@ private:
   V3 point(vertex_descriptor v) const {
     const auto& q = get(vpm_, v);
     return V3(CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z()));
+  }
+
+  /// Groups the input's faces into flat patches, for the new-face test: a new face that lies
+  /// across several small input triangles of one flat region is within E of the region (a
+  /// convex set, so its corners decide) although no single triangle holds it. Greedy growth
+  /// from each face not yet taken, in face order, across edges: a neighbour joins when its
+  /// third corner lies within tau = E / 100 of the seed's plane, on the far side of the
+  /// shared edge, and the polygon stays convex up to round-off (at most 64 corners).
+  /// The patch is then the polygon's convex hull, with a slack: the largest distance of a
+  /// corner to the plane plus the deepest dent. Every point of a patch lies within its slack
+  /// of an input face, so the distance to the input is at most the distance to the patch plus
+  /// the slack. Returns each face's patch (nil: alone).
+  std::vector<std::uint32_t> make_patches(const TriangleMesh& tm, std::size_t nf) {
+    using CM::internal::cross;
+    using CM::internal::dot;
+    const double tau = 0.01 * e_;
+    const double dent_tolerance = 1e-7 * e_;
+    std::vector<std::uint32_t> face_patch(nf, nil);
+    std::vector<char> taken(nf, 0);
+    std::vector<vertex_descriptor> poly;    // the growing patch's corners (mesh vertices)
+    std::vector<std::array<double, 2>> uv;  // and their coordinates in its plane
+    std::vector<face_descriptor> members, queue;
+    auto cross2 = [](const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
+      return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    };
+    auto dist2d = [](const std::array<double, 2>& a, const std::array<double, 2>& b) {
+      return std::hypot(b[0] - a[0], b[1] - a[1]);
+    };
+    for (face_descriptor f : faces(tm)) {
+      if (taken[std::size_t(f)]) continue;
+      taken[std::size_t(f)] = 1;
+      const halfedge_descriptor h = halfedge(f, tm);
+      const vertex_descriptor va = source(h, tm), vb = target(h, tm), vc = target(next(h, tm), tm);
+      const V3 a = point(va), b = point(vb), c = point(vc);
+      const V3 nn = cross(b - a, c - a);
+      const double area2 = CM::internal::length(nn);
+      if (!(area2 > 0.) || !std::isfinite(area2)) continue;
+      Patch pa;
+      pa.o = a;
+      pa.n = (1. / area2) * nn;
+      pa.u = CM::internal::normalized(b - a);
+      pa.v = cross(pa.n, pa.u);
+      auto in_plane = [&](const V3& q) -> std::array<double, 2> { return {dot(q - pa.o, pa.u), dot(q - pa.o, pa.v)}; };
+      poly = {va, vb, vc};
+      uv = {in_plane(a), in_plane(b), in_plane(c)};
+      members = {f};
+      queue = {f};
+      for (std::size_t q = 0; q < queue.size(); ++q) {  // breadth first: rounder patches
+        const face_descriptor g = queue[q];
+        for (halfedge_descriptor hh : CGAL::halfedges_around_face(halfedge(g, tm), tm)) {
+          const halfedge_descriptor oh = opposite(hh, tm);
+          if (is_border(oh, tm) || poly.size() >= 64) continue;
+          const face_descriptor k = face(oh, tm);
+          if (taken[std::size_t(k)]) continue;
+          // the shared edge must be a side of the polygon, traversed the same way
+          const std::size_t m = poly.size();
+          std::size_t i = 0;
+          while (i < m && !(poly[i] == source(hh, tm) && poly[(i + 1) % m] == target(hh, tm))) ++i;
+          if (i == m) continue;
+          const V3 w = point(target(next(oh, tm), tm));
+          if (!(std::abs(dot(w - pa.o, pa.n)) <= tau)) continue;
+          const std::array<double, 2> w2 = in_plane(w);
+          const std::array<double, 2>&e0 = uv[i], &e1 = uv[(i + 1) % m], &before = uv[(i + m - 1) % m],
+                                   &after = uv[(i + 2) % m];
+          // w beyond the shared side; the corners at its ends convex, up to round-off (a straight
+          // side is not refused for a dent of 1e-7 E; the dents are measured below)
+          if (!(cross2(e0, e1, w2) < 0.) || cross2(before, e0, w2) < -dent_tolerance * dist2d(before, w2) ||
+              cross2(w2, e1, after) < -dent_tolerance * dist2d(w2, after))
+            continue;
+          poly.insert(poly.begin() + std::ptrdiff_t(i + 1), target(next(oh, tm), tm));
+          uv.insert(uv.begin() + std::ptrdiff_t(i + 1), w2);
+          taken[std::size_t(k)] = 1;
+          members.push_back(k);
+          queue.push_back(k);
+        }
+      }
+      if (members.size() < 2) continue;
+      // the patch is the convex hull of the polygon: its corners with the dents removed, and a
+      // slack for the dents' depth and the corners' distance to the plane (the hull lies within
+      // the slack of the input faces)
+      const std::size_t m = uv.size();
+      std::vector<char> keep(m, 1);
+      for (bool changed = true; changed;) {
+        changed = false;
+        for (std::size_t i = 0; i < m; ++i) {
+          if (!keep[i]) continue;
+          std::size_t a = (i + m - 1) % m, c = (i + 1) % m;
+          while (!keep[a]) a = (a + m - 1) % m;
+          while (!keep[c]) c = (c + 1) % m;
+          if (cross2(uv[a], uv[i], uv[c]) < 0.) keep[i] = 0, changed = true;
+        }
+      }
+      // Each dent lies between the hull's side (a, c) and the parallel at its depth, over the
+      // side itself (else the patch is dropped): every point of the hull outside the polygon is
+      // then within the depth of the polygon.
+      double dent = 0., off_plane = 0.;
+      bool dents_over_sides = true;
+      for (std::size_t i = 0; i < m; ++i) {
+        off_plane = (std::max)(off_plane, std::abs(dot(point(poly[i]) - pa.o, pa.n)));
+        if (keep[i]) continue;
+        std::size_t a = (i + m - 1) % m, c = (i + 1) % m;
+        while (!keep[a]) a = (a + m - 1) % m;
+        while (!keep[c]) c = (c + 1) % m;
+        const double l = dist2d(uv[a], uv[c]);
+        const double along =
+            (uv[i][0] - uv[a][0]) * (uv[c][0] - uv[a][0]) + (uv[i][1] - uv[a][1]) * (uv[c][1] - uv[a][1]);
+        const double depth = l > 0. ? cross2(uv[a], uv[c], uv[i]) / l : -1.;
+        dents_over_sides = dents_over_sides && depth >= 0. && along >= 0. && along <= l * l;
+        dent = (std::max)(dent, depth);
+      }
+      if (!dents_over_sides) continue;
+      pa.slack = off_plane + dent;
+      pa.begin = std::uint32_t(corners_.size());
+      for (std::size_t i = 0; i < m; ++i)
+        if (keep[i]) corners_.push_back(uv[i]);
+      pa.end = std::uint32_t(corners_.size());
+      for (face_descriptor g : members) face_patch[std::size_t(g)] = std::uint32_t(patches_.size());
+      patches_.push_back(pa);
+    }
+    return face_patch;
+  }
+
+  /// Squared distance from q to patch `pi` (a convex polygon in its plane).
+  double patch_dist2(const V3& q, std::uint32_t pi) const {
+    const Patch& pa = patches_[pi];
+    const V3 d = q - pa.o;
+    const double h = CM::internal::dot(d, pa.n), x = CM::internal::dot(d, pa.u), y = CM::internal::dot(d, pa.v);
+    bool inside = true;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::uint32_t i = pa.begin; i < pa.end; ++i) {
+      const std::array<double, 2>& p0 = corners_[i];
+      const std::array<double, 2>& p1 = corners_[i + 1 < pa.end ? i + 1 : pa.begin];
+      const double ex = p1[0] - p0[0], ey = p1[1] - p0[1], qx = x - p0[0], qy = y - p0[1];
+      if (ex * qy - ey * qx >= 0.) continue;  // on the inner side of this side
+      inside = false;
+      const double l2 = ex * ex + ey * ey;
+      const double s = l2 > 0. ? std::clamp((qx * ex + qy * ey) / l2, 0., 1.) : 0.;
+      const double dx = qx - s * ex, dy = qy - s * ey;
+      best = (std::min)(best, dx * dx + dy * dy);
+    }
+    return h * h + (inside ? 0. : best);
   }
 
   /// Forgets the last test's plan and faces.
@@ -266,15 +423,19 @@ private:
     for (std::size_t k = ring_begin_; k < homes_.size(); ++k)
       for (std::uint32_t i = head_[std::size_t(homes_[k])]; i != nil; i = pieces_[i].next) cand_.push_back(i);
     // 2. every point of every new face lies within E of a piece
-    level_.resize(std::size_t(options_.max_depth) + 1);
+    parts_.clear();
+    near_.clear();
     for (const Tri& t : news_) {
-      std::vector<std::uint32_t>& first = level_[0];
-      first.clear();
+      Part part;
+      part.t = t;
+      part.begin = near_.size();
       for (std::uint32_t i : cand_)
-        if (!apart(t, pieces_[i].t)) first.push_back(i);
-      const Near corner[3] = {nearest(t.a, first, nil), nearest(t.b, first, nil), nearest(t.c, first, nil)};
-      if (!covered(t, corner, 0, worst)) return false;
+        if (!apart(t, pieces_[i].t)) near_.push_back(i);
+      part.end = near_.size();
+      for (int k = 0; k < 3; ++k) part.corner[k] = nearest(k == 0 ? t.a : k == 1 ? t.b : t.c, part, nil);
+      parts_.push_back(part);
     }
+    if (!covered(worst)) return false;
     pending_worst_ = worst;
     return true;
   }
@@ -303,10 +464,17 @@ private:
   }
 
   using Near = std::pair<double, std::uint32_t>;  // (squared distance, piece), nil: none
+  /// A new face, or a part of one cut for the new-face test: near_[begin, end) are the pieces
+  /// near it, corner[k] the nearest of them to its corner k.
+  struct Part {
+    Tri t;
+    std::size_t begin = 0, end = 0;
+    Near corner[3];
+  };
 
-  /// The piece of `near` nearest to q, starting from `seed` (a piece tried first); pieces whose
+  /// The piece of `part`'s list nearest to q, starting from `seed` (a piece tried first); pieces whose
   /// bounding sphere is farther than the best so far are skipped (an exact minimum).
-  Near nearest(const V3& q, const std::vector<std::uint32_t>& near, std::uint32_t seed) {
+  Near nearest(const V3& q, const Part& part, std::uint32_t seed) {
     double best = std::numeric_limits<double>::infinity();
     std::uint32_t best_i = nil;
     auto consider = [&](std::uint32_t i) {
@@ -319,7 +487,8 @@ private:
     };
     if (seed != nil) consider(seed);
     double sb = std::sqrt(best);
-    for (std::uint32_t i : near) {
+    for (std::size_t n = part.begin; n < part.end; ++n) {
+      const std::uint32_t i = near_[n];
       if (i == seed) continue;
       const Tri& p = pieces_[i].t;
       // skip when |q - centre| >= radius + sqrt(best): every point of the piece is farther
@@ -332,53 +501,93 @@ private:
     return {best, best_i};
   }
 
-  /// Whether every point of `t` lies within E of a piece of level_[depth] (pieces near t);
-  /// `corner[k]` is the nearest piece to t's corner k. Two sufficient conditions, then a cut in
-  /// four: (a) the three corners lie within E of one piece (the distance to a triangle is convex),
-  /// tried with the pieces nearest to the centroid and to each corner; (b) the distance to the
-  /// input is 1-Lipschitz, so every point of t is within d(p) + (its distance from p) for the
-  /// centroid or a corner p.
-  bool covered(const Tri& t, const Near (&corner)[3], int depth, double& worst) {
-    const std::vector<std::uint32_t>& near = level_[std::size_t(depth)];
-    const Near mid = nearest(t.centre, near, corner[0].second);
-    if (mid.second == nil) return false;  // no piece near t at all
-    const std::uint32_t tried[4] = {mid.second, corner[0].second, corner[1].second, corner[2].second};
-    for (int k = 0; k < 4; ++k) {
-      if (tried[k] == nil || std::find(tried, tried + k, tried[k]) != tried + k) continue;
-      const Tri& p = pieces_[tried[k]].t;
-      work_ += 3;
-      const double m = (std::max)({dist2(t.a, p), dist2(t.b, p), dist2(t.c, p)});
-      if (m <= e2_) {  // (a)
-        worst = (std::max)(worst, m);
-        return true;
+  /// Whether every point of every part of parts_ lies within E of a piece of its list (pieces
+  /// near it; a piece left out is farther than E from all of the part). Level by level (all
+  /// parts, then their cuts), so that a point farther than E is found before fine cuts are
+  /// made elsewhere. A part is covered by one of two sufficient conditions: (a) its three
+  /// corners lie within E of one piece (the distance to a triangle is convex), tried with the
+  /// pieces nearest to the centroid and to each corner; (b) the distance to the input is
+  /// 1-Lipschitz, so every point of the part is within d(p) + (its distance from p) for the
+  /// centroid or a corner p. Otherwise it is cut in four. A corner, a centroid or a midpoint
+  /// farther than E from every piece ends the test at once: no cut can cover that point.
+  bool covered(double& worst) {
+    for (int depth = 0; !parts_.empty(); ++depth) {
+      // the centroids' nearest pieces, and the points found outside
+      mids_.clear();
+      for (const Part& p : parts_) {
+        const Near mid = nearest(p.t.centre, p, p.corner[0].second);
+        if (mid.second == nil || mid.first > e2_ || p.corner[0].first > e2_ || p.corner[1].first > e2_ ||
+            p.corner[2].first > e2_)
+          return false;
+        mids_.push_back(mid);
       }
-    }
-    double reach = std::sqrt(mid.first) + t.radius;  // (b)
-    const V3* pts[3] = {&t.a, &t.b, &t.c};
-    for (int k = 0; k < 3; ++k) {
-      const double spread = std::sqrt(
-          (std::max)({CM::internal::squared_length(t.a - *pts[k]), CM::internal::squared_length(t.b - *pts[k]),
-                      CM::internal::squared_length(t.c - *pts[k])}));
-      reach = (std::min)(reach, std::sqrt(corner[k].first) + spread);
-    }
-    if (reach <= e_test_) {
-      worst = (std::max)(worst, reach * reach);
-      return true;
-    }
-    if (depth >= options_.max_depth || work_ > options_.max_work) return false;
-    const V3 ab = 0.5 * (t.a + t.b), bc = 0.5 * (t.b + t.c), ca = 0.5 * (t.c + t.a);
-    // the midpoints' nearest pieces, shared by the parts that have them as corners
-    const Near n_ab = nearest(ab, near, corner[0].second), n_bc = nearest(bc, near, corner[1].second),
-               n_ca = nearest(ca, near, corner[2].second);
-    const Tri parts[4] = {make_tri(t.a, ab, ca), make_tri(ab, t.b, bc), make_tri(ca, bc, t.c), make_tri(ab, bc, ca)};
-    const Near part_corners[4][3] = {
-        {corner[0], n_ab, n_ca}, {n_ab, corner[1], n_bc}, {n_ca, n_bc, corner[2]}, {n_ab, n_bc, n_ca}};
-    for (int k = 0; k < 4; ++k) {
-      std::vector<std::uint32_t>& sub = level_[std::size_t(depth) + 1];
-      sub.clear();
-      for (std::uint32_t i : level_[std::size_t(depth)])
-        if (!apart(parts[k], pieces_[i].t)) sub.push_back(i);
-      if (!covered(parts[k], part_corners[k], depth + 1, worst)) return false;
+      next_parts_.clear();
+      next_near_.clear();
+      for (std::size_t j = 0; j < parts_.size(); ++j) {
+        const Part& p = parts_[j];
+        const Tri& t = p.t;
+        const Near& mid = mids_[j];
+        const std::uint32_t tried[4] = {mid.second, p.corner[0].second, p.corner[1].second, p.corner[2].second};
+        bool done = false;
+        for (int k = 0; k < 4 && !done; ++k) {
+          if (tried[k] == nil || std::find(tried, tried + k, tried[k]) != tried + k) continue;
+          const Tri& q = pieces_[tried[k]].t;
+          work_ += 3;
+          const double m = (std::max)({dist2(t.a, q), dist2(t.b, q), dist2(t.c, q)});
+          if (m <= e2_) {  // (a)
+            worst = (std::max)(worst, m);
+            done = true;
+          }
+        }
+        // (a) with the flat patches of those pieces: within E when the corners are within E - slack
+        for (int k = 0; k < 4 && !done; ++k) {
+          const std::uint32_t pk = tried[k] == nil ? nil : pieces_[tried[k]].patch;
+          bool seen = pk == nil;
+          for (int l = 0; l < k && !seen; ++l) seen = tried[l] != nil && pieces_[tried[l]].patch == pk;
+          if (seen) continue;
+          work_ += 3;
+          const double m = std::sqrt((std::max)({patch_dist2(t.a, pk), patch_dist2(t.b, pk), patch_dist2(t.c, pk)})) +
+                           patches_[pk].slack;
+          if (m <= e_test_) {
+            worst = (std::max)(worst, m * m);
+            done = true;
+          }
+        }
+        if (done) continue;
+        double reach = std::sqrt(mid.first) + t.radius;  // (b)
+        const V3* pts[3] = {&t.a, &t.b, &t.c};
+        for (int k = 0; k < 3; ++k) {
+          const double spread = std::sqrt(
+              (std::max)({CM::internal::squared_length(t.a - *pts[k]), CM::internal::squared_length(t.b - *pts[k]),
+                          CM::internal::squared_length(t.c - *pts[k])}));
+          reach = (std::min)(reach, std::sqrt(p.corner[k].first) + spread);
+        }
+        if (reach <= e_test_) {
+          worst = (std::max)(worst, reach * reach);
+          continue;
+        }
+        if (depth >= options_.max_depth || work_ > options_.max_work) return false;
+        const V3 ab = 0.5 * (t.a + t.b), bc = 0.5 * (t.b + t.c), ca = 0.5 * (t.c + t.a);
+        // the midpoints' nearest pieces, shared by the parts that have them as corners
+        const Near n_ab = nearest(ab, p, p.corner[0].second), n_bc = nearest(bc, p, p.corner[1].second),
+                   n_ca = nearest(ca, p, p.corner[2].second);
+        if (n_ab.first > e2_ || n_bc.first > e2_ || n_ca.first > e2_) return false;
+        const Tri cuts[4] = {make_tri(t.a, ab, ca), make_tri(ab, t.b, bc), make_tri(ca, bc, t.c), make_tri(ab, bc, ca)};
+        const Near cut_corners[4][3] = {
+            {p.corner[0], n_ab, n_ca}, {n_ab, p.corner[1], n_bc}, {n_ca, n_bc, p.corner[2]}, {n_ab, n_bc, n_ca}};
+        for (int k = 0; k < 4; ++k) {
+          Part c;
+          c.t = cuts[k];
+          c.begin = next_near_.size();
+          for (std::size_t n = p.begin; n < p.end; ++n)
+            if (!apart(cuts[k], pieces_[near_[n]].t)) next_near_.push_back(near_[n]);
+          c.end = next_near_.size();
+          std::copy(cut_corners[k], cut_corners[k] + 3, c.corner);
+          next_parts_.push_back(c);
+        }
+      }
+      parts_.swap(next_parts_);
+      near_.swap(next_near_);
     }
     return true;
   }
@@ -404,6 +613,7 @@ private:
         }
         last_cut = p.piece;
         pieces_[r].t = p.t;
+        pieces_[r].patch = pieces_[p.piece].patch;
       }
       std::uint32_t& head = head_[std::size_t(homes_[p.home])];
       pieces_[r].next = head;
@@ -416,8 +626,10 @@ private:
   Hausdorff_bound_options options_;
   double e_, e_test_ = 0., e2_ = 0., bound_ = 0., pending_worst_ = 0.;
   std::vector<Piece> pieces_;
-  std::vector<std::uint32_t> head_;  // per face: its first piece, or nil
-  std::vector<std::uint32_t> free_;  // records of no piece
+  std::vector<Patch> patches_;
+  std::vector<std::array<double, 2>> corners_;  // the patches' corners
+  std::vector<std::uint32_t> head_;             // per face: its first piece, or nil
+  std::vector<std::uint32_t> free_;             // records of no piece
   std::size_t live_pieces_ = 0, refused_ = 0, work_ = 0;
   // the test in progress
   std::vector<face_descriptor> olds_;   // the changed faces, the removed ones first
@@ -426,7 +638,9 @@ private:
   std::vector<Tri> ring_;
   std::size_t ring_begin_ = 0;
   std::vector<std::uint32_t> cand_;
-  std::vector<std::vector<std::uint32_t>> level_;
+  std::vector<Part> parts_, next_parts_;         // the new-face test's parts, level by level
+  std::vector<std::uint32_t> near_, next_near_;  // their lists of nearby pieces
+  std::vector<Near> mids_;
   std::vector<Placed> placed_;
   vertex_descriptor flip_b_;
   Plan plan_;
