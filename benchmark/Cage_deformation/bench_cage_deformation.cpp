@@ -24,10 +24,8 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <sstream>
-#include <thread>
 #include <string>
 #include <vector>
 
@@ -183,14 +181,7 @@ int main(int argc, char** argv) {
   };
   if (quick) models.resize(2);
 
-  std::printf("## Cage_deformation benchmark\n\n");
-  std::printf("Machine: %u hardware threads; load average at start: ", std::thread::hardware_concurrency());
-  {
-    std::ifstream la("/proc/loadavg");
-    std::string l;
-    std::getline(la, l);
-    std::printf("%s\n\n", l.c_str());
-  }
+  // (the machine, its threads and its load are described by run.sh, common/describe_run.sh)
 
   // 1. bandwidth
   const std::size_t sn = quick ? (std::size_t(1) << 23) : (std::size_t(1) << 25);  // 32M doubles = 256 MB/array
