@@ -45,9 +45,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdlib>
 #include <ctime>
+#include <limits>
 #include <optional>
 #include <filesystem>
 #include <fstream>
@@ -432,10 +432,7 @@ bool prepare_model(const std::string& data, const std::string& tmp, const std::s
     return false;
   }
   md.soup = to_soup(md.mesh);
-  CGAL::Bbox_3 bb;
-  for (auto v : md.mesh.vertices()) bb += md.mesh.point(v).bbox();
-  md.diagonal = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
-                          CGAL::square(bb.zmax() - bb.zmin()));
+  md.diagonal = TS::internal::bbox_diagonal(md.mesh);
   md.samples = samples(md.mesh, n_samples, 42);
   md.to_input = std::make_unique<Distance>(md.mesh);
   return true;

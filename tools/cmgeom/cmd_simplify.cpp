@@ -223,10 +223,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
           TS::simplify_textured_mesh(tm, to, cmgeom_cli::Collapse_progress_visitor(&state));
 #endif
       const double seconds = cmgeom_cli::now_seconds() - t0;
-      // the final line gives the faces actually removed (fewer than planned when a bound, the
-      // charts or the mesh stopped the run first)
-      bar.set_total(double(r.faces_in - r.faces_out), "faces removed");
-      bar.done();
+      state.done(r.faces_in, r.faces_out);
       CMGeom::IO::write_textured_mesh(o->output, tm, o->gltf);
       if (r.stopped_by != TS::Stop_reason::target)
         std::cerr
@@ -296,8 +293,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     so.flips = o->flips;
     const TS::Mesh_simplification_result r = TS::simplify_mesh(mesh, so, cmgeom_cli::Collapse_progress_visitor(&state));
     const double seconds = r.seconds;
-    bar.set_total(double(r.faces_in - r.faces_out), "faces removed");
-    bar.done();
+    state.done(r.faces_in, r.faces_out);
     const std::size_t faces_out = r.faces_out;
     if ((r.stopped_by == TS::Stop_reason::no_collapse || r.stopped_by == TS::Stop_reason::max_error) && has_target)
       std::cerr << "cmgeom simplify: stopped at " << faces_out << " faces for a target of " << target << " ("

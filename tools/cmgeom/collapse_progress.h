@@ -16,6 +16,13 @@ struct Collapse_progress_visitor : CMGeom::Textured_simplification::Edge_collaps
     Progress* bar;
     double faces_to_remove;
     std::size_t removed = 0, calls = 0;
+    // Ends the bar; its final line gives the faces actually removed (fewer than planned when a
+    // bound, the charts or the mesh stopped the run first, or every face but one when the run
+    // had no face target).
+    void done(std::size_t faces_in, std::size_t faces_out) const {
+      bar->set_total(double(faces_in > faces_out ? faces_in - faces_out : 0), "faces removed");
+      bar->done();
+    }
   };
   State* s;
   explicit Collapse_progress_visitor(State* st) : s(st) {}

@@ -276,7 +276,8 @@ private:
           std::size_t i = 0;
           while (i < m && !(poly[i] == source(hh, tm) && poly[(i + 1) % m] == target(hh, tm))) ++i;
           if (i == m) continue;
-          const V3 w = point(target(next(oh, tm), tm));
+          const vertex_descriptor wv = target(next(oh, tm), tm);
+          const V3 w = point(wv);
           if (!(std::abs(dot(w - pa.o, pa.n)) <= tau)) continue;
           const std::array<double, 2> w2 = in_plane(w);
           const std::array<double, 2>&e0 = uv[i], &e1 = uv[(i + 1) % m], &before = uv[(i + m - 1) % m],
@@ -286,7 +287,7 @@ private:
           if (!(cross2(e0, e1, w2) < 0.) || cross2(before, e0, w2) < -dent_tolerance * dist2d(before, w2) ||
               cross2(w2, e1, after) < -dent_tolerance * dist2d(w2, after))
             continue;
-          poly.insert(poly.begin() + std::ptrdiff_t(i + 1), target(next(oh, tm), tm));
+          poly.insert(poly.begin() + std::ptrdiff_t(i + 1), wv);
           uv.insert(uv.begin() + std::ptrdiff_t(i + 1), w2);
           taken[std::size_t(k)] = 1;
           members.push_back(k);
@@ -299,13 +300,18 @@ private:
       // the slack of the input faces)
       const std::size_t m = uv.size();
       std::vector<char> keep(m, 1);
+      // the kept corners before and after corner i
+      auto kept_around = [&](std::size_t i) {
+        std::size_t a = (i + m - 1) % m, c = (i + 1) % m;
+        while (!keep[a]) a = (a + m - 1) % m;
+        while (!keep[c]) c = (c + 1) % m;
+        return std::make_pair(a, c);
+      };
       for (bool changed = true; changed;) {
         changed = false;
         for (std::size_t i = 0; i < m; ++i) {
           if (!keep[i]) continue;
-          std::size_t a = (i + m - 1) % m, c = (i + 1) % m;
-          while (!keep[a]) a = (a + m - 1) % m;
-          while (!keep[c]) c = (c + 1) % m;
+          const auto [a, c] = kept_around(i);
           if (cross2(uv[a], uv[i], uv[c]) < 0.) keep[i] = 0, changed = true;
         }
       }
@@ -317,9 +323,7 @@ private:
       for (std::size_t i = 0; i < m; ++i) {
         off_plane = (std::max)(off_plane, std::abs(dot(point(poly[i]) - pa.o, pa.n)));
         if (keep[i]) continue;
-        std::size_t a = (i + m - 1) % m, c = (i + 1) % m;
-        while (!keep[a]) a = (a + m - 1) % m;
-        while (!keep[c]) c = (c + 1) % m;
+        const auto [a, c] = kept_around(i);
         const double l = dist2d(uv[a], uv[c]);
         const double along =
             (uv[i][0] - uv[a][0]) * (uv[c][0] - uv[a][0]) + (uv[i][1] - uv[a][1]) * (uv[c][1] - uv[a][1]);
