@@ -88,18 +88,34 @@ public:
   template <class PointRange>
   Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm, const PointRange& points) : vpm_(vpm) {
     set_up(tm);
-    for (const auto& [f, p, area] : points) {
-      Item r;
-      r.p = p;
-      r.area = area;
-      r.next = head_[std::size_t(f)];
-      head_[std::size_t(f)] = std::uint32_t(items_.size());
-      items_.push_back(r);
-    }
+    for (const auto& [f, p, area] : points) add_point(f, p, area);
   }
 
   /// Number of original points kept.
   std::size_t number_of_points() const { return items_.size(); }
+
+  /// Adds a point attached to the live face `f`; returns its index (the points are numbered in
+  /// the order they were added, the constructor's first). Points may be added between collapses:
+  /// level_of_detail.h follows the vertices of each level of a chain down to the coarsest one.
+  std::uint32_t add_point(face_descriptor f, const V3& p, double area = 0.) {
+    Item r;
+    r.p = p;
+    r.area = area;
+    r.next = head_[std::size_t(f)];
+    head_[std::size_t(f)] = std::uint32_t(items_.size());
+    items_.push_back(r);
+    return head_[std::size_t(f)];
+  }
+
+  /// The face each point is attached to, by point index (null_face() for a point a collapse
+  /// dropped, which a valid collapse never does).
+  std::vector<face_descriptor> faces_of_points() const {
+    std::vector<face_descriptor> out(items_.size(), GT::null_face());
+    for (std::size_t f = 0; f < head_.size(); ++f)
+      for (std::uint32_t i = head_[f]; i != nil; i = items_[i].next)
+        out[i] = face_descriptor(typename face_descriptor::size_type(f));
+    return out;
+  }
 
   /// Calls `fn(face, point, area)` for every original point, `face` the face it is attached to
   /// (a live face of the mesh, or null_face() for none), `point` a CM::internal::Vec3.

@@ -7,8 +7,11 @@
 // may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
 // measure, not a guarantee). Texture: an atlas per level baked from the input (default), or one
 // shared texture, the coarsest level's atlas, which every finer level addresses (the thesis' future
-// work of levels sharing one texture, §7.1). Each level's geometric error is measured unless
-// `measure_error` is false.
+// work of levels sharing one texture, §7.1). A finer level is mapped into that atlas through the
+// collapse history (Collapse_history): each of its vertices and faces is followed down the
+// collapses to the coarse face its part of the surface became, then placed on the nearest face
+// around it; so parts that fold onto one place of the coarsest level (a label over a bottle) keep
+// apart. Each level's geometric error is measured unless `measure_error` is false.
 //
 // Manual: doc/Textured_simplification/README.md, "Levels of detail from one run, and one texture for all of them".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_LEVEL_OF_DETAIL_H
@@ -19,6 +22,7 @@
 #include <CMGeom/Mesh_IO/charts.h>
 #include <CMGeom/Metrics/approximation_error.h>
 #include <CMGeom/Textured_simplification/Edge_collapse_visitor_base.h>
+#include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
 #include <CMGeom/Textured_simplification/simplify_mesh.h>
 
@@ -32,9 +36,13 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <iterator>
 #include <limits>
 #include <optional>
+#include <tuple>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace CMGeom {
@@ -145,27 +153,153 @@ struct Forwarding_visitor {
   }
 };
 
+/// A copy of the mesh being simplified and, when the collapse history is followed (shared
+/// texture), the points that stand for its vertices and faces and where the earlier points lie on it.
+struct Level_snapshot {
+  Surface_mesh mesh;  ///< garbage-free
+  /// Per vertex / face of `mesh`: the index of the point that follows it down the collapses (nil: none).
+  std::vector<std::uint32_t> vertex_point, face_point;
+  /// Per point added before this snapshot: the face of `mesh` it lies on (nil: none).
+  std::vector<std::uint32_t> face_of_point;
+};
+
+/// The collapse history of points, for the shared texture. Every vertex and every face centroid of
+/// the input and of each finer level is a point attached to a face of the mesh being simplified; a
+/// collapse or a flip moves the points of the faces it changes to the nearest face of the new star
+/// (Surface_memory's point gathering, the thesis' §4.3, with every point kept). So a point of a
+/// finer level ends on the coarse face its own part of the surface became. A global closest-point
+/// search cannot tell that where parts of a model fold onto one place of the coarse surface (a label
+/// over a bottle, a visor over a helmet): it gives both parts the same texels.
+class Collapse_history {
+public:
+  using Mesh = Surface_mesh;
+  using Vertex = Mesh::Vertex_index;
+  using Face = Mesh::Face_index;
+  using VPM = Mesh::Property_map<Vertex, Point_3>;
+  using V3 = CM::internal::Vec3;
+  static constexpr std::uint32_t nil = 0xffffffffu;
+
+  /// `work`: the (garbage-free) mesh about to be simplified; its vertices and faces are the
+  /// first points, returned with identity maps (`mesh` left empty).
+  explicit Collapse_history(const Mesh& work)
+      : memory_(work, work.points(), std::vector<std::tuple<Face, V3, double>>()) {}
+
+  /// The points of `work`'s own vertices and faces (the input's, before the first collapse).
+  Level_snapshot add_input(const Mesh& work) {
+    Level_snapshot s;
+    std::vector<std::pair<Vertex, Vertex>> v2v;
+    std::vector<std::pair<Face, Face>> f2f;
+    for (Vertex v : work.vertices()) v2v.emplace_back(v, v);
+    for (Face f : work.faces()) f2f.emplace_back(f, f);
+    add_points(work, v2v, f2f, work.number_of_vertices(), work.number_of_faces(), s);
+    return s;
+  }
+
+  /// A garbage-free copy of `work` with the faces of it every point added so far lies on; then the
+  /// copy's vertices and faces become points too. `work` must not have been compacted
+  /// (collect_garbage() renumbers the faces the points are attached to): snapshots are taken
+  /// inside the run, the last one when it finishes.
+  Level_snapshot take(const Mesh& work) {
+    Level_snapshot s;
+    std::vector<std::pair<Vertex, Vertex>> v2v;
+    std::vector<std::pair<Face, Face>> f2f;
+    CGAL::copy_face_graph(work, s.mesh,
+                          CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v))
+                              .face_to_face_output_iterator(std::back_inserter(f2f)));
+    std::vector<std::uint32_t> copy_face(work.number_of_faces() + work.number_of_removed_faces(), nil);
+    for (const auto& [from, to] : f2f) copy_face[std::size_t(from)] = std::uint32_t(to);
+    const std::vector<Face> on = memory_.faces_of_points();
+    s.face_of_point.resize(on.size(), nil);
+    for (std::size_t i = 0; i < on.size(); ++i)
+      if (on[i] != Mesh::null_face() && std::size_t(on[i]) < copy_face.size())
+        s.face_of_point[i] = copy_face[std::size_t(on[i])];
+    add_points(work, v2v, f2f, s.mesh.number_of_vertices(), s.mesh.number_of_faces(), s);
+    return s;
+  }
+
+  void before_collapse(const Mesh& tm, Mesh::Halfedge_index h) { memory_.before_collapse(tm, h); }
+  void after_collapse(const Mesh& tm, Vertex v) { memory_.after_collapse(tm, v); }
+  void after_flip(const Mesh& tm, Mesh::Halfedge_index h) { memory_.after_flip(tm, h); }
+
+private:
+  static V3 vec(const Point_3& p) { return V3(p.x(), p.y(), p.z()); }
+
+  void add_points(const Mesh& work, const std::vector<std::pair<Vertex, Vertex>>& v2v,
+                  const std::vector<std::pair<Face, Face>>& f2f, std::size_t nv, std::size_t nf, Level_snapshot& s) {
+    s.vertex_point.assign(nv, nil);
+    s.face_point.assign(nf, nil);
+    for (const auto& [from, to] : v2v)
+      for (auto h : CGAL::halfedges_around_target(from, work))
+        if (!work.is_border(h)) {  // an isolated vertex has no surface to follow
+          s.vertex_point[std::size_t(to)] = memory_.add_point(work.face(h), vec(work.point(from)));
+          break;
+        }
+    for (const auto& [from, to] : f2f) {
+      V3 c(0, 0, 0);
+      for (Vertex v : CGAL::vertices_around_face(work.halfedge(from), work)) c = c + vec(work.point(v));
+      s.face_point[std::size_t(to)] = memory_.add_point(from, (1. / 3.) * c);
+    }
+  }
+
+  Surface_memory<Mesh, VPM> memory_;
+};
+
+/// Forwards every call, and keeps the collapse history (when there is one) up to date.
+template <class Visitor>
+struct History_visitor : Forwarding_visitor<Visitor> {
+  Collapse_history* history;
+  History_visitor(const Visitor& v, Collapse_history* h) : Forwarding_visitor<Visitor>{v}, history(h) {}
+  template <class P, class Pl>
+  void OnCollapsing(const P& p, const Pl& pl) const {
+    this->visitor.OnCollapsing(p, pl);
+    if (history) history->before_collapse(p.surface_mesh(), p.v0_v1());
+  }
+  template <class TM, class H>
+  void OnFlipped(const TM& tm, const H& h) const {
+    this->visitor.OnFlipped(tm, h);
+    if (history) history->after_flip(tm, h);
+  }
+  /// For the OnCollapsed of the visitors below, before they look at the mesh.
+  template <class P, class V>
+  void collapsed(const P& p, const V& v) const {
+    this->visitor.OnCollapsed(p, v);
+    if (history) history->after_collapse(p.surface_mesh(), v);
+  }
+  /// A copy of `mesh`, with the history's points when there is one.
+  Level_snapshot snapshot(const Surface_mesh& mesh) const {
+    return history ? history->take(mesh) : Level_snapshot{compact_copy(mesh), {}, {}, {}};
+  }
+};
+
 /// Visitor that copies the mesh each time the face count reaches the next level's target, and
 /// forwards every call to the caller's visitor.
 template <class Visitor>
-struct Snapshot_visitor : Forwarding_visitor<Visitor> {
+struct Snapshot_visitor : History_visitor<Visitor> {
   struct State {
     const std::vector<std::size_t>* targets;  // the collapsed levels' targets, decreasing
     std::size_t next = 0;
-    std::vector<Surface_mesh> snapshots;
+    std::vector<Level_snapshot> snapshots;
   };
   State* state;
-  Snapshot_visitor(State* s, const Visitor& v) : Forwarding_visitor<Visitor>{v}, state(s) {}
+  Snapshot_visitor(State* s, const Visitor& v, Collapse_history* h) : History_visitor<Visitor>(v, h), state(s) {}
 
   template <class P, class V>
   void OnCollapsed(const P& p, const V& v) const {
-    this->visitor.OnCollapsed(p, v);
+    this->collapsed(p, v);
     const auto& mesh = p.surface_mesh();
     // (the last target is the run's stop: the mesh left at the end is that level)
     while (state->next + 1 < state->targets->size() && mesh.number_of_faces() <= (*state->targets)[state->next]) {
-      state->snapshots.push_back(compact_copy(mesh));
+      state->snapshots.push_back(this->snapshot(mesh));
       ++state->next;
     }
+  }
+  /// With a history, the levels not taken yet (the last, and any the run did not reach) are
+  /// copied now, before simplify_mesh() compacts the mesh.
+  template <class TM>
+  void OnFinished(TM& tm) const {
+    this->visitor.OnFinished(tm);
+    if (this->history)
+      while (state->snapshots.size() < state->targets->size()) state->snapshots.push_back(this->snapshot(tm));
   }
 };
 
@@ -173,9 +307,9 @@ struct Snapshot_visitor : Forwarding_visitor<Visitor> {
 /// the mesh, measures its error against the input, keeps it, and asks the run to stop once an error
 /// exceeds the largest bound.
 template <class Visitor>
-struct Error_snapshot_visitor : Forwarding_visitor<Visitor> {
+struct Error_snapshot_visitor : History_visitor<Visitor> {
   struct Candidate {
-    Surface_mesh mesh;
+    Level_snapshot snapshot;
     double hausdorff, rms;
   };
   struct State {
@@ -187,15 +321,15 @@ struct Error_snapshot_visitor : Forwarding_visitor<Visitor> {
     std::vector<Candidate> candidates;
   };
   State* state;
-  Error_snapshot_visitor(State* s, const Visitor& v) : Forwarding_visitor<Visitor>{v}, state(s) {}
+  Error_snapshot_visitor(State* s, const Visitor& v, Collapse_history* h) : History_visitor<Visitor>(v, h), state(s) {}
 
   template <class P, class V>
   void OnCollapsed(const P& p, const V& v) const {
-    this->visitor.OnCollapsed(p, v);
+    this->collapsed(p, v);
     const auto& mesh = p.surface_mesh();
     if (state->stop || double(mesh.number_of_faces()) > state->next) return;
-    Surface_mesh copy = compact_copy(mesh);
-    const Metrics::Approximation_error e = Metrics::approximation_error(*state->input, copy, state->error_options);
+    Level_snapshot copy = this->snapshot(mesh);
+    const Metrics::Approximation_error e = Metrics::approximation_error(*state->input, copy.mesh, state->error_options);
     if (e.hausdorff > state->largest_bound) {
       state->stop = true;
       return;
@@ -217,77 +351,154 @@ struct Face_count_or_flag_stop {
 };
 
 /// Gives `fine` texture coordinates in the atlas of `coarse` (see the file comment) and the
-/// coarse mesh's materials. When given, `chart_of_face` receives the coarse chart each fine face
-/// was put in and `depth_of_face` the distance from its centroid to the coarse surface.
-inline void map_through_atlas(const Textured_mesh& coarse, Textured_mesh& fine, double max_extrapolation,
-                              std::vector<int>* chart_of_face = nullptr, std::vector<double>* depth_of_face = nullptr) {
-  using SC = Facing_closest_point::SC;
+/// coarse mesh's materials. `vertex_point` and `face_point` are the points of the fine mesh's
+/// vertices and faces, `coarse_face_of_point` the coarse face each point lies on (Level_snapshot).
+/// A fine face goes into the chart of the coarse face its centroid's point lies on; a corner takes
+/// the coordinates of its point's place on its coarse face when that face is in the chart, else of
+/// its projection on the nearest face of the chart around that place, extended past the chart's
+/// border by at most `max_extrapolation` of the face (barycentric coordinates >= -it). When given,
+/// `chart_of_face` receives the chart of each fine face and `depth_of_face` the distance from its
+/// centroid to its coarse face.
+inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
+                           const std::vector<std::uint32_t>& vertex_point, const std::vector<std::uint32_t>& face_point,
+                           const std::vector<std::uint32_t>& coarse_face_of_point, double max_extrapolation,
+                           double border_texels, std::vector<int>* chart_of_face = nullptr,
+                           std::vector<double>* depth_of_face = nullptr) {
   using Face = Surface_mesh::Face_index;
   using Vertex = Surface_mesh::Vertex_index;
+  using V3 = CM::internal::Vec3;
+  constexpr std::size_t none = std::size_t(-1);
   const Surface_mesh& cm = coarse.mesh();
   Surface_mesh& fm = fine.mesh();
-  // the coarse faces: triangles, normals, UVs, charts
+  const Image& atlas = coarse.materials().front().diffuse_image;
+  const double atlas_width = (std::max)(1, atlas.width()), atlas_height = (std::max)(1, atlas.height());
+  // the coarse faces (garbage-free: indices 0..nc-1): triangles, UVs, charts
   auto chart_map = get(CGAL::dynamic_face_property_t<int>(), cm);
   compute_chart_ids(cm, coarse.uv_map(), chart_map);
   const std::size_t nc = cm.number_of_faces();
-  Facing_closest_point::Triangles tris;
-  std::vector<Vector_3> normals;
-  std::vector<std::array<Point_2, 3>> uvs;
-  std::vector<int> chart;
-  tris.reserve(nc);
-  int charts = 0;
+  std::vector<std::array<V3, 3>> tri(nc);
+  std::vector<std::array<Point_2, 3>> uvs(nc);
+  std::vector<int> chart(nc);
   for (Face f : cm.faces()) {
-    std::array<Point_3, 3> p;
-    std::array<Point_2, 3> t;
+    const std::size_t i = std::size_t(f);
     int k = 0;
     for (auto h : CGAL::halfedges_around_face(cm.halfedge(f), cm)) {
-      p[std::size_t(k)] = cm.point(cm.target(h));
-      t[std::size_t(k)] = coarse.uv(h);
+      const Point_3& p = cm.point(cm.target(h));
+      tri[i][std::size_t(k)] = V3(p.x(), p.y(), p.z());
+      uvs[i][std::size_t(k)] = coarse.uv(h);
       ++k;
     }
-    tris.emplace_back(SC::Point_3(p[0].x(), p[0].y(), p[0].z()), SC::Point_3(p[1].x(), p[1].y(), p[1].z()),
-                      SC::Point_3(p[2].x(), p[2].y(), p[2].z()));
-    normals.push_back(internal::unit_or_zero(CGAL::cross_product(p[1] - p[0], p[2] - p[0])));
-    uvs.push_back(t);
-    chart.push_back(get(chart_map, f));
-    charts = std::max(charts, get(chart_map, f) + 1);
+    chart[i] = get(chart_map, f);
   }
-  std::vector<std::vector<std::size_t>> chart_faces(static_cast<std::size_t>(charts));
-  for (std::size_t i = 0; i < nc; ++i) chart_faces[std::size_t(chart[i])].push_back(i);
-  const Facing_closest_point finder(tris, normals, std::vector<char>(nc, 1));
+  // each coarse face's neighbourhood: the faces around its corners, and the faces around theirs
+  std::vector<V3> normal(nc);
+  std::vector<std::vector<std::size_t>> ring(nc);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nc), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      normal[i] = CM::internal::normalized(CM::internal::cross(tri[i][1] - tri[i][0], tri[i][2] - tri[i][0]));
+      std::vector<std::size_t>& g = ring[i];
+      g.push_back(i);
+      for (int depth = 0; depth < 2; ++depth) {
+        const std::size_t end = g.size();
+        for (std::size_t j = 0; j < end; ++j)
+          for (Vertex c : CGAL::vertices_around_face(cm.halfedge(Face(Surface_mesh::size_type(g[j]))), cm))
+            for (Face a : CGAL::faces_around_target(cm.halfedge(c), cm))
+              if (a != Surface_mesh::null_face() && std::find(g.begin(), g.end(), std::size_t(a)) == g.end())
+                g.push_back(std::size_t(a));
+      }
+    }
+  });
+  auto vec = [](const Point_3& p) { return V3(p.x(), p.y(), p.z()); };
+  auto distance2 = [&](std::size_t f, const V3& p) {
+    return CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, tri[f][0], tri[f][1], tri[f][2]));
+  };
+  // the face a point's collapse history put it on, then the nearest face around it turned the way
+  // of the normal n (the history finds the part of the coarse surface, the local search the place)
+  auto home_of = [&](const std::vector<std::uint32_t>& points, std::size_t i, const V3& p, const V3& n) {
+    if (i >= points.size() || points[i] >= coarse_face_of_point.size()) return none;
+    const std::uint32_t f = coarse_face_of_point[points[i]];
+    if (f >= nc) return none;
+    std::size_t best = none, best_any = f;
+    double d_best = std::numeric_limits<double>::infinity(), d_any = d_best;
+    for (std::size_t g : ring[f]) {
+      const double d = distance2(g, p);
+      if (d < d_any) {
+        d_any = d;
+        best_any = g;
+      }
+      if (d < d_best && CM::internal::dot(normal[g], n) > 0) {
+        d_best = d;
+        best = g;
+      }
+    }
+    return best != none ? best : best_any;
+  };
+  auto nearest_of_all = [&](const V3& p) {  // for a point the history does not hold
+    std::size_t best = 0;
+    double d_best = std::numeric_limits<double>::infinity();
+    for (std::size_t f = 0; f < nc; ++f) {
+      const double d = distance2(f, p);
+      if (d < d_best) {
+        d_best = d;
+        best = f;
+      }
+    }
+    return best;
+  };
+  // texture coordinates of p's projection on coarse face f's plane, barycentric coordinates
+  // clamped to >= -extend and renormalised
+  auto uv_on = [&](std::size_t f, const V3& p, double extend) {
+    const auto& t = tri[f];
+    const V3 e1 = t[1] - t[0], e2 = t[2] - t[0], d = p - t[0];
+    const double a11 = CM::internal::dot(e1, e1), a12 = CM::internal::dot(e1, e2), a22 = CM::internal::dot(e2, e2);
+    const double b1 = CM::internal::dot(d, e1), b2 = CM::internal::dot(d, e2);
+    const double det = a11 * a22 - a12 * a12;
+    std::array<double, 3> w{{1.0 / 3, 1.0 / 3, 1.0 / 3}};
+    if (det > 0 && std::isfinite(det)) {
+      const double s = (a22 * b1 - a12 * b2) / det, u = (a11 * b2 - a12 * b1) / det;
+      w = {{1 - s - u, s, u}};
+      double sum = 0;
+      for (double& x : w) {
+        x = std::max(x, -extend);
+        sum += x;
+      }
+      for (double& x : w) x /= sum;
+    }
+    const auto& c = uvs[f];
+    return Point_2(w[0] * c[0].x() + w[1] * c[1].x() + w[2] * c[2].x(),
+                   w[0] * c[0].y() + w[1] * c[1].y() + w[2] * c[2].y());
+  };
 
-  // the fine mesh's face normals, vertex normals, and each face's chart
-  const std::size_t nf = fm.number_of_faces(), nv = fm.number_of_vertices();
-  std::vector<Vector_3> vertex_normal(nv, CGAL::NULL_VECTOR);
-  std::vector<Vector_3> face_normal(nf);
-  std::vector<Point_3> centroid(nf);
+  // the fine mesh's vertex normals (area-weighted)
+  const std::size_t nf = fm.number_of_faces();
+  std::vector<V3> vertex_normal(fm.number_of_vertices(), V3(0, 0, 0));
   for (Face f : fm.faces()) {
     const auto h = fm.halfedge(f);
-    const Point_3 &a = fm.point(fm.source(h)), &b = fm.point(fm.target(h)), &c = fm.point(fm.target(fm.next(h)));
-    const Vector_3 n = CGAL::cross_product(b - a, c - a);
-    face_normal[std::size_t(f)] = internal::unit_or_zero(n);
-    centroid[std::size_t(f)] = CGAL::centroid(a, b, c);
-    for (auto g : CGAL::halfedges_around_face(h, fm)) vertex_normal[std::size_t(fm.target(g))] += n;
+    const V3 a = vec(fm.point(fm.source(h))), b = vec(fm.point(fm.target(h))), c = vec(fm.point(fm.target(fm.next(h))));
+    const V3 n = CM::internal::cross(b - a, c - a);
+    for (Vertex v : CGAL::vertices_around_face(h, fm))
+      vertex_normal[std::size_t(v)] = vertex_normal[std::size_t(v)] + n;
   }
-  for (auto& n : vertex_normal) n = internal::unit_or_zero(n);
-  auto nearest = [&](const Point_3& p, const Vector_3& n) {
-    const double q[3] = {p.x(), p.y(), p.z()};
-    Facing_closest_point::Hit hit;
-    finder.search(q, n, hit);
-    if (!hit.found()) finder.search(q, CGAL::NULL_VECTOR, hit);
-    return hit;
-  };
+  // each fine face's coarse face, chart and depth
+  std::vector<std::size_t> face_home(nf);
   std::vector<int> face_chart(nf, 0);
   std::vector<double> face_depth(nf, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const Facing_closest_point::Hit hit = nearest(centroid[i], face_normal[i]);
-      face_chart[i] = chart[hit.face];
-      face_depth[i] = std::sqrt(hit.squared_distance);
+      const auto g = fm.halfedge(Face(Surface_mesh::size_type(i)));
+      const V3 a = vec(fm.point(fm.source(g))), b = vec(fm.point(fm.target(g))),
+               d = vec(fm.point(fm.target(fm.next(g))));
+      const V3 c = (1. / 3.) * (a + b + d);
+      std::size_t h = home_of(face_point, i, c, CM::internal::cross(b - a, d - a));
+      if (h == none) h = nearest_of_all(c);
+      face_home[i] = h;
+      face_chart[i] = chart[h];
+      face_depth[i] = std::sqrt(distance2(h, c));
     }
   });
 
-  // one texture coordinate per (vertex, chart) used
+  // one texture coordinate per (vertex, chart) used; the coarse faces of the fine faces around the
+  // vertex in that chart are where its search starts
   struct Key_hash {
     std::size_t operator()(const std::pair<std::uint32_t, int>& k) const {
       return std::size_t(k.first) * 0x9E3779B97F4A7C15ull ^ std::size_t(k.second);
@@ -295,48 +506,55 @@ inline void map_through_atlas(const Textured_mesh& coarse, Textured_mesh& fine, 
   };
   std::unordered_map<std::pair<std::uint32_t, int>, std::size_t, Key_hash> slot;
   std::vector<std::pair<std::uint32_t, int>> keys;
+  std::vector<std::vector<std::size_t>> seeds;
   for (Face f : fm.faces())
     for (auto h : CGAL::halfedges_around_face(fm.halfedge(f), fm)) {
       const std::pair<std::uint32_t, int> k{std::uint32_t(fm.target(h)), face_chart[std::size_t(f)]};
-      if (slot.emplace(k, keys.size()).second) keys.push_back(k);
+      const auto [it, added] = slot.emplace(k, keys.size());
+      if (added) {
+        keys.push_back(k);
+        seeds.emplace_back();
+      }
+      auto& s = seeds[it->second];
+      if (std::find(s.begin(), s.end(), face_home[std::size_t(f)]) == s.end()) s.push_back(face_home[std::size_t(f)]);
     }
   std::vector<Point_2> uv_of(keys.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<std::size_t> around;
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       const Vertex v(keys[i].first);
       const int k = keys[i].second;
-      const Point_3& p = fm.point(v);
-      const Vector_3& n = vertex_normal[std::size_t(v)];
-      Facing_closest_point::Hit hit = nearest(p, n);
-      if (chart[hit.face] != k) {  // the nearest point of the face's chart, facing first
-        const double q[3] = {p.x(), p.y(), p.z()};
-        Facing_closest_point::Hit in_chart;
-        for (std::size_t f : chart_faces[std::size_t(k)]) finder.test(f, q, n, in_chart);
-        if (!in_chart.found())
-          for (std::size_t f : chart_faces[std::size_t(k)]) finder.test(f, q, CGAL::NULL_VECTOR, in_chart);
-        hit = in_chart;
+      const V3 p = vec(fm.point(v));
+      const std::size_t own = home_of(vertex_point, std::size_t(v), p, vertex_normal[std::size_t(v)]);
+      if (own != none && chart[own] == k) {  // its place on its face: inside the face, no extension
+        // past the face's border (over a convex edge, a projection on the face's plane squashes the
+        // surface onto it) by at most `border_texels`, into the chart's neighbour or its gutter
+        const Point_2 in = uv_on(own, p, 0.0), out = uv_on(own, p, max_extrapolation);
+        const double dx = (out.x() - in.x()) * atlas_width, dy = (out.y() - in.y()) * atlas_height;
+        const double d = std::sqrt(dx * dx + dy * dy);
+        const double t = d > border_texels ? border_texels / d : 1.0;
+        uv_of[i] = Point_2(in.x() + t * (out.x() - in.x()), in.y() + t * (out.y() - in.y()));
+        continue;
       }
-      // barycentric coordinates of p's projection on the face's plane, clamped, renormalised
-      const auto& t = tris[hit.face];
-      const Vector_3 e1(t[1].x() - t[0].x(), t[1].y() - t[0].y(), t[1].z() - t[0].z());
-      const Vector_3 e2(t[2].x() - t[0].x(), t[2].y() - t[0].y(), t[2].z() - t[0].z());
-      const Vector_3 d(p.x() - t[0].x(), p.y() - t[0].y(), p.z() - t[0].z());
-      const double a11 = e1 * e1, a12 = e1 * e2, a22 = e2 * e2, b1 = d * e1, b2 = d * e2;
-      const double det = a11 * a22 - a12 * a12;
-      std::array<double, 3> w{{1.0 / 3, 1.0 / 3, 1.0 / 3}};
-      if (det > 0 && std::isfinite(det)) {
-        const double s = (a22 * b1 - a12 * b2) / det, u = (a11 * b2 - a12 * b1) / det;
-        w = {{1 - s - u, s, u}};
-        double sum = 0;
-        for (double& x : w) {
-          x = std::max(x, -max_extrapolation);
-          sum += x;
+      // across a seam of the coarse atlas: the nearest face of the chart among the seeds and
+      // the faces around their corners
+      around.clear();
+      for (std::size_t s : seeds[i]) {
+        around.push_back(s);
+        for (Vertex c : CGAL::vertices_around_face(cm.halfedge(Face(Surface_mesh::size_type(s))), cm))
+          for (Face g : CGAL::faces_around_target(cm.halfedge(c), cm))
+            if (g != Surface_mesh::null_face() && chart[std::size_t(g)] == k) around.push_back(std::size_t(g));
+      }
+      std::size_t best = seeds[i].front();
+      double d_best = std::numeric_limits<double>::infinity();
+      for (std::size_t f : around) {
+        const double d = distance2(f, p);
+        if (d < d_best) {
+          d_best = d;
+          best = f;
         }
-        for (double& x : w) x /= sum;
       }
-      const auto& c = uvs[hit.face];
-      uv_of[i] = Point_2(w[0] * c[0].x() + w[1] * c[1].x() + w[2] * c[2].x(),
-                         w[0] * c[0].y() + w[1] * c[1].y() + w[2] * c[2].y());
+      uv_of[i] = uv_on(best, p, max_extrapolation);
     }
   });
   for (Face f : fm.faces())
@@ -350,7 +568,7 @@ inline void map_through_atlas(const Textured_mesh& coarse, Textured_mesh& fine, 
 }
 
 /// Paints the shared atlas `image` (made for `coarse`) from the original itself: every original
-/// face, at the texture coordinates map_through_atlas() gave it (`original_mapped`, the original's
+/// face, at the texture coordinates map_by_history() gave it (`original_mapped`, the original's
 /// faces in order), is rasterised into the atlas and each texel it covers takes the original's
 /// colour at that point of the face (Atlas_source::colour_at). A texel keeps the colour of the
 /// original face nearest to the coarse surface among those covering it, and is written only by
@@ -490,13 +708,21 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
   eo.vertex_field = false;
 
   // error-bound mode: one run snapshots and measures, each bound takes the smallest snapshot it allows
-  std::vector<Surface_mesh> meshes;
+  std::vector<internal::Level_snapshot> meshes;
+  // shared texture: the collapse history of the input's and the levels' points
+  const bool follow = options.shared_texture && textured;
+  std::optional<internal::Collapse_history> history;
+  internal::Level_snapshot input_points;
   std::vector<std::pair<double, double>> measured;  // (hausdorff, rms) of the collapsed levels
   const auto t_collapse = Clock::now();
   if (by_error) {
     Surface_mesh work = input.mesh();
     auto uv = work.property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv");
     if (uv.second) work.remove_property_map(uv.first);
+    if (follow) {
+      history.emplace(work);
+      input_points = history->add_input(work);
+    }
     using EV = internal::Error_snapshot_visitor<Visitor>;
     typename EV::State state{&input.mesh(), eo, options.error_step, options.max_errors.back(),
                              double(faces_in) * options.error_step};
@@ -513,7 +739,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
                       CMGeom::parameters::surface_memory(
                           m, CMGeom::parameters::edge_flips(
                                  options.flips, CGAL::parameters::get_cost(policy).get_placement(placement).visitor(
-                                                    EV{&state, visitor}))));
+                                                    EV{&state, visitor, history ? &*history : nullptr}))));
       });
     }
     targets.clear();
@@ -524,8 +750,8 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       if (best == std::size_t(-1)) {
         targets.push_back(faces_in);
       } else {
-        targets.push_back(state.candidates[best].mesh.number_of_faces());
-        meshes.push_back(state.candidates[best].mesh);
+        targets.push_back(state.candidates[best].snapshot.mesh.number_of_faces());
+        meshes.push_back(state.candidates[best].snapshot);  // two bounds may take the same one
         measured.emplace_back(state.candidates[best].hausdorff, state.candidates[best].rms);
       }
     }
@@ -555,16 +781,23 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       Surface_mesh work = input.mesh();
       auto uv = work.property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv");
       if (uv.second) work.remove_property_map(uv.first);
+      if (follow) {
+        history.emplace(work);
+        input_points = history->add_input(work);
+      }
       typename internal::Snapshot_visitor<Visitor>::State state{&collapsed, 0, {}};
       Mesh_simplification_options so;
       so.quadric = options.quadric;
       so.surface_memory = options.surface_memory;
       so.flips = options.flips;
       so.parts_min_faces = 0;  // snapshots need the whole mesh at every collapse
-      simplify_mesh(work, collapsed.back(), so, internal::Snapshot_visitor<Visitor>{&state, visitor});
+      simplify_mesh(work, collapsed.back(), so,
+                    internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr});
       meshes = std::move(state.snapshots);
       // levels the run never reached (no collapse left) are the mesh it ended with
-      while (meshes.size() < collapsed.size()) meshes.push_back(internal::compact_copy(work));
+      while (meshes.size() < collapsed.size())
+        meshes.push_back(
+            internal::Level_snapshot{internal::compact_copy(work), {}, {}, {}});  // (no history: see OnFinished)
     }
   } catch (...) {
     prepare.wait();
@@ -580,7 +813,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       l.mesh = input;
       l.is_input = true;
     } else {
-      l.mesh = Textured_mesh(std::move(meshes[i - kept]));
+      l.mesh = Textured_mesh(std::move(meshes[i - kept].mesh));
     }
   }
 
@@ -596,14 +829,19 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       Textured_mesh& original = kept > 0 ? res.levels.front().mesh : *original_copy;
       std::vector<int> chart_of_face;
       std::vector<double> depth_of_face;
-      internal::map_through_atlas(coarsest.mesh, original, options.max_extrapolation, &chart_of_face, &depth_of_face);
+      const std::vector<std::uint32_t>& on_coarsest = meshes.back().face_of_point;
+      const double border_texels = 0.75 * ao.gutter_texels;
+      internal::map_by_history(coarsest.mesh, original, input_points.vertex_point, input_points.face_point, on_coarsest,
+                               options.max_extrapolation, border_texels, &chart_of_face, &depth_of_face);
       res.shared_texture_hidden =
           internal::paint_atlas_from_original(*source, coarsest.mesh, original, chart_of_face, depth_of_face,
                                               coarsest.mesh.materials().front().diffuse_image);
       original.materials() = coarsest.mesh.materials();
       for (std::size_t i = 1; i < kept; ++i) res.levels[i].mesh = original;
       tbb::parallel_for(kept, res.levels.size() - 1, [&](std::size_t i) {
-        internal::map_through_atlas(coarsest.mesh, res.levels[i].mesh, options.max_extrapolation);
+        const internal::Level_snapshot& points = meshes[i - kept];
+        internal::map_by_history(coarsest.mesh, res.levels[i].mesh, points.vertex_point, points.face_point, on_coarsest,
+                                 options.max_extrapolation, border_texels);
       });
       for (std::size_t i = 0; i + 1 < res.levels.size(); ++i) res.levels[i].atlas = coarsest.atlas;
     } else {
