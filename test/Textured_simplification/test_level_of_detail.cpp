@@ -297,4 +297,79 @@ TEST(LevelOfDetail, SharedTextureKeepsFoldingPartsApart) {
   }
 }
 
+// rebuild_atlas()'s painter hook (the shared texture paints the original this way): the texels
+// it gives keep its colours exactly, whether inside a chart or in a gutter, and the others are
+// baked from the original as without a painter.
+TEST(LevelOfDetail, AtlasPainterTexelsAreKeptAndTheOthersBaked) {
+  const std::string path = std::string(CMGEOM_DATA_DIR) + "/textured/Duck/Duck.obj";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
+  CMGeom::Textured_mesh input;
+  CMGeom::IO::read_textured_mesh(path, input);
+  TS::Atlas_options ao;
+  TS::Atlas_source source(input, ao);
+  source.prepare();
+  CMGeom::Textured_mesh plain(input), painted(input);
+  TS::rebuild_atlas(source, plain, ao);
+  int W = 0, H = 0;
+  const TS::internal::Atlas_painter painter = [&](const CMGeom::Textured_mesh& m, CMGeom::Image& colours,
+                                                  std::vector<char>& given) {
+    EXPECT_TRUE(m.mesh().number_of_faces() > 0);
+    W = colours.width();
+    H = colours.height();
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        if ((x / 7 + y / 5) % 2 == 0) {  // a checkerboard of 7 x 5 texels
+          given[std::size_t(y) * std::size_t(W) + std::size_t(x)] = 1;
+          colours.set_value(x, H - 1 - y, 0, 1.f);
+          colours.set_value(x, H - 1 - y, 1, 0.f);
+          colours.set_value(x, H - 1 - y, 2, 1.f);
+        }
+  };
+  TS::rebuild_atlas(source, painted, ao, &painter);
+  const CMGeom::Image& a = plain.materials().at(0).diffuse_image;
+  const CMGeom::Image& b = painted.materials().at(0).diffuse_image;
+  ASSERT_EQ(a.width(), W);
+  ASSERT_EQ(b.height(), H);
+  // the texels inside the charts (the faces' UV triangles)
+  std::vector<char> inside(std::size_t(W) * std::size_t(H), 0);
+  for (auto f : plain.mesh().faces()) {
+    std::array<TS::UV2, 3> t;
+    int k = 0;
+    for (auto h : CGAL::halfedges_around_face(plain.mesh().halfedge(f), plain.mesh()))
+      t[std::size_t(k++)] = {{plain.uv(h).x() * W, plain.uv(h).y() * H}};
+    TS::rasterize_triangle(t, W, H,
+                           [&](int x, int y) { inside[std::size_t(y) * std::size_t(W) + std::size_t(x)] = 1; });
+  }
+  std::size_t kept = 0, given_count = 0, baked_same = 0, others = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const int row = H - 1 - y;
+      if ((x / 7 + y / 5) % 2 == 0) {
+        ++given_count;
+        kept += b.value(x, row, 0) == 1.f && b.value(x, row, 1) == 0.f && b.value(x, row, 2) == 1.f;
+        continue;
+      }
+      // an unpainted texel inside a chart is baked as without a painter (the gutters are filled
+      // from the nearest texels, painted ones among them, so they may differ)
+      if (!inside[std::size_t(y) * std::size_t(W) + std::size_t(x)]) continue;
+      ++others;
+      bool same = true;
+      for (int c = 0; c < a.channels(); ++c) same = same && a.value(x, row, c) == b.value(x, row, c);
+      baked_same += same;
+    }
+  std::cout << "unpainted texels inside the charts baked as without a painter: " << baked_same << " of " << others
+            << "\n";
+  EXPECT_EQ(kept, given_count) << "a given texel lost its colour";
+  // inside the charts, the texels the painter left are baked as without it (the closest facing
+  // original point, searched from the previous texel's face: ties may break otherwise)
+  EXPECT_GT(others, std::size_t(1000));
+  EXPECT_GE(double(baked_same), 0.95 * double(others));
+  // the UVs do not depend on the painter
+  auto hp = painted.mesh().halfedges().begin();
+  for (auto h : plain.mesh().halfedges()) {
+    if (!plain.mesh().is_border(h)) EXPECT_EQ(plain.uv(h), painted.uv(*hp));
+    ++hp;
+  }
+}
+
 }  // namespace

@@ -41,6 +41,7 @@
 #include <limits>
 #include <optional>
 #include <tuple>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -362,16 +363,15 @@ struct Face_count_or_flag_stop {
 inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
                            const std::vector<std::uint32_t>& vertex_point, const std::vector<std::uint32_t>& face_point,
                            const std::vector<std::uint32_t>& coarse_face_of_point, double max_extrapolation,
-                           double border_texels, std::vector<int>* chart_of_face = nullptr,
-                           std::vector<double>* depth_of_face = nullptr) {
+                           double border_texels, int atlas_width, int atlas_height,
+                           std::vector<int>* chart_of_face = nullptr, std::vector<double>* depth_of_face = nullptr) {
   using Face = Surface_mesh::Face_index;
   using Vertex = Surface_mesh::Vertex_index;
   using V3 = CM::internal::Vec3;
   constexpr std::size_t none = std::size_t(-1);
   const Surface_mesh& cm = coarse.mesh();
   Surface_mesh& fm = fine.mesh();
-  const Image& atlas = coarse.materials().front().diffuse_image;
-  const double atlas_width = (std::max)(1, atlas.width()), atlas_height = (std::max)(1, atlas.height());
+  const double texels_u = (std::max)(1, atlas_width), texels_v = (std::max)(1, atlas_height);
   // the coarse faces (garbage-free: indices 0..nc-1): triangles, UVs, charts
   auto chart_map = get(CGAL::dynamic_face_property_t<int>(), cm);
   compute_chart_ids(cm, coarse.uv_map(), chart_map);
@@ -530,7 +530,7 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
         // past the face's border (over a convex edge, a projection on the face's plane squashes the
         // surface onto it) by at most `border_texels`, into the chart's neighbour or its gutter
         const Point_2 in = uv_on(own, p, 0.0), out = uv_on(own, p, max_extrapolation);
-        const double dx = (out.x() - in.x()) * atlas_width, dy = (out.y() - in.y()) * atlas_height;
+        const double dx = (out.x() - in.x()) * texels_u, dy = (out.y() - in.y()) * texels_v;
         const double d = std::sqrt(dx * dx + dy * dy);
         const double t = d > border_texels ? border_texels / d : 1.0;
         uv_of[i] = Point_2(in.x() + t * (out.x() - in.x()), in.y() + t * (out.y() - in.y()));
@@ -567,20 +567,62 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
   if (depth_of_face) *depth_of_face = std::move(face_depth);
 }
 
+/// Grows a texel labelling over the 4-neighbour grid of a W x H image, one ring at a time, at most
+/// `rings` rings: a texel `is_open` next to a labelled one (`is_labelled`, or labelled in an
+/// earlier ring) gets `take(texel, neighbour)`, which may refuse (false). Serial and in texel
+/// order, so the result does not depend on the thread count; the work is the rings' texels.
+template <class Labelled, class Open, class Take>
+void grow_rings(int W, int H, int rings, const Labelled& is_labelled, const Open& is_open, const Take& take) {
+  const std::size_t w = std::size_t(W), n = std::size_t(W) * std::size_t(H);
+  auto for_neighbours = [&](std::size_t at, auto&& fn) {
+    const std::size_t x = at % w;
+    if (x > 0) fn(at - 1);
+    if (x + 1 < w) fn(at + 1);
+    if (at >= w) fn(at - w);
+    if (at + w < n) fn(at + w);
+  };
+  std::vector<std::size_t> front, next;
+  for (std::size_t at = 0; at < n; ++at) {
+    if (!is_labelled(at)) continue;
+    bool border = false;
+    for_neighbours(at, [&](std::size_t b) { border = border || is_open(b); });
+    if (border) front.push_back(at);
+  }
+  for (int ring = 0; ring < rings && !front.empty(); ++ring) {
+    next.clear();
+    for (std::size_t at : front)
+      for_neighbours(at, [&](std::size_t b) {
+        if (!is_open(b)) return;
+        if constexpr (std::is_same_v<decltype(take(b, at)), bool>) {
+          if (take(b, at)) next.push_back(b);
+        } else {
+          take(b, at);
+          next.push_back(b);
+        }
+      });
+    front.swap(next);
+  }
+}
+
 /// Paints the shared atlas `image` (made for `coarse`) from the original itself: every original
 /// face, at the texture coordinates map_by_history() gave it (`original_mapped`, the original's
 /// faces in order), is rasterised into the atlas and each texel it covers takes the original's
 /// colour at that point of the face (Atlas_source::colour_at). A texel keeps the colour of the
 /// original face nearest to the coarse surface among those covering it, and is written only by
-/// faces of the chart it belongs to (texels outside every chart, the gutters, by any). Texels no
-/// original face covers keep the coarse bake. So the finest level reads the original's colours
+/// faces of the chart it belongs to: a chart's own texels and the gutter texels nearer to it than
+/// to any other chart, up to `gutter_texels` away (farther texels by any). So a corner extended
+/// past its chart's border reads that chart's colours, not a neighbouring chart's. The painted
+/// colours then grow over the unpainted texels of their chart (up to `gutter_texels` rings);
+/// `painted_out` receives the texels painted (rebuild_atlas() bakes the others from the coarse
+/// surface: this runs as its Atlas_painter). So the finest level reads the original's colours
 /// almost exactly, and a coarser level, whose points map to the same atlas points as the original
 /// points they stand for, reads those colours too. Rows are painted in parallel bands. Returns
 /// the fraction of the texels the original's faces cover that went to another face (hidden:
 /// parts of the original that fold onto the same place of the coarse surface).
 inline double paint_atlas_from_original(const Atlas_source& source, const Textured_mesh& coarse,
                                         const Textured_mesh& original_mapped, const std::vector<int>& chart_of_face,
-                                        const std::vector<double>& depth_of_face, Image& image) {
+                                        const std::vector<double>& depth_of_face, int gutter_texels, Image& image,
+                                        std::vector<char>* painted_out = nullptr) {
   using Face = Surface_mesh::Face_index;
   const int W = image.width(), H = image.height(), C = image.channels();
   if (W <= 0 || H <= 0 || C != source.colour_channels()) return 0.0;
@@ -603,6 +645,11 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
     rasterize_triangle(texel_triangle(coarse, f), W, H,
                        [&](int x, int y) { owner[std::size_t(y) * std::size_t(W) + std::size_t(x)] = c; });
   }
+  // the gutters go to the nearest chart, one ring of texels at a time (4-neighbours)
+  grow_rings(
+      W, H, gutter_texels, [&](std::size_t at) { return owner[at] != -1; },
+      [&](std::size_t at) { return owner[at] == -1; },
+      [&](std::size_t to, std::size_t from) { owner[to] = owner[from]; });
   const Surface_mesh& om = original_mapped.mesh();
   const std::size_t nf = om.number_of_faces();
   std::vector<std::array<UV2, 3>> tri(nf);
@@ -619,6 +666,7 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
   }
   const int band = 16;
   std::atomic<std::size_t> covered{0}, won{0};
+  std::vector<char> painted(std::size_t(W) * std::size_t(H), 0);
   tbb::parallel_for(0, (H + band - 1) / band, [&](int b) {
     const int y0 = b * band, y1 = (std::min)(H, y0 + band);
     const std::size_t texels = std::size_t(y1 - y0) * std::size_t(W);
@@ -645,6 +693,7 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
       const std::size_t i = winner[j];
       if (i == std::size_t(-1)) continue;
       ++band_won;
+      painted[std::size_t(y0) * std::size_t(W) + j] = 1;
       const auto& t = tri[i];
       const int x = int(j % std::size_t(W)), y = y0 + int(j / std::size_t(W));
       const double det = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
@@ -657,6 +706,21 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
     covered += band_covered;
     won += band_won;
   });
+  // the original's colours grow over the texels of their chart that no original face covered
+  // (squashed strips over convex edges, the gutters), where the coarse bake may have found
+  // another part of the original (the bottle under a label): up to `gutter_texels` rings
+  grow_rings(
+      W, H, gutter_texels, [&](std::size_t at) { return painted[at] != 0; },
+      [&](std::size_t at) { return !painted[at] && owner[at] != -1; },
+      [&](std::size_t to, std::size_t from) {
+        if (owner[to] != owner[from]) return false;
+        const int tx = int(to % std::size_t(W)), ty = int(to / std::size_t(W));
+        const int fx = int(from % std::size_t(W)), fy = int(from / std::size_t(W));
+        for (int ch = 0; ch < C; ++ch) image.set_value(tx, H - 1 - ty, ch, image.value(fx, H - 1 - fy, ch));
+        painted[to] = 1;
+        return true;
+      });
+  if (painted_out) *painted_out = std::move(painted);
   return covered > 0 ? 1.0 - double(won) / double(covered) : 0.0;
 }
 
@@ -822,26 +886,33 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
   if (textured && !collapsed.empty()) {
     if (options.shared_texture) {
       Level_of_detail& coarsest = res.levels.back();
-      coarsest.atlas = rebuild_atlas(*source, coarsest.mesh, ao);
-      // the original mapped into the atlas paints it; then every finer level is mapped into it
+      // the original, mapped into the coarsest level's atlas once that has its charts, paints it
+      // (the texels it paints are not baked); then every finer level is mapped into it
       std::optional<Textured_mesh> original_copy;
       if (kept == 0) original_copy.emplace(input);
       Textured_mesh& original = kept > 0 ? res.levels.front().mesh : *original_copy;
-      std::vector<int> chart_of_face;
-      std::vector<double> depth_of_face;
       const std::vector<std::uint32_t>& on_coarsest = meshes.back().face_of_point;
       const double border_texels = 0.75 * ao.gutter_texels;
-      internal::map_by_history(coarsest.mesh, original, input_points.vertex_point, input_points.face_point, on_coarsest,
-                               options.max_extrapolation, border_texels, &chart_of_face, &depth_of_face);
-      res.shared_texture_hidden =
-          internal::paint_atlas_from_original(*source, coarsest.mesh, original, chart_of_face, depth_of_face,
-                                              coarsest.mesh.materials().front().diffuse_image);
+      int atlas_width = 0, atlas_height = 0;
+      const internal::Atlas_painter painter = [&](const Textured_mesh& coarse, Image& colours,
+                                                  std::vector<char>& given) {
+        atlas_width = colours.width();
+        atlas_height = colours.height();
+        std::vector<int> chart_of_face;
+        std::vector<double> depth_of_face;
+        internal::map_by_history(coarse, original, input_points.vertex_point, input_points.face_point, on_coarsest,
+                                 options.max_extrapolation, border_texels, atlas_width, atlas_height, &chart_of_face,
+                                 &depth_of_face);
+        res.shared_texture_hidden = internal::paint_atlas_from_original(
+            *source, coarse, original, chart_of_face, depth_of_face, ao.gutter_texels, colours, &given);
+      };
+      coarsest.atlas = rebuild_atlas(*source, coarsest.mesh, ao, &painter);
       original.materials() = coarsest.mesh.materials();
       for (std::size_t i = 1; i < kept; ++i) res.levels[i].mesh = original;
       tbb::parallel_for(kept, res.levels.size() - 1, [&](std::size_t i) {
         const internal::Level_snapshot& points = meshes[i - kept];
         internal::map_by_history(coarsest.mesh, res.levels[i].mesh, points.vertex_point, points.face_point, on_coarsest,
-                                 options.max_extrapolation, border_texels);
+                                 options.max_extrapolation, border_texels, atlas_width, atlas_height);
       });
       for (std::size_t i = 0; i + 1 < res.levels.size(); ++i) res.levels[i].atlas = coarsest.atlas;
     } else {

@@ -38,6 +38,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -173,8 +174,18 @@ private:
 
 }  // namespace internal
 
+namespace internal {
+/// Called by rebuild_atlas() once the simplified mesh has its new UVs, before the baking: it may
+/// paint texels of the atlas itself (`colours`, W x H with the atlas' colour channels, rows
+/// running down) and mark them in `given` (W x H, row y from the bottom as the UVs' v); those
+/// texels are not looked up on the original (level_of_detail.h's shared texture paints the
+/// original into its atlas this way).
+using Atlas_painter = std::function<void(const Textured_mesh& simplified, Image& colours, std::vector<char>& given)>;
+}  // namespace internal
+
 class Atlas_source;
-inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simplified, const Atlas_options& options);
+inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simplified, const Atlas_options& options,
+                                  const internal::Atlas_painter* painter = nullptr);
 
 /// What the baking reads from the original mesh, extracted once: its triangles with their UVs,
 /// materials and chart ids, the texture size of the new atlas, and — after prepare() — the chart
@@ -377,7 +388,8 @@ public:
   }
 
 private:
-  friend Atlas_result rebuild_atlas(const Atlas_source&, Textured_mesh&, const Atlas_options&);
+  friend Atlas_result rebuild_atlas(const Atlas_source&, Textured_mesh&, const Atlas_options&,
+                                    const internal::Atlas_painter*);
   struct Source {
     std::array<Point_3, 3> p;
     std::array<internal::Atlas_uv, 3> uv;
@@ -399,7 +411,8 @@ private:
 
 /// Replaces the UVs and materials of `simplified` (a garbage-free triangle mesh) by a new atlas
 /// baked from the original `src` was made from (prepared: prepare()); see the file comment.
-inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simplified, const Atlas_options& options) {
+inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simplified, const Atlas_options& options,
+                                  const internal::Atlas_painter* painter) {
   using Clock = std::chrono::steady_clock;
   namespace I = internal;
   Surface_mesh& sm = simplified.mesh();
@@ -438,8 +451,25 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   for (const auto& c : charts)
     for (std::size_t i = 0; i < c.faces.size(); ++i) face_uv[c.faces[i]] = c.uvs[i];
   res.seconds_charts = std::chrono::duration<double>(Clock::now() - t0).count();
+  for (auto f : sm.faces())
+    for (int k = 0; k < 3; ++k) {
+      const auto& t = face_uv[std::size_t(f)][std::size_t(k)];
+      simplified.set_uv(I::corner_halfedge(sm, f, k), Point_2(t[0], t[1]));
+    }
 
-  // 3. baking
+  // 3. baking (of the texels a painter did not give)
+  Image given_colours;
+  std::vector<char> given;
+  if (painter) {
+    given_colours = Image(W, H, colour_channels);
+    given.assign(std::size_t(W) * std::size_t(H), 0);
+    (*painter)(simplified, given_colours, given);
+    if (given.size() != std::size_t(W) * std::size_t(H)) given.clear();
+  }
+  auto give = [&](std::size_t i, float* c) {
+    const int x = int(i % std::size_t(W)), y = int(i / std::size_t(W));
+    for (int ch = 0; ch < colour_channels; ++ch) c[ch] = given_colours.value(x, H - 1 - y, ch);
+  };
   const auto t1 = Clock::now();
   const double reach2 = CGAL::square(0.1 * diag);  // farther than this, a facing point is no match
   const std::size_t n = std::size_t(W) * std::size_t(H);
@@ -468,6 +498,14 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
         const double b2 =
             ((tex[1][0] - tex[0][0]) * (cy - tex[0][1]) - (cx - tex[0][0]) * (tex[1][1] - tex[0][1])) / det;
         const double b0 = 1 - b1 - b2;
+        const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+        const bool is_given = !given.empty() && given[i];
+        if (is_given && !any_normal) {  // no lookup needed
+          give(i, &colour[i * std::size_t(colour_channels)]);
+          dist[i] = 0;
+          ++baked_per_face[fi];
+          return;
+        }
         const Point_3 p =
             CGAL::ORIGIN + (b0 * (P[0] - CGAL::ORIGIN) + b1 * (P[1] - CGAL::ORIGIN) + b2 * (P[2] - CGAL::ORIGIN));
         const double pq[3] = {p.x(), p.y(), p.z()};
@@ -494,8 +532,10 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
         w1 = (std::min)((std::max)(w1, 0.0), 1.0);
         w2 = (std::min)((std::max)(w2, 0.0), 1.0 - w1);
         const double w0 = 1 - w1 - w2;
-        const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-        src.colour_at(hit.face, w0, w1, w2, &colour[i * std::size_t(colour_channels)]);
+        if (is_given)
+          give(i, &colour[i * std::size_t(colour_channels)]);
+        else
+          src.colour_at(hit.face, w0, w1, w2, &colour[i * std::size_t(colour_channels)]);
         if (any_normal) {
           const double u = w0 * s->uv[0][0] + w1 * s->uv[1][0] + w2 * s->uv[2][0];
           const double v = w0 * s->uv[0][1] + w1 * s->uv[1][1] + w2 * s->uv[2][1];
@@ -524,6 +564,14 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
     res.texels_unmatched += fixed_per_face[i];
   }
   res.coverage = double(res.texels_baked) / double(n);
+  if (!given.empty())  // given texels outside the charts (gutters) are given too
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+        if (given[i] && dist[i] == far) {
+          give(i, &colour[i * std::size_t(colour_channels)]);
+          dist[i] = 0;
+        }
+    });
   if (any_normal) dist_normal = dist;
   // the two maps' gutters are filled at once (each fill is one pass over the texture)
   Image diffuse, normal_map;
@@ -533,12 +581,7 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   fill.wait();
   res.seconds_bake = std::chrono::duration<double>(Clock::now() - t1).count();
 
-  // the new UVs and the one material
-  for (auto f : sm.faces())
-    for (int k = 0; k < 3; ++k) {
-      const auto& t = face_uv[std::size_t(f)][std::size_t(k)];
-      simplified.set_uv(I::corner_halfedge(sm, f, k), Point_2(t[0], t[1]));
-    }
+  // the one material
   Material out;
   if (src.used_count_ == 1) {
     out.name = mats[src.first_used_].name;
