@@ -196,6 +196,25 @@ TEST(LevelOfDetail, SharedTextureLevelsAddressOneAtlasThatShowsTheOriginal) {
   const TS::Level_of_detail_result q = TS::simplify_to_levels(input, per);
   for (std::size_t i = 0; i < r.levels.size(); ++i)
     EXPECT_EQ(r.levels[i].mesh.mesh().number_of_faces(), q.levels[i].mesh.mesh().number_of_faces());
+  // levels by error bound follow the collapse history too (their snapshots are taken in the run):
+  // one atlas, UVs on it, little of the input hidden
+  TS::Level_of_detail_options e;
+  e.max_errors = {0.005, 0.05};
+  e.shared_texture = true;
+  const TS::Level_of_detail_result b = TS::simplify_to_levels(input, e);
+  ASSERT_EQ(b.levels.size(), 2u);
+  EXPECT_LT(b.levels[1].mesh.mesh().number_of_faces(), b.levels[0].mesh.mesh().number_of_faces());
+  const CMGeom::Image& shared = b.levels.back().mesh.materials().at(0).diffuse_image;
+  for (const auto& l : b.levels) {
+    EXPECT_LE(l.hausdorff, e.max_errors.back());
+    EXPECT_TRUE(l.mesh.materials().at(0).diffuse_image == shared);
+    for (auto h : l.mesh.mesh().halfedges())
+      if (!l.mesh.mesh().is_border(h)) {
+        const Point_2 t = l.mesh.uv(h);
+        ASSERT_TRUE(t.x() > -0.01 && t.x() < 1.01 && t.y() > -0.01 && t.y() < 1.01) << "UV " << t << " off the atlas";
+      }
+  }
+  EXPECT_LT(b.shared_texture_hidden, 0.05);
 }
 
 // Two concentric spheres, the outer one 3 % larger (a label over a bottle). Down to 48 faces, the
