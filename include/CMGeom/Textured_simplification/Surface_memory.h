@@ -98,13 +98,14 @@ public:
   /// the order they were added, the constructor's first). Points may be added between collapses:
   /// level_of_detail.h follows the vertices of each level of a chain down to the coarsest one.
   std::uint32_t add_point(face_descriptor f, const V3& p, double area = 0.) {
+    const std::uint32_t i = std::uint32_t(items_.size());
     Item r;
     r.p = p;
     r.area = area;
     r.next = head_[std::size_t(f)];
-    head_[std::size_t(f)] = std::uint32_t(items_.size());
+    head_[std::size_t(f)] = i;
     items_.push_back(r);
-    return head_[std::size_t(f)];
+    return i;
   }
 
   /// The face each point is attached to, by point index (null_face() for a point a collapse

@@ -28,6 +28,8 @@
 
 #include <CGAL/boost/graph/copy_face_graph.h>
 
+#include <boost/range/irange.hpp>
+
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
@@ -41,7 +43,6 @@
 #include <limits>
 #include <optional>
 #include <tuple>
-#include <type_traits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -433,10 +434,11 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
     }
     return best != none ? best : best_any;
   };
-  auto nearest_of_all = [&](const V3& p) {  // for a point the history does not hold
-    std::size_t best = 0;
+  // the face of `faces` (a non-empty range of coarse face indices) nearest to p, the first of equals
+  auto nearest_among = [&](const auto& faces, const V3& p) {
+    std::size_t best = *std::begin(faces);
     double d_best = std::numeric_limits<double>::infinity();
-    for (std::size_t f = 0; f < nc; ++f) {
+    for (std::size_t f : faces) {
       const double d = distance2(f, p);
       if (d < d_best) {
         d_best = d;
@@ -490,7 +492,7 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
                d = vec(fm.point(fm.target(fm.next(g))));
       const V3 c = (1. / 3.) * (a + b + d);
       std::size_t h = home_of(face_point, i, c, CM::internal::cross(b - a, d - a));
-      if (h == none) h = nearest_of_all(c);
+      if (h == none) h = nearest_among(boost::irange(std::size_t(0), nc), c);  // a point the history lost
       face_home[i] = h;
       face_chart[i] = chart[h];
       face_depth[i] = std::sqrt(distance2(h, c));
@@ -545,16 +547,7 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
           for (Face g : CGAL::faces_around_target(cm.halfedge(c), cm))
             if (g != Surface_mesh::null_face() && chart[std::size_t(g)] == k) around.push_back(std::size_t(g));
       }
-      std::size_t best = seeds[i].front();
-      double d_best = std::numeric_limits<double>::infinity();
-      for (std::size_t f : around) {
-        const double d = distance2(f, p);
-        if (d < d_best) {
-          d_best = d;
-          best = f;
-        }
-      }
-      uv_of[i] = uv_on(best, p, max_extrapolation);
+      uv_of[i] = uv_on(nearest_among(around, p), p, max_extrapolation);
     }
   });
   for (Face f : fm.faces())
@@ -569,7 +562,7 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
 
 /// Grows a texel labelling over the 4-neighbour grid of a W x H image, one ring at a time, at most
 /// `rings` rings: a texel `is_open` next to a labelled one (`is_labelled`, or labelled in an
-/// earlier ring) gets `take(texel, neighbour)`, which may refuse (false). Serial and in texel
+/// earlier ring) gets `take(texel, neighbour)`, which returns whether it took it. Serial and in texel
 /// order, so the result does not depend on the thread count; the work is the rings' texels.
 template <class Labelled, class Open, class Take>
 void grow_rings(int W, int H, int rings, const Labelled& is_labelled, const Open& is_open, const Take& take) {
@@ -592,13 +585,7 @@ void grow_rings(int W, int H, int rings, const Labelled& is_labelled, const Open
     next.clear();
     for (std::size_t at : front)
       for_neighbours(at, [&](std::size_t b) {
-        if (!is_open(b)) return;
-        if constexpr (std::is_same_v<decltype(take(b, at)), bool>) {
-          if (take(b, at)) next.push_back(b);
-        } else {
-          take(b, at);
-          next.push_back(b);
-        }
+        if (is_open(b) && take(b, at)) next.push_back(b);
       });
     front.swap(next);
   }
@@ -649,7 +636,10 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
   grow_rings(
       W, H, gutter_texels, [&](std::size_t at) { return owner[at] != -1; },
       [&](std::size_t at) { return owner[at] == -1; },
-      [&](std::size_t to, std::size_t from) { owner[to] = owner[from]; });
+      [&](std::size_t to, std::size_t from) {
+        owner[to] = owner[from];
+        return true;
+      });
   const Surface_mesh& om = original_mapped.mesh();
   const std::size_t nf = om.number_of_faces();
   std::vector<std::array<UV2, 3>> tri(nf);
