@@ -79,7 +79,9 @@ std::string write(const std::string& file, const std::string& extension, const I
   OIIO::ImageSpec spec(image.width(), image.height(), image.channels(),
                        keep_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:UnassociatedAlpha", 1);
-  spec.attribute("png:compressionLevel", 6);
+  // zlib level 3: a 2048 x 2048 atlas (DamagedHelmet) encodes in 0.20 s instead of 0.41 s at level
+  // 6, for 7.5 % more bytes (3.39 against 3.15 MB); encoding was most of the writing time
+  spec.attribute("png:compressionLevel", 3);
   if (!o->open(file, spec)) return "cannot write image: " + one_line(o->geterror());
   bool ok;
   if (image.format() == Image::Format::UInt8)

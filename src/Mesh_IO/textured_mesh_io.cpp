@@ -3,6 +3,9 @@
 
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 
+#include <tbb/parallel_for.h>
+
+#include <exception>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -46,6 +49,38 @@ public:
     return encode(decoded, m.name);
   }
 
+  /// Encodes the distinct decoded images of every level's materials at once, in parallel (a
+  /// chain of levels has one atlas per level, and PNG encoding is most of its writing time); the
+  /// calls above then find them done. The first error is thrown as a serial run would.
+  void encode_ahead(const std::vector<Gltf_level>& levels) {
+    std::vector<std::pair<const Image*, const std::string*>> todo;
+    for (const Gltf_level& l : levels) {
+      if (!l.mesh) continue;
+      for (const Material& m : l.mesh->materials())
+        for (const Image* img : {&m.diffuse_image, &m.normal_image}) {
+          if (img->empty()) continue;
+          bool seen = false;
+          for (const auto& t : todo) seen = seen || *t.first == *img;
+          if (!seen) todo.emplace_back(img, &m.name);
+        }
+    }
+    if (todo.size() < 2) return;  // nothing to gain
+    std::vector<internal::Encoded_image> encoded(todo.size());
+    std::vector<std::exception_ptr> failed(todo.size());
+    tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t i) {
+      try {
+        encoded[i].bytes = encode_image(*todo[i].first, ".png", "texture of material '" + *todo[i].second + "'");
+        encoded[i].mime_type = "image/png";
+      } catch (...) {
+        failed[i] = std::current_exception();
+      }
+    });
+    for (const auto& e : failed)
+      if (e) std::rethrow_exception(e);
+    for (std::size_t i = 0; i < todo.size(); ++i)
+      done_.emplace_back(std::make_unique<Image>(*todo[i].first), std::move(encoded[i]));
+  }
+
 private:
   internal::Encoded_image encode(const Image& img, const std::string& name) {
     for (const auto& [image, encoded] : done_)
@@ -65,6 +100,7 @@ private:
 void write_textured_gltf(const std::string& path, const std::vector<Gltf_level>& levels, Atomic_output& out,
                          const Gltf_options& options) {
   Gltf_image_encoder encoder;
+  encoder.encode_ahead(levels);
   internal::write_gltf(path, levels, options, out, std::ref(encoder));
 }
 

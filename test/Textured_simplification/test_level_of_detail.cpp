@@ -330,8 +330,9 @@ TEST(LevelOfDetail, AtlasPainterTexelsAreKeptAndTheOthersBaked) {
   CMGeom::Textured_mesh plain(input), painted(input);
   TS::rebuild_atlas(source, plain, ao);
   int W = 0, H = 0;
-  const TS::internal::Atlas_painter painter = [&](const CMGeom::Textured_mesh& m, CMGeom::Image& colours,
-                                                  std::vector<char>& given) {
+  const TS::internal::Atlas_painter painter = [&](const CMGeom::Textured_mesh& m, TS::internal::Atlas_paint& paint) {
+    CMGeom::Image& colours = paint.colours;
+    std::vector<char>& given = paint.given;
     EXPECT_TRUE(m.mesh().number_of_faces() > 0);
     W = colours.width();
     H = colours.height();
@@ -392,3 +393,163 @@ TEST(LevelOfDetail, AtlasPainterTexelsAreKeptAndTheOthersBaked) {
 }
 
 }  // namespace
+
+namespace {
+
+// Duck with a normal map of its own texture's size: tangent-space normals tilted by a smooth
+// pattern of the texture coordinates (the Duck has none).
+CMGeom::Textured_mesh duck_with_normal_map(const std::string& path) {
+  CMGeom::Textured_mesh duck;
+  CMGeom::IO::read_textured_mesh(path, duck);
+  const CMGeom::Image& d = duck.materials().at(0).diffuse_image;
+  CMGeom::Image nm(d.width(), d.height(), 3);
+  for (int y = 0; y < nm.height(); ++y)
+    for (int x = 0; x < nm.width(); ++x) {
+      const double u = (x + 0.5) / nm.width(), v = (y + 0.5) / nm.height();
+      const double a = 0.45 * std::sin(13 * u) * std::cos(9 * v), b = 0.45 * std::cos(11 * u + 5 * v);
+      const double l = std::sqrt(a * a + b * b + 1);
+      nm.set_value(x, y, 0, float(0.5 * a / l + 0.5));
+      nm.set_value(x, y, 1, float(0.5 * b / l + 0.5));
+      nm.set_value(x, y, 2, float(0.5 / l + 0.5));
+    }
+  duck.materials().at(0).normal_image = nm;
+  return duck;
+}
+
+// The texels inside the UV triangles of `tm`'s faces (W x H, row y from the bottom).
+std::vector<char> texels_inside(const CMGeom::Textured_mesh& tm, int W, int H) {
+  std::vector<char> inside(std::size_t(W) * std::size_t(H), 0);
+  for (auto f : tm.mesh().faces()) {
+    std::array<TS::UV2, 3> t;
+    int k = 0;
+    for (auto h : CGAL::halfedges_around_face(tm.mesh().halfedge(f), tm.mesh()))
+      t[std::size_t(k++)] = {{tm.uv(h).x() * W, tm.uv(h).y() * H}};
+    TS::rasterize_triangle(t, W, H,
+                           [&](int x, int y) { inside[std::size_t(y) * std::size_t(W) + std::size_t(x)] = 1; });
+  }
+  return inside;
+}
+
+}  // namespace
+
+// Atlases per level are painted from the input followed through the collapse history (the bake
+// looks up only the texels left). They must show what a bake of the same level shows: the same
+// UVs, and inside the charts nearly the same colours and normals (a tangent-space normal map,
+// whose painted normals are carried into the new faces' frames).
+TEST(LevelOfDetail, PerLevelAtlasesArePaintedAsTheyWouldBeBaked) {
+  const std::string path = std::string(CMGEOM_DATA_DIR) + "/textured/Duck/Duck.obj";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
+  const CMGeom::Textured_mesh input = duck_with_normal_map(path);
+  const std::size_t n = input.mesh().number_of_faces();
+  TS::Level_of_detail_options o;
+  o.target_faces = {n, n / 4, n / 20};
+  o.measure_error = false;
+  const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
+  ASSERT_EQ(r.levels.size(), 3u);
+  TS::Atlas_source source(input, o.atlas);
+  source.prepare();
+  for (std::size_t i = 1; i < r.levels.size(); ++i) {
+    const CMGeom::Textured_mesh& painted = r.levels[i].mesh;
+    CMGeom::Textured_mesh baked(painted.mesh());
+    TS::rebuild_atlas(source, baked, o.atlas);
+    auto hp = painted.mesh().halfedges().begin();
+    for (auto h : baked.mesh().halfedges()) {
+      if (!baked.mesh().is_border(h)) ASSERT_EQ(baked.uv(h), painted.uv(*hp));
+      ++hp;
+    }
+    const CMGeom::Image& pc = painted.materials().at(0).diffuse_image;
+    const CMGeom::Image& bc = baked.materials().at(0).diffuse_image;
+    const CMGeom::Image& pn = painted.materials().at(0).normal_image;
+    const CMGeom::Image& bn = baked.materials().at(0).normal_image;
+    ASSERT_FALSE(pn.empty());
+    ASSERT_EQ(pc.width(), bc.width());
+    const int W = pc.width(), H = pc.height();
+    const std::vector<char> inside = texels_inside(baked, W, H);
+    std::size_t texels = 0, colour_close = 0, normal_close = 0;
+    double angle_sum = 0;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        if (!inside[std::size_t(y) * std::size_t(W) + std::size_t(x)]) continue;
+        const int row = H - 1 - y;
+        ++texels;
+        double dc = 0, dot = 0, lp = 0, lb = 0;
+        for (int c = 0; c < 3; ++c) {
+          dc = std::max(dc, double(std::abs(pc.value(x, row, c) - bc.value(x, row, c))));
+          const double a = 2.0 * pn.value(x, row, c) - 1, b = 2.0 * bn.value(x, row, c) - 1;
+          dot += a * b;
+          lp += a * a;
+          lb += b * b;
+        }
+        const double angle = std::acos(std::clamp(dot / std::sqrt(lp * lb), -1.0, 1.0)) * 180 / 3.14159265358979;
+        angle_sum += angle;
+        colour_close += dc <= 8.0 / 255;
+        normal_close += angle <= 3.0;
+      }
+    std::cout << "level " << i << ": " << texels
+              << " texels in the charts; painted as baked (colour within 8/255): " << colour_close
+              << ", normals within 3 degrees: " << normal_close << ", mean angle " << angle_sum / double(texels)
+              << "\n";
+    ASSERT_GT(texels, std::size_t(10000));
+    // painted, not baked: most of the charts' texels came from the painter
+    std::cout << "  painted " << r.levels[i].atlas.texels_painted << " of " << r.levels[i].atlas.texels_baked << "\n";
+    EXPECT_GE(double(r.levels[i].atlas.texels_painted), 0.9 * double(r.levels[i].atlas.texels_baked));
+    EXPECT_GE(double(colour_close), 0.9 * double(texels));
+    EXPECT_GE(double(normal_close), 0.9 * double(texels));
+  }
+}
+
+// A painter that gives every texel the object-space normal of the new face under it: the baked
+// tangent-space normal map is then flat, (0, 0, 1), on every texel inside the charts, so the given
+// normals are expressed in the new faces' frames and not looked up on the original.
+TEST(LevelOfDetail, GivenNormalsAreExpressedInTheNewFacesFrames) {
+  const std::string path = std::string(CMGEOM_DATA_DIR) + "/textured/Duck/Duck.obj";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
+  const CMGeom::Textured_mesh input = duck_with_normal_map(path);
+  TS::Atlas_options ao;
+  TS::Atlas_source source(input, ao);
+  source.prepare();
+  ASSERT_TRUE(source.has_normal_maps());
+  CMGeom::Textured_mesh level(input.mesh());
+  const TS::internal::Atlas_painter painter = [&](const CMGeom::Textured_mesh& m, TS::internal::Atlas_paint& paint) {
+    const int W = paint.colours.width(), H = paint.colours.height();
+    paint.normals.assign(3 * std::size_t(W) * std::size_t(H), 0.f);
+    for (auto f : m.mesh().faces()) {
+      std::array<TS::UV2, 3> t;
+      std::array<Point_3, 3> p;
+      int k = 0;
+      for (auto h : CGAL::halfedges_around_face(m.mesh().halfedge(f), m.mesh())) {
+        t[std::size_t(k)] = {{m.uv(h).x() * W, m.uv(h).y() * H}};
+        p[std::size_t(k++)] = m.mesh().point(m.mesh().target(h));
+      }
+      CMGeom::Kernel::Vector_3 nrm = CGAL::cross_product(p[1] - p[0], p[2] - p[0]);
+      const double l = std::sqrt(nrm.squared_length());
+      if (!(l > 0)) continue;
+      nrm = nrm / l;
+      TS::rasterize_triangle(t, W, H, [&](int x, int y) {
+        const std::size_t at = std::size_t(y) * std::size_t(W) + std::size_t(x);
+        paint.given[at] = 1;
+        paint.normals[3 * at] = float(nrm.x());
+        paint.normals[3 * at + 1] = float(nrm.y());
+        paint.normals[3 * at + 2] = float(nrm.z());
+      });
+    }
+  };
+  TS::rebuild_atlas(source, level, ao, &painter);
+  const CMGeom::Image& nm = level.materials().at(0).normal_image;
+  ASSERT_FALSE(nm.empty());
+  const int W = nm.width(), H = nm.height();
+  const std::vector<char> inside = texels_inside(level, W, H);
+  std::size_t texels = 0, flat = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      if (!inside[std::size_t(y) * std::size_t(W) + std::size_t(x)]) continue;
+      ++texels;
+      const int row = H - 1 - y;
+      flat += std::abs(nm.value(x, row, 0) - 0.5f) <= 2.0f / 255 &&
+              std::abs(nm.value(x, row, 1) - 0.5f) <= 2.0f / 255 && nm.value(x, row, 2) >= 1.0f - 2.0f / 255;
+    }
+  std::cout << "flat normals: " << flat << " of " << texels << " texels in the charts\n";
+  ASSERT_GT(texels, std::size_t(10000));
+  // texels on a chart's border may take a neighbouring face's normal (faces sharing texels)
+  EXPECT_GE(double(flat), 0.98 * double(texels));
+}

@@ -5,7 +5,8 @@
 // simplify_mesh() run down to the smallest target and the mesh is copied each time the face count
 // reaches a level's target, so every level is the same collapse sequence stopped earlier. Levels
 // may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
-// measure, not a guarantee). Texture: an atlas per level baked from the input (default), or one
+// measure, not a guarantee). Texture: an atlas per level (default), painted from the input
+// followed down the collapses onto that level and baked where no input face lands, or one
 // shared texture, the coarsest level's atlas, which every finer level addresses (the thesis' future
 // work of levels sharing one texture, §7.1). A finer level is mapped into that atlas through the
 // collapse history (Collapse_history): each of its vertices and faces is followed down the
@@ -165,7 +166,7 @@ struct Level_snapshot {
   std::vector<std::uint32_t> face_of_point;
 };
 
-/// The collapse history of points, for the shared texture. Every vertex and every face centroid of
+/// The collapse history of points, for painting the atlases. Every vertex and every face centroid of
 /// the input and of each finer level is a point attached to a face of the mesh being simplified; a
 /// collapse or a flip moves the points of the faces it changes to the nearest face of the new star
 /// (Surface_memory's point gathering, the thesis' §4.3, with every point kept). So a point of a
@@ -215,15 +216,20 @@ public:
     for (std::size_t i = 0; i < on.size(); ++i)
       if (on[i] != Mesh::null_face() && std::size_t(on[i]) < copy_face.size())
         s.face_of_point[i] = copy_face[std::size_t(on[i])];
-    add_points(work, v2v, f2f, s.mesh.number_of_vertices(), s.mesh.number_of_faces(), s);
+    if (follow_levels_) add_points(work, v2v, f2f, s.mesh.number_of_vertices(), s.mesh.number_of_faces(), s);
     return s;
   }
+
+  /// Whether take() makes the copy's vertices and faces points too (default; one shared texture
+  /// maps every level through the history, an atlas per level only the input).
+  void follow_levels(bool yes) { follow_levels_ = yes; }
 
   void before_collapse(const Mesh& tm, Mesh::Halfedge_index h) { memory_.before_collapse(tm, h); }
   void after_collapse(const Mesh& tm, Vertex v) { memory_.after_collapse(tm, v); }
   void after_flip(const Mesh& tm, Mesh::Halfedge_index h) { memory_.after_flip(tm, h); }
 
 private:
+  bool follow_levels_ = true;
   static V3 vec(const Point_3& p) { return V3(p.x(), p.y(), p.z()); }
 
   void add_points(const Mesh& work, const std::vector<std::pair<Vertex, Vertex>>& v2v,
@@ -591,7 +597,8 @@ void grow_rings(int W, int H, int rings, const Labelled& is_labelled, const Open
   }
 }
 
-/// Paints the shared atlas `image` (made for `coarse`) from the original itself: every original
+/// Paints the atlas `paint.colours` of `coarse` (the shared one made for the coarsest level, or a
+/// level's own) from the original itself: every original
 /// face, at the texture coordinates map_by_history() gave it (`original_mapped`, the original's
 /// faces in order), is rasterised into the atlas and each texel it covers takes the original's
 /// colour at that point of the face (Atlas_source::colour_at). A texel keeps the colour of the
@@ -599,17 +606,20 @@ void grow_rings(int W, int H, int rings, const Labelled& is_labelled, const Open
 /// faces of the chart it belongs to: a chart's own texels and the gutter texels nearer to it than
 /// to any other chart, up to `gutter_texels` away (farther texels by any). So a corner extended
 /// past its chart's border reads that chart's colours, not a neighbouring chart's. The painted
-/// colours then grow over the unpainted texels of their chart (up to `gutter_texels` rings);
-/// `painted_out` receives the texels painted (rebuild_atlas() bakes the others from the coarse
-/// surface: this runs as its Atlas_painter). So the finest level reads the original's colours
+/// colours then grow over the unpainted texels of their chart (up to `gutter_texels` rings).
+/// `paint.given` receives the texels painted, `paint.faces` the original face each came from and,
+/// with normal maps, `paint.normals` the original's normals there in object space (rebuild_atlas()
+/// bakes the other texels from the coarse surface: this runs as its Atlas_painter). So the finest
+/// level reads the original's colours
 /// almost exactly, and a coarser level, whose points map to the same atlas points as the original
 /// points they stand for, reads those colours too. Rows are painted in parallel bands. Returns
 /// the fraction of the texels the original's faces cover that went to another face (hidden:
 /// parts of the original that fold onto the same place of the coarse surface).
 inline double paint_atlas_from_original(const Atlas_source& source, const Textured_mesh& coarse,
                                         const Textured_mesh& original_mapped, const std::vector<int>& chart_of_face,
-                                        const std::vector<double>& depth_of_face, int gutter_texels, Image& image,
-                                        std::vector<char>* painted_out = nullptr) {
+                                        const std::vector<double>& depth_of_face, int gutter_texels,
+                                        Atlas_paint& paint) {
+  Image& image = paint.colours;
   using Face = Surface_mesh::Face_index;
   const int W = image.width(), H = image.height(), C = image.channels();
   if (W <= 0 || H <= 0 || C != source.colour_channels()) return 0.0;
@@ -657,6 +667,9 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
   const int band = 16;
   std::atomic<std::size_t> covered{0}, won{0};
   std::vector<char> painted(std::size_t(W) * std::size_t(H), 0);
+  std::vector<float> normals;
+  if (source.has_normal_maps()) normals.assign(3 * std::size_t(W) * std::size_t(H), 0.f);
+  std::vector<std::uint32_t> faces(std::size_t(W) * std::size_t(H), 0);
   tbb::parallel_for(0, (H + band - 1) / band, [&](int b) {
     const int y0 = b * band, y1 = (std::min)(H, y0 + band);
     const std::size_t texels = std::size_t(y1 - y0) * std::size_t(W);
@@ -684,6 +697,7 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
       if (i == std::size_t(-1)) continue;
       ++band_won;
       painted[std::size_t(y0) * std::size_t(W) + j] = 1;
+      faces[std::size_t(y0) * std::size_t(W) + j] = std::uint32_t(i + 1);
       const auto& t = tri[i];
       const int x = int(j % std::size_t(W)), y = y0 + int(j / std::size_t(W));
       const double det = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
@@ -692,6 +706,13 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
       const double b2 = ((t[1][0] - t[0][0]) * (cy - t[0][1]) - (cx - t[0][0]) * (t[1][1] - t[0][1])) / det;
       source.colour_at(i, 1 - b1 - b2, b1, b2, c);
       for (int ch = 0; ch < C; ++ch) image.set_value(x, H - 1 - y, ch, c[ch]);  // image rows run down
+      if (!normals.empty()) {
+        const Vector_3 n = source.normal_at(i, 1 - b1 - b2, b1, b2);
+        const std::size_t at = 3 * (std::size_t(y0) * std::size_t(W) + j);
+        normals[at] = float(n.x());
+        normals[at + 1] = float(n.y());
+        normals[at + 2] = float(n.z());
+      }
     }
     covered += band_covered;
     won += band_won;
@@ -707,10 +728,15 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
         const int tx = int(to % std::size_t(W)), ty = int(to / std::size_t(W));
         const int fx = int(from % std::size_t(W)), fy = int(from / std::size_t(W));
         for (int ch = 0; ch < C; ++ch) image.set_value(tx, H - 1 - ty, ch, image.value(fx, H - 1 - fy, ch));
+        if (!normals.empty())
+          for (int k = 0; k < 3; ++k) normals[3 * to + std::size_t(k)] = normals[3 * from + std::size_t(k)];
+        faces[to] = faces[from];
         painted[to] = 1;
         return true;
       });
-  if (painted_out) *painted_out = std::move(painted);
+  paint.given = std::move(painted);
+  paint.normals = std::move(normals);
+  paint.faces = std::move(faces);
   return covered > 0 ? 1.0 - double(won) / double(covered) : 0.0;
 }
 
@@ -764,7 +790,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
   // error-bound mode: one run snapshots and measures, each bound takes the smallest snapshot it allows
   std::vector<internal::Level_snapshot> meshes;
   // shared texture: the collapse history of the input's and the levels' points
-  const bool follow = options.shared_texture && textured;
+  const bool follow = textured;
   std::optional<internal::Collapse_history> history;
   internal::Level_snapshot input_points;
   std::vector<std::pair<double, double>> measured;  // (hausdorff, rms) of the collapsed levels
@@ -775,6 +801,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
     if (uv.second) work.remove_property_map(uv.first);
     if (follow) {
       history.emplace(work);
+      history->follow_levels(options.shared_texture);
       input_points = history->add_input(work);
     }
     using EV = internal::Error_snapshot_visitor<Visitor>;
@@ -837,6 +864,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       if (uv.second) work.remove_property_map(uv.first);
       if (follow) {
         history.emplace(work);
+        history->follow_levels(options.shared_texture);
         input_points = history->add_input(work);
       }
       typename internal::Snapshot_visitor<Visitor>::State state{&collapsed, 0, {}};
@@ -884,17 +912,16 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       const std::vector<std::uint32_t>& on_coarsest = meshes.back().face_of_point;
       const double border_texels = 0.75 * ao.gutter_texels;
       int atlas_width = 0, atlas_height = 0;
-      const internal::Atlas_painter painter = [&](const Textured_mesh& coarse, Image& colours,
-                                                  std::vector<char>& given) {
-        atlas_width = colours.width();
-        atlas_height = colours.height();
+      const internal::Atlas_painter painter = [&](const Textured_mesh& coarse, internal::Atlas_paint& paint) {
+        atlas_width = paint.colours.width();
+        atlas_height = paint.colours.height();
         std::vector<int> chart_of_face;
         std::vector<double> depth_of_face;
         internal::map_by_history(coarse, original, input_points.vertex_point, input_points.face_point, on_coarsest,
                                  options.max_extrapolation, border_texels, atlas_width, atlas_height, &chart_of_face,
                                  &depth_of_face);
-        res.shared_texture_hidden = internal::paint_atlas_from_original(
-            *source, coarse, original, chart_of_face, depth_of_face, ao.gutter_texels, colours, &given);
+        res.shared_texture_hidden = internal::paint_atlas_from_original(*source, coarse, original, chart_of_face,
+                                                                        depth_of_face, ao.gutter_texels, paint);
       };
       coarsest.atlas = rebuild_atlas(*source, coarsest.mesh, ao, &painter);
       original.materials() = coarsest.mesh.materials();
@@ -906,8 +933,27 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       });
       for (std::size_t i = 0; i + 1 < res.levels.size(); ++i) res.levels[i].atlas = coarsest.atlas;
     } else {
-      for (std::size_t i = kept; i < res.levels.size(); ++i)
-        res.levels[i].atlas = rebuild_atlas(*source, res.levels[i].mesh, ao);
+      // each level's atlas is painted from the input mapped onto it through the collapse history
+      // (as the shared one), and the texels left are baked
+      auto build_level = [&](std::size_t i) {
+        const internal::Level_snapshot& snap = meshes[i - kept];
+        if (snap.face_of_point.empty()) {  // (no history)
+          res.levels[i].atlas = rebuild_atlas(*source, res.levels[i].mesh, ao);
+          return;
+        }
+        const internal::Atlas_painter painter = [&](const Textured_mesh& level, internal::Atlas_paint& paint) {
+          Textured_mesh mapped(input.mesh());
+          std::vector<int> chart_of_face;
+          std::vector<double> depth_of_face;
+          internal::map_by_history(level, mapped, input_points.vertex_point, input_points.face_point,
+                                   snap.face_of_point, options.max_extrapolation, 0.75 * ao.gutter_texels,
+                                   paint.colours.width(), paint.colours.height(), &chart_of_face, &depth_of_face);
+          internal::paint_atlas_from_original(*source, level, mapped, chart_of_face, depth_of_face, ao.gutter_texels,
+                                              paint);
+        };
+        res.levels[i].atlas = rebuild_atlas(*source, res.levels[i].mesh, ao, &painter);
+      };
+      for (std::size_t i = kept; i < res.levels.size(); ++i) build_level(i);
     }
   } else if (!textured) {
     for (auto& l : res.levels)

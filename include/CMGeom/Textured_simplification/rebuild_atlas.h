@@ -63,7 +63,8 @@ struct Atlas_result {
   int texture_width = 0, texture_height = 0;
   double texels_per_unit = 0;        ///< texel density of the packing (texels per length unit)
   double coverage = 0;               ///< fraction of the texels covered by triangles
-  std::size_t texels_baked = 0;      ///< texels looked up on the original
+  std::size_t texels_baked = 0;      ///< texels inside the charts (looked up on the original, or painted)
+  std::size_t texels_painted = 0;    ///< of which a painter gave (internal::Atlas_painter), not looked up
   std::size_t texels_unmatched = 0;  ///< of which had no facing original point within reach
   double seconds_charts = 0, seconds_bake = 0;
 };
@@ -175,12 +176,22 @@ private:
 }  // namespace internal
 
 namespace internal {
-/// Called by rebuild_atlas() once the simplified mesh has its new UVs, before the baking: it may
-/// paint texels of the atlas itself (`colours`, W x H with the atlas' colour channels, rows
-/// running down) and mark them in `given` (W x H, row y from the bottom as the UVs' v); those
-/// texels are not looked up on the original (level_of_detail.h's shared texture paints the
-/// original into its atlas this way).
-using Atlas_painter = std::function<void(const Textured_mesh& simplified, Image& colours, std::vector<char>& given)>;
+/// What an Atlas_painter gives rebuild_atlas(): texels of the atlas it painted itself, which are
+/// then not looked up on the original (level_of_detail.h paints the original into its atlases).
+struct Atlas_paint {
+  Image colours;            ///< W x H with the atlas' colour channels, rows running down
+  std::vector<char> given;  ///< W x H, row y from the bottom (as the UVs' v): the texels painted
+  /// Optional, with normal maps: the given texels' normals in object space, 3 floats per texel in
+  /// the order of `given` (Atlas_source::normal_at()); the baking expresses them in the new faces'
+  /// tangent frames. Left empty, the normals of the given texels are looked up.
+  std::vector<float> normals;
+  /// Optional: per texel, the original's face that painted it + 1 (0: none); the lookups of the
+  /// texels left start from the face of the given texel before them (a tight first bound).
+  std::vector<std::uint32_t> faces;
+};
+/// Called by rebuild_atlas() once the simplified mesh has its new UVs, before the baking, with
+/// `colours` and `given` sized and blank.
+using Atlas_painter = std::function<void(const Textured_mesh& simplified, Atlas_paint& paint)>;
 }  // namespace internal
 
 class Atlas_source;
@@ -387,6 +398,31 @@ public:
     for (int k = 0; k < colour_channels_; ++k) out[k] = c[k];
   }
 
+  /// Whether a used material has a normal map (the atlas then has one too).
+  bool has_normal_maps() const { return any_normal_; }
+
+  /// The normal, in object space, that the baking gives a point of the original's face `face` at
+  /// barycentric coordinates (w0, w1, w2) (clamped onto the face): the material's normal map there
+  /// in the face's tangent frame, or the face's normal without a normal map. Needs prepared().
+  Vector_3 normal_at(std::size_t face, double w0, double w1, double w2) const {
+    CGAL_precondition(prepared() && face < source_.size());
+    const Source& s = source_[face];
+    const auto& mats = *mats_;
+    const Material* mat =
+        s.material >= 0 && std::size_t(s.material) < mats.size() ? &mats[std::size_t(s.material)] : nullptr;
+    if (!mat || mat->normal_image.empty()) return s.frame[2];
+    w1 = (std::min)((std::max)(w1, 0.0), 1.0);
+    w2 = (std::min)((std::max)(w2, 0.0), 1.0 - w1);
+    w0 = 1 - w1 - w2;
+    const double u = w0 * s.uv[0][0] + w1 * s.uv[1][0] + w2 * s.uv[2][0];
+    const double v = w0 * s.uv[0][1] + w1 * s.uv[1][1] + w2 * s.uv[2][1];
+    const UV2 tx = region_.domain().to_texel({{u, v}});
+    float t[4] = {0.5f, 0.5f, 1.f, 1.f};
+    sample_original(region_, mat->normal_image, float(tx[0]), float(tx[1]), t, s.chart);
+    return internal::unit_or_zero((2.0 * t[0] - 1.0) * s.frame[0] + (2.0 * t[1] - 1.0) * s.frame[1] +
+                                  (2.0 * t[2] - 1.0) * s.frame[2]);
+  }
+
 private:
   friend Atlas_result rebuild_atlas(const Atlas_source&, Textured_mesh&, const Atlas_options&,
                                     const internal::Atlas_painter*);
@@ -458,14 +494,20 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
     }
 
   // 3. baking (of the texels a painter did not give)
-  Image given_colours;
-  std::vector<char> given;
+  internal::Atlas_paint paint;
   if (painter) {
-    given_colours = Image(W, H, colour_channels);
-    given.assign(std::size_t(W) * std::size_t(H), 0);
-    (*painter)(simplified, given_colours, given);
-    if (given.size() != std::size_t(W) * std::size_t(H)) given.clear();
+    paint.colours = Image(W, H, colour_channels);
+    paint.given.assign(std::size_t(W) * std::size_t(H), 0);
+    (*painter)(simplified, paint);
+    if (paint.given.size() != std::size_t(W) * std::size_t(H)) paint.given.clear();
+    if (paint.given.empty() || !any_normal || paint.normals.size() != 3 * paint.given.size()) paint.normals.clear();
+    if (paint.faces.size() != paint.given.size()) paint.faces.clear();
   }
+  const Image& given_colours = paint.colours;
+  const std::vector<char>& given = paint.given;
+  const std::vector<float>& given_normals = paint.normals;
+  const std::vector<std::uint32_t>& given_faces = paint.faces;
+  const bool normals_given = !given_normals.empty();
   auto give = [&](std::size_t i, float* c) {
     const int x = int(i % std::size_t(W)), y = int(i / std::size_t(W));
     for (int ch = 0; ch < colour_channels; ++ch) c[ch] = given_colours.value(x, H - 1 - y, ch);
@@ -477,7 +519,7 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   std::vector<std::uint32_t> dist(n, far), dist_normal;
   std::vector<float> colour(n * std::size_t(colour_channels), 0.f), normal_acc;
   if (any_normal) normal_acc.assign(n * 3, 0.f);
-  std::vector<std::size_t> baked_per_face(nf, 0), fixed_per_face(nf, 0);
+  std::vector<std::size_t> baked_per_face(nf, 0), fixed_per_face(nf, 0), painted_per_face(nf, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t fi = range.begin(); fi < range.end(); ++fi) {
       const auto& P = corner_point[fi];
@@ -500,8 +542,17 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
         const double b0 = 1 - b1 - b2;
         const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
         const bool is_given = !given.empty() && given[i];
-        if (is_given && !any_normal) {  // no lookup needed
+        if (is_given && (!any_normal || normals_given)) {  // no lookup needed
           give(i, &colour[i * std::size_t(colour_channels)]);
+          if (!given_faces.empty() && given_faces[i] != 0 && given_faces[i] <= source.size())
+            hint = std::size_t(given_faces[i] - 1);
+          ++painted_per_face[fi];
+          if (any_normal) {
+            const Vector_3 nobj(given_normals[3 * i], given_normals[3 * i + 1], given_normals[3 * i + 2]);
+            normal_acc[i * 3 + 0] = float(0.5 * (nobj * new_frame[0]) + 0.5);
+            normal_acc[i * 3 + 1] = float(0.5 * (nobj * new_frame[1]) + 0.5);
+            normal_acc[i * 3 + 2] = float(0.5 * (nobj * new_frame[2]) + 0.5);
+          }
           dist[i] = 0;
           ++baked_per_face[fi];
           return;
@@ -537,18 +588,7 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
         else
           src.colour_at(hit.face, w0, w1, w2, &colour[i * std::size_t(colour_channels)]);
         if (any_normal) {
-          const double u = w0 * s->uv[0][0] + w1 * s->uv[1][0] + w2 * s->uv[2][0];
-          const double v = w0 * s->uv[0][1] + w1 * s->uv[1][1] + w2 * s->uv[2][1];
-          const UV2 tx = region.domain().to_texel({{u, v}});
-          const Material* mat =
-              s->material >= 0 && std::size_t(s->material) < mats.size() ? &mats[std::size_t(s->material)] : nullptr;
-          Vector_3 nobj = s->frame[2];
-          if (mat && !mat->normal_image.empty()) {
-            float t[4] = {0.5f, 0.5f, 1.f, 1.f};
-            sample_original(region, mat->normal_image, float(tx[0]), float(tx[1]), t, s->chart);
-            nobj = I::unit_or_zero((2.0 * t[0] - 1.0) * s->frame[0] + (2.0 * t[1] - 1.0) * s->frame[1] +
-                                   (2.0 * t[2] - 1.0) * s->frame[2]);
-          }
+          const Vector_3 nobj = src.normal_at(hit.face, w0, w1, w2);
           const double a = nobj * new_frame[0], b = nobj * new_frame[1], z = nobj * new_frame[2];
           normal_acc[i * 3 + 0] = float(0.5 * a + 0.5);
           normal_acc[i * 3 + 1] = float(0.5 * b + 0.5);
@@ -562,8 +602,12 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   for (std::size_t i = 0; i < nf; ++i) {
     res.texels_baked += baked_per_face[i];
     res.texels_unmatched += fixed_per_face[i];
+    res.texels_painted += painted_per_face[i];
   }
+
   res.coverage = double(res.texels_baked) / double(n);
+  // (the gutters' normals are grown from the charts', given colours or not)
+  if (any_normal) dist_normal = dist;
   if (!given.empty())  // given texels outside the charts (gutters) are given too
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t i = r.begin(); i != r.end(); ++i)
@@ -572,7 +616,6 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
           dist[i] = 0;
         }
     });
-  if (any_normal) dist_normal = dist;
   // the two maps' gutters are filled at once (each fill is one pass over the texture)
   Image diffuse, normal_map;
   tbb::task_group fill;
