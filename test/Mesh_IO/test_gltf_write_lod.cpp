@@ -70,3 +70,32 @@ TEST(Mesh_IO_gltf_write, LevelsWithEqualDecodedTexturesShareOneImage) {
   EXPECT_EQ(j["images"].size(), 2u);
   EXPECT_EQ(j["materials"].size(), 2u);
 }
+
+TEST(Mesh_IO_gltf_write, ImagesEncodedTogetherGoToTheirOwnMaterials) {
+  // a chain's distinct atlases are encoded in parallel before the file is assembled: each
+  // material must still get its own image's pixels, and an image equal to an earlier one none
+  const std::string dir = scratch_dir();
+  std::vector<Material> mats(4);
+  std::vector<Textured_mesh> meshes;
+  for (int i = 0; i < 4; ++i) {
+    mats[std::size_t(i)].name = "level" + std::to_string(i);
+    mats[std::size_t(i)].diffuse_image = pattern_image(24 + 8 * i, 16, 11 + i);
+  }
+  mats[3].diffuse_image = mats[1].diffuse_image;  // the same pixels as level 1's
+  for (int i = 0; i < 4; ++i) meshes.push_back(textured_grid(8 - i, mats[std::size_t(i)]));
+  std::vector<IO::Gltf_level> levels;
+  for (int i = 0; i < 4; ++i)
+    levels.push_back(IO::Gltf_level{&meshes[std::size_t(i)], "l" + std::to_string(i), -1, -1});
+  const std::string path = out_path(dir, "chain.gltf");
+  IO::write_textured_gltf(path, levels);
+  const nlohmann::json j = read_json(path);
+  ASSERT_EQ(j["images"].size(), 3u);
+  ASSERT_EQ(j["materials"].size(), 4u);
+  for (std::size_t k = 0; k < 4; ++k) {
+    SCOPED_TRACE(k);
+    const int t = j["materials"][k]["pbrMetallicRoughness"]["baseColorTexture"]["index"].get<int>();
+    const int img = j["textures"][std::size_t(t)]["source"].get<int>();
+    const std::string uri = j["images"][std::size_t(img)]["uri"].get<std::string>();
+    EXPECT_TRUE(IO::read_image(out_path(dir, uri)) == mats[k].diffuse_image);
+  }
+}
