@@ -130,7 +130,14 @@ struct task_group_context_impl {
       return state(*c.my_actual_context);
     return static_cast<Context_state*>(c.my_itt_caller);
   }
-  static void create(task_group_context& c) { c.my_itt_caller = new Context_state; }
+  // As oneTBB's own initialize(): the constructor leaves the state and the parent uninitialised,
+  // and a state that happened to read as `proxy` made state() follow a stray pointer (a rare crash
+  // of the thread-sanitizer builds)
+  static void create(task_group_context& c) {
+    c.my_state.store(task_group_context::state::created, std::memory_order_relaxed);
+    c.my_parent = nullptr;
+    c.my_itt_caller = new Context_state;
+  }
   static void destroy(task_group_context& c) {
     delete static_cast<Context_state*>(c.my_itt_caller);
     c.my_itt_caller = nullptr;

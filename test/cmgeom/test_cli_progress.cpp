@@ -185,3 +185,23 @@ TEST(cmgeom_cli, QuietPipelinePrintsNothingOnStderr) {
   EXPECT_EQ(r.err, "");
   EXPECT_TRUE(fs::is_regular_file(fs::path(out) / "report.md"));
 }
+
+// Levels by error bound: the run's end is not known in advance (the bar counts towards one face);
+// the final progress line counts the faces the chain actually removed, down to its last level.
+TEST(cmgeom_cli, ProgressOfLevelsByErrorCountsTheFacesRemoved) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  // 20,480 faces: each snapshot's error is measured (about 1 s here), past the 0.5 s a line needs
+  const std::string sphere = cmgeom_test::write_text(dir, "sphere5.obj", cmgeom_test::icosphere_obj(5));
+  const auto r =
+      cmgeom_test::run_cli("lod '" + sphere + "' -o '" + dir + "/chain.glb' --max-errors 0,0.0005,0.001 --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const long faces_in = j.at("faces_in").get<long>();
+  const long last = j.at("levels").back().at("faces").get<long>();
+  ASSERT_GT(last, 1);
+  ASSERT_LT(last, faces_in);
+  const std::regex line("cmgeom: lod: done in [0-9]+\\.[0-9]{2} s \\(([0-9]+) faces removed\\)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.err, m, line)) << r.err;
+  EXPECT_EQ(std::stol(m[1].str()), faces_in - last) << r.err;
+}
