@@ -457,7 +457,6 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   CGAL_precondition(src.prepared());
   const auto& mats = *src.mats_;
   const auto& source = src.source_;
-  const auto& region = src.region_;
   const auto* finder = src.finder_.get();
   const int W = src.W_, H = src.H_, colour_channels = src.colour_channels_;
   const bool any_normal = src.any_normal_;
