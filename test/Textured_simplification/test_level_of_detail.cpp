@@ -316,6 +316,20 @@ TEST(LevelOfDetail, SharedTextureKeepsFoldingPartsApart) {
   }
 }
 
+// The texels inside the UV triangles of `tm`'s faces (W x H, row y from the bottom).
+std::vector<char> texels_inside(const CMGeom::Textured_mesh& tm, int W, int H) {
+  std::vector<char> inside(std::size_t(W) * std::size_t(H), 0);
+  for (auto f : tm.mesh().faces()) {
+    std::array<TS::UV2, 3> t;
+    int k = 0;
+    for (auto h : CGAL::halfedges_around_face(tm.mesh().halfedge(f), tm.mesh()))
+      t[std::size_t(k++)] = {{tm.uv(h).x() * W, tm.uv(h).y() * H}};
+    TS::rasterize_triangle(t, W, H,
+                           [&](int x, int y) { inside[std::size_t(y) * std::size_t(W) + std::size_t(x)] = 1; });
+  }
+  return inside;
+}
+
 // rebuild_atlas()'s painter hook (the shared texture paints the original this way): the texels
 // it gives keep its colours exactly, whether inside a chart or in a gutter, and the others are
 // baked from the original as without a painter.
@@ -351,15 +365,7 @@ TEST(LevelOfDetail, AtlasPainterTexelsAreKeptAndTheOthersBaked) {
   ASSERT_EQ(a.width(), W);
   ASSERT_EQ(b.height(), H);
   // the texels inside the charts (the faces' UV triangles)
-  std::vector<char> inside(std::size_t(W) * std::size_t(H), 0);
-  for (auto f : plain.mesh().faces()) {
-    std::array<TS::UV2, 3> t;
-    int k = 0;
-    for (auto h : CGAL::halfedges_around_face(plain.mesh().halfedge(f), plain.mesh()))
-      t[std::size_t(k++)] = {{plain.uv(h).x() * W, plain.uv(h).y() * H}};
-    TS::rasterize_triangle(t, W, H,
-                           [&](int x, int y) { inside[std::size_t(y) * std::size_t(W) + std::size_t(x)] = 1; });
-  }
+  const std::vector<char> inside = texels_inside(plain, W, H);
   std::size_t kept = 0, given_count = 0, baked_same = 0, others = 0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
@@ -414,20 +420,6 @@ CMGeom::Textured_mesh duck_with_normal_map(const std::string& path) {
     }
   duck.materials().at(0).normal_image = nm;
   return duck;
-}
-
-// The texels inside the UV triangles of `tm`'s faces (W x H, row y from the bottom).
-std::vector<char> texels_inside(const CMGeom::Textured_mesh& tm, int W, int H) {
-  std::vector<char> inside(std::size_t(W) * std::size_t(H), 0);
-  for (auto f : tm.mesh().faces()) {
-    std::array<TS::UV2, 3> t;
-    int k = 0;
-    for (auto h : CGAL::halfedges_around_face(tm.mesh().halfedge(f), tm.mesh()))
-      t[std::size_t(k++)] = {{tm.uv(h).x() * W, tm.uv(h).y() * H}};
-    TS::rasterize_triangle(t, W, H,
-                           [&](int x, int y) { inside[std::size_t(y) * std::size_t(W) + std::size_t(x)] = 1; });
-  }
-  return inside;
 }
 
 }  // namespace

@@ -789,8 +789,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
 
   // error-bound mode: one run snapshots and measures, each bound takes the smallest snapshot it allows
   std::vector<internal::Level_snapshot> meshes;
-  // shared texture: the collapse history of the input's and the levels' points
-  const bool follow = textured;
+  // textured: the collapse history of the input's points (and, for one shared texture, the levels')
   std::optional<internal::Collapse_history> history;
   internal::Level_snapshot input_points;
   std::vector<std::pair<double, double>> measured;  // (hausdorff, rms) of the collapsed levels
@@ -799,7 +798,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
     Surface_mesh work = input.mesh();
     auto uv = work.property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv");
     if (uv.second) work.remove_property_map(uv.first);
-    if (follow) {
+    if (textured) {
       history.emplace(work);
       history->follow_levels(options.shared_texture);
       input_points = history->add_input(work);
@@ -862,7 +861,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       Surface_mesh work = input.mesh();
       auto uv = work.property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv");
       if (uv.second) work.remove_property_map(uv.first);
-      if (follow) {
+      if (textured) {
         history.emplace(work);
         history->follow_levels(options.shared_texture);
         input_points = history->add_input(work);
@@ -902,6 +901,20 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
   const auto t_texture = Clock::now();
   prepare.wait();
   if (textured && !collapsed.empty()) {
+    // the input, mapped onto `level` (whose atlas has its charts) through the collapse history
+    // (`on_level`: the face of `level` each point ended on), paints that atlas; returns the share
+    // of the input's texels hidden
+    const double border_texels = 0.75 * ao.gutter_texels;
+    auto paint_input_onto = [&](const Textured_mesh& level, Textured_mesh& mapped,
+                                const std::vector<std::uint32_t>& on_level, internal::Atlas_paint& paint) {
+      std::vector<int> chart_of_face;
+      std::vector<double> depth_of_face;
+      internal::map_by_history(level, mapped, input_points.vertex_point, input_points.face_point, on_level,
+                               options.max_extrapolation, border_texels, paint.colours.width(), paint.colours.height(),
+                               &chart_of_face, &depth_of_face);
+      return internal::paint_atlas_from_original(*source, level, mapped, chart_of_face, depth_of_face, ao.gutter_texels,
+                                                 paint);
+    };
     if (options.shared_texture) {
       Level_of_detail& coarsest = res.levels.back();
       // the original, mapped into the coarsest level's atlas once that has its charts, paints it
@@ -910,18 +923,11 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       if (kept == 0) original_copy.emplace(input);
       Textured_mesh& original = kept > 0 ? res.levels.front().mesh : *original_copy;
       const std::vector<std::uint32_t>& on_coarsest = meshes.back().face_of_point;
-      const double border_texels = 0.75 * ao.gutter_texels;
       int atlas_width = 0, atlas_height = 0;
       const internal::Atlas_painter painter = [&](const Textured_mesh& coarse, internal::Atlas_paint& paint) {
         atlas_width = paint.colours.width();
         atlas_height = paint.colours.height();
-        std::vector<int> chart_of_face;
-        std::vector<double> depth_of_face;
-        internal::map_by_history(coarse, original, input_points.vertex_point, input_points.face_point, on_coarsest,
-                                 options.max_extrapolation, border_texels, atlas_width, atlas_height, &chart_of_face,
-                                 &depth_of_face);
-        res.shared_texture_hidden = internal::paint_atlas_from_original(*source, coarse, original, chart_of_face,
-                                                                        depth_of_face, ao.gutter_texels, paint);
+        res.shared_texture_hidden = paint_input_onto(coarse, original, on_coarsest, paint);
       };
       coarsest.atlas = rebuild_atlas(*source, coarsest.mesh, ao, &painter);
       original.materials() = coarsest.mesh.materials();
@@ -935,25 +941,18 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
     } else {
       // each level's atlas is painted from the input mapped onto it through the collapse history
       // (as the shared one), and the texels left are baked
-      auto build_level = [&](std::size_t i) {
-        const internal::Level_snapshot& snap = meshes[i - kept];
-        if (snap.face_of_point.empty()) {  // (no history)
+      for (std::size_t i = kept; i < res.levels.size(); ++i) {
+        const std::vector<std::uint32_t>& on_level = meshes[i - kept].face_of_point;
+        if (on_level.empty()) {  // (no history)
           res.levels[i].atlas = rebuild_atlas(*source, res.levels[i].mesh, ao);
-          return;
+          continue;
         }
         const internal::Atlas_painter painter = [&](const Textured_mesh& level, internal::Atlas_paint& paint) {
           Textured_mesh mapped(input.mesh());
-          std::vector<int> chart_of_face;
-          std::vector<double> depth_of_face;
-          internal::map_by_history(level, mapped, input_points.vertex_point, input_points.face_point,
-                                   snap.face_of_point, options.max_extrapolation, 0.75 * ao.gutter_texels,
-                                   paint.colours.width(), paint.colours.height(), &chart_of_face, &depth_of_face);
-          internal::paint_atlas_from_original(*source, level, mapped, chart_of_face, depth_of_face, ao.gutter_texels,
-                                              paint);
+          paint_input_onto(level, mapped, on_level, paint);
         };
         res.levels[i].atlas = rebuild_atlas(*source, res.levels[i].mesh, ao, &painter);
-      };
-      for (std::size_t i = kept; i < res.levels.size(); ++i) build_level(i);
+      }
     }
   } else if (!textured) {
     for (auto& l : res.levels)
