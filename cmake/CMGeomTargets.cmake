@@ -2,15 +2,17 @@
 #
 #   CMGeom::CMGeom     INTERFACE: the header library (CGAL, Eigen, TBB).
 #   CMGeom::Mesh_IO    compiled: textured-mesh readers/writers and validation (no image library).
-#   CMGeom::Image_IO   compiled: images through OpenImageIO, texture loading, OBJ+MTL+PNG output.
+#   CMGeom::Image_IO   compiled: images (PNG and JPEG with libpng and libjpeg, other formats through
+#                      OpenImageIO), texture loading, OBJ+MTL+PNG output.
 #   CMGeom::OSMesa     compiled, optional: the OSMesa backends (Rendering's Renderer, the
 #                      Textured_simplification index-texture resampler).
 #   CMGeom::Compact_model  compiled: explicit instantiations of the Compact_model templates for
 #                      their common arguments (src/Compact_model/CMakeLists.txt); optional for users,
 #                      it only saves compile time.
 #
-# OpenImageIO costs ~0.35 s start-up and ~260 shared libraries per binary: CMGeom::Image_IO loads
-# it as a module on the first image read or written (cmgeom_image_io_oiio below).
+# OpenImageIO costs ~0.2 s start-up and ~260 shared libraries per binary: CMGeom::Image_IO reads
+# PNG and JPEG and writes PNG itself, and loads OpenImageIO as a module on the first image of
+# another format (cmgeom_image_io_oiio below).
 
 include(GNUInstallDirs)
 
@@ -78,9 +80,10 @@ set_target_properties(cmgeom_image_io_oiio PROPERTIES LIBRARY_OUTPUT_DIRECTORY $
 
 add_library(CMGeom_Image_IO STATIC
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/image_io.cpp
+  ${PROJECT_SOURCE_DIR}/src/Mesh_IO/image_io_native.cpp
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/textured_mesh_io.cpp)
 add_library(CMGeom::Image_IO ALIAS CMGeom_Image_IO)
-target_link_libraries(CMGeom_Image_IO PUBLIC CMGeom::Mesh_IO ${CMAKE_DL_LIBS})
+target_link_libraries(CMGeom_Image_IO PUBLIC CMGeom::Mesh_IO PNG::PNG JPEG::JPEG ${CMAKE_DL_LIBS})
 target_include_directories(CMGeom_Image_IO PRIVATE ${PROJECT_SOURCE_DIR}/src)
 target_compile_definitions(CMGeom_Image_IO PRIVATE
   CMGEOM_IMAGE_IO_MODULE_BUILD_PATH="$<TARGET_FILE:cmgeom_image_io_oiio>"

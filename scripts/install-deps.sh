@@ -4,7 +4,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git ca-certificates
   libcgal-dev libeigen3-dev libboost-dev libgmp-dev libmpfr-dev libtbb-dev
-  libosmesa6-dev libopenimageio-dev libzstd-dev
+  libosmesa6-dev libopenimageio-dev libpng-dev libjpeg-dev libzstd-dev
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libmeshoptimizer-dev libopenmesh-dev draco time python3

@@ -1,16 +1,19 @@
-// Image IO: checks, error messages and atomic output here; the pixels are read and written by the
-// OpenImageIO module (image_io_oiio.cpp), loaded with dlopen on first use (see image_io_backend.h).
-// The module is looked for, in order, at $CMGEOM_IMAGE_IO_MODULE, where this build put it, and where
-// `cmake --install` puts it.
+// Image IO: checks, error messages and atomic output here. PNG (read and written) and JPEG (read) are
+// coded in process (image_io_native.cpp); every other format goes to the OpenImageIO module
+// (image_io_oiio.cpp), loaded with dlopen on first use (see image_io_backend.h). The module is looked
+// for, in order, at $CMGEOM_IMAGE_IO_MODULE, where this build put it, and where `cmake --install`
+// puts it.
 #include <CMGeom/Mesh_IO/Atomic_output.h>
 #include <CMGeom/Mesh_IO/image_io.h>
 
 #include "Mesh_IO/image_io_backend.h"
+#include "Mesh_IO/image_io_native.h"
 
 #include <dlfcn.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -65,43 +68,26 @@ void check(const std::string& file, const std::string& error) {
   if (!error.empty()) throw IO_error(file, error);
 }
 
-}  // namespace
-
-Image read_image(const std::string& path) {
+/// The whole file; throws IO_error when it is absent or unreadable.
+std::vector<unsigned char> file_bytes(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw IO_error(path, "image file not found");
-  Image img;
-  check(path, backend(path).read(path, img));
-  return img;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IO_error(path, "cannot open image file");
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw IO_error(path, "cannot read image file");
+  if (bytes.empty()) throw IO_error(path, "image file is empty");
+  return bytes;
 }
 
-Image read_image_from_memory(const std::vector<unsigned char>& bytes, const std::string& name) {
-  if (bytes.empty()) throw IO_error(name, "embedded image is empty");
-  Image img;
-  check(name, backend(name).read_memory(bytes, img));
-  return img;
+bool is_png_extension(std::string ext) {
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".png";
 }
 
-std::pair<int, int> image_size(const std::string& path) {
-  std::pair<int, int> wh{0, 0};
-  check(path, backend(path).size(path, wh));
-  return wh;
-}
-
-std::string write_image(const std::string& path, const Image& image, Atomic_output& out) {
-  if (image.empty()) throw IO_error(path, "refusing to write an empty image");
-  // The temporary name hides the extension the format is chosen from: pass it explicitly.
-  const std::string ext = std::filesystem::path(path).extension().string();
-  if (ext.empty()) throw IO_error(path, "image file name needs an extension (.png, .jpg, ...)");
-  const Image_io_backend& b = backend(path);
-  const std::string tmp = out.add(path);
-  check(path, b.write(tmp, ext, image));
-  return tmp;
-}
-
-std::vector<unsigned char> encode_image(const Image& image, const std::string& extension, const std::string& name) {
-  if (image.empty()) throw IO_error(name, "refusing to encode an empty image");
-  // The module writes files: encode into a private temporary file and take its bytes.
+/// Encodes through the module, which writes files: into a private temporary file, whose bytes are
+/// returned.
+std::vector<unsigned char> module_encode(const Image& image, const std::string& extension, const std::string& name) {
   namespace fs = std::filesystem;
   static std::atomic<unsigned> counter{0};
   std::error_code ec;
@@ -122,6 +108,83 @@ std::vector<unsigned char> encode_image(const Image& image, const std::string& e
   if (bytes.empty()) throw IO_error(name, "image encoding gave no bytes");
   return bytes;
 }
+
+}  // namespace
+
+Image read_image(const std::string& path) {
+  const std::vector<unsigned char> bytes = file_bytes(path);
+  Image img;
+  bool handled = false;
+  check(path, internal::native_decode(bytes.data(), bytes.size(), img, handled));
+  if (!handled) check(path, backend(path).read(path, img));
+  return img;
+}
+
+Image read_image_from_memory(const std::vector<unsigned char>& bytes, const std::string& name) {
+  if (bytes.empty()) throw IO_error(name, "embedded image is empty");
+  Image img;
+  bool handled = false;
+  check(name, internal::native_decode(bytes.data(), bytes.size(), img, handled));
+  if (!handled) check(name, backend(name).read_memory(bytes, img));
+  return img;
+}
+
+std::pair<int, int> image_size(const std::string& path) {
+  std::pair<int, int> wh{0, 0};
+  const std::vector<unsigned char> bytes = file_bytes(path);
+  if (internal::native_format(bytes.data(), bytes.size()) != internal::Native_format::none)
+    check(path, internal::native_size(bytes.data(), bytes.size(), wh));
+  else
+    check(path, backend(path).size(path, wh));
+  return wh;
+}
+
+std::string write_image(const std::string& path, const Image& image, Atomic_output& out) {
+  if (image.empty()) throw IO_error(path, "refusing to write an empty image");
+  // The temporary name hides the extension the format is chosen from: pass it explicitly.
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext.empty()) throw IO_error(path, "image file name needs an extension (.png, .jpg, ...)");
+  if (is_png_extension(ext)) {
+    std::vector<unsigned char> bytes;
+    check(path, internal::png_encode(image, bytes));
+    const std::string tmp = out.add(path);
+    std::ofstream o(tmp, std::ios::binary);
+    o.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    o.close();
+    if (!o) throw IO_error(path, "cannot write image (disk full or not writable?)");
+    return tmp;
+  }
+  const Image_io_backend& b = backend(path);
+  const std::string tmp = out.add(path);
+  check(path, b.write(tmp, ext, image));
+  return tmp;
+}
+
+std::vector<unsigned char> encode_image(const Image& image, const std::string& extension, const std::string& name) {
+  if (image.empty()) throw IO_error(name, "refusing to encode an empty image");
+  if (is_png_extension(extension)) {
+    std::vector<unsigned char> bytes;
+    check(name, internal::png_encode(image, bytes));
+    return bytes;
+  }
+  return module_encode(image, extension, name);
+}
+
+namespace internal {
+
+Image read_image_through_module(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw IO_error(path, "image file not found");
+  Image img;
+  check(path, backend(path).read(path, img));
+  return img;
+}
+
+std::vector<unsigned char> encode_png_through_module(const Image& image) {
+  return module_encode(image, ".png", "(image IO module)");
+}
+
+}  // namespace internal
 
 void write_image(const std::string& path, const Image& image) {
   Atomic_output out;

@@ -1,9 +1,11 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Image files through OpenImageIO (target CMGeom::Image_IO). PNG, JPEG, TIFF, EXR and whatever
-// else the installed OpenImageIO reads. Alpha is kept unassociated (straight), so an RGBA PNG
-// round trip is lossless. Writes are atomic (temporary file + rename).
+// Image files (target CMGeom::Image_IO): PNG (libpng) and JPEG (libjpeg) read in process, PNG
+// written in process; TIFF, EXR, JPEG output and whatever else the installed OpenImageIO handles
+// through OpenImageIO, loaded on first use of such a format. Pixel values are the file's (no gamma
+// conversion); alpha is kept unassociated (straight), so an RGBA PNG round trip is lossless. Writes
+// are atomic (temporary file + rename).
 #ifndef CMGEOM_MESH_IO_IMAGE_IO_H
 #define CMGEOM_MESH_IO_IMAGE_IO_H
 
@@ -40,6 +42,13 @@ std::string write_image(const std::string& path, const Image& image, Atomic_outp
 /// Encodes an image in memory in the format of `extension` (".png", ".jpg"): the bytes a file
 /// written by write_image() would hold. `name` appears in error messages.
 std::vector<unsigned char> encode_image(const Image& image, const std::string& extension, const std::string& name);
+
+namespace internal {
+/// Reading and PNG encoding through the OpenImageIO module even for PNG and JPEG (tests compare it
+/// with the in-process codecs).
+Image read_image_through_module(const std::string& path);
+std::vector<unsigned char> encode_png_through_module(const Image& image);
+}  // namespace internal
 
 }  // namespace IO
 }  // namespace CMGeom
