@@ -188,6 +188,9 @@ bool png_write(Png_write_state* s, const unsigned char* pixels, int W, int H, in
   }
   png_set_write_fn(png, s, png_write_to_memory, png_flush_nothing);
   png_set_compression_level(png, 3);
+  // the 'up' filter alone instead of libpng's choice per row among all five: on the atlases of
+  // DamagedHelmet, bob and texturedknot, 1.6-3 times faster to encode and 2-4 % smaller
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
   static const int colour_of[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
                                    PNG_COLOR_TYPE_RGB_ALPHA};
   png_set_IHDR(png, info, png_uint_32(W), png_uint_32(H), 8, colour_of[C], PNG_INTERLACE_NONE,

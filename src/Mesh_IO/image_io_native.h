@@ -36,7 +36,9 @@ std::string native_decode(const unsigned char* bytes, std::size_t size, Image& o
 std::string native_size(const unsigned char* bytes, std::size_t size, std::pair<int, int>& out);
 
 /// Encodes `image` as PNG (8 bits per channel; Float32 values clamped to [0,1] and rounded), zlib
-/// level 3: a 2048 x 2048 atlas encodes in half the time of level 6 for about 7 % more bytes.
+/// level 3 and the 'up' filter on every row: a 2048 x 2048 atlas (DamagedHelmet) encodes in 0.12 s
+/// where level 6 with libpng's adaptive filters takes 0.43 s, for 6.5 % more bytes (2.88 against
+/// 2.71 MB).
 std::string png_encode(const Image& image, std::vector<unsigned char>& out);
 
 }  // namespace internal
