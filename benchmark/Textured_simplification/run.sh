@@ -8,7 +8,8 @@
 # and one thread against two), RESULTS-policy.md (run_policy_comparison.sh: weighted against plain
 # quadrics on the textured models) and RESULTS-memory.md (run_memory_comparison.sh: geometry-only
 # simplification with and without the memoryful cost against CGAL and meshoptimizer), RESULTS-lod.md
-# (run_lod.py: level-of-detail chains against meshoptimizer-style LODs) and RESULTS-max-error.md
+# (run_lod.py: level-of-detail chains against meshoptimizer-style LODs), RESULTS-paint.md (run_paint.py:
+# the new atlas painted from the input or looked up texel by texel) and RESULTS-max-error.md
 # (run_max_error_bench.sh: the guaranteed error bound's face counts against the peers' at equal
 # measured error). Each script writes its whole
 # file (machine, threads and peer versions from common/describe_run.sh); none is edited by hand.
@@ -25,6 +26,8 @@ if [[ "${2:-}" == "--quick" ]]; then
   bash "$here/run_textured_scale.sh" "$build" --repeat 1
   python3 "$here/run_lod.py" --build "$build" --models spot --reps 2 --out "$here/RESULTS-lod.md" \
     --describe "$describe"
+  python3 "$here/run_paint.py" --build "$build" --models spot,Duck --reps 1 --out "$here/RESULTS-paint.md" \
+    --describe "$(describe_run)"
   bash "$here/run_max_error_bench.sh" "$build" --quick
 else
   sh "$here/run_bench.sh" "$build" --repeat 3
@@ -34,5 +37,6 @@ else
   bash "$here/run_policy_comparison.sh" "$build"
   bash "$here/run_memory_comparison.sh" "$build"
   python3 "$here/run_lod.py" --build "$build" --out "$here/RESULTS-lod.md" --describe "$describe"
+  python3 "$here/run_paint.py" --build "$build" --out "$here/RESULTS-paint.md" --describe "$(describe_run)"
   bash "$here/run_max_error_bench.sh" "$build"
 fi

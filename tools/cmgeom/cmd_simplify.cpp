@@ -1,20 +1,19 @@
 // cmgeom simplify <in> -o <out> (--faces N | --ratio r | --max-cost c | --max-error E) [--policy weighted|plain]
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
-//                 [--no-texture] [--keep-charts] [--freeze-seams] [--no-repair] [--memoryless]
+//                 [--no-texture] [--keep-charts] [--freeze-seams] [--bake-lookups] [--no-repair] [--memoryless]
 // Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
 // CMGeom's engine or CGAL's; on CMGeom's engine the quadric cost is completed by the memoryful
 // term of Surface_memory.h (the input's points kept on the faces) unless --memoryless. A
 // textured input (UVs and a texture image) is written as OBJ + MTL + PNG or as glTF/GLB: by default its
-// collapses ignore the charts (any target is reached) and a new atlas is baked from the input
-// (rebuild_atlas.h); with --keep-charts it goes through the
-// texture part of chapter 3 (chart constraints §3.5, index texture §3.3/§3.6), which stops where
-// the charts allow no more collapses. Anything else is simplified as geometry only, UVs dropped.
-// A non-manifold or inconsistently oriented input is repaired (a one-line warning says what
-// changed) unless --no-repair. --max-error E guarantees a Hausdorff distance of at most E (a
-// fraction of the input's diagonal) between output and input (Hausdorff_bound.h). Outputs are
-// written atomically. The geometry is simplified by
-// one call of simplify_mesh() (the target, the ratio's rounding and the engine are its own).
+// collapses ignore the charts (any target is reached) and a new atlas is painted from the input
+// followed down the collapses, the texels left looked up on it (rebuild_atlas.h); with --keep-charts it goes through
+// the texture part of chapter 3 (chart constraints §3.5, index texture §3.3/§3.6), which stops where the charts allow
+// no more collapses. Anything else is simplified as geometry only, UVs dropped. A non-manifold or inconsistently
+// oriented input is repaired (a one-line warning says what changed) unless --no-repair. --max-error E guarantees a
+// Hausdorff distance of at most E (a fraction of the input's diagonal) between output and input (Hausdorff_bound.h).
+// Outputs are written atomically. The geometry is simplified by one call of simplify_mesh() (the target, the ratio's
+// rounding and the engine are its own).
 #include "cli_common.h"
 #include "collapse_progress.h"
 
@@ -52,7 +51,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     int texture_size = 0;
     bool flips = false, json = false, repair = false, no_repair = false, no_texture = false, freeze_seams = false,
          memoryless = false;
-    bool keep_charts = false;
+    bool keep_charts = false, bake_lookups = false;
     CMGeom::IO::Gltf_options gltf;
   };
   auto o = std::make_shared<Options>();
@@ -100,6 +99,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   app.add_flag("--keep-charts", o->keep_charts,
                "Textured input: keep the input's charts (thesis §3.5; stops where no collapse keeps them) instead of "
                "baking a new atlas");
+  app.add_flag("--bake-lookups", o->bake_lookups,
+               "Textured input: look up every texel of the new atlas on the input (the closest facing point) instead "
+               "of painting it from the input followed down the collapses (slower; for comparison)");
   app.add_flag("--freeze-seams", o->freeze_seams,
                "Textured input, with --keep-charts: never move chart-boundary vertices (baseline)");
 
@@ -210,6 +212,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       to.keep_charts = o->keep_charts;
       to.flips = o->flips;
       to.surface_memory = !o->memoryless;
+      to.paint_from_history = !o->bake_lookups;
       cmgeom_cli::Collapse_progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
       const double t0 = cmgeom_cli::now_seconds();
 #ifdef CMGEOM_HAS_OSMESA
@@ -244,6 +247,10 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         j["charts"] = r.charts_kept ? "kept" : "rebuilt";
         j["flips"] = o->flips;
         j["surface_memory"] = !o->memoryless && !r.charts_kept;
+        if (!r.charts_kept) {
+          j["texels_baked"] = r.atlas.texels_baked;
+          j["texels_painted"] = r.atlas.texels_painted;
+        }
         if (r.charts_kept) j["texture_backend"] = o->texture_backend;
         j["faces_in"] = r.faces_in;
         if (has_target) j["target_faces"] = target;

@@ -641,19 +641,34 @@ inline void sample_original(const Index_texture& it, const Image& original, floa
     return;
   }
   if (ws == 0 && cn != 0u && std::isfinite(ax) && std::isfinite(ay)) {
+    // no tap inside any chart: the texel of the point's own chart nearest to it within 4 rings
+    // (chessboard distance), else of any chart within 8 (a face whose UVs lie in a gutter, outside
+    // every texel its chart covers: the gutter's colour is no colour of the model)
     const int cx = int(std::floor(ax)), cy = int(std::floor(ay));
-    for (int r = 1; r <= 4; ++r)
-      for (int dy = -r; dy <= r; ++dy)
-        for (int dx = -r; dx <= r; ++dx) {
+    int other_x = -1, other_y = -1;
+    bool own = false;
+    for (int r = 1; r <= 8 && !own; ++r) {
+      for (int dy = -r; dy <= r && !own; ++dy)
+        for (int dx = -r; dx <= r && !own; ++dx) {
           if ((std::max)(std::abs(dx), std::abs(dy)) != r) continue;
           const int x = cx + dx, y = cy + dy;
-          if (x < 0 || y < 0 || x >= it.width() || y >= it.height() || it.chart(x, y) != cn) continue;
-          const UV2 q = dom.from_texel(x + 0.5, y + 0.5);
-          const long long ix = (long long)std::floor(q[0] * W0), iy = (long long)std::floor((1.0 - q[1]) * H0);
-          const int wx = int(((ix % W0) + W0) % W0), wy = int(((iy % H0) + H0) % H0);
-          for (int c = 0; c < C; ++c) out[c] = original.value(wx, wy, c);
-          return;
+          if (x < 0 || y < 0 || x >= it.width() || y >= it.height()) continue;
+          const std::uint32_t k = it.chart(x, y);
+          own = k == cn && r <= 4;
+          if (own || (k != 0u && other_x < 0)) {
+            other_x = x;
+            other_y = y;
+          }
         }
+      if (other_x >= 0 && r >= 4) break;  // none of its own chart within 4: the nearest of another
+    }
+    if (other_x >= 0) {
+      const UV2 q = dom.from_texel(other_x + 0.5, other_y + 0.5);
+      const long long ix = (long long)std::floor(q[0] * W0), iy = (long long)std::floor((1.0 - q[1]) * H0);
+      const int wx = int(((ix % W0) + W0) % W0), wy = int(((iy % H0) + H0) % H0);
+      for (int c = 0; c < C; ++c) out[c] = original.value(wx, wy, c);
+      return;
+    }
   }
   for (int c = 0; c < C; ++c) out[c] = float(ws > 0 ? acc[c] / ws : acc_all[c]);
 }

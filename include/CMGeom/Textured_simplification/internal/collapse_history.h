@@ -1,0 +1,665 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// The collapse history and the painting of atlases from the input, shared by
+// simplify_textured_mesh() (its new atlas) and simplify_to_levels() (each level's atlas, or the one
+// shared by every level). The input's vertices and face centroids are points that follow the
+// collapses (Collapse_history, the thesis' point gathering of §4.3 with every point kept); after
+// the run each lies on the face of the simplified mesh its part of the surface became. Mapped
+// through that history into the simplified mesh's new atlas, the input's faces paint the atlas with
+// their own colours (paint_atlas_from_original); rebuild_atlas() then looks up only the texels no
+// input face reached. Not part of the documented interface.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_COLLAPSE_HISTORY_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_COLLAPSE_HISTORY_H
+
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/Textured_mesh.h>
+#include <CMGeom/Mesh_IO/charts.h>
+#include <CMGeom/Textured_simplification/Surface_memory.h>
+#include <CMGeom/Textured_simplification/rebuild_atlas.h>
+
+#include <CGAL/boost/graph/copy_face_graph.h>
+
+#include <boost/range/irange.hpp>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <iterator>
+#include <limits>
+#include <tuple>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace CMGeom {
+namespace Textured_simplification {
+namespace internal {
+
+/// Copies the live part of `from` (a mesh that may hold garbage) into a new garbage-free mesh.
+inline Surface_mesh compact_copy(const Surface_mesh& from) {
+  Surface_mesh to;
+  CGAL::copy_face_graph(from, to);
+  return to;
+}
+
+/// Forwards every engine call to the caller's visitor; the snapshot visitors below derive from it
+/// and add to OnCollapsed.
+template <class Visitor>
+struct Forwarding_visitor {
+  Visitor visitor;
+  template <class TM>
+  void OnStarted(TM& tm) const {
+    visitor.OnStarted(tm);
+  }
+  template <class TM>
+  void OnFinished(TM& tm) const {
+    visitor.OnFinished(tm);
+  }
+  template <class P>
+  void OnStopConditionReached(const P& p) const {
+    visitor.OnStopConditionReached(p);
+  }
+  template <class P, class C>
+  void OnCollected(const P& p, const C& c) const {
+    visitor.OnCollected(p, c);
+  }
+  template <class P, class C, class S>
+  void OnSelected(const P& p, const C& c, S i, S n) const {
+    visitor.OnSelected(p, c, i, n);
+  }
+  template <class P, class Pl>
+  void OnCollapsing(const P& p, const Pl& pl) const {
+    visitor.OnCollapsing(p, pl);
+  }
+  template <class P, class V>
+  void OnCollapsed(const P& p, const V& v) const {
+    visitor.OnCollapsed(p, v);
+  }
+  template <class P>
+  void OnNonCollapsable(const P& p) const {
+    visitor.OnNonCollapsable(p);
+  }
+  template <class TM, class H>
+  void OnFlipped(const TM& tm, const H& h) const {
+    visitor.OnFlipped(tm, h);
+  }
+};
+
+/// A copy of the mesh being simplified and, when the collapse history is followed (shared
+/// texture), the points that stand for its vertices and faces and where the earlier points lie on it.
+struct Level_snapshot {
+  Surface_mesh mesh;  ///< garbage-free
+  /// Per vertex / face of `mesh`: the index of the point that follows it down the collapses (nil: none).
+  std::vector<std::uint32_t> vertex_point, face_point;
+  /// Per point added before this snapshot: the face of `mesh` it lies on (nil: none).
+  std::vector<std::uint32_t> face_of_point;
+};
+
+/// The collapse history of points, for painting the atlases. Every vertex and every face centroid of
+/// the input and of each finer level is a point attached to a face of the mesh being simplified; a
+/// collapse or a flip moves the points of the faces it changes to the nearest face of the new star
+/// (Surface_memory's point gathering, the thesis' §4.3, with every point kept). So a point of a
+/// finer level ends on the coarse face its own part of the surface became. A global closest-point
+/// search cannot tell that where parts of a model fold onto one place of the coarse surface (a label
+/// over a bottle, a visor over a helmet): it gives both parts the same texels.
+class Collapse_history {
+public:
+  using Mesh = Surface_mesh;
+  using Vertex = Mesh::Vertex_index;
+  using Face = Mesh::Face_index;
+  using VPM = Mesh::Property_map<Vertex, Point_3>;
+  using V3 = CM::internal::Vec3;
+  static constexpr std::uint32_t nil = 0xffffffffu;
+
+  /// `work`: the (garbage-free) mesh about to be simplified; its vertices and faces are the
+  /// first points, returned with identity maps (`mesh` left empty).
+  explicit Collapse_history(const Mesh& work)
+      : memory_(work, work.points(), std::vector<std::tuple<Face, V3, double>>()) {}
+
+  /// The points of `work`'s own vertices and faces (the input's, before the first collapse).
+  Level_snapshot add_input(const Mesh& work) {
+    Level_snapshot s;
+    std::vector<std::pair<Vertex, Vertex>> v2v;
+    std::vector<std::pair<Face, Face>> f2f;
+    for (Vertex v : work.vertices()) v2v.emplace_back(v, v);
+    for (Face f : work.faces()) f2f.emplace_back(f, f);
+    add_points(work, v2v, f2f, work.number_of_vertices(), work.number_of_faces(), s);
+    return s;
+  }
+
+  /// A garbage-free copy of `work` with the faces of it every point added so far lies on; then the
+  /// copy's vertices and faces become points too. `work` must not have been compacted
+  /// (collect_garbage() renumbers the faces the points are attached to): snapshots are taken
+  /// inside the run, the last one when it finishes.
+  Level_snapshot take(const Mesh& work) {
+    Level_snapshot s;
+    std::vector<std::pair<Vertex, Vertex>> v2v;
+    std::vector<std::pair<Face, Face>> f2f;
+    CGAL::copy_face_graph(work, s.mesh,
+                          CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v))
+                              .face_to_face_output_iterator(std::back_inserter(f2f)));
+    std::vector<std::uint32_t> copy_face(work.number_of_faces() + work.number_of_removed_faces(), nil);
+    for (const auto& [from, to] : f2f) copy_face[std::size_t(from)] = std::uint32_t(to);
+    const std::vector<Face> on = memory_.faces_of_points();
+    s.face_of_point.resize(on.size(), nil);
+    for (std::size_t i = 0; i < on.size(); ++i)
+      if (on[i] != Mesh::null_face() && std::size_t(on[i]) < copy_face.size())
+        s.face_of_point[i] = copy_face[std::size_t(on[i])];
+    if (follow_levels_) add_points(work, v2v, f2f, s.mesh.number_of_vertices(), s.mesh.number_of_faces(), s);
+    return s;
+  }
+
+  /// Per point added so far: the face of the mesh being simplified it lies on (null_face(): none),
+  /// before any collect_garbage().
+  std::vector<Face> faces_of_points() const { return memory_.faces_of_points(); }
+
+  /// Whether take() makes the copy's vertices and faces points too (default; one shared texture
+  /// maps every level through the history, an atlas per level only the input).
+  void follow_levels(bool yes) { follow_levels_ = yes; }
+
+  void before_collapse(const Mesh& tm, Mesh::Halfedge_index h) { memory_.before_collapse(tm, h); }
+  void after_collapse(const Mesh& tm, Vertex v) { memory_.after_collapse(tm, v); }
+  void after_flip(const Mesh& tm, Mesh::Halfedge_index h) { memory_.after_flip(tm, h); }
+
+private:
+  bool follow_levels_ = true;
+  static V3 vec(const Point_3& p) { return V3(p.x(), p.y(), p.z()); }
+
+  void add_points(const Mesh& work, const std::vector<std::pair<Vertex, Vertex>>& v2v,
+                  const std::vector<std::pair<Face, Face>>& f2f, std::size_t nv, std::size_t nf, Level_snapshot& s) {
+    s.vertex_point.assign(nv, nil);
+    s.face_point.assign(nf, nil);
+    for (const auto& [from, to] : v2v)
+      for (auto h : CGAL::halfedges_around_target(from, work))
+        if (!work.is_border(h)) {  // an isolated vertex has no surface to follow
+          s.vertex_point[std::size_t(to)] = memory_.add_point(work.face(h), vec(work.point(from)));
+          break;
+        }
+    for (const auto& [from, to] : f2f) {
+      V3 c(0, 0, 0);
+      for (Vertex v : CGAL::vertices_around_face(work.halfedge(from), work)) c = c + vec(work.point(v));
+      s.face_point[std::size_t(to)] = memory_.add_point(from, (1. / 3.) * c);
+    }
+  }
+
+  Surface_memory<Mesh, VPM> memory_;
+};
+
+/// Forwards every call, and keeps the collapse history (when there is one) up to date.
+template <class Visitor>
+struct History_visitor : Forwarding_visitor<Visitor> {
+  Collapse_history* history;
+  History_visitor(const Visitor& v, Collapse_history* h) : Forwarding_visitor<Visitor>{v}, history(h) {}
+  template <class P, class Pl>
+  void OnCollapsing(const P& p, const Pl& pl) const {
+    this->visitor.OnCollapsing(p, pl);
+    if (history) history->before_collapse(p.surface_mesh(), p.v0_v1());
+  }
+  template <class TM, class H>
+  void OnFlipped(const TM& tm, const H& h) const {
+    this->visitor.OnFlipped(tm, h);
+    if (history) history->after_flip(tm, h);
+  }
+  /// For the OnCollapsed of the visitors below, before they look at the mesh.
+  template <class P, class V>
+  void collapsed(const P& p, const V& v) const {
+    this->visitor.OnCollapsed(p, v);
+    if (history) history->after_collapse(p.surface_mesh(), v);
+  }
+  /// A copy of `mesh`, with the history's points when there is one.
+  Level_snapshot snapshot(const Surface_mesh& mesh) const {
+    return history ? history->take(mesh) : Level_snapshot{compact_copy(mesh), {}, {}, {}};
+  }
+};
+
+/// A History_visitor for a run that takes no snapshot (simplify_textured_mesh()). When the run
+/// finishes, before simplify_mesh() compacts the mesh, it stores the face each point lies on in
+/// `on` and each live face's own index in the face property `before_compaction` ("f:cmgeom_before_
+/// compaction"), which renumbered_faces() reads once the mesh is compacted.
+template <class Visitor>
+struct Following_visitor : History_visitor<Visitor> {
+  std::vector<Surface_mesh::Face_index>* on;
+  Following_visitor(const Visitor& v, Collapse_history* h, std::vector<Surface_mesh::Face_index>* on_faces)
+      : History_visitor<Visitor>(v, h), on(on_faces) {}
+  template <class P, class V>
+  void OnCollapsed(const P& p, const V& v) const {
+    this->collapsed(p, v);
+  }
+  void OnFinished(Surface_mesh& mesh) const {
+    this->visitor.OnFinished(mesh);
+    *on = this->history->faces_of_points();
+    auto before = mesh.add_property_map<Surface_mesh::Face_index, std::uint32_t>(before_compaction, 0).first;
+    for (auto f : mesh.faces()) before[f] = std::uint32_t(f);
+  }
+  static constexpr const char* before_compaction = "f:cmgeom_before_compaction";
+};
+
+/// With Following_visitor: the face of the compacted `mesh` each point lies on (nil: none); removes
+/// the property the visitor added.
+inline std::vector<std::uint32_t> renumbered_faces(Surface_mesh& mesh,
+                                                   const std::vector<Surface_mesh::Face_index>& on) {
+  using Face = Surface_mesh::Face_index;
+  std::vector<std::uint32_t> out(on.size(), Collapse_history::nil);
+  auto before = mesh.property_map<Face, std::uint32_t>(Following_visitor<int>::before_compaction);
+  if (!before.second) return out;
+  std::size_t slots = 0;
+  for (Face f : mesh.faces()) slots = (std::max)(slots, std::size_t(before.first[f]) + 1);
+  for (Face f : on)
+    if (f != Surface_mesh::null_face()) slots = (std::max)(slots, std::size_t(f) + 1);
+  std::vector<std::uint32_t> renumbered(slots, Collapse_history::nil);
+  for (Face f : mesh.faces()) renumbered[before.first[f]] = std::uint32_t(f);
+  mesh.remove_property_map(before.first);
+  for (std::size_t i = 0; i < on.size(); ++i)
+    if (on[i] != Surface_mesh::null_face()) out[i] = renumbered[std::size_t(on[i])];
+  return out;
+}
+
+/// Gives `fine` texture coordinates in the atlas of `coarse` (see the file comment) and the
+/// coarse mesh's materials. `vertex_point` and `face_point` are the points of the fine mesh's
+/// vertices and faces, `coarse_face_of_point` the coarse face each point lies on (Level_snapshot).
+/// A fine face goes into the chart of the coarse face its centroid's point lies on; a corner takes
+/// the coordinates of its point's place on its coarse face when that face is in the chart, else of
+/// its projection on the nearest face of the chart around that place, extended past the chart's
+/// border by at most `max_extrapolation` of the face (barycentric coordinates >= -it). When given,
+/// `chart_of_face` receives the chart of each fine face and `depth_of_face` the distance from its
+/// centroid to its coarse face.
+inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
+                           const std::vector<std::uint32_t>& vertex_point, const std::vector<std::uint32_t>& face_point,
+                           const std::vector<std::uint32_t>& coarse_face_of_point, double max_extrapolation,
+                           double border_texels, int atlas_width, int atlas_height,
+                           std::vector<int>* chart_of_face = nullptr, std::vector<double>* depth_of_face = nullptr) {
+  using Face = Surface_mesh::Face_index;
+  using Vertex = Surface_mesh::Vertex_index;
+  using V3 = CM::internal::Vec3;
+  constexpr std::size_t none = std::size_t(-1);
+  const Surface_mesh& cm = coarse.mesh();
+  Surface_mesh& fm = fine.mesh();
+  const double texels_u = (std::max)(1, atlas_width), texels_v = (std::max)(1, atlas_height);
+  // the coarse faces (garbage-free: indices 0..nc-1): triangles, UVs, charts
+  auto chart_map = get(CGAL::dynamic_face_property_t<int>(), cm);
+  compute_chart_ids(cm, coarse.uv_map(), chart_map);
+  const std::size_t nc = cm.number_of_faces();
+  std::vector<std::array<V3, 3>> tri(nc);
+  std::vector<std::array<Point_2, 3>> uvs(nc);
+  std::vector<int> chart(nc);
+  for (Face f : cm.faces()) {
+    const std::size_t i = std::size_t(f);
+    int k = 0;
+    for (auto h : CGAL::halfedges_around_face(cm.halfedge(f), cm)) {
+      const Point_3& p = cm.point(cm.target(h));
+      tri[i][std::size_t(k)] = V3(p.x(), p.y(), p.z());
+      uvs[i][std::size_t(k)] = coarse.uv(h);
+      ++k;
+    }
+    chart[i] = get(chart_map, f);
+  }
+  // each coarse face's neighbourhood: the faces around its corners, and the faces around theirs
+  std::vector<V3> normal(nc);
+  std::vector<std::vector<std::size_t>> ring(nc);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nc), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      normal[i] = CM::internal::normalized(CM::internal::cross(tri[i][1] - tri[i][0], tri[i][2] - tri[i][0]));
+      std::vector<std::size_t>& g = ring[i];
+      g.push_back(i);
+      for (int depth = 0; depth < 2; ++depth) {
+        const std::size_t end = g.size();
+        for (std::size_t j = 0; j < end; ++j)
+          for (Vertex c : CGAL::vertices_around_face(cm.halfedge(Face(Surface_mesh::size_type(g[j]))), cm))
+            for (Face a : CGAL::faces_around_target(cm.halfedge(c), cm))
+              if (a != Surface_mesh::null_face() && std::find(g.begin(), g.end(), std::size_t(a)) == g.end())
+                g.push_back(std::size_t(a));
+      }
+    }
+  });
+  auto vec = [](const Point_3& p) { return V3(p.x(), p.y(), p.z()); };
+  auto distance2 = [&](std::size_t f, const V3& p) {
+    return CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, tri[f][0], tri[f][1], tri[f][2]));
+  };
+  // the face a point's collapse history put it on, then the nearest face around it turned the way
+  // of the normal n (the history finds the part of the coarse surface, the local search the place)
+  auto home_of = [&](const std::vector<std::uint32_t>& points, std::size_t i, const V3& p, const V3& n) {
+    if (i >= points.size() || points[i] >= coarse_face_of_point.size()) return none;
+    const std::uint32_t f = coarse_face_of_point[points[i]];
+    if (f >= nc) return none;
+    std::size_t best = none, best_any = f;
+    double d_best = std::numeric_limits<double>::infinity(), d_any = d_best;
+    for (std::size_t g : ring[f]) {
+      const double d = distance2(g, p);
+      if (d < d_any) {
+        d_any = d;
+        best_any = g;
+      }
+      if (d < d_best && CM::internal::dot(normal[g], n) > 0) {
+        d_best = d;
+        best = g;
+      }
+    }
+    return best != none ? best : best_any;
+  };
+  // the face of `faces` (a non-empty range of coarse face indices) nearest to p, the first of equals
+  auto nearest_among = [&](const auto& faces, const V3& p) {
+    std::size_t best = *std::begin(faces);
+    double d_best = std::numeric_limits<double>::infinity();
+    for (std::size_t f : faces) {
+      const double d = distance2(f, p);
+      if (d < d_best) {
+        d_best = d;
+        best = f;
+      }
+    }
+    return best;
+  };
+  // texture coordinates of p's projection on coarse face f's plane, barycentric coordinates
+  // clamped to >= -extend and renormalised
+  auto uv_on = [&](std::size_t f, const V3& p, double extend) {
+    const auto& t = tri[f];
+    const V3 e1 = t[1] - t[0], e2 = t[2] - t[0], d = p - t[0];
+    const double a11 = CM::internal::dot(e1, e1), a12 = CM::internal::dot(e1, e2), a22 = CM::internal::dot(e2, e2);
+    const double b1 = CM::internal::dot(d, e1), b2 = CM::internal::dot(d, e2);
+    const double det = a11 * a22 - a12 * a12;
+    std::array<double, 3> w{{1.0 / 3, 1.0 / 3, 1.0 / 3}};
+    if (det > 0 && std::isfinite(det)) {
+      const double s = (a22 * b1 - a12 * b2) / det, u = (a11 * b2 - a12 * b1) / det;
+      w = {{1 - s - u, s, u}};
+      double sum = 0;
+      for (double& x : w) {
+        x = std::max(x, -extend);
+        sum += x;
+      }
+      for (double& x : w) x /= sum;
+    }
+    const auto& c = uvs[f];
+    return Point_2(w[0] * c[0].x() + w[1] * c[1].x() + w[2] * c[2].x(),
+                   w[0] * c[0].y() + w[1] * c[1].y() + w[2] * c[2].y());
+  };
+
+  // the fine mesh's vertex normals (area-weighted)
+  const std::size_t nf = fm.number_of_faces();
+  std::vector<V3> vertex_normal(fm.number_of_vertices(), V3(0, 0, 0));
+  for (Face f : fm.faces()) {
+    const auto h = fm.halfedge(f);
+    const V3 a = vec(fm.point(fm.source(h))), b = vec(fm.point(fm.target(h))), c = vec(fm.point(fm.target(fm.next(h))));
+    const V3 n = CM::internal::cross(b - a, c - a);
+    for (Vertex v : CGAL::vertices_around_face(h, fm))
+      vertex_normal[std::size_t(v)] = vertex_normal[std::size_t(v)] + n;
+  }
+  // each fine face's coarse face, chart and depth
+  std::vector<std::size_t> face_home(nf);
+  std::vector<int> face_chart(nf, 0);
+  std::vector<double> face_depth(nf, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const auto g = fm.halfedge(Face(Surface_mesh::size_type(i)));
+      const V3 a = vec(fm.point(fm.source(g))), b = vec(fm.point(fm.target(g))),
+               d = vec(fm.point(fm.target(fm.next(g))));
+      const V3 c = (1. / 3.) * (a + b + d);
+      std::size_t h = home_of(face_point, i, c, CM::internal::cross(b - a, d - a));
+      if (h == none) h = nearest_among(boost::irange(std::size_t(0), nc), c);  // a point the history lost
+      face_home[i] = h;
+      face_chart[i] = chart[h];
+      face_depth[i] = std::sqrt(distance2(h, c));
+    }
+  });
+
+  // one texture coordinate per (vertex, chart) used; the coarse faces of the fine faces around the
+  // vertex in that chart are where its search starts
+  struct Key_hash {
+    std::size_t operator()(const std::pair<std::uint32_t, int>& k) const {
+      return std::size_t(k.first) * 0x9E3779B97F4A7C15ull ^ std::size_t(k.second);
+    }
+  };
+  std::unordered_map<std::pair<std::uint32_t, int>, std::size_t, Key_hash> slot;
+  std::vector<std::pair<std::uint32_t, int>> keys;
+  std::vector<std::vector<std::size_t>> seeds;
+  for (Face f : fm.faces())
+    for (auto h : CGAL::halfedges_around_face(fm.halfedge(f), fm)) {
+      const std::pair<std::uint32_t, int> k{std::uint32_t(fm.target(h)), face_chart[std::size_t(f)]};
+      const auto [it, added] = slot.emplace(k, keys.size());
+      if (added) {
+        keys.push_back(k);
+        seeds.emplace_back();
+      }
+      auto& s = seeds[it->second];
+      if (std::find(s.begin(), s.end(), face_home[std::size_t(f)]) == s.end()) s.push_back(face_home[std::size_t(f)]);
+    }
+  std::vector<Point_2> uv_of(keys.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<std::size_t> around;
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const Vertex v(keys[i].first);
+      const int k = keys[i].second;
+      const V3 p = vec(fm.point(v));
+      const std::size_t own = home_of(vertex_point, std::size_t(v), p, vertex_normal[std::size_t(v)]);
+      if (own != none && chart[own] == k) {  // its place on its face: inside the face, no extension
+        // past the face's border (over a convex edge, a projection on the face's plane squashes the
+        // surface onto it) by at most `border_texels`, into the chart's neighbour or its gutter
+        const Point_2 in = uv_on(own, p, 0.0), out = uv_on(own, p, max_extrapolation);
+        const double dx = (out.x() - in.x()) * texels_u, dy = (out.y() - in.y()) * texels_v;
+        const double d = std::sqrt(dx * dx + dy * dy);
+        const double t = d > border_texels ? border_texels / d : 1.0;
+        uv_of[i] = Point_2(in.x() + t * (out.x() - in.x()), in.y() + t * (out.y() - in.y()));
+        continue;
+      }
+      // across a seam of the coarse atlas: the nearest face of the chart among the seeds and
+      // the faces around their corners
+      around.clear();
+      for (std::size_t s : seeds[i]) {
+        around.push_back(s);
+        for (Vertex c : CGAL::vertices_around_face(cm.halfedge(Face(Surface_mesh::size_type(s))), cm))
+          for (Face g : CGAL::faces_around_target(cm.halfedge(c), cm))
+            if (g != Surface_mesh::null_face() && chart[std::size_t(g)] == k) around.push_back(std::size_t(g));
+      }
+      uv_of[i] = uv_on(nearest_among(around, p), p, max_extrapolation);
+    }
+  });
+  for (Face f : fm.faces())
+    for (auto h : CGAL::halfedges_around_face(fm.halfedge(f), fm))
+      fine.set_uv(h, uv_of[slot.at({std::uint32_t(fm.target(h)), face_chart[std::size_t(f)]})]);
+  fine.materials() = coarse.materials();
+  for (Face f : fm.faces()) fine.material_map()[f] = 0;
+  fine.set_has_uvs(true);
+  if (chart_of_face) *chart_of_face = std::move(face_chart);
+  if (depth_of_face) *depth_of_face = std::move(face_depth);
+}
+
+/// Grows a texel labelling over the 4-neighbour grid of a W x H image, one ring at a time, at most
+/// `rings` rings: a texel `is_open` next to a labelled one (`is_labelled`, or labelled in an
+/// earlier ring) gets `take(texel, neighbour)`, which returns whether it took it. Serial and in texel
+/// order, so the result does not depend on the thread count; the work is the rings' texels.
+template <class Labelled, class Open, class Take>
+void grow_rings(int W, int H, int rings, const Labelled& is_labelled, const Open& is_open, const Take& take) {
+  const std::size_t w = std::size_t(W), n = std::size_t(W) * std::size_t(H);
+  auto for_neighbours = [&](std::size_t at, auto&& fn) {
+    const std::size_t x = at % w;
+    if (x > 0) fn(at - 1);
+    if (x + 1 < w) fn(at + 1);
+    if (at >= w) fn(at - w);
+    if (at + w < n) fn(at + w);
+  };
+  std::vector<std::size_t> front, next;
+  for (std::size_t at = 0; at < n; ++at) {
+    if (!is_labelled(at)) continue;
+    bool border = false;
+    for_neighbours(at, [&](std::size_t b) { border = border || is_open(b); });
+    if (border) front.push_back(at);
+  }
+  for (int ring = 0; ring < rings && !front.empty(); ++ring) {
+    next.clear();
+    for (std::size_t at : front)
+      for_neighbours(at, [&](std::size_t b) {
+        if (is_open(b) && take(b, at)) next.push_back(b);
+      });
+    front.swap(next);
+  }
+}
+
+/// Paints the atlas `paint.colours` of `coarse` (the shared one made for the coarsest level, or a
+/// level's own) from the original itself: every original
+/// face, at the texture coordinates map_by_history() gave it (`original_mapped`, the original's
+/// faces in order), is rasterised into the atlas and each texel it covers takes the original's
+/// colour at that point of the face (Atlas_source::colour_at). A texel keeps the colour of the
+/// original face nearest to the coarse surface among those covering it, and is written only by
+/// faces of the chart it belongs to: a chart's own texels and the gutter texels nearer to it than
+/// to any other chart, up to `gutter_texels` away (farther texels by any). So a corner extended
+/// past its chart's border reads that chart's colours, not a neighbouring chart's. The painted
+/// colours then grow over the unpainted texels of their chart (up to `gutter_texels` rings).
+/// `paint.given` receives the texels painted, `paint.faces` the original face each came from and,
+/// with normal maps, `paint.normals` the original's normals there in object space (rebuild_atlas()
+/// bakes the other texels from the coarse surface: this runs as its Atlas_painter). So the finest
+/// level reads the original's colours
+/// almost exactly, and a coarser level, whose points map to the same atlas points as the original
+/// points they stand for, reads those colours too. Rows are painted in parallel bands. Returns
+/// the fraction of the texels the original's faces cover that went to another face (hidden:
+/// parts of the original that fold onto the same place of the coarse surface).
+inline double paint_atlas_from_original(const Atlas_source& source, const Textured_mesh& coarse,
+                                        const Textured_mesh& original_mapped, const std::vector<int>& chart_of_face,
+                                        const std::vector<double>& depth_of_face, int gutter_texels,
+                                        Atlas_paint& paint) {
+  Image& image = paint.colours;
+  using Face = Surface_mesh::Face_index;
+  const int W = image.width(), H = image.height(), C = image.channels();
+  if (W <= 0 || H <= 0 || C != source.colour_channels()) return 0.0;
+  // the chart of every texel of the coarse atlas (-1: none)
+  const Surface_mesh& cm = coarse.mesh();
+  auto chart_map = get(CGAL::dynamic_face_property_t<int>(), cm);
+  compute_chart_ids(cm, coarse.uv_map(), chart_map);
+  std::vector<int> owner(std::size_t(W) * std::size_t(H), -1);
+  auto texel_triangle = [&](const Textured_mesh& tm, Face f) {
+    std::array<UV2, 3> t;
+    int k = 0;
+    for (auto h : CGAL::halfedges_around_face(tm.mesh().halfedge(f), tm.mesh())) {
+      const Point_2 p = tm.uv(h);
+      t[std::size_t(k++)] = {{p.x() * W, p.y() * H}};
+    }
+    return t;
+  };
+  for (Face f : cm.faces()) {
+    const int c = get(chart_map, f);
+    rasterize_triangle(texel_triangle(coarse, f), W, H,
+                       [&](int x, int y) { owner[std::size_t(y) * std::size_t(W) + std::size_t(x)] = c; });
+  }
+  // the gutters go to the nearest chart, one ring of texels at a time (4-neighbours)
+  grow_rings(
+      W, H, gutter_texels, [&](std::size_t at) { return owner[at] != -1; },
+      [&](std::size_t at) { return owner[at] == -1; },
+      [&](std::size_t to, std::size_t from) {
+        owner[to] = owner[from];
+        return true;
+      });
+  const Surface_mesh& om = original_mapped.mesh();
+  const std::size_t nf = om.number_of_faces();
+  std::vector<std::array<UV2, 3>> tri(nf);
+  std::vector<std::pair<int, int>> rows(nf);
+  for (Face f : om.faces()) {
+    const std::size_t i = std::size_t(f);
+    tri[i] = texel_triangle(original_mapped, f);
+    double lo = tri[i][0][1], hi = lo;
+    for (const auto& p : tri[i]) {
+      lo = (std::min)(lo, p[1]);
+      hi = (std::max)(hi, p[1]);
+    }
+    rows[i] = {int(std::floor(lo)) - 1, int(std::ceil(hi)) + 1};
+  }
+  const int band = 16;
+  std::atomic<std::size_t> covered{0}, won{0};
+  std::vector<char> painted(std::size_t(W) * std::size_t(H), 0);
+  std::vector<float> normals;
+  if (source.has_normal_maps()) normals.assign(3 * std::size_t(W) * std::size_t(H), 0.f);
+  std::vector<std::uint32_t> faces(std::size_t(W) * std::size_t(H), 0);
+  tbb::parallel_for(0, (H + band - 1) / band, [&](int b) {
+    const int y0 = b * band, y1 = (std::min)(H, y0 + band);
+    const std::size_t texels = std::size_t(y1 - y0) * std::size_t(W);
+    std::vector<double> best(texels, std::numeric_limits<double>::infinity());
+    std::vector<std::size_t> winner(texels, std::size_t(-1));
+    std::size_t band_covered = 0;
+    for (std::size_t i = 0; i < nf; ++i) {
+      if (rows[i].second < y0 || rows[i].first >= y1) continue;
+      const int k = chart_of_face[i];
+      const double depth = depth_of_face[i];
+      rasterize_triangle(tri[i], W, H, y0, y1, [&](int x, int y) {
+        const std::size_t at = std::size_t(y) * std::size_t(W) + std::size_t(x);
+        if (owner[at] != -1 && owner[at] != k) return;
+        ++band_covered;
+        const std::size_t j = std::size_t(y - y0) * std::size_t(W) + std::size_t(x);
+        if (depth >= best[j]) return;
+        best[j] = depth;
+        winner[j] = i;
+      });
+    }
+    std::size_t band_won = 0;
+    float c[4];
+    for (std::size_t j = 0; j < texels; ++j) {
+      const std::size_t i = winner[j];
+      if (i == std::size_t(-1)) continue;
+      ++band_won;
+      painted[std::size_t(y0) * std::size_t(W) + j] = 1;
+      faces[std::size_t(y0) * std::size_t(W) + j] = std::uint32_t(i + 1);
+      const auto& t = tri[i];
+      const int x = int(j % std::size_t(W)), y = y0 + int(j / std::size_t(W));
+      const double det = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
+      const double cx = x + 0.5, cy = y + 0.5;
+      const double b1 = ((cx - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (cy - t[0][1])) / det;
+      const double b2 = ((t[1][0] - t[0][0]) * (cy - t[0][1]) - (cx - t[0][0]) * (t[1][1] - t[0][1])) / det;
+      source.colour_at(i, 1 - b1 - b2, b1, b2, c);
+      for (int ch = 0; ch < C; ++ch) image.set_value(x, H - 1 - y, ch, c[ch]);  // image rows run down
+      if (!normals.empty()) {
+        const Vector_3 n = source.normal_at(i, 1 - b1 - b2, b1, b2);
+        const std::size_t at = 3 * (std::size_t(y0) * std::size_t(W) + j);
+        normals[at] = float(n.x());
+        normals[at + 1] = float(n.y());
+        normals[at + 2] = float(n.z());
+      }
+    }
+    covered += band_covered;
+    won += band_won;
+  });
+  // the original's colours grow over the texels of their chart that no original face covered
+  // (squashed strips over convex edges, the gutters), where the coarse bake may have found
+  // another part of the original (the bottle under a label): up to `gutter_texels` rings
+  grow_rings(
+      W, H, gutter_texels, [&](std::size_t at) { return painted[at] != 0; },
+      [&](std::size_t at) { return !painted[at] && owner[at] != -1; },
+      [&](std::size_t to, std::size_t from) {
+        if (owner[to] != owner[from]) return false;
+        const int tx = int(to % std::size_t(W)), ty = int(to / std::size_t(W));
+        const int fx = int(from % std::size_t(W)), fy = int(from / std::size_t(W));
+        for (int ch = 0; ch < C; ++ch) image.set_value(tx, H - 1 - ty, ch, image.value(fx, H - 1 - fy, ch));
+        if (!normals.empty())
+          for (int k = 0; k < 3; ++k) normals[3 * to + std::size_t(k)] = normals[3 * from + std::size_t(k)];
+        faces[to] = faces[from];
+        painted[to] = 1;
+        return true;
+      });
+  paint.given = std::move(painted);
+  paint.normals = std::move(normals);
+  paint.faces = std::move(faces);
+  return covered > 0 ? 1.0 - double(won) / double(covered) : 0.0;
+}
+
+/// Paints the atlas of `level` (`paint`, as an Atlas_painter is handed it) from the input followed
+/// down the collapses: `mapped` (the input's mesh, its faces in the input's order) gets texture
+/// coordinates in that atlas through the history (map_by_history(); `input_points`: the points of
+/// the input's vertices and faces, `on_level`: the face of `level` each point ended on), then its
+/// faces paint their own colours (paint_atlas_from_original()). Returns the share of the input's
+/// texels another part of the input took (parts folding onto one place of `level`).
+inline double paint_input_onto(const Atlas_source& source, const Level_snapshot& input_points,
+                               const Textured_mesh& level, Textured_mesh& mapped,
+                               const std::vector<std::uint32_t>& on_level, double max_extrapolation, int gutter_texels,
+                               Atlas_paint& paint) {
+  std::vector<int> chart_of_face;
+  std::vector<double> depth_of_face;
+  map_by_history(level, mapped, input_points.vertex_point, input_points.face_point, on_level, max_extrapolation,
+                 0.75 * gutter_texels, paint.colours.width(), paint.colours.height(), &chart_of_face, &depth_of_face);
+  return paint_atlas_from_original(source, level, mapped, chart_of_face, depth_of_face, gutter_texels, paint);
+}
+
+}  // namespace internal
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_COLLAPSE_HISTORY_H
