@@ -1,5 +1,5 @@
 // Tests of the levels of detail written by the glTF writer: the MSFT_lod node structure, images
-// shared between levels.
+// shared between levels, decoded images still equal to their files stored as the files.
 #include "gltf_write_test_util.h"
 
 // ------------------------------------------------------------------ levels of detail
@@ -97,5 +97,45 @@ TEST(Mesh_IO_gltf_write, ImagesEncodedTogetherGoToTheirOwnMaterials) {
     const int img = j["textures"][std::size_t(t)]["source"].get<int>();
     const std::string uri = j["images"][std::size_t(img)]["uri"].get<std::string>();
     EXPECT_TRUE(IO::read_image(out_path(dir, uri)) == mats[k].diffuse_image);
+  }
+}
+
+TEST(Mesh_IO_gltf_write, DecodedImagesStillEqualToTheirFilesKeepTheFilesBytes) {
+  // a level that is the input itself holds its texture decoded, with the file it came from: the
+  // file's bytes are stored (a JPEG stays a JPEG, not re-encoded); an image changed since it was
+  // read is encoded as PNG with its new pixels
+  const std::string dir = scratch_dir();
+  const std::string jpeg = out_path(dir, "albedo.jpg"), png = out_path(dir, "albedo.png");
+  IO::write_image(jpeg, pattern_image(32, 16, 5));
+  IO::write_image(png, pattern_image(16, 32, 6));
+  std::vector<Material> mats(3);
+  mats[0].name = "from_jpeg";
+  mats[0].diffuse_texture = jpeg;
+  mats[1].name = "from_png";
+  mats[1].diffuse_texture = png;
+  mats[2].name = "changed";
+  mats[2].diffuse_texture = png;
+  for (Material& m : mats) m.diffuse_image = IO::read_image(m.diffuse_texture);
+  mats[2].diffuse_image.set_value(3, 4, 0, 1.f - mats[2].diffuse_image.value(3, 4, 0));
+  std::vector<Textured_mesh> meshes;
+  for (int i = 0; i < 3; ++i) meshes.push_back(textured_grid(6 - i, mats[std::size_t(i)]));
+  std::vector<IO::Gltf_level> levels;
+  for (int i = 0; i < 3; ++i)
+    levels.push_back(IO::Gltf_level{&meshes[std::size_t(i)], "l" + std::to_string(i), -1, -1});
+  const std::string path = out_path(dir, "chain.gltf");
+  IO::write_textured_gltf(path, levels);
+  const nlohmann::json j = read_json(path);
+  ASSERT_EQ(j["images"].size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    SCOPED_TRACE(mats[k].name);
+    const int t = j["materials"][k]["pbrMetallicRoughness"]["baseColorTexture"]["index"].get<int>();
+    const int img = j["textures"][std::size_t(t)]["source"].get<int>();
+    const std::string stored = out_path(dir, j["images"][std::size_t(img)]["uri"].get<std::string>());
+    if (k < 2)
+      EXPECT_EQ(file_bytes(stored), file_bytes(mats[k].diffuse_texture)) << "the file's bytes were not kept";
+    else
+      EXPECT_NE(file_bytes(stored), file_bytes(mats[k].diffuse_texture));
+    EXPECT_EQ(fs::path(stored).extension().string(), k == 0 ? ".jpg" : ".png");
+    EXPECT_TRUE(IO::read_image(stored) == mats[k].diffuse_image);
   }
 }
