@@ -76,7 +76,7 @@ struct Level_of_detail_options {
   Atlas_options atlas;
   /// Shared texture: a corner past its chart's border is extended over it by at most this
   /// fraction of the coarse face it is projected on (barycentric coordinates >= -this).
-  double max_extrapolation = 0.5;
+  double max_extrapolation = internal::default_max_extrapolation;
   /// Measure every level's error against the input (Metrics::approximation_error).
   bool measure_error = true;
   /// Samples per direction of that measure; 0: 2 x the input's face count.

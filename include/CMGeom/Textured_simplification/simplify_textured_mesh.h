@@ -5,8 +5,8 @@
 // Textured_mesh. By default a new atlas is baked from the input after the collapses
 // (rebuild_atlas.h), so any face count is reached: the input's vertices and faces are followed
 // down the collapses and paint the new atlas with their own colours, and only the texels no input
-// face reaches are looked up on the input (internal/collapse_history.h); with `keep_charts` it is the thesis' method:
-// weighted quadric collapses (§3.4) under the chart constraints of §3.5, the index texture of §3.3
+// face reaches are looked up on the input (internal/collapse_history.h). With `keep_charts` it is
+// the thesis' method: weighted quadric collapses (§3.4) under the chart constraints of §3.5, the index texture of §3.3
 // rewritten at every collapse through the bijective mappings of §3.6 (by `Resampler`, the CPU
 // Index_texture_resampler or the bit-identical Osmesa_index_texture_resampler), and the output
 // textures generated through it. A mesh without a decoded texture keeps its UVs under the same
@@ -219,7 +219,7 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
     throw;
   }
   res.charts_in = source->charts();
-  mesh.collect_garbage();  // (simplify_mesh() did)
+  mesh.collect_garbage();  // (a no-op after simplify_mesh(), which compacts)
   // per point: the face of the output it ended on
   const std::vector<std::uint32_t> on_output =
       paint ? internal::renumbered_faces(mesh, on_before) : std::vector<std::uint32_t>();
@@ -229,9 +229,10 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   const auto t1 = std::chrono::steady_clock::now();
   prepare.wait();
   if (paint) {
-    const internal::Atlas_painter painter = [&](const Textured_mesh& simplified, internal::Atlas_paint& paint) {
+    const internal::Atlas_painter painter = [&](const Textured_mesh& simplified, internal::Atlas_paint& out) {
       Textured_mesh mapped(std::move(*input_copy));
-      internal::paint_input_onto(*source, input_points, simplified, mapped, on_output, 0.5, ao.gutter_texels, paint);
+      internal::paint_input_onto(*source, input_points, simplified, mapped, on_output,
+                                 internal::default_max_extrapolation, ao.gutter_texels, out);
     };
     res.atlas = rebuild_atlas(*source, tm, ao, &painter);
   } else {

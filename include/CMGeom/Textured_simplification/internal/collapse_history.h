@@ -217,10 +217,18 @@ struct History_visitor : Forwarding_visitor<Visitor> {
   }
 };
 
+/// How far past its chart's border a corner mapped through the history may be extended, as a
+/// fraction of the face it is projected on (map_by_history()'s `max_extrapolation`; the default of
+/// Level_of_detail_options and the value simplify_textured_mesh() uses).
+inline constexpr double default_max_extrapolation = 0.5;
+
+/// The face property in which Following_visitor keeps each face's index before compaction.
+inline constexpr const char* before_compaction_property = "f:cmgeom_before_compaction";
+
 /// A History_visitor for a run that takes no snapshot (simplify_textured_mesh()). When the run
 /// finishes, before simplify_mesh() compacts the mesh, it stores the face each point lies on in
-/// `on` and each live face's own index in the face property `before_compaction` ("f:cmgeom_before_
-/// compaction"), which renumbered_faces() reads once the mesh is compacted.
+/// `on` and each live face's own index in the face property before_compaction_property, which
+/// renumbered_faces() reads once the mesh is compacted.
 template <class Visitor>
 struct Following_visitor : History_visitor<Visitor> {
   std::vector<Surface_mesh::Face_index>* on;
@@ -233,10 +241,9 @@ struct Following_visitor : History_visitor<Visitor> {
   void OnFinished(Surface_mesh& mesh) const {
     this->visitor.OnFinished(mesh);
     *on = this->history->faces_of_points();
-    auto before = mesh.add_property_map<Surface_mesh::Face_index, std::uint32_t>(before_compaction, 0).first;
+    auto before = mesh.add_property_map<Surface_mesh::Face_index, std::uint32_t>(before_compaction_property, 0).first;
     for (auto f : mesh.faces()) before[f] = std::uint32_t(f);
   }
-  static constexpr const char* before_compaction = "f:cmgeom_before_compaction";
 };
 
 /// With Following_visitor: the face of the compacted `mesh` each point lies on (nil: none); removes
@@ -245,7 +252,7 @@ inline std::vector<std::uint32_t> renumbered_faces(Surface_mesh& mesh,
                                                    const std::vector<Surface_mesh::Face_index>& on) {
   using Face = Surface_mesh::Face_index;
   std::vector<std::uint32_t> out(on.size(), Collapse_history::nil);
-  auto before = mesh.property_map<Face, std::uint32_t>(Following_visitor<int>::before_compaction);
+  auto before = mesh.property_map<Face, std::uint32_t>(before_compaction_property);
   if (!before.second) return out;
   std::size_t slots = 0;
   for (Face f : mesh.faces()) slots = (std::max)(slots, std::size_t(before.first[f]) + 1);
