@@ -18,35 +18,22 @@ Usage: run_paint.py --build DIR [--ratios 0.1,0.05,0.02,0.01] [--size 256] [--re
 Writes one Markdown section (stdout, or --out FILE); progress on stderr.
 """
 import argparse
-import json
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 import shutil
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-import run_textured_peers as P  # noqa: E402  (model discovery)
-
-
-def log(msg):
-    print(msg, file=sys.stderr, flush=True)
+import run_textured_peers as P  # noqa: E402  (model discovery, log, run, last_json)
 
 
 def must(cmd):
-    t0 = time.monotonic()
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    dt = time.monotonic() - t0
-    if p.returncode != 0:
-        raise RuntimeError("%s failed (%d): %s" % (" ".join(cmd[:3]), p.returncode, p.stderr.strip()[-300:]))
-    return p.stdout, dt
-
-
-def last_json(text):
-    return json.loads(text[text.index("{"):])
+    rc, so, se, dt = P.run(cmd)
+    if rc != 0:
+        raise RuntimeError("%s failed (%d): %s" % (" ".join(cmd[:3]), rc, se.strip()[-300:]))
+    return so, dt
 
 
 def main():
@@ -71,16 +58,16 @@ def main():
         for name, m in models.items():
             tex = ["--texture", m["texture"]] if m["texture"] else []
             for r in ratios:
-                log("paint: %s %g" % (name, r))
+                P.log("paint: %s %g" % (name, r))
                 row = {"model": name, "ratio": r}
                 for mode, extra in (("painted", []), ("lookups", ["--bake-lookups"])):
                     out = os.path.join(work, "%s_%s_%g.obj" % (name, mode, r))
                     so, _ = must([cmgeom, "simplify", m["obj"], "-o", out, "--ratio", str(r), "--json"] + extra + tex)
-                    j = last_json(so)
+                    j = P.last_json(so)
                     row["faces"] = j["faces_out"]
                     row[mode + "_share"] = j["texels_painted"] / max(1, j["texels_baked"])
                     so, _ = must([cmgeom, "compare", m["obj"], out, "--json", "--size", str(a.size)] + tex)
-                    row[mode] = float(last_json(so)["rmse"])
+                    row[mode] = float(P.last_json(so)["rmse"])
                     row[mode + "_t"] = []
                 for _ in range(a.reps):
                     for mode, extra in (("painted", []), ("lookups", ["--bake-lookups"])):
@@ -127,7 +114,7 @@ def main():
     if a.out:
         with open(a.out, "w") as f:
             f.write(text)
-        log("wrote " + a.out)
+        P.log("wrote " + a.out)
     else:
         sys.stdout.write(text)
 

@@ -8,6 +8,7 @@
 
 #include "Mesh_IO/image_io_backend.h"
 #include "Mesh_IO/image_io_native.h"
+#include "Mesh_IO/io_internal.h"
 
 #include <dlfcn.h>
 #include <unistd.h>
@@ -68,17 +69,16 @@ void check(const std::string& file, const std::string& error) {
   if (!error.empty()) throw IO_error(file, error);
 }
 
-/// The whole file; throws IO_error when it is absent or unreadable.
-std::vector<unsigned char> file_bytes(const std::string& path) {
+/// The whole file (internal::slurp); throws IO_error when it is absent, unreadable or empty.
+std::string file_bytes(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw IO_error(path, "image file not found");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IO_error(path, "cannot open image file");
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw IO_error(path, "cannot read image file");
+  std::string bytes = internal::slurp(path);
   if (bytes.empty()) throw IO_error(path, "image file is empty");
   return bytes;
 }
+
+const unsigned char* data_of(const std::string& bytes) { return reinterpret_cast<const unsigned char*>(bytes.data()); }
 
 bool is_png_extension(std::string ext) {
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -112,10 +112,10 @@ std::vector<unsigned char> module_encode(const Image& image, const std::string& 
 }  // namespace
 
 Image read_image(const std::string& path) {
-  const std::vector<unsigned char> bytes = file_bytes(path);
+  const std::string bytes = file_bytes(path);
   Image img;
   bool handled = false;
-  check(path, internal::native_decode(bytes.data(), bytes.size(), img, handled));
+  check(path, internal::native_decode(data_of(bytes), bytes.size(), img, handled));
   if (!handled) check(path, backend(path).read(path, img));
   return img;
 }
@@ -131,9 +131,9 @@ Image read_image_from_memory(const std::vector<unsigned char>& bytes, const std:
 
 std::pair<int, int> image_size(const std::string& path) {
   std::pair<int, int> wh{0, 0};
-  const std::vector<unsigned char> bytes = file_bytes(path);
-  if (internal::native_format(bytes.data(), bytes.size()) != internal::Native_format::none)
-    check(path, internal::native_size(bytes.data(), bytes.size(), wh));
+  const std::string bytes = file_bytes(path);
+  if (internal::native_format(data_of(bytes), bytes.size()) != internal::Native_format::none)
+    check(path, internal::native_size(data_of(bytes), bytes.size(), wh));
   else
     check(path, backend(path).size(path, wh));
   return wh;
@@ -147,12 +147,7 @@ std::string write_image(const std::string& path, const Image& image, Atomic_outp
   if (is_png_extension(ext)) {
     std::vector<unsigned char> bytes;
     check(path, internal::png_encode(image, bytes));
-    const std::string tmp = out.add(path);
-    std::ofstream o(tmp, std::ios::binary);
-    o.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    o.close();
-    if (!o) throw IO_error(path, "cannot write image (disk full or not writable?)");
-    return tmp;
+    return write_file(path, std::string(bytes.begin(), bytes.end()), out);
   }
   const Image_io_backend& b = backend(path);
   const std::string tmp = out.add(path);

@@ -201,6 +201,15 @@ inline int part_levels(std::size_t faces, std::size_t target, const Mesh_simplif
   return levels;
 }
 
+/// Number of halvings simplify_mesh() makes of an input of `faces` faces under `o` (0: it runs as
+/// one piece): parts are used for a face target (or ratio) alone, on CMGeom's engine.
+inline int run_part_levels(std::size_t faces, const Mesh_simplification_options& o) {
+  std::optional<std::size_t> target = o.target_faces;
+  if (o.target_ratio) target = target_faces_for_ratio(faces, *o.target_ratio);
+  if (!target || o.max_cost || o.max_error || o.engine == Simplification_engine::cgal) return 0;
+  return part_levels(faces, *target, o);
+}
+
 /// Calls fn with the policy's own placement, or with Endpoint_placement over it.
 template <class Policy, class Fn>
 void collapse_with_placement(const Policy& policy, bool endpoint, Fn fn) {
@@ -406,9 +415,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
   if (!target || *target < res.faces_in) {
     Policy policy(mesh, options.quadric);
     std::optional<Memory> memory;
-    const int levels = target && !options.max_cost && !options.max_error && !cgal
-                           ? internal::part_levels(res.faces_in, *target, options)
-                           : 0;
+    const int levels = internal::run_part_levels(res.faces_in, options);
     if (levels > 0) {
       internal::simplify_in_parts(mesh, *target, levels, options, policy, memory);
       res.parts = std::size_t(1) << levels;

@@ -185,9 +185,8 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   if (options.target_faces > 0 || !options.max_error) so.target_faces = options.target_faces;
   so.max_error = options.max_error;
   so.before_changing_input = [&take] { take.wait(); };
-  const bool in_parts =
-      so.target_faces && !so.max_error && internal::part_levels(res.faces_in, *so.target_faces, so) > 0;
-  const bool paint = collapses && options.paint_from_history && !mesh.has_garbage() && !in_parts;
+  const bool paint = collapses && options.paint_from_history && !mesh.has_garbage() &&
+                     internal::run_part_levels(res.faces_in, so) == 0;
   std::optional<internal::Collapse_history> history;
   std::optional<Mesh> input_copy;
   internal::Level_snapshot input_points;
