@@ -1,5 +1,5 @@
 // Tests of the reconstruction of a Compact Model: analytic reproduction, crack-free and shared
-// vertices, parallel == serial, progress hook, along-normal rows, reused buffers, error decreasing
+// vertices, parallel == serial, progress hook, along-normal rows, reused buffers, huge-page resizes, error decreasing
 // with the level.
 #include "compact_model_test_util.h"
 
@@ -214,6 +214,25 @@ TEST(CompactModelReconstruction, ReusedBufferGivesTheFreshResult) {
       EXPECT_EQ(fresh.corner_uvs, buffer.corner_uvs);
       EXPECT_EQ(buffer.corner_uvs.empty(), !model->has_uvs());
     }
+}
+
+// resize_on_huge_pages() is resize() with a hint to the kernel: elements already there are kept,
+// new ones are value-initialised, whether the block is below or above the huge-page threshold.
+TEST(CompactModelReconstruction, HugePageResizeKeepsResizeSemantics) {
+  for (const std::size_t n : {std::size_t(1000), 2 * CMGeom::internal::huge_page_threshold / sizeof(Vec3)}) {
+    std::vector<Vec3> v = {Vec3(1, 2, 3), Vec3(4, 5, 6), Vec3(7, 8, 9)};
+    CMGeom::internal::resize_on_huge_pages(v, n);
+    ASSERT_EQ(v.size(), n);
+    EXPECT_GE(v.capacity(), n);
+    EXPECT_EQ(v[1].y, 5.);
+    EXPECT_EQ(v[2].z, 9.);
+    std::size_t nonzero = 0;
+    for (std::size_t i = 3; i < n; ++i) nonzero += v[i].x != 0. || v[i].y != 0. || v[i].z != 0.;
+    EXPECT_EQ(nonzero, 0u);
+    CMGeom::internal::resize_on_huge_pages(v, 2);  // shrinking keeps the first elements
+    ASSERT_EQ(v.size(), 2u);
+    EXPECT_EQ(v[1].x, 4.);
+  }
 }
 
 TEST(CompactModelReconstruction, ErrorDecreasesWithLevelOnSmoothModel) {

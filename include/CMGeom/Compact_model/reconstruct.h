@@ -21,6 +21,7 @@
 #include <CMGeom/Error.h>
 #include <CMGeom/Progress.h>
 #include <CMGeom/config.h>
+#include <CMGeom/internal/huge_pages.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -288,7 +289,7 @@ public:
   // One corner's term of the blend along N at barycentric (a0, a1, a2): adds (w / sum) times the
   // corner surface's point to p (inv = 1 / sum) and w times its unit normal to q. The point comes
   // from the corner frame's images L of the base triangle; the normal is weighted as w / |g| in
-  // one step (one square root, one division). interior() and along_normal_row() both use it, so
+  // one step (one square root, one division). interior() and along_normal_row_scalar() both use it, so
   // regular, adaptive and (identity-)mapped reconstructions along N agree bit for bit.
   CMGEOM_ALWAYS_INLINE void add_along_normal(const Local_frame& fr, const Local_surface& s,
                                              const std::array<Vec3, 3>& L, double a0, double a1, double a2, double w,
@@ -306,32 +307,35 @@ public:
       q += w * fr.N;
   }
 
-  // Phi along N at the interior grid points (i, j), i = 1 .. n-1-j, of row j of face f on the
-  // regular grid of step 1/n, written to pts[i - 1] and nrm[i - 1]: interior() with the corner
-  // frames, surfaces and local corner coordinates read once per row (the kernel of regular
-  // reconstruction); the results are bit-identical to interior()'s.
-  // With vertex maps, every point of the row is then mapped as interior() maps it (same
-  // normalised weights), so mapped rows also give interior()'s bits.
-  void along_normal_row(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts, Vec3* nrm) const {
+  // Phi along N at every interior grid point (i, j) of face f on the regular grid of step 1/n,
+  // rows j = 1 .. n-2, i = 1 .. n-1-j, written in that order to pts[] and nrm[] (consecutive, as
+  // the output stores a face's interior): interior() with the corner frames, surfaces and local
+  // corner coordinates read once per face (the kernel of regular reconstruction); the results
+  // are bit-identical to interior()'s. With vertex maps, every point is then mapped as
+  // interior() maps it (same normalised weights), so mapped faces also give interior()'s bits.
+  void along_normal_face(std::uint32_t f, std::size_t n, Vec3* pts, Vec3* nrm) const {
 #ifdef CMGEOM_CM_SIMD_ROWS
     if (simd::has_avx())
-      along_normal_row_avx(f, j, n, pts, nrm);
+      along_normal_face_avx(f, n, pts, nrm);
     else
 #endif
-      along_normal_row_scalar(f, j, n, pts, nrm);
+      for (std::size_t j = 1, k = 0; j + 1 < n; k += n - 1 - j, ++j) along_normal_row_scalar(f, j, n, pts + k, nrm + k);
     if (!maps_) return;
     const auto& F = m_.faces[f];
     const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
-    const double a2 = double(j) / double(n);
-    for (std::size_t i = 1; i + j < n; ++i) {
-      const double a1 = double(i) / double(n), a0 = double(n - i - j) / double(n);
-      const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
-      const double sum = w[0] + w[1] + w[2];
-      const double wn[3] = {w[0] / sum, w[1] / sum, w[2] / sum};
-      Sample s{pts[i - 1], nrm[i - 1]};
-      apply_vertex_maps(*maps_, 3, v, wn, s);
-      pts[i - 1] = s.point;
-      nrm[i - 1] = s.normal;
+    std::size_t k = 0;
+    for (std::size_t j = 1; j + 1 < n; ++j) {
+      const double a2 = double(j) / double(n);
+      for (std::size_t i = 1; i + j < n; ++i, ++k) {
+        const double a1 = double(i) / double(n), a0 = double(n - i - j) / double(n);
+        const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
+        const double sum = w[0] + w[1] + w[2];
+        const double wn[3] = {w[0] / sum, w[1] / sum, w[2] / sum};
+        Sample s{pts[k], nrm[k]};
+        apply_vertex_maps(*maps_, 3, v, wn, s);
+        pts[k] = s.point;
+        nrm[k] = s.normal;
+      }
     }
   }
 
@@ -355,31 +359,39 @@ public:
   }
 
 #ifdef CMGEOM_CM_SIMD_ROWS
-  // along_normal_row_scalar() on 4 consecutive points at a time: the same operations in the
-  // same order in every lane (Vec3 arithmetic spelled out component-wise, left to right). Lanes
-  // past the end of the row repeat its last point and are not stored.
-  __attribute__((target("avx"))) void along_normal_row_avx(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts,
-                                                           Vec3* nrm) const {
+  // along_normal_row_scalar() on 4 consecutive interior points of face f at a time, in the
+  // order of along_normal_face(); a group of lanes may span two rows (packing the rows instead of
+  // padding each one saves a tenth of the lanes at level 5). Every lane performs the same
+  // operations in the same order (Vec3 arithmetic spelled out component-wise, left to right).
+  // Lanes past the last point repeat it and are not stored.
+  __attribute__((target("avx"))) void along_normal_face_avx(std::uint32_t f, std::size_t n, Vec3* pts,
+                                                            Vec3* nrm) const {
     using D = simd::d4;
     using M = simd::m4;
     constexpr int W = 4;
     constexpr bool quadric_traits =
         std::is_same<Traits, Quadric_surface_traits>::value || std::is_same<Traits, Cubic_surface_traits>::value;
-    const std::size_t last = n - 1 - j;  // points i = 1 .. last
+    if (n < 3) return;
+    const std::size_t count = (n - 1) * (n - 2) / 2;
     const double step = 1. / double(n);
-    const D a2 = simd::splat(double(j) * step), vstep = simd::splat(step);
+    const D vstep = simd::splat(step);
     const D zero = simd::splat(0.), one = simd::splat(1.), big = simd::splat(DBL_MAX);
-    const D w2 = a2 * a2 * a2;
-    for (std::size_t i0 = 1; i0 <= last; i0 += W) {
-      D a0, a1;
+    std::size_t ci = 1, cj = 1;  // grid point of the next lane
+    for (std::size_t k0 = 0; k0 < count; k0 += W) {
+      D a0, a1, a2;
       for (int l = 0; l < W; ++l) {
-        const std::size_t i = std::min(i0 + std::size_t(l), last);
-        a1[l] = double(i);
-        a0[l] = double(n - i - j);
+        a1[l] = double(ci);
+        a2[l] = double(cj);
+        a0[l] = double(n - ci - cj);
+        if (k0 + std::size_t(l) + 1 < count && ++ci + cj == n) {  // else the last point again
+          ci = 1;
+          ++cj;
+        }
       }
       a1 = a1 * vstep;
       a0 = a0 * vstep;
-      const D w[3] = {a0 * a0 * a0, a1 * a1 * a1, w2};
+      a2 = a2 * vstep;
+      const D w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
       const D inv = one / (w[0] + w[1] + w[2]);
       D px = zero, py = zero, pz = zero, qx = zero, qy = zero, qz = zero;
       for (int c = 0; c < 3; ++c) {
@@ -440,10 +452,10 @@ public:
       const D r = simd::select(pos, one / len, one);
       const D nx = simd::select(pos, qx * r, qx), ny = simd::select(pos, qy * r, qy),
               nz = simd::select(pos, qz * r, qz);
-      const int valid = int(std::min<std::size_t>(W, last + 1 - i0));
+      const int valid = int(std::min<std::size_t>(W, count - k0));
       for (int l = 0; l < valid; ++l) {
-        pts[i0 + l - 1] = Vec3(px[l], py[l], pz[l]);
-        nrm[i0 + l - 1] = Vec3(nx[l], ny[l], nz[l]);
+        pts[k0 + l] = Vec3(px[l], py[l], pz[l]);
+        nrm[k0 + l] = Vec3(nx[l], ny[l], nz[l]);
       }
     }
   }
@@ -608,12 +620,13 @@ void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
   const std::size_t n = std::size_t(1) << level, V = m.vertices.size(), E = topo.edges.size(), F = m.faces.size();
   const std::size_t per_edge = n - 1, per_face = (n - 1) * (n - 2) / 2;
   const std::size_t edge_base = V, face_base = V + E * per_edge;
-  r.points.resize(face_base + F * per_face);
-  r.normals.resize(r.points.size());
-  r.triangles.resize(F * n * n);
-  r.base_face.resize(F * n * n);
+  // Large outputs fault in huge pages where the kernel gives them (internal/huge_pages.h).
+  CMGeom::internal::resize_on_huge_pages(r.points, face_base + F * per_face);
+  CMGeom::internal::resize_on_huge_pages(r.normals, r.points.size());
+  CMGeom::internal::resize_on_huge_pages(r.triangles, F * n * n);
+  CMGeom::internal::resize_on_huge_pages(r.base_face, F * n * n);
   if (m.has_uvs())
-    r.corner_uvs.resize(3 * F * n * n);
+    CMGeom::internal::resize_on_huge_pages(r.corner_uvs, 3 * F * n * n);
   else
     r.corner_uvs.clear();
   // Base vertices: Phi(v) = v; normal of the first corner that uses it.
@@ -669,13 +682,11 @@ void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
             const std::size_t before = (j - 1) * (n - 2) - (j - 1) * (j - 2) / 2;
             return std::uint32_t(face_base + f * per_face + before + (i - 1));
           };
-          // Interior points, row by row; their ids in a row are consecutive (see index()).
-          for (std::size_t j = 1; j + 1 < n; ++j) {
+          // Interior points, row by row; a face's are consecutive (see index()).
+          if (along_n_rows && n >= 3)
+            ev.along_normal_face(std::uint32_t(f), n, &r.points[index(1, 1)], &r.normals[index(1, 1)]);
+          for (std::size_t j = 1; j + 1 < n && !along_n_rows; ++j) {
             const std::uint32_t id = index(1, j);
-            if (along_n_rows) {
-              ev.along_normal_row(std::uint32_t(f), j, n, &r.points[id], &r.normals[id]);
-              continue;
-            }
             for (std::size_t i = 1; i + j < n; ++i) {
               const double a1 = double(i) / double(n), a2 = double(j) / double(n), a0 = double(n - i - j) / double(n);
               const Sample s = ev.interior(std::uint32_t(f), a0, a1, a2);
@@ -961,8 +972,8 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
   std::vector<std::size_t> face_offset(F + 1, edge_offset[E]);
   for (std::size_t f = 0; f < F; ++f) face_offset[f + 1] = face_offset[f] + fo[f].interior.size();
   Reconstruction r;
-  r.points.resize(face_offset[F]);
-  r.normals.resize(face_offset[F]);
+  CMGeom::internal::resize_on_huge_pages(r.points, face_offset[F]);
+  CMGeom::internal::resize_on_huge_pages(r.normals, face_offset[F]);
   for (std::size_t i = 0; i < V; ++i) r.points[i] = ev.base_point(i);
   std::vector<std::uint8_t> seen(V, 0);
   for (std::uint32_t f = 0; f < F; ++f)
