@@ -46,24 +46,46 @@ struct Edge_entry {
   bool forward;  // face walks lo -> hi
 };
 
+// Every face side of every edge, ordered by (lo, hi, face), sides of one face in face order. A
+// counting sort on `lo` (the entries are made face by face, so each bucket is already in face
+// order), then an insertion sort on `hi` inside each bucket (a vertex's few edges): linear, where
+// a comparison sort of the 3.2 M sides of a 1M-face mesh was a third of reading it.
 std::vector<Edge_entry> edge_entries(const Polygon_soup& s) {
-  std::vector<Edge_entry> e;
-  e.reserve(s.corner_vertex.size());
-  for (std::uint32_t f = 0; f < s.number_of_faces(); ++f) {
-    const std::uint32_t b = s.face_start[f], n = s.face_start[f + 1] - b;
-    for (std::uint32_t i = 0; i < n; ++i) {
-      const std::uint32_t ca = b + i, cb = b + (i + 1) % n;
-      const std::uint32_t va = s.corner_vertex[ca], vb = s.corner_vertex[cb];
-      if (va == vb) continue;  // repeated vertex: no edge
-      if (va < vb)
-        e.push_back({va, vb, f, ca, cb, true});
-      else
-        e.push_back({vb, va, f, cb, ca, false});
+  std::size_t nv = s.positions.size();  // (or past the largest vertex id, if a soup has a bad one)
+  for (std::uint32_t v : s.corner_vertex) nv = std::max(nv, std::size_t(v) + 1);
+  auto for_each_side = [&](auto&& f) {
+    for (std::uint32_t face = 0; face < s.number_of_faces(); ++face) {
+      const std::uint32_t b = s.face_start[face], n = s.face_start[face + 1] - b;
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const std::uint32_t ca = b + i, cb = b + (i + 1) % n;
+        const std::uint32_t va = s.corner_vertex[ca], vb = s.corner_vertex[cb];
+        if (va == vb) continue;  // repeated vertex: no edge
+        if (va < vb)
+          f(Edge_entry{va, vb, face, ca, cb, true});
+        else
+          f(Edge_entry{vb, va, face, cb, ca, false});
+      }
     }
-  }
-  std::sort(e.begin(), e.end(), [](const Edge_entry& a, const Edge_entry& b) {
-    return a.lo != b.lo ? a.lo < b.lo : (a.hi != b.hi ? a.hi < b.hi : a.face < b.face);
+  };
+  std::vector<std::uint32_t> start(nv + 1, 0);
+  std::size_t count = 0;
+  for_each_side([&](const Edge_entry& x) {
+    ++start[x.lo + 1];
+    ++count;
   });
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<Edge_entry> e(count);
+  {
+    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+    for_each_side([&](const Edge_entry& x) { e[next[x.lo]++] = x; });
+  }
+  for (std::size_t v = 0; v < nv; ++v)
+    for (std::uint32_t i = start[v] + 1; i < start[v + 1]; ++i) {  // stable: faces stay in order
+      const Edge_entry x = e[i];
+      std::uint32_t j = i;
+      for (; j > start[v] && e[j - 1].hi > x.hi; --j) e[j] = e[j - 1];
+      e[j] = x;
+    }
   return e;
 }
 
