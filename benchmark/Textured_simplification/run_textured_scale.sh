@@ -10,7 +10,8 @@
 # Figures: `seconds` of `cmgeom simplify --json` (the simplification call: collapses, and for the
 # textured run the new atlas; file IO excluded) and the whole command's wall time (IO included).
 # Then, when the build has bench_simplify, the errors of the first stage in parts against the whole
-# mesh at once (simplify_mesh.h) on a scan above a million faces.
+# mesh at once (simplify_mesh.h) on a scan above a million faces; and one thread against two, the
+# whole command against the call, on that scan.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 build="$(cd "${1:?usage: run_textured_scale.sh <build-dir> [--repeat N]}" && pwd)"
@@ -105,5 +106,64 @@ if [ -x "$build/bin/bench_simplify" ]; then
     echo '|---|---|--:|--:|--:|--:|'
     awk -F'|' '/^\| igea-sub/ { printf "|%s|%s|%s|%s|%s|%s|\n", $3, $4, $5, $6, $8, $9 }' "$work/parts.md"
   } >> "$here/RESULTS-scale.md"
+fi
+# One thread against two on the 1M-face scan, and the whole command against the call: igea
+# subdivided once, written as OBJ (what users have) by cmgeom itself, simplified to 10 % and 1 %.
+# `seconds` is the simplification call (JSON); wall and peak RSS the whole command (reading the OBJ,
+# writing the result) under GNU time. The outputs of one and two threads are compared byte for byte.
+if [ -x /usr/bin/time ] && [ -f "$data/classic/igea.ply.gz" ]; then
+  gunzip -c "$data/classic/igea.ply.gz" > "$work/igea.ply"
+  python3 "$here/../Scale/subdivide.py" "$work/igea.ply" "$work/igea-sub.ply" >&2
+  "$cmgeom" --quiet convert "$work/igea-sub.ply" -o "$work/igea-sub.obj" >/dev/null
+  : > "$work/threads.txt"
+  for ((i = 0; i < repeat; ++i)); do
+    for ratio in 0.1 0.01; do
+      for threads in 1 2; do
+        out="$work/t${threads}_$ratio.obj"
+        /usr/bin/time -f '%e %M' -o "$work/time.txt" \
+          "$cmgeom" --threads "$threads" simplify "$work/igea-sub.obj" -o "$out" --ratio "$ratio" --json \
+          > "$work/json.txt" 2>/dev/null
+        python3 - "$ratio" "$threads" "$work/json.txt" "$work/time.txt" >> "$work/threads.txt" <<'EOF2'
+import json, sys
+j = json.load(open(sys.argv[3]))
+wall, rss_kb = open(sys.argv[4]).read().split()[-2:]
+print(sys.argv[1], sys.argv[2], j['seconds'], wall, int(rss_kb) // 1024, j['faces_out'])
+EOF2
+      done
+      cmp -s "$work/t1_$ratio.obj" "$work/t2_$ratio.obj" && echo "same $ratio" >> "$work/threads.txt" ||
+        echo "differ $ratio" >> "$work/threads.txt"
+    done
+  done
+  python3 - "$work/threads.txt" "$repeat" >> "$here/RESULTS-scale.md" <<'EOF2'
+import statistics, sys
+rows, same = {}, {}
+for l in open(sys.argv[1]):
+    w = l.split()
+    if w[0] in ('same', 'differ'):
+        same.setdefault(w[1], set()).add(w[0])
+        continue
+    rows.setdefault((w[0], w[1]), []).append([float(w[2]), float(w[3]), int(w[4]), int(w[5])])
+med = lambda k, i: statistics.median(r[i] for r in rows[k])
+print()
+print('### One thread against two, and the whole command against the call (1M faces)')
+print()
+print('igea subdivided once (1,074,744 faces) as OBJ, `cmgeom --threads T simplify igea-sub.obj -o out.obj --ratio R --json`,')
+print(f'{sys.argv[2]} interleaved runs: `seconds` of the JSON (the simplification call), wall time and peak RSS of the')
+print('whole command (GNU time: reading the OBJ, simplifying, writing the result). Medians.')
+print()
+print('| target | threads | faces out | seconds | wall (s) | peak RSS (MB) | wall / seconds |')
+print('|---|--:|--:|--:|--:|--:|--:|')
+for ratio in ('0.1', '0.01'):
+    for t in ('1', '2'):
+        k = (ratio, t)
+        print(f'| {float(ratio):.0%} | {t} | {rows[k][0][3]} | {med(k, 0):.3f} | {med(k, 1):.2f} | {med(k, 2)} | '
+              f'{med(k, 1) / med(k, 0):.2f} |')
+print()
+for ratio in ('0.1', '0.01'):
+    s1, s2 = med((ratio, '1'), 0), med((ratio, '2'), 0)
+    print(f'- {float(ratio):.0%}: one thread / two threads (seconds) {s1 / s2:.2f}x (target >= 1.7x); outputs of one and '
+          f'two threads {"identical in every run" if same[ratio] == {"same"} else "DIFFERENT"}; whole command / call on two '
+          f'threads {med((ratio, "2"), 1) / s2:.2f}x (target <= 1.5x).')
+EOF2
 fi
 echo "wrote $here/RESULTS-scale.md" >&2

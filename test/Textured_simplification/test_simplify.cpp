@@ -345,6 +345,9 @@ TEST(SimplifyOneCall, InvalidOptionsThrowAndLeaveTheMesh) {
   factor.target_faces = 10;
   factor.parts_stop_factor = 0.5;
   expect_throw(factor, "parts_stop_factor");
+  factor.parts_stop_factor = 1.0;
+  factor.parts_tail_per_cut_vertex = -1.0;
+  expect_throw(factor, "parts_tail_per_cut_vertex");
   Mesh m = input;
   EXPECT_THROW(TS::Face_count_ratio_stop_predicate<Mesh>(m, 0.0), std::invalid_argument);
   // a quad mesh is not simplified

@@ -153,7 +153,7 @@ TEST(SimplifyMesh, InPartsKeepsTopologyTargetAndError) {
       const auto ep = CMGeom::Metrics::approximation_error(input, parts);
       const auto ew = CMGeom::Metrics::approximation_error(input, whole);
       // the cuts cost little: measured on these two (16 parts of about 1,200 faces, far smaller than
-      // the defaults allow), Hausdorff 0.71-1.35x, RMS 0.98-1.04x that of the whole at once (printed)
+      // the defaults allow), Hausdorff 0.71-1.11x, RMS 1.00-1.06x that of the whole at once (printed)
       std::cout << "in parts / whole, " << input.number_of_faces() << " faces to " << target << ": Hausdorff "
                 << ep.hausdorff / ew.hausdorff << ", RMS " << ep.rms / ew.rms << '\n';
       EXPECT_LE(ep.hausdorff, 1.5 * ew.hausdorff) << "ratio " << ratio;
@@ -164,9 +164,11 @@ TEST(SimplifyMesh, InPartsKeepsTopologyTargetAndError) {
 
 TEST(SimplifyMesh, SmallInputsAndLowRatiosSkipTheParts) {
   TS::Mesh_simplification_options o = small_parts();
-  // asked for more than 1 / (4 x 4) of the faces: one stage
+  // asked for more than 1 / (4 x parts_stop_factor) of the faces: one stage; less: parts
   Mesh t = rippled_torus(120, 80);
-  EXPECT_EQ(TS::simplify_mesh(t, t.number_of_faces() / 15, o).parts, 0u);
+  Mesh t2 = t;
+  EXPECT_EQ(TS::simplify_mesh(t, t.number_of_faces() / 3, o).parts, 0u);
+  EXPECT_GT(TS::simplify_mesh(t2, t2.number_of_faces() / 5, o).parts, 0u);
   // below parts_min_faces: one stage
   Mesh s = rippled_torus(40, 40);
   EXPECT_EQ(TS::simplify_mesh(s, s.number_of_faces() / 20, o).parts, 0u);

@@ -153,11 +153,11 @@ std::vector<std::vector<std::uint32_t>> split_faces(const CGAL::Surface_mesh<Poi
   }
   label.assign(m.num_faces(), no_index);
   std::vector<std::vector<std::uint32_t>> parts(ranges.size());
-  for (std::size_t k = 0; k < ranges.size(); ++k) {
+  tbb::parallel_for(std::size_t(0), ranges.size(), [&](std::size_t k) {  // parts own disjoint labels
     parts[k].assign(order.begin() + std::ptrdiff_t(ranges[k].first), order.begin() + std::ptrdiff_t(ranges[k].second));
     std::sort(parts[k].begin(), parts[k].end());  // input order inside a part
     for (std::uint32_t f : parts[k]) label[f] = std::uint32_t(k);
-  }
+  });
   return parts;
 }
 
