@@ -6,8 +6,12 @@
 
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <optional>
 #include <numeric>
 #include <cctype>
 #include <filesystem>
@@ -110,8 +114,69 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
       throw IO_error(src, "non-finite vertex coordinate");
 
-  // Topology checks on the soup (reported with counts and the first location).
-  const Mesh_statistics st = analyze_soup(soup);
+  std::vector<Point_3> points;
+  points.reserve(soup.positions.size());
+  for (const auto& p : soup.positions) points.emplace_back(p[0], p[1], p[2]);
+  // Builds the Textured_mesh of triangles `ps` over `pts` (UVs `tuv`), apart from `out`.
+  auto construct = [&](const std::vector<Point_3>& pts, const std::vector<std::array<std::size_t, 3>>& ps,
+                       const std::vector<std::array<std::uint32_t, 3>>& tuv) {
+    Textured_mesh built;
+    built.set_source(soup.source);
+    Surface_mesh& m = built.mesh();
+    std::vector<bool> used(pts.size(), !options.remove_unreferenced_vertices);
+    if (options.remove_unreferenced_vertices)
+      for (const auto& t : ps) used[t[0]] = used[t[1]] = used[t[2]] = true;
+    std::vector<Surface_mesh::Vertex_index> vmap(pts.size());
+    m.reserve(Surface_mesh::size_type(pts.size()), Surface_mesh::size_type(3 * ps.size() / 2),
+              Surface_mesh::size_type(ps.size()));
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (used[i]) vmap[i] = m.add_vertex(pts[i]);
+    auto uv = built.uv_map();
+    auto mat = built.material_map();
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      const auto& t = ps[i];
+      const auto f = m.add_face(vmap[t[0]], vmap[t[1]], vmap[t[2]]);
+      if (f == Surface_mesh::null_face())
+        throw IO_error(soup.face_location(tri_face[i]),
+                       "face cannot be added to a manifold mesh (non-manifold configuration after "
+                       "splitting polygons into triangles); the option repair (--repair) fixes it");
+      mat[f] = soup.face_material[tri_face[i]];
+      if (uv_seen) {
+        // halfedge(f) points to the face's first corner? Not necessarily: match by target vertex.
+        for (auto h : m.halfedges_around_face(m.halfedge(f)))
+          for (int k = 0; k < 3; ++k)
+            if (m.target(h) == vmap[t[std::size_t(k)]]) {
+              const auto& q = soup.uvs[tuv[i][std::size_t(k)]];
+              uv[h] = Point_2(q[0], q[1]);
+            }
+      }
+    }
+    // Surface_mesh's own check: CGAL::is_valid_polygon_mesh() also rejects isolated vertices,
+    // which are kept on purpose (vertex order survives read -> write).
+    if (!m.is_valid(false)) throw IO_error(src, "faces do not form a valid manifold mesh");
+    built.set_has_uvs(uv_seen);
+    built.materials() = soup.materials;
+    return built;
+  };
+
+  // Topology checks on the soup (reported with counts and the first location). A soup of
+  // triangles only, none dropped, is built at the same time on another core, as it is; the build
+  // is kept if the checks find nothing to repair, and its own error reported only after theirs.
+  const bool as_read = !polygons && tris.size() == nf;
+  Mesh_statistics st;
+  std::optional<Textured_mesh> speculative;
+  std::exception_ptr speculative_error;
+  if (as_read)
+    tbb::parallel_invoke([&] { st = analyze_soup(soup); },
+                         [&] {
+                           try {
+                             speculative.emplace(construct(points, tris, tri_uv));
+                           } catch (...) {
+                             speculative_error = std::current_exception();
+                           }
+                         });
+  else
+    st = analyze_soup(soup);
   if (st.degenerate_faces > 0 && !options.allow_degenerate_faces) {
     // repeated-vertex faces were handled above; what remains is zero area
     std::size_t zero_area = 0, first = Polygon_soup::no_index;
@@ -155,9 +220,6 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
 
   // Optional repair: CGAL orients the soup and duplicates non-manifold vertices; UVs follow
   // their corners because every triangle keeps its three original vertices.
-  std::vector<Point_3> points;
-  points.reserve(soup.positions.size());
-  for (const auto& p : soup.positions) points.emplace_back(p[0], p[1], p[2]);
   std::vector<std::size_t> original(points.size());
   std::iota(original.begin(), original.end(), std::size_t(0));
   std::vector<std::array<std::size_t, 3>> polys = tris;
@@ -177,8 +239,9 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   // defect means no polygon mesh, none means one as it is; otherwise (polygons split into fans,
   // faces dropped) the triangles are checked.
   const bool defects = st.non_manifold_edges != 0 || st.non_manifold_vertices != 0 || st.inconsistent_edges != 0;
-  const bool as_read = !polygons && tris.size() == nf;
+  bool repaired = false;
   if (options.repair && (as_read ? defects : !is_manifold_triangle_soup(polys, points.size()))) {
+    repaired = true;
     std::vector<std::vector<std::size_t>> pv;
     pv.reserve(polys.size());
     for (const auto& t : polys) pv.push_back({t[0], t[1], t[2]});
@@ -218,42 +281,12 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     }
   }
 
-  out.clear();
-  out.set_source(soup.source);
-  Surface_mesh& m = out.mesh();
-  std::vector<bool> used(points.size(), !options.remove_unreferenced_vertices);
-  if (options.remove_unreferenced_vertices)
-    for (const auto& t : polys) used[t[0]] = used[t[1]] = used[t[2]] = true;
-  std::vector<Surface_mesh::Vertex_index> vmap(points.size());
-  m.reserve(Surface_mesh::size_type(points.size()), Surface_mesh::size_type(3 * polys.size() / 2),
-            Surface_mesh::size_type(polys.size()));
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (used[i]) vmap[i] = m.add_vertex(points[i]);
-  auto uv = out.uv_map();
-  auto mat = out.material_map();
-  for (std::size_t i = 0; i < polys.size(); ++i) {
-    const auto& t = polys[i];
-    const auto f = m.add_face(vmap[t[0]], vmap[t[1]], vmap[t[2]]);
-    if (f == Surface_mesh::null_face())
-      throw IO_error(soup.face_location(tri_face[i]),
-                     "face cannot be added to a manifold mesh (non-manifold configuration after "
-                     "splitting polygons into triangles); the option repair (--repair) fixes it");
-    mat[f] = soup.face_material[tri_face[i]];
-    if (uv_seen) {
-      // halfedge(f) points to the face's first corner? Not necessarily: match by target vertex.
-      for (auto h : m.halfedges_around_face(m.halfedge(f)))
-        for (int k = 0; k < 3; ++k)
-          if (m.target(h) == vmap[t[std::size_t(k)]]) {
-            const auto& q = soup.uvs[tri_uv[i][std::size_t(k)]];
-            uv[h] = Point_2(q[0], q[1]);
-          }
-    }
+  if (speculative && !repaired) {  // the soup as it is, built above
+    out = std::move(*speculative);
+    return;
   }
-  // Surface_mesh's own check: CGAL::is_valid_polygon_mesh() also rejects isolated vertices,
-  // which are kept on purpose (vertex order survives read -> write).
-  if (!m.is_valid(false)) throw IO_error(src, "faces do not form a valid manifold mesh");
-  out.set_has_uvs(uv_seen);
-  out.materials() = soup.materials;
+  if (speculative_error && !repaired) std::rethrow_exception(speculative_error);
+  out = construct(points, polys, tri_uv);
 }
 
 void read_mesh(const std::string& path, Textured_mesh& out, const Read_options& options) {
