@@ -108,6 +108,16 @@ TEST(CompactModelReconstruction, ProgressHookReportsFromTheCallingThreadAndChang
   }
 }
 
+// Points and normals of a reconstruction, sorted (regular and adaptive outputs list the same
+// points in different orders).
+std::vector<std::array<double, 6>> sorted_samples(const Reconstruction& r) {
+  std::vector<std::array<double, 6>> v;
+  for (std::size_t i = 0; i < r.points.size(); ++i)
+    v.push_back({r.points[i].x, r.points[i].y, r.points[i].z, r.normals[i].x, r.normals[i].y, r.normals[i].z});
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
 // Along N, regular reconstruction evaluates interior points row by row, while a reconstruction
 // with vertex maps goes point by point through interior(); with identity maps both must give the
 // same bits (points and normals).
@@ -124,7 +134,8 @@ TEST(CompactModelReconstruction, IdentityVertexMapsAlongNormalGiveThePlainRecons
 // The same with every kind of local surface: the row kernel evaluates quadrics and cones itself
 // (several points at once) and cubics through the traits, and must still give interior()'s bits,
 // also where a cone's quadric form is negative (derivatives NaN: the normal falls back to N) and
-// on rows whose length is not a multiple of the kernel's width (levels 1 to 5).
+// on rows whose length is not a multiple of the kernel's width (levels 1 to 5); the same for the
+// points of base edges.
 TEST(CompactModelReconstruction, AlongNormalRowsGiveThePointwiseBitsForEverySurfaceModel) {
   Compact_model m = sphere_model();
   std::size_t cones = 0, negative = 0;
@@ -152,6 +163,10 @@ TEST(CompactModelReconstruction, AlongNormalRowsGiveThePointwiseBitsForEverySurf
   for (int level = 1; level <= 5; ++level) {
     const Reconstruction rows = reconstruct_regular(m, level, plain);
     EXPECT_TRUE(same(rows, reconstruct_regular(m, level, mapped))) << "level " << level;
+    // the kernels' points (face interiors and base edges, four at a time) against interior()'s
+    // and on_edge()'s, point by point through adaptive reconstruction
+    EXPECT_TRUE(sorted_samples(rows) == sorted_samples(reconstruct_adaptive(m, Always_split(), level, plain)))
+        << "level " << level;
     std::size_t non_finite = 0;
     for (std::size_t i = 0; i < rows.points.size(); ++i)
       non_finite += !std::isfinite(rows.points[i].x) || !std::isfinite(rows.normals[i].x);
@@ -177,19 +192,14 @@ TEST(CompactModelReconstruction, MappedAlongNormalRowsGiveTheAdaptivePointsBitFo
   Reconstruction_options o;
   o.projection = Projection::along_normal;
   o.vertex_maps = &maps;
-  auto sorted = [](const Reconstruction& r) {
-    std::vector<std::array<double, 6>> v;
-    for (std::size_t i = 0; i < r.points.size(); ++i)
-      v.push_back({r.points[i].x, r.points[i].y, r.points[i].z, r.normals[i].x, r.normals[i].y, r.normals[i].z});
-    std::sort(v.begin(), v.end());
-    return v;
-  };
   for (int level : {2, 3}) {
     const Reconstruction regular = reconstruct_regular(m, level, o);
-    EXPECT_TRUE(sorted(regular) == sorted(reconstruct_adaptive(m, Always_split(), level, o))) << "level " << level;
+    EXPECT_TRUE(sorted_samples(regular) == sorted_samples(reconstruct_adaptive(m, Always_split(), level, o)))
+        << "level " << level;
     Reconstruction_options plain = o;
     plain.vertex_maps = nullptr;
-    EXPECT_FALSE(sorted(regular) == sorted(reconstruct_regular(m, level, plain)));  // the maps do move it
+    EXPECT_FALSE(sorted_samples(regular) ==
+                 sorted_samples(reconstruct_regular(m, level, plain)));  // the maps do move it
   }
 }
 

@@ -339,6 +339,35 @@ public:
     }
   }
 
+  // on_edge() at t = k / n, k = 1 .. n-1, of base edge ei, written to pts[k - 1] and nrm[k - 1]
+  // (the points of a base edge in regular reconstruction); along N, on an edge smooth at both
+  // ends, four at a time in AVX registers with the same bits.
+  void edge_points(std::uint32_t ei, std::size_t n, Vec3* pts, Vec3* nrm) const {
+#ifdef CMGEOM_CM_SIMD_ROWS
+    const Base_topology::Edge& e = topo_.edges[ei];
+    if (proj_ == Projection::along_normal && simd::has_avx() && !sharp_end(e, e.a) && !sharp_end(e, e.b)) {
+      along_normal_edge_avx(ei, n, pts, nrm);
+      if (!maps_) return;
+      const std::uint32_t v[2] = {e.a, e.b};
+      for (std::size_t k = 1; k < n; ++k) {  // on_edge()'s maps, with its weights
+        const double t = double(k) / double(n);
+        const double wa = (1. - t) * (1. - t) * (1. - t), wb = t * t * t, sum = wa + wb;
+        const double wn[2] = {wa / sum, wb / sum};
+        Sample s{pts[k - 1], nrm[k - 1]};
+        apply_vertex_maps(*maps_, 2, v, wn, s);
+        pts[k - 1] = s.point;
+        nrm[k - 1] = s.normal;
+      }
+      return;
+    }
+#endif
+    for (std::size_t k = 1; k < n; ++k) {
+      const Sample s = on_edge(ei, double(k) / double(n));
+      pts[k - 1] = s.point;
+      nrm[k - 1] = s.normal;
+    }
+  }
+
   void along_normal_row_scalar(std::uint32_t f, std::size_t j, std::size_t n, Vec3* pts, Vec3* nrm) const {
     const Local_frame* fr[3] = {&topo_.frames[3 * f], &topo_.frames[3 * f + 1], &topo_.frames[3 * f + 2]};
     const Local_surface* sf[3] = {&m_.surfaces[m_.faces[f][0].surface], &m_.surfaces[m_.faces[f][1].surface],
@@ -359,6 +388,114 @@ public:
   }
 
 #ifdef CMGEOM_CM_SIMD_ROWS
+  // traits_.height(s, x, y, d) in four lanes: h and d[0], d[1]. Quadrics and cones (of the
+  // quadric and cubic traits) are evaluated lane-wise with evaluate_height()'s operations in its
+  // order; other models lane by lane through the traits.
+  __attribute__((target("avx"))) CMGEOM_ALWAYS_INLINE void height_lanes(const Local_surface& s, simd::d4 x, simd::d4 y,
+                                                                        simd::d4& h, simd::d4& d0, simd::d4& d1) const {
+    using D = simd::d4;
+    using M = simd::m4;
+    constexpr bool quadric_traits =
+        std::is_same<Traits, Quadric_surface_traits>::value || std::is_same<Traits, Cubic_surface_traits>::value;
+    if (quadric_traits && (s.model == QUADRIC_MODEL || s.model == CONE_MODEL)) {
+      // a cone is s sqrt of the quadric, with derivatives s q_x / (2 sqrt q) (NaN where q <= 0,
+      // as evaluate_height() gives)
+      const auto& k = s.c;
+      h = simd::splat(k[0]) * x * x + simd::splat(k[1]) * x * y + simd::splat(k[2]) * y * y + simd::splat(k[3]) * x +
+          simd::splat(k[4]) * y;
+      d0 = simd::splat(2 * k[0]) * x + simd::splat(k[1]) * y + simd::splat(k[3]);
+      d1 = simd::splat(k[1]) * x + simd::splat(2 * k[2]) * y + simd::splat(k[4]);
+      if (s.model == CONE_MODEL) {
+        const D zero = simd::splat(0.), one = simd::splat(1.);
+        const D sgn = simd::splat(k[5] < 0 ? -1. : 1.), two = simd::splat(2.);
+        const D nan = simd::splat(std::numeric_limits<double>::quiet_NaN());
+        const M inside = ~(h <= zero);  // NaN stays NaN, as in evaluate_height()
+        const D r = simd::sqrt(simd::select(inside, h, one));
+        d0 = simd::select(inside, sgn * d0 / (two * r), nan);
+        d1 = simd::select(inside, sgn * d1 / (two * r), nan);
+        h = simd::select(inside, sgn * r, zero);
+      }
+    } else {
+      for (int l = 0; l < 4; ++l) {
+        double d[5];
+        h[l] = traits_.height(s, x[l], y[l], d);
+        d0[l] = d[0];
+        d1[l] = d[1];
+      }
+    }
+  }
+
+  // S-bar along N of four world points (px, py, pz) on corner c of face f: project()'s
+  // along-normal branch lane by lane (to_local, one height, to_world, the unit normal where the
+  // derivatives are finite, N elsewhere).
+  __attribute__((target("avx"))) CMGEOM_ALWAYS_INLINE void project_along_normal_lanes(std::uint32_t f, int c,
+                                                                                      simd::d4 px, simd::d4 py,
+                                                                                      simd::d4 pz,
+                                                                                      simd::d4 (&out)[6]) const {
+    using D = simd::d4;
+    using M = simd::m4;
+    const Local_frame& fr = topo_.frames[3 * f + c];
+    const D dx = px - simd::splat(fr.origin.x), dy = py - simd::splat(fr.origin.y), dz = pz - simd::splat(fr.origin.z);
+    const D x = dx * simd::splat(fr.U.x) + dy * simd::splat(fr.U.y) + dz * simd::splat(fr.U.z);
+    const D y = dx * simd::splat(fr.V.x) + dy * simd::splat(fr.V.y) + dz * simd::splat(fr.V.z);
+    D h, d0, d1;
+    height_lanes(m_.surfaces[m_.faces[f][c].surface], x, y, h, d0, d1);
+    out[0] = ((simd::splat(fr.origin.x) + x * simd::splat(fr.U.x)) + y * simd::splat(fr.V.x)) + h * simd::splat(fr.N.x);
+    out[1] = ((simd::splat(fr.origin.y) + x * simd::splat(fr.U.y)) + y * simd::splat(fr.V.y)) + h * simd::splat(fr.N.y);
+    out[2] = ((simd::splat(fr.origin.z) + x * simd::splat(fr.U.z)) + y * simd::splat(fr.V.z)) + h * simd::splat(fr.N.z);
+    const D zero = simd::splat(0.), one = simd::splat(1.);
+    const D Nx = simd::splat(fr.N.x), Ny = simd::splat(fr.N.y), Nz = simd::splat(fr.N.z);
+    const D gx = (Nx - d0 * simd::splat(fr.U.x)) - d1 * simd::splat(fr.V.x);
+    const D gy = (Ny - d0 * simd::splat(fr.U.y)) - d1 * simd::splat(fr.V.y);
+    const D gz = (Nz - d0 * simd::splat(fr.U.z)) - d1 * simd::splat(fr.V.z);
+    const D len = simd::sqrt(gx * gx + gy * gy + gz * gz);
+    const M pos = len > zero;
+    const D r = simd::select(pos, one / len, one);
+    const M finite = (d0 - d0 == zero) & (d1 - d1 == zero);  // std::isfinite of both
+    out[3] = simd::select(finite, simd::select(pos, gx * r, gx), Nx);
+    out[4] = simd::select(finite, simd::select(pos, gy * r, gy), Ny);
+    out[5] = simd::select(finite, simd::select(pos, gz * r, gz), Nz);
+  }
+
+  // on_edge() at t = k / n, k = 1 .. n-1, of base edge ei along N, written to pts[k - 1] and
+  // nrm[k - 1], four points at a time with on_edge()'s operations in its order (bit-identical).
+  // Only for an edge that is smooth at both ends (edge_end_projection() is then project()).
+  __attribute__((target("avx"))) void along_normal_edge_avx(std::uint32_t ei, std::size_t n, Vec3* pts,
+                                                            Vec3* nrm) const {
+    using D = simd::d4;
+    using M = simd::m4;
+    const Base_topology::Edge& e = topo_.edges[ei];
+    const std::uint32_t f0 = e.face[0];
+    const int ca = corner_of(f0, e.a), cb = corner_of(f0, e.b);
+    const Vec3 A = m_.vertices[e.a], B = m_.vertices[e.b];
+    const D zero = simd::splat(0.), one = simd::splat(1.);
+    for (std::size_t k0 = 1; k0 < n; k0 += 4) {
+      D t;
+      for (int l = 0; l < 4; ++l) t[l] = double(std::min(k0 + std::size_t(l), n - 1)) / double(n);
+      const D u = one - t;
+      // p = (1 - t) A + t B
+      const D px = u * simd::splat(A.x) + t * simd::splat(B.x), py = u * simd::splat(A.y) + t * simd::splat(B.y),
+              pz = u * simd::splat(A.z) + t * simd::splat(B.z);
+      const D wa = u * u * u, wb = t * t * t, sum = wa + wb;
+      D sa[6], sb[6];
+      project_along_normal_lanes(f0, ca, px, py, pz, sa);
+      project_along_normal_lanes(f0, cb, px, py, pz, sb);
+      const D ka = wa / sum, kb = wb / sum;
+      D r[6];
+      for (int i = 0; i < 6; ++i) r[i] = (zero + ka * sa[i]) + kb * sb[i];  // r starts at 0, as in on_edge()
+      const D len = simd::sqrt(r[3] * r[3] + r[4] * r[4] + r[5] * r[5]);
+      const M pos = len > zero;
+      const D inv = simd::select(pos, one / len, one);
+      const D nx = simd::select(pos, r[3] * inv, r[3]), ny = simd::select(pos, r[4] * inv, r[4]),
+              nz = simd::select(pos, r[5] * inv, r[5]);
+      const int valid = int(std::min<std::size_t>(4, n - k0));
+      for (int l = 0; l < valid; ++l) {
+        pts[k0 + l - 1] = Vec3(r[0][l], r[1][l], r[2][l]);
+        nrm[k0 + l - 1] = Vec3(nx[l], ny[l], nz[l]);
+      }
+    }
+  }
+
   // along_normal_row_scalar() on 4 consecutive interior points of face f at a time, in the
   // order of along_normal_face(); a group of lanes may span two rows (packing the rows instead of
   // padding each one saves a tenth of the lanes at level 5). Every lane performs the same
@@ -369,8 +506,6 @@ public:
     using D = simd::d4;
     using M = simd::m4;
     constexpr int W = 4;
-    constexpr bool quadric_traits =
-        std::is_same<Traits, Quadric_surface_traits>::value || std::is_same<Traits, Cubic_surface_traits>::value;
     if (n < 3) return;
     const std::size_t count = (n - 1) * (n - 2) / 2;
     const double step = 1. / double(n);
@@ -401,31 +536,7 @@ public:
         const D x = a0 * simd::splat(L[0].x) + a1 * simd::splat(L[1].x) + a2 * simd::splat(L[2].x);
         const D y = a0 * simd::splat(L[0].y) + a1 * simd::splat(L[1].y) + a2 * simd::splat(L[2].y);
         D h, d0, d1;
-        if (quadric_traits && (s.model == QUADRIC_MODEL || s.model == CONE_MODEL)) {
-          // evaluate_height()'s quadric, lane-wise; a cone is s sqrt of that quadric, with
-          // derivatives s q_x / (2 sqrt q) (NaN where q <= 0, as evaluate_height() gives).
-          const auto& k = s.c;
-          h = simd::splat(k[0]) * x * x + simd::splat(k[1]) * x * y + simd::splat(k[2]) * y * y +
-              simd::splat(k[3]) * x + simd::splat(k[4]) * y;
-          d0 = simd::splat(2 * k[0]) * x + simd::splat(k[1]) * y + simd::splat(k[3]);
-          d1 = simd::splat(k[1]) * x + simd::splat(2 * k[2]) * y + simd::splat(k[4]);
-          if (s.model == CONE_MODEL) {
-            const D sgn = simd::splat(k[5] < 0 ? -1. : 1.), two = simd::splat(2.);
-            const D nan = simd::splat(std::numeric_limits<double>::quiet_NaN());
-            const M inside = ~(h <= zero);  // NaN stays NaN, as in evaluate_height()
-            const D r = simd::sqrt(simd::select(inside, h, one));
-            d0 = simd::select(inside, sgn * d0 / (two * r), nan);
-            d1 = simd::select(inside, sgn * d1 / (two * r), nan);
-            h = simd::select(inside, sgn * r, zero);
-          }
-        } else {
-          for (int l = 0; l < W; ++l) {
-            double d[5];
-            h[l] = traits_.height(s, x[l], y[l], d);
-            d0[l] = d[0];
-            d1[l] = d[1];
-          }
-        }
+        height_lanes(s, x, y, h, d0, d1);
         // p += (w inv) to_world(x, y, h); to_world = ((origin + x U) + y V) + h N.
         const D wi = w[c] * inv;
         px = px + wi * (((simd::splat(fr.origin.x) + x * simd::splat(fr.U.x)) + y * simd::splat(fr.V.x)) +
@@ -490,6 +601,15 @@ public:
       apply_vertex_maps(*maps_, 3, v, wn, r);
     }
     return r;
+  }
+
+  // Whether base edge e is sharp at its endpoint v (its two faces' corners at v differ in
+  // surface or normal); S-bar there is then the sharp-edge point, else the first face's S-bar.
+  bool sharp_end(const Base_topology::Edge& e, std::uint32_t v) const {
+    if (e.face[1] == Base_topology::npos) return false;
+    const Corner& k0 = m_.faces[e.face[0]][corner_of(e.face[0], v)];
+    const Corner& k1 = m_.faces[e.face[1]][corner_of(e.face[1], v)];
+    return k0.surface != k1.surface || k0.normal != k1.normal;
   }
 
   // S-bar at endpoint `end` (0: a, 1: b) of base edge e for the point p (sharp-aware).
@@ -649,11 +769,9 @@ void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
   internal::for_range(
       E, opt.parallel,
       [&](std::size_t e) {
-        for (std::size_t k = 1; k < n; ++k) {
-          const Sample s = ev.on_edge(std::uint32_t(e), double(k) / double(n));
-          r.points[edge_base + e * per_edge + k - 1] = s.point;
-          r.normals[edge_base + e * per_edge + k - 1] = s.normal;
-        }
+        if (n > 1)
+          ev.edge_points(std::uint32_t(e), n, &r.points[edge_base + e * per_edge],
+                         &r.normals[edge_base + e * per_edge]);
       },
       &progress);
   progress.phase(edge_share, 1., F);
