@@ -281,12 +281,12 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     }
   }
 
-  if (speculative && !repaired) {  // the soup as it is, built above
+  if (as_read && !repaired) {  // the soup as it is, built above
+    if (speculative_error) std::rethrow_exception(speculative_error);
     out = std::move(*speculative);
-    return;
+  } else {
+    out = construct(points, polys, tri_uv);
   }
-  if (speculative_error && !repaired) std::rethrow_exception(speculative_error);
-  out = construct(points, polys, tri_uv);
 }
 
 void read_mesh(const std::string& path, Textured_mesh& out, const Read_options& options) {

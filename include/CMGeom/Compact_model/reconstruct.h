@@ -321,22 +321,14 @@ public:
 #endif
       for (std::size_t j = 1, k = 0; j + 1 < n; k += n - 1 - j, ++j) along_normal_row_scalar(f, j, n, pts + k, nrm + k);
     if (!maps_) return;
-    const auto& F = m_.faces[f];
-    const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
     std::size_t k = 0;
-    for (std::size_t j = 1; j + 1 < n; ++j) {
-      const double a2 = double(j) / double(n);
+    for (std::size_t j = 1; j + 1 < n; ++j)
       for (std::size_t i = 1; i + j < n; ++i, ++k) {
-        const double a1 = double(i) / double(n), a0 = double(n - i - j) / double(n);
-        const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
-        const double sum = w[0] + w[1] + w[2];
-        const double wn[3] = {w[0] / sum, w[1] / sum, w[2] / sum};
         Sample s{pts[k], nrm[k]};
-        apply_vertex_maps(*maps_, 3, v, wn, s);
+        apply_face_maps(f, double(n - i - j) / double(n), double(i) / double(n), double(j) / double(n), s);
         pts[k] = s.point;
         nrm[k] = s.normal;
       }
-    }
   }
 
   // on_edge() at t = k / n, k = 1 .. n-1, of base edge ei, written to pts[k - 1] and nrm[k - 1]
@@ -348,13 +340,9 @@ public:
     if (proj_ == Projection::along_normal && simd::has_avx() && !sharp_end(e, e.a) && !sharp_end(e, e.b)) {
       along_normal_edge_avx(ei, n, pts, nrm);
       if (!maps_) return;
-      const std::uint32_t v[2] = {e.a, e.b};
-      for (std::size_t k = 1; k < n; ++k) {  // on_edge()'s maps, with its weights
-        const double t = double(k) / double(n);
-        const double wa = (1. - t) * (1. - t) * (1. - t), wb = t * t * t, sum = wa + wb;
-        const double wn[2] = {wa / sum, wb / sum};
+      for (std::size_t k = 1; k < n; ++k) {
         Sample s{pts[k - 1], nrm[k - 1]};
-        apply_vertex_maps(*maps_, 2, v, wn, s);
+        apply_edge_maps(e, double(k) / double(n), s);
         pts[k - 1] = s.point;
         nrm[k - 1] = s.normal;
       }
@@ -595,12 +583,27 @@ public:
       }
     }
     r.normal = normalized(r.normal);
-    if (maps_) {
-      const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
-      const double wn[3] = {w[0] / sum, w[1] / sum, w[2] / sum};
-      apply_vertex_maps(*maps_, 3, v, wn, r);
-    }
+    if (maps_) apply_face_maps(f, a0, a1, a2, r);
     return r;
+  }
+
+  // The vertex maps at the point of barycentric (a0, a1, a2) of face f (weights alpha_i^3,
+  // normalised, as the blend uses them), applied to r.
+  void apply_face_maps(std::uint32_t f, double a0, double a1, double a2, Sample& r) const {
+    const auto& F = m_.faces[f];
+    const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
+    const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
+    const double sum = w[0] + w[1] + w[2];
+    const double wn[3] = {w[0] / sum, w[1] / sum, w[2] / sum};
+    apply_vertex_maps(*maps_, 3, v, wn, r);
+  }
+
+  // The vertex maps at parameter t of base edge e (on_edge()'s weights), applied to r.
+  void apply_edge_maps(const Base_topology::Edge& e, double t, Sample& r) const {
+    const double wa = (1. - t) * (1. - t) * (1. - t), wb = t * t * t, sum = wa + wb;
+    const std::uint32_t v[2] = {e.a, e.b};
+    const double wn[2] = {wa / sum, wb / sum};
+    apply_vertex_maps(*maps_, 2, v, wn, r);
   }
 
   // Whether base edge e is sharp at its endpoint v (its two faces' corners at v differ in
@@ -617,24 +620,17 @@ public:
     const std::uint32_t v = end == 0 ? e.a : e.b;
     const std::uint32_t f0 = e.face[0];
     const int c0 = corner_of(f0, v);
-    if (e.face[1] != Base_topology::npos) {
-      const std::uint32_t f1 = e.face[1];
-      const int c1 = corner_of(f1, v);
-      const Corner& k0 = m_.faces[f0][c0];
-      const Corner& k1 = m_.faces[f1][c1];
-      if (k0.surface != k1.surface || k0.normal != k1.normal) {
-        const Local_frame& fr0 = topo_.frames[3 * f0 + c0];
-        const Local_frame& fr1 = topo_.frames[3 * f1 + c1];
-        const Vec3 t = normalized(m_.vertices[e.b] - m_.vertices[e.a]);
-        const Local_surface& s0 = m_.surfaces[k0.surface];
-        const Local_surface& s1 = m_.surfaces[k1.surface];
-        const Vec3 q = sharp_edge_point(fr0, s0, fr1, s1, p, t, traits_);
-        const Vec3 l0 = fr0.to_local(q), l1 = fr1.to_local(q);
-        return {
-            q, normalized(surface_normal(fr0, s0, l0.x, l0.y, traits_) + surface_normal(fr1, s1, l1.x, l1.y, traits_))};
-      }
-    }
-    return project(f0, c0, p);
+    if (!sharp_end(e, v)) return project(f0, c0, p);
+    const std::uint32_t f1 = e.face[1];
+    const int c1 = corner_of(f1, v);
+    const Local_frame& fr0 = topo_.frames[3 * f0 + c0];
+    const Local_frame& fr1 = topo_.frames[3 * f1 + c1];
+    const Vec3 t = normalized(m_.vertices[e.b] - m_.vertices[e.a]);
+    const Local_surface& s0 = m_.surfaces[m_.faces[f0][c0].surface];
+    const Local_surface& s1 = m_.surfaces[m_.faces[f1][c1].surface];
+    const Vec3 q = sharp_edge_point(fr0, s0, fr1, s1, p, t, traits_);
+    const Vec3 l0 = fr0.to_local(q), l1 = fr1.to_local(q);
+    return {q, normalized(surface_normal(fr0, s0, l0.x, l0.y, traits_) + surface_normal(fr1, s1, l1.x, l1.y, traits_))};
   }
 
   // Phi at parameter t in [0, 1] along base edge e (from a to b).
@@ -654,11 +650,7 @@ public:
       r.normal += (wb / sum) * s.normal;
     }
     r.normal = normalized(r.normal);
-    if (maps_) {
-      const std::uint32_t v[2] = {e.a, e.b};
-      const double wn[2] = {wa / sum, wb / sum};
-      apply_vertex_maps(*maps_, 2, v, wn, r);
-    }
+    if (maps_) apply_edge_maps(e, t, r);
     return r;
   }
 
@@ -801,15 +793,17 @@ void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
             return std::uint32_t(face_base + f * per_face + before + (i - 1));
           };
           // Interior points, row by row; a face's are consecutive (see index()).
-          if (along_n_rows && n >= 3)
-            ev.along_normal_face(std::uint32_t(f), n, &r.points[index(1, 1)], &r.normals[index(1, 1)]);
-          for (std::size_t j = 1; j + 1 < n && !along_n_rows; ++j) {
-            const std::uint32_t id = index(1, j);
-            for (std::size_t i = 1; i + j < n; ++i) {
-              const double a1 = double(i) / double(n), a2 = double(j) / double(n), a0 = double(n - i - j) / double(n);
-              const Sample s = ev.interior(std::uint32_t(f), a0, a1, a2);
-              r.points[id + i - 1] = s.point;
-              r.normals[id + i - 1] = s.normal;
+          if (along_n_rows) {
+            if (n >= 3) ev.along_normal_face(std::uint32_t(f), n, &r.points[index(1, 1)], &r.normals[index(1, 1)]);
+          } else {
+            for (std::size_t j = 1; j + 1 < n; ++j) {
+              const std::uint32_t id = index(1, j);
+              for (std::size_t i = 1; i + j < n; ++i) {
+                const double a1 = double(i) / double(n), a2 = double(j) / double(n), a0 = double(n - i - j) / double(n);
+                const Sample s = ev.interior(std::uint32_t(f), a0, a1, a2);
+                r.points[id + i - 1] = s.point;
+                r.normals[id + i - 1] = s.normal;
+              }
             }
           }
           // The output id (and texture coordinates) of every grid point, computed once, then the

@@ -7,12 +7,12 @@
 // memoryful cost of Surface_memory (unless switched off), on CMGeom's engine (edge_collapse.h), edge
 // flips on request; the error bound is Hausdorff_bound.h's.
 //
-// Key choice: large inputs (at least `parts_min_faces` faces, asked for at most 1/16 of them by
-// default) are simplified on all cores. They are cut into 2^k parts (internal/Mesh_parts.h), each
-// simplified on its own core with the input's quadrics and its cut vertices locked, down to its
-// share of the target plus a few faces per cut vertex; then the whole is rebuilt and the remaining
-// collapses (those of the strips along the cuts, mostly) run on it. The parts depend on the mesh alone, so the result
-// is the same on any number of cores.
+// Key choice: large inputs (at least `parts_min_faces` faces, asked for at most a quarter of them
+// by default) are simplified on all cores. They are cut into 2^k parts (internal/Mesh_parts.h),
+// each simplified on its own core with the input's quadrics and its cut vertices locked, down to
+// its share of the target plus a few faces per cut vertex; then the whole is rebuilt and the
+// remaining collapses (those of the strips along the cuts, mostly) run on it. The parts depend on
+// the mesh alone, so the result is the same on any number of cores.
 //
 // Manual: doc/Textured_simplification/README.md, "One call, and large meshes on all cores: `simplify_mesh()`".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_MESH_H

@@ -12,7 +12,6 @@
 #ifndef CMGEOM_INTERNAL_HUGE_PAGES_H
 #define CMGEOM_INTERNAL_HUGE_PAGES_H
 
-#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -25,10 +24,8 @@
 namespace CMGeom {
 namespace internal {
 
-/// Blocks smaller than this are resized as usual.
+/// Blocks smaller than this are resized as usual (a huge page is 2 MB on x86-64).
 constexpr std::size_t huge_page_threshold = std::size_t(8) << 20;
-/// A transparent huge page on x86-64 and most aarch64 kernels.
-constexpr std::size_t huge_page_size = std::size_t(2) << 20;
 
 /// Asks the kernel to back [p, p + bytes) by transparent huge pages where it can; a hint only.
 inline void advise_huge_pages(void* p, std::size_t bytes) {
@@ -51,12 +48,8 @@ inline void advise_huge_pages(void* p, std::size_t bytes) {
 template <class T, class Allocator>
 void resize_on_huge_pages(std::vector<T, Allocator>& v, std::size_t n) {
   if (n > v.capacity() && n * sizeof(T) >= huge_page_threshold) {
-    // Capacity for a block of a whole number of huge pages once malloc adds its chunk header
-    // (16 bytes in glibc; 64 allowed for): Linux 6.7 and later place such a mapping on a huge-page
-    // boundary, so every page of it can be huge. Elsewhere it costs less than 2 MB of capacity.
-    const std::size_t bytes = (n * sizeof(T) + 64 + huge_page_size - 1) / huge_page_size * huge_page_size - 64;
-    v.reserve(std::max(n, bytes / sizeof(T)));
-    advise_huge_pages(v.data() + v.size(), (v.capacity() - v.size()) * sizeof(T));
+    v.reserve(n);
+    advise_huge_pages(v.data() + v.size(), (n - v.size()) * sizeof(T));
   }
   v.resize(n);
 }
