@@ -39,6 +39,35 @@ TEST(TexturedSimplificationCli, SimplifyJsonAndErrors) {
     EXPECT_EQ(m.number_of_faces(), 1000u);
   }
   {
+    // the fit of the vertices: reported, on by default; --fit-rounds 0 leaves the collapsed
+    // positions (the same connectivity, other points), with a higher RMS error
+    double rms[2] = {0, 0};
+    std::vector<Point> points[2];
+    for (int rounds : {0, 3}) {
+      const std::string o = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_fit" + std::to_string(rounds) + ".off";
+      const auto [code, text] = run("'" + exe + "' simplify '" + in + "' -o '" + o + "' --faces 1000 --json" +
+                                    (rounds == 0 ? " --fit-rounds 0" : ""));
+      ASSERT_EQ(code, 0) << text;
+      const auto j = nlohmann::json::parse(text);
+      EXPECT_EQ(j["fit_rounds"].get<int>(), rounds);
+      EXPECT_EQ(j["fit_moves"].get<std::size_t>() > 0, rounds > 0);
+      Mesh input, output;
+      ASSERT_TRUE(CGAL::IO::read_polygon_mesh(in, input));
+      ASSERT_TRUE(CGAL::IO::read_polygon_mesh(o, output));
+      EXPECT_EQ(output.number_of_faces(), 1000u);
+      for (auto v : output.vertices()) points[rounds > 0].push_back(output.point(v));
+      rms[rounds > 0] = CMGeom::Metrics::approximation_error(input, output).rms;
+    }
+    EXPECT_EQ(points[0].size(), points[1].size());
+    EXPECT_NE(points[0], points[1]);
+    EXPECT_LT(rms[1], rms[0]);
+    const std::string never = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_never_fitted.off";
+    fs::remove(never);
+    EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --faces 1000 --fit-rounds -1").first,
+              2);  // a usage error
+    EXPECT_FALSE(fs::exists(never));
+  }
+  {
     // plain quadrics always sum, whatever --merge says; the report says what was used
     const auto [code, text] =
         run("'" + exe + "' simplify '" + in + "' -o '" + out + "' --faces 1000 --json --policy plain --merge thesis");

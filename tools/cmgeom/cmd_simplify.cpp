@@ -2,9 +2,11 @@
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
 //                 [--no-texture] [--keep-charts] [--freeze-seams] [--bake-lookups] [--no-repair] [--memoryless]
+//                 [--fit-rounds N]
 // Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
 // CMGeom's engine or CGAL's; on CMGeom's engine the quadric cost is completed by the memoryful
-// term of Surface_memory.h (the input's points kept on the faces) unless --memoryless. A
+// term of Surface_memory.h (the input's points kept on the faces) unless --memoryless, and the
+// vertices are then fitted to those points (--fit-rounds rounds; not with --max-error). A
 // textured input (UVs and a texture image) is written as OBJ + MTL + PNG or as glTF/GLB: by default its
 // collapses ignore the charts (any target is reached) and a new atlas is painted from the input
 // followed down the collapses, the texels left looked up on it (rebuild_atlas.h); with --keep-charts it goes through
@@ -48,7 +50,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     std::string texture_backend = "cpu", texture;
     std::size_t faces = 0;
     double ratio = 0, max_cost = 0, max_error = 0;
-    int texture_size = 0;
+    int texture_size = 0, fit_rounds = 3;
     bool flips = false, json = false, repair = false, no_repair = false, no_texture = false, freeze_seams = false,
          memoryless = false;
     bool keep_charts = false, bake_lookups = false;
@@ -96,6 +98,10 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input (UVs dropped)");
   app.add_flag("--memoryless", o->memoryless,
                "Quadric cost alone: no memoryful term (the input's points kept on the faces, Surface_memory.h)");
+  app.add_option("--fit-rounds", o->fit_rounds,
+                 "Rounds of the final fit of the vertices to the input's points (least squares, with the memoryful "
+                 "term; 0 = none; not with --max-error, whose bound holds for the collapsed positions). Default 3")
+      ->check(CLI::Range(0, 100));
   app.add_flag("--keep-charts", o->keep_charts,
                "Textured input: keep the input's charts (thesis §3.5; stops where no collapse keeps them) instead of "
                "baking a new atlas");
@@ -212,6 +218,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       to.keep_charts = o->keep_charts;
       to.flips = o->flips;
       to.surface_memory = !o->memoryless;
+      to.memory.fit.rounds = o->fit_rounds;
       to.paint_from_history = !o->bake_lookups;
       cmgeom_cli::Collapse_progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
       const double t0 = cmgeom_cli::now_seconds();
@@ -297,6 +304,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     so.engine = o->engine == "cgal" ? TS::Simplification_engine::cgal : TS::Simplification_engine::cmgeom;
     so.quadric = qo;
     so.surface_memory = !o->memoryless && o->engine == "cmgeom";
+    so.memory.fit.rounds = o->fit_rounds;
     so.flips = o->flips;
     const TS::Mesh_simplification_result r = TS::simplify_mesh(mesh, so, cmgeom_cli::Collapse_progress_visitor(&state));
     const double seconds = r.seconds;
@@ -321,6 +329,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["merge"] = merge_used;
       j["flips"] = o->flips;
       j["surface_memory"] = !o->memoryless && o->engine == "cmgeom";
+      j["fit_rounds"] = so.surface_memory && !max_error->count() ? o->fit_rounds : 0;
+      j["fit_moves"] = r.fit_moves;
       j["faces_in"] = faces_in;
       if (has_target) j["target_faces"] = target;
       if (max_cost->count()) j["max_cost"] = o->max_cost;
@@ -332,6 +342,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["stopped_by"] = TS::to_string(r.stopped_by);
       j["vertices_out"] = mesh.number_of_vertices();
       j["seconds"] = seconds;
+      j["seconds_fit"] = r.seconds_fit;
       cmgeom_cli::print_json(j);
     } else {
       std::cout << o->input << ": " << faces_in << " -> " << faces_out << " faces in " << seconds << " s (" << o->engine

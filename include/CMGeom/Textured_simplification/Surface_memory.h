@@ -20,22 +20,59 @@
 #include <CGAL/boost/graph/iterator.h>
 #include <CGAL/number_utils.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
 namespace CMGeom {
 namespace Textured_simplification {
 
+/// Options of Surface_memory::fit_vertices(): the final fit of the simplified mesh's vertices to
+/// the points (see there).
+struct Surface_fit_options {
+  /// Rounds of (re-attach the points, move every vertex once); 0 = no fit.
+  int rounds = 3;
+  /// A vertex is pulled back towards where it is by this fraction of its star's point area (the
+  /// damping of an under-determined vertex, e.g. one whose points all lie near one corner).
+  double damping = 0.1;
+  /// Weight of the vertex's quadric (the squared distances to the planes of the input faces it
+  /// stands for, in the points' unit: area x distance^2), which keeps the vertex on the input's
+  /// surface where the points alone would pull it off.
+  double quadric_weight = 1.0;
+  /// A move that turns a face of the star by more than this (radians) from its normal before the
+  /// fit, or makes it degenerate, is not made. In (0, pi].
+  double max_turn = 1.0;
+};
+
 /// Options of Surface_memory.
 struct Surface_memory_options {
   /// At most this many original points (every k-th vertex of the input, its area counted k
   /// times, when the input has more vertices); bounds the cost on large inputs. 0 = all.
   std::size_t max_points = 65536;
+  /// The fit of the vertices to the points after the collapses (simplify_mesh() runs it without a
+  /// guaranteed error bound).
+  Surface_fit_options fit;
 };
+
+/// Throws std::invalid_argument unless `o` is valid (rounds >= 0, damping >= 0, quadric_weight >=
+/// 0, max_turn in (0, pi], all finite).
+inline void check_fit_options(const Surface_fit_options& o) {
+  if (o.rounds < 0) throw std::invalid_argument("Surface_fit_options: rounds must be >= 0");
+  if (!(o.damping >= 0. && std::isfinite(o.damping)))
+    throw std::invalid_argument("Surface_fit_options: damping must be finite and >= 0");
+  if (!(o.quadric_weight >= 0. && std::isfinite(o.quadric_weight)))
+    throw std::invalid_argument("Surface_fit_options: quadric_weight must be finite and >= 0");
+  if (!(o.max_turn > 0. && o.max_turn <= 3.141592653589793))
+    throw std::invalid_argument("Surface_fit_options: max_turn must be in (0, pi]");
+}
 
 /// Original points attached to the faces of a mesh being simplified (see the file comment).
 /// \tparam TriangleMesh `CGAL::Surface_mesh` (face indices must stay valid while faces are
@@ -214,6 +251,154 @@ public:
     }
     for (const auto& [i, from] : moving_) attach(i, faces_.size() > 1 && faces_[1] == from ? 1 : 0);
     moving_.clear();
+  }
+
+  /// Fits the vertices of `tm` to the points, after the collapses: a least-squares fit in the
+  /// manner of the distance energy of Hoppe et al., "Mesh optimization" (SIGGRAPH 1993). Each of
+  /// `options.rounds` rounds (1) re-attaches every point to the nearest of its face and that
+  /// face's edge neighbours, keeping the barycentric coordinates of its nearest point there, then
+  /// (2) moves the vertices one after the other, each to the minimiser of
+  ///   sum over the points of its star of area x |point - its nearest point|^2 (coordinates fixed)
+  ///   + quadric_weight x quadric_of(v)(x) + damping x (the star's point area) x |x - where v is|^2,
+  /// a 3x3 solve; a move that turns a face of the star by more than `max_turn` from its normal
+  /// before the fit, or makes it degenerate, or takes a point of the star farther from its face
+  /// than the farthest point was from its face before the fit, is not made. So the energy (the
+  /// points' part and the quadrics') never grows, and neither does the largest distance from a
+  /// point to the mesh. Connectivity is unchanged; the points stay attached (for_each_point() sees
+  /// the faces they end on). Returns the number of vertex moves made; O(rounds x (points + vertex
+  /// degrees)), the re-attachment in parallel (TBB; the result does not depend on the threads).
+  /// \tparam QuadricOf a callable: `quadric_of(v)` is v's internal::Symmetric_quadric (e.g.
+  ///   Area_weighted_quadric_policies::quadric()); one returning a zero quadric fits to points only
+  template <class QuadricOf>
+  std::size_t fit_vertices(const TriangleMesh& tm, const Surface_fit_options& options, QuadricOf quadric_of) {
+    check_fit_options(options);
+    const int rounds = options.rounds;
+    const double damping = options.damping, mu = options.quadric_weight, max_turn = options.max_turn;
+    using Point = typename boost::property_traits<VertexPointMap>::value_type;
+    const std::size_t np = items_.size();
+    if (np == 0 || rounds == 0) return 0;
+    std::vector<face_descriptor> at(np, GT::null_face());
+    std::vector<V3> bary(np);
+    std::vector<V3> n0(head_.size());
+    auto corners = [&](face_descriptor f) {
+      const halfedge_descriptor h = halfedge(f, tm);
+      return std::array<vertex_descriptor, 3>{target(h, tm), target(next(h, tm), tm), source(h, tm)};
+    };
+    for (face_descriptor f : faces(tm)) {
+      const auto c = corners(f);
+      n0[std::size_t(f)] = CM::internal::cross(point(c[1]) - point(c[0]), point(c[2]) - point(c[0]));
+      for (std::uint32_t i = head_[std::size_t(f)]; i != nil; i = items_[i].next) at[i] = f;
+    }
+    const double cos_turn = std::cos(max_turn);
+    double worst = 0.;  // the largest squared distance from a point to its face, before the fit
+    for (face_descriptor f : faces(tm)) {
+      const auto c = corners(f);
+      for (std::uint32_t i = head_[std::size_t(f)]; i != nil; i = items_[i].next)
+        worst = (std::max)(
+            worst, CM::internal::squared_length(items_[i].p - CM::internal::closest_on_triangle(
+                                                                  items_[i].p, point(c[0]), point(c[1]), point(c[2]))));
+    }
+    std::size_t moves = 0;
+    for (int round = 0; round < rounds; ++round) {
+      // nearest face among the current one and its edge neighbours, and the coordinates there
+      // (each point on its own: in parallel, the same result on any number of threads)
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, np, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+              const face_descriptor f = at[i];
+              if (f == GT::null_face()) continue;
+              double best = std::numeric_limits<double>::infinity();
+              const halfedge_descriptor h0 = halfedge(f, tm);
+              for (int k = -1; k < 3; ++k) {
+                face_descriptor g = f;
+                if (k >= 0) {
+                  halfedge_descriptor h = h0;
+                  for (int j = 0; j < k; ++j) h = next(h, tm);
+                  const halfedge_descriptor o = opposite(h, tm);
+                  if (is_border(o, tm)) continue;
+                  g = face(o, tm);
+                }
+                const auto c = corners(g);
+                const V3 a = point(c[0]), b = point(c[1]), cc = point(c[2]);
+                const V3 w = CM::internal::closest_barycentric_on_triangle(items_[i].p, a, b, cc);
+                const double d = CM::internal::squared_length(items_[i].p - (w.x * a + w.y * b + w.z * cc));
+                if (d < best) {
+                  best = d;
+                  at[i] = g;
+                  bary[i] = w;
+                }
+              }
+            }
+          });
+      std::fill(head_.begin(), head_.end(), nil);
+      for (std::size_t i = np; i-- > 0;) {
+        if (at[i] == GT::null_face()) continue;
+        items_[i].next = head_[std::size_t(at[i])];
+        head_[std::size_t(at[i])] = std::uint32_t(i);
+      }
+      for (vertex_descriptor v : vertices(tm)) {
+        const V3 x0 = point(v);
+        double aa = 0., weight = 0.;
+        V3 rhs(0., 0., 0.);
+        for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
+          if (is_border(h, tm)) continue;
+          const face_descriptor f = face(h, tm);
+          if (head_[std::size_t(f)] == nil) continue;
+          const auto c = corners(f);
+          const int k = c[0] == v ? 0 : (c[1] == v ? 1 : 2);
+          const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
+          for (std::uint32_t i = head_[std::size_t(f)]; i != nil; i = items_[i].next) {
+            const Item& r = items_[i];
+            const double w[3] = {bary[i].x, bary[i].y, bary[i].z};
+            V3 rest(0., 0., 0.);
+            for (int j = 0; j < 3; ++j)
+              if (j != k) rest += w[j] * q[j];
+            aa += r.area * w[k] * w[k];
+            rhs += (r.area * w[k]) * (r.p - rest);
+            weight += r.area;
+          }
+        }
+        if (!(aa > 0.)) continue;
+        const double lambda = damping * weight;
+        internal::Symmetric_quadric q = quadric_of(v);
+        q *= mu;
+        q.a00 += aa + lambda;
+        q.a11 += aa + lambda;
+        q.a22 += aa + lambda;
+        q.b0 -= rhs.x + lambda * x0.x;
+        q.b1 -= rhs.y + lambda * x0.y;
+        q.b2 -= rhs.z + lambda * x0.z;
+        internal::Vec3 u;
+        if (!q.solve(u)) continue;
+        const V3 x(u[0], u[1], u[2]);
+        bool ok = true;
+        for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
+          if (is_border(h, tm)) continue;
+          const V3 a = point(source(h, tm)), b = point(target(next(h, tm), tm));
+          const V3 n = CM::internal::cross(b - x, a - x);
+          const V3& m = n0[std::size_t(face(h, tm))];
+          const double nn = CM::internal::squared_length(n), mm = CM::internal::squared_length(m);
+          if (!(nn > 1e-24 * mm) || !(CM::internal::dot(n, m) > cos_turn * std::sqrt(nn * mm))) {
+            ok = false;
+            break;
+          }
+        }
+        // no point of the star may end farther from its face than the farthest point was before
+        for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
+          if (!ok || is_border(h, tm)) continue;
+          const face_descriptor f = face(h, tm);
+          if (head_[std::size_t(f)] == nil) continue;
+          const V3 a = point(source(h, tm)), b = point(target(next(h, tm), tm));
+          for (std::uint32_t i = head_[std::size_t(f)]; i != nil && ok; i = items_[i].next)
+            ok = CM::internal::squared_length(items_[i].p - CM::internal::closest_on_triangle(items_[i].p, x, b, a)) <=
+                 worst;
+        }
+        if (!ok) continue;
+        put(vpm_, v, Point(x.x, x.y, x.z));
+        ++moves;
+      }
+    }
+    return moves;
   }
 
 private:

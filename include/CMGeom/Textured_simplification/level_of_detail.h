@@ -317,7 +317,8 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       so.quadric = options.quadric;
       so.surface_memory = options.surface_memory;
       so.flips = options.flips;
-      so.parts_min_faces = 0;  // snapshots need the whole mesh at every collapse
+      so.parts_min_faces = 0;    // snapshots need the whole mesh at every collapse
+      so.memory.fit.rounds = 0;  // the levels are snapshots taken during the collapses
       simplify_mesh(work, collapsed.back(), so,
                     internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr});
       meshes = std::move(state.snapshots);

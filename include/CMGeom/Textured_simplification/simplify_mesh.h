@@ -5,7 +5,9 @@
 // bound or a guaranteed error bound), as `cmgeom simplify --no-texture` and the new-atlas path of
 // simplify_textured_mesh() run it: the quadrics of Area_weighted_quadric_policies, completed by the
 // memoryful cost of Surface_memory (unless switched off), on CMGeom's engine (edge_collapse.h), edge
-// flips on request; the error bound is Hausdorff_bound.h's.
+// flips on request; the error bound is Hausdorff_bound.h's. With the memoryful cost and no error
+// bound (nor endpoint placement), the vertices are then fitted to the input's points (Surface_memory::fit_vertices(),
+// `options.memory.fit`): a least-squares move of every vertex that lowers the RMS distance.
 //
 // Key choice: large inputs (at least `parts_min_faces` faces, asked for at most a quarter of them
 // by default) are simplified on all cores. They are cut into 2^k parts (internal/Mesh_parts.h),
@@ -100,7 +102,9 @@ struct Mesh_simplification_options {
   Simplification_engine engine = Simplification_engine::cmgeom;
   /// The cost and placement policy (Area_weighted_quadric_policies).
   Quadric_options quadric;
-  /// The memoryful cost (Surface_memory.h) on top of the quadrics.
+  /// The memoryful cost (Surface_memory.h) on top of the quadrics, and after the collapses the fit
+  /// of the vertices to the input's points (`memory.fit`; not with max_error, whose bound holds for
+  /// the collapsed positions, nor with endpoint_placement, whose vertices are the input's).
   bool surface_memory = true;
   Surface_memory_options memory;
   /// Edge flips between collapses (parameters::edge_flips).
@@ -141,6 +145,8 @@ struct Mesh_simplification_result {
   std::size_t parts = 0;              ///< parts simplified at once (0: the whole at once)
   std::size_t faces_after_parts = 0;  ///< faces when the parts were put back together
   double seconds_parts = 0;           ///< the parts: cutting, simplifying, putting back
+  std::size_t fit_moves = 0;          ///< vertex moves of the final fit (Surface_memory::fit_vertices)
+  double seconds_fit = 0;             ///< the final fit
   double seconds = 0;                 ///< all of it
 };
 
@@ -413,6 +419,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
   if (options.max_error && !(*options.max_error > 0.0 && std::isfinite(*options.max_error)))
     throw std::invalid_argument("simplify_mesh: max_error must be finite and > 0, got " +
                                 std::to_string(*options.max_error));
+  check_fit_options(options.memory.fit);
   if (options.error_bound.max_depth < 0 || options.error_bound.max_depth > 16)
     throw std::invalid_argument("simplify_mesh: error_bound.max_depth must be in [0, 16]");
   if (!(options.parts_stop_factor >= 1.0)) throw std::invalid_argument("simplify_mesh: parts_stop_factor must be >= 1");
@@ -469,6 +476,11 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
       run(placement, Hausdorff_bound_filter<Bound, No_normal_flip_filter<>>{b}, Hausdorff_bound_filter<Bound>{b},
           Hausdorff_bound_visitor<Bound, Visitor>(b, visitor));
     });
+    if (m && !bound && !options.endpoint_placement && options.memory.fit.rounds > 0) {
+      const auto t_fit = Clock::now();
+      res.fit_moves = m->fit_vertices(mesh, options.memory.fit, [&](auto v) { return policy.quadric(v); });
+      res.seconds_fit = std::chrono::duration<double>(Clock::now() - t_fit).count();
+    }
     if (bound) {
       res.error_bound = bound->bound() / diagonal;
       if (res.stopped_by == Stop_reason::no_collapse && bound->refused() > 0) res.stopped_by = Stop_reason::max_error;

@@ -75,8 +75,11 @@ struct Textured_simplification_options {
   /// Textured_simplification, "Which policy"); `quadric.weighted = true` for the thesis' weighting.
   Quadric_options quadric = Quadric_options{false};
   /// The memoryful cost of Surface_memory.h (the input's vertices stay attached to the faces
-  /// and price the collapses that move them away) when the charts are not kept.
+  /// and price the collapses that move them away) when the charts are not kept; `memory` its
+  /// options, with the fit of the vertices to those points after the collapses (`memory.fit`, as
+  /// simplify_mesh() runs it: not with max_error).
   bool surface_memory = true;
+  Surface_memory_options memory;
   Chart_constraint_options constraints;
   /// Rewrite the index texture and generate output textures (when the input has a texture).
   bool resample_textures = true;
@@ -180,6 +183,7 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   Mesh_simplification_options so;
   so.quadric = options.quadric;
   so.surface_memory = options.surface_memory;
+  so.memory = options.memory;
   so.flips = options.flips;
   so.endpoint_placement = options.endpoint_placement;
   if (options.target_faces > 0 || !options.max_error) so.target_faces = options.target_faces;

@@ -80,6 +80,39 @@ inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, con
   return a + (vb * den) * ab + (vc * den) * ac;
 }
 
+// Barycentric coordinates (of a, b, c) of the point of triangle abc closest to p: the regions of
+// closest_on_triangle(), with the weights kept (a degenerate triangle gives a).
+inline Vec3 closest_barycentric_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return Vec3(1., 0., 0.);
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return Vec3(0., 1., 0.);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double t = d1 / (d1 - d3);
+    return Vec3(1. - t, t, 0.);
+  }
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return Vec3(0., 0., 1.);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double t = d2 / (d2 - d6);
+    return Vec3(1. - t, 0., t);
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return Vec3(0., 1. - t, t);
+  }
+  const double sum = va + vb + vc;
+  if (!(sum > 0.)) return Vec3(1., 0., 0.);
+  const double den = 1. / sum;
+  return Vec3(1. - (vb + vc) * den, vb * den, vc * den);
+}
+
 }  // namespace internal
 }  // namespace CM
 }  // namespace CMGeom
