@@ -191,7 +191,7 @@ public:
       const std::size_t hint = j < removed_ ? 0 : j - removed_;
       for (std::uint32_t i = head_[std::size_t(faces_[j])]; i != nil; i = items_[i].next) {
         const Item& r = items_[i];
-        const double d = nearest(r.p, hint).first;
+        const double d = nearest(r.p, hint, floor_sq_).first;
         if (d > floor_sq_) sum += r.area * d;
       }
     }
@@ -459,13 +459,15 @@ private:
   /// (squared distance, index) of the triangle of tris_ nearest to q, starting from tris_[hint];
   /// a triangle whose plane, or whose bounding sphere, is already farther than the best so far is
   /// skipped (both are lower bounds of the distance: the result is the exact minimum).
-  std::pair<double, std::size_t> nearest(const V3& q, std::size_t hint) const {
+  /// With `enough` >= 0 the search ends at the first triangle within sqrt(enough) (cost() counts
+  /// any distance below the floor as zero: which such triangle is nearest does not matter there).
+  std::pair<double, std::size_t> nearest(const V3& q, std::size_t hint, double enough = -1.) const {
     auto dist = [&](const Tri& t) {
       return CM::internal::squared_length(q - CM::internal::closest_on_triangle(q, t.a, t.b, t.c));
     };
     double best = dist(tris_[hint]);
     std::size_t k_best = hint;
-    for (std::size_t k = 0; k < tris_.size(); ++k) {
+    for (std::size_t k = 0; k < tris_.size() && best > enough; ++k) {
       if (k == hint) continue;
       const Tri& t = tris_[k];
       const double plane = CM::internal::dot(q - t.a, t.n);
