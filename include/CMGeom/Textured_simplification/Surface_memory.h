@@ -20,9 +20,6 @@
 #include <CGAL/boost/graph/iterator.h>
 #include <CGAL/number_utils.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -266,7 +263,7 @@ public:
   /// points' part and the quadrics') never grows, and neither does the largest distance from a
   /// point to the mesh. Connectivity is unchanged; the points stay attached (for_each_point() sees
   /// the faces they end on). Returns the number of vertex moves made; O(rounds x (points + vertex
-  /// degrees)), the re-attachment in parallel (TBB; the result does not depend on the threads).
+  /// degrees)).
   /// \tparam QuadricOf a callable: `quadric_of(v)` is v's internal::Symmetric_quadric (e.g.
   ///   Area_weighted_quadric_policies::quadric()); one returning a zero quadric fits to points only
   template <class QuadricOf>
@@ -301,35 +298,31 @@ public:
     std::size_t moves = 0;
     for (int round = 0; round < rounds; ++round) {
       // nearest face among the current one and its edge neighbours, and the coordinates there
-      // (each point on its own: in parallel, the same result on any number of threads)
-      tbb::parallel_for(
-          tbb::blocked_range<std::size_t>(0, np, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) {
-              const face_descriptor f = at[i];
-              if (f == GT::null_face()) continue;
-              double best = std::numeric_limits<double>::infinity();
-              const halfedge_descriptor h0 = halfedge(f, tm);
-              for (int k = -1; k < 3; ++k) {
-                face_descriptor g = f;
-                if (k >= 0) {
-                  halfedge_descriptor h = h0;
-                  for (int j = 0; j < k; ++j) h = next(h, tm);
-                  const halfedge_descriptor o = opposite(h, tm);
-                  if (is_border(o, tm)) continue;
-                  g = face(o, tm);
-                }
-                const auto c = corners(g);
-                const V3 a = point(c[0]), b = point(c[1]), cc = point(c[2]);
-                const V3 w = CM::internal::closest_barycentric_on_triangle(items_[i].p, a, b, cc);
-                const double d = CM::internal::squared_length(items_[i].p - (w.x * a + w.y * b + w.z * cc));
-                if (d < best) {
-                  best = d;
-                  at[i] = g;
-                  bary[i] = w;
-                }
-              }
-            }
-          });
+      for (std::size_t i = 0; i < np; ++i) {
+        const face_descriptor f = at[i];
+        if (f == GT::null_face()) continue;
+        double best = std::numeric_limits<double>::infinity();
+        const halfedge_descriptor h0 = halfedge(f, tm);
+        for (int k = -1; k < 3; ++k) {
+          face_descriptor g = f;
+          if (k >= 0) {
+            halfedge_descriptor h = h0;
+            for (int j = 0; j < k; ++j) h = next(h, tm);
+            const halfedge_descriptor o = opposite(h, tm);
+            if (is_border(o, tm)) continue;
+            g = face(o, tm);
+          }
+          const auto c = corners(g);
+          const V3 a = point(c[0]), b = point(c[1]), cc = point(c[2]);
+          const V3 w = CM::internal::closest_barycentric_on_triangle(items_[i].p, a, b, cc);
+          const double d = CM::internal::squared_length(items_[i].p - (w.x * a + w.y * b + w.z * cc));
+          if (d < best) {
+            best = d;
+            at[i] = g;
+            bary[i] = w;
+          }
+        }
+      }
       std::fill(head_.begin(), head_.end(), nil);
       for (std::size_t i = np; i-- > 0;) {
         if (at[i] == GT::null_face()) continue;
@@ -388,10 +381,16 @@ public:
           if (!ok || is_border(h, tm)) continue;
           const face_descriptor f = face(h, tm);
           if (head_[std::size_t(f)] == nil) continue;
-          const V3 a = point(source(h, tm)), b = point(target(next(h, tm), tm));
-          for (std::uint32_t i = head_[std::size_t(f)]; i != nil && ok; i = items_[i].next)
-            ok = CM::internal::squared_length(items_[i].p - CM::internal::closest_on_triangle(items_[i].p, x, b, a)) <=
-                 worst;
+          const auto c = corners(f);
+          V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
+          q[c[0] == v ? 0 : (c[1] == v ? 1 : 2)] = x;
+          for (std::uint32_t i = head_[std::size_t(f)]; i != nil && ok; i = items_[i].next) {
+            const V3& p = items_[i].p;
+            // the point at its coordinates is at least as far as the face: often enough
+            if (CM::internal::squared_length(p - (bary[i].x * q[0] + bary[i].y * q[1] + bary[i].z * q[2])) <= worst)
+              continue;
+            ok = CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, q[0], q[1], q[2])) <= worst;
+          }
         }
         if (!ok) continue;
         put(vpm_, v, Point(x.x, x.y, x.z));
