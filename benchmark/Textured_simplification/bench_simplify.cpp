@@ -260,13 +260,15 @@ Mesh run_cmgeom(const Mesh& in, std::size_t target, bool weighted, bool flips, d
 // What `cmgeom simplify` runs (simplify_mesh: plain quadrics, the memoryful cost, large inputs in
 // parts on all cores, the final fit of the vertices); `parts` false: the whole mesh at once
 // whatever its size; `fit` false: no final fit (--fit-rounds 0).
-Mesh run_cmgeom_default(const Mesh& in, std::size_t target, bool parts, double& secs, bool fit = true) {
+Mesh run_cmgeom_default(const Mesh& in, std::size_t target, bool parts, double& secs, bool fit = true,
+                        bool flips = false) {
   Mesh m = in;
   const double t0 = cpu_seconds();
   TS::Mesh_simplification_options o;
   o.quadric.weighted = false;
   if (!parts) o.parts_min_faces = 0;
   if (!fit) o.memory.fit.rounds = 0;
+  o.flips = flips;
   TS::simplify_mesh(m, target, o);
   secs = cpu_seconds() - t0;
   return m;
@@ -357,6 +359,7 @@ Mesh run_openmesh(const Soup& s, std::size_t target, double& secs) {
 const char* const all_tools[] = {"cmgeom-default",
                                  "cmgeom-default-whole",
                                  "cmgeom-default-nofit",
+                                 "cmgeom-default-flips",
                                  "cmgeom-weighted",
                                  "cmgeom-weighted-sum",
                                  "cmgeom-plain",
@@ -377,6 +380,8 @@ bool run_tool(const std::string& tool, const Model& md, std::size_t target, Mesh
     out = run_cmgeom_default(md.mesh, target, false, secs);
   else if (tool == "cmgeom-default-nofit")
     out = run_cmgeom_default(md.mesh, target, true, secs, false);
+  else if (tool == "cmgeom-default-flips")
+    out = run_cmgeom_default(md.mesh, target, true, secs, true, true);
   else if (tool == "cmgeom-weighted")
     out = run_cmgeom(md.mesh, target, true, false, secs);
   else if (tool == "cmgeom-plain")
