@@ -7,6 +7,7 @@
 // of the vertices to the points (fit_vertices): its invariants, measured independently, and its
 // RMS against no fit on the shared classic models.
 #include "cmgeom_test_config.h"
+#include "cmgeom_test_surface_meshes.h"
 
 #include <CMGeom/Metrics/approximation_error.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
@@ -177,25 +178,8 @@ TEST(SurfaceMemory, LowersTheErrorOfTheQuadricOnTheSharedTexturedModels) {
   if (fuze_h[0] > 0) EXPECT_LT(fuze_h[1], 0.75 * fuze_h[0]);
 }
 
-// A torus with bumps (no symmetry the collapses could keep exactly): n x m quads split in two.
-Mesh bumpy_torus(int n, int m) {
-  Mesh t;
-  std::vector<Mesh::Vertex_index> v;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      const double u = 2 * M_PI * i / n, w = 2 * M_PI * j / m;
-      const double r = 0.35 * (1 + 0.15 * std::sin(5 * u) * std::cos(3 * w));
-      v.push_back(t.add_vertex(
-          Point_3((1 + r * std::cos(w)) * std::cos(u), (1 + r * std::cos(w)) * std::sin(u), r * std::sin(w))));
-    }
-  auto at = [&](int i, int j) { return v[std::size_t(((i + n) % n) * m + (j + m) % m)]; };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      t.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      t.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-  return t;
-}
+// A torus with bumps (no symmetry the collapses could keep exactly).
+Mesh bumpy_torus(int n, int m) { return cmgeom_test::rippled_torus(n, m, 0.35, 0.35 * 0.15, 5, 3); }
 
 // Per point: the squared distance to the face it is attached to (CGAL's, not the memory's).
 std::vector<double> attached_distances(const Mesh& m, const Memory& memory) {
