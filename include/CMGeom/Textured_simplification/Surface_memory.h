@@ -281,19 +281,21 @@ public:
       const halfedge_descriptor h = halfedge(f, tm);
       return std::array<vertex_descriptor, 3>{target(h, tm), target(next(h, tm), tm), source(h, tm)};
     };
-    for (face_descriptor f : faces(tm)) {
-      const auto c = corners(f);
-      n0[std::size_t(f)] = CM::internal::cross(point(c[1]) - point(c[0]), point(c[2]) - point(c[0]));
-      for (std::uint32_t i = head_[std::size_t(f)]; i != nil; i = items_[i].next) at[i] = f;
-    }
+    const auto corner_of = [](const std::array<vertex_descriptor, 3>& c, vertex_descriptor v) {
+      return c[0] == v ? 0 : (c[1] == v ? 1 : 2);
+    };
     const double cos_turn = std::cos(max_turn);
     double worst = 0.;  // the largest squared distance from a point to its face, before the fit
     for (face_descriptor f : faces(tm)) {
       const auto c = corners(f);
-      for (std::uint32_t i = head_[std::size_t(f)]; i != nil; i = items_[i].next)
-        worst = (std::max)(
-            worst, CM::internal::squared_length(items_[i].p - CM::internal::closest_on_triangle(
-                                                                  items_[i].p, point(c[0]), point(c[1]), point(c[2]))));
+      const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
+      n0[std::size_t(f)] = CM::internal::cross(q[1] - q[0], q[2] - q[0]);
+      for (std::uint32_t i = head_[std::size_t(f)]; i != nil; i = items_[i].next) {
+        at[i] = f;
+        const V3& p = items_[i].p;
+        worst =
+            (std::max)(worst, CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, q[0], q[1], q[2])));
+      }
     }
     std::size_t moves = 0;
     for (int round = 0; round < rounds; ++round) {
@@ -302,16 +304,7 @@ public:
         const face_descriptor f = at[i];
         if (f == GT::null_face()) continue;
         double best = std::numeric_limits<double>::infinity();
-        const halfedge_descriptor h0 = halfedge(f, tm);
-        for (int k = -1; k < 3; ++k) {
-          face_descriptor g = f;
-          if (k >= 0) {
-            halfedge_descriptor h = h0;
-            for (int j = 0; j < k; ++j) h = next(h, tm);
-            const halfedge_descriptor o = opposite(h, tm);
-            if (is_border(o, tm)) continue;
-            g = face(o, tm);
-          }
+        const auto consider = [&](face_descriptor g) {
           const auto c = corners(g);
           const V3 a = point(c[0]), b = point(c[1]), cc = point(c[2]);
           const V3 w = CM::internal::closest_barycentric_on_triangle(items_[i].p, a, b, cc);
@@ -321,7 +314,10 @@ public:
             at[i] = g;
             bary[i] = w;
           }
-        }
+        };
+        consider(f);
+        for (halfedge_descriptor h : CGAL::halfedges_around_face(halfedge(f, tm), tm))
+          if (!is_border(opposite(h, tm), tm)) consider(face(opposite(h, tm), tm));
       }
       std::fill(head_.begin(), head_.end(), nil);
       for (std::size_t i = np; i-- > 0;) {
@@ -338,7 +334,7 @@ public:
           const face_descriptor f = face(h, tm);
           if (head_[std::size_t(f)] == nil) continue;
           const auto c = corners(f);
-          const int k = c[0] == v ? 0 : (c[1] == v ? 1 : 2);
+          const int k = corner_of(c, v);
           const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
           for (std::uint32_t i = head_[std::size_t(f)]; i != nil; i = items_[i].next) {
             const Item& r = items_[i];
@@ -364,26 +360,22 @@ public:
         internal::Vec3 u;
         if (!q.solve(u)) continue;
         const V3 x(u[0], u[1], u[2]);
+        // each face of the star: turned by at most max_turn and not degenerate, and none of its
+        // points farther from it than the farthest point was from its face before the fit
         bool ok = true;
         for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
           if (is_border(h, tm)) continue;
+          const face_descriptor f = face(h, tm);
           const V3 a = point(source(h, tm)), b = point(target(next(h, tm), tm));
           const V3 n = CM::internal::cross(b - x, a - x);
-          const V3& m = n0[std::size_t(face(h, tm))];
+          const V3& m = n0[std::size_t(f)];
           const double nn = CM::internal::squared_length(n), mm = CM::internal::squared_length(m);
-          if (!(nn > 1e-24 * mm) || !(CM::internal::dot(n, m) > cos_turn * std::sqrt(nn * mm))) {
-            ok = false;
-            break;
-          }
-        }
-        // no point of the star may end farther from its face than the farthest point was before
-        for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
-          if (!ok || is_border(h, tm)) continue;
-          const face_descriptor f = face(h, tm);
+          ok = nn > 1e-24 * mm && CM::internal::dot(n, m) > cos_turn * std::sqrt(nn * mm);
+          if (!ok) break;
           if (head_[std::size_t(f)] == nil) continue;
           const auto c = corners(f);
           V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
-          q[c[0] == v ? 0 : (c[1] == v ? 1 : 2)] = x;
+          q[corner_of(c, v)] = x;
           for (std::uint32_t i = head_[std::size_t(f)]; i != nil && ok; i = items_[i].next) {
             const V3& p = items_[i].p;
             // the point at its coordinates is at least as far as the face: often enough
@@ -391,6 +383,7 @@ public:
               continue;
             ok = CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, q[0], q[1], q[2])) <= worst;
           }
+          if (!ok) break;
         }
         if (!ok) continue;
         put(vpm_, v, Point(x.x, x.y, x.z));
