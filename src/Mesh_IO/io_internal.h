@@ -10,6 +10,7 @@
 #include <cstring>
 #include <functional>
 #include <string>
+#include <string_view>
 
 namespace CMGeom {
 namespace IO {
@@ -57,7 +58,7 @@ void append_double(std::string& s, double x);
 
 // Calls f(line_number, begin, end) for every line of `data` (1-based numbers, '\n' excluded).
 template <class F>
-void for_each_line(const std::string& data, F&& f) {
+void for_each_line(std::string_view data, F&& f) {
   std::size_t line_no = 0;
   const char* p = data.data();
   const char* const end = p + data.size();
@@ -71,6 +72,22 @@ void for_each_line(const std::string& data, F&& f) {
 
 // Reads a whole file; throws IO_error (missing, unreadable, directory).
 std::string slurp(const std::string& path);
+
+// A whole file's bytes, mapped read-only (no copy; the pages are read ahead at once) or, where
+// the file cannot be mapped, read as slurp() does; the same errors as slurp().
+class File_bytes {
+public:
+  explicit File_bytes(const std::string& path);
+  ~File_bytes();
+  File_bytes(const File_bytes&) = delete;
+  File_bytes& operator=(const File_bytes&) = delete;
+  std::string_view view() const { return map_ ? std::string_view(map_, size_) : std::string_view(copy_); }
+
+private:
+  const char* map_ = nullptr;
+  std::size_t size_ = 0;
+  std::string copy_;
+};
 
 // Texture emitter that copies the source file of the texture next to the output.
 std::string copy_texture_file(const std::string& obj_path, const std::string& source, const std::string& suggested_name,

@@ -1,5 +1,9 @@
 // OBJ + MTL reader and writer.
 //
+// Files of a megabyte or more are parsed on all cores in chunks of lines (read_obj_in_chunks);
+// the soup is the one the line-by-line reader gives, which reads any file the chunks give up on
+// (an error, an unknown statement) and so reports its errors and warnings.
+//
 // Own parser rather than tinyobjloader: every error must carry its line number (tinyobjloader
 // reports out-of-range indices without one, or not at all), polygons must be split into fans in
 // file order, and coordinates must read back bit-exactly (std::from_chars / std::to_chars). The
@@ -8,6 +12,7 @@
 
 #include <CMGeom/Error.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -15,6 +20,13 @@
 #include <fstream>
 #include <sstream>
 #include <unordered_map>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <tbb/parallel_for.h>
 
 namespace CMGeom {
 namespace IO {
@@ -37,6 +49,28 @@ std::string slurp(const std::string& path) {
   in.read(data.data(), size);
   if (!in) throw IO_error(path, "read failed");
   return data;
+}
+
+File_bytes::File_bytes(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IO_error(path, "file not found");
+  if (fs::is_directory(path, ec)) throw IO_error(path, "is a directory, not a mesh file");
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw IO_error(path, std::string("cannot open: ") + std::strerror(errno));
+  struct stat st;
+  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+    void* p = ::mmap(nullptr, std::size_t(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+    if (p != MAP_FAILED) {
+      map_ = static_cast<const char*>(p);
+      size_ = std::size_t(st.st_size);
+    }
+  }
+  ::close(fd);
+  if (!map_) copy_ = slurp(path);
+}
+
+File_bytes::~File_bytes() {
+  if (map_) ::munmap(const_cast<char*>(map_), size_);
 }
 
 void append_double(std::string& s, double x) {
@@ -94,6 +128,203 @@ std::string fix_slashes(std::string s) {
   for (char& c : s)
     if (c == '\\') c = '/';
   return s;
+}
+
+// The statements of grouping, smoothing and free-form geometry: not part of the polygon mesh.
+bool is_ignored_statement(std::string_view key) {
+  static const char* const keys[] = {
+      "o",    "g",          "s",         "l",      "p",      "vp",    "cstype",   "deg",      "curv",  "surf",  "mg",
+      "lod",  "shadow_obj", "trace_obj", "usemap", "maplib", "bevel", "c_interp", "d_interp", "ctech", "stech", "end",
+      "parm", "trim",       "hole",      "scrv",   "sp",     "con",   "bmat",     "step",     "call",  "csh"};
+  for (const char* k : keys)
+    if (key == k) return true;
+  return false;
+}
+
+// The numbers of a "v" line after its key (optional w or colour values are ignored); "" or what is
+// wrong.
+std::string parse_vertex(Line& l, std::array<double, 3>& x) {
+  for (int i = 0; i < 3; ++i) {
+    std::string_view t = l.token();
+    if (!parse_double(t, x[std::size_t(i)])) return "vertex needs three numbers, got '" + std::string(t) + "'";
+    if (!std::isfinite(x[std::size_t(i)])) return "vertex coordinate is not finite (" + std::string(t) + ")";
+  }
+  return std::string();
+}
+
+// The numbers of a "vt" line ("vt u" is legal: v defaults to 0).
+std::string parse_texcoord(Line& l, std::array<double, 2>& t) {
+  for (int i = 0; i < 2; ++i) {
+    std::string_view s = l.token();
+    if (i == 1 && s.empty()) {
+      t[1] = 0.0;
+      break;
+    }
+    if (!parse_double(s, t[std::size_t(i)])) return "texture coordinate needs numbers, got '" + std::string(s) + "'";
+    if (!std::isfinite(t[std::size_t(i)])) return "texture coordinate is not finite (" + std::string(s) + ")";
+  }
+  return std::string();
+}
+
+// The numbers of a "vn" line (normals are recomputed from geometry: only their count matters).
+std::string parse_normal(Line& l) {
+  for (int i = 0; i < 3; ++i) {
+    double d;
+    std::string_view s = l.token();
+    if (!parse_double(s, d)) return "normal needs three numbers, got '" + std::string(s) + "'";
+  }
+  return std::string();
+}
+
+// The corners of an "f" line, as 0-based indices (texture coordinate -1 for none), given how many
+// positions, texture coordinates and normals the file defined before the line (1-based indices;
+// negative ones count back from the latest element).
+std::string parse_face(Line& l, std::size_t positions, std::size_t uvs, std::size_t normals, std::vector<long long>& cv,
+                       std::vector<long long>& ct) {
+  cv.clear();
+  ct.clear();
+  bool any_uv = false, any_no_uv = false;
+  std::string error;
+  auto resolve = [&](long long i, std::size_t count, const char* what) -> long long {
+    const long long r = i > 0 ? i - 1 : (i < 0 ? (long long)count + i : -1);
+    if (i == 0 || r < 0 || r >= (long long)count) {
+      error = std::string(what) + " index " + std::to_string(i) + " out of range (" + std::to_string(count) +
+              " defined so far)";
+      return -1;
+    }
+    return r;
+  };
+  while (!l.at_end()) {
+    std::string_view c = l.token();
+    const std::size_t s1 = c.find('/');
+    long long vi, ti = 0, ni = 0;
+    if (!parse_int(c.substr(0, s1), vi)) return "bad face corner '" + std::string(c) + "'";
+    if (s1 != std::string_view::npos) {
+      std::string_view rest = c.substr(s1 + 1);
+      const std::size_t s2 = rest.find('/');
+      std::string_view tpart = rest.substr(0, s2);
+      if (!tpart.empty() && !parse_int(tpart, ti)) return "bad texture index in face corner '" + std::string(c) + "'";
+      if (s2 != std::string_view::npos) {
+        std::string_view npart = rest.substr(s2 + 1);
+        if (!npart.empty() && !parse_int(npart, ni)) return "bad normal index in face corner '" + std::string(c) + "'";
+      }
+    }
+    cv.push_back(resolve(vi, positions, "vertex"));
+    if (!error.empty()) return error;
+    if (ti != 0) {
+      ct.push_back(resolve(ti, uvs, "texture coordinate"));
+      if (!error.empty()) return error;
+      any_uv = true;
+    } else {
+      ct.push_back(-1);
+      any_no_uv = true;
+    }
+    if (ni != 0) resolve(ni, normals, "normal");
+    if (!error.empty()) return error;
+  }
+  if (cv.size() < 3) return "face with " + std::to_string(cv.size()) + " corner(s); at least 3 needed";
+  if (any_uv && any_no_uv) return "face gives texture coordinates for some corners only";
+  return std::string();
+}
+
+// Appends a parsed face (corners from parse_face) to the soup's corner arrays.
+void add_face(Polygon_soup& soup, const std::vector<long long>& cv, const std::vector<long long>& ct, int material,
+              std::size_t line_no) {
+  for (std::size_t k = 0; k < cv.size(); ++k) {
+    soup.corner_vertex.push_back(std::uint32_t(cv[k]));
+    soup.corner_uv.push_back(ct[k] < 0 ? Polygon_soup::no_index : std::uint32_t(ct[k]));
+  }
+  soup.face_start.push_back(std::uint32_t(soup.corner_vertex.size()));
+  soup.face_material.push_back(material);  // -1: before any usemtl
+  soup.face_line.push_back(line_no);
+}
+
+// The OBJ's lines in chunks, parsed on all cores: a first pass counts each chunk's lines and
+// its v, vt and vn statements, so that the second can resolve face indices (relative ones too)
+// chunk by chunk. Only the statements of plain meshes are parsed so (v, vt, vn, f, comments,
+// usemtl and mtllib, which are recorded and replayed in file order, and the ignored ones of
+// is_ignored_statement); on anything else, an unknown statement or an error, it gives up and
+// returns false, and the serial reader below, which reports it, reads the file. When it succeeds
+// the soup is the serial reader's, element for element.
+struct Obj_chunk {
+  const char* begin;
+  const char* end;
+  std::size_t lines = 0, positions = 0, uvs = 0, normals = 0, faces = 0;  // counts, first pass
+  Polygon_soup part;                                                      // faces' materials: event slot or -1
+  struct Event {
+    std::size_t line;  // in the chunk, 1-based
+    bool usemtl;       // else mtllib
+    std::string text;
+  };
+  std::vector<Event> events;
+  bool ok = true;
+};
+
+void count_obj_chunk(Obj_chunk& c) {
+  for (const char* p = c.begin; p < c.end;) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(c.end - p)));
+    if (!nl) nl = c.end;
+    ++c.lines;
+    while (p < nl && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+    if (p + 1 < nl && p[0] == 'f' && (p[1] == ' ' || p[1] == '\t')) ++c.faces;
+    if (p < nl && *p == 'v') {
+      const char k = p + 1 < nl ? p[1] : ' ';
+      const bool end1 = k == ' ' || k == '\t' || k == '\r';
+      const bool end2 = p + 2 >= nl || p[2] == ' ' || p[2] == '\t' || p[2] == '\r';
+      if (end1)
+        ++c.positions;
+      else if (k == 't' && end2)
+        ++c.uvs;
+      else if (k == 'n' && end2)
+        ++c.normals;
+    }
+    p = nl + 1;
+  }
+}
+
+void parse_obj_chunk(Obj_chunk& c, std::size_t positions, std::size_t uvs, std::size_t normals) {
+  Polygon_soup& soup = c.part;
+  soup.positions.reserve(c.positions);
+  soup.uvs.reserve(c.uvs);
+  soup.face_start.reserve(c.faces + 1);  // triangles, most often
+  soup.face_material.reserve(c.faces);
+  soup.face_line.reserve(c.faces);
+  soup.corner_vertex.reserve(3 * c.faces);
+  soup.corner_uv.reserve(3 * c.faces);
+  std::vector<long long> cv, ct;
+  std::size_t line_no = 0;
+  int slot = -1;
+  for (const char* p = c.begin; p < c.end;) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(c.end - p)));
+    if (!nl) nl = c.end;
+    ++line_no;
+    Line l{p, nl};
+    p = nl + 1;
+    if (std::memchr(l.p, '\0', std::size_t(l.end - l.p))) return void(c.ok = false);
+    const std::string_view key = l.token();
+    if (key.empty() || key[0] == '#') continue;
+    if (key == "v") {
+      std::array<double, 3> x;
+      if (!parse_vertex(l, x).empty()) return void(c.ok = false);
+      soup.positions.push_back(x);
+    } else if (key == "vt") {
+      std::array<double, 2> t;
+      if (!parse_texcoord(l, t).empty()) return void(c.ok = false);
+      soup.uvs.push_back(t);
+    } else if (key == "vn") {
+      if (!parse_normal(l).empty()) return void(c.ok = false);
+      ++normals;
+    } else if (key == "f") {
+      if (!parse_face(l, positions + soup.positions.size(), uvs + soup.uvs.size(), normals, cv, ct).empty())
+        return void(c.ok = false);
+      add_face(soup, cv, ct, slot, line_no);
+    } else if (key == "usemtl" || key == "mtllib") {
+      c.events.push_back({line_no, key == "usemtl", l.rest()});
+      if (key == "usemtl") slot = int(c.events.size()) - 1;
+    } else if (!is_ignored_statement(key)) {
+      return void(c.ok = false);
+    }
+  }
 }
 
 // Texture map statement: options (-bm 1.0, -o u v w, ...) then a file name that may hold spaces.
@@ -173,10 +404,96 @@ void read_mtl(const std::string& mtl_path, Polygon_soup& soup, std::unordered_ma
   });
 }
 
+// Files from this size on are read by read_obj_in_chunks (below it, the serial reader is as fast).
+constexpr std::size_t parallel_obj_bytes = std::size_t(1) << 20;
+
+// Reads `data` on all cores (see Obj_chunk) into `soup` (holding only its source); `usemtl(name,
+// line)` and `mtllib(text, line)` are the reader's handlers, called in file order, and
+// `current_material` the material they set. Returns false, with `soup` in an unspecified state,
+// when the serial reader must read the file.
+template <class Usemtl, class Mtllib>
+bool read_obj_in_chunks(std::string_view data, Polygon_soup& soup, Usemtl usemtl, Mtllib mtllib,
+                        int& current_material) {
+  // chunks of about a megabyte, ending after a newline; their number depends on the size only
+  const std::size_t n = (std::min)(std::size_t(256), (std::max)(std::size_t(1), data.size() >> 20));
+  std::vector<Obj_chunk> chunks(n);
+  const char* const base = data.data();
+  const char* const end = base + data.size();
+  const char* at = base;
+  for (std::size_t i = 0; i < n; ++i) {
+    chunks[i].begin = at;
+    const char* e = end;
+    if (i + 1 < n) {
+      const char* target = (std::max)(at, base + (i + 1) * (data.size() / n));
+      const char* nl =
+          target < end ? static_cast<const char*>(std::memchr(target, '\n', std::size_t(end - target))) : nullptr;
+      e = nl ? nl + 1 : end;
+    }
+    chunks[i].end = e;
+    at = e;
+  }
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { count_obj_chunk(chunks[i]); });
+  std::vector<std::size_t> positions(n + 1, 0), uvs(n + 1, 0), normals(n + 1, 0), lines(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    positions[i + 1] = positions[i] + chunks[i].positions;
+    uvs[i + 1] = uvs[i] + chunks[i].uvs;
+    normals[i + 1] = normals[i] + chunks[i].normals;
+    lines[i + 1] = lines[i] + chunks[i].lines;
+  }
+  tbb::parallel_for(std::size_t(0), n,
+                    [&](std::size_t i) { parse_obj_chunk(chunks[i], positions[i], uvs[i], normals[i]); });
+  for (const Obj_chunk& c : chunks)
+    if (!c.ok || c.part.positions.size() != c.positions || c.part.uvs.size() != c.uvs) return false;
+  // materials in file order: each face's slot (its chunk's latest usemtl) becomes a material
+  std::vector<int> at_start(n);
+  std::vector<std::vector<int>> slot_material(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    at_start[i] = current_material;
+    for (const Obj_chunk::Event& e : chunks[i].events) {
+      if (e.usemtl)
+        usemtl(e.text, lines[i] + e.line);
+      else
+        mtllib(e.text, lines[i] + e.line);
+      slot_material[i].push_back(current_material);
+    }
+  }
+  std::vector<std::size_t> faces(n + 1, 0), corners(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    faces[i + 1] = faces[i] + chunks[i].part.number_of_faces();
+    corners[i + 1] = corners[i] + chunks[i].part.corner_vertex.size();
+  }
+  if (corners[n] >= std::size_t(Polygon_soup::no_index)) return false;
+  soup.positions.resize(positions[n]);
+  soup.uvs.resize(uvs[n]);
+  soup.face_start.resize(faces[n] + 1);
+  soup.face_start[0] = 0;
+  soup.corner_vertex.resize(corners[n]);
+  soup.corner_uv.resize(corners[n]);
+  soup.face_material.resize(faces[n]);
+  soup.face_line.resize(faces[n]);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+    const Polygon_soup& part = chunks[i].part;
+    std::copy(part.positions.begin(), part.positions.end(), soup.positions.begin() + std::ptrdiff_t(positions[i]));
+    std::copy(part.uvs.begin(), part.uvs.end(), soup.uvs.begin() + std::ptrdiff_t(uvs[i]));
+    std::copy(part.corner_vertex.begin(), part.corner_vertex.end(),
+              soup.corner_vertex.begin() + std::ptrdiff_t(corners[i]));
+    std::copy(part.corner_uv.begin(), part.corner_uv.end(), soup.corner_uv.begin() + std::ptrdiff_t(corners[i]));
+    for (std::size_t f = 0; f < part.number_of_faces(); ++f) {
+      const std::size_t g = faces[i] + f;
+      soup.face_start[g + 1] = std::uint32_t(corners[i] + part.face_start[f + 1]);
+      const int slot = part.face_material[f];
+      soup.face_material[g] = slot < 0 ? at_start[i] : slot_material[i][std::size_t(slot)];
+      soup.face_line[g] = lines[i] + part.face_line[f];
+    }
+  });
+  return true;
+}
+
 }  // namespace
 
 void read_obj(const std::string& path, Polygon_soup& soup) {
-  const std::string data = slurp(path);
+  const File_bytes bytes(path);
+  const std::string_view data = bytes.view();
   if (data.empty()) throw IO_error(path, "empty file");
   soup = Polygon_soup();
   soup.source = path;
@@ -187,7 +504,6 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
   std::size_t n_normals = 0;
   std::size_t unknown_statements = 0;
   std::vector<long long> cv, ct;  // corners of the current face (vertex, texcoord) as written
-  std::vector<std::string> pending_usemtl;
 
   auto material_for = [&](const std::string& name) {
     auto it = material_by_name.find(name);
@@ -198,135 +514,79 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
     material_by_name.emplace(name, id);
     return id;
   };
-
-  for_each_line(data, [&](std::size_t line_no, const char* b, const char* e) {
-    Line l{b, e};
-    // Binary garbage is rejected early with a clear message instead of a cascade of errors.
-    for (const char* q = l.p; q < l.end; ++q)
-      if (*q == '\0') throw IO_error(path, line_no, "binary data (NUL byte) in a text OBJ file");
-    std::string_view key = l.token();
-    if (key.empty() || key[0] == '#') return;
-    if (key == "v") {
-      std::array<double, 3> x;
-      for (int i = 0; i < 3; ++i) {
-        std::string_view t = l.token();
-        if (!parse_double(t, x[std::size_t(i)]))
-          throw IO_error(path, line_no, "vertex needs three numbers, got '" + std::string(t) + "'");
-        if (!std::isfinite(x[std::size_t(i)]))
-          throw IO_error(path, line_no, "vertex coordinate is not finite (" + std::string(t) + ")");
-      }
-      soup.positions.push_back(x);  // optional w or colour values are ignored
-    } else if (key == "vt") {
-      std::array<double, 2> t;
-      for (int i = 0; i < 2; ++i) {
-        std::string_view s = l.token();
-        if (i == 1 && s.empty()) {  // "vt u" is legal: v defaults to 0
-          t[1] = 0.0;
-          break;
-        }
-        if (!parse_double(s, t[std::size_t(i)]))
-          throw IO_error(path, line_no, "texture coordinate needs numbers, got '" + std::string(s) + "'");
-        if (!std::isfinite(t[std::size_t(i)]))
-          throw IO_error(path, line_no, "texture coordinate is not finite (" + std::string(s) + ")");
-      }
-      soup.uvs.push_back(t);
-    } else if (key == "vn") {
-      for (int i = 0; i < 3; ++i) {
-        double d;
-        std::string_view s = l.token();
-        if (!parse_double(s, d))
-          throw IO_error(path, line_no, "normal needs three numbers, got '" + std::string(s) + "'");
-      }
-      ++n_normals;  // normals are recomputed from geometry; only their count is checked
-    } else if (key == "f") {
-      cv.clear();
-      ct.clear();
-      bool any_uv = false, any_no_uv = false;
-      while (!l.at_end()) {
-        std::string_view c = l.token();
-        const std::size_t s1 = c.find('/');
-        long long vi, ti = 0, ni = 0;
-        if (!parse_int(c.substr(0, s1), vi)) throw IO_error(path, line_no, "bad face corner '" + std::string(c) + "'");
-        if (s1 != std::string_view::npos) {
-          std::string_view rest = c.substr(s1 + 1);
-          const std::size_t s2 = rest.find('/');
-          std::string_view tpart = rest.substr(0, s2);
-          if (!tpart.empty() && !parse_int(tpart, ti))
-            throw IO_error(path, line_no, "bad texture index in face corner '" + std::string(c) + "'");
-          if (s2 != std::string_view::npos) {
-            std::string_view npart = rest.substr(s2 + 1);
-            if (!npart.empty() && !parse_int(npart, ni))
-              throw IO_error(path, line_no, "bad normal index in face corner '" + std::string(c) + "'");
-          }
-        }
-        // 1-based indices; negative ones count back from the latest element.
-        auto resolve = [&](long long i, std::size_t count, const char* what) -> long long {
-          long long r = i > 0 ? i - 1 : (i < 0 ? (long long)count + i : -1);
-          if (i == 0 || r < 0 || r >= (long long)count)
-            throw IO_error(path, line_no,
-                           std::string(what) + " index " + std::to_string(i) + " out of range (" +
-                               std::to_string(count) + " defined so far)");
-          return r;
-        };
-        cv.push_back(resolve(vi, soup.positions.size(), "vertex"));
-        if (ti != 0) {
-          ct.push_back(resolve(ti, soup.uvs.size(), "texture coordinate"));
-          any_uv = true;
-        } else {
-          ct.push_back(-1);
-          any_no_uv = true;
-        }
-        if (ni != 0) resolve(ni, n_normals, "normal");
-      }
-      if (cv.size() < 3)
-        throw IO_error(path, line_no, "face with " + std::to_string(cv.size()) + " corner(s); at least 3 needed");
-      if (any_uv && any_no_uv) throw IO_error(path, line_no, "face gives texture coordinates for some corners only");
-      // Polygons are kept whole here; build_textured_mesh() splits them into fans.
-      for (std::size_t k = 0; k < cv.size(); ++k) {
-        soup.corner_vertex.push_back(std::uint32_t(cv[k]));
-        soup.corner_uv.push_back(ct[k] < 0 ? Polygon_soup::no_index : std::uint32_t(ct[k]));
-      }
-      soup.face_start.push_back(std::uint32_t(soup.corner_vertex.size()));
-      soup.face_material.push_back(current_material);  // -1: before any usemtl
-      soup.face_line.push_back(line_no);
-    } else if (key == "usemtl") {
-      std::string name = l.rest();
-      if (name.empty()) throw IO_error(path, line_no, "usemtl without a material name");
-      current_material = material_for(name);
-    } else if (key == "mtllib") {
-      // The name may contain spaces; several libraries may be listed. Try the whole rest first.
-      std::string whole = fix_slashes(l.rest());
-      std::vector<std::string> names;
-      std::error_code ec;
-      if (fs::is_regular_file(dir / whole, ec)) {
-        names.push_back(whole);
-      } else {
-        std::istringstream is(whole);
-        for (std::string n; is >> n;) names.push_back(n);
-      }
-      for (const std::string& n : names) {
-        const fs::path mp = fs::path(n).is_absolute() ? fs::path(n) : dir / n;
-        if (!fs::is_regular_file(mp, ec)) {
-          soup.warnings.push_back(path + ":" + std::to_string(line_no) + ": material library '" + n +
-                                  "' not found; materials keep their names only");
-          continue;
-        }
-        read_mtl(mp.string(), soup, material_by_name);
-      }
-    } else if (key == "o" || key == "g" || key == "s" || key == "l" || key == "p" || key == "vp" || key == "cstype" ||
-               key == "deg" || key == "curv" || key == "surf" || key == "mg" || key == "lod" || key == "shadow_obj" ||
-               key == "trace_obj" || key == "usemap" || key == "maplib" || key == "bevel" || key == "c_interp" ||
-               key == "d_interp" || key == "ctech" || key == "stech" || key == "end" || key == "parm" ||
-               key == "trim" || key == "hole" || key == "scrv" || key == "sp" || key == "con" || key == "bmat" ||
-               key == "step" || key == "call" || key == "csh") {
-      // grouping, smoothing, free-form geometry: not part of the polygon mesh
+  auto usemtl = [&](const std::string& name, std::size_t line_no) {
+    if (name.empty()) throw IO_error(path, line_no, "usemtl without a material name");
+    current_material = material_for(name);
+  };
+  auto mtllib = [&](const std::string& text, std::size_t line_no) {
+    // The name may contain spaces; several libraries may be listed. Try the whole rest first.
+    std::string whole = fix_slashes(text);
+    std::vector<std::string> names;
+    std::error_code ec;
+    if (fs::is_regular_file(dir / whole, ec)) {
+      names.push_back(whole);
     } else {
-      // Exporters add their own statements (even a stray "V F 0" count line): skip them, say so.
-      if (unknown_statements++ < 3)
-        soup.warnings.push_back(path + ":" + std::to_string(line_no) + ": unknown OBJ statement '" +
-                                std::string(key.substr(0, 40)) + "' skipped");
+      std::istringstream is(whole);
+      for (std::string n; is >> n;) names.push_back(n);
     }
-  });
+    for (const std::string& n : names) {
+      const fs::path mp = fs::path(n).is_absolute() ? fs::path(n) : dir / n;
+      if (!fs::is_regular_file(mp, ec)) {
+        soup.warnings.push_back(path + ":" + std::to_string(line_no) + ": material library '" + n +
+                                "' not found; materials keep their names only");
+        continue;
+      }
+      read_mtl(mp.string(), soup, material_by_name);
+    }
+  };
+
+  const bool in_chunks =
+      data.size() >= parallel_obj_bytes && read_obj_in_chunks(data, soup, usemtl, mtllib, current_material);
+  if (!in_chunks) {  // a small file, or one the chunks gave up on: line by line, errors reported
+    soup = Polygon_soup();
+    soup.source = path;
+    material_by_name.clear();
+    current_material = -1;
+    for_each_line(data, [&](std::size_t line_no, const char* b, const char* e) {
+      Line l{b, e};
+      // Binary garbage is rejected early with a clear message instead of a cascade of errors.
+      for (const char* q = l.p; q < l.end; ++q)
+        if (*q == '\0') throw IO_error(path, line_no, "binary data (NUL byte) in a text OBJ file");
+      std::string_view key = l.token();
+      if (key.empty() || key[0] == '#') return;
+      if (key == "v") {
+        std::array<double, 3> x;
+        const std::string error = parse_vertex(l, x);
+        if (!error.empty()) throw IO_error(path, line_no, error);
+        soup.positions.push_back(x);
+      } else if (key == "vt") {
+        std::array<double, 2> t;
+        const std::string error = parse_texcoord(l, t);
+        if (!error.empty()) throw IO_error(path, line_no, error);
+        soup.uvs.push_back(t);
+      } else if (key == "vn") {
+        const std::string error = parse_normal(l);
+        if (!error.empty()) throw IO_error(path, line_no, error);
+        ++n_normals;
+      } else if (key == "f") {
+        const std::string error = parse_face(l, soup.positions.size(), soup.uvs.size(), n_normals, cv, ct);
+        if (!error.empty()) throw IO_error(path, line_no, error);
+        // Polygons are kept whole here; build_textured_mesh() splits them into fans.
+        add_face(soup, cv, ct, current_material, line_no);
+      } else if (key == "usemtl") {
+        usemtl(l.rest(), line_no);
+      } else if (key == "mtllib") {
+        mtllib(l.rest(), line_no);
+      } else if (is_ignored_statement(key)) {
+        // grouping, smoothing, free-form geometry: not part of the polygon mesh
+      } else {
+        // Exporters add their own statements (even a stray "V F 0" count line): skip them, say so.
+        if (unknown_statements++ < 3)
+          soup.warnings.push_back(path + ":" + std::to_string(line_no) + ": unknown OBJ statement '" +
+                                  std::string(key.substr(0, 40)) + "' skipped");
+      }
+    });
+  }
   if (unknown_statements > 3)
     soup.warnings.push_back(path + ": " + std::to_string(unknown_statements - 3) + " more unknown statements skipped");
   if (soup.number_of_faces() == 0) throw IO_error(path, "no faces in file");

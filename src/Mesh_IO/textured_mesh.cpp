@@ -6,9 +6,12 @@
 
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <optional>
@@ -58,6 +61,131 @@ std::string plural(std::size_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
+// Links the triangles `tris` (indices of vertices already in `m`, three distinct per triangle)
+// into `m`, which has vertices and no edges or faces, directly from the triangles' halfedges: the
+// halfedges leaving each vertex are grouped (a counting sort), each finds its opposite among those
+// leaving its target, and each vertex's fan is walked once. Returns false, leaving `m` without
+// edges or faces, unless the triangles form an oriented 2-manifold (every directed edge once, in
+// at most two faces of opposite orientations, every vertex's triangles one fan); the caller then
+// adds the faces one by one (CGAL::Euler::add_face), which reports the defect. On success the
+// result is the mesh that adding the triangles one by one with add_face builds, numbering and
+// all: edges in order of first use, each edge's even halfedge in the face that first used it, a
+// face's halfedge the one into its first corner, a border vertex's halfedge the border one into
+// it, an interior vertex's the one into it in the last triangle around it (add_face leaves it
+// there when that triangle closes the vertex's fan). `halfedge_of[3f + k]` is set to the halfedge from corner k to corner
+// k + 1 of triangle f. O(F) time and memory, against add_face's searches around vertices.
+bool link_oriented_manifold(Surface_mesh& m, const std::vector<std::array<std::uint32_t, 3>>& tris,
+                            std::vector<Surface_mesh::Halfedge_index>& halfedge_of) {
+  using H = Surface_mesh::Halfedge_index;
+  constexpr std::uint32_t nil = 0xffffffffu;
+  const std::size_t nv = m.number_of_vertices(), nd = 3 * tris.size();
+  if (nd >= nil / 2) return false;
+  const auto src = [&](std::uint32_t d) { return tris[d / 3][d % 3]; };
+  const auto tgt = [&](std::uint32_t d) { return tris[d / 3][(d % 3 + 1) % 3]; };
+  const auto prev_in_face = [](std::uint32_t d) { return d - d % 3 + (d % 3 + 2) % 3; };
+  // the directed halfedges leaving each vertex: out_[first[v], first[v + 1])
+  std::vector<std::uint32_t> first(nv + 1, 0);
+  for (std::uint32_t d = 0; d < nd; ++d) ++first[src(d) + 1];
+  for (std::size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+  std::vector<std::uint32_t> out_d(nd), out_t(nd);
+  {
+    std::vector<std::uint32_t> at(first.begin(), first.end() - 1);
+    for (std::uint32_t d = 0; d < nd; ++d) {
+      const std::uint32_t k = at[src(d)]++;
+      out_d[k] = d;
+      out_t[k] = tgt(d);
+    }
+  }
+  // opposites; a directed edge used twice, or an edge with two halfedges one way, is a defect
+  std::vector<std::uint32_t> opp(nd, nil), border_out(nv, nil), border_in(nv, nil);
+  std::atomic<bool> defect(false);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(nd), 1u << 14), [&](const auto& r) {
+    for (std::uint32_t d = r.begin(); d != r.end(); ++d) {
+      const std::uint32_t a = src(d), b = tgt(d);
+      int same = 0;
+      for (std::uint32_t k = first[a]; k < first[a + 1]; ++k) same += out_t[k] == b;
+      int back = 0;
+      for (std::uint32_t k = first[b]; k < first[b + 1]; ++k)
+        if (out_t[k] == a) {
+          ++back;
+          opp[d] = out_d[k];
+        }
+      if (same != 1 || back > 1) defect = true;
+    }
+  });
+  if (defect) return false;
+  for (std::uint32_t d = 0; d < nd; ++d) {
+    if (opp[d] != nil) continue;
+    // a border edge: at most one leaves and one enters each vertex
+    const std::uint32_t a = src(d), b = tgt(d);
+    if (border_out[a] != nil || border_in[b] != nil) return false;
+    border_out[a] = d;
+    border_in[b] = d;
+  }
+  // each vertex's triangles form one fan: turning from one halfedge leaving it (the border one,
+  // if any) to the next visits all of them
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1u << 14), [&](const auto& r) {
+    for (std::size_t v = r.begin(); v != r.end(); ++v) {
+      const std::uint32_t degree = first[v + 1] - first[v];
+      if (degree == 0) continue;
+      if ((border_out[v] == nil) != (border_in[v] == nil)) {
+        defect = true;
+        return;
+      }
+      const std::uint32_t s = border_out[v] != nil ? border_out[v] : out_d[first[v]];
+      std::uint32_t d = s, steps = 1;
+      for (;;) {
+        const std::uint32_t o = opp[prev_in_face(d)];
+        if (o == nil || o == s) break;
+        d = o;
+        if (++steps > degree) break;
+      }
+      if (steps != degree) {
+        defect = true;
+        return;
+      }
+    }
+  });
+  if (defect) return false;
+  // edges numbered in order of first use, as add_face does
+  halfedge_of.assign(nd, H());
+  std::uint32_t ne = 0;
+  for (std::uint32_t d = 0; d < nd; ++d) {
+    if (halfedge_of[d] != H()) continue;
+    halfedge_of[d] = H(2 * ne);
+    if (opp[d] != nil) halfedge_of[opp[d]] = H(2 * ne + 1);
+    ++ne;
+  }
+  m.resize(Surface_mesh::size_type(nv), Surface_mesh::size_type(ne), Surface_mesh::size_type(tris.size()));
+  using V = Surface_mesh::Vertex_index;
+  using F = Surface_mesh::Face_index;
+  // each halfedge's links are written by one task (set_next also sets the next one's prev)
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(nd), 1u << 14), [&](const auto& r) {
+    for (std::uint32_t d = r.begin(); d != r.end(); ++d) {
+      const H h = halfedge_of[d];
+      const F f(Surface_mesh::size_type(d / 3));
+      m.set_target(h, V(tgt(d)));
+      m.set_face(h, f);
+      m.set_next(h, halfedge_of[d - d % 3 + (d % 3 + 1) % 3]);
+      if (d % 3 == 2) m.set_halfedge(f, h);
+      if (opp[d] == nil) {  // its border twin, into the source, goes on along the border
+        const H b = m.opposite(h);
+        m.set_target(b, V(src(d)));
+        m.set_face(b, m.null_face());
+        m.set_next(b, m.opposite(halfedge_of[border_in[src(d)]]));
+      }
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1u << 14), [&](const auto& r) {
+    for (std::size_t v = r.begin(); v != r.end(); ++v) {
+      if (first[v + 1] == first[v]) continue;
+      m.set_halfedge(V(Surface_mesh::size_type(v)), border_out[v] != nil ? m.opposite(halfedge_of[border_out[v]])
+                                                                         : halfedge_of[prev_in_face(out_d[first[v + 1] - 1])]);
+    }
+  });
+  return true;
+}
+
 }  // namespace
 
 void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Read_options& options) {
@@ -66,7 +194,8 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   if (nf == 0) throw IO_error(src, "mesh has no faces");
 
   // Faces as triangles with their corner UVs; UVs on all faces or on none.
-  std::vector<std::array<std::size_t, 3>> tris;
+  using Triangle = std::array<std::uint32_t, 3>;
+  std::vector<Triangle> tris;
   std::vector<std::array<std::uint32_t, 3>> tri_uv;
   std::vector<std::size_t> tri_face;
   tris.reserve(nf);
@@ -94,7 +223,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     }
     // Polygons are split into fans in file order: (c0, c_i, c_i+1).
     for (std::uint32_t i = 1; i + 1 < n; ++i) {
-      std::array<std::size_t, 3> t;
+      Triangle t;
       std::array<std::uint32_t, 3> u;
       const std::uint32_t idx[3] = {b, b + i, b + i + 1};
       for (int k = 0; k < 3; ++k) {
@@ -114,12 +243,17 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
       throw IO_error(src, "non-finite vertex coordinate");
 
-  std::vector<Point_3> points;
-  points.reserve(soup.positions.size());
-  for (const auto& p : soup.positions) points.emplace_back(p[0], p[1], p[2]);
-  // Builds the Textured_mesh of triangles `ps` over `pts` (UVs `tuv`), apart from `out`.
-  auto construct = [&](const std::vector<Point_3>& pts, const std::vector<std::array<std::size_t, 3>>& ps,
-                       const std::vector<std::array<std::uint32_t, 3>>& tuv) {
+  std::vector<Point_3> points(soup.positions.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1u << 14), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i)
+      points[i] = Point_3(soup.positions[i][0], soup.positions[i][1], soup.positions[i][2]);
+  });
+  // Builds the Textured_mesh of triangles `ps` over `pts` (UVs `tuv`), apart from `out`; with
+  // `linked_only`, nothing (std::nullopt) unless they form an oriented manifold (see
+  // link_oriented_manifold), else face by face with add_face, which names the first defect.
+  auto construct = [&](const std::vector<Point_3>& pts, const std::vector<Triangle>& ps,
+                       const std::vector<std::array<std::uint32_t, 3>>& tuv,
+                       bool linked_only = false) -> std::optional<Textured_mesh> {
     Textured_mesh built;
     built.set_source(soup.source);
     Surface_mesh& m = built.mesh();
@@ -129,54 +263,93 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     std::vector<Surface_mesh::Vertex_index> vmap(pts.size());
     m.reserve(Surface_mesh::size_type(pts.size()), Surface_mesh::size_type(3 * ps.size() / 2),
               Surface_mesh::size_type(ps.size()));
+    Surface_mesh::size_type nv = 0;
     for (std::size_t i = 0; i < pts.size(); ++i)
-      if (used[i]) vmap[i] = m.add_vertex(pts[i]);
+      if (used[i]) vmap[i] = Surface_mesh::Vertex_index(nv++);
+    m.resize(nv, 0, 0);  // the vertices, without their halfedges yet
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pts.size(), 1u << 14), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+        if (used[i]) m.point(vmap[i]) = pts[i];
+    });
     auto uv = built.uv_map();
     auto mat = built.material_map();
-    for (std::size_t i = 0; i < ps.size(); ++i) {
-      const auto& t = ps[i];
-      const auto f = m.add_face(vmap[t[0]], vmap[t[1]], vmap[t[2]]);
-      if (f == Surface_mesh::null_face())
-        throw IO_error(soup.face_location(tri_face[i]),
-                       "face cannot be added to a manifold mesh (non-manifold configuration after "
-                       "splitting polygons into triangles); the option repair (--repair) fixes it");
-      mat[f] = soup.face_material[tri_face[i]];
-      if (uv_seen) {
-        // halfedge(f) points to the face's first corner? Not necessarily: match by target vertex.
-        for (auto h : m.halfedges_around_face(m.halfedge(f)))
-          for (int k = 0; k < 3; ++k)
-            if (m.target(h) == vmap[t[std::size_t(k)]]) {
-              const auto& q = soup.uvs[tuv[i][std::size_t(k)]];
-              uv[h] = Point_2(q[0], q[1]);
-            }
-      }
+    std::vector<Triangle> renumbered;  // the triangles in m's vertex numbers, when they differ
+    if (nv != pts.size()) {
+      renumbered.resize(ps.size());
+      for (std::size_t i = 0; i < ps.size(); ++i)
+        for (std::size_t k = 0; k < 3; ++k) renumbered[i][k] = std::uint32_t(vmap[ps[i][k]]);
     }
-    // Surface_mesh's own check: CGAL::is_valid_polygon_mesh() also rejects isolated vertices,
-    // which are kept on purpose (vertex order survives read -> write).
-    if (!m.is_valid(false)) throw IO_error(src, "faces do not form a valid manifold mesh");
+    const std::vector<Triangle>& linked = nv != pts.size() ? renumbered : ps;
+    std::vector<Surface_mesh::Halfedge_index> halfedge_of;
+    if (link_oriented_manifold(m, linked, halfedge_of)) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ps.size(), 1u << 14), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          const Surface_mesh::Face_index f{Surface_mesh::size_type(i)};
+          mat[f] = soup.face_material[tri_face[i]];
+          if (uv_seen)
+            for (std::size_t k = 0; k < 3; ++k) {  // the halfedge into corner k comes from corner k - 1
+              const auto& q = soup.uvs[tuv[i][k]];
+              uv[halfedge_of[3 * i + (k + 2) % 3]] = Point_2(q[0], q[1]);
+            }
+        }
+      });
+      CGAL_assertion(m.is_valid(false));
+    } else if (linked_only) {
+      return std::nullopt;
+    } else {
+      for (std::size_t i = 0; i < ps.size(); ++i) {
+        const auto& t = ps[i];
+        const auto f = m.add_face(vmap[t[0]], vmap[t[1]], vmap[t[2]]);
+        if (f == Surface_mesh::null_face())
+          throw IO_error(soup.face_location(tri_face[i]),
+                         "face cannot be added to a manifold mesh (non-manifold configuration after "
+                         "splitting polygons into triangles); the option repair (--repair) fixes it");
+        mat[f] = soup.face_material[tri_face[i]];
+        if (uv_seen) {
+          // halfedge(f) points to the face's first corner? Not necessarily: match by target vertex.
+          for (auto h : m.halfedges_around_face(m.halfedge(f)))
+            for (int k = 0; k < 3; ++k)
+              if (m.target(h) == vmap[t[std::size_t(k)]]) {
+                const auto& q = soup.uvs[tuv[i][std::size_t(k)]];
+                uv[h] = Point_2(q[0], q[1]);
+              }
+        }
+      }
+      // Surface_mesh's own check: CGAL::is_valid_polygon_mesh() also rejects isolated vertices,
+      // which are kept on purpose (vertex order survives read -> write).
+      if (!m.is_valid(false)) throw IO_error(src, "faces do not form a valid manifold mesh");
+    }
     built.set_has_uvs(uv_seen);
     built.materials() = soup.materials;
     return built;
   };
 
-  // Topology checks on the soup (reported with counts and the first location). A soup of
-  // triangles only, none dropped, is built at the same time on another core, as it is; the build
-  // is kept if the checks find nothing to repair, and its own error reported only after theirs.
+  // A soup of triangles only, none dropped, is first linked as it is (one pass, see
+  // link_oriented_manifold) while another core looks for zero-area faces; a soup that links and
+  // has none is the mesh, without the statistics below. Otherwise the topology checks on the soup
+  // report defects with counts and the first location, and the repair (if asked) mends them.
   const bool as_read = !polygons && tris.size() == nf;
-  Mesh_statistics st;
-  std::optional<Textured_mesh> speculative;
-  std::exception_ptr speculative_error;
-  if (as_read)
-    tbb::parallel_invoke([&] { st = analyze_soup(soup); },
-                         [&] {
-                           try {
-                             speculative.emplace(construct(points, tris, tri_uv));
-                           } catch (...) {
-                             speculative_error = std::current_exception();
-                           }
-                         });
-  else
-    st = analyze_soup(soup);
+  if (as_read) {
+    std::optional<Textured_mesh> linked;
+    std::size_t zero_area = 0, first = Polygon_soup::no_index;
+    tbb::parallel_invoke(
+        [&] {
+          if (options.allow_degenerate_faces) return;
+          for (std::size_t i = 0; i < tris.size(); ++i)
+            if (CGAL::collinear(points[tris[i][0]], points[tris[i][1]], points[tris[i][2]]) && !zero_area++)
+              first = tri_face[i];
+        },
+        [&] { linked = construct(points, tris, tri_uv, true); });
+    if (zero_area)
+      throw IO_error(soup.face_location(first),
+                     plural(zero_area, "zero-area face", "zero-area faces") +
+                         " (first here); the option allow_degenerate_faces (--allow-degenerate) keeps them");
+    if (linked) {
+      out = std::move(*linked);
+      return;
+    }
+  }
+  const Mesh_statistics st = analyze_soup(soup);
   if (st.degenerate_faces > 0 && !options.allow_degenerate_faces) {
     // repeated-vertex faces were handled above; what remains is zero area
     std::size_t zero_area = 0, first = Polygon_soup::no_index;
@@ -222,7 +395,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   // their corners because every triangle keeps its three original vertices.
   std::vector<std::size_t> original(points.size());
   std::iota(original.begin(), original.end(), std::size_t(0));
-  std::vector<std::array<std::size_t, 3>> polys = tris;
+  std::vector<Triangle> polys = tris;
   // The decision is taken on the triangles: splitting a non-convex polygon into a fan can itself
   // create a non-manifold edge even when the polygon mesh is manifold.
   auto is_manifold_triangle_soup = [](const auto& triangles, std::size_t vertices) {
@@ -244,7 +417,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     repaired = true;
     std::vector<std::vector<std::size_t>> pv;
     pv.reserve(polys.size());
-    for (const auto& t : polys) pv.push_back({t[0], t[1], t[2]});
+    for (const auto& t : polys) pv.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
     Duplication_visitor vis;
     vis.original = &original;
     CGAL::Polygon_mesh_processing::orient_polygon_soup(points, pv, CGAL::parameters::visitor(vis));
@@ -271,7 +444,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     }
     original.resize(points.size());
     for (std::size_t i = 0; i < pv.size(); ++i) {
-      std::array<std::size_t, 3> t{pv[i][0], pv[i][1], pv[i][2]};
+      const Triangle t{std::uint32_t(pv[i][0]), std::uint32_t(pv[i][1]), std::uint32_t(pv[i][2])};
       std::array<std::uint32_t, 3> u = tri_uv[i];
       for (int k = 0; k < 3; ++k)  // the UV of the original corner holding the same vertex
         for (int j = 0; j < 3; ++j)
@@ -281,12 +454,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     }
   }
 
-  if (as_read && !repaired) {  // the soup as it is, built above
-    if (speculative_error) std::rethrow_exception(speculative_error);
-    out = std::move(*speculative);
-  } else {
-    out = construct(points, polys, tri_uv);
-  }
+  out = std::move(*construct(points, polys, tri_uv));
 }
 
 void read_mesh(const std::string& path, Textured_mesh& out, const Read_options& options) {

@@ -1,6 +1,8 @@
-// Tests of the OBJ and PLY readers on small hand-made files: triangle strips, polygons split in
-// file order, negative indices, unknown statements.
+// Tests of the OBJ and PLY readers on hand-made files: triangle strips, polygons split in file
+// order, negative indices, unknown statements; large generated OBJ files (read in chunks).
 #include "mesh_io_test_util.h"
+
+#include <charconv>
 
 // ------------------------------------------------------------------ small hand-made files
 
@@ -96,4 +98,173 @@ TEST(Mesh_IO_obj, UnknownStatementsAreSkippedWithAWarning) {
   EXPECT_EQ(soup.number_of_faces(), 1u);
   ASSERT_EQ(soup.warnings.size(), 1u);
   EXPECT_NE(soup.warnings[0].find("stray.obj:2: unknown OBJ statement '3'"), std::string::npos) << soup.warnings[0];
+}
+
+// ------------------------------------------------------------ large files (read in chunks)
+
+namespace {
+
+// A large OBJ written with known content: an n x n grid of vertices with texture coordinates,
+// its cells as quads or as two triangles (some with relative indices), materials switched by
+// usemtl (one library found, one not), comments and grouping statements between them.
+struct Written_obj {
+  std::string text;
+  std::vector<std::array<double, 3>> positions;
+  std::vector<std::array<double, 2>> uvs;
+  std::vector<std::vector<std::uint32_t>> faces;  // 0-based corners (vertex = uv index)
+  std::vector<std::string> face_material_name;    // "" before the first usemtl
+  std::vector<std::size_t> face_line;
+  std::size_t missing_library_line = 0;
+};
+
+Written_obj write_large_obj(std::size_t n) {
+  Written_obj w;
+  std::size_t line = 0;
+  auto emit = [&](const std::string& s) {
+    w.text += s;
+    w.text += '\n';
+    ++line;
+  };
+  auto num = [](double x) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x);
+    return std::string(buf, r.ptr);
+  };
+  emit("# generated grid");
+  emit("mtllib grid.mtl");
+  emit("mtllib absent.mtl");
+  w.missing_library_line = line;
+  std::uint64_t state = 12345;
+  auto next = [&] {  // a fixed linear congruential sequence: coordinates that need all digits
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / double(1ull << 53);
+  };
+  for (std::size_t i = 0; i < n * n; ++i) {
+    const std::array<double, 3> p{double(i % n) + 0.25 * next(), double(i / n) + 0.25 * next(), next() - 0.5};
+    w.positions.push_back(p);
+    emit((i % 7 == 0 ? "v  " : "v ") + num(p[0]) + " " + num(p[1]) + "\t" + num(p[2]) + (i % 11 == 0 ? " 1.0" : ""));
+    const std::array<double, 2> t{next(), next()};
+    w.uvs.push_back(t);
+    emit("vt " + num(t[0]) + " " + num(t[1]));
+  }
+  const char* names[] = {"green", "red", "blue"};
+  std::string current;
+  std::size_t cell = 0;
+  for (std::size_t y = 0; y + 1 < n; ++y) {
+    if (y % 5 == 0) emit("g row" + std::to_string(y));
+    for (std::size_t x = 0; x + 1 < n; ++x, ++cell) {
+      if (cell % 997 == 500) {
+        current = names[(cell / 997) % 3];
+        emit("usemtl " + current);
+      }
+      if (cell % 503 == 0) emit("# cell " + std::to_string(cell));
+      const std::uint32_t a = std::uint32_t(y * n + x), b = a + 1, c = a + std::uint32_t(n) + 1,
+                          d = a + std::uint32_t(n);
+      auto corner = [&](std::uint32_t v, bool relative) {
+        const long long i = relative ? (long long)v - (long long)w.positions.size() : (long long)v + 1;
+        return std::to_string(i) + "/" + std::to_string(i);
+      };
+      const bool relative = cell % 3 == 1;
+      if (cell % 4 == 0) {
+        emit("f " + corner(a, relative) + " " + corner(b, relative) + " " + corner(c, relative) + " " +
+             corner(d, relative));
+        w.faces.push_back({a, b, c, d});
+        w.face_material_name.push_back(current);
+        w.face_line.push_back(line);
+      } else {
+        for (const auto& t : {std::array<std::uint32_t, 3>{a, b, c}, std::array<std::uint32_t, 3>{a, c, d}}) {
+          emit("f " + corner(t[0], relative) + " " + corner(t[1], relative) + " " + corner(t[2], relative));
+          w.faces.push_back({t[0], t[1], t[2]});
+          w.face_material_name.push_back(current);
+          w.face_line.push_back(line);
+        }
+      }
+    }
+  }
+  return w;
+}
+
+}  // namespace
+
+// Files of a megabyte or more are parsed on all cores in chunks; the soup must be the file's,
+// element for element: positions and texture coordinates bit-exact, polygons whole, relative
+// indices resolved, each face's material and line, the missing library's warning.
+TEST(Mesh_IO_obj, LargeFilesGiveTheSoupAsWritten) {
+  const std::string dir = scratch_dir();
+  const Written_obj w = write_large_obj(260);
+  ASSERT_GT(w.text.size(), std::size_t(4) << 20);  // several chunks
+  write_text(dir, "grid.mtl", "newmtl red\nKd 1 0 0\nnewmtl green\nKd 0 1 0\n");
+  const std::string path = write_text(dir, "grid.obj", w.text);
+  const Polygon_soup soup = IO::read_polygon_soup(path);
+  ASSERT_EQ(soup.positions.size(), w.positions.size());
+  for (std::size_t i = 0; i < w.positions.size(); ++i) ASSERT_EQ(soup.positions[i], w.positions[i]) << i;
+  ASSERT_EQ(soup.uvs.size(), w.uvs.size());
+  for (std::size_t i = 0; i < w.uvs.size(); ++i) ASSERT_EQ(soup.uvs[i], w.uvs[i]) << i;
+  ASSERT_EQ(soup.number_of_faces(), w.faces.size());
+  // materials: the library's two in its order, then blue at its first use, then "default" for
+  // the faces before the first usemtl
+  ASSERT_EQ(soup.materials.size(), 4u);
+  EXPECT_EQ(soup.materials[0].name, "red");
+  EXPECT_EQ(soup.materials[1].name, "green");
+  EXPECT_EQ(soup.materials[2].name, "blue");
+  EXPECT_EQ(soup.materials[3].name, "default");
+  EXPECT_EQ(soup.materials[0].diffuse_color[0], 1.);
+  for (std::size_t f = 0; f < w.faces.size(); ++f) {
+    ASSERT_EQ(soup.face_size(f), w.faces[f].size()) << f;
+    for (std::size_t k = 0; k < w.faces[f].size(); ++k) {
+      ASSERT_EQ(soup.corner_vertex[soup.face_start[f] + k], w.faces[f][k]) << f;
+      ASSERT_EQ(soup.corner_uv[soup.face_start[f] + k], w.faces[f][k]) << f;
+    }
+    const std::string& name = w.face_material_name[f];
+    ASSERT_EQ(soup.materials[std::size_t(soup.face_material[f])].name, name.empty() ? "default" : name) << f;
+    ASSERT_EQ(soup.face_line[f], w.face_line[f]) << f;
+  }
+  ASSERT_EQ(soup.warnings.size(), 1u);
+  EXPECT_NE(soup.warnings[0].find("grid.obj:" + std::to_string(w.missing_library_line) +
+                                  ": material library 'absent.mtl' not found"),
+            std::string::npos)
+      << soup.warnings[0];
+  // the mesh built from it: quads split into two triangles each, texture coordinates on corners
+  Textured_mesh tm;
+  IO::read_mesh(path, tm);
+  EXPECT_EQ(tm.mesh().number_of_faces(), 2 * 259u * 259u);
+  EXPECT_TRUE(tm.has_uvs());
+}
+
+// An error or an unknown statement late in a large file is reported at its own line, as in a
+// small file; a file cut in the middle of a line still reads.
+TEST(Mesh_IO_obj, LargeFilesReportErrorsAndWarningsAtTheirLine) {
+  const std::string dir = scratch_dir();
+  const Written_obj w = write_large_obj(200);
+  const std::size_t cut = w.text.rfind("\nf ", w.text.size() - 1000);  // a late face line
+  ASSERT_NE(cut, std::string::npos);
+  const std::size_t line = std::size_t(std::count(w.text.begin(), w.text.begin() + std::ptrdiff_t(cut), '\n')) + 2;
+  {
+    const std::string bad = w.text.substr(0, cut + 1) + "f 1 2 99999999\n" + w.text.substr(cut + 1);
+    const std::string path = write_text(dir, "bad.obj", bad);
+    try {
+      IO::read_polygon_soup(path);
+      FAIL() << "no error";
+    } catch (const IO_error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("bad.obj:" + std::to_string(line) + ":"), std::string::npos) << what;
+      EXPECT_NE(what.find("vertex index 99999999 out of range"), std::string::npos) << what;
+    }
+  }
+  {
+    const std::string odd = w.text.substr(0, cut + 1) + "weird 1 2\n" + w.text.substr(cut + 1);
+    const Polygon_soup soup = IO::read_polygon_soup(write_text(dir, "odd.obj", odd));
+    EXPECT_EQ(soup.number_of_faces(), w.faces.size());
+    ASSERT_EQ(soup.warnings.size(), 3u);  // both libraries are missing here, then the statement
+    EXPECT_NE(soup.warnings[2].find("odd.obj:" + std::to_string(line) + ": unknown OBJ statement 'weird'"),
+              std::string::npos)
+        << soup.warnings[2];
+  }
+  {
+    // no newline at the end: the last face still counts
+    std::string open_end = w.text;
+    open_end.pop_back();
+    const Polygon_soup soup = IO::read_polygon_soup(write_text(dir, "open.obj", open_end));
+    EXPECT_EQ(soup.number_of_faces(), w.faces.size());
+  }
 }

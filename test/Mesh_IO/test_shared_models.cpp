@@ -146,11 +146,20 @@ TEST(Mesh_IO_models, ClassicModelsTopologyMatchesSources) {
   }
 }
 
+// The textured OBJ models and the large classic ones (a megabyte or more: read in chunks).
 TEST(Mesh_IO_models, ObjParserAgreesWithTinyobjloader) {
   CMGEOM_REQUIRE_SHARED_DATA();
-  for (const auto& c : textured_models) {
-    SCOPED_TRACE(c.path);
-    const std::string path = shared_data(c.path);
+  const std::string dir = scratch_dir();
+  std::vector<std::string> paths;
+  for (const auto& c : textured_models) paths.push_back(shared_data(c.path));
+  for (const char* c : {"classic/armadillo.obj.gz", "classic/nefertiti.obj.gz", "classic/stanford-bunny.obj.gz",
+                        "classic/beast.obj.gz", "classic/ogre.obj.gz"})
+    paths.push_back(cmgeom_test::shared_mesh(c, dir));
+  std::size_t large = 0;
+  for (const std::string& path : paths) {
+    SCOPED_TRACE(path);
+    ASSERT_FALSE(path.empty());
+    large += fs::file_size(path) >= (std::size_t(1) << 20);
     tinyobj::ObjReaderConfig cfg;
     cfg.triangulate = false;
     cfg.mtl_search_path = fs::path(path).parent_path().string();
@@ -184,6 +193,46 @@ TEST(Mesh_IO_models, ObjParserAgreesWithTinyobjloader) {
     }
     EXPECT_EQ(faces, soup.number_of_faces());
   }
+  EXPECT_GE(large, 5u);
+}
+
+// The reader links the triangles of a manifold soup in one pass (link_oriented_manifold); the
+// mesh must be the one CGAL::Euler::add_face builds from the same triangles, connectivity and
+// numbering alike (halfedges' targets, next, prev and faces, vertices' and faces' halfedges).
+TEST(Mesh_IO_models, LinkedMeshesEqualTheOnesAddFaceBuilds) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = scratch_dir();
+  std::size_t compared = 0;
+  for (const auto& c : classic_models) {
+    SCOPED_TRACE(c.path);
+    Textured_mesh tm;
+    IO::Read_options ro;
+    ro.repair = true;  // cow and the open non-manifold models: their repaired soups are linked too
+    try {
+      IO::read_mesh(cmgeom_test::shared_mesh(c.path, dir), tm, ro);
+    } catch (const IO_error&) {
+      continue;  // ogre: zero-area faces, refused without allow_degenerate_faces
+    }
+    const Surface_mesh& m = tm.mesh();
+    Surface_mesh r;
+    for (auto v : m.vertices()) r.add_vertex(m.point(v));
+    for (auto f : m.faces()) {
+      const auto h = m.halfedge(f);  // into the triangle's first corner
+      const std::array<Surface_mesh::Vertex_index, 3> t{m.target(h), m.target(m.next(h)), m.target(m.next(m.next(h)))};
+      ASSERT_NE(CGAL::Euler::add_face(t, r), Surface_mesh::null_face());
+    }
+    ASSERT_EQ(r.number_of_halfedges(), m.number_of_halfedges());
+    for (auto h : m.halfedges()) {
+      ASSERT_EQ(m.target(h), r.target(h)) << h;
+      ASSERT_EQ(m.next(h), r.next(h)) << h;
+      ASSERT_EQ(m.prev(h), r.prev(h)) << h;
+      ASSERT_EQ(m.face(h), r.face(h)) << h;
+    }
+    for (auto v : m.vertices()) ASSERT_EQ(m.halfedge(v), r.halfedge(v)) << v;
+    for (auto f : m.faces()) ASSERT_EQ(m.halfedge(f), r.halfedge(f)) << f;
+    ++compared;
+  }
+  EXPECT_GE(compared, 20u);
 }
 
 TEST(Mesh_IO_models, GeometryRoundTripKeepsVertexOrderIncludingUnreferenced) {

@@ -129,7 +129,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     ro.repair = !o->no_repair;
     std::vector<std::string> warnings;
     ro.warnings = &warnings;
+    const double read_start = cmgeom_cli::now_seconds();
     CMGeom::IO::read_mesh(o->input, tm, ro);
+    const double seconds_read = cmgeom_cli::now_seconds() - read_start;
     for (const auto& w : warnings) std::cerr << "cmgeom simplify: warning: " << w << "\n";
     Mesh& mesh = tm.mesh();
     if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
@@ -318,7 +320,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
 
     tm.set_has_uvs(false);  // geometry only: no UVs, no materials
     tm.materials().clear();
+    const double write_start = cmgeom_cli::now_seconds();
     CMGeom::IO::write_textured_mesh(o->output, tm, o->gltf);
+    const double seconds_write = cmgeom_cli::now_seconds() - write_start;
 
     if (o->json) {
       nlohmann::ordered_json j;
@@ -343,6 +347,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["vertices_out"] = mesh.number_of_vertices();
       j["seconds"] = seconds;
       j["seconds_fit"] = r.seconds_fit;
+      j["seconds_read"] = seconds_read;
+      j["seconds_write"] = seconds_write;
       cmgeom_cli::print_json(j);
     } else {
       std::cout << o->input << ": " << faces_in << " -> " << faces_out << " faces in " << seconds << " s (" << o->engine
