@@ -6,10 +6,10 @@
 //
 //   meshopt018_simplify IN.obj OUT.obj --faces N [--mtl PATH]
 //
-// The OBJ (v, vt, f with v/vt or v/vt/vn corners, polygons split into fans, 1-based or negative
-// indices) becomes an indexed vertex buffer in which a vertex is a unique (position, uv) pair (and
-// material, when the file uses several): the buffer is split at UV seams, so meshopt_simplify sees
-// the seams as attribute discontinuities and keeps them (seam vertices only move along the seam).
+// The OBJ (v, vt, f with v/vt or v/vt/vn corners, or a geometry-only OBJ whose corners are all v
+// or v//vn; polygons split into fans, 1-based or negative indices) becomes an indexed vertex buffer in which a vertex
+// is a unique (position, uv) pair (and material, when the file uses several): the buffer is split at UV seams, so
+// meshopt_simplify sees the seams as attribute discontinuities and keeps them (seam vertices only move along the seam).
 // meshopt_simplify runs to a target of 3N indices with an unlimited error (1e30), no option.
 // The output keeps the original positions and UVs of the kept vertices, drops the unused ones,
 // repeats the input's usemtl statements and names its material library by absolute path (or the
@@ -49,6 +49,8 @@ struct Input_error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+constexpr std::uint32_t no_uv = 0xffffffffu;
+
 const char* const usage_line = "usage: meshopt018_simplify IN.obj OUT.obj --faces N [--mtl PATH]";
 
 struct Obj {
@@ -61,6 +63,7 @@ struct Obj {
   std::vector<Tri> tris;
   std::vector<std::string> materials;  // in order of first use; "" = faces before any usemtl
   std::vector<std::string> mtllibs;    // as written
+  bool geometry_only = false;          // no corner has a texture coordinate (t = no_uv)
 };
 
 std::string trim(const std::string& s) {
@@ -131,9 +134,18 @@ Obj read_obj(const std::string& path) {
       std::vector<std::pair<std::uint32_t, std::uint32_t>> c;
       for (std::string s; is >> s;) {
         const auto s1 = s.find('/');
-        if (s1 == std::string::npos || s1 + 1 >= s.size() || s[s1 + 1] == '/')
+        if (s1 == std::string::npos || s1 + 1 >= s.size() || s[s1 + 1] == '/') {
+          // a corner without texture coordinate: a geometry-only file has only such corners
+          if (!obj.uvs.empty() || (!obj.tris.empty() && !obj.geometry_only))
+            throw Input_error(where(path, line_no) + "face corner '" + s +
+                              "' has no texture coordinate (v/vt or v/vt/vn needed)");
+          obj.geometry_only = true;
+          c.emplace_back(parse_index(s.substr(0, s1), obj.positions.size(), path, line_no, "vertex"), no_uv);
+          continue;
+        }
+        if (obj.geometry_only)
           throw Input_error(where(path, line_no) + "face corner '" + s +
-                            "' has no texture coordinate (v/vt or v/vt/vn needed)");
+                            "' has a texture coordinate, earlier ones none");
         const auto s2 = s.find('/', s1 + 1);
         const std::string vt = s.substr(s1 + 1, s2 == std::string::npos ? std::string::npos : s2 - s1 - 1);
         c.emplace_back(parse_index(s.substr(0, s1), obj.positions.size(), path, line_no, "vertex"),
@@ -281,7 +293,7 @@ int run(int argc, char** argv) {
   indices.reserve(obj.tris.size() * 3);
   for (const Obj::Tri& t : obj.tris)
     for (int c = 0; c < 3; ++c) {
-      const std::array<std::uint32_t, 3> key{canon_pos[t.p[c]], canon_uv[t.t[c]],
+      const std::array<std::uint32_t, 3> key{canon_pos[t.p[c]], t.t[c] == no_uv ? 0u : canon_uv[t.t[c]],
                                              multi_material ? std::uint32_t(t.material) : 0u};
       auto it = vertex_id.find(key);
       if (it == vertex_id.end()) {
@@ -324,6 +336,10 @@ int run(int argc, char** argv) {
       if (p.second) {
         const auto& x = obj.positions[v_pos[v]];
         vs += "v " + number(x[0]) + " " + number(x[1]) + " " + number(x[2]) + "\n";
+      }
+      if (obj.geometry_only) {
+        fs_ += " " + std::to_string(p.first->second);
+        continue;
       }
       auto t = out_uv.emplace(v_uv[v], std::uint32_t(out_uv.size() + 1));
       if (t.second) {

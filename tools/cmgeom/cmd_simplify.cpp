@@ -346,6 +346,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["stopped_by"] = TS::to_string(r.stopped_by);
       j["vertices_out"] = mesh.number_of_vertices();
       j["seconds"] = seconds;
+      j["parts"] = r.parts;
+      j["faces_after_parts"] = r.faces_after_parts;
+      j["seconds_parts"] = r.seconds_parts;
       j["seconds_fit"] = r.seconds_fit;
       j["seconds_read"] = seconds_read;
       j["seconds_write"] = seconds_write;

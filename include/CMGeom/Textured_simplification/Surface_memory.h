@@ -20,6 +20,9 @@
 #include <CGAL/boost/graph/iterator.h>
 #include <CGAL/number_utils.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -300,25 +303,28 @@ public:
     std::size_t moves = 0;
     for (int round = 0; round < rounds; ++round) {
       // nearest face among the current one and its edge neighbours, and the coordinates there
-      for (std::size_t i = 0; i < np; ++i) {
-        const face_descriptor f = at[i];
-        if (f == GT::null_face()) continue;
-        double best = std::numeric_limits<double>::infinity();
-        const auto consider = [&](face_descriptor g) {
-          const auto c = corners(g);
-          const V3 a = point(c[0]), b = point(c[1]), cc = point(c[2]);
-          const V3 w = CM::internal::closest_barycentric_on_triangle(items_[i].p, a, b, cc);
-          const double d = CM::internal::squared_length(items_[i].p - (w.x * a + w.y * b + w.z * cc));
-          if (d < best) {
-            best = d;
-            at[i] = g;
-            bary[i] = w;
-          }
-        };
-        consider(f);
-        for (halfedge_descriptor h : CGAL::halfedges_around_face(halfedge(f, tm), tm))
-          if (!is_border(opposite(h, tm), tm)) consider(face(opposite(h, tm), tm));
-      }
+      // (each point on its own: on all cores, the same result on any number of them)
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          const face_descriptor f = at[i];
+          if (f == GT::null_face()) continue;
+          double best = std::numeric_limits<double>::infinity();
+          const auto consider = [&](face_descriptor g) {
+            const auto c = corners(g);
+            const V3 a = point(c[0]), b = point(c[1]), cc = point(c[2]);
+            const V3 w = CM::internal::closest_barycentric_on_triangle(items_[i].p, a, b, cc);
+            const double d = CM::internal::squared_length(items_[i].p - (w.x * a + w.y * b + w.z * cc));
+            if (d < best) {
+              best = d;
+              at[i] = g;
+              bary[i] = w;
+            }
+          };
+          consider(f);
+          for (halfedge_descriptor h : CGAL::halfedges_around_face(halfedge(f, tm), tm))
+            if (!is_border(opposite(h, tm), tm)) consider(face(opposite(h, tm), tm));
+        }
+      });
       std::fill(head_.begin(), head_.end(), nil);
       for (std::size_t i = np; i-- > 0;) {
         if (at[i] == GT::null_face()) continue;

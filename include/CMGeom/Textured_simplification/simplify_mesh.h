@@ -248,9 +248,11 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   using Quadric = typename Policy::Quadric;
   using size_type = typename Mesh::size_type;
   const std::size_t faces_in = mesh.number_of_faces(), vertices_in = mesh.number_of_vertices();
-  policy.initialize(mesh, mesh.points());  // the input's quadrics, for every part
+  // the input's quadrics (for every part) and the parts' faces, at once
   std::vector<std::uint32_t> label;
-  const std::vector<std::vector<std::uint32_t>> faces_of = split_faces(mesh, levels, label);
+  std::vector<std::vector<std::uint32_t>> faces_of;
+  tbb::parallel_invoke([&] { policy.initialize(mesh, mesh.points()); },
+                       [&] { faces_of = split_faces(mesh, levels, label); });
   const std::size_t n = faces_of.size();
   std::vector<std::uint32_t> corner_vertex(mesh.num_halfedges(), no_index), side_edge(mesh.num_halfedges(), no_index);
   std::vector<Mesh_part<Point>> parts(n);
