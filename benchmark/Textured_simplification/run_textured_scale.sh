@@ -127,9 +127,23 @@ if [ -x /usr/bin/time ] && [ -f "$data/classic/igea.ply.gz" ]; then
 import json, sys
 j = json.load(open(sys.argv[3]))
 wall, rss_kb = open(sys.argv[4]).read().split()[-2:]
-print(sys.argv[1], sys.argv[2], j['seconds'], wall, int(rss_kb) // 1024, j['faces_out'])
+print(sys.argv[1], sys.argv[2], j['seconds'], wall, int(rss_kb) // 1024, j['faces_out'], j['seconds_read'],
+      j['target_faces'])
 EOF2
       done
+      # meshoptimizer 0.18's driver (meshopt018_simplify) doing the same: read, simplify, write
+      if [ -x "$build/bin/meshopt018_simplify" ]; then
+        target=$(tail -n 1 "$work/threads.txt" | awk '{print $8}')
+        /usr/bin/time -f '%e %M' -o "$work/time.txt" \
+          "$build/bin/meshopt018_simplify" "$work/igea-sub.obj" "$work/mo_$ratio.obj" --faces "$target" \
+          > "$work/json.txt" 2>/dev/null
+        python3 - "$ratio" "$work/json.txt" "$work/time.txt" >> "$work/threads.txt" <<'EOF2'
+import json, sys
+j = json.load(open(sys.argv[2]))
+wall, rss_kb = open(sys.argv[3]).read().split()[-2:]
+print(sys.argv[1], 'meshopt', j['seconds'], wall, int(rss_kb) // 1024, j['faces_out'], 'nan', j['target_faces'])
+EOF2
+      fi
       cmp -s "$work/t1_$ratio.obj" "$work/t2_$ratio.obj" && echo "same $ratio" >> "$work/threads.txt" ||
         echo "differ $ratio" >> "$work/threads.txt"
     done
@@ -142,28 +156,39 @@ for l in open(sys.argv[1]):
     if w[0] in ('same', 'differ'):
         same.setdefault(w[1], set()).add(w[0])
         continue
-    rows.setdefault((w[0], w[1]), []).append([float(w[2]), float(w[3]), int(w[4]), int(w[5])])
+    rows.setdefault((w[0], w[1]), []).append([float(w[2]), float(w[3]), int(w[4]), int(w[5]), float(w[6])])
 med = lambda k, i: statistics.median(r[i] for r in rows[k])
 print()
 print('### One thread against two, and the whole command against the call (1M faces)')
 print()
 print('igea subdivided once (1,074,744 faces) as OBJ, `cmgeom --threads T simplify igea-sub.obj -o out.obj --ratio R --json`,')
-print(f'{sys.argv[2]} interleaved runs: `seconds` of the JSON (the simplification call), wall time and peak RSS of the')
-print('whole command (GNU time: reading the OBJ, simplifying, writing the result). Medians.')
+print(f'{sys.argv[2]} interleaved runs: `seconds` of the JSON (the simplification call) and its `seconds_read` (reading')
+print('the OBJ into a mesh), wall time and peak RSS of the whole command (GNU time: reading the OBJ, simplifying,')
+print('writing the result). Medians. Beside it, in the same runs, meshoptimizer 0.18 (Debian) through its driver')
+print('`meshopt018_simplify` (benchmark/Textured_simplification/meshopt018_simplify.cpp: reads the OBJ, simplifies')
+print('to the same face count, writes the OBJ); its `seconds` is the meshopt_simplify call.')
 print()
-print('| target | threads | faces out | seconds | wall (s) | peak RSS (MB) | wall / seconds |')
-print('|---|--:|--:|--:|--:|--:|--:|')
+print('| target | run | faces out | seconds | read (s) | wall (s) | peak RSS (MB) | wall / seconds |')
+print('|---|---|--:|--:|--:|--:|--:|--:|')
 for ratio in ('0.1', '0.01'):
-    for t in ('1', '2'):
+    for t in ('1', '2', 'meshopt'):
         k = (ratio, t)
-        print(f'| {float(ratio):.0%} | {t} | {rows[k][0][3]} | {med(k, 0):.3f} | {med(k, 1):.2f} | {med(k, 2)} | '
-              f'{med(k, 1) / med(k, 0):.2f} |')
+        if k not in rows:
+            continue
+        name = 'meshoptimizer 0.18 driver' if t == 'meshopt' else f'cmgeom, {t} thread{"s" if t == "2" else ""}'
+        read = '-' if t == 'meshopt' else f'{med(k, 4):.3f}'
+        print(f'| {float(ratio):.0%} | {name} | {rows[k][0][3]} | {med(k, 0):.3f} | {read} | {med(k, 1):.2f} | '
+              f'{med(k, 2)} | {med(k, 1) / med(k, 0):.2f} |')
 print()
 for ratio in ('0.1', '0.01'):
     s1, s2 = med((ratio, '1'), 0), med((ratio, '2'), 0)
     print(f'- {float(ratio):.0%}: one thread / two threads (seconds) {s1 / s2:.2f}x (target >= 1.7x); outputs of one and '
           f'two threads {"identical in every run" if same[ratio] == {"same"} else "DIFFERENT"}; whole command / call on two '
           f'threads {med((ratio, "2"), 1) / s2:.2f}x (target <= 1.5x).')
+    if (ratio, 'meshopt') in rows:
+        m = (ratio, 'meshopt')
+        print(f'  Peak RSS of the whole command: cmgeom (two threads) {med((ratio, "2"), 2)} MB, meshoptimizer 0.18\'s driver '
+              f'{med(m, 2)} MB (target: no larger); wall time {med((ratio, "2"), 1):.2f} s against {med(m, 1):.2f} s.')
 EOF2
 fi
 echo "wrote $here/RESULTS-scale.md" >&2
