@@ -24,7 +24,11 @@ namespace internal {
 /// on every repaired file). O(C log C) for C corners.
 bool is_oriented_manifold_soup(const Polygon_soup& soup, std::size_t vertices);
 
-void read_obj(const std::string& path, Polygon_soup& soup);
+/// Files of `chunk_bytes` or more are parsed on all cores in chunks of about that size
+/// (obj_io.cpp); 0 reads every file line by line. The soup, the errors and the warnings are the
+/// same either way (a test compares them on mutated files with tiny chunks).
+constexpr std::size_t obj_chunk_bytes = std::size_t(1) << 20;
+void read_obj(const std::string& path, Polygon_soup& soup, std::size_t chunk_bytes = obj_chunk_bytes);
 void read_off(const std::string& path, Polygon_soup& soup);
 void read_ply(const std::string& path, Polygon_soup& soup);
 void read_gltf(const std::string& path, Polygon_soup& soup);

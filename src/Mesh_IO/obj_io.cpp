@@ -404,18 +404,15 @@ void read_mtl(const std::string& mtl_path, Polygon_soup& soup, std::unordered_ma
   });
 }
 
-// Files from this size on are read by read_obj_in_chunks (below it, the serial reader is as fast).
-constexpr std::size_t parallel_obj_bytes = std::size_t(1) << 20;
-
 // Reads `data` on all cores (see Obj_chunk) into `soup` (holding only its source); `usemtl(name,
 // line)` and `mtllib(text, line)` are the reader's handlers, called in file order, and
 // `current_material` the material they set. Returns false, with `soup` in an unspecified state,
 // when the serial reader must read the file.
 template <class Usemtl, class Mtllib>
-bool read_obj_in_chunks(std::string_view data, Polygon_soup& soup, Usemtl usemtl, Mtllib mtllib,
-                        int& current_material) {
-  // chunks of about a megabyte, ending after a newline; their number depends on the size only
-  const std::size_t n = (std::min)(std::size_t(256), (std::max)(std::size_t(1), data.size() >> 20));
+bool read_obj_in_chunks(std::string_view data, std::size_t chunk_bytes, Polygon_soup& soup, Usemtl usemtl,
+                        Mtllib mtllib, int& current_material) {
+  // chunks of about chunk_bytes, ending after a newline; their number depends on the size only
+  const std::size_t n = (std::min)(std::size_t(4096), (std::max)(std::size_t(1), data.size() / chunk_bytes));
   std::vector<Obj_chunk> chunks(n);
   const char* const base = data.data();
   const char* const end = base + data.size();
@@ -491,7 +488,7 @@ bool read_obj_in_chunks(std::string_view data, Polygon_soup& soup, Usemtl usemtl
 
 }  // namespace
 
-void read_obj(const std::string& path, Polygon_soup& soup) {
+void read_obj(const std::string& path, Polygon_soup& soup, std::size_t chunk_bytes) {
   const File_bytes bytes(path);
   const std::string_view data = bytes.view();
   if (data.empty()) throw IO_error(path, "empty file");
@@ -540,8 +537,8 @@ void read_obj(const std::string& path, Polygon_soup& soup) {
     }
   };
 
-  const bool in_chunks =
-      data.size() >= parallel_obj_bytes && read_obj_in_chunks(data, soup, usemtl, mtllib, current_material);
+  const bool in_chunks = chunk_bytes > 0 && data.size() >= chunk_bytes &&
+                         read_obj_in_chunks(data, chunk_bytes, soup, usemtl, mtllib, current_material);
   if (!in_chunks) {  // a small file, or one the chunks gave up on: line by line, errors reported
     soup = Polygon_soup();
     soup.source = path;

@@ -2,7 +2,10 @@
 // order, negative indices, unknown statements; large generated OBJ files (read in chunks).
 #include "mesh_io_test_util.h"
 
+#include "../Reliability/fuzz_mutate.h"
+
 #include <charconv>
+#include <random>
 
 // ------------------------------------------------------------------ small hand-made files
 
@@ -267,4 +270,63 @@ TEST(Mesh_IO_obj, LargeFilesReportErrorsAndWarningsAtTheirLine) {
     const Polygon_soup soup = IO::read_polygon_soup(write_text(dir, "open.obj", open_end));
     EXPECT_EQ(soup.number_of_faces(), w.faces.size());
   }
+}
+
+// The chunked reader against the line-by-line one, on mutated OBJ files cut into chunks of a few
+// dozen bytes (every statement meets a chunk boundary somewhere): the same soup, element for
+// element, with the same materials and warnings, or the same error.
+TEST(Mesh_IO_obj, ChunksReadMutatedFilesAsLinesDo) {
+  const std::string dir = scratch_dir();
+  write_text(dir, "grid.mtl", "newmtl red\nKd 1 0 0\nnewmtl green\nKd 0 1 0\n");
+  write_text(dir, "seed.mtl", "newmtl a\nKd 0.5 0.5 0.5\n");
+  std::vector<cmgeom_fuzz::Bytes> seeds;
+  auto add_seed = [&](const std::string& text) {
+    cmgeom_fuzz::Bytes b{0};  // the mutator's format byte, dropped below
+    b.insert(b.end(), text.begin(), text.end());
+    seeds.push_back(b);
+  };
+  add_seed(write_large_obj(12).text);
+  add_seed(
+      "mtllib seed.mtl\n# seed\nv 0 0 0\nv 1 0 0\r\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\nvt 0 0\nvt 1 0\nvt 1 1\n"
+      "vt 0 1\nvt 0.5 0.5\nvn 0 0 1\nusemtl a\nf 1/1/1 4/4/1 3/3/1 2/2/1\nf 1/1 2/2 5/5\n\tf 2/2 3/3 5/5\n"
+      "o part\nusemtl b\nf 3/3 4/4 5/5\nf -1/-1 -5/-5 -2/-2");
+  std::mt19937_64 rng(7);
+  auto read = [](const std::string& path, std::size_t chunk_bytes, Polygon_soup& soup) {
+    try {
+      IO::internal::read_obj(path, soup, chunk_bytes);
+      return std::string();
+    } catch (const IO_error& e) {
+      return std::string(e.what());
+    }
+  };
+  std::size_t read_ok = 0;
+  for (int iteration = 0; iteration < 2000; ++iteration) {
+    const cmgeom_fuzz::Bytes& seed = seeds[std::size_t(iteration) % seeds.size()];
+    const cmgeom_fuzz::Bytes b = iteration < 2 ? seed : cmgeom_fuzz::mutate(seed, rng, seeds);
+    if (b.size() < 2) continue;
+    const std::string path = write_text(dir, "m.obj", std::string(b.begin() + 1, b.end()));
+    Polygon_soup lines, chunks;
+    const std::string e_lines = read(path, 0, lines);
+    const std::size_t chunk_bytes = 1 + std::size_t(rng() % 64);
+    const std::string e_chunks = read(path, chunk_bytes, chunks);
+    SCOPED_TRACE("iteration " + std::to_string(iteration) + ", chunks of " + std::to_string(chunk_bytes));
+    ASSERT_EQ(e_chunks, e_lines);
+    if (!e_lines.empty()) continue;
+    ++read_ok;
+    ASSERT_EQ(chunks.positions, lines.positions);
+    ASSERT_EQ(chunks.uvs, lines.uvs);
+    ASSERT_EQ(chunks.face_start, lines.face_start);
+    ASSERT_EQ(chunks.corner_vertex, lines.corner_vertex);
+    ASSERT_EQ(chunks.corner_uv, lines.corner_uv);
+    ASSERT_EQ(chunks.face_material, lines.face_material);
+    ASSERT_EQ(chunks.face_line, lines.face_line);
+    ASSERT_EQ(chunks.warnings, lines.warnings);
+    ASSERT_EQ(chunks.materials.size(), lines.materials.size());
+    for (std::size_t m = 0; m < lines.materials.size(); ++m) {
+      EXPECT_EQ(chunks.materials[m].name, lines.materials[m].name);
+      EXPECT_EQ(chunks.materials[m].diffuse_color, lines.materials[m].diffuse_color);
+      EXPECT_EQ(chunks.materials[m].diffuse_texture, lines.materials[m].diffuse_texture);
+    }
+  }
+  EXPECT_GT(read_ok, 250u);  // enough of the mutants still read for the comparison to mean something
 }
