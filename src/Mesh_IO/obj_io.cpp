@@ -22,6 +22,7 @@
 #include <unordered_map>
 
 #include <fcntl.h>
+#include <malloc.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -469,7 +470,7 @@ bool read_obj_in_chunks(std::string_view data, std::size_t chunk_bytes, Polygon_
   soup.face_material.resize(faces[n]);
   soup.face_line.resize(faces[n]);
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-    const Polygon_soup& part = chunks[i].part;
+    Polygon_soup& part = chunks[i].part;
     std::copy(part.positions.begin(), part.positions.end(), soup.positions.begin() + std::ptrdiff_t(positions[i]));
     std::copy(part.uvs.begin(), part.uvs.end(), soup.uvs.begin() + std::ptrdiff_t(uvs[i]));
     std::copy(part.corner_vertex.begin(), part.corner_vertex.end(),
@@ -482,7 +483,13 @@ bool read_obj_in_chunks(std::string_view data, std::size_t chunk_bytes, Polygon_
       soup.face_material[g] = slot < 0 ? at_start[i] : slot_material[i][std::size_t(slot)];
       soup.face_line[g] = lines[i] + part.face_line[f];
     }
+    part = Polygon_soup();  // freed on the core that allocated it
   });
+#if defined(__GLIBC__)
+  // The chunks were allocated by the worker threads, in their own malloc arenas, which keep
+  // what is freed: give it back, or a large file's chunks stay resident while its mesh is built.
+  malloc_trim(0);
+#endif
   return true;
 }
 

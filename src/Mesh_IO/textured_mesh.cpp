@@ -72,8 +72,8 @@ std::string plural(std::size_t n, const char* one, const char* many) {
 // all: edges in order of first use, each edge's even halfedge in the face that first used it, a
 // face's halfedge the one into its first corner, a border vertex's halfedge the border one into
 // it, an interior vertex's the one into it in the last triangle around it (add_face leaves it
-// there when that triangle closes the vertex's fan). `halfedge_of[3f + k]` is set to the halfedge from corner k to corner
-// k + 1 of triangle f. O(F) time and memory, against add_face's searches around vertices.
+// there when that triangle closes the vertex's fan). `halfedge_of[3f + k]` is set to the halfedge from corner k to
+// corner k + 1 of triangle f. O(F) time and memory, against add_face's searches around vertices.
 bool link_oriented_manifold(Surface_mesh& m, const std::vector<std::array<std::uint32_t, 3>>& tris,
                             std::vector<Surface_mesh::Halfedge_index>& halfedge_of) {
   using H = Surface_mesh::Halfedge_index;
@@ -114,6 +114,7 @@ bool link_oriented_manifold(Surface_mesh& m, const std::vector<std::array<std::u
     }
   });
   if (defect) return false;
+  std::vector<std::uint32_t>().swap(out_t);  // (the memory of a large mesh is freed as it goes)
   for (std::uint32_t d = 0; d < nd; ++d) {
     if (opp[d] != nil) continue;
     // a border edge: at most one leaves and one enters each vertex
@@ -156,6 +157,16 @@ bool link_oriented_manifold(Surface_mesh& m, const std::vector<std::array<std::u
     if (opp[d] != nil) halfedge_of[opp[d]] = H(2 * ne + 1);
     ++ne;
   }
+  // each vertex's halfedge: the border one into it, or the one into it in its last triangle
+  const auto twin = [](H h) { return H(Surface_mesh::size_type(h.idx() ^ 1u)); };
+  std::vector<H> vertex_halfedge(nv, H());
+  for (std::size_t v = 0; v < nv; ++v)
+    if (first[v + 1] != first[v])
+      vertex_halfedge[v] =
+          border_out[v] != nil ? twin(halfedge_of[border_out[v]]) : halfedge_of[prev_in_face(out_d[first[v + 1] - 1])];
+  std::vector<std::uint32_t>().swap(out_d);
+  std::vector<std::uint32_t>().swap(first);
+  std::vector<std::uint32_t>().swap(border_out);
   m.resize(Surface_mesh::size_type(nv), Surface_mesh::size_type(ne), Surface_mesh::size_type(tris.size()));
   using V = Surface_mesh::Vertex_index;
   using F = Surface_mesh::Face_index;
@@ -177,11 +188,8 @@ bool link_oriented_manifold(Surface_mesh& m, const std::vector<std::array<std::u
     }
   });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1u << 14), [&](const auto& r) {
-    for (std::size_t v = r.begin(); v != r.end(); ++v) {
-      if (first[v + 1] == first[v]) continue;
-      m.set_halfedge(V(Surface_mesh::size_type(v)), border_out[v] != nil ? m.opposite(halfedge_of[border_out[v]])
-                                                                         : halfedge_of[prev_in_face(out_d[first[v + 1] - 1])]);
-    }
+    for (std::size_t v = r.begin(); v != r.end(); ++v)
+      if (vertex_halfedge[v] != H()) m.set_halfedge(V(Surface_mesh::size_type(v)), vertex_halfedge[v]);
   });
   return true;
 }
@@ -196,8 +204,11 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   // Faces as triangles with their corner UVs; UVs on all faces or on none.
   using Triangle = std::array<std::uint32_t, 3>;
   std::vector<Triangle> tris;
-  std::vector<std::array<std::uint32_t, 3>> tri_uv;
-  std::vector<std::size_t> tri_face;
+  std::vector<std::array<std::uint32_t, 3>> tri_uv;  // only when the soup has texture coordinates
+  std::vector<std::size_t> tri_face;                 // filled once triangle i is not face i
+  bool identity = true;                              // triangle i is face i (tri_face unused)
+  const auto face_of = [&](std::size_t i) { return identity ? i : tri_face[i]; };
+  const bool keep_uv = soup.has_uvs();
   tris.reserve(nf);
   bool uv_seen = false, polygons = false;
   std::size_t first_without_uv = Polygon_soup::no_index;
@@ -217,10 +228,14 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     }
     uv_seen |= face_has_uv;
     if (!face_has_uv && first_without_uv == Polygon_soup::no_index) first_without_uv = f;
-    if (repeated) {
-      if (options.drop_repeated_vertex_faces) continue;
+    if (repeated && !options.drop_repeated_vertex_faces)
       throw IO_error(soup.face_location(f), "face repeats a vertex (degenerate face)");
+    if ((repeated || n != 3) && identity) {  // triangle i is no longer face i from here on
+      tri_face.resize(tris.size());
+      std::iota(tri_face.begin(), tri_face.end(), std::size_t(0));
+      identity = false;
     }
+    if (repeated) continue;
     // Polygons are split into fans in file order: (c0, c_i, c_i+1).
     for (std::uint32_t i = 1; i + 1 < n; ++i) {
       Triangle t;
@@ -231,8 +246,8 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
         u[std::size_t(k)] = soup.corner_uv[idx[k]];
       }
       tris.push_back(t);
-      tri_uv.push_back(u);
-      tri_face.push_back(f);
+      if (keep_uv) tri_uv.push_back(u);
+      if (!identity) tri_face.push_back(f);
     }
   }
   if (uv_seen && first_without_uv != Polygon_soup::no_index)
@@ -243,15 +258,12 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
       throw IO_error(src, "non-finite vertex coordinate");
 
-  std::vector<Point_3> points(soup.positions.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1u << 14), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i)
-      points[i] = Point_3(soup.positions[i][0], soup.positions[i][1], soup.positions[i][2]);
-  });
+  const auto point_of = [](const auto& p) { return Point_3(p[0], p[1], p[2]); };
   // Builds the Textured_mesh of triangles `ps` over `pts` (UVs `tuv`), apart from `out`; with
   // `linked_only`, nothing (std::nullopt) unless they form an oriented manifold (see
   // link_oriented_manifold), else face by face with add_face, which names the first defect.
-  auto construct = [&](const std::vector<Point_3>& pts, const std::vector<Triangle>& ps,
+  // `pts`: the soup's positions, or the points of a repaired soup.
+  auto construct = [&](const auto& pts, const std::vector<Triangle>& ps,
                        const std::vector<std::array<std::uint32_t, 3>>& tuv,
                        bool linked_only = false) -> std::optional<Textured_mesh> {
     Textured_mesh built;
@@ -269,7 +281,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     m.resize(nv, 0, 0);  // the vertices, without their halfedges yet
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pts.size(), 1u << 14), [&](const auto& r) {
       for (std::size_t i = r.begin(); i != r.end(); ++i)
-        if (used[i]) m.point(vmap[i]) = pts[i];
+        if (used[i]) m.point(vmap[i]) = point_of(pts[i]);
     });
     auto uv = built.uv_map();
     auto mat = built.material_map();
@@ -285,7 +297,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ps.size(), 1u << 14), [&](const auto& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
           const Surface_mesh::Face_index f{Surface_mesh::size_type(i)};
-          mat[f] = soup.face_material[tri_face[i]];
+          mat[f] = soup.face_material[face_of(i)];
           if (uv_seen)
             for (std::size_t k = 0; k < 3; ++k) {  // the halfedge into corner k comes from corner k - 1
               const auto& q = soup.uvs[tuv[i][k]];
@@ -301,10 +313,10 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
         const auto& t = ps[i];
         const auto f = m.add_face(vmap[t[0]], vmap[t[1]], vmap[t[2]]);
         if (f == Surface_mesh::null_face())
-          throw IO_error(soup.face_location(tri_face[i]),
+          throw IO_error(soup.face_location(face_of(i)),
                          "face cannot be added to a manifold mesh (non-manifold configuration after "
                          "splitting polygons into triangles); the option repair (--repair) fixes it");
-        mat[f] = soup.face_material[tri_face[i]];
+        mat[f] = soup.face_material[face_of(i)];
         if (uv_seen) {
           // halfedge(f) points to the face's first corner? Not necessarily: match by target vertex.
           for (auto h : m.halfedges_around_face(m.halfedge(f)))
@@ -336,10 +348,12 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
         [&] {
           if (options.allow_degenerate_faces) return;
           for (std::size_t i = 0; i < tris.size(); ++i)
-            if (CGAL::collinear(points[tris[i][0]], points[tris[i][1]], points[tris[i][2]]) && !zero_area++)
-              first = tri_face[i];
+            if (CGAL::collinear(point_of(soup.positions[tris[i][0]]), point_of(soup.positions[tris[i][1]]),
+                                point_of(soup.positions[tris[i][2]])) &&
+                !zero_area++)
+              first = face_of(i);
         },
-        [&] { linked = construct(points, tris, tri_uv, true); });
+        [&] { linked = construct(soup.positions, tris, tri_uv, true); });
     if (zero_area)
       throw IO_error(soup.face_location(first),
                      plural(zero_area, "zero-area face", "zero-area faces") +
@@ -358,7 +372,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
       const auto& b = soup.positions[tris[i][1]];
       const auto& c = soup.positions[tris[i][2]];
       if (CGAL::collinear(Point_3(a[0], a[1], a[2]), Point_3(b[0], b[1], b[2]), Point_3(c[0], c[1], c[2]))) {
-        if (!zero_area++) first = tri_face[i];
+        if (!zero_area++) first = face_of(i);
       }
     }
     if (zero_area)
@@ -393,6 +407,8 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
 
   // Optional repair: CGAL orients the soup and duplicates non-manifold vertices; UVs follow
   // their corners because every triangle keeps its three original vertices.
+  std::vector<Point_3> points(soup.positions.size());
+  for (std::size_t i = 0; i < points.size(); ++i) points[i] = point_of(soup.positions[i]);
   std::vector<std::size_t> original(points.size());
   std::iota(original.begin(), original.end(), std::size_t(0));
   std::vector<Triangle> polys = tris;
@@ -445,12 +461,14 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     original.resize(points.size());
     for (std::size_t i = 0; i < pv.size(); ++i) {
       const Triangle t{std::uint32_t(pv[i][0]), std::uint32_t(pv[i][1]), std::uint32_t(pv[i][2])};
-      std::array<std::uint32_t, 3> u = tri_uv[i];
-      for (int k = 0; k < 3; ++k)  // the UV of the original corner holding the same vertex
-        for (int j = 0; j < 3; ++j)
-          if (original[t[std::size_t(k)]] == tris[i][std::size_t(j)]) u[std::size_t(k)] = tri_uv[i][std::size_t(j)];
+      if (keep_uv) {
+        std::array<std::uint32_t, 3> u = tri_uv[i];
+        for (int k = 0; k < 3; ++k)  // the UV of the original corner holding the same vertex
+          for (int j = 0; j < 3; ++j)
+            if (original[t[std::size_t(k)]] == tris[i][std::size_t(j)]) u[std::size_t(k)] = tri_uv[i][std::size_t(j)];
+        tri_uv[i] = u;
+      }
       polys[i] = t;
-      tri_uv[i] = u;
     }
   }
 

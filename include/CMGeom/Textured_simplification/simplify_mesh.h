@@ -50,6 +50,7 @@
 #include <string>
 #include <tuple>
 #include <type_traits>
+#include <unordered_map>
 #include <vector>
 
 namespace CMGeom {
@@ -254,20 +255,42 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   tbb::parallel_invoke([&] { policy.initialize(mesh, mesh.points()); },
                        [&] { faces_of = split_faces(mesh, levels, label); });
   const std::size_t n = faces_of.size();
-  std::vector<std::uint32_t> corner_vertex(mesh.num_halfedges(), no_index), side_edge(mesh.num_halfedges(), no_index);
   std::vector<Mesh_part<Point>> parts(n);
+  {
+    // the parts first; the tables that cut them are dropped before anything else is allocated
+    std::vector<std::uint32_t> corner_vertex(mesh.num_halfedges(), no_index), side_edge(mesh.num_halfedges(), no_index);
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
+      parts[k] = make_part(mesh, std::uint32_t(k), faces_of[k], label, corner_vertex, side_edge);
+    });
+  }
+  std::vector<std::uint32_t>().swap(label);
+  std::vector<std::vector<std::uint32_t>>().swap(faces_of);
+  // then the parts' quadrics, from the input's; of those, only the cut vertices' are needed later
+  // (their quadric on the whole is the input's plus what each part added): they are kept, the
+  // rest is released while the parts are simplified
   std::vector<std::optional<Policy>> part_policy(n);
-  std::vector<std::optional<Memory>> part_memory(n);
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
-    Mesh_part<Point>& part = parts[k];
-    part = make_part(mesh, std::uint32_t(k), faces_of[k], label, corner_vertex, side_edge);
-    Mesh& pm = part.mesh;
-    Policy& pp = part_policy[k].emplace(pm, options.quadric);
+    const Mesh& pm = parts[k].mesh;
+    Policy& pp = part_policy[k].emplace(parts[k].mesh, options.quadric);
     for (auto u : pm.vertices()) {
-      const V v(size_type(part.to_input[std::size_t(u)]));
+      const V v(size_type(parts[k].to_input[std::size_t(u)]));
       pp.set_vertex_data(u, policy.quadric(v), policy.weight(v));
     }
     pp.keep_vertex_data_once();
+  });
+  std::unordered_map<std::uint32_t, std::pair<Quadric, double>> cut_data;  // by input vertex
+  for (const Mesh_part<Point>& part : parts)
+    for (auto u : part.mesh.vertices())
+      if (part.locked[std::size_t(u)]) {
+        const V v(size_type(part.to_input[std::size_t(u)]));
+        cut_data.emplace(std::uint32_t(v), std::make_pair(policy.quadric(v), policy.weight(v)));
+      }
+  policy.release_vertex_data();
+  std::vector<std::optional<Memory>> part_memory(n);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
+    Mesh_part<Point>& part = parts[k];
+    Mesh& pm = part.mesh;
+    Policy& pp = *part_policy[k];
     Memory* pmem = nullptr;
     if (options.surface_memory) {
       Surface_memory_options mo = options.memory;
@@ -310,16 +333,16 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
         // the quadrics of the whole: a cut vertex's is its input quadric plus what each part added
         for (std::size_t i = 0; i < nv; ++i)
           if (merged.input_vertex[i] != no_index) {
-            const V v(size_type(merged.input_vertex[i]));
-            q[i] = policy.quadric(v);
-            w[i] = policy.weight(v);
+            const auto& [input_q, input_w] = cut_data.at(merged.input_vertex[i]);
+            q[i] = input_q;
+            w[i] = input_w;
           }
         for (std::size_t k = 0; k < n; ++k)
           for (auto u : parts[k].mesh.vertices()) {
             const std::size_t i = merged.vertex[k][std::size_t(u)];
             const Quadric& pq = part_policy[k]->quadric(u);
             if (parts[k].locked[std::size_t(u)]) {
-              const Quadric& input = policy.quadric(V(size_type(merged.input_vertex[i])));
+              const Quadric& input = cut_data.at(merged.input_vertex[i]).first;
               q[i] = Quadric::combine(q[i], 1.0, Quadric::combine(pq, 1.0, input, -1.0), 1.0);
             } else {
               q[i] = pq;
