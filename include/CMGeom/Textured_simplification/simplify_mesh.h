@@ -53,6 +53,10 @@
 #include <unordered_map>
 #include <vector>
 
+#if defined(__GLIBC__)
+#include <malloc.h>  // malloc_trim
+#endif
+
 namespace CMGeom {
 namespace Textured_simplification {
 
@@ -265,6 +269,9 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   }
   std::vector<std::uint32_t>().swap(label);
   std::vector<std::vector<std::uint32_t>>().swap(faces_of);
+#if defined(__GLIBC__)
+  malloc_trim(0);  // the worker threads' arenas keep what make_part freed
+#endif
   // then the parts' quadrics, from the input's; of those, only the cut vertices' are needed later
   // (their quadric on the whole is the input's plus what each part added): they are kept, the
   // rest is released while the parts are simplified
