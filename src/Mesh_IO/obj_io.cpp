@@ -53,21 +53,19 @@ std::string slurp(const std::string& path) {
 }
 
 File_bytes::File_bytes(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw IO_error(path, "file not found");
-  if (fs::is_directory(path, ec)) throw IO_error(path, "is a directory, not a mesh file");
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw IO_error(path, std::string("cannot open: ") + std::strerror(errno));
-  struct stat st;
-  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
-    void* p = ::mmap(nullptr, std::size_t(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
-    if (p != MAP_FAILED) {
-      map_ = static_cast<const char*>(p);
-      size_ = std::size_t(st.st_size);
+  if (fd >= 0) {
+    struct stat st;
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+      void* p = ::mmap(nullptr, std::size_t(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+      if (p != MAP_FAILED) {
+        map_ = static_cast<const char*>(p);
+        size_ = std::size_t(st.st_size);
+      }
     }
+    ::close(fd);
   }
-  ::close(fd);
-  if (!map_) copy_ = slurp(path);
+  if (!map_) copy_ = slurp(path);  // which also reports a missing, unreadable or odd file
 }
 
 File_bytes::~File_bytes() {
@@ -262,25 +260,23 @@ struct Obj_chunk {
 };
 
 void count_obj_chunk(Obj_chunk& c) {
-  for (const char* p = c.begin; p < c.end;) {
-    const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(c.end - p)));
-    if (!nl) nl = c.end;
-    ++c.lines;
-    while (p < nl && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
-    if (p + 1 < nl && p[0] == 'f' && (p[1] == ' ' || p[1] == '\t')) ++c.faces;
-    if (p < nl && *p == 'v') {
-      const char k = p + 1 < nl ? p[1] : ' ';
-      const bool end1 = k == ' ' || k == '\t' || k == '\r';
-      const bool end2 = p + 2 >= nl || p[2] == ' ' || p[2] == '\t' || p[2] == '\r';
-      if (end1)
-        ++c.positions;
-      else if (k == 't' && end2)
-        ++c.uvs;
-      else if (k == 'n' && end2)
-        ++c.normals;
-    }
-    p = nl + 1;
-  }
+  for_each_line(std::string_view(c.begin, std::size_t(c.end - c.begin)),
+                [&](std::size_t, const char* p, const char* nl) {
+                  ++c.lines;
+                  while (p < nl && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+                  if (p + 1 < nl && p[0] == 'f' && (p[1] == ' ' || p[1] == '\t')) ++c.faces;
+                  if (p < nl && *p == 'v') {
+                    const char k = p + 1 < nl ? p[1] : ' ';
+                    const bool end1 = k == ' ' || k == '\t' || k == '\r';
+                    const bool end2 = p + 2 >= nl || p[2] == ' ' || p[2] == '\t' || p[2] == '\r';
+                    if (end1)
+                      ++c.positions;
+                    else if (k == 't' && end2)
+                      ++c.uvs;
+                    else if (k == 'n' && end2)
+                      ++c.normals;
+                  }
+                });
 }
 
 void parse_obj_chunk(Obj_chunk& c, std::size_t positions, std::size_t uvs, std::size_t normals) {
@@ -293,39 +289,37 @@ void parse_obj_chunk(Obj_chunk& c, std::size_t positions, std::size_t uvs, std::
   soup.corner_vertex.reserve(3 * c.faces);
   soup.corner_uv.reserve(3 * c.faces);
   std::vector<long long> cv, ct;
-  std::size_t line_no = 0;
   int slot = -1;
-  for (const char* p = c.begin; p < c.end;) {
-    const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(c.end - p)));
-    if (!nl) nl = c.end;
-    ++line_no;
-    Line l{p, nl};
-    p = nl + 1;
-    if (std::memchr(l.p, '\0', std::size_t(l.end - l.p))) return void(c.ok = false);
-    const std::string_view key = l.token();
-    if (key.empty() || key[0] == '#') continue;
-    if (key == "v") {
-      std::array<double, 3> x;
-      if (!parse_vertex(l, x).empty()) return void(c.ok = false);
-      soup.positions.push_back(x);
-    } else if (key == "vt") {
-      std::array<double, 2> t;
-      if (!parse_texcoord(l, t).empty()) return void(c.ok = false);
-      soup.uvs.push_back(t);
-    } else if (key == "vn") {
-      if (!parse_normal(l).empty()) return void(c.ok = false);
-      ++normals;
-    } else if (key == "f") {
-      if (!parse_face(l, positions + soup.positions.size(), uvs + soup.uvs.size(), normals, cv, ct).empty())
-        return void(c.ok = false);
-      add_face(soup, cv, ct, slot, line_no);
-    } else if (key == "usemtl" || key == "mtllib") {
-      c.events.push_back({line_no, key == "usemtl", l.rest()});
-      if (key == "usemtl") slot = int(c.events.size()) - 1;
-    } else if (!is_ignored_statement(key)) {
-      return void(c.ok = false);
-    }
-  }
+  // on the first line it cannot take, the chunk gives up (the remaining lines are skipped)
+  for_each_line(
+      std::string_view(c.begin, std::size_t(c.end - c.begin)), [&](std::size_t line_no, const char* b, const char* e) {
+        if (!c.ok) return;
+        Line l{b, e};
+        if (std::memchr(l.p, '\0', std::size_t(l.end - l.p))) return void(c.ok = false);
+        const std::string_view key = l.token();
+        if (key.empty() || key[0] == '#') return;
+        if (key == "v") {
+          std::array<double, 3> x;
+          if (!parse_vertex(l, x).empty()) return void(c.ok = false);
+          soup.positions.push_back(x);
+        } else if (key == "vt") {
+          std::array<double, 2> t;
+          if (!parse_texcoord(l, t).empty()) return void(c.ok = false);
+          soup.uvs.push_back(t);
+        } else if (key == "vn") {
+          if (!parse_normal(l).empty()) return void(c.ok = false);
+          ++normals;
+        } else if (key == "f") {
+          if (!parse_face(l, positions + soup.positions.size(), uvs + soup.uvs.size(), normals, cv, ct).empty())
+            return void(c.ok = false);
+          add_face(soup, cv, ct, slot, line_no);
+        } else if (key == "usemtl" || key == "mtllib") {
+          c.events.push_back({line_no, key == "usemtl", l.rest()});
+          if (key == "usemtl") slot = int(c.events.size()) - 1;
+        } else if (!is_ignored_statement(key)) {
+          c.ok = false;
+        }
+      });
 }
 
 // Texture map statement: options (-bm 1.0, -o u v w, ...) then a file name that may hold spaces.

@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <exception>
 #include <optional>
 #include <numeric>
 #include <cctype>
@@ -72,8 +71,9 @@ std::string plural(std::size_t n, const char* one, const char* many) {
 // all: edges in order of first use, each edge's even halfedge in the face that first used it, a
 // face's halfedge the one into its first corner, a border vertex's halfedge the border one into
 // it, an interior vertex's the one into it in the last triangle around it (add_face leaves it
-// there when that triangle closes the vertex's fan). `halfedge_of[3f + k]` is set to the halfedge from corner k to
-// corner k + 1 of triangle f. O(F) time and memory, against add_face's searches around vertices.
+// there when that triangle closes the vertex's fan). `halfedge_of[3f + k]` is set to the
+// halfedge from corner k to corner k + 1 of triangle f. O(F) time and memory, against add_face's
+// searches around vertices.
 bool link_oriented_manifold(Surface_mesh& m, const std::vector<std::array<std::uint32_t, 3>>& tris,
                             std::vector<Surface_mesh::Halfedge_index>& halfedge_of) {
   using H = Surface_mesh::Halfedge_index;
@@ -259,6 +259,23 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
       throw IO_error(src, "non-finite vertex coordinate");
 
   const auto point_of = [](const auto& p) { return Point_3(p[0], p[1], p[2]); };
+  // Zero-area triangles (the repeated-vertex ones were handled above): their count, the face of
+  // the first in `first`; refused unless allowed.
+  const auto count_zero_area = [&](std::size_t& first) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < tris.size(); ++i)
+      if (CGAL::collinear(point_of(soup.positions[tris[i][0]]), point_of(soup.positions[tris[i][1]]),
+                          point_of(soup.positions[tris[i][2]])) &&
+          !n++)
+        first = face_of(i);
+    return n;
+  };
+  const auto refuse_zero_area = [&](std::size_t n, std::size_t first) {
+    if (n)
+      throw IO_error(soup.face_location(first),
+                     plural(n, "zero-area face", "zero-area faces") +
+                         " (first here); the option allow_degenerate_faces (--allow-degenerate) keeps them");
+  };
   // Builds the Textured_mesh of triangles `ps` over `pts` (UVs `tuv`), apart from `out`; with
   // `linked_only`, nothing (std::nullopt) unless they form an oriented manifold (see
   // link_oriented_manifold), else face by face with add_face, which names the first defect.
@@ -346,18 +363,10 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     std::size_t zero_area = 0, first = Polygon_soup::no_index;
     tbb::parallel_invoke(
         [&] {
-          if (options.allow_degenerate_faces) return;
-          for (std::size_t i = 0; i < tris.size(); ++i)
-            if (CGAL::collinear(point_of(soup.positions[tris[i][0]]), point_of(soup.positions[tris[i][1]]),
-                                point_of(soup.positions[tris[i][2]])) &&
-                !zero_area++)
-              first = face_of(i);
+          if (!options.allow_degenerate_faces) zero_area = count_zero_area(first);
         },
         [&] { linked = construct(soup.positions, tris, tri_uv, true); });
-    if (zero_area)
-      throw IO_error(soup.face_location(first),
-                     plural(zero_area, "zero-area face", "zero-area faces") +
-                         " (first here); the option allow_degenerate_faces (--allow-degenerate) keeps them");
+    refuse_zero_area(zero_area, first);
     if (linked) {
       out = std::move(*linked);
       return;
@@ -365,20 +374,9 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   }
   const Mesh_statistics st = analyze_soup(soup);
   if (st.degenerate_faces > 0 && !options.allow_degenerate_faces) {
-    // repeated-vertex faces were handled above; what remains is zero area
-    std::size_t zero_area = 0, first = Polygon_soup::no_index;
-    for (std::size_t i = 0; i < tris.size(); ++i) {
-      const auto& a = soup.positions[tris[i][0]];
-      const auto& b = soup.positions[tris[i][1]];
-      const auto& c = soup.positions[tris[i][2]];
-      if (CGAL::collinear(Point_3(a[0], a[1], a[2]), Point_3(b[0], b[1], b[2]), Point_3(c[0], c[1], c[2]))) {
-        if (!zero_area++) first = face_of(i);
-      }
-    }
-    if (zero_area)
-      throw IO_error(soup.face_location(first),
-                     plural(zero_area, "zero-area face", "zero-area faces") +
-                         " (first here); the option allow_degenerate_faces (--allow-degenerate) keeps them");
+    std::size_t first = Polygon_soup::no_index;
+    const std::size_t zero_area = count_zero_area(first);
+    refuse_zero_area(zero_area, first);
   }
   if (!options.repair) {
     if (st.non_manifold_edges)
