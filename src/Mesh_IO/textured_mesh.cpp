@@ -194,9 +194,10 @@ bool link_oriented_manifold(Surface_mesh& m, const std::vector<std::array<std::u
   return true;
 }
 
-}  // namespace
-
-void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Read_options& options) {
+// Validates `soup` and builds its mesh (see build_textured_mesh()); with `attributes`, the mesh
+// has the "h:uv" and "f:material" maps of a Textured_mesh (its UVs filled when `uv_seen` is set
+// on return), else neither map (the UVs are checked all the same).
+Surface_mesh build_mesh(const Polygon_soup& soup, const Read_options& options, bool attributes, bool& uv_seen) {
   const std::string& src = soup.source.empty() ? std::string("<memory>") : soup.source;
   const std::size_t nf = soup.number_of_faces();
   if (nf == 0) throw IO_error(src, "mesh has no faces");
@@ -208,9 +209,10 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   std::vector<std::size_t> tri_face;                 // filled once triangle i is not face i
   bool identity = true;                              // triangle i is face i (tri_face unused)
   const auto face_of = [&](std::size_t i) { return identity ? i : tri_face[i]; };
-  const bool keep_uv = soup.has_uvs();
+  const bool keep_uv = attributes && soup.has_uvs();
   tris.reserve(nf);
-  bool uv_seen = false, polygons = false;
+  bool polygons = false;
+  uv_seen = false;
   std::size_t first_without_uv = Polygon_soup::no_index;
   for (std::size_t f = 0; f < nf; ++f) {
     const std::uint32_t b = soup.face_start[f], n = std::uint32_t(soup.face_size(f));
@@ -276,16 +278,20 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
                      plural(n, "zero-area face", "zero-area faces") +
                          " (first here); the option allow_degenerate_faces (--allow-degenerate) keeps them");
   };
-  // Builds the Textured_mesh of triangles `ps` over `pts` (UVs `tuv`), apart from `out`; with
-  // `linked_only`, nothing (std::nullopt) unless they form an oriented manifold (see
-  // link_oriented_manifold), else face by face with add_face, which names the first defect.
-  // `pts`: the soup's positions, or the points of a repaired soup.
+  // Builds the mesh of triangles `ps` over `pts` (UVs `tuv`); with `linked_only`, nothing
+  // (std::nullopt) unless they form an oriented manifold (see link_oriented_manifold), else face
+  // by face with add_face, which names the first defect. `pts`: the soup's positions, or the
+  // points of a repaired soup.
   auto construct = [&](const auto& pts, const std::vector<Triangle>& ps,
                        const std::vector<std::array<std::uint32_t, 3>>& tuv,
-                       bool linked_only = false) -> std::optional<Textured_mesh> {
-    Textured_mesh built;
-    built.set_source(soup.source);
-    Surface_mesh& m = built.mesh();
+                       bool linked_only = false) -> std::optional<Surface_mesh> {
+    Surface_mesh m;
+    Textured_mesh::UV_map uv;
+    Textured_mesh::Material_map mat;
+    if (attributes) {
+      uv = m.add_property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv", Point_2(0, 0)).first;
+      mat = m.add_property_map<Surface_mesh::Face_index, int>("f:material", 0).first;
+    }
     std::vector<bool> used(pts.size(), !options.remove_unreferenced_vertices);
     if (options.remove_unreferenced_vertices)
       for (const auto& t : ps) used[t[0]] = used[t[1]] = used[t[2]] = true;
@@ -300,8 +306,6 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
       for (std::size_t i = r.begin(); i != r.end(); ++i)
         if (used[i]) m.point(vmap[i]) = point_of(pts[i]);
     });
-    auto uv = built.uv_map();
-    auto mat = built.material_map();
     std::vector<Triangle> renumbered;  // the triangles in m's vertex numbers, when they differ
     if (nv != pts.size()) {
       renumbered.resize(ps.size());
@@ -311,17 +315,18 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     const std::vector<Triangle>& linked = nv != pts.size() ? renumbered : ps;
     std::vector<Surface_mesh::Halfedge_index> halfedge_of;
     if (link_oriented_manifold(m, linked, halfedge_of)) {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ps.size(), 1u << 14), [&](const auto& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          const Surface_mesh::Face_index f{Surface_mesh::size_type(i)};
-          mat[f] = soup.face_material[face_of(i)];
-          if (uv_seen)
-            for (std::size_t k = 0; k < 3; ++k) {  // the halfedge into corner k comes from corner k - 1
-              const auto& q = soup.uvs[tuv[i][k]];
-              uv[halfedge_of[3 * i + (k + 2) % 3]] = Point_2(q[0], q[1]);
-            }
-        }
-      });
+      if (attributes)
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ps.size(), 1u << 14), [&](const auto& r) {
+          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const Surface_mesh::Face_index f{Surface_mesh::size_type(i)};
+            mat[f] = soup.face_material[face_of(i)];
+            if (uv_seen)
+              for (std::size_t k = 0; k < 3; ++k) {  // the halfedge into corner k comes from corner k - 1
+                const auto& q = soup.uvs[tuv[i][k]];
+                uv[halfedge_of[3 * i + (k + 2) % 3]] = Point_2(q[0], q[1]);
+              }
+          }
+        });
       CGAL_assertion(m.is_valid(false));
     } else if (linked_only) {
       return std::nullopt;
@@ -333,6 +338,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
           throw IO_error(soup.face_location(face_of(i)),
                          "face cannot be added to a manifold mesh (non-manifold configuration after "
                          "splitting polygons into triangles); the option repair (--repair) fixes it");
+        if (!attributes) continue;
         mat[f] = soup.face_material[face_of(i)];
         if (uv_seen) {
           // halfedge(f) points to the face's first corner? Not necessarily: match by target vertex.
@@ -348,9 +354,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
       // which are kept on purpose (vertex order survives read -> write).
       if (!m.is_valid(false)) throw IO_error(src, "faces do not form a valid manifold mesh");
     }
-    built.set_has_uvs(uv_seen);
-    built.materials() = soup.materials;
-    return built;
+    return m;
   };
 
   // A soup of triangles only, none dropped, is first linked as it is (one pass, see
@@ -359,7 +363,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
   // report defects with counts and the first location, and the repair (if asked) mends them.
   const bool as_read = !polygons && tris.size() == nf;
   if (as_read) {
-    std::optional<Textured_mesh> linked;
+    std::optional<Surface_mesh> linked;
     std::size_t zero_area = 0, first = Polygon_soup::no_index;
     tbb::parallel_invoke(
         [&] {
@@ -367,10 +371,7 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
         },
         [&] { linked = construct(soup.positions, tris, tri_uv, true); });
     refuse_zero_area(zero_area, first);
-    if (linked) {
-      out = std::move(*linked);
-      return;
-    }
+    if (linked) return std::move(*linked);
   }
   const Mesh_statistics st = analyze_soup(soup);
   if (st.degenerate_faces > 0 && !options.allow_degenerate_faces) {
@@ -470,13 +471,35 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
     }
   }
 
-  out = std::move(*construct(points, polys, tri_uv));
+  return std::move(*construct(points, polys, tri_uv));
+}
+
+}  // namespace
+
+void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Read_options& options) {
+  bool uv_seen = false;
+  Textured_mesh built(build_mesh(soup, options, true, uv_seen));
+  built.set_has_uvs(uv_seen);
+  built.materials() = soup.materials;
+  built.set_source(soup.source);
+  out = std::move(built);
+}
+
+void build_surface_mesh(const Polygon_soup& soup, Surface_mesh& out, const Read_options& options) {
+  bool uv_seen = false;
+  out = build_mesh(soup, options, false, uv_seen);
 }
 
 void read_mesh(const std::string& path, Textured_mesh& out, const Read_options& options) {
   const Polygon_soup soup = read_polygon_soup(path);
   if (options.warnings) options.warnings->insert(options.warnings->end(), soup.warnings.begin(), soup.warnings.end());
   build_textured_mesh(soup, out, options);
+}
+
+void read_mesh(const std::string& path, Surface_mesh& out, const Read_options& options) {
+  const Polygon_soup soup = read_polygon_soup(path);
+  if (options.warnings) options.warnings->insert(options.warnings->end(), soup.warnings.begin(), soup.warnings.end());
+  build_surface_mesh(soup, out, options);
 }
 
 void write_mesh(const std::string& path, const Textured_mesh& mesh) {

@@ -235,6 +235,64 @@ TEST(Mesh_IO_models, LinkedMeshesEqualTheOnesAddFaceBuilds) {
   EXPECT_GE(compared, 20u);
 }
 
+TEST(Mesh_IO_models, GeometryOnlyReadingGivesTheTexturedMeshWithoutItsMaps) {
+  // read_mesh() into a Surface_mesh: the mesh of the Textured_mesh reading, element for element
+  // and bit for bit, without the "h:uv" and "f:material" maps; the same refusals
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = scratch_dir();
+  std::vector<std::string> paths;
+  for (const auto& c : classic_models) paths.push_back(c.path);
+  paths.push_back("textured/bob/bob_tri.obj");
+  paths.push_back("textured/spot/spot.obj");
+  std::size_t compared = 0, refused = 0;
+  for (const std::string& path : paths) {
+    SCOPED_TRACE(path);
+    const std::string file = cmgeom_test::shared_mesh(path, dir);
+    ASSERT_FALSE(file.empty());
+    for (bool repair : {false, true}) {
+      IO::Read_options ro;
+      ro.repair = repair;
+      Textured_mesh tm;
+      Surface_mesh g;
+      std::string textured_error, geometry_error;
+      try {
+        IO::read_mesh(file, tm, ro);
+      } catch (const IO_error& e) {
+        textured_error = e.what();
+      }
+      try {
+        IO::read_mesh(file, g, ro);
+      } catch (const IO_error& e) {
+        geometry_error = e.what();
+      }
+      ASSERT_EQ(geometry_error, textured_error);
+      if (!textured_error.empty()) {
+        ++refused;
+        continue;
+      }
+      const Surface_mesh& m = tm.mesh();
+      EXPECT_FALSE((g.property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv").second));
+      EXPECT_FALSE((g.property_map<Surface_mesh::Face_index, int>("f:material").second));
+      ASSERT_EQ(g.num_vertices(), m.num_vertices());
+      ASSERT_EQ(g.num_halfedges(), m.num_halfedges());
+      ASSERT_EQ(g.num_faces(), m.num_faces());
+      for (auto v : m.vertices()) {
+        ASSERT_EQ(std::memcmp(&g.point(v), &m.point(v), sizeof(Point_3)), 0) << v;
+        ASSERT_EQ(g.halfedge(v), m.halfedge(v)) << v;
+      }
+      for (auto h : m.halfedges()) {
+        ASSERT_EQ(g.target(h), m.target(h)) << h;
+        ASSERT_EQ(g.next(h), m.next(h)) << h;
+        ASSERT_EQ(g.face(h), m.face(h)) << h;
+      }
+      for (auto f : m.faces()) ASSERT_EQ(g.halfedge(f), m.halfedge(f)) << f;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 40u);
+  EXPECT_GE(refused, 1u);  // ogre's zero-area faces, and the non-manifold models without repair
+}
+
 TEST(Mesh_IO_models, GeometryRoundTripKeepsVertexOrderIncludingUnreferenced) {
   CMGEOM_REQUIRE_SHARED_DATA();
   const std::string dir = scratch_dir();

@@ -2,6 +2,11 @@
 // CGAL engine, the plain (Garland-Heckbert) policy.
 #include "textured_simplification_test_util.h"
 
+#include <algorithm>
+#include <array>
+#include <random>
+#include <vector>
+
 // ------------------------------------------------------------------------- policies
 
 TEST(TexturedSimplificationPolicy, FlatGridHasClampedWeightsAndStaysPlanar) {
@@ -103,4 +108,61 @@ TEST(TexturedSimplificationPolicy, PlainPolicyIsGarlandHeckbert) {
   const Error_stats eo = surface_error(original, ours), eg = surface_error(original, cgal);
   EXPECT_LT(eo.rms, 1.15 * eg.rms);
   EXPECT_LT(eo.hausdorff, 1.5 * eg.hausdorff);
+}
+
+TEST(TexturedSimplificationPolicy, StarDataIsWhatInitializeGives) {
+  // star_vertex_data() (simplify_mesh() takes the data of its parts' border vertices from it)
+  // gives every vertex the very numbers initialize() gives it, in both modes: a rippled sheet
+  // whose faces are added in a shuffled order (so that a vertex's star is not in index order),
+  // with one border loop and a zero-area face
+  const int n = 32;  // a power of two: the grid coordinates are exact
+  std::vector<Point> points;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double x = double(i) / n, y = double(j) / n;
+      points.emplace_back(x, y, 0.1 * std::sin(7 * x) * std::cos(5 * y) + 0.03 * x * y);
+    }
+  // triangle (3, 4), (4, 4), (4, 5) of the grid has no area: its middle corner is moved between the others
+  points[std::size_t(3 * (n + 1) + 4)] = Point(3.0 / n, 4.0 / n, 0.0);
+  points[std::size_t(4 * (n + 1) + 5)] = Point(4.0 / n, 5.0 / n, 0.0);
+  points[std::size_t(4 * (n + 1) + 4)] = Point(3.5 / n, 4.5 / n, 0.0);
+  std::vector<std::array<std::size_t, 3>> triangles;
+  auto at = [&](int i, int j) { return std::size_t(i * (n + 1) + j); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  std::shuffle(triangles.begin(), triangles.end(), std::mt19937(7));
+  Mesh m;
+  for (const Point& p : points) m.add_vertex(p);
+  for (const auto& t : triangles)
+    ASSERT_NE(m.add_face(vertex_descriptor(Mesh::size_type(t[0])), vertex_descriptor(Mesh::size_type(t[1])),
+                         vertex_descriptor(Mesh::size_type(t[2]))),
+              Mesh::null_face());
+  std::size_t flat = 0;
+  for (auto f : m.faces()) {
+    const auto h = m.halfedge(f);
+    flat += CGAL::collinear(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h)))) ? 1 : 0;
+  }
+  ASSERT_GE(flat, 1u);
+  for (bool weighted : {false, true}) {
+    TS::Quadric_options o;
+    o.weighted = weighted;
+    Policy policy(m, o);
+    policy.initialize(m, m.points());
+    std::size_t border = 0, not_one = 0;
+    for (vertex_descriptor v : m.vertices()) {
+      const auto [q, w] = policy.star_vertex_data(m, m.points(), v);
+      const auto& r = policy.quadric(v);
+      const std::array<double, 10> a{q.a00, q.a01, q.a02, q.a11, q.a12, q.a22, q.b0, q.b1, q.b2, q.c},
+          b{r.a00, r.a01, r.a02, r.a11, r.a12, r.a22, r.b0, r.b1, r.b2, r.c};
+      ASSERT_EQ(a, b) << "vertex " << v << (weighted ? ", weighted" : ", plain");  // bit for bit
+      ASSERT_EQ(w, policy.weight(v)) << "vertex " << v;
+      border += m.is_border(v) ? 1 : 0;
+      not_one += w != 1.0 ? 1 : 0;
+    }
+    EXPECT_EQ(border, std::size_t(4 * n));
+    EXPECT_EQ(not_one > 0, weighted);
+  }
 }

@@ -162,6 +162,36 @@ TEST(SimplifyMesh, InPartsKeepsTopologyTargetAndError) {
   }
 }
 
+TEST(SimplifyMesh, ReleasingTheInputDuringThePartsChangesNothing) {
+  // release_input_in_parts frees the input once cut, and the parts' quadrics are the input's
+  // either way: the output is the same, point for point, with before_changing_input called once
+  for (const Mesh& input : {rippled_torus(120, 80), bumpy_sheet(100)}) {
+    const std::size_t target = input.number_of_faces() / 40;
+    Mesh kept = input, released = input;
+    TS::Mesh_simplification_options o = small_parts();
+    int calls_kept = 0, calls_released = 0;
+    o.before_changing_input = [&] {
+      ++calls_kept;
+      EXPECT_EQ(kept.number_of_faces(), input.number_of_faces());  // not changed yet
+    };
+    const TS::Mesh_simplification_result rk = TS::simplify_mesh(kept, target, o);
+    o.release_input_in_parts = true;
+    o.before_changing_input = [&] {
+      ++calls_released;
+      EXPECT_EQ(released.number_of_faces(), input.number_of_faces());
+    };
+    const TS::Mesh_simplification_result rr = TS::simplify_mesh(released, target, o);
+    EXPECT_EQ(calls_kept, 1);
+    EXPECT_EQ(calls_released, 1);
+    EXPECT_EQ(rk.parts, 16u);
+    EXPECT_EQ(rr.parts, 16u);
+    EXPECT_EQ(rr.faces_after_parts, rk.faces_after_parts);
+    ASSERT_TRUE(CGAL::is_valid_polygon_mesh(released));
+    EXPECT_EQ(released.number_of_faces(), kept.number_of_faces());
+    EXPECT_TRUE(triangles(released) == triangles(kept));
+  }
+}
+
 TEST(SimplifyMesh, SmallInputsAndLowRatiosSkipTheParts) {
   TS::Mesh_simplification_options o = small_parts();
   // asked for more than 1 / (4 x parts_stop_factor) of the faces: one stage; less: parts

@@ -124,16 +124,30 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     if (o->flips && o->engine == "cgal")
       throw CMGeom::Invalid_input("--flips needs --engine cmgeom (CGAL's engine has no flip hook)");
 
+    // A file without texture coordinates (or read with --no-texture) is read as geometry alone:
+    // its mesh has no corner UV and face material maps (on a 1M-face mesh the UVs alone are
+    // 51 MB, a fifth of the memory at the reading's peak).
     CMGeom::Textured_mesh tm;
+    Mesh geometry;
     CMGeom::IO::Read_options ro;
     ro.repair = !o->no_repair;
     std::vector<std::string> warnings;
-    ro.warnings = &warnings;
     const double read_start = cmgeom_cli::now_seconds();
-    CMGeom::IO::read_mesh(o->input, tm, ro);
+    bool file_uvs = false, geometry_only = false;
+    {
+      const CMGeom::Polygon_soup soup = CMGeom::IO::read_polygon_soup(o->input);
+      warnings = soup.warnings;
+      ro.warnings = &warnings;
+      file_uvs = soup.has_uvs();
+      geometry_only = !file_uvs || o->no_texture;
+      if (geometry_only)
+        CMGeom::IO::build_surface_mesh(soup, geometry, ro);
+      else
+        CMGeom::IO::build_textured_mesh(soup, tm, ro);
+    }
     const double seconds_read = cmgeom_cli::now_seconds() - read_start;
     for (const auto& w : warnings) std::cerr << "cmgeom simplify: warning: " << w << "\n";
-    Mesh& mesh = tm.mesh();
+    Mesh& mesh = geometry_only ? geometry : tm.mesh();
     if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
     if (!o->texture.empty() && !o->no_texture) {
       if (!tm.has_uvs())
@@ -295,7 +309,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       }
       return 0;
     }
-    if (tm.has_uvs())
+    if (file_uvs)
       std::cerr << "cmgeom simplify: note: texture coordinates are dropped (geometry-only simplification)\n";
     cmgeom_cli::Collapse_progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
     TS::Mesh_simplification_options so;
@@ -308,11 +322,14 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     so.surface_memory = !o->memoryless && o->engine == "cmgeom";
     so.memory.fit.rounds = o->fit_rounds;
     so.flips = o->flips;
-    // Geometry only: the mesh is simplified without the corner UV and face material maps the
-    // reader gave it (on a 1M-face mesh the UVs alone are 51 MB, a quarter of its memory), then
-    // wrapped in a new Textured_mesh for writing.
-    Mesh geometry = std::move(mesh);
-    tm.clear();
+    so.release_input_in_parts = true;  // the input is the file
+    // Geometry only: the mesh is simplified without corner UV and face material maps (a textured
+    // file simplified as geometry gives its maps up here), then wrapped in a new Textured_mesh
+    // for writing.
+    if (!geometry_only) {
+      geometry = std::move(mesh);
+      tm.clear();
+    }
     auto uv = geometry.property_map<Mesh::Halfedge_index, CMGeom::Point_2>("h:uv");
     if (uv.second) geometry.remove_property_map(uv.first);
     auto material = geometry.property_map<Mesh::Face_index, int>("f:material");

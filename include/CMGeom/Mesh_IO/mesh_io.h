@@ -50,6 +50,14 @@ void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Rea
 /// read_textured_mesh() in textured_mesh_io.h); their paths are checked to exist.
 void read_mesh(const std::string& path, Textured_mesh& out, const Read_options& options = Read_options());
 
+/// The geometry alone: build_textured_mesh() without the corner UVs and face materials, whose
+/// maps `out` does not get ("h:uv" is 16 bytes a halfedge, a fifth of a large mesh's memory).
+/// The soup is checked as there, its texture coordinates included.
+void build_surface_mesh(const Polygon_soup& soup, Surface_mesh& out, const Read_options& options = Read_options());
+
+/// read_polygon_soup + build_surface_mesh.
+void read_mesh(const std::string& path, Surface_mesh& out, const Read_options& options = Read_options());
+
 /// Writes .obj (with .mtl when there are materials; texture files referenced by the
 /// materials are copied beside it), .off, .ply (binary little-endian), .gltf (with a .bin and
 /// the texture files beside it) or .glb (one file, textures embedded), atomically.

@@ -29,8 +29,10 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace CMGeom {
@@ -148,6 +150,43 @@ public:
     r.w = compute_weight(tm, vpm, v, r.q);
   }
 
+  /// The quadric and weight initialize() gives vertex v of tm, from v's star alone: the same
+  /// numbers, the faces and border edges being summed in the order of their indices as
+  /// initialize() sums them. For a caller that needs a few vertices' data of a large mesh without
+  /// the memory of all of them (simplify_mesh() does, for the vertices on the borders of its
+  /// parts). TriangleMesh must have index descriptors, as CGAL::Surface_mesh.
+  template <class VertexPointMap>
+  std::pair<Quadric, double> star_vertex_data(const TriangleMesh& tm, const VertexPointMap& vpm,
+                                              vertex_descriptor v) const {
+    if (halfedge(v, tm) == boost::graph_traits<TriangleMesh>::null_halfedge()) return {Quadric(), 1.0};  // isolated
+    std::vector<halfedge_descriptor> around, borders;  // a face's halfedge(f); the face sides of border edges
+    for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
+      const halfedge_descriptor o = opposite(h, tm);
+      if (!is_border(h, tm)) around.push_back(halfedge(face(h, tm), tm));
+      if (options_.boundary_weight > 0 && is_border(o, tm) != is_border(h, tm))
+        borders.push_back(is_border(o, tm) ? h : o);
+    }
+    std::sort(around.begin(), around.end(), [&](halfedge_descriptor x, halfedge_descriptor y) {
+      return std::size_t(face(x, tm)) < std::size_t(face(y, tm));
+    });
+    std::sort(borders.begin(), borders.end(),
+              [](halfedge_descriptor x, halfedge_descriptor y) { return std::size_t(x) < std::size_t(y); });
+    Quadric q;
+    internal::Vec3 normal{0, 0, 0};
+    for (halfedge_descriptor h : around) {
+      const internal::Vec3 a = internal::to_vec3(get(vpm, source(h, tm))),
+                           b = internal::to_vec3(get(vpm, target(h, tm))),
+                           c = internal::to_vec3(get(vpm, target(next(h, tm), tm)));
+      const internal::Vec3 n2 = internal::cross(internal::sub(b, a), internal::sub(c, a));
+      normal = internal::add(normal, n2);
+      const double len = internal::norm(n2);
+      if (len > 0) q += face_plane(n2, len, a);
+    }
+    for (halfedge_descriptor h : borders)
+      if (const auto bq = border_plane(tm, vpm, h)) q += *bq;
+    return {q, weight_of(q, normal)};
+  }
+
   /// Builds the vertex quadrics and weights. Called once by the engines before collecting edges.
   template <class VertexPointMap>
   void initialize(const TriangleMesh& tm, const VertexPointMap& vpm, const GeomTraits& = GeomTraits()) const {
@@ -174,25 +213,14 @@ public:
         }
       const double len = internal::norm(n2);
       if (!(len > 0)) continue;  // a zero-area face defines no plane and has no area
-      const internal::Vec3 n = internal::scale(n2, 1.0 / len);
-      const Quadric q = Quadric::plane(n, -internal::dot(n, a), 0.5 * len);
+      const Quadric q = face_plane(n2, len, a);
       for (vertex_descriptor v : {va, vb, vc}) record(v).q += q;
     }
     if (options_.boundary_weight > 0) {
       for (halfedge_descriptor h : halfedges(tm)) {
         if (!is_border(opposite(h, tm), tm) || is_border(h, tm)) continue;
-        // h is the face side of a border edge
-        const vertex_descriptor va = source(h, tm), vb = target(h, tm);
-        const internal::Vec3 a = internal::to_vec3(get(vpm, va)), b = internal::to_vec3(get(vpm, vb)),
-                             c = internal::to_vec3(get(vpm, target(next(h, tm), tm)));
-        const internal::Vec3 e = internal::sub(b, a);
-        const internal::Vec3 fn = internal::cross(e, internal::sub(c, a));
-        internal::Vec3 m = internal::cross(e, fn);
-        const double ml = internal::norm(m);
-        if (!(ml > 0)) continue;
-        m = internal::scale(m, 1.0 / ml);
-        const Quadric q = Quadric::plane(m, -internal::dot(m, a), options_.boundary_weight * internal::dot(e, e));
-        for (vertex_descriptor v : {va, vb}) record(v).q += q;
+        if (const auto q = border_plane(tm, vpm, h))  // h is the face side of a border edge
+          for (vertex_descriptor v : {source(h, tm), target(h, tm)}) record(v).q += *q;
       }
     }
     if (!options_.weighted) return;  // the records' weights are 1
@@ -306,6 +334,28 @@ private:
     Record& kept = record(v_kept);
     kept.q = q;
     return kept;
+  }
+
+  /// The area-weighted quadric of the plane of a face: n2 its sides' cross product, len its
+  /// length (> 0), a a corner.
+  static Quadric face_plane(const internal::Vec3& n2, double len, const internal::Vec3& a) {
+    const internal::Vec3 n = internal::scale(n2, 1.0 / len);
+    return Quadric::plane(n, -internal::dot(n, a), 0.5 * len);
+  }
+
+  /// The quadric of border edge h (its face side): the plane through it perpendicular to its
+  /// face, weighted by boundary_weight times its squared length; none for a degenerate face.
+  template <class VertexPointMap>
+  std::optional<Quadric> border_plane(const TriangleMesh& tm, const VertexPointMap& vpm, halfedge_descriptor h) const {
+    const internal::Vec3 a = internal::to_vec3(get(vpm, source(h, tm))), b = internal::to_vec3(get(vpm, target(h, tm))),
+                         c = internal::to_vec3(get(vpm, target(next(h, tm), tm)));
+    const internal::Vec3 e = internal::sub(b, a);
+    const internal::Vec3 fn = internal::cross(e, internal::sub(c, a));
+    internal::Vec3 m = internal::cross(e, fn);
+    const double ml = internal::norm(m);
+    if (!(ml > 0)) return std::nullopt;
+    m = internal::scale(m, 1.0 / ml);
+    return Quadric::plane(m, -internal::dot(m, a), options_.boundary_weight * internal::dot(e, e));
   }
 
   /// The clamped weight of a vertex with quadric q and (unnormalised) normal n; 1 in plain mode.

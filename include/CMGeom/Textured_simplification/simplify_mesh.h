@@ -137,6 +137,13 @@ struct Mesh_simplification_options {
   /// after the parts are simplified): a caller may read the input on another core until then, and
   /// waits here for that reading to end. An exception it throws leaves the input unchanged.
   std::function<void()> before_changing_input;
+  /// On a simplification in parts, frees the input mesh as soon as its parts are cut (it is
+  /// rebuilt from them): the peak memory drops by the input's size (on the 1M-face igea to 1 %,
+  /// from 258 to 190 MB of the whole `cmgeom simplify`, doc/Textured_simplification/README.md),
+  /// but an exception thrown while the parts are simplified (out of memory) leaves `mesh` empty
+  /// instead of unchanged. Off by default; `cmgeom simplify` sets it, the input being its file.
+  /// before_changing_input is then called right before the input is freed.
+  bool release_input_in_parts = false;
 };
 
 /// What simplify_mesh() did.
@@ -253,11 +260,12 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   using Quadric = typename Policy::Quadric;
   using size_type = typename Mesh::size_type;
   const std::size_t faces_in = mesh.number_of_faces(), vertices_in = mesh.number_of_vertices();
-  // the input's quadrics (for every part) and the parts' faces, at once
+  const std::size_t vertex_slots = mesh.num_vertices();  // removed ones included
+  // No quadric of the whole input is held: each part computes its own from its faces, and only
+  // the vertices on a part's border take theirs from their star in the input (see below).
+  policy.release_vertex_data();
   std::vector<std::uint32_t> label;
-  std::vector<std::vector<std::uint32_t>> faces_of;
-  tbb::parallel_invoke([&] { policy.initialize(mesh, mesh.points()); },
-                       [&] { faces_of = split_faces(mesh, levels, label); });
+  std::vector<std::vector<std::uint32_t>> faces_of = split_faces(mesh, levels, label);
   const std::size_t n = faces_of.size();
   std::vector<Mesh_part<Point>> parts(n);
   {
@@ -272,27 +280,41 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
 #if defined(__GLIBC__)
   malloc_trim(0);  // the worker threads' arenas keep what make_part freed
 #endif
-  // then the parts' quadrics, from the input's; of those, only the cut vertices' are needed later
-  // (their quadric on the whole is the input's plus what each part added): they are kept, the
-  // rest is released while the parts are simplified
+  // then the parts' quadrics, the input's numbers: a vertex inside a part has its whole star
+  // there, with its faces in the input's order (make_part keeps it), so the part's initialize()
+  // sums the same terms in the same order; a vertex on a part's border (on a cut, or on the
+  // input's border, whose edges a part numbers in its own order) takes the sum over its star in
+  // the input, taken first, so that the input can be freed before the parts' quadrics are made
+  using Vertex_data = std::pair<typename Mesh::Vertex_index, std::pair<Quadric, double>>;
+  std::vector<std::vector<Vertex_data>> border_data(n);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
+    const Mesh& pm = parts[k].mesh;
+    for (auto u : pm.vertices())
+      if (CGAL::is_border(u, pm))
+        border_data[k].emplace_back(
+            u, policy.star_vertex_data(mesh, mesh.points(), V(size_type(parts[k].to_input[std::size_t(u)]))));
+  });
+  if (options.release_input_in_parts) {
+    if (options.before_changing_input) options.before_changing_input();
+    mesh.clear_without_removing_property_maps();
+  }
   std::vector<std::optional<Policy>> part_policy(n);
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     const Mesh& pm = parts[k].mesh;
     Policy& pp = part_policy[k].emplace(parts[k].mesh, options.quadric);
-    for (auto u : pm.vertices()) {
-      const V v(size_type(parts[k].to_input[std::size_t(u)]));
-      pp.set_vertex_data(u, policy.quadric(v), policy.weight(v));
-    }
+    pp.initialize(pm, pm.points());
+    for (const auto& [u, data] : border_data[k]) pp.set_vertex_data(u, data.first, data.second);
+    std::vector<Vertex_data>().swap(border_data[k]);
     pp.keep_vertex_data_once();
   });
+  // the cut vertices' input quadrics are needed again at the merge: their quadric on the whole
+  // is the input's plus what each part added
   std::unordered_map<std::uint32_t, std::pair<Quadric, double>> cut_data;  // by input vertex
-  for (const Mesh_part<Point>& part : parts)
-    for (auto u : part.mesh.vertices())
-      if (part.locked[std::size_t(u)]) {
-        const V v(size_type(part.to_input[std::size_t(u)]));
-        cut_data.emplace(std::uint32_t(v), std::make_pair(policy.quadric(v), policy.weight(v)));
-      }
-  policy.release_vertex_data();
+  for (std::size_t k = 0; k < n; ++k)
+    for (auto u : parts[k].mesh.vertices())
+      if (parts[k].locked[std::size_t(u)])
+        cut_data.emplace(parts[k].to_input[std::size_t(u)],
+                         std::make_pair(part_policy[k]->quadric(u), part_policy[k]->weight(u)));
   std::vector<std::optional<Memory>> part_memory(n);
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     Mesh_part<Point>& part = parts[k];
@@ -328,7 +350,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     });
   });
 
-  Merged_parts<Point> merged = merge_parts(parts, mesh.num_vertices());
+  Merged_parts<Point> merged = merge_parts(parts, vertex_slots);
   const std::size_t nv = merged.points.size();
   std::vector<Quadric> q(nv);
   std::vector<double> w(nv, 1.0);
@@ -344,7 +366,9 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
             q[i] = input_q;
             w[i] = input_w;
           }
-        for (std::size_t k = 0; k < n; ++k)
+        // then part by part its quadrics and its points, on the faces of the whole; each part's
+        // are freed once taken
+        for (std::size_t k = 0; k < n; ++k) {
           for (auto u : parts[k].mesh.vertices()) {
             const std::size_t i = merged.vertex[k][std::size_t(u)];
             const Quadric& pq = part_policy[k]->quadric(u);
@@ -356,13 +380,13 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
               w[i] = part_policy[k]->weight(u);
             }
           }
-        // the parts' points, on the faces of the whole
-        for (std::size_t k = 0; k < n; ++k) {
+          part_policy[k].reset();
           if (!part_memory[k]) continue;
           part_memory[k]->for_each_point([&](auto f, const CM::internal::Vec3& p, double area) {
             if (f == Mesh::null_face() || merged.face[k][std::size_t(f)] == no_index) return;
             points.emplace_back(typename Mesh::Face_index(size_type(merged.face[k][std::size_t(f)])), p, area);
           });
+          part_memory[k].reset();
         }
       },
       [&] {
@@ -371,7 +395,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
         if (!CGAL::is_valid_polygon_mesh(check) || !CGAL::is_triangle_mesh(check))
           throw std::logic_error("simplify_mesh: the simplified parts do not make a valid mesh");
       });
-  if (options.before_changing_input) options.before_changing_input();
+  if (options.before_changing_input && !options.release_input_in_parts) options.before_changing_input();
   parts.clear();
   mesh.clear_without_removing_property_maps();
   build_triangle_mesh(mesh, merged.points, merged.corners, merged.sides, merged.edges);
