@@ -138,11 +138,12 @@ struct Mesh_simplification_options {
   /// waits here for that reading to end. An exception it throws leaves the input unchanged.
   std::function<void()> before_changing_input;
   /// On a simplification in parts, frees the input mesh as soon as its parts are cut (it is
-  /// rebuilt from them): the peak memory drops by the input's size (on the 1M-face igea to 1 %,
-  /// from 258 to 190 MB of the whole `cmgeom simplify`, doc/Textured_simplification/README.md),
-  /// but an exception thrown while the parts are simplified (out of memory) leaves `mesh` empty
-  /// instead of unchanged. Off by default; `cmgeom simplify` sets it, the input being its file.
-  /// before_changing_input is then called right before the input is freed.
+  /// rebuilt from them): the input is no longer held while the parts are simplified and merged
+  /// (on the 1M-face igea to 1 %, the whole `cmgeom simplify` peaks at 246 MB with it, 284 MB
+  /// without; doc/Textured_simplification/README.md), but an exception thrown while the parts
+  /// are simplified (out of memory) leaves `mesh` empty instead of unchanged. Off by default;
+  /// `cmgeom simplify` sets it, the input being its file. before_changing_input is then called
+  /// right before the input is freed.
   bool release_input_in_parts = false;
 };
 
