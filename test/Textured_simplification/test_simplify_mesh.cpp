@@ -8,6 +8,7 @@
 #include <CMGeom/Metrics/approximation_error.h>
 #include <CMGeom/Textured_simplification.h>
 
+#include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/boost/graph/helpers.h>
 
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 #include <array>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <set>
 #include <vector>
 
@@ -104,6 +106,101 @@ TEST(MeshParts, CuttingAndMergingGivesTheInputBack) {
       EXPECT_EQ(border_loops(whole), border_loops(input));
       EXPECT_TRUE(triangles(whole) == triangles(input)) << "levels " << levels;
     }
+  }
+}
+
+TEST(MeshParts, MergeNumbersAsOnePassOverThePartsInOrder) {
+  // merge_parts() numbers on all cores; its numbers are those of one pass over the parts in order,
+  // written here plainly: a part's live vertices, a shared (locked) one where first met; its live
+  // edges but the cut ones, which come last in the order of their end vertices; its live faces.
+  // The parts have removed elements (some collapses inside each), as after a simplification.
+  for (const Mesh& input : {rippled_torus(60, 40), bumpy_sheet(50)}) {
+    std::vector<std::uint32_t> label;
+    const auto faces_of = TS::internal::split_faces(input, 3, label);
+    std::vector<std::uint32_t> corner(input.num_halfedges(), TS::internal::no_index),
+        side(input.num_halfedges(), TS::internal::no_index);
+    std::vector<TS::internal::Mesh_part<Point_3>> parts;
+    std::size_t collapsed = 0;
+    for (std::uint32_t k = 0; k < faces_of.size(); ++k) {
+      parts.push_back(TS::internal::make_part(input, k, faces_of[k], label, corner, side));
+      Mesh& pm = parts.back().mesh;
+      const auto& locked = parts.back().locked;
+      for (std::size_t e = 0; e < pm.num_edges(); e += 7) {
+        const Mesh::Edge_index ed{Mesh::size_type(e)};
+        if (pm.is_removed(ed)) continue;
+        const auto h = pm.halfedge(ed);
+        if (locked[std::size_t(pm.source(h))] || locked[std::size_t(pm.target(h))] || pm.is_border(ed) ||
+            pm.is_border(pm.source(h)) || pm.is_border(pm.target(h)) ||
+            !CGAL::Euler::does_satisfy_link_condition(ed, pm))
+          continue;
+        CGAL::Euler::collapse_edge(ed, pm);
+        ++collapsed;
+      }
+    }
+    ASSERT_GT(collapsed, 100u);
+    const auto merged = TS::internal::merge_parts(parts, input.num_vertices());
+    // the plain pass
+    std::vector<Point_3> points;
+    std::vector<std::uint32_t> input_vertex, corners, sides;
+    std::vector<std::vector<std::uint32_t>> vertex(parts.size()), face(parts.size()), edge(parts.size());
+    std::map<std::uint32_t, std::uint32_t> shared;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      const auto& part = parts[k];
+      vertex[k].assign(part.mesh.num_vertices(), TS::internal::no_index);
+      for (auto u : part.mesh.vertices()) {
+        const std::uint32_t v = part.to_input[std::size_t(u)];
+        if (part.locked[std::size_t(u)] && shared.count(v)) {
+          vertex[k][std::size_t(u)] = shared[v];
+          continue;
+        }
+        vertex[k][std::size_t(u)] = std::uint32_t(points.size());
+        if (part.locked[std::size_t(u)]) shared[v] = std::uint32_t(points.size());
+        points.push_back(part.mesh.point(u));
+        input_vertex.push_back(part.locked[std::size_t(u)] ? v : TS::internal::no_index);
+      }
+    }
+    std::uint32_t edges = 0;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::pair<std::size_t, std::size_t>>> cut;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      const auto& pm = parts[k].mesh;
+      edge[k].assign(pm.num_edges(), TS::internal::no_index);
+      for (auto e : pm.edges()) {
+        const auto a = pm.vertex(e, 0), b = pm.vertex(e, 1);
+        if (pm.is_border(e) && parts[k].locked[std::size_t(a)] && parts[k].locked[std::size_t(b)]) {
+          const std::uint32_t x = vertex[k][std::size_t(a)], y = vertex[k][std::size_t(b)];
+          cut[{(std::min)(x, y), (std::max)(x, y)}].push_back({k, std::size_t(e)});
+        } else {
+          edge[k][std::size_t(e)] = edges++;
+        }
+      }
+    }
+    for (const auto& [ends, sides_of_edge] : cut) {
+      ASSERT_LE(sides_of_edge.size(), 2u);
+      for (const auto& [k, e] : sides_of_edge) edge[k][e] = edges;
+      ++edges;
+    }
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      const auto& pm = parts[k].mesh;
+      face[k].assign(pm.num_faces(), TS::internal::no_index);
+      for (auto f : pm.faces()) {
+        face[k][std::size_t(f)] = std::uint32_t(corners.size() / 3);
+        for (auto h : CGAL::halfedges_around_face(pm.halfedge(f), pm)) {
+          corners.push_back(vertex[k][std::size_t(pm.source(h))]);
+          sides.push_back(edge[k][std::size_t(pm.edge(h))]);
+        }
+      }
+    }
+    EXPECT_TRUE(merged.points == points);
+    EXPECT_EQ(merged.input_vertex, input_vertex);
+    EXPECT_EQ(merged.vertex, vertex);
+    EXPECT_EQ(merged.edges, std::size_t(edges));
+    EXPECT_EQ(merged.corners, corners);
+    EXPECT_EQ(merged.sides, sides);
+    EXPECT_EQ(merged.face, face);
+    Mesh whole;
+    TS::internal::build_triangle_mesh(whole, merged.points, merged.corners, merged.sides, merged.edges);
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(whole));
+    EXPECT_EQ(whole.number_of_faces(), input.number_of_faces() - 2 * collapsed);
   }
 }
 

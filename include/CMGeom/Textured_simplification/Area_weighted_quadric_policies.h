@@ -98,7 +98,8 @@ public:
     if (!(options.boundary_weight >= 0.0 && std::isfinite(options.boundary_weight)))
       throw std::invalid_argument("Area_weighted_quadric_policies: boundary_weight must be finite and >= 0, got " +
                                   std::to_string(options.boundary_weight));
-    resize(tm);
+    // no records yet: initialize() (or set_vertex_data()) makes them, in the data every copy shares
+    // (simplify_mesh() in parts never needs the whole input's, 96 bytes a vertex)
   }
 
   const Get_cost& get_cost() const { return *this; }

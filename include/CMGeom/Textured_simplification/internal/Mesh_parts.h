@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -106,7 +107,8 @@ struct Mesh_part {
 template <class Point>
 std::vector<std::vector<std::uint32_t>> split_faces(const CGAL::Surface_mesh<Point>& m, int levels,
                                                     std::vector<std::uint32_t>& label) {
-  std::vector<std::array<double, 3>> centre(m.num_faces());
+  // left uninitialised (a removed face's is never read): the pages are first touched on all cores
+  std::unique_ptr<std::array<double, 3>[]> centre(new std::array<double, 3>[m.num_faces()]);
   std::vector<std::uint32_t> order;
   order.reserve(m.number_of_faces());
   for (auto f : m.faces()) order.push_back(std::uint32_t(f));
@@ -152,11 +154,15 @@ std::vector<std::vector<std::uint32_t>> split_faces(const CGAL::Surface_mesh<Poi
     ranges.swap(next);
   }
   label.assign(m.num_faces(), no_index);
-  std::vector<std::vector<std::uint32_t>> parts(ranges.size());
   tbb::parallel_for(std::size_t(0), ranges.size(), [&](std::size_t k) {  // parts own disjoint labels
-    parts[k].assign(order.begin() + std::ptrdiff_t(ranges[k].first), order.begin() + std::ptrdiff_t(ranges[k].second));
-    std::sort(parts[k].begin(), parts[k].end());  // input order inside a part
-    for (std::uint32_t f : parts[k]) label[f] = std::uint32_t(k);
+    for (std::size_t i = ranges[k].first; i < ranges[k].second; ++i) label[order[i]] = std::uint32_t(k);
+  });
+  // each part's faces in input order: one scan of the labels per part
+  std::vector<std::vector<std::uint32_t>> parts(ranges.size());
+  tbb::parallel_for(std::size_t(0), ranges.size(), [&](std::size_t k) {
+    parts[k].reserve(ranges[k].second - ranges[k].first);
+    for (std::size_t f = 0; f < label.size(); ++f)
+      if (label[f] == k) parts[k].push_back(std::uint32_t(f));
   });
   return parts;
 }
@@ -249,44 +255,77 @@ struct Merged_parts {
   std::vector<std::vector<std::uint32_t>> vertex, face;  ///< per part: part vertex / face -> merged
 };
 
+/// Puts the simplified parts back together. The numbering of vertices, edges and faces is the
+/// one a single pass over the parts in order gives (a part's live vertices, then edges, then faces,
+/// in index order; a vertex shared by parts numbered where it is first met; the edges along the
+/// cuts last, ordered by their end vertices), computed part by part on all cores: each part lists
+/// its live elements, one pass over the locked vertices alone finds the part that numbers each
+/// shared one, and prefix sums place every part's numbers.
 template <class Point>
 Merged_parts<Point> merge_parts(const std::vector<Mesh_part<Point>>& parts, std::size_t input_vertices) {
   using Mesh = CGAL::Surface_mesh<Point>;
   using H = typename Mesh::Halfedge_index;
+  using V = typename Mesh::Vertex_index;
+  const std::size_t n = parts.size();
   Merged_parts<Point> out;
+  out.vertex.resize(n);
+  out.face.resize(n);
+  // each part's live vertices (in order) and which of its locked ones it numbers
+  std::vector<std::vector<V>> live(n);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
+    for (auto u : parts[k].mesh.vertices()) live[k].push_back(u);
+  });
   std::vector<std::uint32_t> merged_of_input(input_vertices, no_index);
-  out.vertex.resize(parts.size());
-  out.face.resize(parts.size());
-  for (std::size_t k = 0; k < parts.size(); ++k) {
+  std::vector<std::vector<std::uint8_t>> numbers(n);  // per live vertex: 1 if this part numbers it
+  std::vector<std::size_t> vertex_start(n + 1, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    numbers[k].assign(live[k].size(), 1);
+    for (std::size_t i = 0; i < live[k].size(); ++i) {
+      const std::size_t u = std::size_t(live[k][i]);
+      if (!parts[k].locked[u]) continue;
+      std::uint32_t& owner = merged_of_input[parts[k].to_input[u]];
+      if (owner == no_index)
+        owner = 0;  // met: numbered here (the number is set below)
+      else
+        numbers[k][i] = 0;
+    }
+    vertex_start[k + 1] =
+        vertex_start[k] + std::size_t(std::count(numbers[k].begin(), numbers[k].end(), std::uint8_t(1)));
+  }
+  out.points.resize(vertex_start[n]);
+  out.input_vertex.resize(vertex_start[n]);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     const auto& part = parts[k];
     auto& vid = out.vertex[k];
     vid.assign(part.mesh.num_vertices(), no_index);
-    for (auto u : part.mesh.vertices()) {
-      std::uint32_t& to = vid[std::size_t(u)];
-      if (part.locked[std::size_t(u)]) {
-        std::uint32_t& shared = merged_of_input[part.to_input[std::size_t(u)]];
-        if (shared == no_index) {
-          shared = std::uint32_t(out.points.size());
-          out.points.push_back(part.mesh.point(u));
-          out.input_vertex.push_back(part.to_input[std::size_t(u)]);
-        }
-        to = shared;
-      } else {
-        to = std::uint32_t(out.points.size());
-        out.points.push_back(part.mesh.point(u));
-        out.input_vertex.push_back(no_index);
-      }
+    std::size_t next = vertex_start[k];
+    for (std::size_t i = 0; i < live[k].size(); ++i) {
+      if (!numbers[k][i]) continue;
+      const V u = live[k][i];
+      const bool locked = part.locked[std::size_t(u)] != 0;
+      vid[std::size_t(u)] = std::uint32_t(next);
+      out.points[next] = part.mesh.point(u);
+      out.input_vertex[next] = locked ? part.to_input[std::size_t(u)] : no_index;
+      if (locked) merged_of_input[part.to_input[std::size_t(u)]] = std::uint32_t(next);  // its own entry
+      ++next;
     }
-  }
+  });
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {  // the shared vertices numbered elsewhere
+    for (std::size_t i = 0; i < live[k].size(); ++i)
+      if (!numbers[k][i])
+        out.vertex[k][std::size_t(live[k][i])] = merged_of_input[parts[k].to_input[std::size_t(live[k][i])]];
+  });
+  std::vector<std::vector<V>>().swap(live);
   // edges: a border halfedge a -> b between locked vertices waits for b -> a from another part
-  std::vector<std::vector<std::uint32_t>> edge_of(parts.size());
   struct Waiting {
     std::uint64_t key;
     std::size_t part;
     std::uint32_t edge;
   };
-  std::vector<Waiting> waiting;
-  for (std::size_t k = 0; k < parts.size(); ++k) {
+  std::vector<std::vector<std::uint32_t>> edge_of(n), plain(n);
+  std::vector<std::vector<Waiting>> waiting_of(n);
+  std::vector<std::vector<std::uint32_t>> live_faces(n);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     const auto& pm = parts[k].mesh;
     const auto& vid = out.vertex[k];
     edge_of[k].assign(pm.num_edges(), no_index);
@@ -295,13 +334,25 @@ Merged_parts<Point> merge_parts(const std::vector<Mesh_part<Point>>& parts, std:
       if (pm.is_border(h)) h = pm.opposite(h);
       const bool border = pm.is_border(pm.opposite(h));
       const auto s = pm.source(h), t = pm.target(h);
-      if (border && parts[k].locked[std::size_t(s)] && parts[k].locked[std::size_t(t)]) {
-        waiting.push_back({(std::uint64_t(vid[std::size_t(s)]) << 32) | vid[std::size_t(t)], k, std::uint32_t(e)});
-        continue;
-      }
-      edge_of[k][std::size_t(e)] = std::uint32_t(out.edges++);
+      if (border && parts[k].locked[std::size_t(s)] && parts[k].locked[std::size_t(t)])
+        waiting_of[k].push_back(
+            {(std::uint64_t(vid[std::size_t(s)]) << 32) | vid[std::size_t(t)], k, std::uint32_t(e)});
+      else
+        plain[k].push_back(std::uint32_t(e));
     }
+    for (auto f : pm.faces()) live_faces[k].push_back(std::uint32_t(f));
+  });
+  std::vector<std::size_t> edge_start(n + 1, 0), face_start(n + 1, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    edge_start[k + 1] = edge_start[k] + plain[k].size();
+    face_start[k + 1] = face_start[k] + live_faces[k].size();
   }
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
+    for (std::size_t i = 0; i < plain[k].size(); ++i) edge_of[k][plain[k][i]] = std::uint32_t(edge_start[k] + i);
+  });
+  out.edges = edge_start[n];
+  std::vector<Waiting> waiting;
+  for (const auto& w : waiting_of) waiting.insert(waiting.end(), w.begin(), w.end());
   // pair a -> b with b -> a: sort by the unordered pair, then by part
   auto unordered = [](std::uint64_t key) {
     const std::uint64_t a = key >> 32, b = key & 0xffffffffu;
@@ -320,19 +371,23 @@ Merged_parts<Point> merge_parts(const std::vector<Mesh_part<Point>>& parts, std:
     for (std::size_t q = i; q < j; ++q) edge_of[waiting[q].part][waiting[q].edge] = id;
     i = j;
   }
-  for (std::size_t k = 0; k < parts.size(); ++k) {
+  out.corners.resize(3 * face_start[n]);
+  out.sides.resize(3 * face_start[n]);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     const auto& pm = parts[k].mesh;
     const auto& vid = out.vertex[k];
     out.face[k].assign(pm.num_faces(), no_index);
-    for (auto f : pm.faces()) {
-      out.face[k][std::size_t(f)] = std::uint32_t(out.corners.size() / 3);
+    for (std::size_t i = 0; i < live_faces[k].size(); ++i) {
+      const std::size_t id = face_start[k] + i;
+      const typename Mesh::Face_index f(typename Mesh::size_type(live_faces[k][i]));
+      out.face[k][std::size_t(f)] = std::uint32_t(id);
       H h = pm.halfedge(f);
-      for (int j = 0; j < 3; ++j, h = pm.next(h)) {
-        out.corners.push_back(vid[std::size_t(pm.source(h))]);
-        out.sides.push_back(edge_of[k][std::size_t(pm.edge(h))]);
+      for (std::size_t j = 0; j < 3; ++j, h = pm.next(h)) {
+        out.corners[3 * id + j] = vid[std::size_t(pm.source(h))];
+        out.sides[3 * id + j] = edge_of[k][std::size_t(pm.edge(h))];
       }
     }
-  }
+  });
   return out;
 }
 
