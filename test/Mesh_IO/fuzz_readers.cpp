@@ -1,9 +1,10 @@
 // Fuzz target for every mesh reader (OBJ, MTL, OFF, PLY, glTF, GLB).
 //
 // The first input byte selects the format, the rest is the file content. Each input goes through
-// read_polygon_soup -> analyze_soup -> build_textured_mesh (with and without repair); the only
-// acceptable outcomes are success or a CMGeom::Error. Anything else (another exception, a crash,
-// a sanitizer report, a hang) is a finding.
+// read_polygon_soup -> analyze_soup -> build_textured_mesh and build_surface_mesh, with and without
+// repair. The only acceptable outcomes are success or a CMGeom::Error, the same from both builds
+// (the same message, or meshes of as many halfedges). Anything else (another exception, a crash,
+// a sanitizer report, a hang, the two builds disagreeing) is a finding.
 //
 // Two ways to run it:
 //  * with clang and -fsanitize=fuzzer (CMGEOM_LIBFUZZER): a coverage-guided libFuzzer target,
@@ -73,19 +74,32 @@ int run_one(const std::uint8_t* data, std::size_t size) {
       opt.repair = repair;
       opt.allow_degenerate_faces = repair;
       opt.drop_repeated_vertex_faces = repair;
+      const auto finding = [&](const char* what) {
+        std::ofstream("fuzz-finding.bin", std::ios::binary)
+            .write(reinterpret_cast<const char*>(data), std::streamsize(size));
+        std::fprintf(stderr, "finding: %s (repair=%d); input saved to fuzz-finding.bin\n", what, int(repair));
+        std::abort();
+      };
+      std::string textured_error, geometry_error;
+      std::size_t textured_halfedges = 0, geometry_halfedges = 0;
       try {
         CMGeom::Textured_mesh tm;
         CMGeom::IO::build_textured_mesh(soup, tm, opt);
-        if (!tm.mesh().is_valid(false)) {
-          std::ofstream("fuzz-finding.bin", std::ios::binary)
-              .write(reinterpret_cast<const char*>(data), std::streamsize(size));
-          std::fprintf(stderr,
-                       "finding: build_textured_mesh produced an invalid mesh (repair=%d); "
-                       "input saved to fuzz-finding.bin\n",
-                       int(repair));
-          std::abort();
-        }
-      } catch (const CMGeom::Error&) {}
+        if (!tm.mesh().is_valid(false)) finding("build_textured_mesh produced an invalid mesh");
+        textured_halfedges = tm.mesh().number_of_halfedges();
+      } catch (const CMGeom::Error& e) {
+        textured_error = e.what();
+      }
+      // the geometry-only build checks the same and builds the same mesh
+      try {
+        CMGeom::Surface_mesh g;
+        CMGeom::IO::build_surface_mesh(soup, g, opt);
+        geometry_halfedges = g.number_of_halfedges();
+      } catch (const CMGeom::Error& e) {
+        geometry_error = e.what();
+      }
+      if (geometry_error != textured_error || geometry_halfedges != textured_halfedges)
+        finding("build_surface_mesh and build_textured_mesh disagree");
     }
   } catch (const CMGeom::Error&) {
     // a clear error is a correct answer to bad input
