@@ -92,6 +92,42 @@ TEST(TexturedSimplificationCli, SimplifyJsonAndErrors) {
   EXPECT_FALSE(fs::exists(out2));
 }
 
+TEST(TexturedSimplificationCli, GeometryOnlyNoteNamesTextureCoordinatesTheFacesUse) {
+  // "texture coordinates are dropped" is said when the faces carry texture coordinates (here with
+  // --no-texture), not for a file whose `vt` lines no face uses; both run as geometry
+  const std::string exe = CMGEOM_CMGEOM_EXE;
+  if (!fs::exists(exe)) GTEST_SKIP() << "cmgeom not built: " << exe;
+  const std::string dir = CMGEOM_TEST_TMP_DIR;
+  for (bool faces_use_them : {true, false}) {
+    const std::string in = dir + "/ts_cli_vt" + std::to_string(faces_use_them) + ".obj";
+    const std::string out = dir + "/ts_cli_vt_out" + std::to_string(faces_use_them) + ".obj";
+    const std::string err = dir + "/ts_cli_vt_err" + std::to_string(faces_use_them) + ".txt";
+    {
+      std::ofstream f(in);
+      const int n = 12;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) f << "v " << i << ' ' << j << ' ' << (i * j) % 3 << "\n";
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) f << "vt " << double(i) / n << ' ' << double(j) / n << "\n";
+      auto at = [&](int i, int j) { return std::to_string(i * (n + 1) + j + 1); };
+      auto corner = [&](int i, int j) { return faces_use_them ? at(i, j) + "/" + at(i, j) : at(i, j); };
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          f << "f " << corner(i, j) << ' ' << corner(i + 1, j) << ' ' << corner(i + 1, j + 1) << "\n";
+          f << "f " << corner(i, j) << ' ' << corner(i + 1, j + 1) << ' ' << corner(i, j + 1) << "\n";
+        }
+    }
+    fs::remove(out);
+    const auto [code, text] =
+        run("{ '" + exe + "' simplify '" + in + "' -o '" + out + "' --ratio 0.5 --no-texture 2>'" + err + "'; }");
+    ASSERT_EQ(code, 0) << text;
+    EXPECT_TRUE(fs::exists(out));
+    std::ifstream e(err);
+    const std::string said((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(said.find("texture coordinates are dropped") != std::string::npos, faces_use_them) << said;
+  }
+}
+
 // `cmgeom simplify --max-error E`: the report says what stopped it and the bound kept, and the
 // output's Hausdorff distance to the input, measured by dense sampling here, is within E; a bound
 // that is not > 0, or one with --keep-charts, is refused with no output written.

@@ -138,10 +138,6 @@ public:
   }
   /// The next initialize() (only that one) keeps the vertex data set by set_vertex_data().
   void keep_vertex_data_once() const { *keep_once_ = true; }
-  /// Drops every vertex's quadric and weight and frees their memory (simplify_mesh() does while
-  /// the parts, which hold copies of theirs, are simplified); set_vertex_data() or initialize()
-  /// sets them again. Copies of this object share the data: they lose it too.
-  void release_vertex_data() const { std::vector<Record>().swap(*data_); }
 
   /// Recomputes the weight of v from its quadric and its current star (weighted mode; 1 in plain
   /// mode), e.g. after set_vertex_data() for a vertex whose star changed.

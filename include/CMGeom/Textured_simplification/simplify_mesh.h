@@ -262,9 +262,9 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   using size_type = typename Mesh::size_type;
   const std::size_t faces_in = mesh.number_of_faces(), vertices_in = mesh.number_of_vertices();
   const std::size_t vertex_slots = mesh.num_vertices();  // removed ones included
-  // No quadric of the whole input is held: each part computes its own from its faces, and only
-  // the vertices on a part's border take theirs from their star in the input (see below).
-  policy.release_vertex_data();
+  // No quadric of the whole input is made (`policy` has no records until the merge): each part
+  // computes its own from its faces, and only the vertices on a part's border take theirs from
+  // their star in the input (see below).
   std::vector<std::uint32_t> label;
   std::vector<std::vector<std::uint32_t>> faces_of = split_faces(mesh, levels, label);
   const std::size_t n = faces_of.size();
