@@ -5,6 +5,8 @@
 // `cmgeom simplify` do by default), put together by hand.
 //   simplify_weighted [mesh.off|obj|ply] [target faces]
 // Without arguments a lat-long sphere is used.
+#include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Textured_simplification.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -12,7 +14,6 @@
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_cost.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_placement.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
-#include <CGAL/boost/graph/IO/polygon_mesh_io.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -57,8 +58,10 @@ static Mesh sphere(int n) {
 int main(int argc, char** argv) {
   Mesh input;
   if (argc > 1) {
-    if (!CGAL::IO::read_polygon_mesh(argv[1], input) || !CGAL::is_triangle_mesh(input)) {
-      std::cerr << argv[1] << ": cannot read a triangle mesh\n";
+    try {  // the geometry alone: no texture coordinate or material maps, the reader's checks
+      CMGeom::IO::read_mesh(argv[1], input);
+    } catch (const CMGeom::IO_error& e) {
+      std::cerr << e.what() << "\n";  // file:line: what is wrong
       return EXIT_FAILURE;
     }
   } else {
