@@ -9,7 +9,9 @@
 //
 // Models: bunny, armadillo, igea, nefertiti, max-planck, fandisk, ogre (shared/data/classic),
 // igea-sub (igea after one 1-to-4 midpoint subdivision) and ogre-sub2 (ogre after two, as in
-// shared/research/baselines-simplify.md).
+// shared/research/baselines-simplify.md); or any mesh file by its path under --data (a name with a
+// '/', e.g. classic/horse.ply), named by its file name in the table. A file CGAL cannot read as a
+// polygon mesh (e.g. one that needs repair) is skipped with a message.
 //
 // --max-errors: instead of the ratio table, the guaranteed-error table: for each model and bound
 // E (fraction of the diagonal), `simplify_mesh` with `max_error` = E (CMGeom's defaults
@@ -35,6 +37,7 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_cost.h>
@@ -423,10 +426,12 @@ bool load(const std::string& data, const std::string& tmp, const std::string& na
                                               {"ogre", "classic/ogre.obj.gz"},
                                               {"igea-sub", "classic/igea.ply.gz"},
                                               {"ogre-sub2", "classic/ogre.obj.gz"}};
-  if (!files.count(name)) return false;
-  const std::string path = cmgeom_bench::readable_model(data + "/" + files[name], tmp);
+  const bool by_path = name.find('/') != std::string::npos;
+  if (!by_path && !files.count(name)) return false;
+  const std::string path = cmgeom_bench::readable_model(data + "/" + (by_path ? name : files[name]), tmp);
   if (path.empty()) return false;
   if (!CGAL::IO::read_polygon_mesh(path, m) || m.is_empty()) return false;
+  if (!CGAL::is_triangle_mesh(m)) CGAL::Polygon_mesh_processing::triangulate_faces(m);
   // unreferenced vertices (stanford-bunny has 1113) play no role in simplification
   std::vector<Mesh::Vertex_index> isolated;
   for (auto v : m.vertices())
@@ -442,7 +447,7 @@ bool load(const std::string& data, const std::string& tmp, const std::string& na
 // samples and distance tree); false, with a message, when it cannot be read.
 bool prepare_model(const std::string& data, const std::string& tmp, const std::string& name, std::size_t n_samples,
                    Model& md) {
-  md.name = name;
+  md.name = name.find('/') == std::string::npos ? name : name.substr(name.rfind('/') + 1);
   if (!load(data, tmp, name, md.mesh)) {
     std::cerr << "skipping " << name << ": cannot read it under " << data << "\n";
     return false;

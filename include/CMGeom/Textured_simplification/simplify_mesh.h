@@ -421,6 +421,24 @@ double bbox_diagonal(const Mesh& mesh) {
                    CGAL::square(b.zmax() - b.zmin()));
 }
 
+/// Throws CMGeom::Invalid_input when two edges join the same two vertices (e.g. a pocket: a vertex
+/// with two faces on the same three vertices, which triangulating quads can make): CGAL 5.5's
+/// edge_collapse loops or fails an assertion on them; CMGeom's engine never collapses them.
+template <class Mesh>
+void check_for_cgal_engine(const Mesh& mesh) {
+  std::vector<std::size_t> around;
+  for (auto v : vertices(mesh)) {
+    around.clear();
+    for (auto h : CGAL::halfedges_around_target(v, mesh)) around.push_back(std::size_t(source(h, mesh)));
+    std::sort(around.begin(), around.end());
+    const auto twice = std::adjacent_find(around.begin(), around.end());
+    if (twice != around.end())
+      throw Invalid_input("simplify_mesh: vertices " + std::to_string(std::size_t(v)) + " and " +
+                          std::to_string(*twice) +
+                          " are joined by two edges, which CGAL's edge_collapse does not handle (use CMGeom's engine)");
+  }
+}
+
 /// The stop of simplify_mesh(): a face count and/or a cost bound, remembering which one fired.
 template <class Mesh>
 struct Target_stop {
@@ -450,7 +468,8 @@ struct Target_stop {
 /// `max_error`). Throws std::invalid_argument for invalid options (no target, both a count and a
 /// ratio, a ratio out of (0, 1], a negative or non-finite max_cost, a max_error not > 0 or not
 /// finite, parts_stop_factor < 1, parts_tail_per_cut_vertex < 0, memory or flips on CGAL's engine),
-/// CMGeom::Invalid_input when `mesh` is not a triangle mesh or, with max_error, its vertices all lie at one point.
+/// CMGeom::Invalid_input when `mesh` is not a triangle mesh or, with max_error, its vertices all lie at one point,
+/// or, on CGAL's engine, two of its edges join the same two vertices.
 /// `visitor` sees the collapses on the whole mesh (not those of the parts). The mesh is garbage-free on return; its
 /// property maps stay, with default values after a simplification in parts (the mesh is then
 /// rebuilt: every index changes, and isolated vertices are dropped).
@@ -486,6 +505,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
   if (cgal && (options.surface_memory || options.flips))
     throw std::invalid_argument("simplify_mesh: CGAL's engine has no memoryful cost and no flips");
   if (!CGAL::is_triangle_mesh(mesh)) throw Invalid_input("simplify_mesh: not a triangle mesh");
+  if (cgal) internal::check_for_cgal_engine(mesh);
   const double diagonal = options.max_error ? internal::bbox_diagonal(mesh) : 0.;
   if (options.max_error && !(diagonal > 0.) && mesh.number_of_faces() > 0)
     throw Invalid_input("simplify_mesh: max_error on a mesh whose vertices all lie at one point");

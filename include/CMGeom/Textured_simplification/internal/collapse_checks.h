@@ -91,7 +91,10 @@ void for_each_face_of_collapse(const TriangleMesh& tm,
 /// Link condition of Dey et al. / Hoppe et al. for collapsing halfedge `h_v0v1` of a manifold
 /// triangle mesh, plus the cases where the result would be degenerate although the link
 /// condition holds (a tetrahedron, an isolated triangle, a kept vertex with fewer than three
-/// neighbours, an interior edge between two boundary vertices). `mark`/`stamp` are caller-owned
+/// neighbours, an interior edge between two boundary vertices, the edge's two faces on the same
+/// three vertices). A second edge joining v0 and v1 (a valid CGAL::Surface_mesh may hold one, e.g.
+/// after triangulating quads whose diagonals meet an existing edge) fails the link condition: the
+/// apexes of its faces are neighbours of both that are not apexes of this edge. `mark`/`stamp` are caller-owned
 /// scratch (a vertex-indexed array and a counter, used for vertices of degree > 64) so the test
 /// allocates nothing. `on_neighbour(v)` is called for every neighbour of v0 and of v1 met while
 /// the test walks their stars (an engine uses it to prefetch their data); it must not modify the
@@ -127,6 +130,9 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
     vR = target(next(o, tm), tm);
     if (is_border(opposite(next(o, tm), tm), tm) && is_border(opposite(prev(o, tm), tm), tm)) return false;
   }
+  // the edge's two faces on the same three vertices (a pocket: the triangle twice, back to back)
+  // would collapse to a dangling pair of edges
+  if (left && right && vL == vR) return false;
 
   // The neighbours of v0 and of v1 go to small local arrays (no random access into a
   // vertex-indexed array: this test runs once per popped edge); vertex-indexed marks only past 64
