@@ -7,7 +7,8 @@
 # RESULTS-scale.md (run_textured_scale.sh: a 989k-face textured mesh, time against geometry only
 # and one thread against two), RESULTS-policy.md (run_policy_comparison.sh: weighted against plain
 # quadrics on the textured models) and RESULTS-memory.md (run_memory_comparison.sh: geometry-only
-# simplification with and without the memoryful cost against CGAL and meshoptimizer), RESULTS-lod.md
+# simplification with and without the memoryful cost against CGAL and meshoptimizer),
+# RESULTS-other-models.md (run_other_models.sh: the same on the shared meshes no target names), RESULTS-lod.md
 # (run_lod.py: level-of-detail chains against meshoptimizer-style LODs), RESULTS-paint.md (run_paint.py:
 # the new atlas painted from the input or looked up texel by texel) and RESULTS-max-error.md
 # (run_max_error_bench.sh: the guaranteed error bound's face counts against the peers' at equal
@@ -36,6 +37,7 @@ else
   bash "$here/run_textured_scale.sh" "$build"
   bash "$here/run_policy_comparison.sh" "$build"
   bash "$here/run_memory_comparison.sh" "$build"
+  bash "$here/run_other_models.sh" "$build"
   python3 "$here/run_lod.py" --build "$build" --out "$here/RESULTS-lod.md" --describe "$describe"
   python3 "$here/run_paint.py" --build "$build" --out "$here/RESULTS-paint.md" --describe "$(describe_run)"
   bash "$here/run_max_error_bench.sh" "$build"
