@@ -32,13 +32,12 @@ grep '^| ogre-sub2' "$table.big" >> "$table"
 rm -f "$table.big"
 cp "$table" "$table.sum"
 sh "$here/summarize.sh" "$table.sum"
-python3 - "$table" > "$table.targets" <<'PY'
+python3 - "$table" "$here/../common" > "$table.targets" <<'PY'
 import sys, statistics as st, collections
+sys.path.insert(0, sys.argv[2])
+from bench_table import rows
 data = collections.defaultdict(dict)
-for l in open(sys.argv[1]):
-    if not l.startswith('| ') or l.startswith('| model'):
-        continue
-    c = [x.strip() for x in l.strip().strip('|').split('|')]
+for c in rows(sys.argv[1]):
     data[(c[0], c[1])][c[2]] = (float(c[4].split('/')[-1]), float(c[6]), float(c[7]))  # CPU s: the median
 def col(tool, k):
     return [d[tool][k] / d['cgal-gh'][k] for d in data.values() if tool in d and 'cgal-gh' in d]

@@ -25,7 +25,7 @@ cmake --build "$build" --target bench_simplify >/dev/null
 out="$here/RESULTS-other-models.md"
 table="$(mktemp)"
 log="$(mktemp)"
-trap 'rm -f "$table" "$log" "$table.sum"' EXIT
+trap 'rm -f "$table" "$log" "$table.targets"' EXIT
 . "$here/../common/describe_run.sh"
 line=$(describe_run cgal meshoptimizer)
 named="stanford-bunny.obj.gz armadillo.obj.gz igea.ply.gz nefertiti.obj.gz decimated-max.obj fandisk.obj ogre.obj.gz"
@@ -54,14 +54,12 @@ for f in "$data"/classic/*; do
   rm -f "$part"
 done
 args=(--models "$models" --ratios "$ratios" --tools "$tools")
-cp "$table" "$table.sum"
-python3 - "$table" > "$table.targets" <<'PY'
+python3 - "$table" "$here/../common" > "$table.targets" <<'PY'
 import sys, statistics as st, collections
+sys.path.insert(0, sys.argv[2])
+from bench_table import rows
 data = collections.defaultdict(dict)
-for l in open(sys.argv[1]):
-    if not l.startswith('| ') or l.startswith('| model'):
-        continue
-    c = [x.strip() for x in l.strip().strip('|').split('|')]
+for c in rows(sys.argv[1]):
     data[(c[0].split()[0], c[1].split()[0])][c[2]] = (int(c[3]), float(c[6]), float(c[7]))
 both = {k: d for k, d in data.items() if 'cmgeom-default' in d and 'cgal-gh' in d}
 h = {k: d['cmgeom-default'][1] / d['cgal-gh'][1] for k, d in both.items()}
@@ -98,7 +96,7 @@ PY
   echo
   cat "$table.targets"
   echo
-  cat "$table.sum"
+  cat "$table"
 } > "$out"
 rm -f "$table.targets"
 echo "wrote $out"
