@@ -119,9 +119,9 @@ Mesh from_indices(const Soup& s, const unsigned* tris, std::size_t n_idx) {
       v[c] = map[j];
     }
     if (m.add_face(v[0], v[1], v[2]) == Mesh::null_face()) {
-      // a face the halfedge structure cannot take (non-manifold output): keep it out of the
-      // error computation by adding it as a separate triangle (its corners copied first: add_vertex
-      // may move the points that m.point() refers to)
+      // a face the halfedge structure cannot take (non-manifold output): it still counts in the
+      // error computation, added as a separate triangle (its corners copied first: add_vertex may
+      // move the points that m.point() refers to)
       const Point p0 = m.point(v[0]), p1 = m.point(v[1]), p2 = m.point(v[2]);
       const Mesh::Vertex_index a = m.add_vertex(p0), b = m.add_vertex(p1), c = m.add_vertex(p2);
       m.add_face(a, b, c);
