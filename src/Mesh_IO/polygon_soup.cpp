@@ -18,6 +18,17 @@ std::string Polygon_soup::face_location(std::size_t f) const {
   return source + " (face " + std::to_string(f) + ")";
 }
 
+bool Polygon_soup::face_has_uvs(std::size_t f) const {
+  return std::all_of(corner_uv.begin() + face_start[f], corner_uv.begin() + face_start[f + 1],
+                     [](std::uint32_t u) { return u != no_index; });
+}
+
+bool Polygon_soup::faces_have_uvs() const {
+  for (std::size_t f = 0; f < number_of_faces(); ++f)
+    if (face_has_uvs(f)) return true;
+  return false;
+}
+
 namespace {
 
 struct Union_find {

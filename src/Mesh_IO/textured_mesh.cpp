@@ -218,16 +218,16 @@ Surface_mesh build_mesh(const Polygon_soup& soup, const Read_options& options, b
     const std::uint32_t b = soup.face_start[f], n = std::uint32_t(soup.face_size(f));
     if (n < 3) throw IO_error(soup.face_location(f), "face with fewer than 3 corners");
     polygons |= n != 3;
-    bool repeated = false, face_has_uv = true;
+    bool repeated = false;
     for (std::uint32_t i = 0; i < n; ++i) {
       if (soup.corner_vertex[b + i] >= soup.positions.size())
         throw IO_error(soup.face_location(f), "vertex index out of range");
       const std::uint32_t u = soup.corner_uv[b + i];
       if (u != Polygon_soup::no_index && u >= soup.uvs.size())
         throw IO_error(soup.face_location(f), "texture coordinate index out of range");
-      face_has_uv &= u != Polygon_soup::no_index;
       for (std::uint32_t j = i + 1; j < n; ++j) repeated |= soup.corner_vertex[b + i] == soup.corner_vertex[b + j];
     }
+    const bool face_has_uv = soup.face_has_uvs(f);
     uv_seen |= face_has_uv;
     if (!face_has_uv && first_without_uv == Polygon_soup::no_index) first_without_uv = f;
     if (repeated && !options.drop_repeated_vertex_faces)

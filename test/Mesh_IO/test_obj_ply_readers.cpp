@@ -103,6 +103,46 @@ TEST(Mesh_IO_obj, UnknownStatementsAreSkippedWithAWarning) {
   EXPECT_NE(soup.warnings[0].find("stray.obj:2: unknown OBJ statement '3'"), std::string::npos) << soup.warnings[0];
 }
 
+// Whether the faces carry texture coordinates is decided by the faces, not by `vt` lines: the
+// soup says so as the reader decides (a textured mesh when a face has one at every corner).
+TEST(Mesh_IO_obj, FacesCarryTextureCoordinatesWhenOneHasThemAtEveryCorner) {
+  const std::string dir = scratch_dir();
+  const std::string head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n";
+  const Polygon_soup unused = IO::read_polygon_soup(write_text(dir, "vt_unused.obj", head + "f 1 2 3\nf 2 4 3\n"));
+  EXPECT_TRUE(unused.has_uvs());
+  EXPECT_FALSE(unused.face_has_uvs(0));
+  EXPECT_FALSE(unused.faces_have_uvs());
+  Textured_mesh plain;
+  IO::build_textured_mesh(unused, plain);
+  EXPECT_FALSE(plain.has_uvs());
+
+  const Polygon_soup used = IO::read_polygon_soup(write_text(dir, "vt_used.obj", head + "f 1 2 3\nf 2/2 4/1 3/3\n"));
+  EXPECT_FALSE(used.face_has_uvs(0));
+  EXPECT_TRUE(used.face_has_uvs(1));
+  EXPECT_TRUE(used.faces_have_uvs());
+  // then every face must have them: the reader refuses the first one without
+  try {
+    Textured_mesh refused;
+    IO::build_textured_mesh(used, refused);
+    ADD_FAILURE() << "expected an IO_error";
+  } catch (const IO_error& e) {
+    EXPECT_NE(std::string(e.what()).find("vt_used.obj:8: face has no texture coordinates"), std::string::npos)
+        << e.what();
+  }
+
+  // (the OBJ reader refuses such a face itself; other formats' soups are built the same way)
+  Polygon_soup partial;
+  partial.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  partial.uvs = {{0, 0}, {0, 1}};
+  partial.face_start = {0, 3};
+  partial.corner_vertex = {0, 1, 2};
+  partial.corner_uv = {0, Polygon_soup::no_index, 1};
+  EXPECT_FALSE(partial.face_has_uvs(0));
+  EXPECT_FALSE(partial.faces_have_uvs());
+  partial.corner_uv[1] = 1;
+  EXPECT_TRUE(partial.faces_have_uvs());
+}
+
 // ------------------------------------------------------------ large files (read in chunks)
 
 namespace {

@@ -29,7 +29,6 @@
 #include <CMGeom/Textured_simplification/Osmesa_index_texture_resampler.h>
 #endif
 
-#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -139,12 +138,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       const CMGeom::Polygon_soup soup = CMGeom::IO::read_polygon_soup(o->input);
       warnings = soup.warnings;
       ro.warnings = &warnings;
-      // as the reader decides: the faces carry texture coordinates when one has them at every
-      // corner (then all must); texture coordinates no face uses count for nothing
-      for (std::size_t f = 0; f < soup.number_of_faces() && !file_uvs; ++f)
-        file_uvs =
-            std::all_of(soup.corner_uv.begin() + soup.face_start[f], soup.corner_uv.begin() + soup.face_start[f + 1],
-                        [](std::uint32_t u) { return u != CMGeom::Polygon_soup::no_index; });
+      file_uvs = soup.faces_have_uvs();  // as the reader decides
       geometry_only = !file_uvs || o->no_texture;
       if (geometry_only)
         CMGeom::IO::build_surface_mesh(soup, geometry, ro);

@@ -39,6 +39,12 @@ struct Polygon_soup {
   std::size_t number_of_faces() const { return face_start.size() - 1; }
   std::size_t face_size(std::size_t f) const { return face_start[f + 1] - face_start[f]; }
   bool has_uvs() const { return !uvs.empty(); }
+  /// True when face f has a texture coordinate at every corner.
+  bool face_has_uvs(std::size_t f) const;
+  /// True when some face has a texture coordinate at every corner: the reader then builds a
+  /// textured mesh (and refuses a face without them). Texture coordinates no face uses count for
+  /// nothing (unlike has_uvs()).
+  bool faces_have_uvs() const;
   /// "file:line" of face f, or "file (face f)" for binary formats.
   std::string face_location(std::size_t f) const;
 };
