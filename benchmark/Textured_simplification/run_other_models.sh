@@ -6,7 +6,7 @@
 # are set on bunny, armadillo, igea, nefertiti, max-planck, fandisk and ogre; these are the other
 # nineteen: scans, CAD parts with sharp features and holes, low-poly and tiny meshes):
 # cmgeom-default (what `cmgeom simplify` does) against CGAL's Garland-Heckbert policies and
-# meshoptimizer 0.18, one bench_simplify run at 10, 5 and 1 %. It shows how the defaults carry
+# meshoptimizer 0.18, bench_simplify at 10, 5 and 1 %, one process per model. It shows how the defaults carry
 # to meshes they were not chosen on, the losses included.
 # Writes RESULTS-other-models.md (the table and its summary against the geometric targets).
 #   bash benchmark/Textured_simplification/run_other_models.sh <build-dir>
@@ -92,7 +92,7 @@ PY
   echo
   echo "$line"
   echo
-  echo "One run per configuration (CPU seconds \"min / median\" are the same number); Metro errors with 100k samples per surface, fractions of the bounding-box diagonal (see RESULTS.md's header for the conventions). Not read by CGAL (they need the repair of \`cmgeom\`'s reader): ${skipped:-none}. CGAL GH did not finish within 300 s (run again without it; no ratios to GH): ${no_gh:-none}."
+  echo "One run per configuration (CPU seconds \"min / median\" are the same number); Metro errors with 100k samples per surface, fractions of the bounding-box diagonal (see RESULTS.md's header for the conventions). Not read by CGAL (they need the repair of \`cmgeom\`'s reader): ${skipped:-none}. Runs that failed or passed 300 s with CGAL GH (run again without it; no ratios to GH): ${no_gh:-none}."
   echo
   cat "$table.targets"
   echo
