@@ -5,7 +5,8 @@
 // vertices are "points", each attached to one current face and weighted by the area of its input
 // star; a collapse is priced by the sum over the points of the faces around the edge of
 // area x (distance to the new star)^2, the quadric's own unit, which sees a flattened rim, bump or
-// thin part the quadric forgets. It is the thesis' point gathering (§4.3) turned into a cost.
+// thin part the quadric forgets, plus the other side: the distance from the new vertex to the
+// points. It is the thesis' point gathering (§4.3) turned into a cost.
 // CMGeom's engine uses it lazily (parameters::surface_memory) behind the quadric cost. A cost,
 // not a bound. Complexity: O(V + F) set-up; a cost or an update O(k d).
 //
@@ -57,6 +58,9 @@ struct Surface_memory_options {
   /// At most this many original points (every k-th vertex of the input, its area counted k
   /// times, when the input has more vertices); bounds the cost on large inputs. 0 = all.
   std::size_t max_points = 65536;
+  /// Weight of the distance from a collapse's new vertex to the points (see Surface_memory::cost());
+  /// 0 = the points' distances to the new faces only.
+  double vertex_gap_weight = 1.0;
   /// The fit of the vertices to the points after the collapses (simplify_mesh() runs it without a
   /// guaranteed error bound).
   Surface_fit_options fit;
@@ -92,7 +96,9 @@ public:
   /// each attached to a face of its star and weighted by its star's area.
   Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm,
                  const Surface_memory_options& options = Surface_memory_options())
-      : vpm_(vpm) {
+      : vpm_(vpm), gap_weight_(options.vertex_gap_weight) {
+    if (!(gap_weight_ >= 0. && std::isfinite(gap_weight_)))
+      throw std::invalid_argument("Surface_memory_options: vertex_gap_weight must be finite and >= 0");
     const std::size_t live = set_up(tm);
     const std::size_t cap = options.max_points;
     const std::size_t stride = cap > 0 && live > cap ? (live + cap - 1) / cap : 1;
@@ -112,18 +118,24 @@ public:
       }
       if (home == GT::null_face()) continue;  // an isolated vertex: no surface to stay close to
       r.area = area * double(stride);
+      r.radius = disc_radius(r.area);
       r.next = head_[std::size_t(home)];
       head_[std::size_t(home)] = std::uint32_t(items_.size());
       items_.push_back(r);
     }
   }
 
-  /// Takes the given points instead of the mesh's vertices: `points` is a range of
+  /// Takes the given points instead of the mesh's vertices (and the given weight of the new
+  /// vertex's distance to them, Surface_memory_options::vertex_gap_weight): `points` is a range of
   /// (face, point, area) triples, `face` a live face of `tm`, `point` a CM::internal::Vec3, as
   /// for_each_point() gives them (simplify_mesh() gathers the points of the memories of the parts
   /// it simplified separately into one memory of the whole).
   template <class PointRange>
-  Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm, const PointRange& points) : vpm_(vpm) {
+  Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm, const PointRange& points,
+                 double vertex_gap_weight = Surface_memory_options().vertex_gap_weight)
+      : vpm_(vpm), gap_weight_(vertex_gap_weight) {
+    if (!(gap_weight_ >= 0. && std::isfinite(gap_weight_)))
+      throw std::invalid_argument("Surface_memory: vertex_gap_weight must be finite and >= 0");
     set_up(tm);
     for (const auto& [f, p, area] : points) add_point(f, p, area);
   }
@@ -139,6 +151,7 @@ public:
     Item r;
     r.p = p;
     r.area = area;
+    r.radius = disc_radius(area);
     r.next = head_[std::size_t(f)];
     head_[std::size_t(f)] = i;
     items_.push_back(r);
@@ -170,7 +183,14 @@ public:
   bool active() const { return faces_alive_ <= 2 * items_.size() + 8; }
 
   /// The memory cost of collapsing halfedge `h` (v0 -> v1) to `placement`: the sum over the
-  /// points of the faces around v0 and v1 of area x squared distance to the new star.
+  /// points of the faces around v0 and v1 of area x squared distance to the new star, plus the
+  /// other side: vertex_gap_weight x (area of the new star) / 6 x gap^2, gap the distance from `placement` to the
+  /// nearest of those points less the radius of the disc of a third of its area (the input
+  /// around a point: its star counts each face three times), when positive. A vertex placed where
+  /// no input lies (the quadrics' planes meeting beyond a rim, a hole's edge or a thin part) is
+  /// seen by no point's distance to the new faces, which pass near them all; a sixth is the mean
+  /// of the square of a distance that falls linearly from the vertex to the far side of each new
+  /// face.
   template <class Point>
   double cost(const TriangleMesh& tm, halfedge_descriptor h, const Point& placement) const {
     if (!active()) return 0.;
@@ -186,6 +206,8 @@ public:
         tm, h, V3(CGAL::to_double(placement.x()), CGAL::to_double(placement.y()), CGAL::to_double(placement.z())));
     if (tris_.empty()) return 0.;
     double sum = 0.;
+    const V3 x = tris_.front().a;
+    double gap = std::numeric_limits<double>::infinity();  // from x to the nearest point's disc
     for (std::size_t j = 0; j < faces_.size(); ++j) {
       // a surviving face's own new triangle is the first guess of its points' nearest one
       const std::size_t hint = j < removed_ ? 0 : j - removed_;
@@ -193,7 +215,13 @@ public:
         const Item& r = items_[i];
         const double d = nearest(r.p, hint, floor_sq_).first;
         if (d > floor_sq_) sum += r.area * d;
+        gap = (std::min)(gap, CM::internal::length(x - r.p) - double(r.radius));
       }
+    }
+    if (gap > 0. && std::isfinite(gap) && gap_weight_ > 0.) {
+      double area = 0.;
+      for (const Tri& t : tris_) area += 0.5 * CM::internal::length(CM::internal::cross(t.b - t.a, t.c - t.a));
+      sum += gap_weight_ * area * gap * gap * (1. / 6.);
     }
     return sum;
   }
@@ -404,7 +432,11 @@ private:
     V3 p;
     double area = 0.;
     std::uint32_t next = nil;
+    float radius = 0.f;  // of the disc the point stands for (see cost())
   };
+
+  /// The radius of the disc of a third of `area` (a vertex's star counts each face three times).
+  static float disc_radius(double area) { return float(std::sqrt(area * (1. / (3. * 3.141592653589793)))); }
   struct Tri {
     V3 a, b, c, n;  // n: unit normal (zero for a degenerate triangle)
     V3 centre;      // centroid, and radius: the largest distance from it to a corner
@@ -501,6 +533,7 @@ private:
   }
 
   VertexPointMap vpm_;
+  double gap_weight_ = 1.0;
   double floor_sq_ = 0.;
   std::size_t faces_alive_ = 0;
   std::vector<Item> items_;

@@ -405,7 +405,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     for (std::size_t i = 0; i < nv; ++i)
       if (merged.input_vertex[i] != no_index) policy.recompute_weight(mesh, mesh.points(), V(size_type(i)));
   policy.keep_vertex_data_once();
-  if (options.surface_memory) memory.emplace(mesh, mesh.points(), points);
+  if (options.surface_memory) memory.emplace(mesh, mesh.points(), points, options.memory.vertex_gap_weight);
 }
 
 }  // namespace internal
