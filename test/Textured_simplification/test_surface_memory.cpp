@@ -331,6 +331,23 @@ TEST(SurfaceMemoryFit, RefusesInvalidOptions) {
     EXPECT_EQ(m.number_of_faces(), 192u);  // refused before any change
   }
   EXPECT_NO_THROW(TS::check_fit_options(TS::Surface_fit_options()));
+  // the memory's own option, refused by the memory and by simplify_mesh before any change (also
+  // on the path in parts, which builds its memories after taking the input apart)
+  for (double w : {-1.0, double(NAN), double(INFINITY)}) {
+    Mesh m = bumpy_torus(12, 8);
+    TS::Surface_memory_options mo;
+    mo.vertex_gap_weight = w;
+    EXPECT_THROW(Memory(m, get(CGAL::vertex_point, m), mo), std::invalid_argument);
+    for (std::size_t parts_min_faces : {std::size_t(0), std::size_t(64)}) {
+      TS::Mesh_simplification_options so;
+      so.target_faces = 40;
+      so.parts_min_faces = parts_min_faces;  // 64: in parts of about 32 faces
+      so.part_faces = 32;
+      so.memory.vertex_gap_weight = w;
+      EXPECT_THROW(TS::simplify_mesh(m, so), std::invalid_argument);
+      EXPECT_EQ(m.number_of_faces(), 192u);
+    }
+  }
 }
 
 // simplify_mesh() with its default fit against no fit, on the shared classic models at 10 % and

@@ -184,13 +184,13 @@ public:
 
   /// The memory cost of collapsing halfedge `h` (v0 -> v1) to `placement`: the sum over the
   /// points of the faces around v0 and v1 of area x squared distance to the new star, plus the
-  /// other side: vertex_gap_weight x (area of the new star) / 6 x gap^2, gap the distance from `placement` to the
-  /// nearest of those points less the radius of the disc of a third of its area (the input
-  /// around a point: its star counts each face three times), when positive. A vertex placed where
-  /// no input lies (the quadrics' planes meeting beyond a rim, a hole's edge or a thin part) is
-  /// seen by no point's distance to the new faces, which pass near them all; a sixth is the mean
-  /// of the square of a distance that falls linearly from the vertex to the far side of each new
-  /// face.
+  /// other side: vertex_gap_weight x (area of the new star) / 6 x gap^2, gap the distance from
+  /// `placement` to the nearest of those points less the radius of the disc of a third of its
+  /// area (the input around a point: its star counts each face three times), when positive. A
+  /// vertex placed where no input lies (the quadrics' planes meeting beyond a rim, a hole's edge
+  /// or a thin part) is seen by no point's distance to the new faces, which pass near them all; a
+  /// sixth is the mean of the square of a distance that falls linearly from the vertex to the far
+  /// side of each new face.
   template <class Point>
   double cost(const TriangleMesh& tm, halfedge_descriptor h, const Point& placement) const {
     if (!active()) return 0.;
@@ -437,6 +437,7 @@ private:
 
   /// The radius of the disc of a third of `area` (a vertex's star counts each face three times).
   static float disc_radius(double area) { return float(std::sqrt(area * (1. / (3. * 3.141592653589793)))); }
+
   struct Tri {
     V3 a, b, c, n;  // n: unit normal (zero for a degenerate triangle)
     V3 centre;      // centroid, and radius: the largest distance from it to a corner
