@@ -53,6 +53,14 @@ struct Surface_fit_options {
   double max_turn = 1.0;
 };
 
+/// Throws std::invalid_argument unless `w` is a valid Surface_memory_options::vertex_gap_weight
+/// (finite, >= 0); returns it.
+inline double checked_vertex_gap_weight(double w) {
+  if (!(w >= 0. && std::isfinite(w)))
+    throw std::invalid_argument("Surface_memory_options: vertex_gap_weight must be finite and >= 0");
+  return w;
+}
+
 /// Options of Surface_memory.
 struct Surface_memory_options {
   /// At most this many original points (every k-th vertex of the input, its area counted k
@@ -96,9 +104,7 @@ public:
   /// each attached to a face of its star and weighted by its star's area.
   Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm,
                  const Surface_memory_options& options = Surface_memory_options())
-      : vpm_(vpm), gap_weight_(options.vertex_gap_weight) {
-    if (!(gap_weight_ >= 0. && std::isfinite(gap_weight_)))
-      throw std::invalid_argument("Surface_memory_options: vertex_gap_weight must be finite and >= 0");
+      : vpm_(vpm), gap_weight_(checked_vertex_gap_weight(options.vertex_gap_weight)) {
     const std::size_t live = set_up(tm);
     const std::size_t cap = options.max_points;
     const std::size_t stride = cap > 0 && live > cap ? (live + cap - 1) / cap : 1;
@@ -133,9 +139,7 @@ public:
   template <class PointRange>
   Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm, const PointRange& points,
                  double vertex_gap_weight = Surface_memory_options().vertex_gap_weight)
-      : vpm_(vpm), gap_weight_(vertex_gap_weight) {
-    if (!(gap_weight_ >= 0. && std::isfinite(gap_weight_)))
-      throw std::invalid_argument("Surface_memory: vertex_gap_weight must be finite and >= 0");
+      : vpm_(vpm), gap_weight_(checked_vertex_gap_weight(vertex_gap_weight)) {
     set_up(tm);
     for (const auto& [f, p, area] : points) add_point(f, p, area);
   }

@@ -496,8 +496,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
     throw std::invalid_argument("simplify_mesh: max_error must be finite and > 0, got " +
                                 std::to_string(*options.max_error));
   check_fit_options(options.memory.fit);
-  if (!(options.memory.vertex_gap_weight >= 0.0 && std::isfinite(options.memory.vertex_gap_weight)))
-    throw std::invalid_argument("simplify_mesh: memory.vertex_gap_weight must be finite and >= 0");
+  checked_vertex_gap_weight(options.memory.vertex_gap_weight);
   if (options.error_bound.max_depth < 0 || options.error_bound.max_depth > 16)
     throw std::invalid_argument("simplify_mesh: error_bound.max_depth must be in [0, 16]");
   if (!(options.parts_stop_factor >= 1.0)) throw std::invalid_argument("simplify_mesh: parts_stop_factor must be >= 1");
