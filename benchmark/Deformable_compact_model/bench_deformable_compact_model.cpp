@@ -11,7 +11,7 @@
 // and the Metro error (Metrics package) of (b)-(e) against (a), in % of (a)'s diagonal.
 // Memory: `mesh` = the geometry held (mesh, or CM file + kept rest points/normals/triangles),
 // `coordinates` = the cage coordinates, `maps` = the local-deformation data (1-rings, inverses,
-// maps, and for (e) the per-point corners and weights).
+// maps, and for (e) the base edges and faces and the weight tables of the blend).
 // Cages are made here from the model's bounding box: `box` = the box itself (8 vertices, mean
 // value coordinates), `grid` = its surface cut in 4 x 4 x 4 cells (98 vertices, Green
 // coordinates, K = 98 + 192), `system` = a *Cages grid of 3 x 2 x 2 box cells (Cage_system, mean
@@ -330,7 +330,7 @@ void flatten(const CMGeom::Surface_mesh& mesh, std::vector<CD::Vec3>& pts,
 // every vertex of the mesh; (d) base deformed, local maps, deformed reconstruction along N into a
 // reused buffer; (e) base deformed, local maps, blend of the kept rest reconstruction. Memory:
 // (a) mesh + coordinates of every vertex + posed points; (d) CM file + base coordinates + local-map data +
-// output; (e) also the kept rest points, normals, triangles, corners and weights.
+// output; (e) also the kept rest points, normals and triangles, and the blend's tables.
 void run_scale(const std::string& path, std::size_t base_faces, int level) {
   CMGeom::Textured_mesh tm;
   CMGeom::IO::read_mesh(path, tm);
@@ -417,7 +417,7 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
         cache.deform(dcm, out);
       });
       const std::size_t out_bytes = out.points.size() * 48 + out.triangles.size() * 16;
-      // cache.bytes(): rest points, normals, corners, weights; plus its triangles and base faces.
+      // cache.bytes(): rest points, normals, base edges and faces, weight tables; plus its triangles.
       report("(e) deformable CM level " + std::to_string(level) + ", rest reconstruction kept", out,
              cm_bytes + cd.weights_bytes() + dcm.bytes() + cache.bytes() + out.triangles.size() * 16 + out_bytes, bind,
              per_pose);

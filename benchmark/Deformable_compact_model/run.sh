@@ -43,7 +43,7 @@ fi
     echo "directly (a) against the deformable CM reconstructed along N into a reused buffer every pose (d)"
     echo "and with its rest reconstruction kept (e), posed by the 4 x 4 x 4 lattice cage (98 vertices)."
     echo "\`memory MB\`: (a) mesh + coordinates of every vertex + posed points; (d) CM file + base coordinates + local-map"
-    echo "data + the output; (e) the same + the kept rest reconstruction with its corners and weights."
+    echo "data + the output; (e) the same + the kept rest reconstruction (points, normals, triangles) and the tables of its blend."
     echo "Errors: Metro with 2 M face samples per direction and every vertex (no edge samples)."
     echo
     cat "$scale_dir/scale.md"

@@ -391,24 +391,39 @@ TEST(DeformableCMTransfer, CachedRestReconstructionGivesTheSameBits) {
   DCM::Cage_deformer<CD::Mean_value_coordinates_3> cd{CD::Mean_value_coordinates_3(cage)};
   DCM::Deformable_compact_model dcm(m);
   cd.bind(dcm.base_vertices());
-  const DCM::Deformable_reconstruction cache(m, 3);
-  CM::Reconstruction out;
-  // Two poses in a row (the second reuses `out`), then the cage's rest pose (coordinates
-  // reproduce it only to rounding, so the maps are not exact identities).
-  std::vector<CD::Vec3> pose = cage_pose(cage);
-  for (int k = 0; k < 3; ++k) {
-    if (k == 1)
-      for (auto& p : pose) p[0] += 0.1 * p[2];
-    cd.set_pose(k == 2 ? cage.vertices : pose);
-    dcm.deform(cd);
+  // Levels 0 and 1 have no face points (0 also no edge points); level 5's faces hold 465.
+  for (const int level : {0, 1, 3, 5}) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    const DCM::Deformable_reconstruction cache(m, level);
+    CM::Reconstruction out;
+    // Two poses in a row (the second reuses `out`), then the cage's rest pose (coordinates
+    // reproduce it only to rounding, so the maps are not exact identities).
+    std::vector<CD::Vec3> pose = cage_pose(cage);
+    for (int k = 0; k < 3; ++k) {
+      if (k == 1)
+        for (auto& p : pose) p[0] += 0.1 * p[2];
+      cd.set_pose(k == 2 ? cage.vertices : pose);
+      dcm.deform(cd);
+      cache.deform(dcm, out);
+      expect_bitwise_equal(out, dcm.reconstruct_regular(level));
+    }
+    // The exact rest pose (identity maps) gives the plain reconstruction back.
+    dcm.set_deformed_base(m.vertices);
     cache.deform(dcm, out);
-    expect_bitwise_equal(out, dcm.reconstruct_regular(3));
+    expect_bitwise_equal(out, CM::reconstruct_regular(m, level));
+    // Nothing per point but the rest point and normal: 48 bytes each, plus the base edges (8 bytes),
+    // faces (12) and the weight tables (n - 1 edge points x 16, (n - 1)(n - 2) / 2 face points x 24
+    // bytes, n = 2^level). The ellipsoid's base is closed and of genus 0: E = V + F - 2.
+    const std::size_t E = m.vertices.size() + m.faces.size() - 2, n = std::size_t(1) << level;
+    EXPECT_EQ(cache.number_of_points(), m.vertices.size() + E * (n - 1) + m.faces.size() * (n - 1) * (n - 2) / 2);
+    EXPECT_EQ(cache.bytes(),
+              cache.number_of_points() * 48 + 8 * E + 12 * m.faces.size() + (n - 1) * 16 + (n - 1) * (n - 2) / 2 * 24);
+    // Maps for another base are refused, `out` left as it was.
+    const CM::Reconstruction before = out;
+    std::vector<CM::Vertex_affine_map> wrong(m.vertices.size() + 1);
+    EXPECT_THROW(cache.deform(wrong, out), CMGeom::Invalid_input);
+    expect_bitwise_equal(out, before);
   }
-  // The exact rest pose (identity maps) gives the plain reconstruction back.
-  dcm.set_deformed_base(m.vertices);
-  cache.deform(dcm, out);
-  expect_bitwise_equal(out, CM::reconstruct_regular(m, 3));
-  EXPECT_EQ(cache.bytes(), cache.number_of_points() * 84);
 }
 
 TEST(DeformableCMTransfer, CageDeformationOfTheBaseApproximatesDeformingTheReconstruction) {

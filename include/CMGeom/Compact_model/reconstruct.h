@@ -246,6 +246,105 @@ inline bool has_avx() {
 }  // namespace simd
 #endif
 
+// Normalised blend weights of the vertex maps (§6.4): alpha_i^3 / sum_j alpha_j^3 at barycentric
+// (a0, a1, a2) of a base face, (1 - t)^3 and t^3 normalised at parameter t of a base edge. The
+// one home of this arithmetic: every caller that must give the same bits (the Evaluator's mapped
+// reconstruction, DCM::Deformable_reconstruction) computes the weights here.
+inline void face_map_weights(double a0, double a1, double a2, double* wn) {
+  const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
+  const double sum = w[0] + w[1] + w[2];
+  wn[0] = w[0] / sum;
+  wn[1] = w[1] / sum;
+  wn[2] = w[2] / sum;
+}
+inline void edge_map_weights(double t, double* wn) {
+  const double wa = (1. - t) * (1. - t) * (1. - t), wb = t * t * t, sum = wa + wb;
+  wn[0] = wa / sum;
+  wn[1] = wb / sum;
+}
+
+#ifdef CMGEOM_CM_SIMD_ROWS
+// apply_vertex_maps() on the four samples in_p[0..3], in_n[0..3] at once, written to out_p,
+// out_n (which may be in_p, in_n): all four blend the maps T[0..K-1], sample l with the weights
+// w[K l .. K l + K - 1], every weight non-zero and some map not the identity (the caller checks).
+// Each lane performs apply_vertex_maps()'s operations in its order, so the bits are the same.
+template <int K>
+__attribute__((target("avx"))) void apply_vertex_maps_avx(const Vertex_affine_map* const* T, const double* w,
+                                                          const Vec3* in_p, const Vec3* in_n, Vec3* out_p,
+                                                          Vec3* out_n) {
+  using D = simd::d4;
+  using simd::splat;
+  const D px{in_p[0].x, in_p[1].x, in_p[2].x, in_p[3].x}, py{in_p[0].y, in_p[1].y, in_p[2].y, in_p[3].y},
+      pz{in_p[0].z, in_p[1].z, in_p[2].z, in_p[3].z};
+  const D nx{in_n[0].x, in_n[1].x, in_n[2].x, in_n[3].x}, ny{in_n[0].y, in_n[1].y, in_n[2].y, in_n[3].y},
+      nz{in_n[0].z, in_n[1].z, in_n[2].z, in_n[3].z};
+  const D zero = splat(0.);
+  D qx = zero, qy = zero, qz = zero;
+  D B[3][3] = {{zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero}};
+  for (int c = 0; c < K; ++c) {
+    const Vertex_affine_map& M = *T[c];
+    const D wc{w[c], w[K + c], w[2 * K + c], w[3 * K + c]};
+    const D dx = px - splat(M.rest.x), dy = py - splat(M.rest.y), dz = pz - splat(M.rest.z);
+    const D mx = splat(M.M[0][0]) * dx + splat(M.M[0][1]) * dy + splat(M.M[0][2]) * dz;
+    const D my = splat(M.M[1][0]) * dx + splat(M.M[1][1]) * dy + splat(M.M[1][2]) * dz;
+    const D mz = splat(M.M[2][0]) * dx + splat(M.M[2][1]) * dy + splat(M.M[2][2]) * dz;
+    qx += wc * (mx + splat(M.deformed.x));
+    qy += wc * (my + splat(M.deformed.y));
+    qz += wc * (mz + splat(M.deformed.z));
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) B[i][j] += wc * splat(M.M[i][j]);
+  }
+  // Rows of the cofactor matrix: r1 x r2, r2 x r0, r0 x r1 (apply_vertex_maps()'s cross()).
+  const D c0x = B[1][1] * B[2][2] - B[1][2] * B[2][1], c0y = B[1][2] * B[2][0] - B[1][0] * B[2][2],
+          c0z = B[1][0] * B[2][1] - B[1][1] * B[2][0];
+  const D c1x = B[2][1] * B[0][2] - B[2][2] * B[0][1], c1y = B[2][2] * B[0][0] - B[2][0] * B[0][2],
+          c1z = B[2][0] * B[0][1] - B[2][1] * B[0][0];
+  const D c2x = B[0][1] * B[1][2] - B[0][2] * B[1][1], c2y = B[0][2] * B[1][0] - B[0][0] * B[1][2],
+          c2z = B[0][0] * B[1][1] - B[0][1] * B[1][0];
+  const D cx = c0x * nx + c0y * ny + c0z * nz, cy = c1x * nx + c1y * ny + c1z * nz, cz = c2x * nx + c2y * ny + c2z * nz;
+  const D s2 = cx * cx + cy * cy + cz * cz;
+  const simd::m4 pos = s2 > zero;  // false for NaN, as the scalar test
+  const D inv = splat(1.) / simd::sqrt(simd::select(pos, s2, splat(1.)));
+  const D ox = simd::select(pos, cx * inv, nx), oy = simd::select(pos, cy * inv, ny),
+          oz = simd::select(pos, cz * inv, nz);
+  for (int l = 0; l < 4; ++l) {
+    out_p[l] = Vec3(qx[l], qy[l], qz[l]);
+    out_n[l] = Vec3(ox[l], oy[l], oz[l]);
+  }
+}
+#endif
+
+// apply_vertex_maps() on `count` samples that all blend the maps of the same K base vertices
+// v[0..K-1], sample k with the weights w[K k .. K k + K - 1]: reads in_p, in_n and writes out_p,
+// out_n (the same arrays or disjoint ones). The samples of a base edge or face in regular
+// reconstruction share their vertices, so the identity test is made once and, with AVX, four
+// samples are mapped at a time; the bits are apply_vertex_maps()'s either way.
+template <int K>
+void apply_shared_vertex_maps(const std::vector<Vertex_affine_map>& maps, const std::uint32_t* v, const double* w,
+                              std::size_t count, const Vec3* in_p, const Vec3* in_n, Vec3* out_p, Vec3* out_n) {
+  bool moved = false;
+  for (int c = 0; c < K; ++c) moved = moved || !maps[v[c]].identity;
+  std::size_t k = 0;
+#ifdef CMGEOM_CM_SIMD_ROWS
+  if (moved && simd::has_avx()) {
+    const Vertex_affine_map* T[K];
+    for (int c = 0; c < K; ++c) T[c] = &maps[v[c]];
+    for (; k + 4 <= count; k += 4) {
+      // A zero weight drops its map from apply_vertex_maps()'s identity test: such groups go
+      // through the scalar path below (never in regular reconstruction, whose weights are > 0).
+      if (std::find(w + K * k, w + K * (k + 4), 0.) != w + K * (k + 4)) break;
+      apply_vertex_maps_avx<K>(T, w + K * k, in_p + k, in_n + k, out_p + k, out_n + k);
+    }
+  }
+#endif
+  for (; k < count; ++k) {
+    Sample s{in_p[k], in_n[k]};
+    if (moved) apply_vertex_maps(maps, K, v, w + K * k, s);
+    out_p[k] = s.point;
+    out_n[k] = s.normal;
+  }
+}
+
 template <class Traits>
 class Evaluator {
 public:
@@ -321,13 +420,21 @@ public:
 #endif
       for (std::size_t j = 1, k = 0; j + 1 < n; k += n - 1 - j, ++j) along_normal_row_scalar(f, j, n, pts + k, nrm + k);
     if (!maps_) return;
-    std::size_t k = 0;
+    // The maps with apply_face_maps()'s weights, a chunk of points at a time.
+    const auto& F = m_.faces[f];
+    const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
+    constexpr std::size_t chunk = 64;
+    double w[3 * chunk];
+    const std::size_t total = (n - 1) * (n - 2) / 2;
+    std::size_t k = 0, first = 0;
     for (std::size_t j = 1; j + 1 < n; ++j)
       for (std::size_t i = 1; i + j < n; ++i, ++k) {
-        Sample s{pts[k], nrm[k]};
-        apply_face_maps(f, double(n - i - j) / double(n), double(i) / double(n), double(j) / double(n), s);
-        pts[k] = s.point;
-        nrm[k] = s.normal;
+        face_map_weights(double(n - i - j) / double(n), double(i) / double(n), double(j) / double(n),
+                         w + 3 * (k - first));
+        if (k + 1 - first == chunk || k + 1 == total) {
+          apply_shared_vertex_maps<3>(*maps_, v, w, k + 1 - first, pts + first, nrm + first, pts + first, nrm + first);
+          first = k + 1;
+        }
       }
   }
 
@@ -340,11 +447,15 @@ public:
     if (proj_ == Projection::along_normal && simd::has_avx() && !sharp_end(e, e.a) && !sharp_end(e, e.b)) {
       along_normal_edge_avx(ei, n, pts, nrm);
       if (!maps_) return;
-      for (std::size_t k = 1; k < n; ++k) {
-        Sample s{pts[k - 1], nrm[k - 1]};
-        apply_edge_maps(e, double(k) / double(n), s);
-        pts[k - 1] = s.point;
-        nrm[k - 1] = s.normal;
+      // The maps with apply_edge_maps()'s weights, a chunk of points at a time.
+      const std::uint32_t v[2] = {e.a, e.b};
+      constexpr std::size_t chunk = 64;
+      double w[2 * chunk];
+      for (std::size_t first = 1; first < n; first += chunk) {
+        const std::size_t count = std::min(chunk, n - first);
+        for (std::size_t k = 0; k < count; ++k) edge_map_weights(double(first + k) / double(n), w + 2 * k);
+        apply_shared_vertex_maps<2>(*maps_, v, w, count, pts + first - 1, nrm + first - 1, pts + first - 1,
+                                    nrm + first - 1);
       }
       return;
     }
@@ -592,17 +703,16 @@ public:
   void apply_face_maps(std::uint32_t f, double a0, double a1, double a2, Sample& r) const {
     const auto& F = m_.faces[f];
     const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
-    const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
-    const double sum = w[0] + w[1] + w[2];
-    const double wn[3] = {w[0] / sum, w[1] / sum, w[2] / sum};
+    double wn[3];
+    face_map_weights(a0, a1, a2, wn);
     apply_vertex_maps(*maps_, 3, v, wn, r);
   }
 
   // The vertex maps at parameter t of base edge e (on_edge()'s weights), applied to r.
   void apply_edge_maps(const Base_topology::Edge& e, double t, Sample& r) const {
-    const double wa = (1. - t) * (1. - t) * (1. - t), wb = t * t * t, sum = wa + wb;
     const std::uint32_t v[2] = {e.a, e.b};
-    const double wn[2] = {wa / sum, wb / sum};
+    double wn[2];
+    edge_map_weights(t, wn);
     apply_vertex_maps(*maps_, 2, v, wn, r);
   }
 

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace CMGeom {
@@ -95,12 +96,16 @@ private:
   std::vector<Vec3> deformed_;
 };
 
-/// A regular reconstruction kept at rest with, for every point, the base vertices and blend
-/// weights of §6.4, so that a new pose costs only the blend of the local maps (no projection onto
-/// the local surfaces): the "local affinity computations" of the thesis' cost model (§6.5),
+/// A regular reconstruction kept at rest with the blend of §6.4 (which base vertices and weights
+/// every point takes), so that a new pose costs only the blend of the local maps (no projection
+/// onto the local surfaces): the "local affinity computations" of the thesis' cost model (§6.5),
 /// O(R) per pose for R points. The result is bit-identical to
 /// Deformable_compact_model::reconstruct_regular (same Φ(p), same weights, same arithmetic).
-/// Memory: the rest points and normals (48 bytes) and 3 indices and weights (36 bytes) per point.
+/// The blend is not stored per point: the points of a base edge or face are consecutive in the
+/// output and share their base vertices, and their weights depend only on the grid position, so
+/// one table per level serves every edge and face (CM::internal::apply_shared_vertex_maps, four
+/// points at a time with AVX). Memory: the rest points and normals (48 bytes per point), the base
+/// edges and faces (8 and 12 bytes each) and the weight tables (O(4^level) bytes).
 class Deformable_reconstruction {
 public:
   /// Reconstructs `m` at `level` at rest (CM::reconstruct_regular) and records the blend.
@@ -111,37 +116,23 @@ public:
       : parallel_(opt.parallel) {
     opt.vertex_maps = nullptr;
     rest_ = CM::reconstruct_regular(m, level, opt, traits);
-    // Same layout and the same weight arithmetic as CM::reconstruct_regular's evaluator.
+    // Same layout and the same weights as CM::reconstruct_regular's evaluator.
     const CM::internal::Base_topology topo(m);
-    const std::size_t n = std::size_t(1) << level, V = m.vertices.size(), E = topo.edges.size();
-    const std::size_t per_edge = n - 1, per_face = n > 1 ? (n - 1) * (n - 2) / 2 : 0;
-    const std::size_t R = rest_.points.size();
-    corner_.assign(R, {0, 0, 0});
-    weight_.assign(R, {0., 0., 0.});
-    for (std::size_t i = 0; i < V; ++i) {
-      corner_[i] = {std::uint32_t(i), 0, 0};
-      weight_[i] = {1., 0., 0.};
-    }
-    for (std::size_t e = 0; e < E; ++e)
-      for (std::size_t k = 1; k < n; ++k) {
-        const double t = double(k) / double(n);
-        const double wa = (1. - t) * (1. - t) * (1. - t), wb = t * t * t, sum = wa + wb;
-        const std::size_t id = V + e * per_edge + k - 1;
-        corner_[id] = {topo.edges[e].a, topo.edges[e].b, 0};
-        weight_[id] = {wa / sum, wb / sum, 0.};
-      }
-    const std::size_t face_base = V + E * per_edge;
-    for (std::size_t f = 0; f < m.faces.size(); ++f)
-      for (std::size_t j = 1; j + 1 < n; ++j)
-        for (std::size_t i = 1; i + j < n; ++i) {
-          const double a1 = double(i) / double(n), a2 = double(j) / double(n), a0 = double(n - i - j) / double(n);
-          const double w[3] = {a0 * a0 * a0, a1 * a1 * a1, a2 * a2 * a2};
-          const double sum = w[0] + w[1] + w[2];
-          const std::size_t before = (j - 1) * (n - 2) - (j - 1) * (j - 2) / 2;
-          const std::size_t id = face_base + f * per_face + before + (i - 1);
-          corner_[id] = {m.faces[f][0].vertex, m.faces[f][1].vertex, m.faces[f][2].vertex};
-          weight_[id] = {w[0] / sum, w[1] / sum, w[2] / sum};
-        }
+    n_ = std::size_t(1) << level;
+    vertices_ = m.vertices.size();
+    edges_.reserve(topo.edges.size());
+    for (const auto& e : topo.edges) edges_.push_back({e.a, e.b});
+    faces_.reserve(m.faces.size());
+    for (const auto& f : m.faces) faces_.push_back({f[0].vertex, f[1].vertex, f[2].vertex});
+    edge_weights_.resize(2 * (n_ - 1));
+    for (std::size_t k = 1; k < n_; ++k)
+      CM::internal::edge_map_weights(double(k) / double(n_), &edge_weights_[2 * (k - 1)]);
+    face_weights_.resize(3 * (n_ > 1 ? (n_ - 1) * (n_ - 2) / 2 : 0));
+    std::size_t k = 0;
+    for (std::size_t j = 1; j + 1 < n_; ++j)
+      for (std::size_t i = 1; i + j < n_; ++i, ++k)
+        CM::internal::face_map_weights(double(n_ - i - j) / double(n_), double(i) / double(n_), double(j) / double(n_),
+                                       &face_weights_[3 * k]);
   }
 
   const CM::Reconstruction& rest() const { return rest_; }
@@ -149,34 +140,71 @@ public:
 
   /// Deformed points and normals for the maps of one pose (one per base vertex); `out` gets the
   /// rest triangles, base faces and uvs the first time (or when it does not match).
+  /// \throws CMGeom::Invalid_input if `maps` does not hold one map per base vertex.
   void deform(const std::vector<Vertex_affine_map>& maps, CM::Reconstruction& out) const {
+    if (maps.size() != vertices_)
+      throw Invalid_input("deformable reconstruction: " + std::to_string(maps.size()) + " vertex maps for " +
+                          std::to_string(vertices_) + " base vertices");
     const std::size_t R = rest_.points.size();
     if (out.triangles.size() != rest_.triangles.size() || out.points.size() != R) {
       out = rest_;
     }
-    CM::internal::for_range((R + 255) / 256, parallel_, [&](std::size_t b) {
-      for (std::size_t i = 256 * b; i < std::min(R, 256 * (b + 1)); ++i) {
-        CM::Sample s{rest_.points[i], rest_.normals[i]};
-        const int k = weight_[i][2] != 0. ? 3 : (weight_[i][1] != 0. ? 2 : 1);
-        CM::internal::apply_vertex_maps(maps, k, corner_[i].data(), weight_[i].data(), s);
-        out.points[i] = s.point;
-        out.normals[i] = s.normal;
+    const std::size_t per_edge = n_ - 1, per_face = face_weights_.size() / 3;
+    const std::size_t edge_base = vertices_, face_base = vertices_ + edges_.size() * per_edge;
+    const CM::Vec3* rp = rest_.points.data();
+    const CM::Vec3* rn = rest_.normals.data();
+    CM::Vec3* op = out.points.data();
+    CM::Vec3* on = out.normals.data();
+    // Base vertices (weight 1), then base edges and faces (each a run of consecutive points that
+    // share their maps), in tasks of about 256 points.
+    constexpr std::size_t points_per_task = 256;
+    const std::size_t E = edges_.size(), F = per_face > 0 ? faces_.size() : 0;
+    const std::size_t edges_per_task = std::max<std::size_t>(1, points_per_task / std::max<std::size_t>(1, per_edge));
+    const std::size_t faces_per_task = std::max<std::size_t>(1, points_per_task / std::max<std::size_t>(1, per_face));
+    const std::size_t vertex_tasks = (vertices_ + points_per_task - 1) / points_per_task;
+    const std::size_t edge_tasks = per_edge > 0 ? (E + edges_per_task - 1) / edges_per_task : 0;
+    const std::size_t face_tasks = (F + faces_per_task - 1) / faces_per_task;
+    CM::internal::for_range(vertex_tasks + edge_tasks + face_tasks, parallel_, [&](std::size_t t) {
+      if (t < vertex_tasks) {
+        const double one = 1.;
+        for (std::size_t i = points_per_task * t; i < std::min(vertices_, points_per_task * (t + 1)); ++i) {
+          const auto v = std::uint32_t(i);
+          CM::internal::apply_shared_vertex_maps<1>(maps, &v, &one, 1, rp + i, rn + i, op + i, on + i);
+        }
+      } else if (t < vertex_tasks + edge_tasks) {
+        const std::size_t first = (t - vertex_tasks) * edges_per_task;
+        for (std::size_t e = first; e < std::min(E, first + edges_per_task); ++e) {
+          const std::size_t id = edge_base + e * per_edge;
+          CM::internal::apply_shared_vertex_maps<2>(maps, edges_[e].data(), edge_weights_.data(), per_edge, rp + id,
+                                                    rn + id, op + id, on + id);
+        }
+      } else {
+        const std::size_t first = (t - vertex_tasks - edge_tasks) * faces_per_task;
+        for (std::size_t f = first; f < std::min(F, first + faces_per_task); ++f) {
+          const std::size_t id = face_base + f * per_face;
+          CM::internal::apply_shared_vertex_maps<3>(maps, faces_[f].data(), face_weights_.data(), per_face, rp + id,
+                                                    rn + id, op + id, on + id);
+        }
       }
     });
   }
   void deform(const Deformable_compact_model& dcm, CM::Reconstruction& out) const { deform(dcm.vertex_maps(), out); }
 
-  /// Memory held per pose-independent data (rest points, normals, corners, weights), bytes.
+  /// Memory held per pose-independent data (rest points and normals, base edges and faces,
+  /// weight tables), bytes.
   std::size_t bytes() const {
-    return rest_.points.size() * 2 * sizeof(Vec3) + corner_.size() * sizeof(corner_[0]) +
-           weight_.size() * sizeof(weight_[0]);
+    return rest_.points.size() * 2 * sizeof(Vec3) + edges_.size() * sizeof(edges_[0]) +
+           faces_.size() * sizeof(faces_[0]) + (edge_weights_.size() + face_weights_.size()) * sizeof(double);
   }
 
 private:
   bool parallel_;
+  std::size_t n_ = 1, vertices_ = 0;
   CM::Reconstruction rest_;
-  std::vector<std::array<std::uint32_t, 3>> corner_;
-  std::vector<std::array<double, 3>> weight_;
+  std::vector<std::array<std::uint32_t, 2>> edges_;
+  std::vector<std::array<std::uint32_t, 3>> faces_;
+  std::vector<double> edge_weights_;  // 2 per point k = 1 .. n-1 of an edge, from a to b
+  std::vector<double> face_weights_;  // 3 per interior point of a face, in output order
 };
 
 }  // namespace DCM
