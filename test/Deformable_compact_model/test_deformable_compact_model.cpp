@@ -391,8 +391,9 @@ TEST(DeformableCMTransfer, CachedRestReconstructionGivesTheSameBits) {
   DCM::Cage_deformer<CD::Mean_value_coordinates_3> cd{CD::Mean_value_coordinates_3(cage)};
   DCM::Deformable_compact_model dcm(m);
   cd.bind(dcm.base_vertices());
-  // Levels 0 and 1 have no face points (0 also no edge points); level 5's faces hold 465.
-  for (const int level : {0, 1, 3, 5}) {
+  // Levels 0 and 1 have no face points (0 also no edge points), level 2's edges and faces hold 3
+  // (mapped four edges or faces at a time), level 5's faces 465 (four points at a time).
+  for (const int level : {0, 1, 2, 3, 5}) {
     SCOPED_TRACE("level " + std::to_string(level));
     const DCM::Deformable_reconstruction cache(m, level);
     CM::Reconstruction out;
@@ -407,6 +408,24 @@ TEST(DeformableCMTransfer, CachedRestReconstructionGivesTheSameBits) {
       cache.deform(dcm, out);
       expect_bitwise_equal(out, dcm.reconstruct_regular(level));
     }
+    // Only the base vertices with x > 0 moved: the others whose ring did not move keep exact
+    // identity maps, so some faces and edges mix moving and still corners, some are still.
+    std::vector<CM::Vec3> half = m.vertices;
+    std::size_t moved = 0;
+    for (auto& v : half)
+      if (v.x > 0.) {
+        v = CM::Vec3(1.1 * v.x + 0.05 * v.y, v.y, v.z + 0.1 * v.x);
+        ++moved;
+      }
+    ASSERT_GT(moved, 0u);
+    ASSERT_LT(moved, half.size());
+    dcm.set_deformed_base(half);
+    std::size_t still = 0;
+    for (const auto& T : dcm.vertex_maps()) still += T.identity;
+    EXPECT_GT(still, 0u);
+    EXPECT_LT(still, half.size());
+    cache.deform(dcm, out);
+    expect_bitwise_equal(out, dcm.reconstruct_regular(level));
     // The exact rest pose (identity maps) gives the plain reconstruction back.
     dcm.set_deformed_base(m.vertices);
     cache.deform(dcm, out);

@@ -264,35 +264,55 @@ inline void edge_map_weights(double t, double* wn) {
 }
 
 #ifdef CMGEOM_CM_SIMD_ROWS
-// apply_vertex_maps() on the four samples in_p[0..3], in_n[0..3] at once, written to out_p,
-// out_n (which may be in_p, in_n): all four blend the maps T[0..K-1], sample l with the weights
-// w[K l .. K l + K - 1], every weight non-zero and some map not the identity (the caller checks).
-// Each lane performs apply_vertex_maps()'s operations in its order, so the bits are the same.
+namespace simd {
+// The maps of apply_vertex_maps_lanes(): every lane the same K maps (broadcast)...
 template <int K>
-__attribute__((target("avx"))) void apply_vertex_maps_avx(const Vertex_affine_map* const* T, const double* w,
-                                                          const Vec3* in_p, const Vec3* in_n, Vec3* out_p,
-                                                          Vec3* out_n) {
+struct Shared_maps {
+  const Vertex_affine_map* const* T;  // T[c]
+  CMGEOM_CM_AVX d4 M(int c, int i, int j) const { return splat(T[c]->M[i][j]); }
+  CMGEOM_CM_AVX d4 rest(int c, int axis) const { return splat(T[c]->rest[axis]); }
+  CMGEOM_CM_AVX d4 deformed(int c, int axis) const { return splat(T[c]->deformed[axis]); }
+};
+// ... or K maps per lane.
+template <int K>
+struct Lane_maps {
+  const Vertex_affine_map* T[4][K];  // T[lane][c]
+  CMGEOM_CM_AVX d4 M(int c, int i, int j) const {
+    return d4{T[0][c]->M[i][j], T[1][c]->M[i][j], T[2][c]->M[i][j], T[3][c]->M[i][j]};
+  }
+  CMGEOM_CM_AVX d4 rest(int c, int axis) const {
+    return d4{T[0][c]->rest[axis], T[1][c]->rest[axis], T[2][c]->rest[axis], T[3][c]->rest[axis]};
+  }
+  CMGEOM_CM_AVX d4 deformed(int c, int axis) const {
+    return d4{T[0][c]->deformed[axis], T[1][c]->deformed[axis], T[2][c]->deformed[axis], T[3][c]->deformed[axis]};
+  }
+};
+}  // namespace simd
+
+// apply_vertex_maps() in four lanes: lane l maps the sample whose point and normal are lane l of
+// s[0..2] and s[3..5] (replaced by the result) with the maps c = 0..K-1 of `maps` and the weights
+// w[c], every weight non-zero and some map of each lane not the identity (the callers check).
+// Each lane performs apply_vertex_maps()'s operations in its order, so the bits are the same.
+template <int K, class Maps>
+CMGEOM_CM_AVX void apply_vertex_maps_lanes(const Maps& maps, const simd::d4 (&w)[K], simd::d4 (&s)[6]) {
   using D = simd::d4;
   using simd::splat;
-  const D px{in_p[0].x, in_p[1].x, in_p[2].x, in_p[3].x}, py{in_p[0].y, in_p[1].y, in_p[2].y, in_p[3].y},
-      pz{in_p[0].z, in_p[1].z, in_p[2].z, in_p[3].z};
-  const D nx{in_n[0].x, in_n[1].x, in_n[2].x, in_n[3].x}, ny{in_n[0].y, in_n[1].y, in_n[2].y, in_n[3].y},
-      nz{in_n[0].z, in_n[1].z, in_n[2].z, in_n[3].z};
   const D zero = splat(0.);
   D qx = zero, qy = zero, qz = zero;
   D B[3][3] = {{zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero}};
   for (int c = 0; c < K; ++c) {
-    const Vertex_affine_map& M = *T[c];
-    const D wc{w[c], w[K + c], w[2 * K + c], w[3 * K + c]};
-    const D dx = px - splat(M.rest.x), dy = py - splat(M.rest.y), dz = pz - splat(M.rest.z);
-    const D mx = splat(M.M[0][0]) * dx + splat(M.M[0][1]) * dy + splat(M.M[0][2]) * dz;
-    const D my = splat(M.M[1][0]) * dx + splat(M.M[1][1]) * dy + splat(M.M[1][2]) * dz;
-    const D mz = splat(M.M[2][0]) * dx + splat(M.M[2][1]) * dy + splat(M.M[2][2]) * dz;
-    qx += wc * (mx + splat(M.deformed.x));
-    qy += wc * (my + splat(M.deformed.y));
-    qz += wc * (mz + splat(M.deformed.z));
+    const D dx = s[0] - maps.rest(c, 0), dy = s[1] - maps.rest(c, 1), dz = s[2] - maps.rest(c, 2);
+    D M[3][3];
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) B[i][j] += wc * splat(M.M[i][j]);
+      for (int j = 0; j < 3; ++j) M[i][j] = maps.M(c, i, j);
+    const D mx = M[0][0] * dx + M[0][1] * dy + M[0][2] * dz;
+    const D my = M[1][0] * dx + M[1][1] * dy + M[1][2] * dz;
+    const D mz = M[2][0] * dx + M[2][1] * dy + M[2][2] * dz;
+    qx += w[c] * (mx + maps.deformed(c, 0));
+    qy += w[c] * (my + maps.deformed(c, 1));
+    qz += w[c] * (mz + maps.deformed(c, 2));
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) B[i][j] += w[c] * M[i][j];
   }
   // Rows of the cofactor matrix: r1 x r2, r2 x r0, r0 x r1 (apply_vertex_maps()'s cross()).
   const D c0x = B[1][1] * B[2][2] - B[1][2] * B[2][1], c0y = B[1][2] * B[2][0] - B[1][0] * B[2][2],
@@ -301,16 +321,48 @@ __attribute__((target("avx"))) void apply_vertex_maps_avx(const Vertex_affine_ma
           c1z = B[2][0] * B[0][1] - B[2][1] * B[0][0];
   const D c2x = B[0][1] * B[1][2] - B[0][2] * B[1][1], c2y = B[0][2] * B[1][0] - B[0][0] * B[1][2],
           c2z = B[0][0] * B[1][1] - B[0][1] * B[1][0];
-  const D cx = c0x * nx + c0y * ny + c0z * nz, cy = c1x * nx + c1y * ny + c1z * nz, cz = c2x * nx + c2y * ny + c2z * nz;
+  const D cx = c0x * s[3] + c0y * s[4] + c0z * s[5], cy = c1x * s[3] + c1y * s[4] + c1z * s[5],
+          cz = c2x * s[3] + c2y * s[4] + c2z * s[5];
   const D s2 = cx * cx + cy * cy + cz * cz;
   const simd::m4 pos = s2 > zero;  // false for NaN, as the scalar test
   const D inv = splat(1.) / simd::sqrt(simd::select(pos, s2, splat(1.)));
-  const D ox = simd::select(pos, cx * inv, nx), oy = simd::select(pos, cy * inv, ny),
-          oz = simd::select(pos, cz * inv, nz);
+  s[0] = qx;
+  s[1] = qy;
+  s[2] = qz;
+  s[3] = simd::select(pos, cx * inv, s[3]);
+  s[4] = simd::select(pos, cy * inv, s[4]);
+  s[5] = simd::select(pos, cz * inv, s[5]);
+}
+
+// Four samples of Vec3 arrays into lanes (p[l], n[l] -> lane l of s[0..2], s[3..5]) and back.
+CMGEOM_CM_AVX void load_lanes(const Vec3* const (&p)[4], const Vec3* const (&n)[4], simd::d4 (&s)[6]) {
+  s[0] = simd::d4{p[0]->x, p[1]->x, p[2]->x, p[3]->x};
+  s[1] = simd::d4{p[0]->y, p[1]->y, p[2]->y, p[3]->y};
+  s[2] = simd::d4{p[0]->z, p[1]->z, p[2]->z, p[3]->z};
+  s[3] = simd::d4{n[0]->x, n[1]->x, n[2]->x, n[3]->x};
+  s[4] = simd::d4{n[0]->y, n[1]->y, n[2]->y, n[3]->y};
+  s[5] = simd::d4{n[0]->z, n[1]->z, n[2]->z, n[3]->z};
+}
+CMGEOM_CM_AVX void store_lanes(const simd::d4 (&s)[6], Vec3* const (&p)[4], Vec3* const (&n)[4]) {
   for (int l = 0; l < 4; ++l) {
-    out_p[l] = Vec3(qx[l], qy[l], qz[l]);
-    out_n[l] = Vec3(ox[l], oy[l], oz[l]);
+    *p[l] = Vec3(s[0][l], s[1][l], s[2][l]);
+    *n[l] = Vec3(s[3][l], s[4][l], s[5][l]);
   }
+}
+
+// apply_vertex_maps() on the four consecutive samples in_p[0..3], in_n[0..3], written to
+// out_p, out_n (which may be in_p, in_n): all four blend the maps T[0..K-1], sample l with the
+// weights w[K l .. K l + K - 1] (non-zero; some map not the identity).
+template <int K>
+__attribute__((target("avx"))) void apply_vertex_maps_avx(const Vertex_affine_map* const* T, const double* w,
+                                                          const Vec3* in_p, const Vec3* in_n, Vec3* out_p,
+                                                          Vec3* out_n) {
+  simd::d4 wl[K];
+  for (int c = 0; c < K; ++c) wl[c] = simd::d4{w[c], w[K + c], w[2 * K + c], w[3 * K + c]};
+  simd::d4 s[6];
+  load_lanes({in_p, in_p + 1, in_p + 2, in_p + 3}, {in_n, in_n + 1, in_n + 2, in_n + 3}, s);
+  apply_vertex_maps_lanes<K>(simd::Shared_maps<K>{T}, wl, s);
+  store_lanes(s, {out_p, out_p + 1, out_p + 2, out_p + 3}, {out_n, out_n + 1, out_n + 2, out_n + 3});
 }
 #endif
 
@@ -343,6 +395,90 @@ void apply_shared_vertex_maps(const std::vector<Vertex_affine_map>& maps, const 
     out_p[k] = s.point;
     out_n[k] = s.normal;
   }
+}
+
+// apply_vertex_maps() on samples k_begin .. k_end-1 of run e (see apply_vertex_maps_across()).
+template <int K, class Corner>
+void apply_vertex_maps_one_run(const std::vector<Vertex_affine_map>& maps, const Corner& corner, std::size_t e,
+                               std::size_t k_begin, std::size_t k_end, std::size_t per, const double* w,
+                               const Vec3* in_p, const Vec3* in_n, Vec3* out_p, Vec3* out_n) {
+  std::uint32_t v[K];
+  for (int c = 0; c < K; ++c) v[c] = corner(e, c);
+  for (std::size_t k = k_begin; k < k_end; ++k) {
+    Sample s{in_p[per * e + k], in_n[per * e + k]};
+    apply_vertex_maps(maps, K, v, w + K * k, s);
+    out_p[per * e + k] = s.point;
+    out_n[per * e + k] = s.normal;
+  }
+}
+
+#ifdef CMGEOM_CM_SIMD_ROWS
+// The AVX part of apply_vertex_maps_across(): runs e = 0, 4, 8, ... while four remain; returns
+// the first run it left.
+template <int K, class Corner>
+__attribute__((target("avx"))) std::size_t apply_vertex_maps_across_avx(const std::vector<Vertex_affine_map>& maps,
+                                                                        const Corner& corner, std::size_t count,
+                                                                        std::size_t per, const double* w,
+                                                                        const Vec3* in_p, const Vec3* in_n, Vec3* out_p,
+                                                                        Vec3* out_n) {
+  std::size_t e = 0;
+  for (; e + 4 <= count; e += 4) {
+    simd::Lane_maps<K> T;
+    bool moved[4] = {false, false, false, false};
+    for (int l = 0; l < 4; ++l)
+      for (int c = 0; c < K; ++c) {
+        T.T[l][c] = &maps[corner(e + l, c)];
+        moved[l] = moved[l] || !T.T[l][c]->identity;
+      }
+    if (!(moved[0] || moved[1] || moved[2] || moved[3])) {
+      if (out_p != in_p || out_n != in_n)
+        for (std::size_t i = per * e; i < per * (e + 4); ++i) {
+          out_p[i] = in_p[i];
+          out_n[i] = in_n[i];
+        }
+      continue;
+    }
+    const simd::m4 keep{moved[0] ? 0LL : -1LL, moved[1] ? 0LL : -1LL, moved[2] ? 0LL : -1LL, moved[3] ? 0LL : -1LL};
+    for (std::size_t k = 0; k < per; ++k) {
+      const double* wk = w + K * k;
+      if (std::find(wk, wk + K, 0.) != wk + K) {  // a zero weight: apply_vertex_maps() decides alone
+        for (std::size_t l = 0; l < 4; ++l)
+          apply_vertex_maps_one_run<K>(maps, corner, e + l, k, k + 1, per, w, in_p, in_n, out_p, out_n);
+        continue;
+      }
+      simd::d4 wl[K];
+      for (int c = 0; c < K; ++c) wl[c] = simd::splat(wk[c]);
+      const std::size_t i0 = per * e + k, i1 = i0 + per, i2 = i1 + per, i3 = i2 + per;
+      simd::d4 s[6], in[6];
+      load_lanes({in_p + i0, in_p + i1, in_p + i2, in_p + i3}, {in_n + i0, in_n + i1, in_n + i2, in_n + i3}, s);
+      for (int i = 0; i < 6; ++i) in[i] = s[i];
+      apply_vertex_maps_lanes<K>(T, wl, s);
+      for (int i = 0; i < 6; ++i) s[i] = simd::select(keep, in[i], s[i]);
+      store_lanes(s, {out_p + i0, out_p + i1, out_p + i2, out_p + i3},
+                  {out_n + i0, out_n + i1, out_n + i2, out_n + i3});
+    }
+  }
+  return e;
+}
+#endif
+
+// apply_vertex_maps() on sample k of run e, for e < count and k < per, of `count` runs of `per`
+// consecutive samples (the points of base elements of one level: vertices, edges or faces), run e
+// at in_p + per e, in_n + per e: it blends the maps of base vertices corner(e, 0 .. K-1) with the
+// weights w[K k .. K k + K - 1], the same in every run. Written to out_p, out_n (the same arrays
+// or disjoint ones). This serves runs shorter than four samples (levels 0 to 2), which
+// apply_shared_vertex_maps() cannot put in lanes: with AVX, four runs are mapped at a time, lane
+// l taking run e + l (a lane whose maps are all identities keeps its sample); the bits are
+// apply_vertex_maps()'s either way.
+template <int K, class Corner>
+void apply_vertex_maps_across(const std::vector<Vertex_affine_map>& maps, const Corner& corner, std::size_t count,
+                              std::size_t per, const double* w, const Vec3* in_p, const Vec3* in_n, Vec3* out_p,
+                              Vec3* out_n) {
+  std::size_t e = 0;
+#ifdef CMGEOM_CM_SIMD_ROWS
+  if (simd::has_avx()) e = apply_vertex_maps_across_avx<K>(maps, corner, count, per, w, in_p, in_n, out_p, out_n);
+#endif
+  for (; e < count; ++e) apply_vertex_maps_one_run<K>(maps, corner, e, 0, per, per, w, in_p, in_n, out_p, out_n);
 }
 
 template <class Traits>

@@ -104,8 +104,10 @@ private:
 /// The blend is not stored per point: the points of a base edge or face are consecutive in the
 /// output and share their base vertices, and their weights depend only on the grid position, so
 /// one table per level serves every edge and face (CM::internal::apply_shared_vertex_maps, four
-/// points at a time with AVX). Memory: the rest points and normals (48 bytes per point), the base
-/// edges and faces (8 and 12 bytes each) and the weight tables (O(4^level) bytes).
+/// points at a time with AVX; apply_vertex_maps_across, four edges or faces at a time, where they
+/// hold fewer than four points: levels 1 and 2, and the base vertices). Memory: the rest points
+/// and normals (48 bytes per point), the base edges and faces (8 and 12 bytes each) and the
+/// weight tables (O(4^level) bytes).
 class Deformable_reconstruction {
 public:
   /// Reconstructs `m` at `level` at rest (CM::reconstruct_regular) and records the blend.
@@ -120,10 +122,10 @@ public:
     const CM::internal::Base_topology topo(m);
     n_ = std::size_t(1) << level;
     vertices_ = m.vertices.size();
-    edges_.reserve(topo.edges.size());
-    for (const auto& e : topo.edges) edges_.push_back({e.a, e.b});
-    faces_.reserve(m.faces.size());
-    for (const auto& f : m.faces) faces_.push_back({f[0].vertex, f[1].vertex, f[2].vertex});
+    edges_.reserve(2 * topo.edges.size());
+    for (const auto& e : topo.edges) edges_.insert(edges_.end(), {e.a, e.b});
+    faces_.reserve(3 * m.faces.size());
+    for (const auto& f : m.faces) faces_.insert(faces_.end(), {f[0].vertex, f[1].vertex, f[2].vertex});
     edge_weights_.resize(2 * (n_ - 1));
     for (std::size_t k = 1; k < n_; ++k)
       CM::internal::edge_map_weights(double(k) / double(n_), &edge_weights_[2 * (k - 1)]);
@@ -150,40 +152,62 @@ public:
       out = rest_;
     }
     const std::size_t per_edge = n_ - 1, per_face = face_weights_.size() / 3;
-    const std::size_t edge_base = vertices_, face_base = vertices_ + edges_.size() * per_edge;
+    const std::size_t E = edges_.size() / 2, F = per_face > 0 ? faces_.size() / 3 : 0;
+    const std::size_t edge_base = vertices_, face_base = vertices_ + E * per_edge;
     const CM::Vec3* rp = rest_.points.data();
     const CM::Vec3* rn = rest_.normals.data();
     CM::Vec3* op = out.points.data();
     CM::Vec3* on = out.normals.data();
     // Base vertices (weight 1), then base edges and faces (each a run of consecutive points that
-    // share their maps), in tasks of about 256 points.
+    // share their maps), in tasks of about 256 points. A run of four points or more is mapped
+    // four points at a time (apply_shared_vertex_maps), shorter runs four runs at a time
+    // (apply_vertex_maps_across: base vertices, and the edges and faces of levels 1 and 2).
     constexpr std::size_t points_per_task = 256;
-    const std::size_t E = edges_.size(), F = per_face > 0 ? faces_.size() : 0;
-    const std::size_t edges_per_task = std::max<std::size_t>(1, points_per_task / std::max<std::size_t>(1, per_edge));
-    const std::size_t faces_per_task = std::max<std::size_t>(1, points_per_task / std::max<std::size_t>(1, per_face));
-    const std::size_t vertex_tasks = (vertices_ + points_per_task - 1) / points_per_task;
+    auto per_task = [](std::size_t per) {  // elements per task, a multiple of 4
+      return std::max<std::size_t>(4, points_per_task / std::max<std::size_t>(1, per) / 4 * 4);
+    };
+    const std::size_t vertices_per_task = points_per_task, edges_per_task = per_task(per_edge),
+                      faces_per_task = per_task(per_face);
+    const std::size_t vertex_tasks = (vertices_ + vertices_per_task - 1) / vertices_per_task;
     const std::size_t edge_tasks = per_edge > 0 ? (E + edges_per_task - 1) / edges_per_task : 0;
     const std::size_t face_tasks = (F + faces_per_task - 1) / faces_per_task;
+    const double one = 1.;
+    const std::uint32_t* edges = edges_.data();
+    const std::uint32_t* faces = faces_.data();
     CM::internal::for_range(vertex_tasks + edge_tasks + face_tasks, parallel_, [&](std::size_t t) {
       if (t < vertex_tasks) {
-        const double one = 1.;
-        for (std::size_t i = points_per_task * t; i < std::min(vertices_, points_per_task * (t + 1)); ++i) {
-          const auto v = std::uint32_t(i);
-          CM::internal::apply_shared_vertex_maps<1>(maps, &v, &one, 1, rp + i, rn + i, op + i, on + i);
-        }
+        const std::size_t first = t * vertices_per_task, count = std::min(vertices_, first + vertices_per_task) - first;
+        const auto vertex = [first](std::size_t e, int) { return std::uint32_t(first + e); };
+        CM::internal::apply_vertex_maps_across<1>(maps, vertex, count, 1, &one, rp + first, rn + first, op + first,
+                                                  on + first);
       } else if (t < vertex_tasks + edge_tasks) {
-        const std::size_t first = (t - vertex_tasks) * edges_per_task;
-        for (std::size_t e = first; e < std::min(E, first + edges_per_task); ++e) {
-          const std::size_t id = edge_base + e * per_edge;
-          CM::internal::apply_shared_vertex_maps<2>(maps, edges_[e].data(), edge_weights_.data(), per_edge, rp + id,
+        const std::size_t first = (t - vertex_tasks) * edges_per_task, last = std::min(E, first + edges_per_task);
+        const std::size_t id = edge_base + first * per_edge;
+        if (per_edge < 4) {
+          const auto corner = [edges, first](std::size_t e, int c) { return edges[2 * (first + e) + c]; };
+          CM::internal::apply_vertex_maps_across<2>(maps, corner, last - first, per_edge, edge_weights_.data(), rp + id,
                                                     rn + id, op + id, on + id);
+        } else {
+          for (std::size_t e = first; e < last; ++e) {
+            const std::size_t i = edge_base + e * per_edge;
+            CM::internal::apply_shared_vertex_maps<2>(maps, edges + 2 * e, edge_weights_.data(), per_edge, rp + i,
+                                                      rn + i, op + i, on + i);
+          }
         }
       } else {
-        const std::size_t first = (t - vertex_tasks - edge_tasks) * faces_per_task;
-        for (std::size_t f = first; f < std::min(F, first + faces_per_task); ++f) {
-          const std::size_t id = face_base + f * per_face;
-          CM::internal::apply_shared_vertex_maps<3>(maps, faces_[f].data(), face_weights_.data(), per_face, rp + id,
+        const std::size_t first = (t - vertex_tasks - edge_tasks) * faces_per_task,
+                          last = std::min(F, first + faces_per_task);
+        const std::size_t id = face_base + first * per_face;
+        if (per_face < 4) {
+          const auto corner = [faces, first](std::size_t f, int c) { return faces[3 * (first + f) + c]; };
+          CM::internal::apply_vertex_maps_across<3>(maps, corner, last - first, per_face, face_weights_.data(), rp + id,
                                                     rn + id, op + id, on + id);
+        } else {
+          for (std::size_t f = first; f < last; ++f) {
+            const std::size_t i = face_base + f * per_face;
+            CM::internal::apply_shared_vertex_maps<3>(maps, faces + 3 * f, face_weights_.data(), per_face, rp + i,
+                                                      rn + i, op + i, on + i);
+          }
         }
       }
     });
@@ -193,16 +217,16 @@ public:
   /// Memory held per pose-independent data (rest points and normals, base edges and faces,
   /// weight tables), bytes.
   std::size_t bytes() const {
-    return rest_.points.size() * 2 * sizeof(Vec3) + edges_.size() * sizeof(edges_[0]) +
-           faces_.size() * sizeof(faces_[0]) + (edge_weights_.size() + face_weights_.size()) * sizeof(double);
+    return rest_.points.size() * 2 * sizeof(Vec3) + (edges_.size() + faces_.size()) * sizeof(std::uint32_t) +
+           (edge_weights_.size() + face_weights_.size()) * sizeof(double);
   }
 
 private:
   bool parallel_;
   std::size_t n_ = 1, vertices_ = 0;
   CM::Reconstruction rest_;
-  std::vector<std::array<std::uint32_t, 2>> edges_;
-  std::vector<std::array<std::uint32_t, 3>> faces_;
+  std::vector<std::uint32_t> edges_;  // 2 base vertices per base edge
+  std::vector<std::uint32_t> faces_;  // 3 base vertices per base face
   std::vector<double> edge_weights_;  // 2 per point k = 1 .. n-1 of an edge, from a to b
   std::vector<double> face_weights_;  // 3 per interior point of a face, in output order
 };
