@@ -172,8 +172,6 @@ public:
     const std::size_t edge_tasks = per_edge > 0 ? (E + edges_per_task - 1) / edges_per_task : 0;
     const std::size_t face_tasks = (F + faces_per_task - 1) / faces_per_task;
     const double one = 1.;
-    const std::uint32_t* edges = edges_.data();
-    const std::uint32_t* faces = faces_.data();
     CM::internal::for_range(vertex_tasks + edge_tasks + face_tasks, parallel_, [&](std::size_t t) {
       if (t < vertex_tasks) {
         const std::size_t first = t * vertices_per_task, count = std::min(vertices_, first + vertices_per_task) - first;
@@ -181,34 +179,13 @@ public:
         CM::internal::apply_vertex_maps_across<1>(maps, vertex, count, 1, &one, rp + first, rn + first, op + first,
                                                   on + first);
       } else if (t < vertex_tasks + edge_tasks) {
-        const std::size_t first = (t - vertex_tasks) * edges_per_task, last = std::min(E, first + edges_per_task);
-        const std::size_t id = edge_base + first * per_edge;
-        if (per_edge < 4) {
-          const auto corner = [edges, first](std::size_t e, int c) { return edges[2 * (first + e) + c]; };
-          CM::internal::apply_vertex_maps_across<2>(maps, corner, last - first, per_edge, edge_weights_.data(), rp + id,
-                                                    rn + id, op + id, on + id);
-        } else {
-          for (std::size_t e = first; e < last; ++e) {
-            const std::size_t i = edge_base + e * per_edge;
-            CM::internal::apply_shared_vertex_maps<2>(maps, edges + 2 * e, edge_weights_.data(), per_edge, rp + i,
-                                                      rn + i, op + i, on + i);
-          }
-        }
+        const std::size_t first = (t - vertex_tasks) * edges_per_task;
+        blend_elements<2>(maps, edges_.data(), edge_weights_.data(), first, std::min(E, first + edges_per_task),
+                          per_edge, edge_base, rp, rn, op, on);
       } else {
-        const std::size_t first = (t - vertex_tasks - edge_tasks) * faces_per_task,
-                          last = std::min(F, first + faces_per_task);
-        const std::size_t id = face_base + first * per_face;
-        if (per_face < 4) {
-          const auto corner = [faces, first](std::size_t f, int c) { return faces[3 * (first + f) + c]; };
-          CM::internal::apply_vertex_maps_across<3>(maps, corner, last - first, per_face, face_weights_.data(), rp + id,
-                                                    rn + id, op + id, on + id);
-        } else {
-          for (std::size_t f = first; f < last; ++f) {
-            const std::size_t i = face_base + f * per_face;
-            CM::internal::apply_shared_vertex_maps<3>(maps, faces + 3 * f, face_weights_.data(), per_face, rp + i,
-                                                      rn + i, op + i, on + i);
-          }
-        }
+        const std::size_t first = (t - vertex_tasks - edge_tasks) * faces_per_task;
+        blend_elements<3>(maps, faces_.data(), face_weights_.data(), first, std::min(F, first + faces_per_task),
+                          per_face, face_base, rp, rn, op, on);
       }
     });
   }
@@ -222,6 +199,25 @@ public:
   }
 
 private:
+  // The blend of base edges or faces (K = 2 or 3 base vertices each, corners[K e ..]) first ..
+  // last-1, whose `per` points each start at base + per e: a run of four points or more four
+  // points at a time, shorter runs four runs at a time.
+  template <int K>
+  static void blend_elements(const std::vector<Vertex_affine_map>& maps, const std::uint32_t* corners, const double* w,
+                             std::size_t first, std::size_t last, std::size_t per, std::size_t base, const CM::Vec3* rp,
+                             const CM::Vec3* rn, CM::Vec3* op, CM::Vec3* on) {
+    if (per < 4) {
+      const std::size_t id = base + first * per;
+      const auto corner = [corners, first](std::size_t e, int c) { return corners[K * (first + e) + c]; };
+      CM::internal::apply_vertex_maps_across<K>(maps, corner, last - first, per, w, rp + id, rn + id, op + id, on + id);
+      return;
+    }
+    for (std::size_t e = first; e < last; ++e) {
+      const std::size_t i = base + e * per;
+      CM::internal::apply_shared_vertex_maps<K>(maps, corners + K * e, w, per, rp + i, rn + i, op + i, on + i);
+    }
+  }
+
   bool parallel_;
   std::size_t n_ = 1, vertices_ = 0;
   CM::Reconstruction rest_;
