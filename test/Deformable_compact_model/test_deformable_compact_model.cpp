@@ -391,6 +391,9 @@ TEST(DeformableCMTransfer, CachedRestReconstructionGivesTheSameBits) {
   DCM::Cage_deformer<CD::Mean_value_coordinates_3> cd{CD::Mean_value_coordinates_3(cage)};
   DCM::Deformable_compact_model dcm(m);
   cd.bind(dcm.base_vertices());
+  // A level the reconstruction refuses is refused before anything is built.
+  EXPECT_THROW(DCM::Deformable_reconstruction(m, -1), CMGeom::Invalid_input);
+  EXPECT_THROW(DCM::Deformable_reconstruction(m, 13), CMGeom::Invalid_input);
   // Levels 0 and 1 have no face points (0 also no edge points), level 2's edges and faces hold 3
   // (mapped four edges or faces at a time), level 5's faces 465 (four points at a time).
   for (const int level : {0, 1, 2, 3, 5}) {

@@ -28,10 +28,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <type_traits>
 #include <unordered_map>
 #include <utility>
@@ -263,6 +265,24 @@ inline void edge_map_weights(double t, double* wn) {
   wn[1] = wb / sum;
 }
 
+// Those weights at every point of regular reconstruction at step 1/n, the same for every base
+// edge and face: `edge` holds 2 per point k = 1 .. n-1 of an edge (from a to b), `face` 3 per
+// interior point of a face in output order (rows j = 1 .. n-2, i = 1 .. n-1-j). Built once per
+// reconstruction (or per Deformable_reconstruction) instead of once per edge and face.
+struct Map_weight_tables {
+  std::size_t n;
+  std::vector<double> edge, face;
+  explicit Map_weight_tables(std::size_t steps) : n(steps), edge(2 * (steps - 1)) {
+    for (std::size_t k = 1; k < n; ++k) edge_map_weights(double(k) / double(n), &edge[2 * (k - 1)]);
+    face.resize(n > 1 ? 3 * ((n - 1) * (n - 2) / 2) : 0);
+    std::size_t k = 0;
+    for (std::size_t j = 1; j + 1 < n; ++j)
+      for (std::size_t i = 1; i + j < n; ++i, ++k)
+        face_map_weights(double(n - i - j) / double(n), double(i) / double(n), double(j) / double(n), &face[3 * k]);
+  }
+  std::size_t bytes() const { return (edge.size() + face.size()) * sizeof(double); }
+};
+
 #ifdef CMGEOM_CM_SIMD_ROWS
 namespace simd {
 // The maps of apply_vertex_maps_lanes(): every lane the same K maps (broadcast)...
@@ -484,9 +504,11 @@ void apply_vertex_maps_across(const std::vector<Vertex_affine_map>& maps, const 
 template <class Traits>
 class Evaluator {
 public:
+  // `map_weights` (the tables of the level, needed with maps by along_normal_face() and
+  // edge_points()) must outlive the evaluator.
   Evaluator(const Compact_model& m, const Base_topology& topo, const Traits& traits, Projection proj,
-            const std::vector<Vertex_affine_map>* maps = nullptr)
-      : m_(m), topo_(topo), traits_(traits), proj_(proj), maps_(maps) {
+            const std::vector<Vertex_affine_map>* maps = nullptr, const Map_weight_tables* map_weights = nullptr)
+      : m_(m), topo_(topo), traits_(traits), proj_(proj), maps_(maps), map_weights_(map_weights) {
     if (maps_ && maps_->size() != m.vertices.size())
       throw Invalid_input("reconstruction: " + std::to_string(maps_->size()) + " vertex maps for " +
                           std::to_string(m.vertices.size()) + " base vertices");
@@ -556,22 +578,16 @@ public:
 #endif
       for (std::size_t j = 1, k = 0; j + 1 < n; k += n - 1 - j, ++j) along_normal_row_scalar(f, j, n, pts + k, nrm + k);
     if (!maps_) return;
-    // The maps with apply_face_maps()'s weights, a chunk of points at a time.
+    // The maps with apply_face_maps()'s weights (the level's table).
     const auto& F = m_.faces[f];
     const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
-    constexpr std::size_t chunk = 64;
-    double w[3 * chunk];
-    const std::size_t total = (n - 1) * (n - 2) / 2;
-    std::size_t k = 0, first = 0;
-    for (std::size_t j = 1; j + 1 < n; ++j)
-      for (std::size_t i = 1; i + j < n; ++i, ++k) {
-        face_map_weights(double(n - i - j) / double(n), double(i) / double(n), double(j) / double(n),
-                         w + 3 * (k - first));
-        if (k + 1 - first == chunk || k + 1 == total) {
-          apply_shared_vertex_maps<3>(*maps_, v, w, k + 1 - first, pts + first, nrm + first, pts + first, nrm + first);
-          first = k + 1;
-        }
-      }
+    apply_shared_vertex_maps<3>(*maps_, v, level_weights(n).face.data(), (n - 1) * (n - 2) / 2, pts, nrm, pts, nrm);
+  }
+
+  // The weight tables of step 1/n (given to the constructor).
+  const Map_weight_tables& level_weights(std::size_t n) const {
+    assert(map_weights_ != nullptr && map_weights_->n == n);
+    return *map_weights_;
   }
 
   // on_edge() at t = k / n, k = 1 .. n-1, of base edge ei, written to pts[k - 1] and nrm[k - 1]
@@ -583,16 +599,9 @@ public:
     if (proj_ == Projection::along_normal && simd::has_avx() && !sharp_end(e, e.a) && !sharp_end(e, e.b)) {
       along_normal_edge_avx(ei, n, pts, nrm);
       if (!maps_) return;
-      // The maps with apply_edge_maps()'s weights, a chunk of points at a time.
+      // The maps with apply_edge_maps()'s weights (the level's table).
       const std::uint32_t v[2] = {e.a, e.b};
-      constexpr std::size_t chunk = 64;
-      double w[2 * chunk];
-      for (std::size_t first = 1; first < n; first += chunk) {
-        const std::size_t count = std::min(chunk, n - first);
-        for (std::size_t k = 0; k < count; ++k) edge_map_weights(double(first + k) / double(n), w + 2 * k);
-        apply_shared_vertex_maps<2>(*maps_, v, w, count, pts + first - 1, nrm + first - 1, pts + first - 1,
-                                    nrm + first - 1);
-      }
+      apply_shared_vertex_maps<2>(*maps_, v, level_weights(n).edge.data(), n - 1, pts, nrm, pts, nrm);
       return;
     }
 #endif
@@ -924,6 +933,7 @@ private:
   Traits traits_;
   Projection proj_;
   const std::vector<Vertex_affine_map>* maps_;
+  const Map_weight_tables* map_weights_;
 };
 
 // body(begin, end) over consecutive blocks of [0, n): per-block scratch memory lives in the body.
@@ -974,8 +984,11 @@ void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
     throw Invalid_input("reconstruction level must be in [0, 12], got " + std::to_string(level));
   m.validate();
   const internal::Base_topology topo(m);
-  const internal::Evaluator<Traits> ev(m, topo, traits, opt.projection, opt.vertex_maps);
   const std::size_t n = std::size_t(1) << level, V = m.vertices.size(), E = topo.edges.size(), F = m.faces.size();
+  std::optional<internal::Map_weight_tables> map_weights;
+  if (opt.vertex_maps) map_weights.emplace(n);
+  const internal::Evaluator<Traits> ev(m, topo, traits, opt.projection, opt.vertex_maps,
+                                       map_weights ? &*map_weights : nullptr);
   const std::size_t per_edge = n - 1, per_face = (n - 1) * (n - 2) / 2;
   const std::size_t edge_base = V, face_base = V + E * per_edge;
   // Large outputs fault in huge pages where the kernel gives them (internal/huge_pages.h).

@@ -115,26 +115,17 @@ public:
   Deformable_reconstruction(const CM::Compact_model& m, int level,
                             CM::Reconstruction_options opt = CM::Reconstruction_options(),
                             const Traits& traits = Traits())
-      : parallel_(opt.parallel) {
-    opt.vertex_maps = nullptr;
-    rest_ = CM::reconstruct_regular(m, level, opt, traits);
+      // reconstruct_regular() checks the level before the weight tables are made
+      : parallel_(opt.parallel),
+        rest_(CM::reconstruct_regular(m, level, without_maps(opt), traits)),
+        weights_(std::size_t(1) << level) {
     // Same layout and the same weights as CM::reconstruct_regular's evaluator.
     const CM::internal::Base_topology topo(m);
-    n_ = std::size_t(1) << level;
     vertices_ = m.vertices.size();
     edges_.reserve(2 * topo.edges.size());
     for (const auto& e : topo.edges) edges_.insert(edges_.end(), {e.a, e.b});
     faces_.reserve(3 * m.faces.size());
     for (const auto& f : m.faces) faces_.insert(faces_.end(), {f[0].vertex, f[1].vertex, f[2].vertex});
-    edge_weights_.resize(2 * (n_ - 1));
-    for (std::size_t k = 1; k < n_; ++k)
-      CM::internal::edge_map_weights(double(k) / double(n_), &edge_weights_[2 * (k - 1)]);
-    face_weights_.resize(3 * (n_ > 1 ? (n_ - 1) * (n_ - 2) / 2 : 0));
-    std::size_t k = 0;
-    for (std::size_t j = 1; j + 1 < n_; ++j)
-      for (std::size_t i = 1; i + j < n_; ++i, ++k)
-        CM::internal::face_map_weights(double(n_ - i - j) / double(n_), double(i) / double(n_), double(j) / double(n_),
-                                       &face_weights_[3 * k]);
   }
 
   const CM::Reconstruction& rest() const { return rest_; }
@@ -151,7 +142,7 @@ public:
     if (out.triangles.size() != rest_.triangles.size() || out.points.size() != R) {
       out = rest_;
     }
-    const std::size_t per_edge = n_ - 1, per_face = face_weights_.size() / 3;
+    const std::size_t per_edge = weights_.n - 1, per_face = weights_.face.size() / 3;
     const std::size_t E = edges_.size() / 2, F = per_face > 0 ? faces_.size() / 3 : 0;
     const std::size_t edge_base = vertices_, face_base = vertices_ + E * per_edge;
     const CM::Vec3* rp = rest_.points.data();
@@ -180,11 +171,11 @@ public:
                                                   on + first);
       } else if (t < vertex_tasks + edge_tasks) {
         const std::size_t first = (t - vertex_tasks) * edges_per_task;
-        blend_elements<2>(maps, edges_.data(), edge_weights_.data(), first, std::min(E, first + edges_per_task),
+        blend_elements<2>(maps, edges_.data(), weights_.edge.data(), first, std::min(E, first + edges_per_task),
                           per_edge, edge_base, rp, rn, op, on);
       } else {
         const std::size_t first = (t - vertex_tasks - edge_tasks) * faces_per_task;
-        blend_elements<3>(maps, faces_.data(), face_weights_.data(), first, std::min(F, first + faces_per_task),
+        blend_elements<3>(maps, faces_.data(), weights_.face.data(), first, std::min(F, first + faces_per_task),
                           per_face, face_base, rp, rn, op, on);
       }
     });
@@ -195,10 +186,14 @@ public:
   /// weight tables), bytes.
   std::size_t bytes() const {
     return rest_.points.size() * 2 * sizeof(Vec3) + (edges_.size() + faces_.size()) * sizeof(std::uint32_t) +
-           (edge_weights_.size() + face_weights_.size()) * sizeof(double);
+           weights_.bytes();
   }
 
 private:
+  static CM::Reconstruction_options without_maps(CM::Reconstruction_options opt) {
+    opt.vertex_maps = nullptr;
+    return opt;
+  }
   // The blend of base edges or faces (K = 2 or 3 base vertices each, corners[K e ..]) first ..
   // last-1, whose `per` points each start at base + per e: a run of four points or more four
   // points at a time, shorter runs four runs at a time.
@@ -219,12 +214,11 @@ private:
   }
 
   bool parallel_;
-  std::size_t n_ = 1, vertices_ = 0;
+  std::size_t vertices_ = 0;
   CM::Reconstruction rest_;
-  std::vector<std::uint32_t> edges_;  // 2 base vertices per base edge
-  std::vector<std::uint32_t> faces_;  // 3 base vertices per base face
-  std::vector<double> edge_weights_;  // 2 per point k = 1 .. n-1 of an edge, from a to b
-  std::vector<double> face_weights_;  // 3 per interior point of a face, in output order
+  std::vector<std::uint32_t> edges_;         // 2 base vertices per base edge
+  std::vector<std::uint32_t> faces_;         // 3 base vertices per base face
+  CM::internal::Map_weight_tables weights_;  // of this level
 };
 
 }  // namespace DCM
