@@ -61,6 +61,18 @@ struct has_before_collapse<C, P,
                            std::void_t<decltype(std::declval<const C&>().before_collapse(std::declval<const P&>()))>>
     : std::true_type {};
 
+// The token a cost policy's before_collapse returns (No_collapse_token when it has none), found
+// outside the engine's class so that the class need not be complete to name it.
+struct No_collapse_token {};
+template <class C, class P, bool = has_before_collapse<C, P>::value>
+struct collapse_token {
+  using type = No_collapse_token;
+};
+template <class C, class P>
+struct collapse_token<C, P, true> {
+  using type = std::decay_t<decltype(std::declval<const C&>().before_collapse(std::declval<const P&>()))>;
+};
+
 template <class C, bool = has_Cost_depends_on_endpoints_only<C>::value>
 struct endpoint_cost : std::false_type {};
 template <class C>
@@ -166,7 +178,7 @@ private:
   void initialize_cost(B) {}
   void initialize_cost(std::true_type) { get_cost_.initialize(tm_, vpm_, gt_); }
   void after_collapse(const Profile&, vertex_descriptor, std::false_type) {}
-  struct No_token {};
+  using No_token = No_collapse_token;
   No_token before_collapse(const Profile&, std::false_type) const { return {}; }
   auto before_collapse(const Profile& p, std::true_type) const { return get_cost_.before_collapse(p); }
   void after_collapse(const Profile& p, vertex_descriptor v, No_token) {
@@ -567,9 +579,8 @@ private:
   static constexpr bool has_memory = !std::is_same<Memory, std::nullptr_t>::value;
   static constexpr bool fused_cost = has_fused_cost<GetCost, GetPlacement, Profile>::value;
   static constexpr bool edge_index_is_position = is_surface_mesh<TM>::value;
-  using Token_type = decltype(std::declval<const Edge_collapse_engine&>().before_collapse(
-      std::declval<const Profile&>(),
-      std::integral_constant<bool, has_update<GetCost>::value && has_before_collapse<GetCost, Profile>::value>()));
+  using Token_type =
+      std::conditional_t<has_update<GetCost>::value, typename collapse_token<GetCost, Profile>::type, No_token>;
   static constexpr bool normal_hint =
       has_update<GetCost>::value && has_normal_hint<GetCost, Profile, vertex_descriptor, Token_type>::value;
   bool fused_ = false;  // the cost policy computes the placement policy's placement itself

@@ -56,8 +56,8 @@ void build_triangle_mesh(CGAL::Surface_mesh<Point>& m, const std::vector<Point>&
     for (std::size_t j = 0; j < 3; ++j) {
       const std::size_t e = sides[3 * i + j];
       if (used[e] == 2) throw std::logic_error("build_triangle_mesh: an edge with more than two sides");
-      const H h(size_type(2 * e + used[e]++));
-      const V v(size_type(corners[3 * i + (j + 1) % 3]));
+      const H h(static_cast<size_type>(2 * e + used[e]++));
+      const V v(static_cast<size_type>(corners[3 * i + (j + 1) % 3]));
       m.set_target(h, v);
       m.set_face(h, f);
       m.set_halfedge(v, h);
@@ -221,7 +221,7 @@ Mesh_part<Point> make_part(const CGAL::Surface_mesh<Point>& m, std::uint32_t k, 
   std::vector<std::uint32_t> corners(3 * faces.size()), sides(3 * faces.size());
   std::uint32_t edges = 0;
   for (std::size_t i = 0; i < faces.size(); ++i) {
-    const F f(typename Mesh::size_type(faces[i]));
+    const F f(static_cast<typename Mesh::size_type>(faces[i]));
     std::array<H, 3> hs;
     hs[0] = m.halfedge(f);
     hs[1] = m.next(hs[0]);
@@ -379,7 +379,7 @@ Merged_parts<Point> merge_parts(const std::vector<Mesh_part<Point>>& parts, std:
     out.face[k].assign(pm.num_faces(), no_index);
     for (std::size_t i = 0; i < live_faces[k].size(); ++i) {
       const std::size_t id = face_start[k] + i;
-      const typename Mesh::Face_index f(typename Mesh::size_type(live_faces[k][i]));
+      const typename Mesh::Face_index f(static_cast<typename Mesh::size_type>(live_faces[k][i]));
       out.face[k][std::size_t(f)] = std::uint32_t(id);
       H h = pm.halfedge(f);
       for (std::size_t j = 0; j < 3; ++j, h = pm.next(h)) {
