@@ -87,10 +87,9 @@ if [[ "${1:-}" != "--no-sanitizers" ]]; then
   stage_done "ASan + UBSan tests"
 
   if [[ "${CMGEOM_TSAN:-1}" != "0" ]]; then
-    # ThreadSanitizer on the test programs whose code runs in parallel (TBB): Metrics,
-    # Compact_model, Cage_deformation, and the texture work of Textured_simplification (its
-    # texture tests, thread tests included, a small program of their own). Only these targets are built (a whole second sanitizer
-    # build does not fit the CI time budget); the single-threaded code is covered by ASan above.
+    # ThreadSanitizer on test programs whose code runs in parallel (TBB). Only these targets are
+    # built (a whole second sanitizer build does not fit the CI time budget); the single-threaded
+    # code is covered by ASan above.
     # oneTBB's scheduler is replaced by test/Reliability/tsan_tbb_runtime.cpp in this build (the
     # system libtbb is not instrumented; see that file), and the check below makes sure no call
     # falls through to libtbb. Known races outside CMGeom: test/Reliability/tsan.supp.
@@ -118,10 +117,11 @@ if [[ "${1:-}" != "--no-sanitizers" ]]; then
     echo "== tests under ThreadSanitizer (2 threads) =="
     # The CTest names of the tests of these programs (GoogleTest suites they contain).
     suites=$(gtest_suites build-tsan "${tsan_targets[@]}")
-    # Five Compact_model tests are left to the Release run: they build CMs of the shared models again
-    # and again (a vertex budget filled, error and byte bounds met, the joint refit on fandisk and on
-    # the trim star), 200 s of CPU here, mostly in serial fitting code; the parallel code they reach
-    # (reconstruction, error measurement) runs here in the package's other tests.
+    # With CMGEOM_TSAN_ALL=1, five Compact_model tests are still left to the Release run: they build
+    # CMs of the shared models again and again (a vertex budget filled, error and byte bounds met,
+    # the joint refit on fandisk and on the trim star), 200 s of CPU here, mostly in serial fitting
+    # code; the parallel code they reach (reconstruction, error measurement) runs here in the
+    # package's other tests.
     TSAN_OPTIONS="suppressions=$root/test/Reliability/tsan.supp:halt_on_error=1:second_deadlock_stack=1" \
     CMGEOM_TSAN_TBB_THREADS=2 \
       ctest --test-dir build-tsan --output-on-failure -j "$jobs" -R "^($suites)\." \
