@@ -5,7 +5,8 @@
 // vertex, to the same simplification run to that level alone), their errors grow level by level,
 // bad targets are refused, and in shared-texture mode every level addresses one atlas in which the
 // original's texture coordinates read the original's colours, also where parts of a model fold
-// onto one place of the coarsest level (the collapse history keeps each point on its own part).
+// onto one place of the coarsest level (the collapse history keeps each point on its own part) or
+// stand steep against it (overflow charts).
 #include "cmgeom_test_config.h"
 
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
@@ -19,11 +20,14 @@
 
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 
+#include <Eigen/SVD>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -293,11 +297,14 @@ TEST(LevelOfDetail, CollapseHistoryKeepsEveryPointOnItsOwnPart) {
   EXPECT_GT(nearest_wrong, checked / 20) << "the case does not fold: the test shows nothing";
 }
 
-// On the folding models (a label over a bottle, a visor over a helmet), down to 1 % the shared
-// atlas hides less than a tenth of the input's texels (a closest-point mapping hid 34 % and 17 %:
-// it put the parts of different components on one place of the coarsest level).
-TEST(LevelOfDetail, SharedTextureKeepsFoldingPartsApart) {
-  for (const char* name : {"WaterBottle/WaterBottle.obj", "DamagedHelmet/DamagedHelmet.obj"}) {
+// On the folding models (a label over a bottle, a visor over a helmet) and a knot whose coarsest
+// level (1 %) flattens its tube, the input mapped into the shared atlas reads its own colours much
+// better with overflow charts (the parts the coarsest level's atlas squashes or hides get charts
+// of their own in a strip under it) than without, and hides less; the coarsest level never
+// addresses the strip, and every level still addresses the one atlas.
+TEST(LevelOfDetail, OverflowChartsGiveSquashedAndHiddenPartsTheirOwnTexels) {
+  for (const char* name :
+       {"WaterBottle/WaterBottle.obj", "DamagedHelmet/DamagedHelmet.obj", "texturedknot/texturedknot.obj"}) {
     SCOPED_TRACE(name);
     const std::string path = std::string(CMGEOM_DATA_DIR) + "/textured/" + name;
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
@@ -310,13 +317,79 @@ TEST(LevelOfDetail, SharedTextureKeepsFoldingPartsApart) {
     o.target_faces = {n, n / 4, n / 20, n / 100};
     o.shared_texture = true;
     o.measure_error = false;
+    o.overflow_charts = false;
+    const TS::Level_of_detail_result plain = TS::simplify_to_levels(input, o);
+    o.overflow_charts = true;
     const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
     ASSERT_EQ(r.levels.size(), 4u);
+    const double d_plain = mean_colour_difference(plain.levels[0].mesh, input);
     const double d = mean_colour_difference(r.levels[0].mesh, input);
-    std::cout << name << ": hidden " << r.shared_texture_hidden << ", mean colour difference at the input level " << d
-              << "\n";
-    EXPECT_LT(r.shared_texture_hidden, 0.10);
+    std::cout << name << ": hidden " << plain.shared_texture_hidden << " -> " << r.shared_texture_hidden
+              << ", mean colour difference at the input level " << d_plain << " -> " << d << ", area relocated "
+              << r.shared_texture_relocated << ", strip " << r.shared_texture_overflow << " of the atlas\n";
+    EXPECT_LT(r.shared_texture_hidden, 0.05);
+    EXPECT_LE(r.shared_texture_hidden, plain.shared_texture_hidden);
+    EXPECT_LT(d, 0.8 * d_plain) << "the overflow charts do not bring the input's colours back";
+    ASSERT_GT(r.shared_texture_overflow, 0.0);
+    EXPECT_LE(r.shared_texture_overflow, 0.5);
+    // one image for every level, as tall as the atlas and its strip
+    const CMGeom::Image& atlas = r.levels.back().mesh.materials().at(0).diffuse_image;
+    const CMGeom::Image& base = plain.levels.back().mesh.materials().at(0).diffuse_image;
+    EXPECT_EQ(atlas.width(), base.width());
+    EXPECT_EQ(atlas.height(), int(std::lround(base.height() * (1 + r.shared_texture_overflow))));
+    EXPECT_EQ(r.levels.back().atlas.texture_height, atlas.height());
+    for (const auto& l : r.levels) {
+      ASSERT_EQ(l.mesh.materials().size(), 1u);
+      EXPECT_TRUE(l.mesh.materials()[0].diffuse_image == atlas);
+    }
+    // the coarsest level stays above the strip; the input level has faces in it
+    const double strip_top = double(atlas.height() - base.height()) / atlas.height();
+    std::size_t in_strip = 0;
+    for (std::size_t i = 0; i < r.levels.size(); ++i) {
+      const auto& tm = r.levels[i].mesh;
+      for (auto f : tm.mesh().faces()) {
+        bool below = true;
+        for (auto h : CGAL::halfedges_around_face(tm.mesh().halfedge(f), tm.mesh())) {
+          const Point_2 t = tm.uv(h);
+          ASSERT_TRUE(t.x() > -0.01 && t.x() < 1.01 && t.y() > -0.01 && t.y() < 1.01) << "UV " << t << " level " << i;
+          if (i + 1 == r.levels.size()) ASSERT_GE(t.y(), strip_top - 1e-9) << "the coarsest level reads the strip";
+          below = below && t.y() < strip_top;
+        }
+        if (i == 0) in_strip += below;
+      }
+    }
+    EXPECT_GT(in_strip, 0u);
   }
+}
+
+// least_texels_per_unit() is the smallest singular value of the map from a triangle's plane to
+// its texels: triangles placed anywhere in space, mapped by known 2 x 2 matrices, against Eigen's SVD.
+TEST(LevelOfDetail, LeastTexelsPerUnitIsTheSmallestStretch) {
+  using V3 = CMGeom::CM::internal::Vec3;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    // an orthonormal frame (e1, e2) of a random plane, and a triangle in it
+    const V3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
+    const V3 e1 = CMGeom::CM::internal::normalized(a);
+    const V3 e2 = CMGeom::CM::internal::normalized(b - CMGeom::CM::internal::dot(b, e1) * e1);
+    const V3 o(u(rng), u(rng), u(rng));
+    std::array<std::array<double, 2>, 3> q = {{{{0, 0}}, {{u(rng) + 2, u(rng)}}, {{u(rng), u(rng) + 2}}}};
+    std::array<V3, 3> p;
+    for (int k = 0; k < 3; ++k) p[std::size_t(k)] = o + q[std::size_t(k)][0] * e1 + q[std::size_t(k)][1] * e2;
+    Eigen::Matrix2d A;
+    A << 50 * u(rng), 50 * u(rng), 50 * u(rng), 50 * u(rng);
+    std::array<TS::UV2, 3> t;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d x = A * Eigen::Vector2d(q[std::size_t(k)][0], q[std::size_t(k)][1]) + Eigen::Vector2d(3, 4);
+      t[std::size_t(k)] = {{x[0], x[1]}};
+    }
+    const double expected = Eigen::JacobiSVD<Eigen::Matrix2d>(A).singularValues()[1];
+    EXPECT_NEAR(TS::internal::least_texels_per_unit(p, t), expected, 1e-6 * (1 + expected));
+  }
+  // a degenerate triangle has no stretch to speak of
+  const std::array<V3, 3> line = {{V3(0, 0, 0), V3(1, 0, 0), V3(2, 0, 0)}};
+  EXPECT_EQ(TS::internal::least_texels_per_unit(line, {{{{0, 0}}, {{1, 0}}, {{0, 1}}}}), 0.0);
 }
 
 // The texels inside the UV triangles of `tm`'s faces (W x H, row y from the bottom).

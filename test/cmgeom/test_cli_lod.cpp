@@ -66,6 +66,17 @@ TEST(cmgeom_cli, LodWritesOneGlbNodePerLevelListedByMsftLod) {
       if (i > 0) EXPECT_LT(faces[i], faces[i - 1]);
       // level 0 keeps the input's texture unless one atlas serves all levels
       EXPECT_EQ(l["texture_width"].get<int>() > 0, shared || i > 0) << l;
+      EXPECT_EQ(l["texture_height"].get<int>() > 0, shared || i > 0) << l;
+      // one atlas: every level reports its size, the strip of overflow charts included
+      if (shared) EXPECT_EQ(l["texture_height"], levels[2]["texture_height"]) << l;
+    }
+    if (shared) {
+      // the strip's share of the atlas, and the share of the input's area given charts there
+      const double overflow = report["shared_texture_overflow"].get<double>();
+      EXPECT_GE(overflow, 0.0);
+      EXPECT_LE(overflow, 0.5);
+      EXPECT_GE(report["shared_texture_relocated"].get<double>(), 0.0);
+      EXPECT_LE(report["shared_texture_relocated"].get<double>(), 1.0);
     }
     EXPECT_EQ(faces[0], faces_in);
 
@@ -154,6 +165,8 @@ TEST(cmgeom_cli, LodRefusalsNameTheProblemAndWriteNothing) {
       {duck, "-o {out}/x.glb --max-errors 0.01,0.01", 1, "--max-errors: the bounds must increase strictly"},
       {duck, "-o {out}/x.glb --ratios 1,0.25 --faces 1000", 2, "--ratios excludes --faces"},
       {sphere, "-o {out}/x.glb --ratios 1,0.25 --shared-texture", 1, "--shared-texture needs a textured input"},
+      {duck, "-o {out}/x.glb --ratios 1,0.25 --no-overflow-charts", 1,
+       "--no-overflow-charts applies to --shared-texture only"},
       // every file is written or none: an --obj-prefix in a missing folder leaves no GLB behind
       {duck, "-o {out}/x.glb --ratios 1,0.25 --obj-prefix {out}/missing/P", 1, "does not exist"},
   };

@@ -1,12 +1,14 @@
 // cmgeom lod <in> -o <out.glb|out.gltf> (--ratios r1,r2,... | --faces n1,n2,... | --max-errors e1,e2,...)
-//           [--shared-texture]
+//           [--shared-texture [--no-overflow-charts]]
 //           [--policy plain|weighted] [--texture FILE] [--no-texture] [--quantize] [--no-error]
 //           [--obj-prefix PREFIX] [--json]
 // A level-of-detail chain from one simplification run (Textured_simplification/level_of_detail.h):
 // every level is a snapshot of the same collapse sequence, written as one glTF node per level
 // (the finest in the scene, the others listed by its MSFT_lod extension, each node's error in its
 // extras). A textured input gets an atlas per level, or with --shared-texture one atlas that every
-// level addresses. --obj-prefix also writes each level as PREFIX_<k>.obj (with its MTL and PNG).
+// level addresses (with a strip of overflow charts for the parts of the input the coarsest level's
+// atlas squashes or hides, unless --no-overflow-charts). --obj-prefix also writes each level as PREFIX_<k>.obj (with
+// its MTL and PNG).
 #include "cli_common.h"
 #include "collapse_progress.h"
 
@@ -50,7 +52,8 @@ std::vector<T> parse_list(const std::string& text, const char* option) {
 CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per level) from one simplification run") {
   struct Options {
     std::string input, output, ratios, faces, max_errors, policy = "plain", texture, obj_prefix;
-    bool shared_texture = false, no_texture = false, no_error = false, json = false, no_repair = false;
+    bool shared_texture = false, no_overflow_charts = false, no_texture = false, no_error = false, json = false,
+         no_repair = false;
     CMGeom::IO::Gltf_options gltf;
   };
   auto o = std::make_shared<Options>();
@@ -73,6 +76,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   faces->excludes(errors);
   app.add_flag("--shared-texture", o->shared_texture,
                "Textured input: one atlas (made for the coarsest level) that every level addresses");
+  app.add_flag("--no-overflow-charts", o->no_overflow_charts,
+               "With --shared-texture: parts of the input hidden by another part in the shared atlas keep the other "
+               "part's colours instead of getting their own copies in a strip under the atlas");
   app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default) or weighted (thesis §3.4.2)")
       ->check(CLI::IsMember({"weighted", "plain"}));
   app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
@@ -119,6 +125,8 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     bool has_image = false;
     for (const auto& m : tm.materials()) has_image |= !m.diffuse_image.empty();
     const bool textured = tm.has_uvs() && has_image;
+    if (o->no_overflow_charts && !o->shared_texture)
+      throw CMGeom::Invalid_input("--no-overflow-charts applies to --shared-texture only");
     if (o->shared_texture && !textured)
       throw CMGeom::Invalid_input(o->input +
                                   ": --shared-texture needs a textured input (UVs and a texture; see --texture)");
@@ -158,6 +166,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
             std::to_string(lo.target_faces[i]) + ")");
     lo.quadric.weighted = o->policy == "weighted";
     lo.shared_texture = o->shared_texture;
+    lo.overflow_charts = !o->no_overflow_charts;
     lo.measure_error = !o->no_error;
 
     // (levels by error: the run's end is not known in advance; the bar counts towards one face, and
@@ -205,7 +214,11 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       j["textured"] = textured;
       j["shared_texture"] = o->shared_texture;
       j["policy"] = o->policy;
-      if (o->shared_texture) j["shared_texture_hidden"] = r.shared_texture_hidden;
+      if (o->shared_texture) {
+        j["shared_texture_hidden"] = r.shared_texture_hidden;
+        j["shared_texture_relocated"] = r.shared_texture_relocated;
+        j["shared_texture_overflow"] = r.shared_texture_overflow;
+      }
       if (!lo.max_errors.empty()) j["max_errors"] = lo.max_errors;
       auto& arr = j["levels"] = nlohmann::ordered_json::array();
       for (std::size_t i = 0; i < r.levels.size(); ++i) {
@@ -225,6 +238,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
         }
         if (textured) {
           e["texture_width"] = l.is_input && !o->shared_texture ? 0 : l.atlas.texture_width;
+          e["texture_height"] = l.is_input && !o->shared_texture ? 0 : l.atlas.texture_height;
           e["charts"] = l.atlas.charts;
         }
         arr.push_back(e);

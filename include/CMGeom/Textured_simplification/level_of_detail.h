@@ -12,7 +12,10 @@
 // collapse history (Collapse_history): each of its vertices and faces is followed down the
 // collapses to the coarse face its part of the surface became, then placed on the nearest face
 // around it; so parts that fold onto one place of the coarsest level (a label over a bottle) keep
-// apart. Each level's geometric error is measured unless `measure_error` is false.
+// apart. The parts of the input that this projection squashes (steep against the coarse face they
+// became) or hides get charts of their own in a strip added under the atlas, which the finer levels'
+// faces standing for them address (`overflow_charts`, internal/atlas_layers.h). Each level's
+// geometric error is measured unless `measure_error` is false.
 //
 // Manual: doc/Textured_simplification/README.md, "Levels of detail from one run, and one texture for all of them".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_LEVEL_OF_DETAIL_H
@@ -26,6 +29,7 @@
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
 #include <CMGeom/Textured_simplification/simplify_mesh.h>
+#include <CMGeom/Textured_simplification/internal/atlas_layers.h>
 #include <CMGeom/Textured_simplification/internal/collapse_history.h>
 
 #include <CGAL/boost/graph/copy_face_graph.h>
@@ -77,6 +81,11 @@ struct Level_of_detail_options {
   /// Shared texture: a corner past its chart's border is extended over it by at most this
   /// fraction of the coarse face it is projected on (barycentric coordinates >= -this).
   double max_extrapolation = internal::default_max_extrapolation;
+  /// Shared texture: parts of the input that the coarsest level's atlas squashes (steep against
+  /// the coarse face they became) or hides (folded under another part) get charts of their own, in
+  /// a strip added under the atlas, which the finer levels address (internal/atlas_layers.h);
+  /// false: the finer levels show them as the atlas has them.
+  bool overflow_charts = true;
   /// Measure every level's error against the input (Metrics::approximation_error).
   bool measure_error = true;
   /// Samples per direction of that measure; 0: 2 x the input's face count.
@@ -102,6 +111,10 @@ struct Level_of_detail_result {
   /// original took (parts that fold onto one place of the coarsest level, e.g. a label over a
   /// bottle on a 45-face bottle); those parts show the other part's colours at every level.
   double shared_texture_hidden = 0;
+  /// Shared texture: the share of the input's area given overflow charts (parts the atlas squashes
+  /// or hides get charts of their own, in a strip under the atlas, which the finer levels address;
+  /// internal/atlas_layers.h), and the height that strip adds to the atlas, as a fraction of its own.
+  double shared_texture_relocated = 0, shared_texture_overflow = 0;
   double seconds = 0;
 };
 
@@ -366,18 +379,42 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       Textured_mesh& original = kept > 0 ? res.levels.front().mesh : *original_copy;
       const std::vector<std::uint32_t>& on_coarsest = meshes.back().face_of_point;
       int atlas_width = 0, atlas_height = 0;
+      internal::Face_texels input_texels;
       const internal::Atlas_painter painter = [&](const Textured_mesh& coarse, internal::Atlas_paint& paint) {
         atlas_width = paint.colours.width();
         atlas_height = paint.colours.height();
-        res.shared_texture_hidden = paint_input_onto(coarse, original, on_coarsest, paint);
+        res.shared_texture_hidden =
+            internal::paint_input_onto(*source, input_points, coarse, original, on_coarsest, options.max_extrapolation,
+                                       ao.gutter_texels, paint, &input_texels);
       };
       coarsest.atlas = rebuild_atlas(*source, coarsest.mesh, ao, &painter);
+      // the parts of the input the atlas serves poorly get charts of their own (atlas_layers.h)
+      internal::Atlas_layers layers;
+      if (options.overflow_charts)
+        layers = internal::add_overflow_charts(*source, coarsest.mesh, original, input_texels,
+                                               coarsest.atlas.texels_per_unit, ao);
+      if (layers.strip_height > 0) {
+        atlas_height += layers.strip_height;
+        coarsest.atlas.texture_height = atlas_height;
+        internal::move_to_layered_atlas(original, layers);
+        internal::input_into_overflow(original, layers);
+        std::size_t covered = 0, still_hidden = 0;
+        for (std::size_t j = 0; j < input_texels.covered.size(); ++j) {
+          covered += input_texels.covered[j];
+          if (layers.chart_of_input_face[j] < 0) still_hidden += input_texels.covered[j] - input_texels.won[j];
+        }
+        res.shared_texture_hidden = covered > 0 ? double(still_hidden) / double(covered) : 0.0;
+        res.shared_texture_relocated = layers.area_share;
+        res.shared_texture_overflow = double(layers.strip_height) / double(layers.base_height);
+      }
       original.materials() = coarsest.mesh.materials();
       for (std::size_t i = 1; i < kept; ++i) res.levels[i].mesh = original;
       tbb::parallel_for(kept, res.levels.size() - 1, [&](std::size_t i) {
         const internal::Level_snapshot& points = meshes[i - kept];
         internal::map_by_history(coarsest.mesh, res.levels[i].mesh, points.vertex_point, points.face_point, on_coarsest,
                                  options.max_extrapolation, border_texels, atlas_width, atlas_height);
+        internal::level_into_overflow(res.levels[i].mesh, layers, input.mesh(), input_points.face_point,
+                                      points.face_of_point, options.max_extrapolation);
       });
       for (std::size_t i = 0; i + 1 < res.levels.size(); ++i) res.levels[i].atlas = coarsest.atlas;
     } else {

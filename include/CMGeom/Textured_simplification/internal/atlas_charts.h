@@ -246,13 +246,14 @@ inline bool parameterize_chart(const Surface_mesh& m, Atlas_chart& chart) {
 /// folds or overlaps: a chart whose LSCM map is not bijective is grown again over its own faces
 /// with a narrower cone (half the angle, twice at most), then split into lone triangles.
 inline std::vector<Atlas_chart> make_charts(const Surface_mesh& m, const std::vector<Vector_3>& normal,
-                                            const std::vector<double>& area, double cone_degrees) {
+                                            const std::vector<double>& area, double cone_degrees,
+                                            const std::vector<std::uint32_t>& subset = {}) {
   std::vector<Atlas_chart> done;
   struct Pending {
     std::vector<std::uint32_t> faces;
     double degrees;
   };
-  std::vector<Pending> work{{{}, cone_degrees}};
+  std::vector<Pending> work{{subset, cone_degrees}};
   bool first = true;
   while (!work.empty()) {
     std::vector<Atlas_chart> candidates;

@@ -266,6 +266,29 @@ inline std::vector<std::uint32_t> renumbered_faces(Surface_mesh& mesh,
   return out;
 }
 
+/// The texture coordinates of point p under the affine map of triangle t (corner coordinates uv),
+/// from p's projection on t's plane, barycentric coordinates clamped to >= -extend.
+inline Point_2 extended_uv(const std::array<CM::internal::Vec3, 3>& t, const std::array<Point_2, 3>& uv,
+                           const CM::internal::Vec3& p, double extend) {
+  using CM::internal::dot;
+  const auto e1 = t[1] - t[0], e2 = t[2] - t[0], e = p - t[0];
+  const double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2), d1 = dot(e, e1), d2 = dot(e, e2);
+  const double den = d11 * d22 - d12 * d12;
+  std::array<double, 3> w{{1.0 / 3, 1.0 / 3, 1.0 / 3}};
+  if (den > 0 && std::isfinite(den)) {
+    const double w1 = (d22 * d1 - d12 * d2) / den, w2 = (d11 * d2 - d12 * d1) / den;
+    w = {{1 - w1 - w2, w1, w2}};
+    double sum = 0;
+    for (double& x : w) {
+      x = (std::max)(x, -extend);
+      sum += x;
+    }
+    for (double& x : w) x /= sum;
+  }
+  return Point_2(w[0] * uv[0].x() + w[1] * uv[1].x() + w[2] * uv[2].x(),
+                 w[0] * uv[0].y() + w[1] * uv[1].y() + w[2] * uv[2].y());
+}
+
 /// Gives `fine` texture coordinates in the atlas of `coarse` (see the file comment) and the
 /// coarse mesh's materials. `vertex_point` and `face_point` are the points of the fine mesh's
 /// vertices and faces, `coarse_face_of_point` the coarse face each point lies on (Level_snapshot).
@@ -363,27 +386,7 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
   };
   // texture coordinates of p's projection on coarse face f's plane, barycentric coordinates
   // clamped to >= -extend and renormalised
-  auto uv_on = [&](std::size_t f, const V3& p, double extend) {
-    const auto& t = tri[f];
-    const V3 e1 = t[1] - t[0], e2 = t[2] - t[0], d = p - t[0];
-    const double a11 = CM::internal::dot(e1, e1), a12 = CM::internal::dot(e1, e2), a22 = CM::internal::dot(e2, e2);
-    const double b1 = CM::internal::dot(d, e1), b2 = CM::internal::dot(d, e2);
-    const double det = a11 * a22 - a12 * a12;
-    std::array<double, 3> w{{1.0 / 3, 1.0 / 3, 1.0 / 3}};
-    if (det > 0 && std::isfinite(det)) {
-      const double s = (a22 * b1 - a12 * b2) / det, u = (a11 * b2 - a12 * b1) / det;
-      w = {{1 - s - u, s, u}};
-      double sum = 0;
-      for (double& x : w) {
-        x = std::max(x, -extend);
-        sum += x;
-      }
-      for (double& x : w) x /= sum;
-    }
-    const auto& c = uvs[f];
-    return Point_2(w[0] * c[0].x() + w[1] * c[1].x() + w[2] * c[2].x(),
-                   w[0] * c[0].y() + w[1] * c[1].y() + w[2] * c[2].y());
-  };
+  auto uv_on = [&](std::size_t f, const V3& p, double extend) { return extended_uv(tri[f], uvs[f], p, extend); };
 
   // the fine mesh's vertex normals (area-weighted)
   const std::size_t nf = fm.number_of_faces();
@@ -464,6 +467,10 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
       uv_of[i] = uv_on(nearest_among(around, p), p, max_extrapolation);
     }
   });
+  // kept on the texture: a corner extended past a chart at the atlas' edge would read, with a
+  // repeating sampler, the other side of the atlas
+  for (Point_2& t : uv_of)
+    t = Point_2((std::min)(1.0, (std::max)(0.0, t.x())), (std::min)(1.0, (std::max)(0.0, t.y())));
   for (Face f : fm.faces())
     for (auto h : CGAL::halfedges_around_face(fm.halfedge(f), fm))
       fine.set_uv(h, uv_of[slot.at({std::uint32_t(fm.target(h)), face_chart[std::size_t(f)]})]);
@@ -473,6 +480,12 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
   if (chart_of_face) *chart_of_face = std::move(face_chart);
   if (depth_of_face) *depth_of_face = std::move(face_depth);
 }
+
+/// Per face of a mesh painted into an atlas (paint_atlas_from_original()): the texels of its chart
+/// its rasterisation covers, and those it won (nearest to the coarse surface among the faces there).
+struct Face_texels {
+  std::vector<std::uint32_t> covered, won;
+};
 
 /// Grows a texel labelling over the 4-neighbour grid of a W x H image, one ring at a time, at most
 /// `rings` rings: a texel `is_open` next to a labelled one (`is_labelled`, or labelled in an
@@ -522,11 +535,12 @@ void grow_rings(int W, int H, int rings, const Labelled& is_labelled, const Open
 /// almost exactly, and a coarser level, whose points map to the same atlas points as the original
 /// points they stand for, reads those colours too. Rows are painted in parallel bands. Returns
 /// the fraction of the texels the original's faces cover that went to another face (hidden:
-/// parts of the original that fold onto the same place of the coarse surface).
+/// parts of the original that fold onto the same place of the coarse surface). When given,
+/// `texels_of_face` receives, per original face, the texels of its chart it covers and those it won.
 inline double paint_atlas_from_original(const Atlas_source& source, const Textured_mesh& coarse,
                                         const Textured_mesh& original_mapped, const std::vector<int>& chart_of_face,
-                                        const std::vector<double>& depth_of_face, int gutter_texels,
-                                        Atlas_paint& paint) {
+                                        const std::vector<double>& depth_of_face, int gutter_texels, Atlas_paint& paint,
+                                        Face_texels* texels_of_face = nullptr) {
   Image& image = paint.colours;
   using Face = Surface_mesh::Face_index;
   const int W = image.width(), H = image.height(), C = image.channels();
@@ -625,6 +639,24 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
     covered += band_covered;
     won += band_won;
   });
+  if (texels_of_face) {  // each face's covered texels and those it won, before the growth below
+    texels_of_face->covered.assign(nf, 0);
+    texels_of_face->won.assign(nf, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        std::uint32_t c = 0, w = 0;
+        const int k = chart_of_face[i];
+        rasterize_triangle(tri[i], W, H, [&](int x, int y) {
+          const std::size_t at = std::size_t(y) * std::size_t(W) + std::size_t(x);
+          if (owner[at] != -1 && owner[at] != k) return;
+          ++c;
+          w += faces[at] == std::uint32_t(i + 1);
+        });
+        texels_of_face->covered[i] = c;
+        texels_of_face->won[i] = w;
+      }
+    });
+  }
   // the original's colours grow over the texels of their chart that no original face covered
   // (squashed strips over convex edges, the gutters), where the coarse bake may have found
   // another part of the original (the bottle under a label): up to `gutter_texels` rings
@@ -654,15 +686,17 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
 /// the input's vertices and faces, `on_level`: the face of `level` each point ended on), then its
 /// faces paint their own colours (paint_atlas_from_original()). Returns the share of the input's
 /// texels another part of the input took (parts folding onto one place of `level`).
+/// When given, `texels_of_face` receives each input face's texels (paint_atlas_from_original()).
 inline double paint_input_onto(const Atlas_source& source, const Level_snapshot& input_points,
                                const Textured_mesh& level, Textured_mesh& mapped,
                                const std::vector<std::uint32_t>& on_level, double max_extrapolation, int gutter_texels,
-                               Atlas_paint& paint) {
+                               Atlas_paint& paint, Face_texels* texels_of_face = nullptr) {
   std::vector<int> chart_of_face;
   std::vector<double> depth_of_face;
   map_by_history(level, mapped, input_points.vertex_point, input_points.face_point, on_level, max_extrapolation,
                  0.75 * gutter_texels, paint.colours.width(), paint.colours.height(), &chart_of_face, &depth_of_face);
-  return paint_atlas_from_original(source, level, mapped, chart_of_face, depth_of_face, gutter_texels, paint);
+  return paint_atlas_from_original(source, level, mapped, chart_of_face, depth_of_face, gutter_texels, paint,
+                                   texels_of_face);
 }
 
 }  // namespace internal

@@ -1,0 +1,532 @@
+// Copyright (c) 2026 CMGeom contributors.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Overflow charts of the texture shared by every level of a chain (simplify_to_levels() with
+// `shared_texture`). The input is mapped into the coarsest level's atlas by projecting each of its
+// parts on the coarse face it became (map_by_history()). Where the input is steep against that
+// face (the side of a ridge the coarse level flattened) the projection squashes it into a sliver
+// of texels, and where two parts fold onto one place (a visor over a helmet) one of them loses its
+// texels to the other; the finer levels, which still have those parts, show them smeared or in the
+// other part's colours. Those faces of the input, the ones left with less than half of the atlas'
+// density in some direction or that lost most of their texels, get charts of their own (grown and
+// parameterised as rebuild_atlas() does, by LSCM), packed at the atlas' texel density into a strip
+// added under the atlas, where they paint their own colours. A finer level's face that stands for
+// them (most of the input's faces that ended on it have such a chart) addresses that chart: each of
+// its corners takes the coordinates of its closest point on those input faces. The coarsest level
+// never does: its faces are the surface the atlas above the strip was made for.
+// Not part of the documented interface.
+#ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_ATLAS_LAYERS_H
+#define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_ATLAS_LAYERS_H
+
+#include <CMGeom/Compact_model/internal/Vec3.h>
+#include <CMGeom/Mesh_IO/Textured_mesh.h>
+#include <CMGeom/Textured_simplification/internal/atlas_charts.h>
+#include <CMGeom/Textured_simplification/internal/collapse_history.h>
+#include <CMGeom/Textured_simplification/rebuild_atlas.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+namespace CMGeom {
+namespace Textured_simplification {
+namespace internal {
+
+/// The strip of overflow charts under an atlas of width x base_height texels: a texture
+/// coordinate (u, v) of the atlas becomes base() of it; an input face with an overflow chart has
+/// its own coordinates there.
+struct Atlas_layers {
+  int width = 0, base_height = 0, strip_height = 0;
+  std::size_t charts = 0;
+  /// Per input face: its overflow chart (-1: none) and, when it has one, its corners' coordinates
+  /// (in the order of halfedges_around_face from halfedge(f)).
+  std::vector<std::int32_t> chart_of_input_face;
+  std::vector<std::array<Point_2, 3>> input_uv;
+  /// The share of the input's area given overflow charts.
+  double area_share = 0;
+  /// The texel densities (texels per length unit) of the atlas and of the strip.
+  double base_texels_per_unit = 0, texels_per_unit = 0;
+
+  double total_height() const { return double(base_height) + double(strip_height); }
+  Point_2 base(const Point_2& p) const {
+    return Point_2(p.x(), (p.y() * double(base_height) + double(strip_height)) / total_height());
+  }
+};
+
+/// Gives every face corner of `mesh` its coordinates in the atlas with the strip (Atlas_layers::base()).
+inline void move_to_layered_atlas(Textured_mesh& mesh, const Atlas_layers& layers) {
+  if (layers.strip_height == 0) return;
+  for (auto h : mesh.mesh().halfedges())
+    if (!mesh.mesh().is_border(h)) mesh.set_uv(h, layers.base(mesh.uv(h)));
+}
+
+/// The smallest singular value of the affine map that takes triangle p (length units) to triangle t
+/// (texels): the texels per length unit left in the direction it squashes most (0: degenerate).
+inline double least_texels_per_unit(const std::array<CM::internal::Vec3, 3>& p, const std::array<UV2, 3>& t) {
+  using CM::internal::dot;
+  const auto e1 = p[1] - p[0], e2 = p[2] - p[0];
+  const double l1 = std::sqrt(dot(e1, e1));
+  if (!(l1 > 0)) return 0;
+  const double x2 = dot(e2, e1) / l1, y2 = std::sqrt((std::max)(0.0, dot(e2, e2) - x2 * x2));
+  if (!(y2 > 0)) return 0;
+  // J = T X^-1 with X = [[l1, x2], [0, y2]] (the edges in the triangle's plane), T the texel edges
+  const double a = t[1][0] - t[0][0], b = t[2][0] - t[0][0], c = t[1][1] - t[0][1], d = t[2][1] - t[0][1];
+  const double j11 = a / l1, j12 = (b - a * x2 / l1) / y2, j21 = c / l1, j22 = (d - c * x2 / l1) / y2;
+  const double f = j11 * j11 + j12 * j12 + j21 * j21 + j22 * j22, det = j11 * j22 - j12 * j21;
+  const double g = std::sqrt((std::max)(0.0, f * f - 4 * det * det));
+  return std::sqrt((std::max)(0.0, 0.5 * (f - g)));
+}
+
+/// Twice the signed area of a triangle of texture coordinates.
+inline double signed_area(const std::array<Point_2, 3>& t) {
+  return (t[1].x() - t[0].x()) * (t[2].y() - t[0].y()) - (t[2].x() - t[0].x()) * (t[1].y() - t[0].y());
+}
+
+/// The overflow charts of the shared atlas of `coarse` (its UVs and its one material's images, as
+/// rebuild_atlas() with the painter left them; `texels_per_unit` its density), painted from
+/// `source`. `mapped`: the input with its texture coordinates in that atlas, `texels` as
+/// paint_input_onto() gave them. A face of the input needs its own chart when its map into the
+/// atlas squashes it (its least stretch, least_texels_per_unit(), below half the atlas' density)
+/// or when it won fewer than half of the texels it covers; such faces joined by edges form groups, and a group
+/// gets charts when its area is at least 64 texels at that density (below, the gutters around its
+/// charts would take more texels than it shows). The charts are packed at the atlas' density or
+/// more into a strip as wide as the atlas and as short as that allows, at most half as tall as the
+/// atlas (then at a lower density: on DamagedHelmet and texturedknot a strip as tall as the atlas
+/// gave the same image error at every level). On return `coarse`'s UVs and images are those of the layered atlas;
+/// `mapped` is left as it is (see move_to_layered_atlas(), Atlas_layers::input_uv).
+inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mesh& coarse, const Textured_mesh& mapped,
+                                        const Face_texels& texels, double texels_per_unit,
+                                        const Atlas_options& options) {
+  using Face = Surface_mesh::Face_index;
+  Atlas_layers L;
+  if (coarse.materials().size() != 1) return L;
+  Material& material = coarse.materials()[0];
+  const Image& old_colours = material.diffuse_image;
+  const int W = old_colours.width(), H = old_colours.height();
+  L.width = W;
+  L.base_height = H;
+  const Surface_mesh& im = mapped.mesh();
+  const std::size_t nf = im.number_of_faces();
+  L.chart_of_input_face.assign(nf, -1);
+  if (W <= 0 || H <= 0 || texels.covered.size() != nf || !(texels_per_unit > 0)) return L;
+  const double rho2 = texels_per_unit * texels_per_unit;
+  L.base_texels_per_unit = texels_per_unit;
+
+  // the input faces the projection serves poorly
+  std::vector<Vector_3> normal(nf);
+  std::vector<double> area(nf);
+  std::vector<char> poor(nf, 0);
+  double total_area = 0;
+  for (Face f : im.faces()) {
+    const std::size_t i = std::size_t(f);
+    std::array<Point_3, 3> p;
+    std::array<Point_2, 3> t;
+    for (int k = 0; k < 3; ++k) {
+      const auto h = corner_halfedge(im, f, k);
+      p[std::size_t(k)] = im.point(im.target(h));
+      t[std::size_t(k)] = mapped.uv(h);
+    }
+    const Vector_3 c = CGAL::cross_product(p[1] - p[0], p[2] - p[0]);
+    area[i] = 0.5 * std::sqrt(c.squared_length());
+    normal[i] = unit_or_zero(c);
+    total_area += area[i];
+    std::array<CM::internal::Vec3, 3> pv;
+    std::array<UV2, 3> texels_of;
+    for (int k = 0; k < 3; ++k) {
+      pv[std::size_t(k)] = CM::internal::Vec3(p[std::size_t(k)].x(), p[std::size_t(k)].y(), p[std::size_t(k)].z());
+      texels_of[std::size_t(k)] = {{t[std::size_t(k)].x() * W, t[std::size_t(k)].y() * H}};
+    }
+    const bool squashed = least_texels_per_unit(pv, texels_of) < 0.5 * texels_per_unit;
+    const bool hidden = texels.covered[i] > 0 && 2 * texels.won[i] < texels.covered[i];
+    poor[i] = area[i] > 0 && (squashed || hidden);
+  }
+  std::vector<std::uint32_t> parent(nf);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  for (auto e : im.edges()) {
+    const auto h = im.halfedge(e);
+    if (im.is_border(h) || im.is_border(im.opposite(h))) continue;
+    const std::size_t f = std::size_t(im.face(h)), g = std::size_t(im.face(im.opposite(h)));
+    if (poor[f] && poor[g]) {
+      const std::uint32_t a = find(std::uint32_t(f)), b = find(std::uint32_t(g));
+      if (a != b) parent[(std::max)(a, b)] = (std::min)(a, b);
+    }
+  }
+  std::vector<double> group_area(nf, 0);
+  for (std::size_t i = 0; i < nf; ++i)
+    if (poor[i]) group_area[find(std::uint32_t(i))] += area[i];
+  std::vector<std::uint32_t> subset;
+  double moved_area = 0;
+  for (std::size_t i = 0; i < nf; ++i)
+    if (poor[i] && group_area[find(std::uint32_t(i))] * rho2 >= 64) {
+      subset.push_back(std::uint32_t(i));
+      moved_area += area[i];
+    }
+  if (subset.empty()) return L;
+
+  // their charts, packed into the shortest strip that keeps the atlas' density (bisection)
+  std::vector<Atlas_chart> charts = make_charts(im, normal, area, options.chart_cone_degrees, subset);
+  auto density = [&](int strip) {
+    std::vector<Atlas_chart> trial = charts;
+    return pack_charts(trial, W, strip, options.gutter_texels);
+  };
+  int lo = 0, hi = H / 2;
+  if (density(hi) >= texels_per_unit) {
+    while (hi - lo > 4) {
+      const int mid = (lo + hi) / 2;
+      if (density(mid) >= texels_per_unit)
+        hi = mid;
+      else
+        lo = mid;
+    }
+  }
+  const int S = (hi + 3) / 4 * 4;
+  L.texels_per_unit = pack_charts(charts, W, S, options.gutter_texels);
+  L.strip_height = S;
+  L.charts = charts.size();
+  L.area_share = total_area > 0 ? moved_area / total_area : 0;
+  L.input_uv.assign(nf, {});
+  const double HT = double(H) + double(S);
+  for (std::size_t c = 0; c < charts.size(); ++c)
+    for (std::size_t j = 0; j < charts[c].faces.size(); ++j) {
+      const std::uint32_t f = charts[c].faces[j];
+      L.chart_of_input_face[f] = std::int32_t(c);
+      for (int k = 0; k < 3; ++k) {
+        const Atlas_uv& t = charts[c].uvs[j][std::size_t(k)];
+        L.input_uv[f][std::size_t(k)] = Point_2(t[0], t[1] * double(S) / HT);
+      }
+    }
+
+  // the layered images: the atlas on top (image rows run down), the strip under it
+  const int HTi = H + S, C = old_colours.channels();
+  const Image& old_normals = material.normal_image;
+  const bool with_normals = !old_normals.empty() && source.has_normal_maps();
+  auto stacked = [&](const Image& old) {
+    Image out(W, HTi, old.channels(), old.format());
+    const std::size_t values = std::size_t(W) * std::size_t(H) * std::size_t(old.channels());
+    if (old.format() == Image::Format::UInt8)
+      std::memcpy(out.bytes(), old.bytes(), values);
+    else
+      std::memcpy(out.floats(), old.floats(), values * sizeof(float));
+    return out;
+  };
+  Image colours = stacked(old_colours);
+  Image normals = with_normals ? stacked(old_normals) : Image();
+  // each chart's faces paint their texels of the strip (charts do not share texels: the packing
+  // leaves gutters between them), then the painted texels grow over the gutters
+  std::vector<char> painted(std::size_t(W) * std::size_t(S), 0);
+  std::vector<std::int32_t> owner(painted.size(), -1);  // the chart of each texel, then the nearest
+  // input face i rasterised at texel triangle t of the strip (corners in the order of
+  // halfedges_around_face from halfedge(i)): its colours, and its normals in the frame of t, at the
+  // texels `take(at)` accepts
+  auto paint_face = [&](std::uint32_t i, const std::array<UV2, 3>& t, const auto& take) {
+    const double det = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
+    if (det == 0 || !std::isfinite(det)) return;
+    std::array<Vector_3, 3> frame;
+    if (with_normals) {
+      std::array<Point_3, 3> p;
+      std::array<Atlas_uv, 3> uv;
+      for (int k = 0; k < 3; ++k) {
+        p[std::size_t(k)] = im.point(im.target(corner_halfedge(im, Face(i), k)));
+        uv[std::size_t(k)] = {{t[std::size_t(k)][0], t[std::size_t(k)][1]}};
+      }
+      frame = tangent_frame(p, uv);
+    }
+    float col[4];
+    rasterize_triangle(t, W, S, [&](int x, int y) {
+      if (!take(std::size_t(y) * std::size_t(W) + std::size_t(x))) return;
+      const double cx = x + 0.5, cy = y + 0.5;
+      const double b1 = ((cx - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (cy - t[0][1])) / det;
+      const double b2 = ((t[1][0] - t[0][0]) * (cy - t[0][1]) - (cx - t[0][0]) * (t[1][1] - t[0][1])) / det;
+      const int Y = HTi - 1 - y;
+      source.colour_at(i, 1 - b1 - b2, b1, b2, col);
+      for (int q = 0; q < C; ++q) colours.set_value(x, Y, q, col[q]);
+      if (with_normals) {
+        const Vector_3 n = source.normal_at(i, 1 - b1 - b2, b1, b2);
+        for (int q = 0; q < 3; ++q) normals.set_value(x, Y, q, float(0.5 * (n * frame[std::size_t(q)]) + 0.5));
+      }
+    });
+  };
+  tbb::parallel_for(std::size_t(0), charts.size(), [&](std::size_t c) {
+    for (std::size_t j = 0; j < charts[c].faces.size(); ++j) {
+      std::array<UV2, 3> t;
+      for (int k = 0; k < 3; ++k)
+        t[std::size_t(k)] = {{charts[c].uvs[j][std::size_t(k)][0] * W, charts[c].uvs[j][std::size_t(k)][1] * S}};
+      paint_face(charts[c].faces[j], t, [&](std::size_t at) {
+        painted[at] = 1;
+        owner[at] = std::int32_t(c);
+        return true;
+      });
+    }
+  });
+  // the faces around each chart, unfolded about the chart's face they touch (its map extended),
+  // paint the texels of its gutter (the texels nearer to it than to another chart): a finer
+  // level's face that crosses the chart's border reads their colours there
+  {
+    using V3 = CM::internal::Vec3;
+    auto vec = [](const Point_3& q) { return V3(q.x(), q.y(), q.z()); };
+    grow_rings(
+        W, S, options.gutter_texels + 1, [&](std::size_t at) { return owner[at] != -1; },
+        [&](std::size_t at) { return owner[at] == -1; },
+        [&](std::size_t to, std::size_t from) {
+          owner[to] = owner[from];
+          return true;
+        });
+    std::vector<char> ring_painted(painted.size(), 0);
+    tbb::parallel_for(std::size_t(0), charts.size(), [&](std::size_t c) {  // (texels owned by c only)
+      std::vector<std::uint32_t> ring;
+      for (std::uint32_t f : charts[c].faces)
+        for (auto v : CGAL::vertices_around_face(im.halfedge(Face(f)), im))
+          for (Face g : CGAL::faces_around_target(im.halfedge(v), im))
+            if (g != Surface_mesh::null_face() && L.chart_of_input_face[std::size_t(g)] != std::int32_t(c))
+              ring.push_back(std::uint32_t(g));
+      std::sort(ring.begin(), ring.end());
+      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+      for (std::uint32_t g : ring) {
+        // the chart's face sharing the most corners with g, and g's corners under its map
+        std::array<V3, 3> gp;
+        for (int k = 0; k < 3; ++k) gp[std::size_t(k)] = vec(im.point(im.target(corner_halfedge(im, Face(g), k))));
+        std::uint32_t best = 0;
+        int shared = 0;
+        for (auto v : CGAL::vertices_around_face(im.halfedge(Face(g)), im))
+          for (Face f : CGAL::faces_around_target(im.halfedge(v), im))
+            if (f != Surface_mesh::null_face() && L.chart_of_input_face[std::size_t(f)] == std::int32_t(c)) {
+              int n = 0;
+              for (auto a : CGAL::vertices_around_face(im.halfedge(f), im))
+                for (auto b : CGAL::vertices_around_face(im.halfedge(Face(g)), im)) n += a == b;
+              if (n > shared) {
+                shared = n;
+                best = std::uint32_t(f);
+              }
+            }
+        if (shared == 0) continue;
+        std::array<V3, 3> fp;
+        for (int k = 0; k < 3; ++k) fp[std::size_t(k)] = vec(im.point(im.target(corner_halfedge(im, Face(best), k))));
+        std::array<Point_2, 3> fuv;
+        for (int k = 0; k < 3; ++k)
+          fuv[std::size_t(k)] =
+              Point_2(L.input_uv[best][std::size_t(k)].x(), L.input_uv[best][std::size_t(k)].y() * HT / double(S));
+        std::array<UV2, 3> t;
+        for (int k = 0; k < 3; ++k) {
+          const Point_2 q = extended_uv(fp, fuv, gp[std::size_t(k)], 1e300);
+          t[std::size_t(k)] = {{q.x() * W, q.y() * S}};
+        }
+        const double det = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
+        if (!(det > 0)) continue;  // folded over the chart
+        paint_face(g, t, [&](std::size_t at) {
+          if (painted[at] || ring_painted[at] || owner[at] != std::int32_t(c)) return false;
+          ring_painted[at] = 1;
+          return true;
+        });
+      }
+    });
+    for (std::size_t at = 0; at < painted.size(); ++at) painted[at] = char(painted[at] | ring_painted[at]);
+  }
+  auto copy_texel = [&](int tx, int ty, int fx, int fy) {  // strip texel coordinates (y up)
+    for (int q = 0; q < C; ++q) colours.set_value(tx, HTi - 1 - ty, q, colours.value(fx, HTi - 1 - fy, q));
+    if (with_normals)
+      for (int q = 0; q < 3; ++q) normals.set_value(tx, HTi - 1 - ty, q, normals.value(fx, HTi - 1 - fy, q));
+  };
+  grow_rings(
+      W, S, options.gutter_texels, [&](std::size_t at) { return painted[at] != 0; },
+      [&](std::size_t at) { return !painted[at]; },
+      [&](std::size_t to, std::size_t from) {
+        copy_texel(int(to % std::size_t(W)), int(to / std::size_t(W)), int(from % std::size_t(W)),
+                   int(from / std::size_t(W)));
+        painted[to] = 1;
+        return true;
+      });
+  // the texels farther from every chart (read only by coarse mipmap levels) take the colour of the
+  // nearest painted texel of their row, rows without one that of the row below (or above)
+  std::vector<char> row_painted(std::size_t(S), 0);
+  tbb::parallel_for(0, S, [&](int y) {
+    const std::size_t row = std::size_t(y) * std::size_t(W);
+    int last = -1;
+    std::vector<int> left(std::size_t(W), -1);
+    for (int x = 0; x < W; ++x) {
+      if (painted[row + std::size_t(x)]) last = x;
+      left[std::size_t(x)] = last;
+    }
+    if (last < 0) return;
+    row_painted[std::size_t(y)] = 1;
+    int next = -1;
+    for (int x = W - 1; x >= 0; --x) {
+      if (painted[row + std::size_t(x)]) {
+        next = x;
+        continue;
+      }
+      const int l = left[std::size_t(x)];
+      const int from = l < 0 ? next : (next < 0 || x - l <= next - x ? l : next);
+      copy_texel(x, y, from, y);
+    }
+  });
+  for (int y = 1; y < S; ++y)  // rows without a painted texel, from below
+    if (!row_painted[std::size_t(y)] && row_painted[std::size_t(y - 1)]) {
+      for (int x = 0; x < W; ++x) copy_texel(x, y, x, y - 1);
+      row_painted[std::size_t(y)] = 1;
+    }
+  for (int y = S - 2; y >= 0; --y)  // and from above
+    if (!row_painted[std::size_t(y)] && row_painted[std::size_t(y + 1)]) {
+      for (int x = 0; x < W; ++x) copy_texel(x, y, x, y + 1);
+      row_painted[std::size_t(y)] = 1;
+    }
+  material.diffuse_image = std::move(colours);
+  if (with_normals) material.normal_image = std::move(normals);
+  move_to_layered_atlas(coarse, L);
+  return L;
+}
+
+/// Gives the faces of the input (`input`, in the layered atlas) that have overflow charts their
+/// coordinates there.
+inline void input_into_overflow(Textured_mesh& input, const Atlas_layers& layers) {
+  const Surface_mesh& m = input.mesh();
+  for (auto f : m.faces()) {
+    const std::size_t i = std::size_t(f);
+    if (i >= layers.chart_of_input_face.size() || layers.chart_of_input_face[i] < 0) continue;
+    for (int k = 0; k < 3; ++k) input.set_uv(corner_halfedge(m, f, k), layers.input_uv[i][std::size_t(k)]);
+  }
+}
+
+/// Moves the faces of a level (`level`, mapped into the layered atlas) that stand for input faces
+/// with overflow charts into those charts. A face's candidate is the chart most of the input's
+/// faces that ended on it (`on_level` of their points `input_face_point`) have; each of its corners
+/// takes the coordinates of its nearest point on the input's faces of that chart that ended on the
+/// faces around it (the chart's map of the nearest face, extended past it by at most
+/// `max_extrapolation`). The move is kept when the face keeps its orientation and each edge its
+/// length in texels within a factor of 2, and either more of its input faces have the chart than
+/// have none or the chart stretches the face less (least_texels_per_unit()) than the atlas does.
+inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers, const Surface_mesh& input,
+                                const std::vector<std::uint32_t>& input_face_point,
+                                const std::vector<std::uint32_t>& on_level, double max_extrapolation) {
+  using Face = Surface_mesh::Face_index;
+  using V3 = CM::internal::Vec3;
+  if (layers.charts == 0) return;
+  const Surface_mesh& lm = level.mesh();
+  const std::size_t nl = lm.number_of_faces();
+  // the input faces on each level face (CSR)
+  std::vector<std::uint32_t> start(nl + 1, 0), on(input.number_of_faces(), Collapse_history::nil);
+  for (std::size_t j = 0; j < input_face_point.size() && j < on.size(); ++j) {
+    const std::uint32_t p = input_face_point[j];
+    if (p < on_level.size() && on_level[p] < nl) {
+      on[j] = on_level[p];
+      ++start[on[j] + 1];
+    }
+  }
+  for (std::size_t f = 0; f < nl; ++f) start[f + 1] += start[f];
+  std::vector<std::uint32_t> list(start[nl]), fill(start.begin(), start.end() - 1);
+  for (std::size_t j = 0; j < on.size(); ++j)
+    if (on[j] != Collapse_history::nil) list[fill[on[j]]++] = std::uint32_t(j);
+  // each level face's chart: the most common of its input faces' charts; taken when more of them
+  // have it than have none, or else when it stretches the face less than the atlas does
+  auto vec = [](const Point_3& p) { return V3(p.x(), p.y(), p.z()); };
+  // the least stretch of a level face under texture coordinates t (texels per length unit)
+  auto stretch = [&](std::size_t f, const std::array<Point_2, 3>& t) {
+    std::array<V3, 3> p;
+    std::array<UV2, 3> texels;
+    const Face lf = Face(static_cast<Surface_mesh::size_type>(f));
+    for (int k = 0; k < 3; ++k) {
+      p[std::size_t(k)] = vec(lm.point(lm.target(corner_halfedge(lm, lf, k))));
+      texels[std::size_t(k)] = {{t[std::size_t(k)].x() * layers.width, t[std::size_t(k)].y() * layers.total_height()}};
+    }
+    return least_texels_per_unit(p, texels);
+  };
+  auto uvs_of = [&](std::size_t f) {
+    std::array<Point_2, 3> t;
+    const Face lf = Face(static_cast<Surface_mesh::size_type>(f));
+    for (int k = 0; k < 3; ++k) t[std::size_t(k)] = level.uv(corner_halfedge(lm, lf, k));
+    return t;
+  };
+  std::vector<std::int32_t> chart(nl, -1);
+  std::vector<char> majority(nl, 0);
+  for (std::size_t f = 0; f < nl; ++f) {
+    std::vector<std::int32_t> c;
+    for (std::uint32_t k = start[f]; k < start[f + 1]; ++k) c.push_back(layers.chart_of_input_face[list[k]]);
+    std::sort(c.begin(), c.end());
+    std::size_t none = 0, best = 0;
+    for (std::size_t a = 0; a < c.size();) {
+      std::size_t b = a;
+      while (b < c.size() && c[b] == c[a]) ++b;
+      if (c[a] < 0)
+        none = b - a;
+      else if (b - a > best) {
+        best = b - a;
+        chart[f] = c[a];
+      }
+      a = b;
+    }
+    majority[f] = best > none;
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<std::uint32_t> near;
+    for (std::size_t f = r.begin(); f != r.end(); ++f) {
+      const std::int32_t c = chart[f];
+      if (c < 0) continue;
+      const Face lf = Face(static_cast<Surface_mesh::size_type>(f));
+      near.clear();
+      for (auto v : CGAL::vertices_around_face(lm.halfedge(lf), lm))
+        for (Face g : CGAL::faces_around_target(lm.halfedge(v), lm))
+          if (g != Surface_mesh::null_face())
+            for (std::uint32_t k = start[std::size_t(g)]; k < start[std::size_t(g) + 1]; ++k)
+              if (layers.chart_of_input_face[list[k]] == c) near.push_back(list[k]);
+      std::sort(near.begin(), near.end());
+      near.erase(std::unique(near.begin(), near.end()), near.end());
+      if (near.empty()) continue;
+      std::array<Point_2, 3> moved;
+      std::array<V3, 3> corner;
+      for (int k = 0; k < 3; ++k) {
+        const auto h = corner_halfedge(lm, lf, k);
+        const V3 p = vec(lm.point(lm.target(h)));
+        corner[std::size_t(k)] = p;
+        double best = std::numeric_limits<double>::infinity();
+        Point_2 uv = level.uv(h);
+        for (std::uint32_t j : near) {
+          const Face jf(j);
+          std::array<V3, 3> t;
+          for (int q = 0; q < 3; ++q) t[std::size_t(q)] = vec(input.point(input.target(corner_halfedge(input, jf, q))));
+          const V3 x = CM::internal::closest_on_triangle(p, t[0], t[1], t[2]);
+          const double d = CM::internal::squared_length(p - x);
+          if (!(d < best)) continue;
+          best = d;
+          // the chart's map of the nearest face, extended past its border (a corner beyond the
+          // chart's border lands in its gutter, which the faces around the chart painted)
+          uv = extended_uv(t, layers.input_uv[j], p, max_extrapolation);
+          uv = Point_2((std::min)(1.0, (std::max)(0.0, uv.x())), (std::min)(1.0, (std::max)(0.0, uv.y())));
+        }
+        moved[std::size_t(k)] = uv;
+      }
+      // kept when the face keeps its orientation and each of its edges keeps its length in texels
+      // within a factor of 2 (corners whose closest points lie on different sheets of a chart
+      // would stretch it over the gutters); else the face keeps its place in the atlas
+      if (!(signed_area(moved) > 0)) continue;
+      bool shape_kept = true;
+      for (int k = 0; k < 3; ++k) {
+        const Point_2& a = moved[std::size_t(k)];
+        const Point_2& b = moved[std::size_t((k + 1) % 3)];
+        const double du = (b.x() - a.x()) * double(layers.width), dv = (b.y() - a.y()) * layers.total_height();
+        const double texels = std::sqrt(du * du + dv * dv);
+        const double share =
+            CM::internal::length(corner[std::size_t((k + 1) % 3)] - corner[std::size_t(k)]) * layers.texels_per_unit;
+        shape_kept = shape_kept && texels >= 0.5 * share && texels <= 2 * share;
+      }
+      if (!shape_kept) continue;
+      if (!majority[f] && !(stretch(f, moved) > stretch(f, uvs_of(f)))) continue;
+      for (int k = 0; k < 3; ++k) level.set_uv(corner_halfedge(lm, lf, k), moved[std::size_t(k)]);
+    }
+  });
+}
+
+}  // namespace internal
+}  // namespace Textured_simplification
+}  // namespace CMGeom
+
+#endif  // CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_ATLAS_LAYERS_H
