@@ -6,8 +6,10 @@
   per-level   cmgeom lod IN --ratios R              (an atlas baked for every level)
   shared      cmgeom lod IN --ratios R --shared-texture   (one atlas for every level)
   mo13        meshoptimizer 1.3.0 (npm) at each level's face count, Permissive with the UV-seam
-              vertices protected (gltfpack's way): kept vertices keep their UVs, every level wears
-              the original texture (peers/meshopt_simplify.mjs --variant permissive-protected)
+              vertices protected, and where that stops above the target the sloppy simplifier
+              down to it, as gltfpack -sa does: kept vertices keep their UVs, every level wears
+              the original texture (peers/meshopt_simplify.mjs --variant permissive-protected
+              --aggressive)
 
 For every level: image RMSE against the input (`cmgeom compare IN LEVEL.obj --json --size N`: 26
 views, 8-bit units; each mesh wears its own texture). Targets: shared <= 1.25 x per-level and
@@ -99,7 +101,7 @@ def main():
     mo_ok, mo_desc = P.node_status()
     ratios = [float(r) for r in a.ratios.split(",")]
     work = tempfile.mkdtemp(prefix="cmgeom-lod-")
-    rows, times, checks, hidden = [], [], [], []
+    rows, times, checks, hidden, sizes = [], [], [], [], []
     try:
         for name, m in models.items():
             log("lod: %s" % name)
@@ -113,6 +115,13 @@ def main():
                 chains[mode] = last_json(so)
                 checks.append((name, mode, validate(os.path.join(d, mode + ".glb"))))
             hidden.append((name, chains["shared"].get("shared_texture_hidden")))
+            texels = {mode: sum(lv.get("texture_width", 0) * lv.get("texture_height", 0)
+                                for lv in chains[mode]["levels"] if not lv["is_input"])
+                      for mode in ("per", "shared")}
+            sh = chains["shared"]["levels"][-1]
+            texels["shared"] = sh.get("texture_width", 0) * sh.get("texture_height", 0)
+            sizes.append((name, texels["per"], texels["shared"], chains["shared"].get("shared_texture_relocated"),
+                          chains["shared"].get("shared_texture_overflow")))
             levels = chains["per"]["levels"]
             for i, lv in enumerate(levels):
                 row = {"model": name, "level": i, "ratio": ratios[i], "faces": lv["faces"],
@@ -126,7 +135,7 @@ def main():
                 if mo_ok and not lv["is_input"]:
                     out = os.path.join(d, "mo13_%d.obj" % i)
                     rc, so, se, _ = run(["node", P.NODE_SCRIPT, m["obj"], out, "--faces", str(lv["faces"]),
-                                         "--variant", "permissive-protected"])
+                                         "--variant", "permissive-protected", "--aggressive"])
                     if rc == 0:
                         cmp = [cmgeom, "compare", m["obj"], out, "--json", "--size", str(a.size)] + tex
                         so, _ = must(cmp)
@@ -163,7 +172,8 @@ def main():
         L.append("")
     L.append("Image RMSE (8-bit units, 26 views) of each level against the input; *shared/per* is the price of one "
              "texture for all levels (target <= 1.25); *mo13*: meshoptimizer 1.3.0 at the level's face count, "
-             "kept vertices keep their UVs, original texture (target: shared below it).")
+             "kept vertices keep their UVs, original texture, the sloppy simplifier where the other stops above "
+             "the target as gltfpack -sa does (target: shared below it).")
     L.append("")
     L.append("| model | level | faces | per-level atlas | shared texture | shared/per | mo13 (faces) | shared < mo13 |")
     L.append("|---|---:|---:|---:|---:|---:|---:|:---:|")
@@ -191,6 +201,10 @@ def main():
     L.append("- share of the input's texture the shared atlas hides (parts folding onto one place of the coarsest "
              "level; `cmgeom lod` warns above 5 %): " + ", ".join(
                  "%s %.1f %%" % (n, 100 * h) for n, h in hidden if h is not None) + ".")
+    L.append("- texture of the chain, megatexels, per-level atlases / shared atlas (its strip of overflow charts, "
+             "as a share of the atlas; the share of the input's area given those charts): " + ", ".join(
+                 "%s %.1f / %.1f (%.0f %%; %.0f %%)" % (n, p / 1e6, s_ / 1e6, 100 * (ov or 0), 100 * (rel or 0))
+                 for n, p, s_, rel, ov in sizes) + ".")
     L.append("")
     L.append("Wall seconds, \"min / median\" of %d runs; ratios of the medians." % a.reps)
     L.append("")

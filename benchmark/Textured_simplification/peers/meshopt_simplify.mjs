@@ -5,7 +5,7 @@
 // run by run_textured_peers.py:
 //
 //   node meshopt_simplify.mjs IN.obj OUT.obj --faces N --variant attr|permissive-protected|permissive
-//                             [--mtl PATH]
+//                             [--mtl PATH] [--aggressive]
 //
 // The OBJ (v, vt, f with v/vt or v/vt/vn corners, polygons split into fans, 1-based or negative
 // indices) becomes an indexed vertex buffer in which a vertex is a unique (position, uv) pair (and
@@ -18,11 +18,14 @@
 //                         more than one vertex tagged Protect (bit 2) in vertex_lock, as gltfpack does:
 //                         collapses may slide along a seam but not cross it
 //   permissive            Permissive flag, nothing protected: collapses may cross seams
+// --aggressive does what gltfpack's -sa does when the simplifier stops above the target (seams and
+// protected vertices left no collapse): for a target above 50 faces it runs simplifySloppy on the
+// result, positions only, down to the target (it then crosses seams: a kept vertex keeps its UV).
 // The output keeps the original positions and UVs of the kept vertices (meshoptimizer only picks
 // vertices), drops the unused ones, repeats the input's usemtl statements and names its material
 // library by absolute path (or the MTL given by --mtl), so the output wears the original texture.
 // It is written atomically (temporary file + rename). One JSON line on stdout:
-//   {"variant":..,"faces_in":..,"target_faces":..,"faces_out":..,"seconds":.., ...}
+//   {"variant":..,"faces_in":..,"target_faces":..,"faces_out":..,"seconds":.., "sloppy":.., ...}
 // (seconds: the simplification call alone). Errors: one line on stderr, exit code 1 for bad input,
 // 2 for bad usage; no partial output file is left.
 import { readFileSync, writeFileSync, renameSync, rmSync, existsSync, statSync } from 'node:fs';
@@ -41,18 +44,20 @@ class InputError extends Error {}
 
 function usage(msg) {
   throw new UsageError(
-    `${msg}\nusage: node meshopt_simplify.mjs IN.obj OUT.obj --faces N --variant ${VARIANTS.join('|')} [--mtl PATH]`
+    `${msg}\nusage: node meshopt_simplify.mjs IN.obj OUT.obj --faces N --variant ${VARIANTS.join('|')} [--mtl PATH] [--aggressive]`
   );
 }
 
 function parseArgs(argv) {
   const pos = [];
-  const opt = { faces: null, variant: null, mtl: null };
+  const opt = { faces: null, variant: null, mtl: null, aggressive: false };
   for (let i = 0; i < argv.length; ++i) {
     const a = argv[i];
     if (a === '--faces' || a === '--variant' || a === '--mtl') {
       if (i + 1 >= argv.length) usage(`${a} needs a value`);
       opt[a.slice(2)] = argv[++i];
+    } else if (a === '--aggressive') {
+      opt.aggressive = true;
     } else if (a.startsWith('--')) {
       usage(`unknown option ${a}`);
     } else {
@@ -63,7 +68,14 @@ function parseArgs(argv) {
   if (opt.faces === null) usage('--faces is required');
   if (!/^[0-9]+$/.test(opt.faces) || Number(opt.faces) < 1) usage(`--faces needs a positive integer, got '${opt.faces}'`);
   if (!VARIANTS.includes(opt.variant)) usage(`--variant must be one of ${VARIANTS.join(', ')}, got '${opt.variant}'`);
-  return { input: pos[0], output: pos[1], faces: Number(opt.faces), variant: opt.variant, mtl: opt.mtl };
+  return {
+    input: pos[0],
+    output: pos[1],
+    faces: Number(opt.faces),
+    variant: opt.variant,
+    mtl: opt.mtl,
+    aggressive: opt.aggressive,
+  };
 }
 
 // ---- OBJ reader -----------------------------------------------------------------------------------
@@ -315,9 +327,14 @@ async function main() {
       }
   }
   const t0 = performance.now();
-  const [result, error] = MeshoptSimplifier.simplifyWithAttributes(
+  let [result, error] = MeshoptSimplifier.simplifyWithAttributes(
     vb.indices, vb.xyz, 3, vb.uv, 2, [w, w], lock, targetIndexCount, UNLIMITED_ERROR, flags
   );
+  let sloppy = false;
+  if (args.aggressive && targetIndexCount > 50 * 3 && result.length > targetIndexCount) {
+    [result, error] = MeshoptSimplifier.simplifySloppy(result, vb.xyz, 3, null, targetIndexCount, UNLIMITED_ERROR);
+    sloppy = true;
+  }
   const seconds = (performance.now() - t0) / 1000;
 
   // materials: the input's mtllib (absolute) or --mtl; an input without usemtl gets the MTL's first
@@ -326,7 +343,8 @@ async function main() {
   const names = obj.materials.slice();
   if (names.length === 1 && names[0] === '' && mtlOverride !== null) names[0] = firstMaterialName(mtlOverride);
   const header = [
-    `meshoptimizer ${version} (npm) MeshoptSimplifier.simplifyWithAttributes, variant ${args.variant}`,
+    `meshoptimizer ${version} (npm) MeshoptSimplifier.simplifyWithAttributes, variant ${args.variant}` +
+      (sloppy ? ', then simplifySloppy (--aggressive)' : ''),
     `input ${resolve(args.input)}: ${facesIn} faces, target ${targetFaces}, output ${result.length / 3}`,
   ];
   writeAtomically(args.output, objText(obj, vb, result, header, mtlPaths, names));
@@ -338,6 +356,7 @@ async function main() {
       target_faces: targetFaces,
       faces_out: result.length / 3,
       seconds,
+      sloppy,
       vertices_in: vb.count,
       protected_vertices: protectedCount,
       uv_weight: w,
