@@ -115,12 +115,12 @@ def main():
                 chains[mode] = last_json(so)
                 checks.append((name, mode, validate(os.path.join(d, mode + ".glb"))))
             hidden.append((name, chains["shared"].get("shared_texture_hidden")))
-            texels = {mode: sum(lv.get("texture_width", 0) * lv.get("texture_height", 0)
-                                for lv in chains[mode]["levels"] if not lv["is_input"])
-                      for mode in ("per", "shared")}
+            # texels: every simplified level's own atlas, against the one atlas the shared levels address
+            per_texels = sum(lv.get("texture_width", 0) * lv.get("texture_height", 0)
+                             for lv in chains["per"]["levels"] if not lv["is_input"])
             sh = chains["shared"]["levels"][-1]
-            texels["shared"] = sh.get("texture_width", 0) * sh.get("texture_height", 0)
-            sizes.append((name, texels["per"], texels["shared"], chains["shared"].get("shared_texture_relocated"),
+            sizes.append((name, per_texels, sh.get("texture_width", 0) * sh.get("texture_height", 0),
+                          chains["shared"].get("shared_texture_relocated"),
                           chains["shared"].get("shared_texture_overflow")))
             levels = chains["per"]["levels"]
             for i, lv in enumerate(levels):

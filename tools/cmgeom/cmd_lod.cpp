@@ -7,8 +7,8 @@
 // (the finest in the scene, the others listed by its MSFT_lod extension, each node's error in its
 // extras). A textured input gets an atlas per level, or with --shared-texture one atlas that every
 // level addresses (with a strip of overflow charts for the parts of the input the coarsest level's
-// atlas squashes or hides, unless --no-overflow-charts). --obj-prefix also writes each level as PREFIX_<k>.obj (with
-// its MTL and PNG).
+// atlas squashes or hides, unless --no-overflow-charts). --obj-prefix also writes each level as
+// PREFIX_<k>.obj (with its MTL and PNG).
 #include "cli_common.h"
 #include "collapse_progress.h"
 
@@ -77,8 +77,8 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   app.add_flag("--shared-texture", o->shared_texture,
                "Textured input: one atlas (made for the coarsest level) that every level addresses");
   app.add_flag("--no-overflow-charts", o->no_overflow_charts,
-               "With --shared-texture: parts of the input hidden by another part in the shared atlas keep the other "
-               "part's colours instead of getting their own copies in a strip under the atlas");
+               "With --shared-texture: parts of the input that the shared atlas squashes or hides keep their place "
+               "in it instead of getting charts of their own in a strip under the atlas");
   app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default) or weighted (thesis §3.4.2)")
       ->check(CLI::IsMember({"weighted", "plain"}));
   app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");

@@ -157,6 +157,15 @@ void rasterize_triangle(const std::array<UV2, 3>& t, int W, int H, F&& f) {
   rasterize_triangle(t, W, H, 0, H, std::forward<F>(f));
 }
 
+/// The barycentric coordinates of the centre of texel (x, y) in triangle `t` (texel coordinates);
+/// `twice_area` is twice t's signed area (internal::signed_area_2), not 0.
+inline std::array<double, 3> texel_centre_barycentric(const std::array<UV2, 3>& t, double twice_area, int x, int y) {
+  const double cx = x + 0.5, cy = y + 0.5;
+  const double b1 = ((cx - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (cy - t[0][1])) / twice_area;
+  const double b2 = ((t[1][0] - t[0][0]) * (cy - t[0][1]) - (cx - t[0][0]) * (t[1][1] - t[0][1])) / twice_area;
+  return {{1 - b1 - b2, b1, b2}};
+}
+
 /// Index texture (§3.3) and the chart map of the original layout.
 class Index_texture {
 public:

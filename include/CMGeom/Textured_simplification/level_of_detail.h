@@ -364,11 +364,12 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
     const double border_texels = 0.75 * ao.gutter_texels;
     // the input, mapped onto a level (whose atlas has its charts) through the collapse history
     // (`on_level`: the face of that level each point ended on), paints that atlas; returns the share
-    // of the input's texels hidden
+    // of the input's texels hidden (and, when asked, each input face's texels)
     auto paint_input_onto = [&](const Textured_mesh& level, Textured_mesh& mapped,
-                                const std::vector<std::uint32_t>& on_level, internal::Atlas_paint& paint) {
+                                const std::vector<std::uint32_t>& on_level, internal::Atlas_paint& paint,
+                                internal::Face_texels* texels = nullptr) {
       return internal::paint_input_onto(*source, input_points, level, mapped, on_level, options.max_extrapolation,
-                                        ao.gutter_texels, paint);
+                                        ao.gutter_texels, paint, texels);
     };
     if (options.shared_texture) {
       Level_of_detail& coarsest = res.levels.back();
@@ -383,9 +384,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       const internal::Atlas_painter painter = [&](const Textured_mesh& coarse, internal::Atlas_paint& paint) {
         atlas_width = paint.colours.width();
         atlas_height = paint.colours.height();
-        res.shared_texture_hidden =
-            internal::paint_input_onto(*source, input_points, coarse, original, on_coarsest, options.max_extrapolation,
-                                       ao.gutter_texels, paint, &input_texels);
+        res.shared_texture_hidden = paint_input_onto(coarse, original, on_coarsest, paint, &input_texels);
       };
       coarsest.atlas = rebuild_atlas(*source, coarsest.mesh, ao, &painter);
       // the parts of the input the atlas serves poorly get charts of their own (atlas_layers.h)
@@ -398,12 +397,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
         coarsest.atlas.texture_height = atlas_height;
         internal::move_to_layered_atlas(original, layers);
         internal::input_into_overflow(original, layers);
-        std::size_t covered = 0, still_hidden = 0;
-        for (std::size_t j = 0; j < input_texels.covered.size(); ++j) {
-          covered += input_texels.covered[j];
-          if (layers.chart_of_input_face[j] < 0) still_hidden += input_texels.covered[j] - input_texels.won[j];
-        }
-        res.shared_texture_hidden = covered > 0 ? double(still_hidden) / double(covered) : 0.0;
+        res.shared_texture_hidden = layers.hidden_share;
         res.shared_texture_relocated = layers.area_share;
         res.shared_texture_overflow = double(layers.strip_height) / double(layers.base_height);
       }

@@ -525,20 +525,14 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
       const auto& T = face_uv[fi];
       std::array<UV2, 3> tex;
       for (int k = 0; k < 3; ++k) tex[std::size_t(k)] = {{T[std::size_t(k)][0] * W, T[std::size_t(k)][1] * H}};
-      const double det =
-          (tex[1][0] - tex[0][0]) * (tex[2][1] - tex[0][1]) - (tex[2][0] - tex[0][0]) * (tex[1][1] - tex[0][1]);
+      const double det = I::signed_area_2(tex[0], tex[1], tex[2]);
       if (det == 0) continue;
       std::array<Vector_3, 3> new_frame;
       if (any_normal) new_frame = I::tangent_frame(P, T);
       const Vector_3 nf_dir = normal[fi];
       std::size_t hint = std::size_t(-1);
       rasterize_triangle(tex, W, H, [&](int x, int y) {
-        const double cx = x + 0.5, cy = y + 0.5;
-        const double b1 =
-            ((cx - tex[0][0]) * (tex[2][1] - tex[0][1]) - (tex[2][0] - tex[0][0]) * (cy - tex[0][1])) / det;
-        const double b2 =
-            ((tex[1][0] - tex[0][0]) * (cy - tex[0][1]) - (cx - tex[0][0]) * (tex[1][1] - tex[0][1])) / det;
-        const double b0 = 1 - b1 - b2;
+        const auto [b0, b1, b2] = texel_centre_barycentric(tex, det, x, y);
         const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
         const bool is_given = !given.empty() && given[i];
         if (is_given && (!any_normal || normals_given)) {  // no lookup needed

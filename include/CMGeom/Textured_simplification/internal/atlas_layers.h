@@ -49,8 +49,9 @@ struct Atlas_layers {
   /// (in the order of halfedges_around_face from halfedge(f)).
   std::vector<std::int32_t> chart_of_input_face;
   std::vector<std::array<Point_2, 3>> input_uv;
-  /// The share of the input's area given overflow charts.
-  double area_share = 0;
+  /// The share of the input's area given overflow charts, and the share of the texels the input
+  /// covers in the atlas that faces without one lost to another part of the input.
+  double area_share = 0, hidden_share = 0;
   /// The texel densities (texels per length unit) of the atlas and of the strip.
   double base_texels_per_unit = 0, texels_per_unit = 0;
 
@@ -82,11 +83,6 @@ inline double least_texels_per_unit(const std::array<CM::internal::Vec3, 3>& p, 
   const double f = j11 * j11 + j12 * j12 + j21 * j21 + j22 * j22, det = j11 * j22 - j12 * j21;
   const double g = std::sqrt((std::max)(0.0, f * f - 4 * det * det));
   return std::sqrt((std::max)(0.0, 0.5 * (f - g)));
-}
-
-/// Twice the signed area of a triangle of texture coordinates.
-inline double signed_area(const std::array<Point_2, 3>& t) {
-  return (t[1].x() - t[0].x()) * (t[2].y() - t[0].y()) - (t[2].x() - t[0].x()) * (t[1].y() - t[0].y());
 }
 
 /// The overflow charts of the shared atlas of `coarse` (its UVs and its one material's images, as
@@ -196,16 +192,24 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
   L.charts = charts.size();
   L.area_share = total_area > 0 ? moved_area / total_area : 0;
   L.input_uv.assign(nf, {});
+  std::vector<std::array<Atlas_uv, 3>> strip_uv(nf);  // the same in the strip's own [0, 1]²
   const double HT = double(H) + double(S);
   for (std::size_t c = 0; c < charts.size(); ++c)
     for (std::size_t j = 0; j < charts[c].faces.size(); ++j) {
       const std::uint32_t f = charts[c].faces[j];
       L.chart_of_input_face[f] = std::int32_t(c);
+      strip_uv[f] = charts[c].uvs[j];
       for (int k = 0; k < 3; ++k) {
-        const Atlas_uv& t = charts[c].uvs[j][std::size_t(k)];
+        const Atlas_uv& t = strip_uv[f][std::size_t(k)];
         L.input_uv[f][std::size_t(k)] = Point_2(t[0], t[1] * double(S) / HT);
       }
     }
+  std::size_t covered = 0, still_hidden = 0;
+  for (std::size_t i = 0; i < nf; ++i) {
+    covered += texels.covered[i];
+    if (L.chart_of_input_face[i] < 0) still_hidden += texels.covered[i] - texels.won[i];
+  }
+  L.hidden_share = covered > 0 ? double(still_hidden) / double(covered) : 0.0;
 
   // the layered images: the atlas on top (image rows run down), the strip under it
   const int HTi = H + S, C = old_colours.channels();
@@ -230,7 +234,7 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
   // halfedges_around_face from halfedge(i)): its colours, and its normals in the frame of t, at the
   // texels `take(at)` accepts
   auto paint_face = [&](std::uint32_t i, const std::array<UV2, 3>& t, const auto& take) {
-    const double det = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
+    const double det = signed_area_2(t[0], t[1], t[2]);
     if (det == 0 || !std::isfinite(det)) return;
     std::array<Vector_3, 3> frame;
     if (with_normals) {
@@ -245,24 +249,23 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
     float col[4];
     rasterize_triangle(t, W, S, [&](int x, int y) {
       if (!take(std::size_t(y) * std::size_t(W) + std::size_t(x))) return;
-      const double cx = x + 0.5, cy = y + 0.5;
-      const double b1 = ((cx - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (cy - t[0][1])) / det;
-      const double b2 = ((t[1][0] - t[0][0]) * (cy - t[0][1]) - (cx - t[0][0]) * (t[1][1] - t[0][1])) / det;
+      const auto [b0, b1, b2] = texel_centre_barycentric(t, det, x, y);
       const int Y = HTi - 1 - y;
-      source.colour_at(i, 1 - b1 - b2, b1, b2, col);
+      source.colour_at(i, b0, b1, b2, col);
       for (int q = 0; q < C; ++q) colours.set_value(x, Y, q, col[q]);
       if (with_normals) {
-        const Vector_3 n = source.normal_at(i, 1 - b1 - b2, b1, b2);
+        const Vector_3 n = source.normal_at(i, b0, b1, b2);
         for (int q = 0; q < 3; ++q) normals.set_value(x, Y, q, float(0.5 * (n * frame[std::size_t(q)]) + 0.5));
       }
     });
   };
   tbb::parallel_for(std::size_t(0), charts.size(), [&](std::size_t c) {
     for (std::size_t j = 0; j < charts[c].faces.size(); ++j) {
+      const std::uint32_t f = charts[c].faces[j];
       std::array<UV2, 3> t;
       for (int k = 0; k < 3; ++k)
-        t[std::size_t(k)] = {{charts[c].uvs[j][std::size_t(k)][0] * W, charts[c].uvs[j][std::size_t(k)][1] * S}};
-      paint_face(charts[c].faces[j], t, [&](std::size_t at) {
+        t[std::size_t(k)] = {{strip_uv[f][std::size_t(k)][0] * W, strip_uv[f][std::size_t(k)][1] * S}};
+      paint_face(f, t, [&](std::size_t at) {
         painted[at] = 1;
         owner[at] = std::int32_t(c);
         return true;
@@ -314,15 +317,13 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
         for (int k = 0; k < 3; ++k) fp[std::size_t(k)] = vec(im.point(im.target(corner_halfedge(im, Face(best), k))));
         std::array<Point_2, 3> fuv;
         for (int k = 0; k < 3; ++k)
-          fuv[std::size_t(k)] =
-              Point_2(L.input_uv[best][std::size_t(k)].x(), L.input_uv[best][std::size_t(k)].y() * HT / double(S));
+          fuv[std::size_t(k)] = Point_2(strip_uv[best][std::size_t(k)][0], strip_uv[best][std::size_t(k)][1]);
         std::array<UV2, 3> t;
         for (int k = 0; k < 3; ++k) {
           const Point_2 q = extended_uv(fp, fuv, gp[std::size_t(k)], 1e300);
           t[std::size_t(k)] = {{q.x() * W, q.y() * S}};
         }
-        const double det = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
-        if (!(det > 0)) continue;  // folded over the chart
+        if (!(signed_area_2(t[0], t[1], t[2]) > 0)) continue;  // folded over the chart
         paint_face(g, t, [&](std::size_t at) {
           if (painted[at] || ring_painted[at] || owner[at] != std::int32_t(c)) return false;
           ring_painted[at] = 1;
@@ -429,16 +430,19 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
   // each level face's chart: the most common of its input faces' charts; taken when more of them
   // have it than have none, or else when it stretches the face less than the atlas does
   auto vec = [](const Point_3& p) { return V3(p.x(), p.y(), p.z()); };
+  // a triangle of texture coordinates in texels of the layered atlas
+  auto in_texels = [&](const std::array<Point_2, 3>& t) {
+    std::array<UV2, 3> x;
+    for (int k = 0; k < 3; ++k)
+      x[std::size_t(k)] = {{t[std::size_t(k)].x() * layers.width, t[std::size_t(k)].y() * layers.total_height()}};
+    return x;
+  };
   // the least stretch of a level face under texture coordinates t (texels per length unit)
   auto stretch = [&](std::size_t f, const std::array<Point_2, 3>& t) {
     std::array<V3, 3> p;
-    std::array<UV2, 3> texels;
     const Face lf = Face(static_cast<Surface_mesh::size_type>(f));
-    for (int k = 0; k < 3; ++k) {
-      p[std::size_t(k)] = vec(lm.point(lm.target(corner_halfedge(lm, lf, k))));
-      texels[std::size_t(k)] = {{t[std::size_t(k)].x() * layers.width, t[std::size_t(k)].y() * layers.total_height()}};
-    }
-    return least_texels_per_unit(p, texels);
+    for (int k = 0; k < 3; ++k) p[std::size_t(k)] = vec(lm.point(lm.target(corner_halfedge(lm, lf, k))));
+    return least_texels_per_unit(p, in_texels(t));
   };
   auto uvs_of = [&](std::size_t f) {
     std::array<Point_2, 3> t;
@@ -448,8 +452,9 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
   };
   std::vector<std::int32_t> chart(nl, -1);
   std::vector<char> majority(nl, 0);
+  std::vector<std::int32_t> c;
   for (std::size_t f = 0; f < nl; ++f) {
-    std::vector<std::int32_t> c;
+    c.clear();
     for (std::uint32_t k = start[f]; k < start[f + 1]; ++k) c.push_back(layers.chart_of_input_face[list[k]]);
     std::sort(c.begin(), c.end());
     std::size_t none = 0, best = 0;
@@ -499,21 +504,20 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
           best = d;
           // the chart's map of the nearest face, extended past its border (a corner beyond the
           // chart's border lands in its gutter, which the faces around the chart painted)
-          uv = extended_uv(t, layers.input_uv[j], p, max_extrapolation);
-          uv = Point_2((std::min)(1.0, (std::max)(0.0, uv.x())), (std::min)(1.0, (std::max)(0.0, uv.y())));
+          uv = on_texture(extended_uv(t, layers.input_uv[j], p, max_extrapolation));
         }
         moved[std::size_t(k)] = uv;
       }
       // kept when the face keeps its orientation and each of its edges keeps its length in texels
       // within a factor of 2 (corners whose closest points lie on different sheets of a chart
       // would stretch it over the gutters); else the face keeps its place in the atlas
-      if (!(signed_area(moved) > 0)) continue;
+      const std::array<UV2, 3> m = in_texels(moved);
+      if (!(signed_area_2(m[0], m[1], m[2]) > 0)) continue;
       bool shape_kept = true;
       for (int k = 0; k < 3; ++k) {
-        const Point_2& a = moved[std::size_t(k)];
-        const Point_2& b = moved[std::size_t((k + 1) % 3)];
-        const double du = (b.x() - a.x()) * double(layers.width), dv = (b.y() - a.y()) * layers.total_height();
-        const double texels = std::sqrt(du * du + dv * dv);
+        const UV2& a = m[std::size_t(k)];
+        const UV2& b = m[std::size_t((k + 1) % 3)];
+        const double texels = std::hypot(b[0] - a[0], b[1] - a[1]);
         const double share =
             CM::internal::length(corner[std::size_t((k + 1) % 3)] - corner[std::size_t(k)]) * layers.texels_per_unit;
         shape_kept = shape_kept && texels >= 0.5 * share && texels <= 2 * share;

@@ -289,6 +289,12 @@ inline Point_2 extended_uv(const std::array<CM::internal::Vec3, 3>& t, const std
                  w[0] * uv[0].y() + w[1] * uv[1].y() + w[2] * uv[2].y());
 }
 
+/// `t` moved onto the texture ([0, 1]²): a corner extended past a chart at the atlas' edge would
+/// read, with a repeating sampler, the other side of the atlas.
+inline Point_2 on_texture(const Point_2& t) {
+  return Point_2(std::clamp(t.x(), 0.0, 1.0), std::clamp(t.y(), 0.0, 1.0));
+}
+
 /// Gives `fine` texture coordinates in the atlas of `coarse` (see the file comment) and the
 /// coarse mesh's materials. `vertex_point` and `face_point` are the points of the fine mesh's
 /// vertices and faces, `coarse_face_of_point` the coarse face each point lies on (Level_snapshot).
@@ -467,10 +473,7 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
       uv_of[i] = uv_on(nearest_among(around, p), p, max_extrapolation);
     }
   });
-  // kept on the texture: a corner extended past a chart at the atlas' edge would read, with a
-  // repeating sampler, the other side of the atlas
-  for (Point_2& t : uv_of)
-    t = Point_2((std::min)(1.0, (std::max)(0.0, t.x())), (std::min)(1.0, (std::max)(0.0, t.y())));
+  for (Point_2& t : uv_of) t = on_texture(t);
   for (Face f : fm.faces())
     for (auto h : CGAL::halfedges_around_face(fm.halfedge(f), fm))
       fine.set_uv(h, uv_of[slot.at({std::uint32_t(fm.target(h)), face_chart[std::size_t(f)]})]);
@@ -622,14 +625,11 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
       faces[std::size_t(y0) * std::size_t(W) + j] = std::uint32_t(i + 1);
       const auto& t = tri[i];
       const int x = int(j % std::size_t(W)), y = y0 + int(j / std::size_t(W));
-      const double det = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
-      const double cx = x + 0.5, cy = y + 0.5;
-      const double b1 = ((cx - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (cy - t[0][1])) / det;
-      const double b2 = ((t[1][0] - t[0][0]) * (cy - t[0][1]) - (cx - t[0][0]) * (t[1][1] - t[0][1])) / det;
-      source.colour_at(i, 1 - b1 - b2, b1, b2, c);
+      const auto [b0, b1, b2] = texel_centre_barycentric(t, signed_area_2(t[0], t[1], t[2]), x, y);
+      source.colour_at(i, b0, b1, b2, c);
       for (int ch = 0; ch < C; ++ch) image.set_value(x, H - 1 - y, ch, c[ch]);  // image rows run down
       if (!normals.empty()) {
-        const Vector_3 n = source.normal_at(i, 1 - b1 - b2, b1, b2);
+        const Vector_3 n = source.normal_at(i, b0, b1, b2);
         const std::size_t at = 3 * (std::size_t(y0) * std::size_t(W) + j);
         normals[at] = float(n.x());
         normals[at + 1] = float(n.y());
