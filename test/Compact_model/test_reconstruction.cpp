@@ -3,6 +3,12 @@
 // with the level.
 #include "compact_model_test_util.h"
 
+#include <CMGeom/Mesh_IO/Image.h>
+#include <CMGeom/internal/huge_pages.h>
+
+#include <algorithm>
+#include <cstdint>
+
 namespace {
 
 // ------------------------------------------------------------------ reconstruction
@@ -249,6 +255,38 @@ TEST(CompactModelReconstruction, HugePageResizeKeepsResizeSemantics) {
     ASSERT_EQ(v.size(), 2u);
     EXPECT_EQ(v[1].x, 4.);
   }
+}
+
+// assign_on_huge_pages(), filled_on_huge_pages() and copy_on_huge_pages() are assign(), the filling
+// constructor and the copy, below and above the threshold; an Image copy (which uses them) is equal
+// to its original and owns its own pixels.
+TEST(CompactModelReconstruction, HugePageAssignFillAndCopyKeepTheirSemantics) {
+  for (const std::size_t n : {std::size_t(1000), 2 * CMGeom::internal::huge_page_threshold / sizeof(float)}) {
+    std::vector<float> v = {1.f, 2.f};
+    CMGeom::internal::assign_on_huge_pages(v, n, 3.5f);
+    ASSERT_EQ(v.size(), n);
+    EXPECT_EQ(std::count(v.begin(), v.end(), 3.5f), std::ptrdiff_t(n));
+    const std::vector<std::uint32_t> f = CMGeom::internal::filled_on_huge_pages(n, 7u);
+    EXPECT_EQ(f, std::vector<std::uint32_t>(n, 7u));
+    std::vector<float> w = v;
+    w[n / 2] = -1.f;
+    const std::vector<float> c = CMGeom::internal::copy_on_huge_pages(w);
+    EXPECT_EQ(c, w);
+    CMGeom::internal::assign_on_huge_pages(v, 3, 0.f);  // shrinking assigns too
+    EXPECT_EQ(v, std::vector<float>(3, 0.f));
+  }
+  CMGeom::Image big(1500, 1000, 3);  // 4.5 MB: above the threshold
+  big.set_value(17, 23, 1, 0.5f);
+  CMGeom::Image copy(big), assigned;
+  assigned = big;
+  EXPECT_TRUE(copy == big);
+  EXPECT_TRUE(assigned == big);
+  copy.set_value(17, 23, 1, 1.f);
+  EXPECT_FALSE(copy == big);
+  EXPECT_NEAR(big.value(17, 23, 1), 0.5f, 1.f / 255);
+  const CMGeom::Image& same = assigned;
+  assigned = same;  // self-assignment keeps the pixels
+  EXPECT_TRUE(assigned == big);
 }
 
 TEST(CompactModelReconstruction, ErrorDecreasesWithLevelOnSmoothModel) {

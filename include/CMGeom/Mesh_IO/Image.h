@@ -9,10 +9,13 @@
 #ifndef CMGEOM_MESH_IO_IMAGE_H
 #define CMGEOM_MESH_IO_IMAGE_H
 
+#include <CMGeom/internal/huge_pages.h>
+
 #include <CGAL/assertions.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace CMGeom {
@@ -27,10 +30,28 @@ public:
     CGAL_precondition(width >= 0 && height >= 0 && channels >= 1 && channels <= 4);
     const std::size_t n = std::size_t(width) * std::size_t(height) * std::size_t(channels);
     if (format == Format::UInt8)
-      bytes_.assign(n, 0);
+      internal::assign_on_huge_pages(bytes_, n, std::uint8_t(0));
     else
-      floats_.assign(n, 0.f);
+      internal::assign_on_huge_pages(floats_, n, 0.f);
   }
+
+  // copies of large images (an atlas handed to every level of a chain) go on huge pages too
+  Image(const Image& o)
+      : width_(o.width_),
+        height_(o.height_),
+        channels_(o.channels_),
+        format_(o.format_),
+        bytes_(internal::copy_on_huge_pages(o.bytes_)),
+        floats_(internal::copy_on_huge_pages(o.floats_)) {}
+  Image(Image&&) noexcept = default;
+  Image& operator=(const Image& o) {
+    if (this != &o) {
+      Image c(o);
+      *this = std::move(c);
+    }
+    return *this;
+  }
+  Image& operator=(Image&&) noexcept = default;
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -19,6 +19,7 @@
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/Image.h>
 #include <CMGeom/Textured_simplification/Chart_constraints.h>
+#include <CMGeom/internal/huge_pages.h>
 
 #include <algorithm>
 #include <array>
@@ -180,8 +181,8 @@ public:
       : domain_(domain),
         w_(domain.width),
         h_(domain.height),
-        idx_(std::size_t(2) * std::size_t(w_) * std::size_t(h_)),
-        chart_(std::size_t(w_) * std::size_t(h_), 0u) {
+        idx_(CMGeom::internal::filled_on_huge_pages(std::size_t(2) * std::size_t(w_) * std::size_t(h_), 0.f)),
+        chart_(CMGeom::internal::filled_on_huge_pages(std::size_t(w_) * std::size_t(h_), 0u)) {
     internal::parallel_rows(h_, [&](int y0, int y1) {
       for (int y = y0; y < y1; ++y)
         for (int x = 0; x < w_; ++x) {
@@ -202,7 +203,10 @@ public:
     // grow the charts into the gutters (first ring first; ties: smallest neighbour id)
     std::vector<std::uint32_t> next;
     for (int ring = 0; ring < chart_margin; ++ring) {
-      next = chart_;
+      if (next.size() != chart_.size())
+        next = CMGeom::internal::copy_on_huge_pages(chart_);
+      else
+        next = chart_;
       internal::parallel_rows(h_, [&](int y0, int y1) {
         for (int y = y0; y < y1; ++y)
           for (int x = 0; x < w_; ++x) {
@@ -729,7 +733,7 @@ inline Image dilate_into_image(int W, int H, int C, std::vector<std::uint32_t>& 
   for (std::size_t i = 0; i < n; ++i)
     if (dist[i] != far && dist[i] > 0) ++ring_start[dist[i] + 1];
   for (std::size_t d = 1; d < ring_start.size(); ++d) ring_start[d] += ring_start[d - 1];
-  std::vector<std::uint32_t> by_ring(ring_start.back());
+  std::vector<std::uint32_t> by_ring = CMGeom::internal::filled_on_huge_pages(ring_start.back(), 0u);
   {
     std::vector<std::size_t> fill = ring_start;
     for (std::size_t i = 0; i < n; ++i)
@@ -786,8 +790,8 @@ inline Image generate_texture(const Index_texture& it, const Image& original,
   // chessboard distance to the covered texels: 0 on them (set while they are looked up), the
   // rest from the distance transform below; `far` where no texel is covered at all
   constexpr std::uint32_t far = 0xffffffffu;
-  std::vector<std::uint32_t> dist(n, far);
-  std::vector<float> acc(n * std::size_t(C), 0.f);
+  std::vector<std::uint32_t> dist = CMGeom::internal::filled_on_huge_pages(n, far);
+  std::vector<float> acc = CMGeom::internal::filled_on_huge_pages(n * std::size_t(C), 0.f);
   for (const auto& tri : final_triangles) {
     std::array<UV2, 3> t;
     for (int c = 0; c < 3; ++c) t[c] = it.domain().to_texel(tri[c]);

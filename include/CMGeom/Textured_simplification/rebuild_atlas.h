@@ -21,6 +21,7 @@
 #include <CMGeom/Mesh_IO/charts.h>
 #include <CMGeom/Textured_simplification/Index_texture.h>
 #include <CMGeom/Textured_simplification/internal/atlas_charts.h>
+#include <CMGeom/internal/huge_pages.h>
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -66,7 +67,9 @@ struct Atlas_result {
   std::size_t texels_baked = 0;      ///< texels inside the charts (looked up on the original, or painted)
   std::size_t texels_painted = 0;    ///< of which a painter gave (internal::Atlas_painter), not looked up
   std::size_t texels_unmatched = 0;  ///< of which had no facing original point within reach
-  double seconds_charts = 0, seconds_bake = 0;
+  double seconds_charts = 0;         ///< making, parameterising and packing the charts
+  double seconds_paint = 0;          ///< the painter's work (0 without one)
+  double seconds_bake = 0;           ///< the lookups, the gutters' fill and the images
 };
 
 namespace internal {
@@ -495,12 +498,14 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   // 3. baking (of the texels a painter did not give)
   internal::Atlas_paint paint;
   if (painter) {
+    const auto tp = Clock::now();
     paint.colours = Image(W, H, colour_channels);
-    paint.given.assign(std::size_t(W) * std::size_t(H), 0);
+    CMGeom::internal::assign_on_huge_pages(paint.given, std::size_t(W) * std::size_t(H), char(0));
     (*painter)(simplified, paint);
     if (paint.given.size() != std::size_t(W) * std::size_t(H)) paint.given.clear();
     if (paint.given.empty() || !any_normal || paint.normals.size() != 3 * paint.given.size()) paint.normals.clear();
     if (paint.faces.size() != paint.given.size()) paint.faces.clear();
+    res.seconds_paint = std::chrono::duration<double>(Clock::now() - tp).count();
   }
   const Image& given_colours = paint.colours;
   const std::vector<char>& given = paint.given;
@@ -515,9 +520,10 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   const double reach2 = CGAL::square(0.1 * diag);  // farther than this, a facing point is no match
   const std::size_t n = std::size_t(W) * std::size_t(H);
   constexpr std::uint32_t far = 0xffffffffu;
-  std::vector<std::uint32_t> dist(n, far), dist_normal;
-  std::vector<float> colour(n * std::size_t(colour_channels), 0.f), normal_acc;
-  if (any_normal) normal_acc.assign(n * 3, 0.f);
+  std::vector<std::uint32_t> dist = CMGeom::internal::filled_on_huge_pages(n, far), dist_normal;
+  std::vector<float> colour = CMGeom::internal::filled_on_huge_pages(n * std::size_t(colour_channels), 0.f);
+  std::vector<float> normal_acc;
+  if (any_normal) CMGeom::internal::assign_on_huge_pages(normal_acc, n * 3, 0.f);
   std::vector<std::size_t> baked_per_face(nf, 0), fixed_per_face(nf, 0), painted_per_face(nf, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t fi = range.begin(); fi < range.end(); ++fi) {
@@ -600,7 +606,7 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
 
   res.coverage = double(res.texels_baked) / double(n);
   // (the gutters' normals are grown from the charts', given colours or not)
-  if (any_normal) dist_normal = dist;
+  if (any_normal) dist_normal = CMGeom::internal::copy_on_huge_pages(dist);
   if (!given.empty())  // given texels outside the charts (gutters) are given too
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t i = r.begin(); i != r.end(); ++i)
@@ -629,7 +635,8 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   if (out.name.empty()) out.name = "atlas";
   out.diffuse_image = std::move(diffuse);
   out.normal_image = std::move(normal_map);
-  simplified.materials().assign(1, std::move(out));
+  simplified.materials().clear();
+  simplified.materials().push_back(std::move(out));
   for (auto f : sm.faces()) simplified.material_map()[f] = 0;
   simplified.set_has_uvs(true);
   return res;
