@@ -387,11 +387,24 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
         res.shared_texture_hidden = paint_input_onto(coarse, original, on_coarsest, paint, &input_texels);
       };
       coarsest.atlas = rebuild_atlas(*source, coarsest.mesh, ao, &painter);
-      // the parts of the input the atlas serves poorly get charts of their own (atlas_layers.h)
+      // every finer level mapped into the atlas through the history
+      tbb::parallel_for(kept, res.levels.size() - 1, [&](std::size_t i) {
+        const internal::Level_snapshot& points = meshes[i - kept];
+        internal::map_by_history(coarsest.mesh, res.levels[i].mesh, points.vertex_point, points.face_point, on_coarsest,
+                                 options.max_extrapolation, border_texels, atlas_width, atlas_height);
+      });
+      // the parts of the input the atlas serves poorly, and those under the finer levels' faces it
+      // squashes, get charts of their own (atlas_layers.h)
       internal::Atlas_layers layers;
-      if (options.overflow_charts)
+      if (options.overflow_charts) {
+        std::vector<char> under_squashed(input.mesh().number_of_faces(), 0);
+        for (std::size_t i = kept; i + 1 < res.levels.size(); ++i)
+          internal::mark_input_under_poorly_served(res.levels[i].mesh, atlas_width, atlas_height,
+                                                   coarsest.atlas.texels_per_unit, input_points.face_point,
+                                                   meshes[i - kept].face_of_point, under_squashed);
         layers = internal::add_overflow_charts(*source, coarsest.mesh, original, input_texels,
-                                               coarsest.atlas.texels_per_unit, ao);
+                                               coarsest.atlas.texels_per_unit, ao, under_squashed);
+      }
       if (layers.strip_height > 0) {
         atlas_height += layers.strip_height;
         coarsest.atlas.texture_height = atlas_height;
@@ -404,11 +417,10 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       original.materials() = coarsest.mesh.materials();
       for (std::size_t i = 1; i < kept; ++i) res.levels[i].mesh = original;
       tbb::parallel_for(kept, res.levels.size() - 1, [&](std::size_t i) {
-        const internal::Level_snapshot& points = meshes[i - kept];
-        internal::map_by_history(coarsest.mesh, res.levels[i].mesh, points.vertex_point, points.face_point, on_coarsest,
-                                 options.max_extrapolation, border_texels, atlas_width, atlas_height);
+        internal::move_to_layered_atlas(res.levels[i].mesh, layers);
         internal::level_into_overflow(res.levels[i].mesh, layers, input.mesh(), input_points.face_point,
-                                      points.face_of_point, options.max_extrapolation);
+                                      meshes[i - kept].face_of_point, options.max_extrapolation);
+        res.levels[i].mesh.materials() = coarsest.mesh.materials();
       });
       for (std::size_t i = 0; i + 1 < res.levels.size(); ++i) res.levels[i].atlas = coarsest.atlas;
     } else {

@@ -23,6 +23,7 @@
 #include <CMGeom/Textured_simplification/internal/atlas_charts.h>
 #include <CMGeom/Textured_simplification/internal/collapse_history.h>
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
+#include <CMGeom/internal/huge_pages.h>
 
 #include <tbb/parallel_for.h>
 
@@ -85,21 +86,74 @@ inline double least_texels_per_unit(const std::array<CM::internal::Vec3, 3>& p, 
   return std::sqrt((std::max)(0.0, 0.5 * (f - g)));
 }
 
+/// The greatest singular value of the affine map that takes triangle p (length units) to triangle
+/// t (texels): the texels per length unit in the direction it stretches most (0: degenerate).
+inline double greatest_texels_per_unit(const std::array<CM::internal::Vec3, 3>& p, const std::array<UV2, 3>& t) {
+  using CM::internal::dot;
+  const auto e1 = p[1] - p[0], e2 = p[2] - p[0];
+  const double l1 = std::sqrt(dot(e1, e1));
+  if (!(l1 > 0)) return 0;
+  const double x2 = dot(e2, e1) / l1, y2 = std::sqrt((std::max)(0.0, dot(e2, e2) - x2 * x2));
+  if (!(y2 > 0)) return 0;
+  const double a = t[1][0] - t[0][0], b = t[2][0] - t[0][0], c = t[1][1] - t[0][1], d = t[2][1] - t[0][1];
+  const double j11 = a / l1, j12 = (b - a * x2 / l1) / y2, j21 = c / l1, j22 = (d - c * x2 / l1) / y2;
+  const double f = j11 * j11 + j12 * j12 + j21 * j21 + j22 * j22, det = j11 * j22 - j12 * j21;
+  const double g = std::sqrt((std::max)(0.0, f * f - 4 * det * det));
+  return std::sqrt(0.5 * (f + g));
+}
+
+/// Marks in `marked` (one entry per input face) the input faces whose centroid points
+/// (`input_face_point`) ended (`on_level`) on a face of `level` that its texture coordinates in a
+/// W x H atlas serve poorly: squashed (least stretch, least_texels_per_unit(), below half
+/// `texels_per_unit`), stretched (greatest stretch above twice it: the face spans a chart's gutter
+/// and what lies beyond) or with a corner on the texture's edge (clamped there by on_texture(): it
+/// was mapped past the atlas). A finer level's face can be served so where none of the input faces
+/// under it is (its corners, mapped through the history past a chart's border, fall on one line of
+/// texels or beyond the chart), and it then shows a smear of that border or another chart's colours.
+inline void mark_input_under_poorly_served(const Textured_mesh& level, int W, int H, double texels_per_unit,
+                                           const std::vector<std::uint32_t>& input_face_point,
+                                           const std::vector<std::uint32_t>& on_level, std::vector<char>& marked) {
+  using Face = Surface_mesh::Face_index;
+  const Surface_mesh& lm = level.mesh();
+  const std::size_t nl = lm.number_of_faces();
+  std::vector<char> poor(nl, 0);
+  for (Face f : lm.faces()) {
+    std::array<CM::internal::Vec3, 3> p;
+    std::array<UV2, 3> t;
+    bool on_edge = false;
+    for (int k = 0; k < 3; ++k) {
+      const auto h = corner_halfedge(lm, f, k);
+      const Point_3& q = lm.point(lm.target(h));
+      const Point_2 uv = level.uv(h);
+      p[std::size_t(k)] = CM::internal::Vec3(q.x(), q.y(), q.z());
+      t[std::size_t(k)] = {{uv.x() * W, uv.y() * H}};
+      on_edge = on_edge || !(uv.x() > 0 && uv.x() < 1 && uv.y() > 0 && uv.y() < 1);
+    }
+    poor[std::size_t(f)] = on_edge || least_texels_per_unit(p, t) < 0.5 * texels_per_unit ||
+                           greatest_texels_per_unit(p, t) > 2 * texels_per_unit;
+  }
+  for (std::size_t j = 0; j < input_face_point.size() && j < marked.size(); ++j) {
+    const std::uint32_t q = input_face_point[j];
+    if (q < on_level.size() && on_level[q] < nl && poor[on_level[q]]) marked[j] = 1;
+  }
+}
+
 /// The overflow charts of the shared atlas of `coarse` (its UVs and its one material's images, as
 /// rebuild_atlas() with the painter left them; `texels_per_unit` its density), painted from
 /// `source`. `mapped`: the input with its texture coordinates in that atlas, `texels` as
 /// paint_input_onto() gave them. A face of the input needs its own chart when its map into the
 /// atlas squashes it (its least stretch, least_texels_per_unit(), below half the atlas' density)
-/// or when it won fewer than half of the texels it covers; such faces joined by edges form groups, and a group
-/// gets charts when its area is at least 64 texels at that density (below, the gutters around its
-/// charts would take more texels than it shows). The charts are packed at the atlas' density or
-/// more into a strip as wide as the atlas and as short as that allows, at most half as tall as the
-/// atlas (then at a lower density: on DamagedHelmet and texturedknot a strip as tall as the atlas
-/// gave the same image error at every level). On return `coarse`'s UVs and images are those of the layered atlas;
-/// `mapped` is left as it is (see move_to_layered_atlas(), Atlas_layers::input_uv).
+/// or when it won fewer than half of the texels it covers, or when `also_poor` marks it (the faces
+/// under a finer level's poorly served face, mark_input_under_poorly_served()); such faces joined by edges form groups,
+/// and a group gets charts when its area is at least 64 texels at that density (below, the gutters around its charts
+/// would take more texels than it shows). The charts are packed at the atlas' density or more into a strip as wide as
+/// the atlas and as short as that allows, at most half as tall as the atlas (then at a lower density: on DamagedHelmet
+/// and texturedknot a strip as tall as the atlas gave the same image error at every level). On return `coarse`'s UVs
+/// and images are those of the layered atlas; `mapped` is left as it is (see move_to_layered_atlas(),
+/// Atlas_layers::input_uv).
 inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mesh& coarse, const Textured_mesh& mapped,
-                                        const Face_texels& texels, double texels_per_unit,
-                                        const Atlas_options& options) {
+                                        const Face_texels& texels, double texels_per_unit, const Atlas_options& options,
+                                        const std::vector<char>& also_poor = {}) {
   using Face = Surface_mesh::Face_index;
   Atlas_layers L;
   if (coarse.materials().size() != 1) return L;
@@ -141,7 +195,8 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
     }
     const bool squashed = least_texels_per_unit(pv, texels_of) < 0.5 * texels_per_unit;
     const bool hidden = texels.covered[i] > 0 && 2 * texels.won[i] < texels.covered[i];
-    poor[i] = area[i] > 0 && (squashed || hidden);
+    const bool under_squashed = i < also_poor.size() && also_poor[i];
+    poor[i] = area[i] > 0 && (squashed || hidden || under_squashed);
   }
   std::vector<std::uint32_t> parent(nf);
   std::iota(parent.begin(), parent.end(), 0u);
@@ -228,7 +283,7 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
   Image normals = with_normals ? stacked(old_normals) : Image();
   // each chart's faces paint their texels of the strip (charts do not share texels: the packing
   // leaves gutters between them), then the painted texels grow over the gutters
-  std::vector<char> painted(std::size_t(W) * std::size_t(S), 0);
+  std::vector<char> painted = CMGeom::internal::filled_on_huge_pages(std::size_t(W) * std::size_t(S), char(0));
   std::vector<std::int32_t> owner(painted.size(), -1);  // the chart of each texel, then the nearest
   // input face i rasterised at texel triangle t of the strip (corners in the order of
   // halfedges_around_face from halfedge(i)): its colours, and its normals in the frame of t, at the
@@ -404,8 +459,9 @@ inline void input_into_overflow(Textured_mesh& input, const Atlas_layers& layers
 /// takes the coordinates of its nearest point on the input's faces of that chart that ended on the
 /// faces around it (the chart's map of the nearest face, extended past it by at most
 /// `max_extrapolation`). The move is kept when the face keeps its orientation and each edge its
-/// length in texels within a factor of 2, and either more of its input faces have the chart than
-/// have none or the chart stretches the face less (least_texels_per_unit()) than the atlas does.
+/// length in texels within a factor of 2 (a face the atlas squashes: no edge longer than twice,
+/// and squashed less in the chart), and either more of its input faces have the chart than have
+/// none or the chart stretches the face less (least_texels_per_unit()) than the atlas does.
 inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers, const Surface_mesh& input,
                                 const std::vector<std::uint32_t>& input_face_point,
                                 const std::vector<std::uint32_t>& on_level, double max_extrapolation) {
@@ -471,6 +527,8 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
     }
     majority[f] = best > none;
   }
+  // a face the atlas squashes (as add_overflow_charts() tells the input's)
+  auto squashed = [&](std::size_t f) { return stretch(f, uvs_of(f)) < 0.5 * layers.base_texels_per_unit; };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl), [&](const tbb::blocked_range<std::size_t>& r) {
     std::vector<std::uint32_t> near;
     for (std::size_t f = r.begin(); f != r.end(); ++f) {
@@ -513,7 +571,7 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
       // would stretch it over the gutters); else the face keeps its place in the atlas
       const std::array<UV2, 3> m = in_texels(moved);
       if (!(signed_area_2(m[0], m[1], m[2]) > 0)) continue;
-      bool shape_kept = true;
+      bool shape_kept = true, longest_ok = true;
       for (int k = 0; k < 3; ++k) {
         const UV2& a = m[std::size_t(k)];
         const UV2& b = m[std::size_t((k + 1) % 3)];
@@ -521,9 +579,12 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
         const double share =
             CM::internal::length(corner[std::size_t((k + 1) % 3)] - corner[std::size_t(k)]) * layers.texels_per_unit;
         shape_kept = shape_kept && texels >= 0.5 * share && texels <= 2 * share;
+        longest_ok = longest_ok && texels <= 2 * share;
       }
-      if (!shape_kept) continue;
-      if (!majority[f] && !(stretch(f, moved) > stretch(f, uvs_of(f)))) continue;
+      // (a face the atlas squashes may shrink in the chart, as long as it is squashed less there)
+      const bool better = stretch(f, moved) > stretch(f, uvs_of(f));
+      if (!shape_kept && !(longest_ok && better && squashed(f))) continue;
+      if (!majority[f] && !better) continue;
       for (int k = 0; k < 3; ++k) level.set_uv(corner_halfedge(lm, lf, k), moved[std::size_t(k)]);
     }
   });

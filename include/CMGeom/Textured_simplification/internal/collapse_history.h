@@ -17,6 +17,7 @@
 #include <CMGeom/Mesh_IO/charts.h>
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
+#include <CMGeom/internal/huge_pages.h>
 
 #include <CGAL/boost/graph/copy_face_graph.h>
 
@@ -295,8 +296,9 @@ inline Point_2 on_texture(const Point_2& t) {
   return Point_2(std::clamp(t.x(), 0.0, 1.0), std::clamp(t.y(), 0.0, 1.0));
 }
 
-/// Gives `fine` texture coordinates in the atlas of `coarse` (see the file comment) and the
-/// coarse mesh's materials. `vertex_point` and `face_point` are the points of the fine mesh's
+/// Gives `fine` texture coordinates in the atlas of `coarse` (see the file comment), each face
+/// material 0 (the atlas' images are the caller's to give: they are large, and a mapping made only
+/// to be measured or painted from needs none). `vertex_point` and `face_point` are the points of the fine mesh's
 /// vertices and faces, `coarse_face_of_point` the coarse face each point lies on (Level_snapshot).
 /// A fine face goes into the chart of the coarse face its centroid's point lies on; a corner takes
 /// the coordinates of its point's place on its coarse face when that face is in the chart, else of
@@ -477,7 +479,6 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
   for (Face f : fm.faces())
     for (auto h : CGAL::halfedges_around_face(fm.halfedge(f), fm))
       fine.set_uv(h, uv_of[slot.at({std::uint32_t(fm.target(h)), face_chart[std::size_t(f)]})]);
-  fine.materials() = coarse.materials();
   for (Face f : fm.faces()) fine.material_map()[f] = 0;
   fine.set_has_uvs(true);
   if (chart_of_face) *chart_of_face = std::move(face_chart);
@@ -552,7 +553,7 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
   const Surface_mesh& cm = coarse.mesh();
   auto chart_map = get(CGAL::dynamic_face_property_t<int>(), cm);
   compute_chart_ids(cm, coarse.uv_map(), chart_map);
-  std::vector<int> owner(std::size_t(W) * std::size_t(H), -1);
+  std::vector<int> owner = CMGeom::internal::filled_on_huge_pages(std::size_t(W) * std::size_t(H), -1);
   auto texel_triangle = [&](const Textured_mesh& tm, Face f) {
     std::array<UV2, 3> t;
     int k = 0;
@@ -591,10 +592,11 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
   }
   const int band = 16;
   std::atomic<std::size_t> covered{0}, won{0};
-  std::vector<char> painted(std::size_t(W) * std::size_t(H), 0);
+  std::vector<char> painted = CMGeom::internal::filled_on_huge_pages(std::size_t(W) * std::size_t(H), char(0));
   std::vector<float> normals;
-  if (source.has_normal_maps()) normals.assign(3 * std::size_t(W) * std::size_t(H), 0.f);
-  std::vector<std::uint32_t> faces(std::size_t(W) * std::size_t(H), 0);
+  if (source.has_normal_maps())
+    CMGeom::internal::assign_on_huge_pages(normals, 3 * std::size_t(W) * std::size_t(H), 0.f);
+  std::vector<std::uint32_t> faces = CMGeom::internal::filled_on_huge_pages(std::size_t(W) * std::size_t(H), 0u);
   tbb::parallel_for(0, (H + band - 1) / band, [&](int b) {
     const int y0 = b * band, y1 = (std::min)(H, y0 + band);
     const std::size_t texels = std::size_t(y1 - y0) * std::size_t(W);
