@@ -69,37 +69,33 @@ inline void move_to_layered_atlas(Textured_mesh& mesh, const Atlas_layers& layer
     if (!mesh.mesh().is_border(h)) mesh.set_uv(h, layers.base(mesh.uv(h)));
 }
 
-/// The smallest singular value of the affine map that takes triangle p (length units) to triangle t
-/// (texels): the texels per length unit left in the direction it squashes most (0: degenerate).
-inline double least_texels_per_unit(const std::array<CM::internal::Vec3, 3>& p, const std::array<UV2, 3>& t) {
+/// The singular values {least, greatest} of the affine map that takes triangle p (length units)
+/// to triangle t (texels): the texels per length unit in the direction it squashes most and in the
+/// one it stretches most ({0, 0}: degenerate).
+inline std::array<double, 2> texels_per_unit_range(const std::array<CM::internal::Vec3, 3>& p,
+                                                   const std::array<UV2, 3>& t) {
   using CM::internal::dot;
   const auto e1 = p[1] - p[0], e2 = p[2] - p[0];
   const double l1 = std::sqrt(dot(e1, e1));
-  if (!(l1 > 0)) return 0;
+  if (!(l1 > 0)) return {{0, 0}};
   const double x2 = dot(e2, e1) / l1, y2 = std::sqrt((std::max)(0.0, dot(e2, e2) - x2 * x2));
-  if (!(y2 > 0)) return 0;
+  if (!(y2 > 0)) return {{0, 0}};
   // J = T X^-1 with X = [[l1, x2], [0, y2]] (the edges in the triangle's plane), T the texel edges
   const double a = t[1][0] - t[0][0], b = t[2][0] - t[0][0], c = t[1][1] - t[0][1], d = t[2][1] - t[0][1];
   const double j11 = a / l1, j12 = (b - a * x2 / l1) / y2, j21 = c / l1, j22 = (d - c * x2 / l1) / y2;
   const double f = j11 * j11 + j12 * j12 + j21 * j21 + j22 * j22, det = j11 * j22 - j12 * j21;
   const double g = std::sqrt((std::max)(0.0, f * f - 4 * det * det));
-  return std::sqrt((std::max)(0.0, 0.5 * (f - g)));
+  return {{std::sqrt((std::max)(0.0, 0.5 * (f - g))), std::sqrt(0.5 * (f + g))}};
 }
 
-/// The greatest singular value of the affine map that takes triangle p (length units) to triangle
-/// t (texels): the texels per length unit in the direction it stretches most (0: degenerate).
+/// The smallest singular value of texels_per_unit_range().
+inline double least_texels_per_unit(const std::array<CM::internal::Vec3, 3>& p, const std::array<UV2, 3>& t) {
+  return texels_per_unit_range(p, t)[0];
+}
+
+/// The greatest singular value of texels_per_unit_range().
 inline double greatest_texels_per_unit(const std::array<CM::internal::Vec3, 3>& p, const std::array<UV2, 3>& t) {
-  using CM::internal::dot;
-  const auto e1 = p[1] - p[0], e2 = p[2] - p[0];
-  const double l1 = std::sqrt(dot(e1, e1));
-  if (!(l1 > 0)) return 0;
-  const double x2 = dot(e2, e1) / l1, y2 = std::sqrt((std::max)(0.0, dot(e2, e2) - x2 * x2));
-  if (!(y2 > 0)) return 0;
-  const double a = t[1][0] - t[0][0], b = t[2][0] - t[0][0], c = t[1][1] - t[0][1], d = t[2][1] - t[0][1];
-  const double j11 = a / l1, j12 = (b - a * x2 / l1) / y2, j21 = c / l1, j22 = (d - c * x2 / l1) / y2;
-  const double f = j11 * j11 + j12 * j12 + j21 * j21 + j22 * j22, det = j11 * j22 - j12 * j21;
-  const double g = std::sqrt((std::max)(0.0, f * f - 4 * det * det));
-  return std::sqrt(0.5 * (f + g));
+  return texels_per_unit_range(p, t)[1];
 }
 
 /// Marks in `marked` (one entry per input face) the input faces whose centroid points
@@ -129,8 +125,8 @@ inline void mark_input_under_poorly_served(const Textured_mesh& level, int W, in
       t[std::size_t(k)] = {{uv.x() * W, uv.y() * H}};
       on_edge = on_edge || !(uv.x() > 0 && uv.x() < 1 && uv.y() > 0 && uv.y() < 1);
     }
-    poor[std::size_t(f)] = on_edge || least_texels_per_unit(p, t) < 0.5 * texels_per_unit ||
-                           greatest_texels_per_unit(p, t) > 2 * texels_per_unit;
+    const std::array<double, 2> range = texels_per_unit_range(p, t);
+    poor[std::size_t(f)] = on_edge || range[0] < 0.5 * texels_per_unit || range[1] > 2 * texels_per_unit;
   }
   for (std::size_t j = 0; j < input_face_point.size() && j < marked.size(); ++j) {
     const std::uint32_t q = input_face_point[j];
