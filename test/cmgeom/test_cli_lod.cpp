@@ -69,6 +69,15 @@ TEST(cmgeom_cli, LodWritesOneGlbNodePerLevelListedByMsftLod) {
       EXPECT_EQ(l["texture_height"].get<int>() > 0, shared || i > 0) << l;
       // one atlas: every level reports its size, the strip of overflow charts included
       if (shared) EXPECT_EQ(l["texture_height"], levels[2]["texture_height"]) << l;
+      // the making of an atlas is reported on the level it was made for: every simplified level,
+      // or the coarsest only when one atlas serves all; painted texels are a part of those in charts
+      const bool made_here = shared ? i == 2 : i > 0;
+      EXPECT_EQ(l.contains("seconds_bake"), made_here) << l;
+      if (made_here) {
+        EXPECT_GT(l["texels_in_charts"].get<std::size_t>(), 0u);
+        EXPECT_LE(l["texels_painted"].get<std::size_t>(), l["texels_in_charts"].get<std::size_t>());
+        for (const char* k : {"seconds_charts", "seconds_paint", "seconds_bake"}) EXPECT_GE(l[k].get<double>(), 0.0);
+      }
     }
     if (shared) {
       // the strip's share of the atlas, and the share of the input's area given charts there

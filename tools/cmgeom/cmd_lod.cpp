@@ -240,11 +240,14 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
           e["texture_width"] = l.is_input && !o->shared_texture ? 0 : l.atlas.texture_width;
           e["texture_height"] = l.is_input && !o->shared_texture ? 0 : l.atlas.texture_height;
           e["charts"] = l.atlas.charts;
-          e["texels_in_charts"] = l.atlas.texels_baked;
-          e["texels_painted"] = l.atlas.texels_painted;
-          e["seconds_charts"] = l.atlas.seconds_charts;
-          e["seconds_paint"] = l.atlas.seconds_paint;
-          e["seconds_bake"] = l.atlas.seconds_bake;
+          // the making of the atlas, on the level it was made for (the coarsest, for a shared one)
+          if (!l.is_input && (!o->shared_texture || i + 1 == r.levels.size())) {
+            e["texels_in_charts"] = l.atlas.texels_baked;
+            e["texels_painted"] = l.atlas.texels_painted;
+            e["seconds_charts"] = l.atlas.seconds_charts;
+            e["seconds_paint"] = l.atlas.seconds_paint;
+            e["seconds_bake"] = l.atlas.seconds_bake;
+          }
         }
         arr.push_back(e);
       }

@@ -394,16 +394,16 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
                                  options.max_extrapolation, border_texels, atlas_width, atlas_height);
       });
       // the parts of the input the atlas serves poorly, and those under the finer levels' faces it
-      // squashes, get charts of their own (atlas_layers.h)
+      // serves poorly, get charts of their own (atlas_layers.h)
       internal::Atlas_layers layers;
       if (options.overflow_charts) {
-        std::vector<char> under_squashed(input.mesh().number_of_faces(), 0);
+        std::vector<char> under_poor(input.mesh().number_of_faces(), 0);
         for (std::size_t i = kept; i + 1 < res.levels.size(); ++i)
           internal::mark_input_under_poorly_served(res.levels[i].mesh, atlas_width, atlas_height,
                                                    coarsest.atlas.texels_per_unit, input_points.face_point,
-                                                   meshes[i - kept].face_of_point, under_squashed);
+                                                   meshes[i - kept].face_of_point, under_poor);
         layers = internal::add_overflow_charts(*source, coarsest.mesh, original, input_texels,
-                                               coarsest.atlas.texels_per_unit, ao, under_squashed);
+                                               coarsest.atlas.texels_per_unit, ao, under_poor);
       }
       if (layers.strip_height > 0) {
         atlas_height += layers.strip_height;

@@ -1,18 +1,19 @@
 // Copyright (c) 2026 CMGeom contributors.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// resize_on_huge_pages(v, n), assign_on_huge_pages(v, n, value), filled_on_huge_pages<T>(n, value)
-// and copy_on_huge_pages(v): std::vector's resize(), assign() and copy for large buffers (texture
-// atlases, index textures, Compact Model outputs). When one needs a new block of at least
-// `huge_page_threshold` bytes, the block is reserved first and, on Linux,
-// marked for transparent huge pages (madvise(MADV_HUGEPAGE)) before anything touches it, so that
+// reserve_on_huge_pages(v, n), resize_on_huge_pages(v, n), assign_on_huge_pages(v, n, value),
+// filled_on_huge_pages<T>(n, value) and copy_on_huge_pages(v): std::vector's reserve(), resize(),
+// assign() and copy for large buffers (texture atlases, index textures, Compact Model outputs).
+// When one needs a new block of at least `huge_page_threshold` bytes, the block is reserved first
+// and, on Linux, marked for transparent huge pages (madvise(MADV_HUGEPAGE)) before anything touches it, so that
 // the first writes fault in 2 MB pages instead of 4 kB ones. On a machine whose kernel hands out
 // huge pages only on request (transparent_hugepage/enabled = madvise, Debian's default), this is
 // what a fresh 4M-vertex Compact Model reconstruction spends most of its extra time on: 80,000
 // page faults for 330 MB of output (doc/Compact_model/README.md, "Reconstruction speed"), and
 // what baking a 2048 x 2048 atlas spent a quarter of its time on (its float colour buffer alone
 // is 48 MB).
-// Elsewhere, or when the kernel refuses, it is a plain resize(); the contents are the same.
+// Elsewhere, or when the kernel refuses, each is the plain std::vector operation; the contents are
+// the same.
 #ifndef CMGEOM_INTERNAL_HUGE_PAGES_H
 #define CMGEOM_INTERNAL_HUGE_PAGES_H
 
@@ -47,30 +48,34 @@ inline void advise_huge_pages(void* p, std::size_t bytes) {
 #endif
 }
 
-/// v.resize(n), with a newly needed block of huge_page_threshold bytes or more advised for huge
-/// pages before its first touch (see the file comment). Elements already in v are kept.
+/// v.reserve(n), with a newly needed block of huge_page_threshold bytes or more advised for huge
+/// pages (past v's elements) before its first touch (see the file comment).
 template <class T, class Allocator>
-void resize_on_huge_pages(std::vector<T, Allocator>& v, std::size_t n) {
+void reserve_on_huge_pages(std::vector<T, Allocator>& v, std::size_t n) {
   if (n > v.capacity() && n * sizeof(T) >= huge_page_threshold) {
     v.reserve(n);
     advise_huge_pages(v.data() + v.size(), (n - v.size()) * sizeof(T));
   }
+}
+
+/// v.resize(n), with a newly needed block advised as in reserve_on_huge_pages(). Elements already
+/// in v are kept.
+template <class T, class Allocator>
+void resize_on_huge_pages(std::vector<T, Allocator>& v, std::size_t n) {
+  reserve_on_huge_pages(v, n);
   v.resize(n);
 }
 
-/// v.assign(n, value), with a newly needed block advised as in resize_on_huge_pages().
+/// v.assign(n, value), with a newly needed block advised as in reserve_on_huge_pages() (v is
+/// cleared first: its old elements are not moved into the new block).
 template <class T, class Allocator>
 void assign_on_huge_pages(std::vector<T, Allocator>& v, std::size_t n, const T& value) {
-  if (n > v.capacity() && n * sizeof(T) >= huge_page_threshold) {
-    v.clear();
-    v.shrink_to_fit();
-    v.reserve(n);
-    advise_huge_pages(v.data(), n * sizeof(T));
-  }
+  v.clear();
+  reserve_on_huge_pages(v, n);
   v.assign(n, value);
 }
 
-/// std::vector<T>(n, value), on huge pages when large (see resize_on_huge_pages()).
+/// std::vector<T>(n, value), on huge pages when large (see reserve_on_huge_pages()).
 template <class T>
 std::vector<T> filled_on_huge_pages(std::size_t n, const T& value) {
   std::vector<T> v;
@@ -78,14 +83,11 @@ std::vector<T> filled_on_huge_pages(std::size_t n, const T& value) {
   return v;
 }
 
-/// A copy of v, on huge pages when large (see resize_on_huge_pages()).
+/// A copy of v, on huge pages when large (see reserve_on_huge_pages()).
 template <class T, class Allocator>
 std::vector<T, Allocator> copy_on_huge_pages(const std::vector<T, Allocator>& v) {
   std::vector<T, Allocator> c(v.get_allocator());
-  if (v.size() * sizeof(T) >= huge_page_threshold) {
-    c.reserve(v.size());
-    advise_huge_pages(c.data(), v.size() * sizeof(T));
-  }
+  reserve_on_huge_pages(c, v.size());
   c.assign(v.begin(), v.end());
   return c;
 }

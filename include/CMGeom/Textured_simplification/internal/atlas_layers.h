@@ -69,6 +69,16 @@ inline void move_to_layered_atlas(Textured_mesh& mesh, const Atlas_layers& layer
     if (!mesh.mesh().is_border(h)) mesh.set_uv(h, layers.base(mesh.uv(h)));
 }
 
+/// The corners of face f of m (in the order of corner_halfedge()) as Vec3.
+inline std::array<CM::internal::Vec3, 3> corner_points(const Surface_mesh& m, Surface_mesh::Face_index f) {
+  std::array<CM::internal::Vec3, 3> p;
+  for (int k = 0; k < 3; ++k) {
+    const Point_3& q = m.point(m.target(corner_halfedge(m, f, k)));
+    p[std::size_t(k)] = CM::internal::Vec3(q.x(), q.y(), q.z());
+  }
+  return p;
+}
+
 /// The singular values {least, greatest} of the affine map that takes triangle p (length units)
 /// to triangle t (texels): the texels per length unit in the direction it squashes most and in the
 /// one it stretches most ({0, 0}: degenerate).
@@ -114,18 +124,14 @@ inline void mark_input_under_poorly_served(const Textured_mesh& level, int W, in
   const std::size_t nl = lm.number_of_faces();
   std::vector<char> poor(nl, 0);
   for (Face f : lm.faces()) {
-    std::array<CM::internal::Vec3, 3> p;
     std::array<UV2, 3> t;
     bool on_edge = false;
     for (int k = 0; k < 3; ++k) {
-      const auto h = corner_halfedge(lm, f, k);
-      const Point_3& q = lm.point(lm.target(h));
-      const Point_2 uv = level.uv(h);
-      p[std::size_t(k)] = CM::internal::Vec3(q.x(), q.y(), q.z());
+      const Point_2 uv = level.uv(corner_halfedge(lm, f, k));
       t[std::size_t(k)] = {{uv.x() * W, uv.y() * H}};
       on_edge = on_edge || !(uv.x() > 0 && uv.x() < 1 && uv.y() > 0 && uv.y() < 1);
     }
-    const std::array<double, 2> range = texels_per_unit_range(p, t);
+    const std::array<double, 2> range = texels_per_unit_range(corner_points(lm, f), t);
     poor[std::size_t(f)] = on_edge || range[0] < 0.5 * texels_per_unit || range[1] > 2 * texels_per_unit;
   }
   for (std::size_t j = 0; j < input_face_point.size() && j < marked.size(); ++j) {
@@ -183,16 +189,12 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
     area[i] = 0.5 * std::sqrt(c.squared_length());
     normal[i] = unit_or_zero(c);
     total_area += area[i];
-    std::array<CM::internal::Vec3, 3> pv;
     std::array<UV2, 3> texels_of;
-    for (int k = 0; k < 3; ++k) {
-      pv[std::size_t(k)] = CM::internal::Vec3(p[std::size_t(k)].x(), p[std::size_t(k)].y(), p[std::size_t(k)].z());
-      texels_of[std::size_t(k)] = {{t[std::size_t(k)].x() * W, t[std::size_t(k)].y() * H}};
-    }
-    const bool squashed = least_texels_per_unit(pv, texels_of) < 0.5 * texels_per_unit;
+    for (int k = 0; k < 3; ++k) texels_of[std::size_t(k)] = {{t[std::size_t(k)].x() * W, t[std::size_t(k)].y() * H}};
+    const bool squashed = least_texels_per_unit(corner_points(im, f), texels_of) < 0.5 * texels_per_unit;
     const bool hidden = texels.covered[i] > 0 && 2 * texels.won[i] < texels.covered[i];
-    const bool under_squashed = i < also_poor.size() && also_poor[i];
-    poor[i] = area[i] > 0 && (squashed || hidden || under_squashed);
+    const bool under_poor_level_face = i < also_poor.size() && also_poor[i];
+    poor[i] = area[i] > 0 && (squashed || hidden || under_poor_level_face);
   }
   std::vector<std::uint32_t> parent(nf);
   std::iota(parent.begin(), parent.end(), 0u);
@@ -327,8 +329,6 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
   // paint the texels of its gutter (the texels nearer to it than to another chart): a finer
   // level's face that crosses the chart's border reads their colours there
   {
-    using V3 = CM::internal::Vec3;
-    auto vec = [](const Point_3& q) { return V3(q.x(), q.y(), q.z()); };
     grow_rings(
         W, S, options.gutter_texels + 1, [&](std::size_t at) { return owner[at] != -1; },
         [&](std::size_t at) { return owner[at] == -1; },
@@ -348,8 +348,7 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
       ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
       for (std::uint32_t g : ring) {
         // the chart's face sharing the most corners with g, and g's corners under its map
-        std::array<V3, 3> gp;
-        for (int k = 0; k < 3; ++k) gp[std::size_t(k)] = vec(im.point(im.target(corner_halfedge(im, Face(g), k))));
+        const std::array<CM::internal::Vec3, 3> gp = corner_points(im, Face(g));
         std::uint32_t best = 0;
         int shared = 0;
         for (auto v : CGAL::vertices_around_face(im.halfedge(Face(g)), im))
@@ -364,8 +363,7 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
               }
             }
         if (shared == 0) continue;
-        std::array<V3, 3> fp;
-        for (int k = 0; k < 3; ++k) fp[std::size_t(k)] = vec(im.point(im.target(corner_halfedge(im, Face(best), k))));
+        const std::array<CM::internal::Vec3, 3> fp = corner_points(im, Face(best));
         std::array<Point_2, 3> fuv;
         for (int k = 0; k < 3; ++k)
           fuv[std::size_t(k)] = Point_2(strip_uv[best][std::size_t(k)][0], strip_uv[best][std::size_t(k)][1]);
@@ -481,7 +479,6 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
     if (on[j] != Collapse_history::nil) list[fill[on[j]]++] = std::uint32_t(j);
   // each level face's chart: the most common of its input faces' charts; taken when more of them
   // have it than have none, or else when it stretches the face less than the atlas does
-  auto vec = [](const Point_3& p) { return V3(p.x(), p.y(), p.z()); };
   // a triangle of texture coordinates in texels of the layered atlas
   auto in_texels = [&](const std::array<Point_2, 3>& t) {
     std::array<UV2, 3> x;
@@ -491,10 +488,7 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
   };
   // the least stretch of a level face under texture coordinates t (texels per length unit)
   auto stretch = [&](std::size_t f, const std::array<Point_2, 3>& t) {
-    std::array<V3, 3> p;
-    const Face lf = Face(static_cast<Surface_mesh::size_type>(f));
-    for (int k = 0; k < 3; ++k) p[std::size_t(k)] = vec(lm.point(lm.target(corner_halfedge(lm, lf, k))));
-    return least_texels_per_unit(p, in_texels(t));
+    return least_texels_per_unit(corner_points(lm, Face(static_cast<Surface_mesh::size_type>(f))), in_texels(t));
   };
   auto uvs_of = [&](std::size_t f) {
     std::array<Point_2, 3> t;
@@ -523,8 +517,6 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
     }
     majority[f] = best > none;
   }
-  // a face the atlas squashes (as add_overflow_charts() tells the input's)
-  auto squashed = [&](std::size_t f) { return stretch(f, uvs_of(f)) < 0.5 * layers.base_texels_per_unit; };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl), [&](const tbb::blocked_range<std::size_t>& r) {
     std::vector<std::uint32_t> near;
     for (std::size_t f = r.begin(); f != r.end(); ++f) {
@@ -541,17 +533,14 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
       near.erase(std::unique(near.begin(), near.end()), near.end());
       if (near.empty()) continue;
       std::array<Point_2, 3> moved;
-      std::array<V3, 3> corner;
+      const std::array<V3, 3> corner = corner_points(lm, lf);
       for (int k = 0; k < 3; ++k) {
         const auto h = corner_halfedge(lm, lf, k);
-        const V3 p = vec(lm.point(lm.target(h)));
-        corner[std::size_t(k)] = p;
+        const V3& p = corner[std::size_t(k)];
         double best = std::numeric_limits<double>::infinity();
         Point_2 uv = level.uv(h);
         for (std::uint32_t j : near) {
-          const Face jf(j);
-          std::array<V3, 3> t;
-          for (int q = 0; q < 3; ++q) t[std::size_t(q)] = vec(input.point(input.target(corner_halfedge(input, jf, q))));
+          const std::array<V3, 3> t = corner_points(input, Face(j));
           const V3 x = CM::internal::closest_on_triangle(p, t[0], t[1], t[2]);
           const double d = CM::internal::squared_length(p - x);
           if (!(d < best)) continue;
@@ -577,9 +566,12 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
         shape_kept = shape_kept && texels >= 0.5 * share && texels <= 2 * share;
         longest_ok = longest_ok && texels <= 2 * share;
       }
-      // (a face the atlas squashes may shrink in the chart, as long as it is squashed less there)
-      const bool better = stretch(f, moved) > stretch(f, uvs_of(f));
-      if (!shape_kept && !(longest_ok && better && squashed(f))) continue;
+      // (a face the atlas squashes, as add_overflow_charts() tells the input's, may shrink in the
+      // chart, as long as it is squashed less there)
+      const double now = stretch(f, uvs_of(f));
+      const bool better = stretch(f, moved) > now;
+      const bool squashed = now < 0.5 * layers.base_texels_per_unit;
+      if (!shape_kept && !(longest_ok && better && squashed)) continue;
       if (!majority[f] && !better) continue;
       for (int k = 0; k < 3; ++k) level.set_uv(corner_halfedge(lm, lf, k), moved[std::size_t(k)]);
     }
