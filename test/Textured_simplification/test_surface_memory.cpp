@@ -252,8 +252,19 @@ TEST(SurfaceMemoryFit, LowersThePointEnergyKeepsConnectivityAndNeverMovesAPointF
   for (auto f : m.faces()) normals0.push_back(PMP::compute_face_normal(f, m));
 
   TS::Surface_fit_options fo;
+  // where the fit would move the vertices, asked first: neither the mesh nor the points change
+  std::vector<Point_3> before;
+  for (auto v : m.vertices()) before.push_back(m.point(v));
+  const std::vector<Point_3> would = memory.fitted_positions(m, fo, [&](auto v) { return policy.quadric(v); });
+  {
+    std::size_t i = 0;
+    for (auto v : m.vertices()) ASSERT_EQ(m.point(v), before[i++]);
+    EXPECT_EQ(attached_distances(m, memory), d0);
+  }
   const std::size_t moves = memory.fit_vertices(m, fo, [&](auto v) { return policy.quadric(v); });
   EXPECT_GT(moves, std::size_t(m.number_of_vertices()));  // most vertices move in every round
+  // the fit made is the one foretold, exactly
+  for (auto v : m.vertices()) ASSERT_EQ(m.point(v), would[std::size_t(v)]);
 
   const std::vector<double> d1 = attached_distances(m, memory);
   ASSERT_EQ(d1.size(), d0.size());

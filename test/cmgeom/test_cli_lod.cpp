@@ -239,3 +239,50 @@ TEST(cmgeom_cli, LodObjPrefixWritesEveryLevelAsObj) {
   }
   EXPECT_FALSE(fs::exists(prefix + "_3.obj"));
 }
+
+// A level of the chain is the mesh `cmgeom simplify` gives for its face count, final fit included
+// (taken during the one run, fitted on its own); with --fit-rounds 0 on both, the collapses' mesh.
+TEST(cmgeom_cli, LodLevelsAreWhatSimplifyGivesForTheirFaceCounts) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string in = (fs::path(dir) / "sphere.off").string();
+  {
+    std::ofstream f(in);
+    f << icosphere_off(5);  // 20480 faces
+  }
+  // the vertices of an OBJ, as sorted lines (the two files number them differently)
+  const auto vertex_lines = [](const std::string& path) {
+    std::istringstream s(bytes_of(path));
+    std::vector<std::string> v;
+    for (std::string line; std::getline(s, line);)
+      if (line.rfind("v ", 0) == 0) v.push_back(line);
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  std::vector<std::string> fitted_level;
+  for (const int rounds : {3, 0}) {
+    SCOPED_TRACE("fit rounds " + std::to_string(rounds));
+    const std::string prefix = (fs::path(dir) / ("lod" + std::to_string(rounds))).string();
+    const auto r = cmgeom_test::run_cli("--quiet lod " + quoted(in) + " -o " + quoted(prefix + ".glb") +
+                                            " --faces 20480,2000,300 --no-error --json --fit-rounds " +
+                                            std::to_string(rounds) + " --obj-prefix " + quoted(prefix),
+                                        dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json report = nlohmann::json::parse(r.out);
+    EXPECT_EQ(report["fit_rounds"], rounds);
+    for (std::size_t k = 1; k < 3; ++k) {
+      SCOPED_TRACE("level " + std::to_string(k));
+      const std::size_t faces = report["levels"][k]["faces"].get<std::size_t>();
+      const std::string alone = prefix + "_alone_" + std::to_string(k) + ".obj";
+      const auto s = cmgeom_test::run_cli("--quiet simplify " + quoted(in) + " -o " + quoted(alone) + " --faces " +
+                                              std::to_string(faces) + " --fit-rounds " + std::to_string(rounds),
+                                          dir);
+      ASSERT_EQ(s.exit_code, 0) << s.err;
+      const std::vector<std::string> level = vertex_lines(prefix + "_" + std::to_string(k) + ".obj");
+      ASSERT_FALSE(level.empty());
+      EXPECT_EQ(level, vertex_lines(alone));
+      if (k == 2 && rounds == 3) fitted_level = level;
+      // the fit moved the vertices (it is not a no-op on this sphere)
+      if (k == 2 && rounds == 0) EXPECT_NE(level, fitted_level);
+    }
+  }
+}

@@ -54,6 +54,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     std::string input, output, ratios, faces, max_errors, policy = "plain", texture, obj_prefix;
     bool shared_texture = false, no_overflow_charts = false, no_texture = false, no_error = false, json = false,
          no_repair = false;
+    int fit_rounds = 3;
     CMGeom::IO::Gltf_options gltf;
   };
   auto o = std::make_shared<Options>();
@@ -83,6 +84,10 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       ->check(CLI::IsMember({"weighted", "plain"}));
   app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
   app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input");
+  app.add_option("--fit-rounds", o->fit_rounds,
+                 "Rounds of the fit of each level's vertices to the input's points (as simplify's --fit-rounds: a "
+                 "level is the mesh simplify gives for its face count); 0 = none. Default 3")
+      ->check(CLI::Range(0, 100));
   app.add_flag("--no-error", o->no_error, "Do not measure the levels' errors (no 'error' in the nodes' extras)");
   app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");
   app.add_flag("--no-repair", o->no_repair,
@@ -168,6 +173,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     lo.shared_texture = o->shared_texture;
     lo.overflow_charts = !o->no_overflow_charts;
     lo.measure_error = !o->no_error;
+    lo.memory.fit.rounds = o->fit_rounds;
 
     // (levels by error: the run's end is not known in advance; the bar counts towards one face, and
     // its final line gives the faces actually removed)
@@ -214,6 +220,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       j["textured"] = textured;
       j["shared_texture"] = o->shared_texture;
       j["policy"] = o->policy;
+      j["fit_rounds"] = o->fit_rounds;
       if (o->shared_texture) {
         j["shared_texture_hidden"] = r.shared_texture_hidden;
         j["shared_texture_relocated"] = r.shared_texture_relocated;

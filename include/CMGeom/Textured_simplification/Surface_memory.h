@@ -304,14 +304,65 @@ public:
   template <class QuadricOf>
   std::size_t fit_vertices(const TriangleMesh& tm, const Surface_fit_options& options, QuadricOf quadric_of) {
     check_fit_options(options);
+    if (items_.empty() || options.rounds == 0) return 0;
+    std::vector<V3> pos = positions(tm);
+    std::vector<std::uint32_t> link(items_.size());
+    for (std::size_t i = 0; i < items_.size(); ++i) link[i] = items_[i].next;
+    const std::size_t moves = fit(tm, options, quadric_of, pos, head_, link);
+    for (std::size_t i = 0; i < items_.size(); ++i) items_[i].next = link[i];
+    using Point = typename boost::property_traits<VertexPointMap>::value_type;
+    for (vertex_descriptor v : vertices(tm)) {
+      const V3& x = pos[std::size_t(v)];
+      const V3 x0 = point(v);
+      if (x.x != x0.x || x.y != x0.y || x.z != x0.z) put(vpm_, v, Point(x.x, x.y, x.z));
+    }
+    return moves;
+  }
+
+  /// Where fit_vertices() would move the vertices, without moving them and without re-attaching
+  /// the points: the memory and `tm` are left as they are, so the collapses can go on (the levels of
+  /// a chain, level_of_detail.h, are fitted this way when taken, each as simplify_mesh() fits the
+  /// mesh it ends with). The result is indexed by vertex index (std::size_t(v)); entries of
+  /// removed vertices are unspecified.
+  template <class QuadricOf>
+  std::vector<typename boost::property_traits<VertexPointMap>::value_type> fitted_positions(
+      const TriangleMesh& tm, const Surface_fit_options& options, QuadricOf quadric_of) const {
+    check_fit_options(options);
+    std::vector<V3> pos = positions(tm);
+    if (!items_.empty() && options.rounds > 0) {
+      std::vector<std::uint32_t> head = head_, link(items_.size());
+      for (std::size_t i = 0; i < items_.size(); ++i) link[i] = items_[i].next;
+      fit(tm, options, quadric_of, pos, head, link);
+    }
+    using Point = typename boost::property_traits<VertexPointMap>::value_type;
+    std::vector<Point> out;
+    out.reserve(pos.size());
+    for (const V3& x : pos) out.emplace_back(x.x, x.y, x.z);
+    return out;
+  }
+
+private:
+  /// The vertices' positions, indexed by vertex index.
+  std::vector<V3> positions(const TriangleMesh& tm) const {
+    std::size_t n = 0;
+    for (vertex_descriptor v : vertices(tm)) n = (std::max)(n, std::size_t(v) + 1);
+    std::vector<V3> pos(n, V3(0., 0., 0.));
+    for (vertex_descriptor v : vertices(tm)) pos[std::size_t(v)] = point(v);
+    return pos;
+  }
+
+  /// fit_vertices()' body, on the positions `pos` (by vertex index) and the per-face lists of the
+  /// points `head` and `link` (as head_ and Item::next), which it updates; nothing else changes.
+  template <class QuadricOf>
+  std::size_t fit(const TriangleMesh& tm, const Surface_fit_options& options, QuadricOf quadric_of,
+                  std::vector<V3>& pos, std::vector<std::uint32_t>& head, std::vector<std::uint32_t>& link) const {
     const int rounds = options.rounds;
     const double damping = options.damping, mu = options.quadric_weight, max_turn = options.max_turn;
-    using Point = typename boost::property_traits<VertexPointMap>::value_type;
     const std::size_t np = items_.size();
-    if (np == 0 || rounds == 0) return 0;
+    const auto point = [&pos](vertex_descriptor v) -> const V3& { return pos[std::size_t(v)]; };
     std::vector<face_descriptor> at(np, GT::null_face());
     std::vector<V3> bary(np);
-    std::vector<V3> n0(head_.size());
+    std::vector<V3> n0(head.size());
     auto corners = [&](face_descriptor f) {
       const halfedge_descriptor h = halfedge(f, tm);
       return std::array<vertex_descriptor, 3>{target(h, tm), target(next(h, tm), tm), source(h, tm)};
@@ -325,7 +376,7 @@ public:
       const auto c = corners(f);
       const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
       n0[std::size_t(f)] = CM::internal::cross(q[1] - q[0], q[2] - q[0]);
-      for (std::uint32_t i = head_[std::size_t(f)]; i != nil; i = items_[i].next) {
+      for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) {
         at[i] = f;
         const V3& p = items_[i].p;
         worst =
@@ -357,11 +408,11 @@ public:
             if (!is_border(opposite(h, tm), tm)) consider(face(opposite(h, tm), tm));
         }
       });
-      std::fill(head_.begin(), head_.end(), nil);
+      std::fill(head.begin(), head.end(), nil);
       for (std::size_t i = np; i-- > 0;) {
         if (at[i] == GT::null_face()) continue;
-        items_[i].next = head_[std::size_t(at[i])];
-        head_[std::size_t(at[i])] = std::uint32_t(i);
+        link[i] = head[std::size_t(at[i])];
+        head[std::size_t(at[i])] = std::uint32_t(i);
       }
       for (vertex_descriptor v : vertices(tm)) {
         const V3 x0 = point(v);
@@ -370,11 +421,11 @@ public:
         for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
           if (is_border(h, tm)) continue;
           const face_descriptor f = face(h, tm);
-          if (head_[std::size_t(f)] == nil) continue;
+          if (head[std::size_t(f)] == nil) continue;
           const auto c = corners(f);
           const int k = corner_of(c, v);
           const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
-          for (std::uint32_t i = head_[std::size_t(f)]; i != nil; i = items_[i].next) {
+          for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) {
             const Item& r = items_[i];
             const double w[3] = {bary[i].x, bary[i].y, bary[i].z};
             V3 rest(0., 0., 0.);
@@ -410,11 +461,11 @@ public:
           const double nn = CM::internal::squared_length(n), mm = CM::internal::squared_length(m);
           ok = nn > 1e-24 * mm && CM::internal::dot(n, m) > cos_turn * std::sqrt(nn * mm);
           if (!ok) break;
-          if (head_[std::size_t(f)] == nil) continue;
+          if (head[std::size_t(f)] == nil) continue;
           const auto c = corners(f);
           V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
           q[corner_of(c, v)] = x;
-          for (std::uint32_t i = head_[std::size_t(f)]; i != nil && ok; i = items_[i].next) {
+          for (std::uint32_t i = head[std::size_t(f)]; i != nil && ok; i = link[i]) {
             const V3& p = items_[i].p;
             // the point at its coordinates is at least as far as the face: often enough
             if (CM::internal::squared_length(p - (bary[i].x * q[0] + bary[i].y * q[1] + bary[i].z * q[2])) <= worst)
@@ -424,14 +475,13 @@ public:
           if (!ok) break;
         }
         if (!ok) continue;
-        put(vpm_, v, Point(x.x, x.y, x.z));
+        pos[std::size_t(v)] = x;
         ++moves;
       }
     }
     return moves;
   }
 
-private:
   struct Item {
     V3 p;
     double area = 0.;

@@ -3,7 +3,10 @@
 //
 // simplify_to_levels(): a level-of-detail chain from ONE simplification run. The collapses of
 // simplify_mesh() run down to the smallest target and the mesh is copied each time the face count
-// reaches a level's target, so every level is the same collapse sequence stopped earlier. Levels
+// reaches a level's target, so every level is the same collapse sequence stopped earlier; each copy
+// gets the final fit of its vertices to the input's points that simplify_mesh() gives the mesh it
+// ends with (`memory.fit`), made on the copy alone (the run goes on from the unfitted mesh), so a
+// level is vertex for vertex the mesh simplify_mesh() returns for that target. Levels
 // may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
 // measure, not a guarantee). Texture: an atlas per level (default), painted from the input
 // followed down the collapses onto that level and baked where no input face lands, or one
@@ -73,6 +76,10 @@ struct Level_of_detail_options {
   /// Cost and placement (plain Garland-Heckbert by default, as simplify_mesh).
   Quadric_options quadric = Quadric_options{false};
   bool surface_memory = true;
+  /// The memoryful cost's points and, in `memory.fit`, the fit of each level's vertices to them,
+  /// as simplify_mesh()'s Mesh_simplification_options::memory (rounds = 0: every level as the
+  /// collapses leave it). With `surface_memory` only.
+  Surface_memory_options memory;
   bool flips = false;
   /// Textured input: one atlas for every level (see the file comment) instead of one per level.
   bool shared_texture = false;
@@ -121,40 +128,58 @@ struct Level_of_detail_result {
 namespace internal {
 
 /// Visitor that copies the mesh each time the face count reaches the next level's target, and
-/// forwards every call to the caller's visitor.
+/// forwards every call to the caller's visitor. A copy is taken once its collapse is complete: at
+/// the engine's next call (OnSelected of the next edge, or OnFinished), after the policy has merged
+/// the kept vertex's quadric and the flips around it are made, so the level is the mesh a run
+/// stopped there leaves (and its fit, that run's final fit).
 template <class Visitor>
 struct Snapshot_visitor : History_visitor<Visitor> {
   struct State {
     const std::vector<std::size_t>* targets;  // the collapsed levels' targets, decreasing
     std::size_t next = 0;
     std::vector<Level_snapshot> snapshots;
+    bool pending = false;  // a collapse reached the next target: copy at the next call
   };
   State* state;
-  Snapshot_visitor(State* s, const Visitor& v, Collapse_history* h) : History_visitor<Visitor>(v, h), state(s) {}
+  Snapshot_visitor(State* s, const Visitor& v, Collapse_history* h, const Level_fitter* f = nullptr)
+      : History_visitor<Visitor>(v, h, f), state(s) {}
 
   template <class P, class V>
   void OnCollapsed(const P& p, const V& v) const {
     this->collapsed(p, v);
-    const auto& mesh = p.surface_mesh();
     // (the last target is the run's stop: the mesh left at the end is that level)
-    while (state->next + 1 < state->targets->size() && mesh.number_of_faces() <= (*state->targets)[state->next]) {
-      state->snapshots.push_back(this->snapshot(mesh));
-      ++state->next;
-    }
+    state->pending = state->next + 1 < state->targets->size() &&
+                     p.surface_mesh().number_of_faces() <= (*state->targets)[state->next];
+  }
+  template <class P, class C, class S>
+  void OnSelected(const P& p, const C& c, S i, S n) const {
+    take_pending(p.surface_mesh());
+    this->visitor.OnSelected(p, c, i, n);
   }
   /// With a history, the levels not taken yet (the last, and any the run did not reach) are
   /// copied now, before simplify_mesh() compacts the mesh.
   template <class TM>
   void OnFinished(TM& tm) const {
+    take_pending(tm);
     this->visitor.OnFinished(tm);
     if (this->history)
       while (state->snapshots.size() < state->targets->size()) state->snapshots.push_back(this->snapshot(tm));
   }
+
+private:
+  void take_pending(const Surface_mesh& mesh) const {
+    if (!state->pending) return;
+    state->pending = false;
+    while (state->next + 1 < state->targets->size() && mesh.number_of_faces() <= (*state->targets)[state->next]) {
+      state->snapshots.push_back(this->snapshot(mesh));
+      ++state->next;
+    }
+  }
 };
 
 /// Visitor of the error-bound mode: each time the face count falls to the next threshold it copies
-/// the mesh, measures its error against the input, keeps it, and asks the run to stop once an error
-/// exceeds the largest bound.
+/// the mesh (once the collapse is complete, as Snapshot_visitor), measures its error against the
+/// input, keeps it, and asks the run to stop once an error exceeds the largest bound.
 template <class Visitor>
 struct Error_snapshot_visitor : History_visitor<Visitor> {
   struct Candidate {
@@ -167,16 +192,34 @@ struct Error_snapshot_visitor : History_visitor<Visitor> {
     double step, largest_bound;
     double next;  // face count of the next snapshot
     bool stop = false;
+    bool pending = false;
     std::vector<Candidate> candidates;
   };
   State* state;
-  Error_snapshot_visitor(State* s, const Visitor& v, Collapse_history* h) : History_visitor<Visitor>(v, h), state(s) {}
+  Error_snapshot_visitor(State* s, const Visitor& v, Collapse_history* h, const Level_fitter* f = nullptr)
+      : History_visitor<Visitor>(v, h, f), state(s) {}
 
   template <class P, class V>
   void OnCollapsed(const P& p, const V& v) const {
     this->collapsed(p, v);
-    const auto& mesh = p.surface_mesh();
-    if (state->stop || double(mesh.number_of_faces()) > state->next) return;
+    state->pending = !state->stop && double(p.surface_mesh().number_of_faces()) <= state->next;
+  }
+  /// (before the engine asks the stop predicate, which reads `stop`)
+  template <class P, class C, class S>
+  void OnSelected(const P& p, const C& c, S i, S n) const {
+    take_pending(p.surface_mesh());
+    this->visitor.OnSelected(p, c, i, n);
+  }
+  template <class TM>
+  void OnFinished(TM& tm) const {
+    take_pending(tm);
+    this->visitor.OnFinished(tm);
+  }
+
+private:
+  void take_pending(const Surface_mesh& mesh) const {
+    if (!state->pending) return;
+    state->pending = false;
     Level_snapshot copy = this->snapshot(mesh);
     const Metrics::Approximation_error e = Metrics::approximation_error(*state->input, copy.mesh, state->error_options);
     if (e.hausdorff > state->largest_bound) {
@@ -198,6 +241,35 @@ struct Face_count_or_flag_stop {
     return *flag || count(c, p, initial, current);
   }
 };
+
+/// The collapses of a chain on `work` (simplify_mesh()'s engine, cost and memory, without its final
+/// fit and without compacting `work`) until `stop`, with the visitor `make_visitor(fitter)` builds
+/// around the run's Level_fitter (empty without the memoryful cost or without fit rounds). Returns
+/// the fitted positions of `work` as the run leaves it (empty: no fit).
+template <class Stop, class MakeVisitor>
+std::vector<Point_3> collapse_chain(Surface_mesh& work, const Level_of_detail_options& options, const Stop& stop,
+                                    const MakeVisitor& make_visitor) {
+  using Mesh = Surface_mesh;
+  using VPM = Mesh::Property_map<Mesh::Vertex_index, Point_3>;
+  check_fit_options(options.memory.fit);
+  Area_weighted_quadric_policies<Mesh> policy(work, options.quadric);
+  std::optional<Surface_memory<Mesh, VPM>> memory;
+  if (options.surface_memory) memory.emplace(work, work.points(), options.memory);
+  Surface_memory<Mesh, VPM>* m = memory ? &*memory : nullptr;
+  Level_fitter fitter;
+  if (m && options.memory.fit.rounds > 0)
+    fitter = [&](const Mesh& mesh) {
+      return m->fitted_positions(mesh, options.memory.fit, [&](Mesh::Vertex_index v) { return policy.quadric(v); });
+    };
+  collapse_with_placement(policy, false, [&](const auto& placement) {
+    edge_collapse(work, stop,
+                  CMGeom::parameters::surface_memory(
+                      m, CMGeom::parameters::edge_flips(
+                             options.flips, CGAL::parameters::get_cost(policy).get_placement(placement).visitor(
+                                                make_visitor(&fitter)))));
+  });
+  return fitter ? fitter(work) : std::vector<Point_3>();
+}
 
 inline double seconds_since_lod(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -265,22 +337,10 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
     using EV = internal::Error_snapshot_visitor<Visitor>;
     typename EV::State state{&input.mesh(), eo, options.error_step, options.max_errors.back(),
                              double(faces_in) * options.error_step};
-    {
-      using Mesh = Surface_mesh;
-      using VPM = typename Mesh::template Property_map<typename Mesh::Vertex_index, Point_3>;
-      Area_weighted_quadric_policies<Mesh> policy(work, options.quadric);
-      std::optional<Surface_memory<Mesh, VPM>> memory;
-      if (options.surface_memory) memory.emplace(work, work.points(), Surface_memory_options());
-      Surface_memory<Mesh, VPM>* m = memory ? &*memory : nullptr;
-      internal::Face_count_or_flag_stop<Mesh> stop{Face_count_stop_predicate<Mesh>(work, 1), &state.stop};
-      internal::collapse_with_placement(policy, false, [&](const auto& placement) {
-        edge_collapse(work, stop,
-                      CMGeom::parameters::surface_memory(
-                          m, CMGeom::parameters::edge_flips(
-                                 options.flips, CGAL::parameters::get_cost(policy).get_placement(placement).visitor(
-                                                    EV{&state, visitor, history ? &*history : nullptr}))));
-      });
-    }
+    internal::Face_count_or_flag_stop<Surface_mesh> stop{Face_count_stop_predicate<Surface_mesh>(work, 1), &state.stop};
+    internal::collapse_chain(work, options, stop, [&](const internal::Level_fitter* fitter) {
+      return EV{&state, visitor, history ? &*history : nullptr, fitter};
+    });
     targets.clear();
     for (double bound : options.max_errors) {
       std::size_t best = std::size_t(-1);
@@ -325,20 +385,19 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
         history->follow_levels(options.shared_texture);
         input_points = history->add_input(work);
       }
+      // (simplify_mesh()'s run to the smallest target, whole: snapshots need the whole mesh at
+      // every collapse)
       typename internal::Snapshot_visitor<Visitor>::State state{&collapsed, 0, {}};
-      Mesh_simplification_options so;
-      so.quadric = options.quadric;
-      so.surface_memory = options.surface_memory;
-      so.flips = options.flips;
-      so.parts_min_faces = 0;    // snapshots need the whole mesh at every collapse
-      so.memory.fit.rounds = 0;  // the levels are snapshots taken during the collapses
-      simplify_mesh(work, collapsed.back(), so,
-                    internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr});
+      const std::vector<Point_3> fitted = internal::collapse_chain(
+          work, options, Face_count_stop_predicate<Surface_mesh>(work, collapsed.back()),
+          [&](const internal::Level_fitter* fitter) {
+            return internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr, fitter};
+          });
       meshes = std::move(state.snapshots);
       // levels the run never reached (no collapse left) are the mesh it ended with
       while (meshes.size() < collapsed.size())
-        meshes.push_back(
-            internal::Level_snapshot{internal::compact_copy(work), {}, {}, {}});  // (no history: see OnFinished)
+        meshes.push_back(internal::Level_snapshot{
+            internal::compact_copy(work, fitted), {}, {}, {}});  // (no history: see OnFinished)
     }
   } catch (...) {
     prepare.wait();

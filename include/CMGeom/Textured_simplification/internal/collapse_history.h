@@ -30,6 +30,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <tuple>
@@ -42,11 +43,21 @@ namespace Textured_simplification {
 namespace internal {
 
 /// Copies the live part of `from` (a mesh that may hold garbage) into a new garbage-free mesh.
-inline Surface_mesh compact_copy(const Surface_mesh& from) {
+/// `positions` (indexed by `from`'s vertex indices; empty: `from`'s own points) are the copy's
+/// points: a level of a chain is the run's mesh with its vertices fitted (Level_fitter).
+inline Surface_mesh compact_copy(const Surface_mesh& from, const std::vector<Point_3>& positions = {}) {
   Surface_mesh to;
-  CGAL::copy_face_graph(from, to);
+  std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>> v2v;
+  CGAL::copy_face_graph(from, to, CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v)));
+  if (!positions.empty())
+    for (const auto& [v, w] : v2v) to.point(w) = positions[std::size_t(v)];
   return to;
 }
+
+/// Gives the positions of the vertices of the mesh being simplified (by vertex index) after the
+/// final fit simplify_mesh() would make there (Surface_memory::fitted_positions()), without
+/// changing the mesh or the run; empty when the run fits nothing.
+using Level_fitter = std::function<std::vector<Point_3>(const Surface_mesh&)>;
 
 /// Forwards every engine call to the caller's visitor; the snapshot visitors below derive from it
 /// and add to OnCollapsed.
@@ -137,13 +148,16 @@ public:
   /// copy's vertices and faces become points too. `work` must not have been compacted
   /// (collect_garbage() renumbers the faces the points are attached to): snapshots are taken
   /// inside the run, the last one when it finishes.
-  Level_snapshot take(const Mesh& work) {
+  /// `positions` as compact_copy()'s (the points added keep `work`'s own: the run follows them).
+  Level_snapshot take(const Mesh& work, const std::vector<Point_3>& positions = {}) {
     Level_snapshot s;
     std::vector<std::pair<Vertex, Vertex>> v2v;
     std::vector<std::pair<Face, Face>> f2f;
     CGAL::copy_face_graph(work, s.mesh,
                           CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v))
                               .face_to_face_output_iterator(std::back_inserter(f2f)));
+    if (!positions.empty())
+      for (const auto& [v, w] : v2v) s.mesh.point(w) = positions[std::size_t(v)];
     std::vector<std::uint32_t> copy_face(work.number_of_faces() + work.number_of_removed_faces(), nil);
     for (const auto& [from, to] : f2f) copy_face[std::size_t(from)] = std::uint32_t(to);
     const std::vector<Face> on = memory_.faces_of_points();
@@ -195,7 +209,9 @@ private:
 template <class Visitor>
 struct History_visitor : Forwarding_visitor<Visitor> {
   Collapse_history* history;
-  History_visitor(const Visitor& v, Collapse_history* h) : Forwarding_visitor<Visitor>{v}, history(h) {}
+  const Level_fitter* fitter = nullptr;  // the snapshots' fit (none: the run's positions)
+  History_visitor(const Visitor& v, Collapse_history* h, const Level_fitter* f = nullptr)
+      : Forwarding_visitor<Visitor>{v}, history(h), fitter(f) {}
   template <class P, class Pl>
   void OnCollapsing(const P& p, const Pl& pl) const {
     this->visitor.OnCollapsing(p, pl);
@@ -212,9 +228,11 @@ struct History_visitor : Forwarding_visitor<Visitor> {
     this->visitor.OnCollapsed(p, v);
     if (history) history->after_collapse(p.surface_mesh(), v);
   }
-  /// A copy of `mesh`, with the history's points when there is one.
+  /// A copy of `mesh` with its vertices fitted (when there is a fitter), with the history's points
+  /// when there is one.
   Level_snapshot snapshot(const Surface_mesh& mesh) const {
-    return history ? history->take(mesh) : Level_snapshot{compact_copy(mesh), {}, {}, {}};
+    const std::vector<Point_3> positions = fitter && *fitter ? (*fitter)(mesh) : std::vector<Point_3>();
+    return history ? history->take(mesh, positions) : Level_snapshot{compact_copy(mesh, positions), {}, {}, {}};
   }
 };
 
