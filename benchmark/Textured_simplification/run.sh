@@ -38,7 +38,7 @@ else
   bash "$here/run_policy_comparison.sh" "$build"
   bash "$here/run_memory_comparison.sh" "$build"
   bash "$here/run_other_models.sh" "$build"
-  python3 "$here/run_lod.py" --build "$build" --out "$here/RESULTS-lod.md" --describe "$describe"
+  python3 "$here/run_lod.py" --build "$build" --reps 5 --out "$here/RESULTS-lod.md" --describe "$describe"
   python3 "$here/run_paint.py" --build "$build" --out "$here/RESULTS-paint.md" --describe "$(describe_run)"
   bash "$here/run_max_error_bench.sh" "$build"
 fi

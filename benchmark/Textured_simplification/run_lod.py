@@ -18,7 +18,7 @@ shared < mo13 at every simplified level. Timing (wall clock, min / median of --r
 (that level alone, OBJ + PNG); target: lod <= 1.2 x simplify. Every GLB is run through the Khronos
 validator when it is installed (test/Mesh_IO/gltf_validator).
 
-Usage: run_lod.py --build DIR [--ratios 1,0.25,0.05,0.01] [--size 256] [--reps 3] [--out FILE]
+Usage: run_lod.py --build DIR [--ratios 1,0.25,0.05,0.01] [--size 256] [--reps 3 (run.sh: 5)] [--out FILE]
                   [--models a,b] [--describe LINE]
 Writes one Markdown section (stdout, or --out FILE); progress on stderr.
 """
