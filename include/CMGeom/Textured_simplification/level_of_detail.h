@@ -127,13 +127,32 @@ struct Level_of_detail_result {
 
 namespace internal {
 
-/// Visitor that copies the mesh each time the face count reaches the next level's target, and
-/// forwards every call to the caller's visitor. A copy is taken once its collapse is complete: at
-/// the engine's next call (OnSelected of the next edge, or OnFinished), after the policy has merged
-/// the kept vertex's quadric and the flips around it are made, so the level is the mesh a run
-/// stopped there leaves (and its fit, that run's final fit).
+/// What the two snapshot visitors below share: a copy is taken once its collapse is complete, at
+/// the engine's next call (OnSelected of the next edge, before the stop predicate is asked, or
+/// OnFinished), after the policy has merged the kept vertex's quadric and the flips around it are
+/// made, so a level is the mesh a run stopped there leaves (and its fit, that run's final fit).
+/// Derived::take_pending(mesh) takes the copies a collapse called for; Derived::finished(mesh) runs
+/// at the end.
+template <class Derived, class Visitor>
+struct Completed_snapshot_visitor : History_visitor<Visitor> {
+  using History_visitor<Visitor>::History_visitor;
+  template <class P, class C, class S>
+  void OnSelected(const P& p, const C& c, S i, S n) const {
+    static_cast<const Derived&>(*this).take_pending(p.surface_mesh());
+    this->visitor.OnSelected(p, c, i, n);
+  }
+  template <class TM>
+  void OnFinished(TM& tm) const {
+    static_cast<const Derived&>(*this).take_pending(tm);
+    this->visitor.OnFinished(tm);
+    static_cast<const Derived&>(*this).finished(tm);
+  }
+};
+
+/// Visitor that copies the mesh each time the face count reaches the next level's target (see
+/// Completed_snapshot_visitor), and forwards every call to the caller's visitor.
 template <class Visitor>
-struct Snapshot_visitor : History_visitor<Visitor> {
+struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, Visitor> {
   struct State {
     const std::vector<std::size_t>* targets;  // the collapsed levels' targets, decreasing
     std::size_t next = 0;
@@ -142,7 +161,7 @@ struct Snapshot_visitor : History_visitor<Visitor> {
   };
   State* state;
   Snapshot_visitor(State* s, const Visitor& v, Collapse_history* h, const Level_fitter* f = nullptr)
-      : History_visitor<Visitor>(v, h, f), state(s) {}
+      : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, Visitor>(v, h, f), state(s) {}
 
   template <class P, class V>
   void OnCollapsed(const P& p, const V& v) const {
@@ -151,22 +170,6 @@ struct Snapshot_visitor : History_visitor<Visitor> {
     state->pending = state->next + 1 < state->targets->size() &&
                      p.surface_mesh().number_of_faces() <= (*state->targets)[state->next];
   }
-  template <class P, class C, class S>
-  void OnSelected(const P& p, const C& c, S i, S n) const {
-    take_pending(p.surface_mesh());
-    this->visitor.OnSelected(p, c, i, n);
-  }
-  /// With a history, the levels not taken yet (the last, and any the run did not reach) are
-  /// copied now, before simplify_mesh() compacts the mesh.
-  template <class TM>
-  void OnFinished(TM& tm) const {
-    take_pending(tm);
-    this->visitor.OnFinished(tm);
-    if (this->history)
-      while (state->snapshots.size() < state->targets->size()) state->snapshots.push_back(this->snapshot(tm));
-  }
-
-private:
   void take_pending(const Surface_mesh& mesh) const {
     if (!state->pending) return;
     state->pending = false;
@@ -175,13 +178,19 @@ private:
       ++state->next;
     }
   }
+  /// With a history, the levels not taken yet (the last, and any the run did not reach) are
+  /// copied now, before simplify_mesh() compacts the mesh.
+  void finished(const Surface_mesh& mesh) const {
+    if (this->history)
+      while (state->snapshots.size() < state->targets->size()) state->snapshots.push_back(this->snapshot(mesh));
+  }
 };
 
 /// Visitor of the error-bound mode: each time the face count falls to the next threshold it copies
-/// the mesh (once the collapse is complete, as Snapshot_visitor), measures its error against the
-/// input, keeps it, and asks the run to stop once an error exceeds the largest bound.
+/// the mesh (see Completed_snapshot_visitor), measures its error against the input, keeps it, and
+/// asks the run to stop once an error exceeds the largest bound.
 template <class Visitor>
-struct Error_snapshot_visitor : History_visitor<Visitor> {
+struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visitor<Visitor>, Visitor> {
   struct Candidate {
     Level_snapshot snapshot;
     double hausdorff, rms;
@@ -197,26 +206,13 @@ struct Error_snapshot_visitor : History_visitor<Visitor> {
   };
   State* state;
   Error_snapshot_visitor(State* s, const Visitor& v, Collapse_history* h, const Level_fitter* f = nullptr)
-      : History_visitor<Visitor>(v, h, f), state(s) {}
+      : Completed_snapshot_visitor<Error_snapshot_visitor<Visitor>, Visitor>(v, h, f), state(s) {}
 
   template <class P, class V>
   void OnCollapsed(const P& p, const V& v) const {
     this->collapsed(p, v);
     state->pending = !state->stop && double(p.surface_mesh().number_of_faces()) <= state->next;
   }
-  /// (before the engine asks the stop predicate, which reads `stop`)
-  template <class P, class C, class S>
-  void OnSelected(const P& p, const C& c, S i, S n) const {
-    take_pending(p.surface_mesh());
-    this->visitor.OnSelected(p, c, i, n);
-  }
-  template <class TM>
-  void OnFinished(TM& tm) const {
-    take_pending(tm);
-    this->visitor.OnFinished(tm);
-  }
-
-private:
   void take_pending(const Surface_mesh& mesh) const {
     if (!state->pending) return;
     state->pending = false;
@@ -229,6 +225,7 @@ private:
     state->candidates.push_back({std::move(copy), e.hausdorff, e.rms});
     state->next = double(mesh.number_of_faces()) * state->step;
   }
+  void finished(const Surface_mesh&) const {}
 };
 
 /// Stops at a face count or when a flag is raised (the error-bound mode's run).
