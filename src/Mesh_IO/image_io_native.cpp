@@ -7,13 +7,20 @@
 
 #include <jpeglib.h>
 #include <png.h>
+#include <zlib.h>
+
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <string>
+#include <vector>
 
 namespace CMGeom {
 namespace IO {
@@ -141,68 +148,137 @@ std::string png_to_image(const unsigned char* bytes, std::size_t size, Image& ou
   return {};
 }
 
-struct Png_write_state {
-  std::jmp_buf jump;
-  char message[256];
-  unsigned char* data;  // malloc'ed, grown by doubling
-  std::size_t size, capacity;
-  png_bytep* rows;
-};
+// PNG writing, on all cores: the rows, each with the 'up' filter, are cut into bands of about
+// png_band_bytes that are deflated at once, each band with the previous band's last 32 kB as its
+// dictionary and ended by a sync flush (the last one by the stream's end), so that the bands
+// concatenated are one zlib stream with the compression of a single one (the method of pigz); the
+// bands' Adler-32 checksums are combined. The bands depend on the image's size alone: the same
+// bytes on any number of threads.
+constexpr std::size_t png_band_bytes = std::size_t(1) << 20;
+constexpr int png_level = 3;
+constexpr std::size_t deflate_window = 32768;
+constexpr std::size_t zlib_piece = std::size_t(1) << 30;  // z_stream counts in 32-bit unsigned ints
 
-extern "C" void png_write_fail(png_structp png, png_const_charp message) {
-  auto* s = static_cast<Png_write_state*>(png_get_error_ptr(png));
-  std::snprintf(s->message, sizeof s->message, "%s", message);
-  std::longjmp(s->jump, 1);
+void put_u32(std::vector<unsigned char>& o, std::uint32_t v) {
+  const unsigned char b[4] = {static_cast<unsigned char>(v >> 24), static_cast<unsigned char>(v >> 16),
+                              static_cast<unsigned char>(v >> 8), static_cast<unsigned char>(v)};
+  o.insert(o.end(), b, b + 4);
 }
 
-extern "C" void png_write_to_memory(png_structp png, png_bytep in, png_size_t n) {
-  auto* s = static_cast<Png_write_state*>(png_get_io_ptr(png));
-  if (s->size + n > s->capacity) {
-    std::size_t c = (std::max)(s->capacity * 2, s->size + n);
-    auto* grown = static_cast<unsigned char*>(std::realloc(s->data, c));
-    if (!grown) png_error(png, "out of memory");
-    s->data = grown;
-    s->capacity = c;
-  }
-  std::memcpy(s->data + s->size, in, n);
-  s->size += n;
+void put_chunk(std::vector<unsigned char>& o, const char* type, const unsigned char* data, std::size_t n) {
+  put_u32(o, std::uint32_t(n));
+  const std::size_t at = o.size();
+  o.insert(o.end(), type, type + 4);
+  o.insert(o.end(), data, data + n);
+  put_u32(o, std::uint32_t(crc32_z(0, o.data() + at, 4 + n)));
 }
 
-extern "C" void png_flush_nothing(png_structp) {}
+/// Rows [y0, y1) of the image, each filtered 'up' (type byte 2, then each byte minus the byte
+/// above it, the row above the first being zeros), appended to `out`.
+void filter_rows(const unsigned char* pixels, std::size_t row, std::size_t y0, std::size_t y1,
+                 std::vector<unsigned char>& out) {
+  for (std::size_t y = y0; y < y1; ++y) {
+    out.push_back(2);
+    const unsigned char* r = pixels + row * y;
+    if (y == 0) {
+      out.insert(out.end(), r, r + row);
+    } else {
+      const unsigned char* above = r - row;
+      const std::size_t at = out.size();
+      out.resize(at + row);
+      for (std::size_t i = 0; i < row; ++i) out[at + i] = static_cast<unsigned char>(r[i] - above[i]);
+    }
+  }
+}
 
-bool png_write(Png_write_state* s, const unsigned char* pixels, int W, int H, int C) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, s, png_write_fail, png_ignore_warning);
-  if (!png) {
-    std::snprintf(s->message, sizeof s->message, "out of memory");
+/// Raw deflate of `in` into `out` (`flush`: Z_SYNC_FLUSH or Z_FINISH at its end); false on a
+/// zlib failure.
+bool deflate_band(z_stream& z, const unsigned char* in, std::size_t n, int flush, std::vector<unsigned char>& out) {
+  std::size_t produced = 0;
+  out.resize(deflateBound(&z, uLong(n)) + 1024);
+  std::size_t left = n;
+  while (true) {
+    const std::size_t take = (std::min)(left, zlib_piece);
+    z.next_in = const_cast<unsigned char*>(in);
+    z.avail_in = uInt(take);
+    in += take;
+    left -= take;
+    const int mode = left > 0 ? Z_NO_FLUSH : flush;
+    while (true) {
+      if (out.size() - produced < 64) out.resize(out.size() * 2);
+      const std::size_t room = (std::min)(out.size() - produced, zlib_piece);
+      z.next_out = out.data() + produced;
+      z.avail_out = uInt(room);
+      const int r = deflate(&z, mode);
+      produced += room - z.avail_out;
+      if (r == Z_STREAM_ERROR) return false;
+      if (mode == Z_FINISH) {
+        if (r == Z_STREAM_END) break;
+      } else if (z.avail_in == 0 && z.avail_out > 0) {
+        break;  // (a sync flush is complete when deflate() leaves room in the output)
+      }
+    }
+    if (left == 0) break;
+  }
+  out.resize(produced);
+  return true;
+}
+
+bool png_write(const unsigned char* pixels, int W, int H, int C, std::vector<unsigned char>& file,
+               std::string& message) {
+  const std::size_t row = std::size_t(W) * std::size_t(C), line = row + 1, height = std::size_t(H);
+  const std::size_t rows_per_band = (std::max)(std::size_t(1), png_band_bytes / line);
+  const std::size_t bands = (height + rows_per_band - 1) / rows_per_band;
+  std::vector<std::vector<unsigned char>> packed(bands);
+  std::vector<uLong> adler(bands, 1);
+  std::vector<std::size_t> length(bands, 0);
+  std::atomic<bool> failed{false};
+  tbb::parallel_for(std::size_t(0), bands, [&](std::size_t b) {
+    const std::size_t y0 = b * rows_per_band, y1 = (std::min)(height, y0 + rows_per_band);
+    std::vector<unsigned char> data;
+    // the dictionary: the filtered bytes just before the band (whole rows, then the last 32 kB)
+    const std::size_t dict_rows = (std::min)(y0, (deflate_window + line - 1) / line);
+    filter_rows(pixels, row, y0 - dict_rows, y1, data);
+    const std::size_t skip = dict_rows * line, dict = (std::min)(skip, deflate_window);
+    z_stream z{};
+    if (deflateInit2(&z, png_level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
+      failed = true;
+      return;
+    }
+    bool ok = dict == 0 || deflateSetDictionary(&z, data.data() + skip - dict, uInt(dict)) == Z_OK;
+    const std::size_t n = data.size() - skip;
+    ok = ok && deflate_band(z, data.data() + skip, n, b + 1 == bands ? Z_FINISH : Z_SYNC_FLUSH, packed[b]);
+    deflateEnd(&z);
+    if (!ok) failed = true;
+    adler[b] = adler32_z(1, data.data() + skip, n);
+    length[b] = n;
+  });
+  if (failed) {
+    std::snprintf(&message[0], message.size(), "zlib failed to compress");
     return false;
   }
-  png_infop info = png_create_info_struct(png);
-  if (!info) {
-    png_destroy_write_struct(&png, nullptr);
-    std::snprintf(s->message, sizeof s->message, "out of memory");
-    return false;
-  }
-  if (setjmp(s->jump)) {
-    png_destroy_write_struct(&png, &info);
-    return false;
-  }
-  png_set_write_fn(png, s, png_write_to_memory, png_flush_nothing);
-  png_set_compression_level(png, 3);
-  // the 'up' filter alone instead of libpng's choice per row among all five: on the atlases of
-  // DamagedHelmet, bob and texturedknot, 1.6-3 times faster to encode and 2-4 % smaller
-  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
-  static const int colour_of[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
-                                   PNG_COLOR_TYPE_RGB_ALPHA};
-  png_set_IHDR(png, info, png_uint_32(W), png_uint_32(H), 8, colour_of[C], PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  s->rows = static_cast<png_bytep*>(std::malloc(sizeof(png_bytep) * std::size_t(H)));
-  if (!s->rows) png_error(png, "out of memory");
-  const std::size_t row_bytes = std::size_t(W) * std::size_t(C);
-  for (int y = 0; y < H; ++y) s->rows[y] = const_cast<png_bytep>(pixels + row_bytes * std::size_t(y));
-  png_write_image(png, s->rows);
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
+  uLong check = adler[0];
+  for (std::size_t b = 1; b < bands; ++b) check = adler32_combine(check, adler[b], z_off_t(length[b]));
+  std::vector<unsigned char> stream{0x78, 0x5e};  // zlib header: deflate, 32 kB window, fast level
+  std::size_t total = 2 + 4;
+  for (const auto& p : packed) total += p.size();
+  stream.reserve(total);
+  for (const auto& p : packed) stream.insert(stream.end(), p.begin(), p.end());
+  put_u32(stream, std::uint32_t(check));
+
+  static const unsigned char colour_of[5] = {0, 0, 4, 2, 6};  // grey, grey + alpha, RGB, RGBA
+  std::vector<unsigned char> header;
+  put_u32(header, std::uint32_t(W));
+  put_u32(header, std::uint32_t(H));
+  header.insert(header.end(), {8, colour_of[C], 0, 0, 0});  // 8 bits, deflate, adaptive filters, no interlace
+  file.clear();
+  file.reserve(stream.size() + 64 + 12 * (stream.size() / zlib_piece));
+  const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  file.insert(file.end(), signature, signature + 8);
+  put_chunk(file, "IHDR", header.data(), header.size());
+  for (std::size_t at = 0; at < stream.size(); at += zlib_piece)  // (a chunk holds < 2^31 bytes)
+    put_chunk(file, "IDAT", stream.data() + at, (std::min)(zlib_piece, stream.size() - at));
+  put_chunk(file, "IEND", nullptr, 0);
   return true;
 }
 
@@ -346,21 +422,17 @@ std::string png_encode(const Image& image, std::vector<unsigned char>& out) {
     const std::size_t n = std::size_t(W) * std::size_t(H) * std::size_t(C);
     converted.resize(n);
     const float* f = image.floats();
-    for (std::size_t i = 0; i < n; ++i) {
-      const float v = std::isnan(f[i]) ? 0.f : (std::min)(1.f, (std::max)(0.f, f[i]));
-      converted[i] = std::uint8_t(v * 255.f + 0.5f);
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::size_t(1) << 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          const float v = std::isnan(f[i]) ? 0.f : (std::min)(1.f, (std::max)(0.f, f[i]));
+                          converted[i] = std::uint8_t(v * 255.f + 0.5f);
+                        }
+                      });
     pixels = converted.data();
   }
-  struct Buffers {
-    Png_write_state s{};
-    ~Buffers() {
-      std::free(s.data);
-      std::free(s.rows);
-    }
-  } b;
-  if (!png_write(&b.s, pixels, W, H, C)) return std::string("cannot encode PNG: ") + b.s.message;
-  out.assign(b.s.data, b.s.data + b.s.size);
+  std::string message(256, '\0');
+  if (!png_write(pixels, W, H, C, out, message)) return "cannot encode PNG: " + std::string(message.c_str());
   return {};
 }
 
