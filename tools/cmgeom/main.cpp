@@ -5,6 +5,9 @@
 // "cmgeom <sub-command>: error: ", and the exit code is 1 (2 for command-line usage errors).
 #include "cli_common.h"
 
+// every large block of the tool on transparent huge pages (see the header; once per program)
+#include <CMGeom/huge_page_new.h>
+
 #include <string>
 #include <vector>
 
