@@ -484,7 +484,7 @@ TEST(LevelOfDetail, InputUnderAPoorlyServedLevelFaceIsMarked) {
   EXPECT_EQ(marked, (std::vector<char>{1, 1, 0, 1, 1}));
 }
 
-// least_texels_per_unit() and greatest_texels_per_unit() are the singular values of the map from a
+// texels_per_unit_range() (and least_texels_per_unit(), its first) are the singular values of the map from a
 // triangle's plane to its texels: triangles placed anywhere in space, mapped by known 2 x 2 matrices, against Eigen's
 // SVD.
 TEST(LevelOfDetail, TexelsPerUnitAreTheSingularValues) {
@@ -509,12 +509,13 @@ TEST(LevelOfDetail, TexelsPerUnitAreTheSingularValues) {
     }
     const Eigen::Vector2d sv = Eigen::JacobiSVD<Eigen::Matrix2d>(A).singularValues();
     EXPECT_NEAR(TS::internal::least_texels_per_unit(p, t), sv[1], 1e-6 * (1 + sv[1]));
-    EXPECT_NEAR(TS::internal::greatest_texels_per_unit(p, t), sv[0], 1e-6 * (1 + sv[0]));
+    EXPECT_NEAR(TS::internal::texels_per_unit_range(p, t)[0], sv[1], 1e-6 * (1 + sv[1]));
+    EXPECT_NEAR(TS::internal::texels_per_unit_range(p, t)[1], sv[0], 1e-6 * (1 + sv[0]));
   }
   // a degenerate triangle has no stretch to speak of
   const std::array<V3, 3> line = {{V3(0, 0, 0), V3(1, 0, 0), V3(2, 0, 0)}};
   EXPECT_EQ(TS::internal::least_texels_per_unit(line, {{{{0, 0}}, {{1, 0}}, {{0, 1}}}}), 0.0);
-  EXPECT_EQ(TS::internal::greatest_texels_per_unit(line, {{{{0, 0}}, {{1, 0}}, {{0, 1}}}}), 0.0);
+  EXPECT_EQ(TS::internal::texels_per_unit_range(line, {{{{0, 0}}, {{1, 0}}, {{0, 1}}}})[1], 0.0);
 }
 
 // The texels inside the UV triangles of `tm`'s faces (W x H, row y from the bottom).

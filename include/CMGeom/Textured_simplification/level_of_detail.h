@@ -178,11 +178,10 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
       ++state->next;
     }
   }
-  /// With a history, the levels not taken yet (the last, and any the run did not reach) are
-  /// copied now, before simplify_mesh() compacts the mesh.
+  /// The levels not taken yet (the last, and any the run did not reach) are the mesh the run ends
+  /// with: copied (and fitted) now, while the history's points still name its faces.
   void finished(const Surface_mesh& mesh) const {
-    if (this->history)
-      while (state->snapshots.size() < state->targets->size()) state->snapshots.push_back(this->snapshot(mesh));
+    while (state->snapshots.size() < state->targets->size()) state->snapshots.push_back(this->snapshot(mesh));
   }
 };
 
@@ -241,11 +240,11 @@ struct Face_count_or_flag_stop {
 
 /// The collapses of a chain on `work` (simplify_mesh()'s engine, cost and memory, without its final
 /// fit and without compacting `work`) until `stop`, with the visitor `make_visitor(fitter)` builds
-/// around the run's Level_fitter (empty without the memoryful cost or without fit rounds). Returns
-/// the fitted positions of `work` as the run leaves it (empty: no fit).
+/// around the run's Level_fitter (empty without the memoryful cost or without fit rounds), which
+/// is valid until the run's end (the visitor's OnFinished included).
 template <class Stop, class MakeVisitor>
-std::vector<Point_3> collapse_chain(Surface_mesh& work, const Level_of_detail_options& options, const Stop& stop,
-                                    const MakeVisitor& make_visitor) {
+void collapse_chain(Surface_mesh& work, const Level_of_detail_options& options, const Stop& stop,
+                    const MakeVisitor& make_visitor) {
   using Mesh = Surface_mesh;
   using VPM = Mesh::Property_map<Mesh::Vertex_index, Point_3>;
   check_fit_options(options.memory.fit);
@@ -265,7 +264,6 @@ std::vector<Point_3> collapse_chain(Surface_mesh& work, const Level_of_detail_op
                              options.flips, CGAL::parameters::get_cost(policy).get_placement(placement).visitor(
                                                 make_visitor(&fitter)))));
   });
-  return fitter ? fitter(work) : std::vector<Point_3>();
 }
 
 inline double seconds_since_lod(std::chrono::steady_clock::time_point t0) {
@@ -384,17 +382,14 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       }
       // (simplify_mesh()'s run to the smallest target, whole: snapshots need the whole mesh at
       // every collapse)
+      // (the last level, and any the run never reached, are taken when it finishes)
       typename internal::Snapshot_visitor<Visitor>::State state{&collapsed, 0, {}};
-      const std::vector<Point_3> fitted = internal::collapse_chain(
+      internal::collapse_chain(
           work, options, Face_count_stop_predicate<Surface_mesh>(work, collapsed.back()),
           [&](const internal::Level_fitter* fitter) {
             return internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr, fitter};
           });
       meshes = std::move(state.snapshots);
-      // levels the run never reached (no collapse left) are the mesh it ended with
-      while (meshes.size() < collapsed.size())
-        meshes.push_back(internal::Level_snapshot{
-            internal::compact_copy(work, fitted), {}, {}, {}});  // (no history: see OnFinished)
     }
   } catch (...) {
     prepare.wait();

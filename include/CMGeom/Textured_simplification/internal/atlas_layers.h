@@ -103,11 +103,6 @@ inline double least_texels_per_unit(const std::array<CM::internal::Vec3, 3>& p, 
   return texels_per_unit_range(p, t)[0];
 }
 
-/// The greatest singular value of texels_per_unit_range().
-inline double greatest_texels_per_unit(const std::array<CM::internal::Vec3, 3>& p, const std::array<UV2, 3>& t) {
-  return texels_per_unit_range(p, t)[1];
-}
-
 /// Marks in `marked` (one entry per input face) the input faces whose centroid points
 /// (`input_face_point`) ended (`on_level`) on a face of `level` that its texture coordinates in a
 /// W x H atlas serve poorly: squashed (least stretch, least_texels_per_unit(), below half

@@ -42,15 +42,28 @@ namespace CMGeom {
 namespace Textured_simplification {
 namespace internal {
 
+/// Gives each copied vertex (`v2v`: pairs of a vertex of the original and its copy in `to`) the
+/// position `positions` holds for the original (indexed by its vertex index); nothing when
+/// `positions` is empty.
+inline void set_copied_points(Surface_mesh& to,
+                              const std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>>& v2v,
+                              const std::vector<Point_3>& positions) {
+  if (!positions.empty())
+    for (const auto& [v, w] : v2v) to.point(w) = positions[std::size_t(v)];
+}
+
 /// Copies the live part of `from` (a mesh that may hold garbage) into a new garbage-free mesh.
 /// `positions` (indexed by `from`'s vertex indices; empty: `from`'s own points) are the copy's
 /// points: a level of a chain is the run's mesh with its vertices fitted (Level_fitter).
 inline Surface_mesh compact_copy(const Surface_mesh& from, const std::vector<Point_3>& positions = {}) {
   Surface_mesh to;
-  std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>> v2v;
-  CGAL::copy_face_graph(from, to, CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v)));
-  if (!positions.empty())
-    for (const auto& [v, w] : v2v) to.point(w) = positions[std::size_t(v)];
+  if (positions.empty()) {
+    CGAL::copy_face_graph(from, to);
+  } else {
+    std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>> v2v;
+    CGAL::copy_face_graph(from, to, CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v)));
+    set_copied_points(to, v2v, positions);
+  }
   return to;
 }
 
@@ -156,8 +169,7 @@ public:
     CGAL::copy_face_graph(work, s.mesh,
                           CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v))
                               .face_to_face_output_iterator(std::back_inserter(f2f)));
-    if (!positions.empty())
-      for (const auto& [v, w] : v2v) s.mesh.point(w) = positions[std::size_t(v)];
+    set_copied_points(s.mesh, v2v, positions);
     std::vector<std::uint32_t> copy_face(work.number_of_faces() + work.number_of_removed_faces(), nil);
     for (const auto& [from, to] : f2f) copy_face[std::size_t(from)] = std::uint32_t(to);
     const std::vector<Face> on = memory_.faces_of_points();
