@@ -2,12 +2,15 @@
 // same policy under CGAL's edge_collapse, with the plain (unweighted) policy for comparison, with
 // a policy of CGAL's own (Lindstrom-Turk) swapped into CMGeom's engine, and with the memoryful
 // cost followed by the final fit of the vertices to the input's points (what simplify_mesh() and
-// `cmgeom simplify` do by default), put together by hand.
+// `cmgeom simplify` do by default), put together by hand; the fit is first foretold without moving
+// anything (Surface_memory::fitted_positions()).
 //   simplify_weighted [mesh.off|obj|ply] [target faces]
 // Without arguments a lat-long sphere is used.
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Textured_simplification.h>
+// once per program: its blocks of 8 MB or more on transparent huge pages (see the header)
+#include <CMGeom/huge_page_new.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
@@ -112,8 +115,16 @@ int main(int argc, char** argv) {
   TS::edge_collapse(e, TS::Face_count_stop_predicate<Mesh>(e, target),
                     CMGeom::parameters::surface_memory(
                         &memory, CGAL::parameters::get_cost(memory_policy).get_placement(memory_policy)));
-  const std::size_t moves =
-      memory.fit_vertices(e, TS::Surface_fit_options(), [&](Mesh::Vertex_index v) { return memory_policy.quadric(v); });
+  // where the fit will move the vertices, asked first without moving them (what a level-of-detail
+  // chain does for each level while its collapses go on)
+  const auto quadric_of = [&](Mesh::Vertex_index v) { return memory_policy.quadric(v); };
+  const std::vector<K::Point_3> foretold = memory.fitted_positions(e, TS::Surface_fit_options(), quadric_of);
+  const std::size_t moves = memory.fit_vertices(e, TS::Surface_fit_options(), quadric_of);
+  for (Mesh::Vertex_index v : e.vertices())
+    if (e.point(v) != foretold[std::size_t(v)]) {
+      std::cerr << "fitted_positions() did not foretell the fit\n";
+      return EXIT_FAILURE;
+    }
   e.collect_garbage();  // (after the fit: the memory's points are attached to face indices)
   std::cout << "cmgeom engine, plain + memoryful cost + fit: " << e.number_of_faces() << " faces, " << moves
             << " vertex moves\n";
