@@ -484,6 +484,113 @@ TEST(LevelOfDetail, InputUnderAPoorlyServedLevelFaceIsMarked) {
   EXPECT_EQ(marked, (std::vector<char>{1, 1, 0, 1, 1}));
 }
 
+// The colour check of the shared atlas (internal::Shown_colour_error, mark_input_under_shown_wrong()):
+// a unit square of two triangles whose texture is a ramp (red = u, green = v, blue = 0.5) on
+// [0.1, 0.9]², read back from that texture. Atlas_source::colour_near() gives the input's colour at
+// the closest point; the square with its own coordinates shows colours off by about a texel's
+// interpolation, a triangle with its coordinates mirrored is off by the ramp's difference between
+// the mirrored points (computed here from the sample points), and only the input under it is
+// marked; the comparison of two coordinate sets orders them.
+TEST(LevelOfDetail, SharedAtlasColourCheckFindsFacesShowingOtherColours) {
+  const int T = 256;
+  Mesh m;
+  const auto v0 = m.add_vertex(Point_3(0, 0, 0)), v1 = m.add_vertex(Point_3(1, 0, 0)),
+             v2 = m.add_vertex(Point_3(1, 1, 0)), v3 = m.add_vertex(Point_3(0, 1, 0));
+  const auto f0 = m.add_face(v0, v1, v2), f1 = m.add_face(v0, v2, v3);
+  ASSERT_NE(f1, Mesh::null_face());
+  CMGeom::Textured_mesh tm(m);
+  auto uv_of = [](const Point_3& p) { return Point_2(0.1 + 0.8 * p.x(), 0.1 + 0.8 * p.y()); };
+  for (auto f : tm.mesh().faces())
+    for (auto h : CGAL::halfedges_around_face(tm.mesh().halfedge(f), tm.mesh()))
+      tm.set_uv(h, uv_of(tm.mesh().point(tm.mesh().target(h))));
+  tm.set_has_uvs(true);
+  CMGeom::Image img(T, T, 3);
+  for (int y = 0; y < T; ++y)
+    for (int x = 0; x < T; ++x) {
+      img.set_value(x, y, 0, float((x + 0.5) / T));
+      img.set_value(x, y, 1, float(1 - (y + 0.5) / T));  // rows run down: v up
+      img.set_value(x, y, 2, 0.5f);
+    }
+  tm.materials().resize(1);
+  tm.materials()[0].name = "ramp";
+  tm.materials()[0].diffuse_image = img;
+  TS::Atlas_options ao;
+  TS::Atlas_source source(tm, ao);
+  source.prepare();
+  ASSERT_EQ(source.colour_channels(), 3);
+  // the colour at the closest point, from above and from below the square
+  for (const Point_3& p : {Point_3(0.3, 0.6, 0.2), Point_3(0.7, 0.2, -0.1), Point_3(1.5, 0.5, 0)}) {
+    float c[3];
+    source.colour_near(p, CMGeom::Vector_3(0, 0, 0), c);
+    const Point_2 t = uv_of(Point_3(std::clamp(p.x(), 0.0, 1.0), std::clamp(p.y(), 0.0, 1.0), 0));
+    EXPECT_NEAR(c[0], t.x(), 2.0 / T);
+    EXPECT_NEAR(c[1], t.y(), 2.0 / T);
+    EXPECT_NEAR(c[2], 0.5, 1.0 / 255);  // (8-bit texels)
+  }
+  using V3 = CMGeom::CM::internal::Vec3;
+  const TS::internal::Shown_colour_error error(img, source);
+  auto corners_of = [&](Mesh::Face_index f) { return TS::internal::corner_points(tm.mesh(), f); };
+  auto uvs_of = [&](Mesh::Face_index f, bool mirrored) {
+    std::array<Point_2, 3> t;
+    for (int k = 0; k < 3; ++k) {
+      const Point_2 q = tm.uv(TS::internal::corner_halfedge(tm.mesh(), f, k));
+      t[std::size_t(k)] = mirrored ? Point_2(1 - q.x(), q.y()) : q;
+    }
+    return t;
+  };
+  // expected mirrored error: at the samples (centroid, midpoints between it and the corners) the
+  // red channel reads 1 - u instead of u
+  auto mirrored_rms = [&](Mesh::Face_index f) {
+    const std::array<V3, 3> p = corners_of(f);
+    double sum = 0;
+    for (int s = 0; s < 4; ++s) {
+      double b[3] = {1. / 3, 1. / 3, 1. / 3};
+      if (s > 0) {
+        for (int k = 0; k < 3; ++k) b[k] = 1. / 6;
+        b[s - 1] = 2. / 3;
+      }
+      const double u = 0.1 + 0.8 * (b[0] * p[0].x + b[1] * p[1].x + b[2] * p[2].x);
+      sum += (1 - 2 * u) * (1 - 2 * u);
+    }
+    return std::sqrt(sum / 12);
+  };
+  for (auto f : {f0, f1}) {
+    std::size_t n = 0;
+    const auto e = error.squared_errors(corners_of(f),
+                                        std::array<std::array<Point_2, 3>, 2>{{uvs_of(f, false), uvs_of(f, true)}}, n);
+    ASSERT_EQ(n, 12u);  // 4 samples x 3 channels
+    EXPECT_LT(std::sqrt(e[0] / 12), 1.0 / T);
+    EXPECT_NEAR(std::sqrt(e[1] / 12), mirrored_rms(f), 2.0 / T);
+    EXPECT_LT(e[0], e[1]);
+  }
+  // the level: the square with f1 mirrored; input faces 0 and 2 stand on f0, 1 and 3 on f1, 4 on none
+  CMGeom::Textured_mesh level(tm);
+  {
+    const std::array<Point_2, 3> t = uvs_of(f1, true);
+    for (int k = 0; k < 3; ++k) level.set_uv(TS::internal::corner_halfedge(level.mesh(), f1, k), t[std::size_t(k)]);
+  }
+  const std::uint32_t nil = TS::internal::Collapse_history::nil;
+  const std::vector<std::uint32_t> input_face_point = {0, 1, 2, 3, 4};
+  const std::vector<std::uint32_t> on_level = {std::uint32_t(f0), std::uint32_t(f1), std::uint32_t(f0),
+                                               std::uint32_t(f1), nil};
+  std::vector<char> marked(5, 0);
+  const double tolerance = 0.5 * mirrored_rms(f1);
+  ASSERT_GT(tolerance, 4.0 / T);
+  TS::internal::mark_input_under_shown_wrong(level, img, source, input_face_point, on_level, tolerance, marked);
+  EXPECT_EQ(marked, (std::vector<char>{0, 1, 0, 1, 0}));
+  // above the mirrored face's error nothing is marked; marks already there stay
+  std::fill(marked.begin(), marked.end(), 0);
+  marked[4] = 1;
+  TS::internal::mark_input_under_shown_wrong(level, img, source, input_face_point, on_level, 1.5 * mirrored_rms(f1),
+                                             marked);
+  EXPECT_EQ(marked, (std::vector<char>{0, 0, 0, 0, 1}));
+  // the option is checked
+  TS::Level_of_detail_options bad;
+  bad.target_faces = {2};
+  bad.overflow_colour_tolerance = -0.1;
+  EXPECT_THROW(TS::simplify_to_levels(tm, bad), CMGeom::Invalid_input);
+}
+
 // texels_per_unit_range() (and least_texels_per_unit(), its first) are the singular values of the map from a
 // triangle's plane to its texels: triangles placed anywhere in space, mapped by known 2 x 2 matrices, against Eigen's
 // SVD.

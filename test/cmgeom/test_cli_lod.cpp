@@ -176,6 +176,12 @@ TEST(cmgeom_cli, LodRefusalsNameTheProblemAndWriteNothing) {
       {sphere, "-o {out}/x.glb --ratios 1,0.25 --shared-texture", 1, "--shared-texture needs a textured input"},
       {duck, "-o {out}/x.glb --ratios 1,0.25 --no-overflow-charts", 1,
        "--no-overflow-charts applies to --shared-texture only"},
+      {duck, "-o {out}/x.glb --ratios 1,0.25 --overflow-colour-tolerance 0.1", 1,
+       "--overflow-colour-tolerance applies to --shared-texture with overflow charts only"},
+      {duck, "-o {out}/x.glb --ratios 1,0.25 --shared-texture --no-overflow-charts --overflow-colour-tolerance 0.1", 1,
+       "--overflow-colour-tolerance applies to --shared-texture with overflow charts only"},
+      {duck, "-o {out}/x.glb --ratios 1,0.25 --shared-texture --overflow-colour-tolerance 1.5", 2,
+       "--overflow-colour-tolerance"},
       // every file is written or none: an --obj-prefix in a missing folder leaves no GLB behind
       {duck, "-o {out}/x.glb --ratios 1,0.25 --obj-prefix {out}/missing/P", 1, "does not exist"},
   };

@@ -1,5 +1,5 @@
 // cmgeom lod <in> -o <out.glb|out.gltf> (--ratios r1,r2,... | --faces n1,n2,... | --max-errors e1,e2,...)
-//           [--shared-texture [--no-overflow-charts]]
+//           [--shared-texture [--no-overflow-charts] [--overflow-colour-tolerance T]]
 //           [--policy plain|weighted] [--texture FILE] [--no-texture] [--quantize] [--no-error]
 //           [--obj-prefix PREFIX] [--json]
 // A level-of-detail chain from one simplification run (Textured_simplification/level_of_detail.h):
@@ -7,8 +7,8 @@
 // (the finest in the scene, the others listed by its MSFT_lod extension, each node's error in its
 // extras). A textured input gets an atlas per level, or with --shared-texture one atlas that every
 // level addresses (with a strip of overflow charts for the parts of the input the coarsest level's
-// atlas squashes or hides, unless --no-overflow-charts). --obj-prefix also writes each level as
-// PREFIX_<k>.obj (with its MTL and PNG).
+// atlas squashes, hides or shows in colours off by more than T, unless --no-overflow-charts). --obj-prefix also writes
+// each level as PREFIX_<k>.obj (with its MTL and PNG).
 #include "cli_common.h"
 #include "collapse_progress.h"
 
@@ -55,6 +55,8 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     bool shared_texture = false, no_overflow_charts = false, no_texture = false, no_error = false, json = false,
          no_repair = false;
     int fit_rounds = 3;
+    double overflow_colour_tolerance =
+        CMGeom::Textured_simplification::Level_of_detail_options().overflow_colour_tolerance;
     CMGeom::IO::Gltf_options gltf;
   };
   auto o = std::make_shared<Options>();
@@ -80,6 +82,13 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   app.add_flag("--no-overflow-charts", o->no_overflow_charts,
                "With --shared-texture: parts of the input that the shared atlas squashes or hides keep their place "
                "in it instead of getting charts of their own in a strip under the atlas");
+  auto* colour_tolerance =
+      app.add_option("--overflow-colour-tolerance", o->overflow_colour_tolerance,
+                     "With --shared-texture: the input under a finer level's face whose colours from the shared atlas "
+                     "are off from a bake's by more than this (RMS, colours in [0, 1]) also gets charts of its own, "
+                     "and faces take them only where they show nearer colours there; 0: geometric tests alone")
+          ->check(CLI::Range(0.0, 1.0))
+          ->capture_default_str();
   app.add_option("--policy", o->policy, "Cost: plain (Garland-Heckbert, the default) or weighted (thesis §3.4.2)")
       ->check(CLI::IsMember({"weighted", "plain"}));
   app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
@@ -95,7 +104,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
   cmgeom_cli::add_gltf_options(app, o->gltf);
 
-  return [o, ratios, faces, errors]() -> int {
+  return [o, ratios, faces, errors, colour_tolerance]() -> int {
     if (ratios->count() == 0 && faces->count() == 0 && errors->count() == 0)
       throw CMGeom::Invalid_input("one of --ratios, --faces or --max-errors is required");
     const std::string ext = CMGeom::IO::extension(o->output);
@@ -132,6 +141,8 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     const bool textured = tm.has_uvs() && has_image;
     if (o->no_overflow_charts && !o->shared_texture)
       throw CMGeom::Invalid_input("--no-overflow-charts applies to --shared-texture only");
+    if (colour_tolerance->count() > 0 && (!o->shared_texture || o->no_overflow_charts))
+      throw CMGeom::Invalid_input("--overflow-colour-tolerance applies to --shared-texture with overflow charts only");
     if (o->shared_texture && !textured)
       throw CMGeom::Invalid_input(o->input +
                                   ": --shared-texture needs a textured input (UVs and a texture; see --texture)");
@@ -172,6 +183,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     lo.quadric.weighted = o->policy == "weighted";
     lo.shared_texture = o->shared_texture;
     lo.overflow_charts = !o->no_overflow_charts;
+    lo.overflow_colour_tolerance = o->overflow_colour_tolerance;
     lo.measure_error = !o->no_error;
     lo.memory.fit.rounds = o->fit_rounds;
 

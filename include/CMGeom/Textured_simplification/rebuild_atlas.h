@@ -426,6 +426,28 @@ public:
                                   (2.0 * t[2] - 1.0) * s.frame[2]);
   }
 
+  /// The colour the baking gives point `p` of a surface whose normal there is `n`: colour_at() at
+  /// the closest point of the original among its faces facing the same way (of any orientation
+  /// when none does; a zero `n` accepts any). Writes colour_channels() values. Needs prepared().
+  void colour_near(const Point_3& p, const Vector_3& n, float* out) const {
+    CGAL_precondition(prepared());
+    const double q[3] = {p.x(), p.y(), p.z()};
+    internal::Facing_closest_point::Hit hit;
+    finder_->search(q, n, hit);
+    if (!hit.found()) finder_->search(q, CGAL::NULL_VECTOR, hit);
+    if (!hit.found()) {
+      for (int k = 0; k < colour_channels_; ++k) out[k] = 0.f;
+      return;
+    }
+    const Source& s = source_[hit.face];
+    const Vector_3 e1 = s.p[1] - s.p[0], e2 = s.p[2] - s.p[0];
+    const Vector_3 e = Point_3(hit.point[0], hit.point[1], hit.point[2]) - s.p[0];
+    const double d11 = e1 * e1, d12 = e1 * e2, d22 = e2 * e2, d1 = e * e1, d2 = e * e2;
+    const double den = d11 * d22 - d12 * d12;
+    const double w1 = den > 0 ? (d22 * d1 - d12 * d2) / den : 0, w2 = den > 0 ? (d11 * d2 - d12 * d1) / den : 0;
+    colour_at(hit.face, 1 - w1 - w2, w1, w2, out);
+  }
+
 private:
   friend Atlas_result rebuild_atlas(const Atlas_source&, Textured_mesh&, const Atlas_options&,
                                     const internal::Atlas_painter*);

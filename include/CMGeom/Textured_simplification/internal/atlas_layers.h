@@ -8,7 +8,8 @@
 // of texels, and where two parts fold onto one place (a visor over a helmet) one of them loses its
 // texels to the other; the finer levels, which still have those parts, show them smeared or in the
 // other part's colours. Those faces of the input, the ones left with less than half of the atlas'
-// density in some direction or that lost most of their texels, get charts of their own (grown and
+// density in some direction or that lost most of their texels (and those under a finer level's
+// face that reads colours other than a bake's, Shown_colour_error), get charts of their own (grown and
 // parameterised as rebuild_atlas() does, by LSCM), packed at the atlas' texel density into a strip
 // added under the atlas, where they paint their own colours. A finer level's face that stands for
 // them (most of the input's faces that ended on it have such a chart) addresses that chart: each of
@@ -132,6 +133,96 @@ inline void mark_input_under_poorly_served(const Textured_mesh& level, int W, in
   for (std::size_t j = 0; j < input_face_point.size() && j < marked.size(); ++j) {
     const std::uint32_t q = input_face_point[j];
     if (q < on_level.size() && on_level[q] < nl && poor[on_level[q]]) marked[j] = 1;
+  }
+}
+
+/// How far the colours a face of a level shows from an atlas are from those a bake would give it:
+/// the face is sampled at fixed barycentric points (its centroid and the midpoints between it and
+/// its corners); each sample reads the atlas (bilinear, through the face's texture coordinates)
+/// and is set against the input's colour at its closest point facing the same way
+/// (Atlas_source::colour_near(), what rebuild_atlas() paints there).
+class Shown_colour_error {
+public:
+  Shown_colour_error(const Image& atlas, const Atlas_source& source) : atlas_(atlas), source_(source) {
+    channels_ = (std::min)(3, (std::min)(atlas.channels(), source.colour_channels()));
+  }
+
+  /// The sums of the squared colour differences (values in [0, 1]) of the samples of the level's
+  /// face with corners `p`, under each texture coordinates of `t`; `count` the number of values
+  /// in each sum.
+  template <std::size_t N>
+  std::array<double, N> squared_errors(const std::array<CM::internal::Vec3, 3>& p,
+                                       const std::array<std::array<Point_2, 3>, N>& t, std::size_t& count) const {
+    std::array<double, N> sum{};
+    count = 0;
+    const int W = atlas_.width(), H = atlas_.height(), C = channels_;
+    if (W <= 0 || H <= 0 || C <= 0) return sum;
+    const CM::internal::Vec3 nv = CM::internal::cross(p[1] - p[0], p[2] - p[0]);
+    const Vector_3 n(nv.x, nv.y, nv.z);
+    for (int s = 0; s < 4; ++s) {
+      double b[3] = {1. / 3, 1. / 3, 1. / 3};
+      if (s > 0) {
+        for (int k = 0; k < 3; ++k) b[k] = 1. / 6;
+        b[s - 1] = 2. / 3;
+      }
+      const CM::internal::Vec3 x = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
+      float own[4];
+      source_.colour_near(Point_3(x.x, x.y, x.z), n, own);
+      for (std::size_t i = 0; i < N; ++i) {
+        const double u = (std::min)((std::max)(b[0] * t[i][0].x() + b[1] * t[i][1].x() + b[2] * t[i][2].x(), 0.0), 1.0);
+        const double v = (std::min)((std::max)(b[0] * t[i][0].y() + b[1] * t[i][1].y() + b[2] * t[i][2].y(), 0.0), 1.0);
+        const double fx = u * W - 0.5, fy = (1 - v) * H - 0.5;  // image rows run down
+        const int x0 = (std::max)(0, (std::min)(W - 1, int(std::floor(fx))));
+        const int y0 = (std::max)(0, (std::min)(H - 1, int(std::floor(fy))));
+        const int x1 = (std::min)(W - 1, x0 + 1), y1 = (std::min)(H - 1, y0 + 1);
+        const float ax = float((std::min)(1.0, (std::max)(0.0, fx - x0)));
+        const float ay = float((std::min)(1.0, (std::max)(0.0, fy - y0)));
+        for (int c = 0; c < C; ++c) {
+          const float shown = (1 - ax) * (1 - ay) * atlas_.value(x0, y0, c) + ax * (1 - ay) * atlas_.value(x1, y0, c) +
+                              (1 - ax) * ay * atlas_.value(x0, y1, c) + ax * ay * atlas_.value(x1, y1, c);
+          sum[i] += double(shown - own[c]) * double(shown - own[c]);
+        }
+      }
+      count += std::size_t(C);
+    }
+    return sum;
+  }
+
+private:
+  const Image& atlas_;
+  const Atlas_source& source_;
+  int channels_ = 0;
+};
+
+/// Marks in `marked` (one entry per input face) the input faces under the faces of `level`, mapped
+/// into the atlas `colours` (as map_by_history() leaves it), that show colours other than a bake's
+/// (Shown_colour_error): those whose root mean square difference exceeds `tolerance` (colour
+/// values in [0, 1]). The input faces under a level's face are those whose centroid point
+/// (`input_face_point`) ended on it (`on_level`). It sees what the geometric tests of
+/// mark_input_under_poorly_served() miss: a finer level's face laid over a chart of the coarsest
+/// level whose map does not follow it.
+inline void mark_input_under_shown_wrong(const Textured_mesh& level, const Image& colours, const Atlas_source& source,
+                                         const std::vector<std::uint32_t>& input_face_point,
+                                         const std::vector<std::uint32_t>& on_level, double tolerance,
+                                         std::vector<char>& marked) {
+  using Face = Surface_mesh::Face_index;
+  const Surface_mesh& lm = level.mesh();
+  const std::size_t nl = lm.number_of_faces();
+  const Shown_colour_error error(colours, source);
+  std::vector<char> wrong(nl, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t f = r.begin(); f != r.end(); ++f) {
+      const Face lf = Face(static_cast<Surface_mesh::size_type>(f));
+      std::array<std::array<Point_2, 3>, 1> t;
+      for (int k = 0; k < 3; ++k) t[0][std::size_t(k)] = level.uv(corner_halfedge(lm, lf, k));
+      std::size_t n = 0;
+      const double sum = error.squared_errors(corner_points(lm, lf), t, n)[0];
+      wrong[f] = n > 0 && sum > tolerance * tolerance * double(n);
+    }
+  });
+  for (std::size_t j = 0; j < input_face_point.size() && j < marked.size(); ++j) {
+    const std::uint32_t q = input_face_point[j];
+    if (q < on_level.size() && on_level[q] < nl && wrong[on_level[q]]) marked[j] = 1;
   }
 }
 
@@ -450,10 +541,13 @@ inline void input_into_overflow(Textured_mesh& input, const Atlas_layers& layers
 /// `max_extrapolation`). The move is kept when the face keeps its orientation and each edge its
 /// length in texels within a factor of 2 (a face the atlas squashes: no edge longer than twice,
 /// and squashed less in the chart), and either more of its input faces have the chart than have
-/// none or the chart stretches the face less (least_texels_per_unit()) than the atlas does.
+/// none or the chart stretches the face less (least_texels_per_unit()) than the atlas does; and,
+/// given `colour_error` (on the layered atlas), when the face shows colours nearer to a bake's in
+/// the chart than where it is.
 inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers, const Surface_mesh& input,
                                 const std::vector<std::uint32_t>& input_face_point,
-                                const std::vector<std::uint32_t>& on_level, double max_extrapolation) {
+                                const std::vector<std::uint32_t>& on_level, double max_extrapolation,
+                                const Shown_colour_error* colour_error = nullptr) {
   using Face = Surface_mesh::Face_index;
   using V3 = CM::internal::Vec3;
   if (layers.charts == 0) return;
@@ -568,6 +662,13 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
       const bool squashed = now < 0.5 * layers.base_texels_per_unit;
       if (!shape_kept && !(longest_ok && better && squashed)) continue;
       if (!majority[f] && !better) continue;
+      // and when the colours are checked, only where it shows colours nearer to a bake's
+      if (colour_error) {
+        std::size_t n = 0;
+        const auto e =
+            colour_error->squared_errors(corner, std::array<std::array<Point_2, 3>, 2>{{uvs_of(f), moved}}, n);
+        if (!(e[1] < e[0])) continue;
+      }
       for (int k = 0; k < 3; ++k) level.set_uv(corner_halfedge(lm, lf, k), moved[std::size_t(k)]);
     }
   });
