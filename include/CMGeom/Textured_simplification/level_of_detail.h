@@ -101,8 +101,8 @@ struct Level_of_detail_options {
   /// more than this (root mean square, colour values in [0, 1]) gets charts of its own too, and a
   /// face takes its overflow chart only where that shows colours nearer to the bake's. 0 switches
   /// the check off (the geometric tests alone decide). The default, a fifth of the colour range,
-  /// sits in the middle of the values (0.1 to 0.3) that gave the same image errors within 3 % on
-  /// the shared textured models.
+  /// sits in the middle of the values (0.1 to 0.3) that gave image errors within 5 % of each
+  /// other on the shared textured models.
   double overflow_colour_tolerance = 0.2;
   /// Measure every level's error against the input (Metrics::approximation_error).
   bool measure_error = true;
