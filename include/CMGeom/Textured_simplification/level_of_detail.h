@@ -460,6 +460,8 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       // the parts of the input the atlas serves poorly, and those under the finer levels' faces it
       // serves poorly, get charts of their own (atlas_layers.h)
       internal::Atlas_layers layers;
+      const bool check_colours =
+          options.overflow_charts && options.overflow_colour_tolerance > 0 && coarsest.mesh.materials().size() == 1;
       if (options.overflow_charts) {
         std::vector<char> under_poor(input.mesh().number_of_faces(), 0);
         for (std::size_t i = kept; i + 1 < res.levels.size(); ++i)
@@ -467,7 +469,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
                                                    coarsest.atlas.texels_per_unit, input_points.face_point,
                                                    meshes[i - kept].face_of_point, under_poor);
         // (the colours checked as well: the atlas as the painter and the bake left it)
-        if (options.overflow_colour_tolerance > 0 && coarsest.mesh.materials().size() == 1)
+        if (check_colours)
           for (std::size_t i = kept; i + 1 < res.levels.size(); ++i)
             internal::mark_input_under_shown_wrong(res.levels[i].mesh, coarsest.mesh.materials()[0].diffuse_image,
                                                    *source, input_points.face_point, meshes[i - kept].face_of_point,
@@ -489,8 +491,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       tbb::parallel_for(kept, res.levels.size() - 1, [&](std::size_t i) {
         internal::move_to_layered_atlas(res.levels[i].mesh, layers);
         std::optional<internal::Shown_colour_error> colour_error;
-        if (options.overflow_colour_tolerance > 0 && coarsest.mesh.materials().size() == 1)
-          colour_error.emplace(coarsest.mesh.materials()[0].diffuse_image, *source);
+        if (check_colours) colour_error.emplace(coarsest.mesh.materials()[0].diffuse_image, *source);
         internal::level_into_overflow(res.levels[i].mesh, layers, input.mesh(), input_points.face_point,
                                       meshes[i - kept].face_of_point, options.max_extrapolation,
                                       colour_error ? &*colour_error : nullptr);

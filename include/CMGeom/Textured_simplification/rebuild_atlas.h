@@ -439,16 +439,25 @@ public:
       for (int k = 0; k < colour_channels_; ++k) out[k] = 0.f;
       return;
     }
+    const std::array<double, 3> w = hit_coordinates(hit);
+    colour_at(hit.face, w[0], w[1], w[2], out);
+  }
+
+private:
+  /// The barycentric coordinates (clamped onto the face) of a closest point the finder returned,
+  /// in its face of the original.
+  std::array<double, 3> hit_coordinates(const internal::Facing_closest_point::Hit& hit) const {
     const Source& s = source_[hit.face];
     const Vector_3 e1 = s.p[1] - s.p[0], e2 = s.p[2] - s.p[0];
     const Vector_3 e = Point_3(hit.point[0], hit.point[1], hit.point[2]) - s.p[0];
     const double d11 = e1 * e1, d12 = e1 * e2, d22 = e2 * e2, d1 = e * e1, d2 = e * e2;
     const double den = d11 * d22 - d12 * d12;
-    const double w1 = den > 0 ? (d22 * d1 - d12 * d2) / den : 0, w2 = den > 0 ? (d11 * d2 - d12 * d1) / den : 0;
-    colour_at(hit.face, 1 - w1 - w2, w1, w2, out);
+    double w1 = den > 0 ? (d22 * d1 - d12 * d2) / den : 0, w2 = den > 0 ? (d11 * d2 - d12 * d1) / den : 0;
+    w1 = (std::min)((std::max)(w1, 0.0), 1.0);
+    w2 = (std::min)((std::max)(w2, 0.0), 1.0 - w1);
+    return {{1 - w1 - w2, w1, w2}};
   }
 
-private:
   friend Atlas_result rebuild_atlas(const Atlas_source&, Textured_mesh&, const Atlas_options&,
                                     const internal::Atlas_painter*);
   struct Source {
@@ -594,16 +603,8 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
           ++fixed_per_face[fi];
         }
         hint = hit.face;
-        const auto* s = &source[hit.face];
-        const Point_3 hit_point(hit.point[0], hit.point[1], hit.point[2]);
-        // barycentric coordinates of the hit in the original face
-        const Vector_3 e1 = s->p[1] - s->p[0], e2 = s->p[2] - s->p[0], e = hit_point - s->p[0];
-        const double d11 = e1 * e1, d12 = e1 * e2, d22 = e2 * e2, d1 = e * e1, d2 = e * e2;
-        const double den = d11 * d22 - d12 * d12;
-        double w1 = den > 0 ? (d22 * d1 - d12 * d2) / den : 0, w2 = den > 0 ? (d11 * d2 - d12 * d1) / den : 0;
-        w1 = (std::min)((std::max)(w1, 0.0), 1.0);
-        w2 = (std::min)((std::max)(w2, 0.0), 1.0 - w1);
-        const double w0 = 1 - w1 - w2;
+        const std::array<double, 3> w = src.hit_coordinates(hit);
+        const double w0 = w[0], w1 = w[1], w2 = w[2];
         if (is_given)
           give(i, &colour[i * std::size_t(colour_channels)]);
         else
