@@ -3,7 +3,7 @@ include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/CMGeom DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-set(_cmgeom_export_targets CMGeom CMGeom_Mesh_IO CMGeom_Image_IO CMGeom_Compact_model)
+set(_cmgeom_export_targets CMGeom CMGeom_Mesh_IO CMGeom_Image_IO CMGeom_Textured_simplification CMGeom_Compact_model)
 if(TARGET CMGeom_OSMesa)
   list(APPEND _cmgeom_export_targets CMGeom_OSMesa)
 endif()

@@ -6,6 +6,10 @@
 #                      OpenImageIO), texture loading, OBJ+MTL+PNG output.
 #   CMGeom::OSMesa     compiled, optional: the OSMesa backends (Rendering's Renderer, the
 #                      Textured_simplification index-texture resampler).
+#   CMGeom::Textured_simplification  compiled: explicit instantiations of the simplification
+#                      templates for CMGeom's mesh type and default visitor
+#                      (src/Textured_simplification/CMakeLists.txt); optional for users, it only
+#                      saves compile time.
 #   CMGeom::Compact_model  compiled: explicit instantiations of the Compact_model templates for
 #                      their common arguments (src/Compact_model/CMakeLists.txt); optional for users,
 #                      it only saves compile time.

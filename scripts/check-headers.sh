@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Checks that every public header compiles on its own (includes what it uses), in both modes of
-# the Compact_model package: header-only, and with CMGEOM_COMPACT_MODEL_PRECOMPILED (as programs
-# linking CMGeom::Compact_model see it). Syntax and semantic checks only (-fsyntax-only), two
+# the precompiled packages: header-only, and with CMGEOM_COMPACT_MODEL_PRECOMPILED and
+# CMGEOM_TEXTURED_SIMPLIFICATION_PRECOMPILED (as programs linking CMGeom::Compact_model see it). Syntax and semantic checks only (-fsyntax-only), two
 # headers at a time. Not part of the CI run (about 10 min on 2 cores); run it after adding or
 # reorganising headers.
 # Usage: bash scripts/check-headers.sh [header ...]   (default: every header under include/)
@@ -19,7 +19,8 @@ check() {
   local header=$1 mode=$2 root=$3 work=$4
   local name defines=()
   name=$(echo "$header" | tr '/.' '__')_$mode
-  [[ $mode == precompiled ]] && defines+=(-DCMGEOM_COMPACT_MODEL_PRECOMPILED=1)
+  [[ $mode == precompiled ]] &&
+    defines+=(-DCMGEOM_COMPACT_MODEL_PRECOMPILED=1 -DCMGEOM_TEXTURED_SIMPLIFICATION_PRECOMPILED=1)
   printf '#include <%s>\n' "$header" > "$work/$name.cpp"
   if ! g++ -std=c++17 -fsyntax-only -DCGAL_EIGEN3_ENABLED -DCGAL_USE_GMPXX=1 "${defines[@]}" \
        -I"$root/include" -isystem /usr/include/eigen3 "$work/$name.cpp" 2> "$work/$name.err"; then

@@ -15,6 +15,7 @@
 #include <CMGeom/Textured_simplification/Endpoint_placement.h>
 #include <CMGeom/Textured_simplification/Hausdorff_bound.h>
 #include <CMGeom/Textured_simplification/No_normal_flip_filter.h>
+#include <CMGeom/Textured_simplification/Removed_faces_visitor.h>
 #include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/edge_collapse.h>

@@ -316,4 +316,30 @@ TEST(SimplifyMesh, SmallInputsAndLowRatiosSkipTheParts) {
   EXPECT_TRUE(triangles(u) == before);
 }
 
+TEST(SimplifyMesh, RemovedFacesVisitorCountsWhatTheCollapsesRemove) {
+  // one stage (below parts_min_faces): the visitor sees every collapse. A closed mesh loses two
+  // faces per collapse; the callback gets the count after every 1024th collapse.
+  Mesh m = rippled_torus(50, 40);  // 4,000 faces (parts_min_faces: 4,096)
+  const std::size_t faces_in = m.number_of_faces();
+  std::vector<std::size_t> reported;
+  const TS::Removed_faces_visitor visitor([&](std::size_t removed) { reported.push_back(removed); });
+  const TS::Removed_faces_visitor copy = visitor;  // copies share the count
+  const TS::Mesh_simplification_result r = TS::simplify_mesh(m, 200, small_parts(), copy);
+  ASSERT_EQ(r.parts, 0u);
+  EXPECT_EQ(r.faces_out, m.number_of_faces());
+  EXPECT_EQ(visitor.removed(), faces_in - r.faces_out);
+  EXPECT_EQ(visitor.collapses(), visitor.removed() / 2);
+  ASSERT_EQ(reported.size(), visitor.collapses() / 1024);
+  for (std::size_t k = 0; k < reported.size(); ++k) EXPECT_EQ(reported[k], 2 * 1024 * (k + 1));
+  // an open sheet: a border collapse removes one face
+  Mesh s = bumpy_sheet(40);
+  const std::size_t sheet_in = s.number_of_faces();
+  const TS::Removed_faces_visitor counter;  // no callback
+  const TS::Mesh_simplification_result rs = TS::simplify_mesh(s, 100, small_parts(), counter);
+  ASSERT_EQ(rs.parts, 0u);
+  EXPECT_EQ(counter.removed(), sheet_in - rs.faces_out);
+  EXPECT_LE(counter.collapses(), counter.removed());
+  EXPECT_GE(2 * counter.collapses(), counter.removed());
+}
+
 }  // namespace

@@ -236,17 +236,15 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       to.surface_memory = !o->memoryless;
       to.memory.fit.rounds = o->fit_rounds;
       to.paint_from_history = !o->bake_lookups;
-      cmgeom_cli::Collapse_progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
+      cmgeom_cli::Collapse_progress state{&bar, double(faces_in > target ? faces_in - target : 0)};
       const double t0 = cmgeom_cli::now_seconds();
 #ifdef CMGEOM_HAS_OSMESA
       const TS::Textured_simplification_result r =
           o->texture_backend == "osmesa"
-              ? TS::simplify_textured_mesh<TS::Osmesa_index_texture_resampler>(
-                    tm, to, cmgeom_cli::Collapse_progress_visitor(&state))
-              : TS::simplify_textured_mesh(tm, to, cmgeom_cli::Collapse_progress_visitor(&state));
+              ? TS::simplify_textured_mesh<TS::Osmesa_index_texture_resampler>(tm, to, state.visitor())
+              : TS::simplify_textured_mesh(tm, to, state.visitor());
 #else
-      const TS::Textured_simplification_result r =
-          TS::simplify_textured_mesh(tm, to, cmgeom_cli::Collapse_progress_visitor(&state));
+      const TS::Textured_simplification_result r = TS::simplify_textured_mesh(tm, to, state.visitor());
 #endif
       const double seconds = cmgeom_cli::now_seconds() - t0;
       state.done(r.faces_in, r.faces_out);
@@ -311,7 +309,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     }
     if (file_uvs)
       std::cerr << "cmgeom simplify: note: texture coordinates are dropped (geometry-only simplification)\n";
-    cmgeom_cli::Collapse_progress_visitor::State state{&bar, double(faces_in > target ? faces_in - target : 0)};
+    cmgeom_cli::Collapse_progress state{&bar, double(faces_in > target ? faces_in - target : 0)};
     TS::Mesh_simplification_options so;
     if (faces->count()) so.target_faces = o->faces;
     if (ratio->count()) so.target_ratio = o->ratio;
@@ -334,8 +332,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     if (uv.second) geometry.remove_property_map(uv.first);
     auto material = geometry.property_map<Mesh::Face_index, int>("f:material");
     if (material.second) geometry.remove_property_map(material.first);
-    const TS::Mesh_simplification_result r =
-        TS::simplify_mesh(geometry, so, cmgeom_cli::Collapse_progress_visitor(&state));
+    const TS::Mesh_simplification_result r = TS::simplify_mesh(geometry, so, state.visitor());
     const double seconds = r.seconds;
     state.done(r.faces_in, r.faces_out);
     const std::size_t faces_out = r.faces_out;

@@ -109,6 +109,17 @@ Compact_model build_textured_compact_model(
   return model;
 }
 
+#ifdef CMGEOM_COMPACT_MODEL_PRECOMPILED
+// Compiled once in CMGeom::Compact_model (src/Compact_model/compact_model_instantiations.cpp);
+// linking that library defines the macro.
+extern template Compact_model build_textured_compact_model<Quadric_surface_traits>(
+    const Textured_mesh&, std::size_t, const Build_options&, const Quadric_surface_traits&, Textured_build_result*,
+    Build_statistics*, const CMGeom::Textured_simplification::Textured_simplification_options&);
+extern template Compact_model build_textured_compact_model<Cubic_surface_traits>(
+    const Textured_mesh&, std::size_t, const Build_options&, const Cubic_surface_traits&, Textured_build_result*,
+    Build_statistics*, const CMGeom::Textured_simplification::Textured_simplification_options&);
+#endif
+
 }  // namespace CM
 }  // namespace CMGeom
 

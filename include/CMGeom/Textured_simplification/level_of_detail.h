@@ -31,6 +31,7 @@
 #include <CMGeom/Mesh_IO/charts.h>
 #include <CMGeom/Metrics/approximation_error.h>
 #include <CMGeom/Textured_simplification/Edge_collapse_visitor_base.h>
+#include <CMGeom/Textured_simplification/Removed_faces_visitor.h>
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
 #include <CMGeom/Textured_simplification/simplify_mesh.h>
@@ -545,6 +546,17 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
   res.seconds = internal::seconds_since_lod(t_start);
   return res;
 }
+
+#ifdef CMGEOM_TEXTURED_SIMPLIFICATION_PRECOMPILED
+// Compiled once into CMGeom::Textured_simplification with the default visitor and with
+// Removed_faces_visitor.
+extern template Level_of_detail_result simplify_to_levels<Edge_collapse_visitor_base>(const Textured_mesh&,
+                                                                                      const Level_of_detail_options&,
+                                                                                      Edge_collapse_visitor_base);
+extern template Level_of_detail_result simplify_to_levels<Removed_faces_visitor>(const Textured_mesh&,
+                                                                                 const Level_of_detail_options&,
+                                                                                 Removed_faces_visitor);
+#endif
 
 }  // namespace Textured_simplification
 }  // namespace CMGeom

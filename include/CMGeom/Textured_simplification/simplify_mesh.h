@@ -26,12 +26,14 @@
 #include <CMGeom/Textured_simplification/Edge_collapse_visitor_base.h>
 #include <CMGeom/Textured_simplification/Endpoint_placement.h>
 #include <CMGeom/Textured_simplification/Hausdorff_bound.h>
+#include <CMGeom/Textured_simplification/Removed_faces_visitor.h>
 #include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/edge_collapse.h>
 #include <CMGeom/Textured_simplification/internal/Mesh_parts.h>
 #include <CMGeom/Textured_simplification/parameters.h>
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
@@ -582,6 +584,30 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, std::s
   o.target_ratio.reset();
   return simplify_mesh(mesh, o, visitor);
 }
+
+#ifdef CMGEOM_TEXTURED_SIMPLIFICATION_PRECOMPILED
+// Compiled once into CMGeom::Textured_simplification (src/Textured_simplification/
+// textured_simplification_instantiations.cpp) for CMGeom's mesh type (CGAL::Surface_mesh of the
+// Epick kernel's points): the parts' stage, which no visitor reaches, and simplify_mesh() with
+// the default visitor and with Removed_faces_visitor.
+namespace internal {
+using Precompiled_point = CGAL::Point_3<CGAL::Epick>;
+using Precompiled_mesh = CGAL::Surface_mesh<Precompiled_point>;
+using Precompiled_memory =
+    Surface_memory<Precompiled_mesh, Precompiled_mesh::Property_map<Precompiled_mesh::Vertex_index, Precompiled_point>>;
+extern template void simplify_in_parts<Precompiled_point, Precompiled_memory>(
+    Precompiled_mesh&, std::size_t, int, const Mesh_simplification_options&,
+    Area_weighted_quadric_policies<Precompiled_mesh>&, std::optional<Precompiled_memory>&);
+}  // namespace internal
+extern template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, Edge_collapse_visitor_base>(
+    internal::Precompiled_mesh&, const Mesh_simplification_options&, Edge_collapse_visitor_base);
+extern template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, Edge_collapse_visitor_base>(
+    internal::Precompiled_mesh&, std::size_t, const Mesh_simplification_options&, Edge_collapse_visitor_base);
+extern template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, Removed_faces_visitor>(
+    internal::Precompiled_mesh&, const Mesh_simplification_options&, Removed_faces_visitor);
+extern template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, Removed_faces_visitor>(
+    internal::Precompiled_mesh&, std::size_t, const Mesh_simplification_options&, Removed_faces_visitor);
+#endif
 
 }  // namespace Textured_simplification
 }  // namespace CMGeom

@@ -398,6 +398,17 @@ Textured_simplification_result simplify_textured_mesh(Textured_mesh& tm, const T
   return res;
 }
 
+#ifdef CMGEOM_TEXTURED_SIMPLIFICATION_PRECOMPILED
+// Compiled once into CMGeom::Textured_simplification with the default resampler, and the
+// default visitor or Removed_faces_visitor.
+extern template Textured_simplification_result
+simplify_textured_mesh<Index_texture_resampler, Edge_collapse_visitor_base>(Textured_mesh&,
+                                                                            const Textured_simplification_options&,
+                                                                            Edge_collapse_visitor_base);
+extern template Textured_simplification_result simplify_textured_mesh<Index_texture_resampler, Removed_faces_visitor>(
+    Textured_mesh&, const Textured_simplification_options&, Removed_faces_visitor);
+#endif
+
 }  // namespace Textured_simplification
 }  // namespace CMGeom
 
