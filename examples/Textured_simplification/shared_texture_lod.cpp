@@ -56,7 +56,11 @@ std::array<float, 3> read_rgb(const CMGeom::Image& image, double u, double v) {
 // Root mean square, over four points of every face (the centroid and the midpoints from it to the
 // corners, weighted by the face's area), of the difference between the colour the level shows
 // there and the colour a bake of the input gives that point (Atlas_source::colour_near(): the
-// input's texture at its closest facing point). Colour values in [0, 1], RGB.
+// input's texture at its closest facing point). Colour values in [0, 1], RGB. The library's own
+// colour check (internal::Shown_colour_error, internal/atlas_layers.h) takes the same samples per
+// face; this measure differs where a whole level is measured: it weights faces by area, and it
+// repeats texture coordinates outside [0, 1] (the input with its own texture has them) where the
+// check, made for atlases, clamps them.
 double shown_colour_rms(const CMGeom::Textured_mesh& level, const TS::Atlas_source& input) {
   const CMGeom::Surface_mesh& m = level.mesh();
   double sum = 0, weight = 0;

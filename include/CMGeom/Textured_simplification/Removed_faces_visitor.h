@@ -21,10 +21,10 @@ namespace Textured_simplification {
 
 /// Counts the faces removed by the collapses it sees (one or two per collapse: a border edge
 /// removes one) and calls `callback(removed)` after every 1024th collapse. (simplify_mesh()'s
-/// parts, on large meshes, collapse without a visitor: it sees the whole-mesh stage only.) Copies share the count (the
-/// algorithms copy their visitor into wrappers of their own). The callback is called from the
-/// thread that called the algorithm (the collapse engines call their visitor from it only), must
-/// be cheap and must not throw.
+/// parts, on large meshes, collapse without a visitor: it sees the whole-mesh stage only.)
+/// Copies share the count (the algorithms copy their visitor into wrappers of their own). The
+/// callback is called from the thread that called the algorithm (the collapse engines call their
+/// visitor from it only), must be cheap and must not throw.
 class Removed_faces_visitor : public Edge_collapse_visitor_base {
 public:
   using Callback = std::function<void(std::size_t removed)>;
