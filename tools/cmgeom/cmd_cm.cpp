@@ -95,7 +95,8 @@ CMGEOM_CLI_COMMAND(
     std::size_t faces = 0;
     double ratio = 0, sharp_angle = 40, error_bound = 0;
     int error_rounds = 2, error_level = 2;
-    bool cubic = false, joint_fit = false, json = false, no_texture = false, repair = false, compact = false;
+    bool cubic = false, joint_fit = false, json = false, no_texture = false, repair = false, compact = false,
+         allow_degenerate = false;
     int texture_size = 0, normal_bits = 12, max_level = 3;
     double tolerance = 0, max_error = 0;
     std::size_t max_bytes = 0;
@@ -137,6 +138,7 @@ CMGEOM_CLI_COMMAND(
                   "default: the thesis' independent fits)");
   build->add_flag("--no-texture", b->no_texture, "Geometry only even for an input with texture coordinates");
   build->add_flag("--repair", b->repair, "Split non-manifold edges/vertices and fix orientation while reading");
+  build->add_flag("--allow-degenerate", b->allow_degenerate, "Keep zero-area faces instead of refusing the file");
   build->add_option("--texture-size", b->texture_size,
                     "Textured input: texels per UV unit of the base's new atlas (default: the input texture's size)");
   build->add_flag("--compact", b->compact,
@@ -381,6 +383,7 @@ CMGEOM_CLI_COMMAND(
       CMGeom::Textured_mesh tm;
       CMGeom::IO::Read_options read_options;
       read_options.repair = b->repair;
+      read_options.allow_degenerate_faces = b->allow_degenerate;
       cmgeom_cli::read_mesh_with_progress(b->input, tm, read_options);
       CMGeom::Surface_mesh& mesh = tm.mesh();
       if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(b->input + ": not a triangle mesh");

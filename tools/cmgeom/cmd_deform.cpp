@@ -29,7 +29,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
   struct Args {
     cmgeom_cli::Cage_source cages;
     std::string input, output, write_cages, weights = "double", storage = "dense";
-    bool as_json = false, piecewise = false;
+    bool as_json = false, piecewise = false, allow_degenerate = false;
   };
   auto a = std::make_shared<Args>();
   app.add_option("mesh", a->input, "Mesh to deform (.obj, .off, .ply, .gltf, .glb)")->required();
@@ -44,13 +44,16 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
   app.add_flag("--piecewise", a->piecewise,
                "Several cages: apply each cage's own coordinates alone (no join; for comparisons)");
   app.add_flag("--json", a->as_json, "Print timings and counts as JSON");
+  app.add_flag("--allow-degenerate", a->allow_degenerate, "Keep zero-area faces instead of refusing the file");
   return [a]() -> int {
     a->cages.require();
     if (a->output.empty() && a->write_cages.empty()) throw CMGeom::Invalid_input("give -o <output> (or --write-cages)");
     a->cages.check_h();
 
     CMGeom::Textured_mesh tm;
-    cmgeom_cli::read_mesh_with_progress(a->input, tm);
+    CMGeom::IO::Read_options read_options;
+    read_options.allow_degenerate_faces = a->allow_degenerate;
+    cmgeom_cli::read_mesh_with_progress(a->input, tm, read_options);
     auto& mesh = tm.mesh();
     std::vector<CD::Vec3> points;
     points.reserve(mesh.number_of_vertices());

@@ -1,7 +1,7 @@
 // cmgeom lod <in> -o <out.glb|out.gltf> (--ratios r1,r2,... | --faces n1,n2,... | --max-errors e1,e2,...)
 //           [--shared-texture [--no-overflow-charts] [--overflow-colour-tolerance T]]
 //           [--policy plain|weighted] [--texture FILE] [--no-texture] [--quantize] [--no-error]
-//           [--obj-prefix PREFIX] [--json]
+//           [--obj-prefix PREFIX] [--no-repair] [--allow-degenerate] [--json]
 // A level-of-detail chain from one simplification run (Textured_simplification/level_of_detail.h):
 // every level is a snapshot of the same collapse sequence, written as one glTF node per level
 // (the finest in the scene, the others listed by its MSFT_lod extension, each node's error in its
@@ -53,7 +53,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   struct Options {
     std::string input, output, ratios, faces, max_errors, policy = "plain", texture, obj_prefix;
     bool shared_texture = false, no_overflow_charts = false, no_texture = false, no_error = false, json = false,
-         no_repair = false;
+         no_repair = false, allow_degenerate = false;
     int fit_rounds = 3;
     double overflow_colour_tolerance =
         CMGeom::Textured_simplification::Level_of_detail_options().overflow_colour_tolerance;
@@ -101,6 +101,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");
   app.add_flag("--no-repair", o->no_repair,
                "Refuse non-manifold or inconsistently oriented input instead of repairing it");
+  app.add_flag("--allow-degenerate", o->allow_degenerate, "Keep zero-area faces instead of refusing the file");
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
   cmgeom_cli::add_gltf_options(app, o->gltf);
 
@@ -114,6 +115,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     CMGeom::Textured_mesh tm;
     CMGeom::IO::Read_options ro;
     ro.repair = !o->no_repair;
+    ro.allow_degenerate_faces = o->allow_degenerate;
     std::vector<std::string> warnings;
     ro.warnings = &warnings;
     CMGeom::IO::read_mesh(o->input, tm, ro);

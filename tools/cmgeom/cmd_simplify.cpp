@@ -2,7 +2,7 @@
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
 //                 [--no-texture] [--keep-charts] [--freeze-seams] [--bake-lookups] [--no-repair] [--memoryless]
-//                 [--fit-rounds N]
+//                 [--fit-rounds N] [--allow-degenerate]
 // Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
 // CMGeom's engine or CGAL's; on CMGeom's engine the quadric cost is completed by the memoryful
 // term of Surface_memory.h (the input's points kept on the faces) unless --memoryless, and the
@@ -51,8 +51,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     std::size_t faces = 0;
     double ratio = 0, max_cost = 0, max_error = 0;
     int texture_size = 0, fit_rounds = 3;
-    bool flips = false, json = false, repair = false, no_repair = false, no_texture = false, freeze_seams = false,
-         memoryless = false;
+    bool flips = false, json = false, repair = false, no_repair = false, allow_degenerate = false, no_texture = false,
+         freeze_seams = false, memoryless = false;
     bool keep_charts = false, bake_lookups = false;
     CMGeom::IO::Gltf_options gltf;
   };
@@ -88,6 +88,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   auto* no_repair = app.add_flag("--no-repair", o->no_repair,
                                  "Refuse non-manifold or inconsistently oriented input instead of repairing it");
   repair->excludes(no_repair);
+  app.add_flag("--allow-degenerate", o->allow_degenerate, "Keep zero-area faces instead of refusing the file");
   auto* backend = app.add_option("--texture-backend", o->texture_backend,
                                  "Index-texture resampling backend (textured input): cpu (reference) or osmesa")
                       ->check(CLI::IsMember({"cpu", "osmesa"}));
@@ -131,6 +132,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     Mesh geometry;
     CMGeom::IO::Read_options ro;
     ro.repair = !o->no_repair;
+    ro.allow_degenerate_faces = o->allow_degenerate;
     std::vector<std::string> warnings;
     const double read_start = cmgeom_cli::now_seconds();
     bool file_uvs = false, geometry_only = false;
