@@ -47,7 +47,7 @@ done
   echo "- Compiler: $(c++ --version | head -1); flags: $(grep -m1 '^CMAKE_CXX_FLAGS_RELEASE' "$build/CMakeCache.txt" | cut -d= -f2) (CMake Release); ${#lists[@]} process(es), one per core"
   for k in "${!lists[@]}"; do echo "- Command: \`bench_simplify --models ${lists[$k]} --max-errors $bounds\`"; done
   echo "- Ours: \`simplify_mesh\` with \`max_error\` = E (fraction of the bounding-box diagonal) and CMGeom's defaults otherwise, as \`cmgeom simplify --max-error E\`;"
-  echo "  \`bound\` is the tracked bound it reports (\`error_bound\`), Hausdorff and RMS are measured (Metro convention, 100k samples per surface, fractions of the diagonal)."
+  echo "  \`bound\` is the tracked bound it reports (\`error_bound\`), Hausdorff and RMS are measured (Metro convention, 100k samples per surface and every vertex of each, fractions of the diagonal)."
   echo "- Peers: for each, the fewest faces found (bisection on its target count, to 3 %) at which its measured Hausdorff is no larger than ours;"
   echo "  last column: our faces / the fewest of any peer (the issue's target: <= 1.5). CPU s: our simplification alone (the peers' bisections are not timed)."
   echo "- ogre's subdivision (ogre-sub2, 2M faces) of the 13 configurations of shared/research/baselines-simplify.md is not run: see the manual's known limits."

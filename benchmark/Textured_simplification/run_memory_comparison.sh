@@ -74,7 +74,7 @@ PY
   echo
   echo "$line"
   echo
-  echo "CPU seconds of the simplification call (\"min / median\" of 3 interleaved runs, of 1 for ogre-sub2; ratios of the medians); Metro errors with 100k samples per surface, fractions of the bounding-box diagonal (see RESULTS.md's header for the conventions)."
+  echo "CPU seconds of the simplification call (\"min / median\" of 3 interleaved runs, of 1 for ogre-sub2; ratios of the medians); Metro errors with 100k samples per surface and every vertex of each (Hausdorff), fractions of the bounding-box diagonal (see RESULTS.md's header for the conventions)."
   echo
   cat "$table.targets"
   echo

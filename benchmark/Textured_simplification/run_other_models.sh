@@ -103,7 +103,7 @@ PY
   echo
   echo "$line"
   echo
-  echo "One run per configuration (CPU seconds \"min / median\" are the same number); Metro errors with 100k samples per surface, fractions of the bounding-box diagonal (see RESULTS.md's header for the conventions). Not read by CGAL (they need the repair of \`cmgeom\`'s reader): ${skipped:-none}. Runs that failed or passed 300 s with CGAL GH (run again without it; no ratios to GH): ${no_gh:-none}."
+  echo "One run per configuration (CPU seconds \"min / median\" are the same number); Metro errors with 100k samples per surface and every vertex of each (Hausdorff), fractions of the bounding-box diagonal (see RESULTS.md's header for the conventions). Not read by CGAL (they need the repair of \`cmgeom\`'s reader): ${skipped:-none}. Runs that failed or passed 300 s with CGAL GH (run again without it; no ratios to GH): ${no_gh:-none}."
   echo
   cat "$table.targets"
   echo
