@@ -23,11 +23,13 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -285,11 +287,17 @@ public:
     moving_.clear();
   }
 
+  /// Vertex indices per block of the fit's parallel step (fit_vertices(), step 2): large enough
+  /// that most vertices of a mesh whose indices follow its surface have their neighbours in their
+  /// block, small enough that a mesh of some ten thousand vertices has several.
+  static constexpr std::size_t fit_block = 8192;
+
   /// Fits the vertices of `tm` to the points, after the collapses: a least-squares fit in the
   /// manner of the distance energy of Hoppe et al., "Mesh optimization" (SIGGRAPH 1993). Each of
   /// `options.rounds` rounds (1) re-attaches every point to the nearest of its face and that
   /// face's edge neighbours, keeping the barycentric coordinates of its nearest point there, then
-  /// (2) moves the vertices one after the other, each to the minimiser of
+  /// (2) moves the vertices one after the other (Gauss-Seidel; vertices whose stars are apart move
+  /// at once, on all cores, with the same result on any number of them), each to the minimiser of
   ///   sum over the points of its star of area x |point - its nearest point|^2 (coordinates fixed)
   ///   + quadric_weight x quadric_of(v)(x) + damping x (the star's point area) x |x - where v is|^2,
   /// a 3x3 solve; a move that turns a face of the star by more than `max_turn` from its normal
@@ -371,17 +379,109 @@ private:
       return c[0] == v ? 0 : (c[1] == v ? 1 : 2);
     };
     const double cos_turn = std::cos(max_turn);
-    double worst = 0.;  // the largest squared distance from a point to its face, before the fit
-    for (face_descriptor f : faces(tm)) {
-      const auto c = corners(f);
-      const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
-      n0[std::size_t(f)] = CM::internal::cross(q[1] - q[0], q[2] - q[0]);
-      for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) {
-        at[i] = f;
-        const V3& p = items_[i].p;
-        worst =
-            (std::max)(worst, CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, q[0], q[1], q[2])));
+    // the largest squared distance from a point to its face, before the fit (face by face, on all
+    // cores: a maximum, the same on any number of them)
+    std::vector<face_descriptor> live_faces;
+    for (face_descriptor f : faces(tm)) live_faces.push_back(f);
+    const double worst = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, live_faces.size(), 4096), 0.,
+        [&](const tbb::blocked_range<std::size_t>& r, double w) {
+          for (std::size_t j = r.begin(); j != r.end(); ++j) {
+            const face_descriptor f = live_faces[j];
+            const auto c = corners(f);
+            const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
+            n0[std::size_t(f)] = CM::internal::cross(q[1] - q[0], q[2] - q[0]);
+            for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) {
+              at[i] = f;
+              const V3& p = items_[i].p;
+              w = (std::max)(w,
+                             CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, q[0], q[1], q[2])));
+            }
+          }
+          return w;
+        },
+        [](double a, double b) { return (std::max)(a, b); });
+    // the move of v (step 2), from its star alone; true when made
+    const auto move = [&](vertex_descriptor v) -> bool {
+      const V3 x0 = point(v);
+      double aa = 0., weight = 0.;
+      V3 rhs(0., 0., 0.);
+      for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
+        if (is_border(h, tm)) continue;
+        const face_descriptor f = face(h, tm);
+        if (head[std::size_t(f)] == nil) continue;
+        const auto c = corners(f);
+        const int k = corner_of(c, v);
+        const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
+        for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) {
+          const Item& r = items_[i];
+          const double w[3] = {bary[i].x, bary[i].y, bary[i].z};
+          V3 rest(0., 0., 0.);
+          for (int j = 0; j < 3; ++j)
+            if (j != k) rest += w[j] * q[j];
+          aa += r.area * w[k] * w[k];
+          rhs += (r.area * w[k]) * (r.p - rest);
+          weight += r.area;
+        }
       }
+      if (!(aa > 0.)) return false;
+      const double lambda = damping * weight;
+      internal::Symmetric_quadric q = quadric_of(v);
+      q *= mu;
+      q.a00 += aa + lambda;
+      q.a11 += aa + lambda;
+      q.a22 += aa + lambda;
+      q.b0 -= rhs.x + lambda * x0.x;
+      q.b1 -= rhs.y + lambda * x0.y;
+      q.b2 -= rhs.z + lambda * x0.z;
+      internal::Vec3 u;
+      if (!q.solve(u)) return false;
+      const V3 x(u[0], u[1], u[2]);
+      // each face of the star: turned by at most max_turn and not degenerate, and none of its
+      // points farther from it than the farthest point was from its face before the fit
+      bool ok = true;
+      for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
+        if (is_border(h, tm)) continue;
+        const face_descriptor f = face(h, tm);
+        const V3 a = point(source(h, tm)), b = point(target(next(h, tm), tm));
+        const V3 n = CM::internal::cross(b - x, a - x);
+        const V3& m = n0[std::size_t(f)];
+        const double nn = CM::internal::squared_length(n), mm = CM::internal::squared_length(m);
+        ok = nn > 1e-24 * mm && CM::internal::dot(n, m) > cos_turn * std::sqrt(nn * mm);
+        if (!ok) break;
+        if (head[std::size_t(f)] == nil) continue;
+        const auto c = corners(f);
+        V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
+        q[corner_of(c, v)] = x;
+        for (std::uint32_t i = head[std::size_t(f)]; i != nil && ok; i = link[i]) {
+          const V3& p = items_[i].p;
+          // the point at its coordinates is at least as far as the face: often enough
+          if (CM::internal::squared_length(p - (bary[i].x * q[0] + bary[i].y * q[1] + bary[i].z * q[2])) <= worst)
+            continue;
+          ok = CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, q[0], q[1], q[2])) <= worst;
+        }
+        if (!ok) break;
+      }
+      if (!ok) return false;
+      pos[std::size_t(v)] = x;
+      return true;
+    };
+    // Step 2 is Gauss-Seidel over blocks of fit_block consecutive vertex indices: a vertex whose
+    // neighbours are all in its block ("inner") reads and changes only faces whose corners are all
+    // there, so the blocks' inner vertices move at once, each block's in index order; the others
+    // ("rim") then move one after the other in index order. The same result on any number of cores.
+    std::vector<std::vector<vertex_descriptor>> inner;
+    std::vector<vertex_descriptor> rim;
+    for (vertex_descriptor v : vertices(tm)) {
+      const std::size_t b = std::size_t(v) / fit_block;
+      bool in = true;
+      for (vertex_descriptor w : CGAL::vertices_around_target(v, tm)) in = in && std::size_t(w) / fit_block == b;
+      if (!in) {
+        rim.push_back(v);
+        continue;
+      }
+      if (inner.size() <= b) inner.resize(b + 1);
+      inner[b].push_back(v);
     }
     std::size_t moves = 0;
     for (int round = 0; round < rounds; ++round) {
@@ -414,70 +514,16 @@ private:
         link[i] = head[std::size_t(at[i])];
         head[std::size_t(at[i])] = std::uint32_t(i);
       }
-      for (vertex_descriptor v : vertices(tm)) {
-        const V3 x0 = point(v);
-        double aa = 0., weight = 0.;
-        V3 rhs(0., 0., 0.);
-        for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
-          if (is_border(h, tm)) continue;
-          const face_descriptor f = face(h, tm);
-          if (head[std::size_t(f)] == nil) continue;
-          const auto c = corners(f);
-          const int k = corner_of(c, v);
-          const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
-          for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) {
-            const Item& r = items_[i];
-            const double w[3] = {bary[i].x, bary[i].y, bary[i].z};
-            V3 rest(0., 0., 0.);
-            for (int j = 0; j < 3; ++j)
-              if (j != k) rest += w[j] * q[j];
-            aa += r.area * w[k] * w[k];
-            rhs += (r.area * w[k]) * (r.p - rest);
-            weight += r.area;
-          }
-        }
-        if (!(aa > 0.)) continue;
-        const double lambda = damping * weight;
-        internal::Symmetric_quadric q = quadric_of(v);
-        q *= mu;
-        q.a00 += aa + lambda;
-        q.a11 += aa + lambda;
-        q.a22 += aa + lambda;
-        q.b0 -= rhs.x + lambda * x0.x;
-        q.b1 -= rhs.y + lambda * x0.y;
-        q.b2 -= rhs.z + lambda * x0.z;
-        internal::Vec3 u;
-        if (!q.solve(u)) continue;
-        const V3 x(u[0], u[1], u[2]);
-        // each face of the star: turned by at most max_turn and not degenerate, and none of its
-        // points farther from it than the farthest point was from its face before the fit
-        bool ok = true;
-        for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
-          if (is_border(h, tm)) continue;
-          const face_descriptor f = face(h, tm);
-          const V3 a = point(source(h, tm)), b = point(target(next(h, tm), tm));
-          const V3 n = CM::internal::cross(b - x, a - x);
-          const V3& m = n0[std::size_t(f)];
-          const double nn = CM::internal::squared_length(n), mm = CM::internal::squared_length(m);
-          ok = nn > 1e-24 * mm && CM::internal::dot(n, m) > cos_turn * std::sqrt(nn * mm);
-          if (!ok) break;
-          if (head[std::size_t(f)] == nil) continue;
-          const auto c = corners(f);
-          V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
-          q[corner_of(c, v)] = x;
-          for (std::uint32_t i = head[std::size_t(f)]; i != nil && ok; i = link[i]) {
-            const V3& p = items_[i].p;
-            // the point at its coordinates is at least as far as the face: often enough
-            if (CM::internal::squared_length(p - (bary[i].x * q[0] + bary[i].y * q[1] + bary[i].z * q[2])) <= worst)
-              continue;
-            ok = CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, q[0], q[1], q[2])) <= worst;
-          }
-          if (!ok) break;
-        }
-        if (!ok) continue;
-        pos[std::size_t(v)] = x;
-        ++moves;
-      }
+      // the inner vertices of the blocks, the blocks at once, then the others in index order
+      moves += tbb::parallel_reduce(
+          tbb::blocked_range<std::size_t>(0, inner.size(), 1), std::size_t(0),
+          [&](const tbb::blocked_range<std::size_t>& r, std::size_t m) {
+            for (std::size_t b = r.begin(); b != r.end(); ++b)
+              for (vertex_descriptor v : inner[b]) m += move(v) ? 1 : 0;
+            return m;
+          },
+          std::plus<std::size_t>());
+      for (vertex_descriptor v : rim) moves += move(v) ? 1 : 0;
     }
     return moves;
   }
