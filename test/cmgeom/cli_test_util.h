@@ -42,6 +42,17 @@ inline std::vector<std::string> lines_of(const std::string& text) {
 
 inline std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
+// Points and triangles as OFF text (full precision).
+inline std::string off_text(const std::vector<std::array<double, 3>>& p,
+                            const std::vector<std::array<std::size_t, 3>>& f) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "OFF\n" << p.size() << " " << f.size() << " 0\n";
+  for (const auto& q : p) s << q[0] << " " << q[1] << " " << q[2] << "\n";
+  for (const auto& t : f) s << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  return s.str();
+}
+
 // The JSON chunk of a GLB file (glTF 2.0 binary container: a 12-byte header, magic "glTF",
 // version 2 and the file's length; then chunks of length, type and data, the JSON chunk first).
 // A malformed container is a test failure (null returned).

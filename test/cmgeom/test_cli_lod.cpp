@@ -20,12 +20,7 @@ std::string icosphere_off(int level) {
   std::vector<std::array<double, 3>> p;
   std::vector<std::array<std::size_t, 3>> f;
   cmgeom_test::icosphere(level, p, f);
-  std::ostringstream s;
-  s.precision(17);
-  s << "OFF\n" << p.size() << " " << f.size() << " 0\n";
-  for (const auto& q : p) s << q[0] << " " << q[1] << " " << q[2] << "\n";
-  for (const auto& t : f) s << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
-  return s.str();
+  return off_text(p, f);
 }
 
 }  // namespace

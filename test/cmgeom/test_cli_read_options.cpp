@@ -16,12 +16,7 @@ std::string sphere_with_a_flat_face_off() {
   f[0] = {a, m, c};
   f.push_back({m, b, c});
   f.push_back({b, m, a});
-  std::ostringstream s;
-  s.precision(17);
-  s << "OFF\n" << p.size() << " " << f.size() << " 0\n";
-  for (const auto& q : p) s << q[0] << " " << q[1] << " " << q[2] << "\n";
-  for (const auto& t : f) s << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
-  return s.str();
+  return off_text(p, f);
 }
 
 std::size_t off_face_count(const std::string& path) {
