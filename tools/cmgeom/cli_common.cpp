@@ -152,6 +152,10 @@ void add_gltf_options(CLI::App& app, CMGeom::IO::Gltf_options& options) {
                "glTF/GLB output: 16-bit positions and texture coordinates, 8-bit normals (KHR_mesh_quantization)");
 }
 
+void add_allow_degenerate_option(CLI::App& app, bool& allow_degenerate_faces) {
+  app.add_flag("--allow-degenerate", allow_degenerate_faces, "Keep zero-area faces instead of refusing the file");
+}
+
 namespace {
 
 std::atomic<bool> quiet_progress{false};

@@ -61,6 +61,10 @@ void load_soup_textures(CMGeom::Polygon_soup& soup);
 // Adds --quantize (KHR_mesh_quantization) to a command that can write glTF.
 void add_gltf_options(CLI::App& app, CMGeom::IO::Gltf_options& options);
 
+// Adds --allow-degenerate (Read_options::allow_degenerate_faces, the option the reader's refusal
+// of zero-area faces names) to a command that reads a mesh.
+void add_allow_degenerate_option(CLI::App& app, bool& allow_degenerate_faces);
+
 // Prints a JSON document on stdout (2-space indentation, keys in insertion order).
 void print_json(const nlohmann::ordered_json& j);
 

@@ -138,7 +138,7 @@ CMGEOM_CLI_COMMAND(
                   "default: the thesis' independent fits)");
   build->add_flag("--no-texture", b->no_texture, "Geometry only even for an input with texture coordinates");
   build->add_flag("--repair", b->repair, "Split non-manifold edges/vertices and fix orientation while reading");
-  build->add_flag("--allow-degenerate", b->allow_degenerate, "Keep zero-area faces instead of refusing the file");
+  cmgeom_cli::add_allow_degenerate_option(*build, b->allow_degenerate);
   build->add_option("--texture-size", b->texture_size,
                     "Textured input: texels per UV unit of the base's new atlas (default: the input texture's size)");
   build->add_flag("--compact", b->compact,

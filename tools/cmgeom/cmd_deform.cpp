@@ -44,7 +44,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
   app.add_flag("--piecewise", a->piecewise,
                "Several cages: apply each cage's own coordinates alone (no join; for comparisons)");
   app.add_flag("--json", a->as_json, "Print timings and counts as JSON");
-  app.add_flag("--allow-degenerate", a->allow_degenerate, "Keep zero-area faces instead of refusing the file");
+  cmgeom_cli::add_allow_degenerate_option(app, a->allow_degenerate);
   return [a]() -> int {
     a->cages.require();
     if (a->output.empty() && a->write_cages.empty()) throw CMGeom::Invalid_input("give -o <output> (or --write-cages)");

@@ -101,7 +101,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");
   app.add_flag("--no-repair", o->no_repair,
                "Refuse non-manifold or inconsistently oriented input instead of repairing it");
-  app.add_flag("--allow-degenerate", o->allow_degenerate, "Keep zero-area faces instead of refusing the file");
+  cmgeom_cli::add_allow_degenerate_option(app, o->allow_degenerate);
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
   cmgeom_cli::add_gltf_options(app, o->gltf);
 

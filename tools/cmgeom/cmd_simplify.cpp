@@ -88,7 +88,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   auto* no_repair = app.add_flag("--no-repair", o->no_repair,
                                  "Refuse non-manifold or inconsistently oriented input instead of repairing it");
   repair->excludes(no_repair);
-  app.add_flag("--allow-degenerate", o->allow_degenerate, "Keep zero-area faces instead of refusing the file");
+  cmgeom_cli::add_allow_degenerate_option(app, o->allow_degenerate);
   auto* backend = app.add_option("--texture-backend", o->texture_backend,
                                  "Index-texture resampling backend (textured input): cpu (reference) or osmesa")
                       ->check(CLI::IsMember({"cpu", "osmesa"}));
