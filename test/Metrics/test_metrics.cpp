@@ -18,6 +18,8 @@
 #include <map>
 #include <vector>
 
+#include <tbb/parallel_invoke.h>
+
 #include "cmgeom_test_config.h"
 
 namespace {
@@ -143,6 +145,48 @@ TEST(Metrics, DeterministicForSeedWhateverTheThreads) {
   const auto e4 = M::approximation_error(a, b, o);
   EXPECT_NE(e1.rms, e4.rms);  // another seed draws other face subdivisions
   EXPECT_NEAR(e1.rms, e4.rms, 0.02 * e1.rms);
+}
+
+void expect_same_error(const M::Approximation_error& a, const M::Approximation_error& b) {
+  EXPECT_EQ(a.hausdorff, b.hausdorff);
+  EXPECT_EQ(a.mean, b.mean);
+  EXPECT_EQ(a.rms, b.rms);
+  EXPECT_EQ(a.diagonal, b.diagonal);
+  EXPECT_EQ(a.samples, b.samples);
+  EXPECT_EQ(a.reference_to_approximation.max, b.reference_to_approximation.max);
+  EXPECT_EQ(a.approximation_to_reference.max, b.approximation_to_reference.max);
+  EXPECT_EQ(a.reference_to_approximation.edge_samples, b.reference_to_approximation.edge_samples);
+  EXPECT_EQ(a.reference_vertex_error, b.reference_vertex_error);
+  EXPECT_EQ(a.approximation_vertex_error, b.approximation_vertex_error);
+}
+
+TEST(Metrics, ReferencePreparedOnceGivesTheSameNumbers) {
+  // Error_reference keeps the reference's tree and samples across calls; each call must give what
+  // approximation_error() gives for that pair, bit for bit: coarser approximations (the reference's
+  // samples reused), a finer one (with the default budget its samples are drawn again), a fixed
+  // budget, and calls from two threads at once.
+  const Mesh ref = icosphere(3), fine = icosphere(4);
+  const Mesh coarse[] = {icosphere(1), icosphere(2), grid(6, 0.3)};
+  for (std::size_t budget : {std::size_t(0), std::size_t(3000)}) {
+    SCOPED_TRACE("samples " + std::to_string(budget));
+    M::Error_options o;
+    o.samples = budget;
+    const M::Error_reference prepared(ref, o);
+    for (const Mesh& c : coarse) expect_same_error(prepared.error(c), M::approximation_error(ref, c, o));
+    const M::Approximation_error f = prepared.error(fine);
+    expect_same_error(f, M::approximation_error(ref, fine, o));
+    if (budget == 0)  // 10 x the finer mesh's faces, not the reference's
+      EXPECT_NEAR(double(f.reference_to_approximation.samples), 10. * double(fine.number_of_faces()),
+                  0.02 * 10. * double(fine.number_of_faces()));
+    M::Approximation_error side_by_side[2];
+    tbb::parallel_invoke([&] { side_by_side[0] = prepared.error(coarse[0]); },
+                         [&] { side_by_side[1] = prepared.error(coarse[1]); });
+    expect_same_error(side_by_side[0], M::approximation_error(ref, coarse[0], o));
+    expect_same_error(side_by_side[1], M::approximation_error(ref, coarse[1], o));
+  }
+  // each approximation is checked as approximation_error() checks it
+  const M::Error_reference square(grid(3, 0.));
+  EXPECT_THROW(square.error(Mesh()), CMGeom::Invalid_input);
 }
 
 // One direction of our measure against CGAL's, with the same numbers of vertex, edge and face

@@ -88,6 +88,13 @@ TEST(LevelOfDetail, LevelsAreSnapshotsOfOneRun) {
     ASSERT_EQ(alone.number_of_faces(), level.number_of_faces());
     // (vertex order aside: the snapshot is a copy, the run's mesh is garbage-collected)
     EXPECT_EQ(sorted_triangles(level), sorted_triangles(alone)) << "not the mesh of the run to this level alone";
+    // the error measured beside the run is the level's (the same measure, taken again on it)
+    CMGeom::Metrics::Error_options eo;
+    eo.samples = 2 * input.mesh().number_of_faces();
+    eo.vertex_field = false;
+    const CMGeom::Metrics::Approximation_error again = CMGeom::Metrics::approximation_error(input.mesh(), level, eo);
+    EXPECT_EQ(again.hausdorff, r.levels[i].hausdorff);
+    EXPECT_EQ(again.rms, r.levels[i].rms);
     // coarser levels are farther from the input
     EXPECT_GT(r.levels[i].hausdorff, previous_error);
     EXPECT_GT(r.levels[i].rms, 0.0);
@@ -247,7 +254,6 @@ TEST(LevelOfDetail, SharedTextureLevelsAddressOneAtlasThatShowsTheOriginal) {
   TS::Level_of_detail_options o;
   o.target_faces = {n, n / 4, n / 20};
   o.shared_texture = true;
-  o.measure_error = false;
   const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
   ASSERT_EQ(r.levels.size(), 3u);
   const CMGeom::Image& atlas = r.levels.back().mesh.materials().at(0).diffuse_image;
@@ -271,8 +277,21 @@ TEST(LevelOfDetail, SharedTextureLevelsAddressOneAtlasThatShowsTheOriginal) {
   TS::Level_of_detail_options per = o;
   per.shared_texture = false;
   const TS::Level_of_detail_result q = TS::simplify_to_levels(input, per);
-  for (std::size_t i = 0; i < r.levels.size(); ++i)
+  // and the errors measured beside the run are those of the levels as returned, in both modes
+  CMGeom::Metrics::Error_options eo;
+  eo.samples = 2 * n;
+  eo.vertex_field = false;
+  EXPECT_EQ(r.levels[0].hausdorff, 0.0);
+  for (std::size_t i = 0; i < r.levels.size(); ++i) {
     EXPECT_EQ(r.levels[i].mesh.mesh().number_of_faces(), q.levels[i].mesh.mesh().number_of_faces());
+    if (i == 0) continue;
+    for (const auto* chain : {&r, &q}) {
+      const CMGeom::Metrics::Approximation_error again =
+          CMGeom::Metrics::approximation_error(input.mesh(), chain->levels[i].mesh.mesh(), eo);
+      EXPECT_EQ(again.hausdorff, chain->levels[i].hausdorff) << "level " << i;
+      EXPECT_EQ(again.rms, chain->levels[i].rms) << "level " << i;
+    }
+  }
   // levels by error bound follow the collapse history too (their snapshots are taken in the run):
   // one atlas, UVs on it, little of the input hidden
   TS::Level_of_detail_options e;

@@ -9,6 +9,8 @@
 // thesis' Tables 4.2-4.3) plus absolute one-sided values. Key choice where the thesis is open: the
 // symmetric mean pools both sample sets (eq. 2.8). Default: 10 x max(F1, F2) samples per
 // direction. Bit-identical for a given seed whatever the thread count (TBB, fixed blocks).
+// Error_reference prepares the reference's side once (tree, samples) for measuring several
+// approximations of it (a level-of-detail chain, the snapshots of a run) with the same numbers.
 //
 // Manual: doc/Metrics/README.md, "Geometric error in the Metro convention".
 #ifndef CMGEOM_METRICS_APPROXIMATION_ERROR_H
@@ -206,43 +208,45 @@ inline One_sided_error measure(const Sample_set& s, const Triangle_tree& target,
   return e;
 }
 
-inline Approximation_error approximation_error_flat(const Flat_mesh& ref, const Flat_mesh& app,
-                                                    const Error_options& o) {
-  Approximation_error r;
-  r.diagonal = ref.diagonal();
-  if (!(r.diagonal > 0.)) throw Invalid_input("approximation_error: the reference mesh has a zero-size bounding box");
-  const std::size_t target = o.samples ? o.samples : 10 * std::max(ref.triangles.size(), app.triangles.size());
-  const Sampling_plan plan_ref = metro_plan(ref, target, o.sample_vertices, o.sample_edges, o.sample_faces);
-  const Sampling_plan plan_app = metro_plan(app, target, o.sample_vertices, o.sample_edges, o.sample_faces);
+/// The samples a direction's plan gives, in their visiting order.
+inline Sample_set ordered_samples(const Flat_mesh& m, const Sampling_plan& plan, std::uint64_t seed) {
+  Sample_set s = make_samples(m, plan, seed);
+  hilbert_order(s);
+  return s;
+}
 
-  auto run = [&] {
-    // The serial parts (tree construction, sampling, sorting) of the two directions are
-    // independent: run them side by side.
-    std::unique_ptr<Triangle_tree> tree_ref, tree_app;
-    Sample_set s_ref, s_app;
-    tbb::parallel_invoke([&] { tree_ref = std::make_unique<Triangle_tree>(ref); },
-                         [&] { tree_app = std::make_unique<Triangle_tree>(app); },
-                         [&] {
-                           s_ref = make_samples(ref, plan_ref, o.seed);
-                           hilbert_order(s_ref);
-                         },
-                         [&] {
-                           s_app = make_samples(app, plan_app, o.seed ^ 0x5bd1e995ull);
-                           hilbert_order(s_app);
-                         });
-    if (o.vertex_field) {
-      r.reference_vertex_error.assign(ref.points.size(), 0.);
-      r.approximation_vertex_error.assign(app.points.size(), 0.);
-    }
-    r.reference_to_approximation = measure(s_ref, *tree_app, o.vertex_field ? &r.reference_vertex_error : nullptr);
-    r.approximation_to_reference = measure(s_app, *tree_ref, o.vertex_field ? &r.approximation_vertex_error : nullptr);
-  };
+/// Samples per direction for a pair of meshes (see Error_options::samples).
+inline std::size_t sample_target(const Flat_mesh& ref, const Flat_mesh& app, const Error_options& o) {
+  return o.samples ? o.samples : 10 * std::max(ref.triangles.size(), app.triangles.size());
+}
+
+inline Sampling_plan plan_of(const Flat_mesh& m, std::size_t target, const Error_options& o) {
+  return metro_plan(m, target, o.sample_vertices, o.sample_edges, o.sample_faces);
+}
+
+inline std::uint64_t approximation_seed(const Error_options& o) { return o.seed ^ 0x5bd1e995ull; }
+
+/// Runs `f` on `o.threads` workers (all cores when 0).
+template <class F>
+void run_with_threads(const Error_options& o, const F& f) {
   if (o.threads > 0) {
     tbb::task_arena arena(o.threads);
-    arena.execute(run);
+    arena.execute(f);
   } else {
-    run();
+    f();
   }
+}
+
+/// Both directions measured, pooled into the result (fields of `r` already set: diagonal).
+inline void measure_both(Approximation_error& r, const Flat_mesh& ref, const Sample_set& s_ref,
+                         const Triangle_tree& tree_ref, const Flat_mesh& app, const Sample_set& s_app,
+                         const Triangle_tree& tree_app, const Error_options& o) {
+  if (o.vertex_field) {
+    r.reference_vertex_error.assign(ref.points.size(), 0.);
+    r.approximation_vertex_error.assign(app.points.size(), 0.);
+  }
+  r.reference_to_approximation = measure(s_ref, tree_app, o.vertex_field ? &r.reference_vertex_error : nullptr);
+  r.approximation_to_reference = measure(s_app, tree_ref, o.vertex_field ? &r.approximation_vertex_error : nullptr);
   const One_sided_error& a = r.reference_to_approximation;
   const One_sided_error& b = r.approximation_to_reference;
   r.samples = a.samples + b.samples;
@@ -253,6 +257,31 @@ inline Approximation_error approximation_error_flat(const Flat_mesh& ref, const 
     r.mean = sum / double(r.samples) / r.diagonal;
     r.rms = std::sqrt(sum2 / double(r.samples)) / r.diagonal;
   }
+}
+
+inline double reference_diagonal(const Flat_mesh& ref) {
+  const double d = ref.diagonal();
+  if (!(d > 0.)) throw Invalid_input("approximation_error: the reference mesh has a zero-size bounding box");
+  return d;
+}
+
+inline Approximation_error approximation_error_flat(const Flat_mesh& ref, const Flat_mesh& app,
+                                                    const Error_options& o) {
+  Approximation_error r;
+  r.diagonal = reference_diagonal(ref);
+  const std::size_t target = sample_target(ref, app, o);
+  const Sampling_plan plan_ref = plan_of(ref, target, o), plan_app = plan_of(app, target, o);
+  run_with_threads(o, [&] {
+    // The serial parts (tree construction, sampling, sorting) of the two directions are
+    // independent: run them side by side.
+    std::unique_ptr<Triangle_tree> tree_ref, tree_app;
+    Sample_set s_ref, s_app;
+    tbb::parallel_invoke([&] { tree_ref = std::make_unique<Triangle_tree>(ref); },
+                         [&] { tree_app = std::make_unique<Triangle_tree>(app); },
+                         [&] { s_ref = ordered_samples(ref, plan_ref, o.seed); },
+                         [&] { s_app = ordered_samples(app, plan_app, approximation_seed(o)); });
+    measure_both(r, ref, s_ref, *tree_ref, app, s_app, *tree_app, o);
+  });
   return r;
 }
 
@@ -280,6 +309,81 @@ Approximation_error approximation_error(const TriangleMesh1& reference, const Tr
   const internal::Flat_mesh app = internal::make_flat_mesh(approximation, vpm2, "approximation mesh");
   return internal::approximation_error_flat(ref, app, options);
 }
+
+/// The reference side of approximation_error() prepared once (its copy, its AABB tree, its
+/// samples) for measuring several approximations of one reference: the levels of a chain, the
+/// snapshots of a run. `error(approximation)` returns exactly what
+/// `approximation_error(reference, approximation, options)` returns (same samples, same numbers);
+/// only the approximation's side is built for each call. When `options.samples` is 0 and an
+/// approximation has more faces than the reference, the reference's samples of that call are
+/// drawn again (their number depends on both meshes). `error()` may be called from several threads
+/// at once.
+class Error_reference {
+public:
+  /// `reference`, `np`: as approximation_error()'s first mesh and its named parameters. Throws
+  /// Invalid_input as approximation_error() does for the reference.
+  template <class TriangleMesh, class NP = CGAL::parameters::Default_named_parameters>
+  explicit Error_reference(const TriangleMesh& reference, const Error_options& options = Error_options(),
+                           const NP& np = CGAL::parameters::default_values())
+      : options_(options) {
+    using CGAL::parameters::choose_parameter;
+    using CGAL::parameters::get_parameter;
+    auto vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
+                                get_const_property_map(CGAL::vertex_point, reference));
+    ref_ = internal::make_flat_mesh(reference, vpm, "reference mesh");
+    diagonal_ = internal::reference_diagonal(ref_);
+    // (the samples for any approximation with at most as many faces)
+    target_ = options_.samples ? options_.samples : 10 * ref_.triangles.size();
+    const internal::Sampling_plan plan = internal::plan_of(ref_, target_, options_);
+    internal::run_with_threads(options_, [&] {
+      tbb::parallel_invoke([&] { tree_ = std::make_unique<internal::Triangle_tree>(ref_); },
+                           [&] { samples_ = internal::ordered_samples(ref_, plan, options_.seed); });
+    });
+  }
+
+  /// The error of `approximation` (named parameters `np`: its `vertex_point_map`).
+  template <class TriangleMesh, class NP = CGAL::parameters::Default_named_parameters>
+  Approximation_error error(const TriangleMesh& approximation,
+                            const NP& np = CGAL::parameters::default_values()) const {
+    using CGAL::parameters::choose_parameter;
+    using CGAL::parameters::get_parameter;
+    auto vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
+                                get_const_property_map(CGAL::vertex_point, approximation));
+    return error_flat(internal::make_flat_mesh(approximation, vpm, "approximation mesh"));
+  }
+
+  /// The same for an approximation already copied into flat arrays.
+  Approximation_error error_flat(const internal::Flat_mesh& app) const {
+    Approximation_error r;
+    r.diagonal = diagonal_;
+    const std::size_t target = internal::sample_target(ref_, app, options_);
+    const internal::Sampling_plan plan_app = internal::plan_of(app, target, options_);
+    internal::run_with_threads(options_, [&] {
+      std::unique_ptr<internal::Triangle_tree> tree_app;
+      internal::Sample_set s_app, s_ref_own;
+      tbb::parallel_invoke(
+          [&] { tree_app = std::make_unique<internal::Triangle_tree>(app); },
+          [&] { s_app = internal::ordered_samples(app, plan_app, internal::approximation_seed(options_)); },
+          [&] {
+            if (target != target_)
+              s_ref_own = internal::ordered_samples(ref_, internal::plan_of(ref_, target, options_), options_.seed);
+          });
+      const internal::Sample_set& s_ref = target != target_ ? s_ref_own : samples_;
+      internal::measure_both(r, ref_, s_ref, *tree_, app, s_app, *tree_app, options_);
+    });
+    return r;
+  }
+
+  const Error_options& options() const { return options_; }
+
+private:
+  Error_options options_;
+  internal::Flat_mesh ref_;
+  double diagonal_ = 0.;
+  std::size_t target_ = 0;
+  std::unique_ptr<internal::Triangle_tree> tree_;
+  internal::Sample_set samples_;
+};
 
 }  // namespace Metrics
 }  // namespace CMGeom

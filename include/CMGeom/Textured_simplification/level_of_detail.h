@@ -53,6 +53,7 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <tuple>
 #include <unordered_map>
@@ -105,7 +106,8 @@ struct Level_of_detail_options {
   /// sits in the middle of the values (0.1 to 0.3) that gave image errors within 5 % of each
   /// other on the shared textured models.
   double overflow_colour_tolerance = 0.2;
-  /// Measure every level's error against the input (Metrics::approximation_error).
+  /// Measure every level's error against the input (Metrics::approximation_error, the input's side
+  /// prepared once: Metrics::Error_reference), beside the collapses and the texture work.
   bool measure_error = true;
   /// Samples per direction of that measure; 0: 2 x the input's face count.
   std::size_t error_samples = 0;
@@ -125,7 +127,9 @@ struct Level_of_detail_result {
   std::vector<Level_of_detail> levels;
   double seconds_collapse = 0;  ///< the collapse run, snapshots included
   double seconds_texture = 0;   ///< atlas extraction, baking, mapping through the shared atlas
-  double seconds_error = 0;     ///< the error measures
+  /// The error measures: what is left of them once the texture work is done (they run beside
+  /// the collapses and the texture work; the error-bound mode measures inside the collapse run).
+  double seconds_error = 0;
   /// Shared texture: the fraction of the original's texels in the atlas that another part of the
   /// original took (parts that fold onto one place of the coarsest level, e.g. a label over a
   /// bottle on a 45-face bottle); those parts show the other part's colours at every level.
@@ -138,6 +142,77 @@ struct Level_of_detail_result {
 };
 
 namespace internal {
+
+/// The levels' errors, measured beside the work that follows their snapshots (the serial collapses
+/// leave cores idle): the first task prepares the input's side once (Metrics::Error_reference),
+/// then measures the levels one after another as their copies come; a level that comes while no
+/// task runs starts one. No thread ever waits for another here; wait() gives the results.
+class Background_level_errors {
+public:
+  Background_level_errors(const Surface_mesh& input, const Metrics::Error_options& options) {
+    running_ = true;
+    tasks_.run([this, &input, options] {
+      reference_.emplace(input, options);
+      drain();
+    });
+  }
+  Background_level_errors(const Background_level_errors&) = delete;
+  Background_level_errors& operator=(const Background_level_errors&) = delete;
+  ~Background_level_errors() {
+    try {
+      tasks_.wait();
+    } catch (...) {  // (only when wait() was not called: an exception is leaving already)
+    }
+  }
+
+  /// Queues level `level` (its geometry, copied now).
+  void add(std::size_t level, const Surface_mesh& mesh) {
+    Item item{level, Metrics::internal::make_flat_mesh(mesh, mesh.points(), "level")};
+    std::lock_guard<std::mutex> lock(mutex_);
+    queue_.push_back(std::move(item));
+    if (!running_) {
+      running_ = true;
+      tasks_.run([this] { drain(); });
+    }
+  }
+
+  /// Waits for every queued level; (level, error) pairs, by level. Rethrows a measure's exception.
+  std::vector<std::pair<std::size_t, Metrics::Approximation_error>> wait() {
+    tasks_.wait();
+    std::sort(results_.begin(), results_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    return std::move(results_);
+  }
+
+private:
+  struct Item {
+    std::size_t level;
+    Metrics::internal::Flat_mesh mesh;
+  };
+  void drain() {
+    while (true) {
+      Item item;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (queue_.empty()) {
+          running_ = false;
+          return;
+        }
+        item = std::move(queue_.front());
+        queue_.erase(queue_.begin());
+      }
+      Metrics::Approximation_error e = reference_->error_flat(item.mesh);
+      std::lock_guard<std::mutex> lock(mutex_);
+      results_.emplace_back(item.level, std::move(e));
+    }
+  }
+
+  tbb::task_group tasks_;
+  std::mutex mutex_;
+  std::optional<Metrics::Error_reference> reference_;  // (written by the first task, before any measure)
+  std::vector<Item> queue_;
+  bool running_ = false;
+  std::vector<std::pair<std::size_t, Metrics::Approximation_error>> results_;
+};
 
 /// What the two snapshot visitors below share: a copy is taken once its collapse is complete, at
 /// the engine's next call (OnSelected of the next edge, before the stop predicate is asked, or
@@ -169,7 +244,8 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
     const std::vector<std::size_t>* targets;  // the collapsed levels' targets, decreasing
     std::size_t next = 0;
     std::vector<Level_snapshot> snapshots;
-    bool pending = false;  // a collapse reached the next target: copy at the next call
+    bool pending = false;                       // a collapse reached the next target: copy at the next call
+    Background_level_errors* errors = nullptr;  // measures each copy, when set
   };
   State* state;
   Snapshot_visitor(State* s, const Visitor& v, Collapse_history* h, const Level_fitter* f = nullptr)
@@ -185,15 +261,18 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
   void take_pending(const Surface_mesh& mesh) const {
     if (!state->pending) return;
     state->pending = false;
-    while (state->next + 1 < state->targets->size() && mesh.number_of_faces() <= (*state->targets)[state->next]) {
-      state->snapshots.push_back(this->snapshot(mesh));
-      ++state->next;
-    }
+    while (state->next + 1 < state->targets->size() && mesh.number_of_faces() <= (*state->targets)[state->next])
+      take(mesh);
+  }
+  void take(const Surface_mesh& mesh) const {
+    state->snapshots.push_back(this->snapshot(mesh));
+    if (state->errors) state->errors->add(state->next, state->snapshots.back().mesh);
+    ++state->next;
   }
   /// The levels not taken yet (the last, and any the run did not reach) are the mesh the run ends
   /// with: copied (and fitted) now, while the history's points still name its faces.
   void finished(const Surface_mesh& mesh) const {
-    while (state->snapshots.size() < state->targets->size()) state->snapshots.push_back(this->snapshot(mesh));
+    while (state->snapshots.size() < state->targets->size()) take(mesh);
   }
 };
 
@@ -207,8 +286,7 @@ struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visito
     double hausdorff, rms;
   };
   struct State {
-    const Surface_mesh* input;
-    Metrics::Error_options error_options;
+    const Metrics::Error_reference* reference;  // the input's side of the measure, prepared once
     double step, largest_bound;
     double next;  // face count of the next snapshot
     bool stop = false;
@@ -228,7 +306,7 @@ struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visito
     if (!state->pending) return;
     state->pending = false;
     Level_snapshot copy = this->snapshot(mesh);
-    const Metrics::Approximation_error e = Metrics::approximation_error(*state->input, copy.mesh, state->error_options);
+    const Metrics::Approximation_error e = state->reference->error(copy.mesh);
     if (e.hausdorff > state->largest_bound) {
       state->stop = true;
       return;
@@ -344,7 +422,8 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       input_points = history->add_input(work);
     }
     using EV = internal::Error_snapshot_visitor<Visitor>;
-    typename EV::State state{&input.mesh(), eo, options.error_step, options.max_errors.back(),
+    const Metrics::Error_reference reference(input.mesh(), eo);
+    typename EV::State state{&reference, options.error_step, options.max_errors.back(),
                              double(faces_in) * options.error_step};
     internal::Face_count_or_flag_stop<Surface_mesh> stop{Face_count_stop_predicate<Surface_mesh>(work, 1), &state.stop};
     internal::collapse_chain(work, options, stop, [&](const internal::Level_fitter* fitter) {
@@ -382,6 +461,10 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
     prepare.run([&source] { source->prepare(); });
   }
 
+  // the levels' errors, measured beside the collapses and the texture work
+  std::optional<internal::Background_level_errors> errors;
+  if (!by_error && options.measure_error && !collapsed.empty()) errors.emplace(input.mesh(), eo);
+
   try {
     if (!collapsed.empty() && !by_error) {
       // a copy with the input's element order (the collapse order depends on it: the chain's levels
@@ -398,6 +481,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       // every collapse)
       // (the last level, and any the run never reached, are taken when it finishes)
       typename internal::Snapshot_visitor<Visitor>::State state{&collapsed, 0, {}};
+      if (errors) state.errors = &*errors;
       internal::collapse_chain(
           work, options, Face_count_stop_predicate<Surface_mesh>(work, collapsed.back()),
           [&](const internal::Level_fitter* fitter) {
@@ -531,17 +615,15 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       l.rms = l.is_input ? 0 : measured[i - kept].second;
     }
   } else if (options.measure_error) {
-    const auto t_error = Clock::now();
-    for (auto& l : res.levels) {
-      if (l.is_input) {
-        l.hausdorff = l.rms = 0;
-        continue;
+    for (std::size_t i = 0; i < kept; ++i) res.levels[i].hausdorff = res.levels[i].rms = 0;
+    if (errors) {  // (what is left of the measures once the texture work is done)
+      const auto t_error = Clock::now();
+      for (const auto& [i, e] : errors->wait()) {
+        res.levels[kept + i].hausdorff = e.hausdorff;
+        res.levels[kept + i].rms = e.rms;
       }
-      const Metrics::Approximation_error e = Metrics::approximation_error(input.mesh(), l.mesh.mesh(), eo);
-      l.hausdorff = e.hausdorff;
-      l.rms = e.rms;
+      res.seconds_error = internal::seconds_since_lod(t_error);
     }
-    res.seconds_error = internal::seconds_since_lod(t_error);
   }
   res.seconds = internal::seconds_since_lod(t_start);
   return res;
