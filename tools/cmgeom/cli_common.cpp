@@ -156,6 +156,12 @@ void add_allow_degenerate_option(CLI::App& app, bool& allow_degenerate_faces) {
   app.add_flag("--allow-degenerate", allow_degenerate_faces, "Keep zero-area faces instead of refusing the file");
 }
 
+void add_repair_option(CLI::App& app, bool& repair) {
+  app.add_flag("--repair", repair,
+               "Split non-manifold edges, duplicate non-manifold vertices and fix the orientation while reading "
+               "(CGAL's orient_polygon_soup) instead of refusing the file");
+}
+
 namespace {
 
 std::atomic<bool> quiet_progress{false};

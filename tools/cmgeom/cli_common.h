@@ -65,6 +65,10 @@ void add_gltf_options(CLI::App& app, CMGeom::IO::Gltf_options& options);
 // of zero-area faces names) to a command that reads a mesh.
 void add_allow_degenerate_option(CLI::App& app, bool& allow_degenerate_faces);
 
+// Adds --repair (Read_options::repair, the option the reader's refusal of non-manifold or
+// inconsistently oriented input names) to a command that reads a mesh and does not repair by default.
+void add_repair_option(CLI::App& app, bool& repair);
+
 // Prints a JSON document on stdout (2-space indentation, keys in insertion order).
 void print_json(const nlohmann::ordered_json& j);
 

@@ -32,6 +32,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -137,7 +138,7 @@ CMGEOM_CLI_COMMAND(
                   "Refit all local surfaces together so that their blend follows the input (CMGeom addition; "
                   "default: the thesis' independent fits)");
   build->add_flag("--no-texture", b->no_texture, "Geometry only even for an input with texture coordinates");
-  build->add_flag("--repair", b->repair, "Split non-manifold edges/vertices and fix orientation while reading");
+  cmgeom_cli::add_repair_option(*build, b->repair);
   cmgeom_cli::add_allow_degenerate_option(*build, b->allow_degenerate);
   build->add_option("--texture-size", b->texture_size,
                     "Textured input: texels per UV unit of the base's new atlas (default: the input texture's size)");
@@ -384,7 +385,10 @@ CMGEOM_CLI_COMMAND(
       CMGeom::IO::Read_options read_options;
       read_options.repair = b->repair;
       read_options.allow_degenerate_faces = b->allow_degenerate;
+      std::vector<std::string> warnings;
+      read_options.warnings = &warnings;
       cmgeom_cli::read_mesh_with_progress(b->input, tm, read_options);
+      for (const auto& w : warnings) std::cerr << "cmgeom cm build: warning: " << w << "\n";
       CMGeom::Surface_mesh& mesh = tm.mesh();
       if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(b->input + ": not a triangle mesh");
       // A textured input gives a textured CM (thesis §4.5.4): the base is simplified under the

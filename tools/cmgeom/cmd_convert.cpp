@@ -13,7 +13,7 @@ CMGEOM_CLI_COMMAND(convert, "Convert a mesh between OBJ(+MTL+textures), OFF, PLY
   app.add_option("-o,--output", *output, "Output mesh (.obj, .off, .ply, .gltf, .glb)")->required();
   auto gltf = std::make_shared<CMGeom::IO::Gltf_options>();
   cmgeom_cli::add_gltf_options(app, *gltf);
-  app.add_flag("--repair", opts->repair, "Repair non-manifold edges/vertices and orientation (CGAL PMP)");
+  cmgeom_cli::add_repair_option(app, opts->repair);
   cmgeom_cli::add_allow_degenerate_option(app, opts->allow_degenerate_faces);
   app.add_flag("--drop-repeated", opts->drop_repeated_vertex_faces, "Drop faces that repeat a vertex");
   app.add_flag("--remove-unreferenced", opts->remove_unreferenced_vertices, "Drop vertices no face uses");

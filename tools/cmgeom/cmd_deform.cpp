@@ -29,7 +29,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
   struct Args {
     cmgeom_cli::Cage_source cages;
     std::string input, output, write_cages, weights = "double", storage = "dense";
-    bool as_json = false, piecewise = false, allow_degenerate = false;
+    bool as_json = false, piecewise = false, allow_degenerate = false, repair = false;
   };
   auto a = std::make_shared<Args>();
   app.add_option("mesh", a->input, "Mesh to deform (.obj, .off, .ply, .gltf, .glb)")->required();
@@ -44,6 +44,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
   app.add_flag("--piecewise", a->piecewise,
                "Several cages: apply each cage's own coordinates alone (no join; for comparisons)");
   app.add_flag("--json", a->as_json, "Print timings and counts as JSON");
+  cmgeom_cli::add_repair_option(app, a->repair);
   cmgeom_cli::add_allow_degenerate_option(app, a->allow_degenerate);
   return [a]() -> int {
     a->cages.require();
@@ -53,7 +54,11 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     CMGeom::Textured_mesh tm;
     CMGeom::IO::Read_options read_options;
     read_options.allow_degenerate_faces = a->allow_degenerate;
+    read_options.repair = a->repair;
+    std::vector<std::string> warnings;
+    read_options.warnings = &warnings;
     cmgeom_cli::read_mesh_with_progress(a->input, tm, read_options);
+    for (const auto& w : warnings) std::cerr << "cmgeom deform: warning: " << w << "\n";
     auto& mesh = tm.mesh();
     std::vector<CD::Vec3> points;
     points.reserve(mesh.number_of_vertices());

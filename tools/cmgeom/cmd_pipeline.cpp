@@ -169,9 +169,13 @@ CMGEOM_CLI_COMMAND(pipeline,
     std::string model, output, cages, size = "768x768";
     double ratio = 0.1, cm_ratio = 0.05;
     int level = 2;
+    bool allow_degenerate = false;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("--model", o->model, "Input mesh, textured or not (default: the bundled Spot model)");
+  app.add_option(
+      "--model", o->model,
+      "Input mesh, textured or not (default: the bundled Spot model); non-manifold or inconsistently oriented input is "
+      "repaired while reading, as 'cmgeom simplify' does");
   app.add_option("-o,--output", o->output, "Output directory (created; existing files of the same name are replaced)")
       ->required();
   app.add_option("--ratio", o->ratio, "Simplification target as a fraction of the input faces (default 0.1)")
@@ -184,6 +188,7 @@ CMGEOM_CLI_COMMAND(pipeline,
                  "Cage-system JSON file (see 'cmgeom deform') for the deformation stages (default: a grid of two "
                  "box cages around the model, mean value and Green coordinates, bent by 30 degrees)");
   app.add_option("--size", o->size, "Picture size WxH (default 768x768)");
+  cmgeom_cli::add_allow_degenerate_option(app, o->allow_degenerate);
 
   return [o]() -> int {
     const std::string model = o->model.empty() ? default_model() : o->model;
@@ -192,7 +197,17 @@ CMGEOM_CLI_COMMAND(pipeline,
     cmgeom_cli::parse_picture_size(o->size);  // checked before anything is written
     // Read once here (before anything is created) for the facts the stages' parameters depend on.
     CMGeom::Textured_mesh mesh;
-    cmgeom_cli::read_mesh_with_progress(model, mesh);
+    CMGeom::IO::Read_options read_options;
+    read_options.repair = true;  // as the stages read it (simplify, cm build and deform repair by default)
+    read_options.allow_degenerate_faces = o->allow_degenerate;
+    cmgeom_cli::read_mesh_with_progress(model, mesh, read_options);
+    // the stages that build a mesh from the model read it as the read above does (simplify repairs
+    // by default)
+    const auto reading_model = [&](std::vector<std::string> cmd) {
+      if (o->allow_degenerate) cmd.push_back("--allow-degenerate");
+      if (cmd[0] != "simplify") cmd.push_back("--repair");
+      return cmd;
+    };
     const fs::path out = o->output;
     std::error_code ec;
     fs::create_directories(out, ec);
@@ -264,7 +279,7 @@ CMGEOM_CLI_COMMAND(pipeline,
           const std::string mesh_out = p.path("simplified_" + run.tag + ".obj");
           std::vector<std::string> cmd = {"simplify", model, "-o", mesh_out, "--ratio", general(o->ratio), "--json"};
           cmd.insert(cmd.end(), run.args.begin(), run.args.end());
-          const json js = p.run(cmd);
+          const json js = p.run(reading_model(cmd));
           const json je = p.run({"error", model, mesh_out, "--json"});
           const json jc = p.run(
               {"compare", model, mesh_out, "--json", "-o", p.path("compare_" + run.tag + ".png"), "--size", "256"});
@@ -290,8 +305,8 @@ CMGEOM_CLI_COMMAND(pipeline,
 
       p.begin("Compact Model (thesis chapter 4): build, regular and adaptive reconstruction");
       {
-        const json jb =
-            p.run({"cm", "build", model, "-o", p.path("model.cm"), "--ratio", general(o->cm_ratio), "--json"});
+        const json jb = p.run(
+            reading_model({"cm", "build", model, "-o", p.path("model.cm"), "--ratio", general(o->cm_ratio), "--json"}));
         Report::Table table{
             {"reconstruction", "vertices", "faces", "seconds (library call)", "Hausdorff (% diag)", "RMS (% diag)"},
             {}};
@@ -355,7 +370,7 @@ CMGEOM_CLI_COMMAND(pipeline,
           // mean value coordinates in both cages, once with Green coordinates in the second.
           std::string grid;
           for (int i = 0; i < 3; ++i) grid += std::string(i ? "," : "") + (i == axis[2] ? "2" : "1");
-          p.run({"deform", model, "--grid", grid, "--write-cages", p.path("rest_cages.json")});
+          p.run(reading_model({"deform", model, "--grid", grid, "--write-cages", p.path("rest_cages.json")}));
           std::ifstream in(p.path("rest_cages.json"));
           const json rest = json::parse(in);
           for (const bool mixed : {false, true}) {
@@ -376,7 +391,8 @@ CMGEOM_CLI_COMMAND(pipeline,
         for (std::size_t i = 0; i < systems.size(); ++i) {
           const bool main_system = systems[i].file == system;
           const std::string stem = main_system ? "deformed" : "deformed_mean_value";
-          const json jd = p.run({"deform", model, "--cages", systems[i].file, "-o", p.path(stem + ".obj"), "--json"});
+          const json jd = p.run(
+              reading_model({"deform", model, "--cages", systems[i].file, "-o", p.path(stem + ".obj"), "--json"}));
           p.run({"render", p.path(stem + ".obj"), "-o", p.path(stem + ".png"), "--size", o->size, "--view", view,
                  "--caption", "*Cages: " + systems[i].name});
           std::string coordinates =
