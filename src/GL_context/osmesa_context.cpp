@@ -8,8 +8,10 @@
 #include <CMGeom/Error.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 namespace CMGeom {
 namespace internal {
@@ -20,7 +22,9 @@ namespace {
 // is made rather than linked: libOSMesa brings Mesa's llvmpipe and LLVM with it, whose loading
 // and static initialisation were most of the cmgeom tool's start-up (70-80 ms of every command,
 // rendering or not, on a 2-core VM; 15-20 ms without). The library stays open until the program
-// ends (its contexts may live that long).
+// ends (its contexts may live that long). The environment variable CMGEOM_OSMESA_LIBRARY, when set
+// and not empty, names the one library to open (another Mesa build), instead of libOSMesa.so.8
+// and then the development link found at configure time.
 struct Osmesa_api {
   decltype(&OSMesaCreateContextAttribs) create_context = nullptr;
   decltype(&OSMesaGetProcAddress) get_proc_address = nullptr;
@@ -34,7 +38,10 @@ const Osmesa_api& osmesa() {
     Osmesa_api a;
     void* library = nullptr;
     std::string tried;
-    for (const char* name : {"libOSMesa.so.8", CMGEOM_OSMESA_LIBRARY}) {
+    std::vector<const char*> names = {"libOSMesa.so.8", CMGEOM_OSMESA_LIBRARY};
+    const char* chosen = std::getenv("CMGEOM_OSMESA_LIBRARY");
+    if (chosen && *chosen) names = {chosen};
+    for (const char* name : names) {
       library = dlopen(name, RTLD_NOW | RTLD_LOCAL);
       if (library) break;
       const char* why = dlerror();
