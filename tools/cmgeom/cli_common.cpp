@@ -133,6 +133,10 @@ void load_soup_textures(CMGeom::Polygon_soup& soup) {
 
 void print_json(const nlohmann::ordered_json& j) { std::cout << j.dump(2) << std::endl; }
 
+void print_warnings(const std::string& command, const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) std::cerr << "cmgeom " << command << ": warning: " << w << "\n";
+}
+
 std::pair<int, int> parse_picture_size(const std::string& size) {
   int w = 0, h = 0;
   char x = 0, extra = 0;

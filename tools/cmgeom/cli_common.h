@@ -69,6 +69,10 @@ void add_allow_degenerate_option(CLI::App& app, bool& allow_degenerate_faces);
 // inconsistently oriented input names) to a command that reads a mesh and does not repair by default.
 void add_repair_option(CLI::App& app, bool& repair);
 
+// Prints each warning on stderr as "cmgeom <command>: warning: <text>" (the reader's repairs,
+// skipped statements, ...).
+void print_warnings(const std::string& command, const std::vector<std::string>& warnings);
+
 // Prints a JSON document on stdout (2-space indentation, keys in insertion order).
 void print_json(const nlohmann::ordered_json& j);
 

@@ -32,7 +32,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <iostream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -242,8 +241,7 @@ CMGEOM_CLI_COMMAND(
         j["deformer"] = "affine";
       } else {
         const CD::Cage_system_description desc = CD::read_cage_system(d->cages.file);
-        for (const auto& c : desc.cages)
-          for (const std::string& w : c.warnings) std::cerr << "cmgeom cm deform: warning: " << w << "\n";
+        for (const auto& c : desc.cages) cmgeom_cli::print_warnings("cm deform", c.warnings);
         std::size_t undefined = 0;
         auto run = [&](auto& deformer) {
           double t0 = cmgeom_cli::now_seconds();
@@ -388,7 +386,7 @@ CMGEOM_CLI_COMMAND(
       std::vector<std::string> warnings;
       read_options.warnings = &warnings;
       cmgeom_cli::read_mesh_with_progress(b->input, tm, read_options);
-      for (const auto& w : warnings) std::cerr << "cmgeom cm build: warning: " << w << "\n";
+      cmgeom_cli::print_warnings("cm build", warnings);
       CMGeom::Surface_mesh& mesh = tm.mesh();
       if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(b->input + ": not a triangle mesh");
       // A textured input gives a textured CM (thesis §4.5.4): the base is simplified under the

@@ -3,8 +3,6 @@
 
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 
-#include <iostream>
-
 CMGEOM_CLI_COMMAND(convert, "Convert a mesh between OBJ(+MTL+textures), OFF, PLY, glTF and GLB") {
   auto input = std::make_shared<std::string>();
   auto output = std::make_shared<std::string>();
@@ -23,7 +21,7 @@ CMGEOM_CLI_COMMAND(convert, "Convert a mesh between OBJ(+MTL+textures), OFF, PLY
     CMGeom::IO::Read_options o = *opts;
     o.warnings = &warnings;
     CMGeom::IO::read_mesh(*input, tm, o);
-    for (const std::string& w : warnings) std::cerr << "cmgeom convert: warning: " << w << "\n";
+    cmgeom_cli::print_warnings("convert", warnings);
     CMGeom::IO::write_textured_mesh(*output, tm, *gltf);
     return 0;
   };

@@ -58,7 +58,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     std::vector<std::string> warnings;
     read_options.warnings = &warnings;
     cmgeom_cli::read_mesh_with_progress(a->input, tm, read_options);
-    for (const auto& w : warnings) std::cerr << "cmgeom deform: warning: " << w << "\n";
+    cmgeom_cli::print_warnings("deform", warnings);
     auto& mesh = tm.mesh();
     std::vector<CD::Vec3> points;
     points.reserve(mesh.number_of_vertices());
@@ -68,8 +68,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     }
 
     const CD::Cage_system_description desc = a->cages.description(points);
-    for (const auto& c : desc.cages)
-      for (const std::string& w : c.warnings) std::cerr << "cmgeom deform: warning: " << w << "\n";
+    for (const auto& c : desc.cages) cmgeom_cli::print_warnings("deform", c.warnings);
     if (!a->write_cages.empty()) CD::write_cage_system(a->write_cages, desc);
     if (a->output.empty()) return 0;
 

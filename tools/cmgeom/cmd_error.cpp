@@ -97,8 +97,7 @@ CMGEOM_CLI_COMMAND(error, "Metro-style geometric error (Hausdorff, mean, RMS) be
     }
     const CMGeom::Polygon_soup ref = cmgeom_cli::read_polygon_soup_with_progress(*reference);
     const CMGeom::Polygon_soup app_mesh = cmgeom_cli::read_polygon_soup_with_progress(*approximation);
-    for (const auto* s : {&ref, &app_mesh})
-      for (const std::string& w : s->warnings) std::cerr << "cmgeom error: warning: " << w << "\n";
+    for (const auto* s : {&ref, &app_mesh}) cmgeom_cli::print_warnings("error", s->warnings);
     CMGeom::Metrics::Error_options o;
     o.samples = *samples;
     o.seed = *seed;

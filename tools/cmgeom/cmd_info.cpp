@@ -18,7 +18,7 @@ CMGEOM_CLI_COMMAND(info, "Print vertices, faces, charts, topology and materials 
   app.add_flag("--json", *json, "Print a JSON object instead of text");
   return [input, json]() -> int {
     const CMGeom::Polygon_soup soup = cmgeom_cli::read_polygon_soup_with_progress(*input);
-    for (const std::string& w : soup.warnings) std::cerr << "cmgeom info: warning: " << w << "\n";
+    cmgeom_cli::print_warnings("info", soup.warnings);
     const CMGeom::Mesh_statistics st = CMGeom::analyze_soup(soup);
     nlohmann::ordered_json j;
     j["file"] = *input;

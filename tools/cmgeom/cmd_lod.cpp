@@ -119,7 +119,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     std::vector<std::string> warnings;
     ro.warnings = &warnings;
     CMGeom::IO::read_mesh(o->input, tm, ro);
-    for (const auto& w : warnings) std::cerr << "cmgeom lod: warning: " << w << "\n";
+    cmgeom_cli::print_warnings("lod", warnings);
     if (!CGAL::is_triangle_mesh(tm.mesh())) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
     if (!o->texture.empty() && !o->no_texture) {
       if (!tm.has_uvs())

@@ -201,11 +201,10 @@ CMGEOM_CLI_COMMAND(pipeline,
     read_options.repair = true;  // as the stages read it (simplify, cm build and deform repair by default)
     read_options.allow_degenerate_faces = o->allow_degenerate;
     cmgeom_cli::read_mesh_with_progress(model, mesh, read_options);
-    // the stages that build a mesh from the model read it as the read above does (simplify repairs
-    // by default)
+    // the stages that build a mesh from the model read it as the read above does
     const auto reading_model = [&](std::vector<std::string> cmd) {
       if (o->allow_degenerate) cmd.push_back("--allow-degenerate");
-      if (cmd[0] != "simplify") cmd.push_back("--repair");
+      cmd.push_back("--repair");
       return cmd;
     };
     const fs::path out = o->output;

@@ -18,7 +18,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <iostream>
 #include <sstream>
 
 namespace {
@@ -126,7 +125,7 @@ CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wi
     const auto [w, h] = cmgeom_cli::parse_picture_size(a->size);
     // Drawn as the file holds it (polygon soup): non-manifold input needs no repair.
     CMGeom::Polygon_soup tm = cmgeom_cli::read_polygon_soup_with_progress(a->mesh);
-    for (const std::string& w : tm.warnings) std::cerr << "cmgeom render: warning: " << w << "\n";
+    cmgeom_cli::print_warnings("render", tm.warnings);
     if (a->texture.empty() && !a->no_texture) cmgeom_cli::load_soup_textures(tm);
     std::vector<double> field;
     if (!a->field.empty()) {

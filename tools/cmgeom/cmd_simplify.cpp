@@ -148,7 +148,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         CMGeom::IO::build_textured_mesh(soup, tm, ro);
     }
     const double seconds_read = cmgeom_cli::now_seconds() - read_start;
-    for (const auto& w : warnings) std::cerr << "cmgeom simplify: warning: " << w << "\n";
+    cmgeom_cli::print_warnings("simplify", warnings);
     Mesh& mesh = geometry_only ? geometry : tm.mesh();
     if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
     if (!o->texture.empty() && !o->no_texture) {

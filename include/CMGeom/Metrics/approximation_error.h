@@ -333,7 +333,7 @@ public:
     ref_ = internal::make_flat_mesh(reference, vpm, "reference mesh");
     diagonal_ = internal::reference_diagonal(ref_);
     // (the samples for any approximation with at most as many faces)
-    target_ = options_.samples ? options_.samples : 10 * ref_.triangles.size();
+    target_ = internal::sample_target(ref_, ref_, options_);
     const internal::Sampling_plan plan = internal::plan_of(ref_, target_, options_);
     internal::run_with_threads(options_, [&] {
       tbb::parallel_invoke([&] { tree_ = std::make_unique<internal::Triangle_tree>(ref_); },
