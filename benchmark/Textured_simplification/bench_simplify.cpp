@@ -277,7 +277,7 @@ Mesh run_cmgeom(const Mesh& in, std::size_t target, bool weighted, bool flips, d
 // parts on all cores, the final fit of the vertices); `parts` false: the whole mesh at once
 // whatever its size; `fit` false: no final fit (--fit-rounds 0).
 Mesh run_cmgeom_default(const Mesh& in, std::size_t target, bool parts, double& secs, bool fit = true,
-                        bool flips = false, double gap_weight = 1.0) {
+                        bool flips = false, double gap_weight = 1.0, std::size_t max_points = 0) {
   Mesh m = in;
   const double t0 = cpu_seconds();
   TS::Mesh_simplification_options o;
@@ -286,6 +286,7 @@ Mesh run_cmgeom_default(const Mesh& in, std::size_t target, bool parts, double& 
   if (!fit) o.memory.fit.rounds = 0;
   o.flips = flips;
   o.memory.vertex_gap_weight = gap_weight;
+  o.memory.max_points = max_points;
   TS::simplify_mesh(m, target, o);
   secs = cpu_seconds() - t0;
   return m;
@@ -378,6 +379,7 @@ const char* const all_tools[] = {"cmgeom-default",
                                  "cmgeom-default-nofit",
                                  "cmgeom-default-flips",
                                  "cmgeom-default-nogap",
+                                 "cmgeom-default-stride",
                                  "cmgeom-weighted",
                                  "cmgeom-weighted-sum",
                                  "cmgeom-plain",
@@ -402,6 +404,8 @@ bool run_tool(const std::string& tool, const Model& md, std::size_t target, Mesh
     out = run_cmgeom_default(md.mesh, target, true, secs, true, true);
   else if (tool == "cmgeom-default-nogap")
     out = run_cmgeom_default(md.mesh, target, true, secs, true, false, 0.0);
+  else if (tool == "cmgeom-default-stride")  // at most 65,536 points: every k-th vertex of a larger input
+    out = run_cmgeom_default(md.mesh, target, true, secs, true, false, 1.0, 65536);
   else if (tool == "cmgeom-weighted")
     out = run_cmgeom(md.mesh, target, true, false, secs);
   else if (tool == "cmgeom-plain")

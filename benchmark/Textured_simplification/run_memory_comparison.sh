@@ -5,7 +5,9 @@
 # The memoryful cost (Surface_memory.h) on geometry-only simplification: cmgeom-default (plain
 # quadrics + the memoryful cost + the final fit of the vertices, what `cmgeom simplify` does)
 # against cmgeom-default-nofit (the same without the fit), cmgeom-default-nogap (the memoryful
-# cost without its new-vertex term, Surface_memory_options::vertex_gap_weight = 0), cmgeom-plain (the quadrics alone),
+# cost without its new-vertex term, Surface_memory_options::vertex_gap_weight = 0), cmgeom-default-stride
+# (at most 65,536 points, every k-th vertex of a larger input: Surface_memory_options::max_points,
+# which only igea and ogre-sub2 exceed), cmgeom-plain (the quadrics alone),
 # CGAL's Garland-Heckbert and Lindstrom-Turk policies and meshoptimizer 0.18, one bench_simplify
 # run over five scanned models and two with sharp features (fandisk, ogre) at 10, 5 and 1 %, and
 # ogre subdivided twice (ogre-sub2, 2M faces) at 1 %.
@@ -23,11 +25,11 @@ trap 'rm -f "$table" "$table.sum"' EXIT
 . "$here/../common/describe_run.sh"
 line=$(describe_run cgal meshoptimizer)
 args=(--models bunny,armadillo,igea,nefertiti,max-planck,fandisk,ogre --ratios 0.1,0.05,0.01
-      --tools cmgeom-default,cmgeom-default-nofit,cmgeom-default-nogap,cmgeom-plain,cgal-gh,cgal-lt,meshopt --repeat 3)
+      --tools cmgeom-default,cmgeom-default-nofit,cmgeom-default-nogap,cmgeom-default-stride,cmgeom-plain,cgal-gh,cgal-lt,meshopt --repeat 3)
 "$build/bin/bench_simplify" "${args[@]}" --out "$table" >/dev/null 2>&1
 # the one configuration of the baselines' 1M-face input that measures simplification (the 5 and 10 %
 # of ogre-sub2 only undo its subdivision; shared/research/baselines-simplify.md, section 2), once
-args2=(--models ogre-sub2 --ratios 0.01 --tools cmgeom-default,cmgeom-default-nofit,cmgeom-default-nogap,cgal-gh,cgal-lt,meshopt --repeat 1)
+args2=(--models ogre-sub2 --ratios 0.01 --tools cmgeom-default,cmgeom-default-nofit,cmgeom-default-nogap,cmgeom-default-stride,cgal-gh,cgal-lt,meshopt --repeat 1)
 "$build/bin/bench_simplify" "${args2[@]}" --out "$table.big" >/dev/null 2>&1
 grep '^| ogre-sub2' "$table.big" >> "$table"
 rm -f "$table.big"
@@ -49,6 +51,7 @@ everything = dict(data)
 # the issue's set: the 13 configurations of shared/research/baselines-simplify.md and armadillo
 issue = {'fandisk', 'bunny', 'nefertiti', 'ogre', 'ogre-sub2', 'armadillo'}
 for subset, tool in (('all', 'cmgeom-default'), ('all', 'cmgeom-default-nofit'), ('all', 'cmgeom-default-nogap'),
+                     ('all', 'cmgeom-default-stride'),
                      ('issue', 'cmgeom-default')):
     data = {k: d for k, d in everything.items() if subset == 'all' or k[0].split()[0] in issue}
     if not any(tool in d for d in data.values()):

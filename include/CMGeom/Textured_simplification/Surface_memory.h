@@ -66,8 +66,15 @@ inline double checked_vertex_gap_weight(double w) {
 /// Options of Surface_memory.
 struct Surface_memory_options {
   /// At most this many original points (every k-th vertex of the input, its area counted k
-  /// times, when the input has more vertices); bounds the cost on large inputs. 0 = all.
-  std::size_t max_points = 65536;
+  /// times, when the input has more vertices); 0 = all, the default. A vertex no point stands for
+  /// is seen by no distance: on a large scan such a vertex was where the Hausdorff distance came
+  /// from (manual, "The memoryful cost").
+  std::size_t max_points = 0;
+  /// The cost prices collapses once the mesh has at most two faces per point, counting at most
+  /// this many points (0 = all of them): the first collapses of a dense mesh are local and the
+  /// quadric sees them well, and pricing them would multiply the time on large inputs (the points
+  /// are followed down all the same).
+  std::size_t pricing_points = 65536;
   /// Weight of the distance from a collapse's new vertex to the points (see Surface_memory::cost());
   /// 0 = the points' distances to the new faces only.
   double vertex_gap_weight = 1.0;
@@ -106,7 +113,9 @@ public:
   /// each attached to a face of its star and weighted by its star's area.
   Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm,
                  const Surface_memory_options& options = Surface_memory_options())
-      : vpm_(vpm), gap_weight_(checked_vertex_gap_weight(options.vertex_gap_weight)) {
+      : vpm_(vpm),
+        gap_weight_(checked_vertex_gap_weight(options.vertex_gap_weight)),
+        pricing_points_(options.pricing_points) {
     const std::size_t live = set_up(tm);
     const std::size_t cap = options.max_points;
     const std::size_t stride = cap > 0 && live > cap ? (live + cap - 1) / cap : 1;
@@ -133,15 +142,17 @@ public:
     }
   }
 
-  /// Takes the given points instead of the mesh's vertices (and the given weight of the new
-  /// vertex's distance to them, Surface_memory_options::vertex_gap_weight): `points` is a range of
+  /// Takes the given points instead of the mesh's vertices (of `options`, the weight of the new
+  /// vertex's distance to them and the pricing threshold; max_points is not applied): `points` is a range of
   /// (face, point, area) triples, `face` a live face of `tm`, `point` a CM::internal::Vec3, as
   /// for_each_point() gives them (simplify_mesh() gathers the points of the memories of the parts
   /// it simplified separately into one memory of the whole).
   template <class PointRange>
   Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm, const PointRange& points,
-                 double vertex_gap_weight = Surface_memory_options().vertex_gap_weight)
-      : vpm_(vpm), gap_weight_(checked_vertex_gap_weight(vertex_gap_weight)) {
+                 const Surface_memory_options& options)
+      : vpm_(vpm),
+        gap_weight_(checked_vertex_gap_weight(options.vertex_gap_weight)),
+        pricing_points_(options.pricing_points) {
     set_up(tm);
     for (const auto& [f, p, area] : points) add_point(f, p, area);
   }
@@ -183,10 +194,15 @@ public:
         fn(face_descriptor(typename face_descriptor::size_type(f)), items_[i].p, items_[i].area);
   }
 
-  /// Whether cost() prices collapses yet: once there are at most two faces per point (plus 8, for
-  /// genus: a closed mesh of genus g has 2V + 4g - 4 faces), i.e. from the start when every vertex
-  /// is a point; on a larger input the earlier collapses are local and the quadric sees them well.
-  bool active() const { return faces_alive_ <= 2 * items_.size() + 8; }
+  /// Whether cost() prices collapses yet: once there are at most two faces per point, counting at
+  /// most Surface_memory_options::pricing_points points (plus 8, for genus: a closed mesh of genus
+  /// g has 2V + 4g - 4 faces), i.e. from the start when every vertex of an input of at most that
+  /// many vertices is a point; on a larger input the earlier collapses are local and the quadric
+  /// sees them well.
+  bool active() const {
+    const std::size_t n = pricing_points_ > 0 ? (std::min)(pricing_points_, items_.size()) : items_.size();
+    return faces_alive_ <= 2 * n + 8;
+  }
 
   /// The memory cost of collapsing halfedge `h` (v0 -> v1) to `placement`: the sum over the
   /// points of the faces around v0 and v1 of area x squared distance to the new star, plus the
@@ -635,6 +651,7 @@ private:
 
   VertexPointMap vpm_;
   double gap_weight_ = 1.0;
+  std::size_t pricing_points_ = 0;
   double floor_sq_ = 0.;
   std::size_t faces_alive_ = 0;
   std::vector<Item> items_;

@@ -325,11 +325,13 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     Policy& pp = *part_policy[k];
     Memory* pmem = nullptr;
     if (options.surface_memory) {
+      // (the caps, as shares of the input's)
       Surface_memory_options mo = options.memory;
-      if (mo.max_points > 0)
-        mo.max_points = (std::max)(
-            std::size_t(1),
-            std::size_t(std::ceil(double(mo.max_points) * double(pm.number_of_vertices()) / double(vertices_in))));
+      for (std::size_t* cap : {&mo.max_points, &mo.pricing_points})
+        if (*cap > 0)
+          *cap =
+              (std::max)(std::size_t(1),
+                         std::size_t(std::ceil(double(*cap) * double(pm.number_of_vertices()) / double(vertices_in))));
       pmem = &part_memory[k].emplace(pm, pm.points(), mo);
     }
     // its share of the target plus the room for the cut strips (parts_tail_per_cut_vertex faces
@@ -407,7 +409,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     for (std::size_t i = 0; i < nv; ++i)
       if (merged.input_vertex[i] != no_index) policy.recompute_weight(mesh, mesh.points(), V(size_type(i)));
   policy.keep_vertex_data_once();
-  if (options.surface_memory) memory.emplace(mesh, mesh.points(), points, options.memory.vertex_gap_weight);
+  if (options.surface_memory) memory.emplace(mesh, mesh.points(), points, options.memory);
 }
 
 }  // namespace internal

@@ -144,7 +144,15 @@ public:
   /// `work`: the (garbage-free) mesh about to be simplified; its vertices and faces are the
   /// first points, returned with identity maps (`mesh` left empty).
   explicit Collapse_history(const Mesh& work)
-      : memory_(work, work.points(), std::vector<std::tuple<Face, V3, double>>()) {}
+      : memory_(work, work.points(), std::vector<std::tuple<Face, V3, double>>(), every_point_counts()) {}
+
+  /// The memory's options: every point counts for when it starts moving the points of a whole
+  /// star (as it prices collapses), i.e. from the first collapse.
+  static Surface_memory_options every_point_counts() {
+    Surface_memory_options o;
+    o.pricing_points = 0;
+    return o;
+  }
 
   /// The points of `work`'s own vertices and faces (the input's, before the first collapse).
   Level_snapshot add_input(const Mesh& work) {
