@@ -2,7 +2,7 @@
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
 //                 [--no-texture] [--keep-charts] [--freeze-seams] [--bake-lookups] [--no-repair] [--memoryless]
-//                 [--fit-rounds N] [--allow-degenerate]
+//                 [--fit-rounds N] [--memory-points N] [--allow-degenerate]
 // Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
 // CMGeom's engine or CGAL's; on CMGeom's engine the quadric cost is completed by the memoryful
 // term of Surface_memory.h (the input's points kept on the faces) unless --memoryless, and the
@@ -51,6 +51,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     std::size_t faces = 0;
     double ratio = 0, max_cost = 0, max_error = 0;
     int texture_size = 0, fit_rounds = 3;
+    std::size_t memory_points = 0;
     bool flips = false, json = false, repair = false, no_repair = false, allow_degenerate = false, no_texture = false,
          freeze_seams = false, memoryless = false;
     bool keep_charts = false, bake_lookups = false;
@@ -103,6 +104,11 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
                  "Rounds of the final fit of the vertices to the input's points (least squares, with the memoryful "
                  "term; 0 = none; not with --max-error, whose bound holds for the collapsed positions). Default 3")
       ->check(CLI::Range(0, 100));
+  auto* memory_points =
+      app.add_option("--memory-points", o->memory_points,
+                     "At most N of the input's vertices as the memoryful term's points, every k-th of a larger input "
+                     "(0 = all, the default): faster on inputs of more than N vertices, but a vertex no point stands "
+                     "for is seen by no distance");
   app.add_flag("--keep-charts", o->keep_charts,
                "Textured input: keep the input's charts (thesis §3.5; stops where no collapse keeps them) instead of "
                "baking a new atlas");
@@ -112,7 +118,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   app.add_flag("--freeze-seams", o->freeze_seams,
                "Textured input, with --keep-charts: never move chart-boundary vertices (baseline)");
 
-  return [o, faces, ratio, max_cost, max_error, backend, tsize]() -> int {
+  return [o, faces, ratio, max_cost, max_error, backend, tsize, memory_points]() -> int {
     if (faces->count() == 0 && ratio->count() == 0 && max_cost->count() == 0 && max_error->count() == 0)
       throw CMGeom::Invalid_input("one of --faces, --ratio, --max-cost or --max-error is required");
     if (max_error->count() && !(o->max_error > 0 && std::isfinite(o->max_error)))
@@ -124,6 +130,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       throw CMGeom::Invalid_input("--max-cost must be finite and >= 0, got " + std::to_string(o->max_cost));
     if (o->flips && o->engine == "cgal")
       throw CMGeom::Invalid_input("--flips needs --engine cmgeom (CGAL's engine has no flip hook)");
+    if (memory_points->count() && (o->memoryless || o->engine == "cgal"))
+      throw CMGeom::Invalid_input(
+          "--memory-points applies to the memoryful term (not with --memoryless or --engine cgal)");
 
     // A file without texture coordinates (or read with --no-texture) is read as geometry alone:
     // its mesh has no corner UV and face material maps (on a 1M-face mesh the UVs alone are
@@ -237,6 +246,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       to.flips = o->flips;
       to.surface_memory = !o->memoryless;
       to.memory.fit.rounds = o->fit_rounds;
+      to.memory.max_points = o->memory_points;
       to.paint_from_history = !o->bake_lookups;
       cmgeom_cli::Collapse_progress state{&bar, double(faces_in > target ? faces_in - target : 0)};
       const double t0 = cmgeom_cli::now_seconds();
@@ -321,6 +331,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     so.quadric = qo;
     so.surface_memory = !o->memoryless && o->engine == "cmgeom";
     so.memory.fit.rounds = o->fit_rounds;
+    so.memory.max_points = o->memory_points;
     so.flips = o->flips;
     so.release_input_in_parts = true;  // the input is the file
     // Geometry only: the mesh is simplified without corner UV and face material maps (a textured
@@ -360,6 +371,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["surface_memory"] = !o->memoryless && o->engine == "cmgeom";
       j["fit_rounds"] = so.surface_memory && !max_error->count() ? o->fit_rounds : 0;
       j["fit_moves"] = r.fit_moves;
+      j["memory_points"] = so.surface_memory ? o->memory_points : 0;
       j["faces_in"] = faces_in;
       if (has_target) j["target_faces"] = target;
       if (max_cost->count()) j["max_cost"] = o->max_cost;
