@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -154,6 +155,7 @@ public:
         gap_weight_(checked_vertex_gap_weight(options.vertex_gap_weight)),
         pricing_points_(options.pricing_points) {
     set_up(tm);
+    items_.reserve(std::size_t(std::distance(std::begin(points), std::end(points))));
     for (const auto& [f, p, area] : points) add_point(f, p, area);
   }
 
