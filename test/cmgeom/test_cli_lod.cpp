@@ -242,7 +242,8 @@ TEST(cmgeom_cli, LodObjPrefixWritesEveryLevelAsObj) {
 }
 
 // A level of the chain is the mesh `cmgeom simplify` gives for its face count, final fit included
-// (taken during the one run, fitted on its own); with --fit-rounds 0 on both, the collapses' mesh.
+// (taken during the one run, fitted on its own); with --fit-rounds 0 on both, the collapses' mesh;
+// with --memory-points 1000 on both (of the sphere's 10,242 vertices), the mesh of that memory.
 TEST(cmgeom_cli, LodLevelsAreWhatSimplifyGivesForTheirFaceCounts) {
   const std::string dir = cmgeom_test::scratch_dir();
   const std::string in = (fs::path(dir) / "sphere.off").string();
@@ -260,30 +261,34 @@ TEST(cmgeom_cli, LodLevelsAreWhatSimplifyGivesForTheirFaceCounts) {
     return v;
   };
   std::vector<std::string> fitted_level;
-  for (const int rounds : {3, 0}) {
-    SCOPED_TRACE("fit rounds " + std::to_string(rounds));
-    const std::string prefix = (fs::path(dir) / ("lod" + std::to_string(rounds))).string();
+  for (const auto& [rounds, points] : {std::pair<int, int>{3, 0}, {0, 0}, {3, 1000}}) {
+    SCOPED_TRACE("fit rounds " + std::to_string(rounds) + ", memory points " + std::to_string(points));
+    const std::string options = " --fit-rounds " + std::to_string(rounds) +
+                                (points > 0 ? " --memory-points " + std::to_string(points) : std::string());
+    const std::string prefix =
+        (fs::path(dir) / ("lod" + std::to_string(rounds) + "_" + std::to_string(points))).string();
     const auto r = cmgeom_test::run_cli("--quiet lod " + quoted(in) + " -o " + quoted(prefix + ".glb") +
-                                            " --faces 20480,2000,300 --no-error --json --fit-rounds " +
-                                            std::to_string(rounds) + " --obj-prefix " + quoted(prefix),
+                                            " --faces 20480,2000,300 --no-error --json" + options + " --obj-prefix " +
+                                            quoted(prefix),
                                         dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const nlohmann::json report = nlohmann::json::parse(r.out);
     EXPECT_EQ(report["fit_rounds"], rounds);
+    EXPECT_EQ(report["memory_points"], points);
     for (std::size_t k = 1; k < 3; ++k) {
       SCOPED_TRACE("level " + std::to_string(k));
       const std::size_t faces = report["levels"][k]["faces"].get<std::size_t>();
       const std::string alone = prefix + "_alone_" + std::to_string(k) + ".obj";
-      const auto s = cmgeom_test::run_cli("--quiet simplify " + quoted(in) + " -o " + quoted(alone) + " --faces " +
-                                              std::to_string(faces) + " --fit-rounds " + std::to_string(rounds),
-                                          dir);
+      const auto s = cmgeom_test::run_cli(
+          "--quiet simplify " + quoted(in) + " -o " + quoted(alone) + " --faces " + std::to_string(faces) + options,
+          dir);
       ASSERT_EQ(s.exit_code, 0) << s.err;
       const std::vector<std::string> level = vertex_lines(prefix + "_" + std::to_string(k) + ".obj");
       ASSERT_FALSE(level.empty());
       EXPECT_EQ(level, vertex_lines(alone));
-      if (k == 2 && rounds == 3) fitted_level = level;
-      // the fit moved the vertices (it is not a no-op on this sphere)
-      if (k == 2 && rounds == 0) EXPECT_NE(level, fitted_level);
+      if (k == 2 && rounds == 3 && points == 0) fitted_level = level;
+      // the fit moved the vertices (it is not a no-op on this sphere), and fewer points change the mesh
+      if (k == 2 && (rounds == 0 || points > 0)) EXPECT_NE(level, fitted_level);
     }
   }
 }

@@ -1,7 +1,7 @@
 // cmgeom lod <in> -o <out.glb|out.gltf> (--ratios r1,r2,... | --faces n1,n2,... | --max-errors e1,e2,...)
 //           [--shared-texture [--no-overflow-charts] [--overflow-colour-tolerance T]]
 //           [--policy plain|weighted] [--texture FILE] [--no-texture] [--quantize] [--no-error]
-//           [--obj-prefix PREFIX] [--no-repair] [--allow-degenerate] [--json]
+//           [--obj-prefix PREFIX] [--fit-rounds N] [--memory-points N] [--no-repair] [--allow-degenerate] [--json]
 // A level-of-detail chain from one simplification run (Textured_simplification/level_of_detail.h):
 // every level is a snapshot of the same collapse sequence, written as one glTF node per level
 // (the finest in the scene, the others listed by its MSFT_lod extension, each node's error in its
@@ -55,6 +55,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     bool shared_texture = false, no_overflow_charts = false, no_texture = false, no_error = false, json = false,
          no_repair = false, allow_degenerate = false;
     int fit_rounds = 3;
+    std::size_t memory_points = 0;
     double overflow_colour_tolerance =
         CMGeom::Textured_simplification::Level_of_detail_options().overflow_colour_tolerance;
     CMGeom::IO::Gltf_options gltf;
@@ -97,6 +98,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
                  "Rounds of the fit of each level's vertices to the input's points (as simplify's --fit-rounds: a "
                  "level is the mesh simplify gives for its face count); 0 = none. Default 3")
       ->check(CLI::Range(0, 100));
+  app.add_option("--memory-points", o->memory_points,
+                 "At most N of the input's vertices as the memoryful term's points (as simplify's --memory-points; "
+                 "0 = all, the default)");
   app.add_flag("--no-error", o->no_error, "Do not measure the levels' errors (no 'error' in the nodes' extras)");
   app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");
   app.add_flag("--no-repair", o->no_repair,
@@ -188,6 +192,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     lo.overflow_colour_tolerance = o->overflow_colour_tolerance;
     lo.measure_error = !o->no_error;
     lo.memory.fit.rounds = o->fit_rounds;
+    lo.memory.max_points = o->memory_points;
 
     // (levels by error: the run's end is not known in advance; the bar counts towards one face, and
     // its final line gives the faces actually removed)
@@ -235,6 +240,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       j["shared_texture"] = o->shared_texture;
       j["policy"] = o->policy;
       j["fit_rounds"] = o->fit_rounds;
+      j["memory_points"] = o->memory_points;
       if (o->shared_texture) {
         j["shared_texture_hidden"] = r.shared_texture_hidden;
         j["shared_texture_relocated"] = r.shared_texture_relocated;
