@@ -146,14 +146,6 @@ public:
   explicit Collapse_history(const Mesh& work)
       : memory_(work, work.points(), std::vector<std::tuple<Face, V3, double>>(), every_point_counts()) {}
 
-  /// The memory's options: every point counts for when it starts moving the points of a whole
-  /// star (as it prices collapses), i.e. from the first collapse.
-  static Surface_memory_options every_point_counts() {
-    Surface_memory_options o;
-    o.pricing_points = 0;
-    return o;
-  }
-
   /// The points of `work`'s own vertices and faces (the input's, before the first collapse).
   Level_snapshot add_input(const Mesh& work) {
     Level_snapshot s;
@@ -202,6 +194,14 @@ public:
   void after_flip(const Mesh& tm, Mesh::Halfedge_index h) { memory_.after_flip(tm, h); }
 
 private:
+  /// The memory's options: every point counts for when it starts moving the points of a whole
+  /// star (as it prices collapses), i.e. from the first collapse.
+  static Surface_memory_options every_point_counts() {
+    Surface_memory_options o;
+    o.pricing_points = 0;
+    return o;
+  }
+
   bool follow_levels_ = true;
   static V3 vec(const Point_3& p) { return V3(p.x(), p.y(), p.z()); }
 
