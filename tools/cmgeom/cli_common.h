@@ -10,6 +10,7 @@
 
 #include <array>
 #include <atomic>
+#include <cstddef>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -68,6 +69,10 @@ void add_allow_degenerate_option(CLI::App& app, bool& allow_degenerate_faces);
 // Adds --repair (Read_options::repair, the option the reader's refusal of non-manifold or
 // inconsistently oriented input names) to a command that reads a mesh and does not repair by default.
 void add_repair_option(CLI::App& app, bool& repair);
+
+// Adds --memory-points N (Surface_memory_options::max_points) to a command that simplifies with the
+// memoryful term; returns the option (its count() tells whether it was given).
+CLI::Option* add_memory_points_option(CLI::App& app, std::size_t& max_points);
 
 // Prints each warning on stderr as "cmgeom <command>: warning: <text>" (the reader's repairs,
 // skipped statements, ...).

@@ -98,9 +98,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
                  "Rounds of the fit of each level's vertices to the input's points (as simplify's --fit-rounds: a "
                  "level is the mesh simplify gives for its face count); 0 = none. Default 3")
       ->check(CLI::Range(0, 100));
-  app.add_option("--memory-points", o->memory_points,
-                 "At most N of the input's vertices as the memoryful term's points (as simplify's --memory-points; "
-                 "0 = all, the default)");
+  cmgeom_cli::add_memory_points_option(app, o->memory_points);
   app.add_flag("--no-error", o->no_error, "Do not measure the levels' errors (no 'error' in the nodes' extras)");
   app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");
   app.add_flag("--no-repair", o->no_repair,

@@ -104,11 +104,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
                  "Rounds of the final fit of the vertices to the input's points (least squares, with the memoryful "
                  "term; 0 = none; not with --max-error, whose bound holds for the collapsed positions). Default 3")
       ->check(CLI::Range(0, 100));
-  auto* memory_points =
-      app.add_option("--memory-points", o->memory_points,
-                     "At most N of the input's vertices as the memoryful term's points, every k-th of a larger input "
-                     "(0 = all, the default): faster on inputs of more than N vertices, but a vertex no point stands "
-                     "for is seen by no distance");
+  auto* memory_points = cmgeom_cli::add_memory_points_option(app, o->memory_points);
   app.add_flag("--keep-charts", o->keep_charts,
                "Textured input: keep the input's charts (thesis §3.5; stops where no collapse keeps them) instead of "
                "baking a new atlas");
