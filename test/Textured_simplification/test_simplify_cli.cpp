@@ -90,6 +90,9 @@ TEST(TexturedSimplificationCli, SimplifyJsonAndErrors) {
                   .first,
               1);
     EXPECT_FALSE(fs::exists(never));
+    // a negative count is a usage error (not read as a huge unsigned cap)
+    EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --faces 1000 --memory-points -5").first, 2);
+    EXPECT_FALSE(fs::exists(never));
   }
   {
     // plain quadrics always sum, whatever --merge says; the report says what was used

@@ -167,10 +167,12 @@ void add_repair_option(CLI::App& app, bool& repair) {
 }
 
 CLI::Option* add_memory_points_option(CLI::App& app, std::size_t& max_points) {
-  return app.add_option("--memory-points", max_points,
-                        "At most N of the input's vertices as the memoryful term's points, every k-th of a larger "
-                        "input (0 = all, the default): faster on inputs of more than N vertices, but a vertex no "
-                        "point stands for is seen by no distance");
+  return app
+      .add_option("--memory-points", max_points,
+                  "At most N of the input's vertices as the memoryful term's points, every k-th of a larger "
+                  "input (0 = all, the default): faster on inputs of more than N vertices, but a vertex no "
+                  "point stands for is seen by no distance")
+      ->check(CLI::NonNegativeNumber);
 }
 
 namespace {
