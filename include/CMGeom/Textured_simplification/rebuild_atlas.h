@@ -429,10 +429,13 @@ public:
   /// The colour the baking gives point `p` of a surface whose normal there is `n`: colour_at() at
   /// the closest point of the original among its faces facing the same way (of any orientation
   /// when none does; a zero `n` accepts any). Writes colour_channels() values. Needs prepared().
-  void colour_near(const Point_3& p, const Vector_3& n, float* out) const {
+  /// `hint`, a face of the original likely near `p`, is tested first: the search then prunes with
+  /// its distance (the same closest point, found sooner; none when `p` lies on it).
+  void colour_near(const Point_3& p, const Vector_3& n, float* out, std::size_t hint = std::size_t(-1)) const {
     CGAL_precondition(prepared());
     const double q[3] = {p.x(), p.y(), p.z()};
     internal::Facing_closest_point::Hit hit;
+    if (hint < source_.size()) finder_->test(hint, q, n, hit);
     finder_->search(q, n, hit);
     if (!hit.found()) finder_->search(q, CGAL::NULL_VECTOR, hit);
     if (!hit.found()) {

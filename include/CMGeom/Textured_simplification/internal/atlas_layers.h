@@ -149,10 +149,11 @@ public:
 
   /// The sums of the squared colour differences (values in [0, 1]) of the samples of the level's
   /// face with corners `p`, under each texture coordinates of `t`; `count` the number of values
-  /// in each sum.
+  /// in each sum. `hint`: a face of the input likely near the face (Atlas_source::colour_near()).
   template <std::size_t N>
   std::array<double, N> squared_errors(const std::array<CM::internal::Vec3, 3>& p,
-                                       const std::array<std::array<Point_2, 3>, N>& t, std::size_t& count) const {
+                                       const std::array<std::array<Point_2, 3>, N>& t, std::size_t& count,
+                                       std::size_t hint = std::size_t(-1)) const {
     std::array<double, N> sum{};
     count = 0;
     const int W = atlas_.width(), H = atlas_.height(), C = channels_;
@@ -167,7 +168,7 @@ public:
       }
       const CM::internal::Vec3 x = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
       float own[4];
-      source_.colour_near(Point_3(x.x, x.y, x.z), n, own);
+      source_.colour_near(Point_3(x.x, x.y, x.z), n, own, hint);
       for (std::size_t i = 0; i < N; ++i) {
         const double u = (std::min)((std::max)(b[0] * t[i][0].x() + b[1] * t[i][1].x() + b[2] * t[i][2].x(), 0.0), 1.0);
         const double v = (std::min)((std::max)(b[0] * t[i][0].y() + b[1] * t[i][1].y() + b[2] * t[i][2].y(), 0.0), 1.0);
@@ -209,6 +210,13 @@ inline void mark_input_under_shown_wrong(const Textured_mesh& level, const Image
   const Surface_mesh& lm = level.mesh();
   const std::size_t nl = lm.number_of_faces();
   const Shown_colour_error error(colours, source);
+  // per face of the level, an input face under it (the first whose centroid point ended there):
+  // the closest-point searches start from it
+  std::vector<std::size_t> under(nl, std::size_t(-1));
+  for (std::size_t j = 0; j < input_face_point.size(); ++j) {
+    const std::uint32_t q = input_face_point[j];
+    if (q < on_level.size() && on_level[q] < nl && under[on_level[q]] == std::size_t(-1)) under[on_level[q]] = j;
+  }
   std::vector<char> wrong(nl, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl, 256), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t f = r.begin(); f != r.end(); ++f) {
@@ -216,7 +224,7 @@ inline void mark_input_under_shown_wrong(const Textured_mesh& level, const Image
       std::array<std::array<Point_2, 3>, 1> t;
       for (int k = 0; k < 3; ++k) t[0][std::size_t(k)] = level.uv(corner_halfedge(lm, lf, k));
       std::size_t n = 0;
-      const double sum = error.squared_errors(corner_points(lm, lf), t, n)[0];
+      const double sum = error.squared_errors(corner_points(lm, lf), t, n, under[f])[0];
       wrong[f] = n > 0 && sum > tolerance * tolerance * double(n);
     }
   });
