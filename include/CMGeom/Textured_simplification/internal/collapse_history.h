@@ -392,9 +392,25 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
       }
     }
   });
+  // and its bounding sphere (centroid, farthest corner): a face whose sphere is farther from a
+  // point than the best distance so far cannot be nearer (the searches below skip it)
+  std::vector<V3> centre(nc);
+  std::vector<double> radius(nc);
+  for (std::size_t i = 0; i < nc; ++i) {
+    centre[i] = (1. / 3.) * (tri[i][0] + tri[i][1] + tri[i][2]);
+    radius[i] = std::sqrt((std::max)({CM::internal::squared_length(tri[i][0] - centre[i]),
+                                      CM::internal::squared_length(tri[i][1] - centre[i]),
+                                      CM::internal::squared_length(tri[i][2] - centre[i])}));
+  }
   auto vec = [](const Point_3& p) { return V3(p.x(), p.y(), p.z()); };
   auto distance2 = [&](std::size_t f, const V3& p) {
     return CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, tri[f][0], tri[f][1], tri[f][2]));
+  };
+  // whether face f is surely not nearer to p than sqrt(d2): the distance from p to its sphere is
+  // at least that (with a margin for round-off, so that a skipped face could not have won)
+  auto beyond = [&](std::size_t f, const V3& p, double d2) {
+    const double out = CM::internal::length(p - centre[f]) - radius[f];
+    return out > 0 && out * out > d2 * (1 + 1e-9);
   };
   // the face a point's collapse history put it on, then the nearest face around it turned the way
   // of the normal n (the history finds the part of the coarse surface, the local search the place)
@@ -405,6 +421,7 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
     std::size_t best = none, best_any = f;
     double d_best = std::numeric_limits<double>::infinity(), d_any = d_best;
     for (std::size_t g : ring[f]) {
+      if (beyond(g, p, d_best)) continue;  // (d_any <= d_best: nearer to neither)
       const double d = distance2(g, p);
       if (d < d_any) {
         d_any = d;
@@ -422,6 +439,7 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
     std::size_t best = *std::begin(faces);
     double d_best = std::numeric_limits<double>::infinity();
     for (std::size_t f : faces) {
+      if (beyond(f, p, d_best)) continue;
       const double d = distance2(f, p);
       if (d < d_best) {
         d_best = d;
