@@ -312,8 +312,10 @@ public:
 
   /// Fits the vertices of `tm` to the points, after the collapses: a least-squares fit in the
   /// manner of the distance energy of Hoppe et al., "Mesh optimization" (SIGGRAPH 1993). Each of
-  /// `options.rounds` rounds (1) re-attaches every point to the nearest of its face and that
-  /// face's edge neighbours, keeping the barycentric coordinates of its nearest point there, then
+  /// `options.rounds` rounds (1) re-attaches every point to the nearest face found by walking from
+  /// its face to nearer ones (those across its edges and, when its nearest point is a corner, those
+  /// around the corner; at most 8 steps), keeping the barycentric coordinates of its nearest point
+  /// there (made once before the first round, which then bounds the distances below), then
   /// (2) moves the vertices one after the other (Gauss-Seidel; vertices whose stars are apart move
   /// at once, on all cores, with the same result on any number of them), each to the minimiser of
   ///   sum over the points of its star of area x |point - its nearest point|^2 (coordinates fixed)
@@ -397,28 +399,75 @@ private:
       return c[0] == v ? 0 : (c[1] == v ? 1 : 2);
     };
     const double cos_turn = std::cos(max_turn);
-    // the largest squared distance from a point to its face, before the fit (face by face, on all
-    // cores: a maximum, the same on any number of them)
+    // each point's face, and each face's normal before the fit
     std::vector<face_descriptor> live_faces;
     for (face_descriptor f : faces(tm)) live_faces.push_back(f);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, live_faces.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t j = r.begin(); j != r.end(); ++j) {
+                          const face_descriptor f = live_faces[j];
+                          const auto c = corners(f);
+                          const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
+                          n0[std::size_t(f)] = CM::internal::cross(q[1] - q[0], q[2] - q[0]);
+                          for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) at[i] = f;
+                        }
+                      });
+    // step 1 for point i: the nearest face among its face and the faces next to it, and the
+    // coordinates there; repeated from the face found while that is nearer (at most 8 steps), "next
+    // to" being the faces across its edges and, when the nearest point of the face is one of its
+    // corners, every face around that corner (a point whose nearest face lies across a vertex is
+    // otherwise stuck). The collapses leave points on faces of their part of the surface, not
+    // always on the nearest one: the kept vertex moves, its star's faces change shape, and the
+    // points stay where they were attached.
+    const auto reattach = [&](std::size_t i) {
+      const face_descriptor start = at[i];
+      if (start == GT::null_face()) return;
+      double best = std::numeric_limits<double>::infinity();
+      const auto consider = [&](face_descriptor g) {
+        const auto c = corners(g);
+        const V3 a = point(c[0]), b = point(c[1]), cc = point(c[2]);
+        const V3 w = CM::internal::closest_barycentric_on_triangle(items_[i].p, a, b, cc);
+        const double d = CM::internal::squared_length(items_[i].p - (w.x * a + w.y * b + w.z * cc));
+        if (d < best) {
+          best = d;
+          at[i] = g;
+          bary[i] = w;
+        }
+      };
+      consider(start);
+      for (int step = 0; step < 8; ++step) {
+        const face_descriptor f = at[i];
+        const halfedge_descriptor hf = halfedge(f, tm);
+        for (halfedge_descriptor h : CGAL::halfedges_around_face(hf, tm))
+          if (!is_border(opposite(h, tm), tm)) consider(face(opposite(h, tm), tm));
+        if (at[i] == f) {  // no edge neighbour is nearer: the faces around a corner, if nearest there
+          const V3& w = bary[i];
+          const int k = w.x == 1. ? 0 : (w.y == 1. ? 1 : (w.z == 1. ? 2 : -1));
+          if (k < 0) break;
+          const vertex_descriptor corner = corners(f)[std::size_t(k)];
+          for (halfedge_descriptor h : CGAL::halfedges_around_target(corner, tm))
+            if (!is_border(h, tm)) consider(face(h, tm));
+          if (at[i] == f) break;
+        }
+      }
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) reattach(i);
+    });
+    // the largest squared distance from a point to its face, before the fit (a maximum: the same on
+    // any number of cores)
     const double worst = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, live_faces.size(), 4096), 0.,
+        tbb::blocked_range<std::size_t>(0, np, 4096), 0.,
         [&](const tbb::blocked_range<std::size_t>& r, double w) {
-          for (std::size_t j = r.begin(); j != r.end(); ++j) {
-            const face_descriptor f = live_faces[j];
-            const auto c = corners(f);
-            const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
-            n0[std::size_t(f)] = CM::internal::cross(q[1] - q[0], q[2] - q[0]);
-            for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) {
-              at[i] = f;
-              const V3& p = items_[i].p;
-              w = (std::max)(w,
-                             CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, q[0], q[1], q[2])));
-            }
+          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            if (at[i] == GT::null_face()) continue;
+            const auto c = corners(at[i]);
+            const V3 x = bary[i].x * point(c[0]) + bary[i].y * point(c[1]) + bary[i].z * point(c[2]);
+            w = (std::max)(w, CM::internal::squared_length(items_[i].p - x));
           }
           return w;
         },
-        [](double a, double b) { return (std::max)(a, b); });
+        [](double x, double y) { return (std::max)(x, y); });
     // the move of v (step 2), from its star alone; true when made
     const auto move = [&](vertex_descriptor v) -> bool {
       const V3 x0 = point(v);
@@ -503,29 +552,12 @@ private:
     }
     std::size_t moves = 0;
     for (int round = 0; round < rounds; ++round) {
-      // nearest face among the current one and its edge neighbours, and the coordinates there
-      // (each point on its own: on all cores, the same result on any number of them)
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          const face_descriptor f = at[i];
-          if (f == GT::null_face()) continue;
-          double best = std::numeric_limits<double>::infinity();
-          const auto consider = [&](face_descriptor g) {
-            const auto c = corners(g);
-            const V3 a = point(c[0]), b = point(c[1]), cc = point(c[2]);
-            const V3 w = CM::internal::closest_barycentric_on_triangle(items_[i].p, a, b, cc);
-            const double d = CM::internal::squared_length(items_[i].p - (w.x * a + w.y * b + w.z * cc));
-            if (d < best) {
-              best = d;
-              at[i] = g;
-              bary[i] = w;
-            }
-          };
-          consider(f);
-          for (halfedge_descriptor h : CGAL::halfedges_around_face(halfedge(f, tm), tm))
-            if (!is_border(opposite(h, tm), tm)) consider(face(opposite(h, tm), tm));
-        }
-      });
+      // step 1 (made above for the first round: nothing has moved since), each point on its own: on
+      // all cores, the same result on any number of them
+      if (round > 0)
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t i = r.begin(); i != r.end(); ++i) reattach(i);
+        });
       std::fill(head.begin(), head.end(), nil);
       for (std::size_t i = np; i-- > 0;) {
         if (at[i] == GT::null_face()) continue;
