@@ -418,10 +418,10 @@ private:
     // corners, every face around that corner (a point whose nearest face lies across a vertex is
     // otherwise stuck). The collapses leave points on faces of their part of the surface, not
     // always on the nearest one: the kept vertex moves, its star's faces change shape, and the
-    // points stay where they were attached.
-    const auto reattach = [&](std::size_t i) {
+    // points stay where they were attached. Returns the squared distance to the face found.
+    const auto reattach = [&](std::size_t i) -> double {
       const face_descriptor start = at[i];
-      if (start == GT::null_face()) return;
+      if (start == GT::null_face()) return 0.;
       double best = std::numeric_limits<double>::infinity();
       const auto consider = [&](face_descriptor g) {
         const auto c = corners(g);
@@ -450,21 +450,14 @@ private:
           if (at[i] == f) break;
         }
       }
+      return best;
     };
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i) reattach(i);
-    });
-    // the largest squared distance from a point to its face, before the fit (a maximum: the same on
-    // any number of cores)
+    // step 1 for the first round, which also gives the largest squared distance from a point to its
+    // face before the fit (a maximum: the same on any number of cores)
     const double worst = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, np, 4096), 0.,
         [&](const tbb::blocked_range<std::size_t>& r, double w) {
-          for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            if (at[i] == GT::null_face()) continue;
-            const auto c = corners(at[i]);
-            const V3 x = bary[i].x * point(c[0]) + bary[i].y * point(c[1]) + bary[i].z * point(c[2]);
-            w = (std::max)(w, CM::internal::squared_length(items_[i].p - x));
-          }
+          for (std::size_t i = r.begin(); i != r.end(); ++i) w = (std::max)(w, reattach(i));
           return w;
         },
         [](double x, double y) { return (std::max)(x, y); });
