@@ -199,10 +199,8 @@ private:
   };
 
   static Tri make_tri(const V3& a, const V3& b, const V3& c) {
-    const V3 g = (1. / 3.) * (a + b + c);
-    const double r = std::sqrt((std::max)({CM::internal::squared_length(a - g), CM::internal::squared_length(b - g),
-                                           CM::internal::squared_length(c - g)}));
-    return Tri{a, b, c, g, r};
+    const CM::internal::Centroid_sphere sphere = CM::internal::centroid_sphere(a, b, c);
+    return Tri{a, b, c, sphere.centre, sphere.radius};
   }
   static double dist2(const V3& q, const Tri& t) {
     return CM::internal::squared_length(q - CM::internal::closest_on_triangle(q, t.a, t.b, t.c));

@@ -624,10 +624,8 @@ private:
   }
 
   static Tri make_tri(const V3& a, const V3& b, const V3& c) {
-    const V3 g = (1. / 3.) * (a + b + c);
-    const double r = std::sqrt((std::max)({CM::internal::squared_length(a - g), CM::internal::squared_length(b - g),
-                                           CM::internal::squared_length(c - g)}));
-    return Tri{a, b, c, CM::internal::normalized(CM::internal::cross(b - a, c - a)), g, r};
+    const CM::internal::Centroid_sphere sphere = CM::internal::centroid_sphere(a, b, c);
+    return Tri{a, b, c, CM::internal::normalized(CM::internal::cross(b - a, c - a)), sphere.centre, sphere.radius};
   }
 
   /// (squared distance, index) of the triangle of tris_ nearest to q, starting from tris_[hint];

@@ -7,6 +7,7 @@
 #ifndef CMGEOM_COMPACT_MODEL_INTERNAL_VEC3_H
 #define CMGEOM_COMPACT_MODEL_INTERNAL_VEC3_H
 
+#include <algorithm>
 #include <cmath>
 
 namespace CMGeom {
@@ -54,6 +55,19 @@ inline double length(const Vec3& a) { return std::sqrt(dot(a, a)); }
 inline Vec3 normalized(const Vec3& a) {
   const double l = length(a);
   return l > 0. ? a * (1. / l) : a;
+}
+
+// The bounding sphere of triangle abc about its centroid: the centroid and the largest distance
+// from it to a corner. A point whose distance to the sphere exceeds d is farther than d from the
+// triangle: nearest-triangle searches skip triangles with it (Surface_memory, Hausdorff_bound,
+// the collapse history's mapping).
+struct Centroid_sphere {
+  Vec3 centre;
+  double radius;
+};
+inline Centroid_sphere centroid_sphere(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 g = (1. / 3.) * (a + b + c);
+  return {g, std::sqrt((std::max)({squared_length(a - g), squared_length(b - g), squared_length(c - g)}))};
 }
 
 // Closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5); used by the

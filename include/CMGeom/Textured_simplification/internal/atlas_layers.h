@@ -104,6 +104,17 @@ inline double least_texels_per_unit(const std::array<CM::internal::Vec3, 3>& p, 
   return texels_per_unit_range(p, t)[0];
 }
 
+/// Marks in `marked` (one entry per input face) the input faces whose centroid point
+/// (`input_face_point`) ended (`on_level`) on a face of a level that `flagged` (one entry per face
+/// of that level) flags.
+inline void mark_input_under(const std::vector<char>& flagged, const std::vector<std::uint32_t>& input_face_point,
+                             const std::vector<std::uint32_t>& on_level, std::vector<char>& marked) {
+  for (std::size_t j = 0; j < input_face_point.size() && j < marked.size(); ++j) {
+    const std::uint32_t q = input_face_point[j];
+    if (q < on_level.size() && on_level[q] < flagged.size() && flagged[on_level[q]]) marked[j] = 1;
+  }
+}
+
 /// Marks in `marked` (one entry per input face) the input faces whose centroid points
 /// (`input_face_point`) ended (`on_level`) on a face of `level` that its texture coordinates in a
 /// W x H atlas serve poorly: squashed (least stretch, least_texels_per_unit(), below half
@@ -130,10 +141,7 @@ inline void mark_input_under_poorly_served(const Textured_mesh& level, int W, in
     const std::array<double, 2> range = texels_per_unit_range(corner_points(lm, f), t);
     poor[std::size_t(f)] = on_edge || range[0] < 0.5 * texels_per_unit || range[1] > 2 * texels_per_unit;
   }
-  for (std::size_t j = 0; j < input_face_point.size() && j < marked.size(); ++j) {
-    const std::uint32_t q = input_face_point[j];
-    if (q < on_level.size() && on_level[q] < nl && poor[on_level[q]]) marked[j] = 1;
-  }
+  mark_input_under(poor, input_face_point, on_level, marked);
 }
 
 /// How far the colours a face of a level shows from an atlas are from those a bake would give it:
@@ -228,10 +236,7 @@ inline void mark_input_under_shown_wrong(const Textured_mesh& level, const Image
       wrong[f] = n > 0 && sum > tolerance * tolerance * double(n);
     }
   });
-  for (std::size_t j = 0; j < input_face_point.size() && j < marked.size(); ++j) {
-    const std::uint32_t q = input_face_point[j];
-    if (q < on_level.size() && on_level[q] < nl && wrong[on_level[q]]) marked[j] = 1;
-  }
+  mark_input_under(wrong, input_face_point, on_level, marked);
 }
 
 /// The overflow charts of the shared atlas of `coarse` (its UVs and its one material's images, as

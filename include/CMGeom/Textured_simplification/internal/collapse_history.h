@@ -397,10 +397,9 @@ inline void map_by_history(const Textured_mesh& coarse, Textured_mesh& fine,
   std::vector<V3> centre(nc);
   std::vector<double> radius(nc);
   for (std::size_t i = 0; i < nc; ++i) {
-    centre[i] = (1. / 3.) * (tri[i][0] + tri[i][1] + tri[i][2]);
-    radius[i] = std::sqrt((std::max)({CM::internal::squared_length(tri[i][0] - centre[i]),
-                                      CM::internal::squared_length(tri[i][1] - centre[i]),
-                                      CM::internal::squared_length(tri[i][2] - centre[i])}));
+    const CM::internal::Centroid_sphere sphere = CM::internal::centroid_sphere(tri[i][0], tri[i][1], tri[i][2]);
+    centre[i] = sphere.centre;
+    radius[i] = sphere.radius;
   }
   auto vec = [](const Point_3& p) { return V3(p.x(), p.y(), p.z()); };
   auto distance2 = [&](std::size_t f, const V3& p) {
