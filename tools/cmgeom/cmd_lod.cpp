@@ -1,7 +1,8 @@
 // cmgeom lod <in> -o <out.glb|out.gltf> (--ratios r1,r2,... | --faces n1,n2,... | --max-errors e1,e2,...)
 //           [--shared-texture [--no-overflow-charts] [--overflow-colour-tolerance T]]
 //           [--policy plain|weighted] [--texture FILE] [--no-texture] [--quantize] [--no-error]
-//           [--obj-prefix PREFIX] [--fit-rounds N] [--memory-points N] [--no-repair] [--allow-degenerate] [--json]
+//           [--obj-prefix PREFIX] [--fit-rounds N] [--memory-points N] [--prune] [--no-repair] [--allow-degenerate]
+//           [--json]
 // A level-of-detail chain from one simplification run (Textured_simplification/level_of_detail.h):
 // every level is a snapshot of the same collapse sequence, written as one glTF node per level
 // (the finest in the scene, the others listed by its MSFT_lod extension, each node's error in its
@@ -53,7 +54,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   struct Options {
     std::string input, output, ratios, faces, max_errors, policy = "plain", texture, obj_prefix;
     bool shared_texture = false, no_overflow_charts = false, no_texture = false, no_error = false, json = false,
-         no_repair = false, allow_degenerate = false;
+         no_repair = false, allow_degenerate = false, prune = false;
     int fit_rounds = 3;
     std::size_t memory_points = 0;
     double overflow_colour_tolerance =
@@ -104,6 +105,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   app.add_flag("--no-repair", o->no_repair,
                "Refuse non-manifold or inconsistently oriented input instead of repairing it");
   cmgeom_cli::add_allow_degenerate_option(app, o->allow_degenerate);
+  app.add_flag("--prune", o->prune,
+               "Remove whole connected components (small parts, debris) when that costs less than the next "
+               "collapse, never below the smallest level; gives their faces to the rest");
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
   cmgeom_cli::add_gltf_options(app, o->gltf);
 
@@ -191,6 +195,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     lo.measure_error = !o->no_error;
     lo.memory.fit.rounds = o->fit_rounds;
     lo.memory.max_points = o->memory_points;
+    lo.prune_components = o->prune;
 
     // (levels by error: the run's end is not known in advance; the bar counts towards one face, and
     // its final line gives the faces actually removed)
@@ -239,6 +244,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       j["policy"] = o->policy;
       j["fit_rounds"] = o->fit_rounds;
       j["memory_points"] = o->memory_points;
+      j["prune"] = o->prune;
       if (o->shared_texture) {
         j["shared_texture_hidden"] = r.shared_texture_hidden;
         j["shared_texture_relocated"] = r.shared_texture_relocated;

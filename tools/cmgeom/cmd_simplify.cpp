@@ -2,7 +2,7 @@
 //                 [--merge thesis|sum] [--flips] [--engine cmgeom|cgal] [--json]
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
 //                 [--no-texture] [--keep-charts] [--freeze-seams] [--bake-lookups] [--no-repair] [--memoryless]
-//                 [--fit-rounds N] [--memory-points N] [--allow-degenerate]
+//                 [--fit-rounds N] [--memory-points N] [--prune] [--allow-degenerate]
 // Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
 // CMGeom's engine or CGAL's; on CMGeom's engine the quadric cost is completed by the memoryful
 // term of Surface_memory.h (the input's points kept on the faces) unless --memoryless, and the
@@ -53,7 +53,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     int texture_size = 0, fit_rounds = 3;
     std::size_t memory_points = 0;
     bool flips = false, json = false, repair = false, no_repair = false, allow_degenerate = false, no_texture = false,
-         freeze_seams = false, memoryless = false;
+         freeze_seams = false, memoryless = false, prune = false;
     bool keep_charts = false, bake_lookups = false;
     CMGeom::IO::Gltf_options gltf;
   };
@@ -84,6 +84,10 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
   app.add_option("--engine", o->engine, "Collapse engine: cmgeom (fast) or cgal (CGAL's edge_collapse)")
       ->check(CLI::IsMember({"cmgeom", "cgal"}));
   app.add_flag("--flips", o->flips, "Flip-test the edges around each collapse (thesis §3.5.1; cmgeom engine)");
+  app.add_flag("--prune", o->prune,
+               "Remove whole connected components (small parts, debris) when that costs less than the next "
+               "collapse, never below the target; gives their faces to the rest. Needs --faces or --ratio; not "
+               "with --max-error, --max-cost, --keep-charts or --engine cgal");
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
   auto* repair = app.add_flag("--repair", o->repair, "Repair while reading (the default; kept for compatibility)");
   auto* no_repair = app.add_flag("--no-repair", o->no_repair,
@@ -126,6 +130,11 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       throw CMGeom::Invalid_input("--max-cost must be finite and >= 0, got " + std::to_string(o->max_cost));
     if (o->flips && o->engine == "cgal")
       throw CMGeom::Invalid_input("--flips needs --engine cmgeom (CGAL's engine has no flip hook)");
+    if (o->prune && faces->count() == 0 && ratio->count() == 0)
+      throw CMGeom::Invalid_input("--prune needs a face target (--faces or --ratio)");
+    if (o->prune && (max_error->count() || max_cost->count()))
+      throw CMGeom::Invalid_input("--prune cannot be combined with --max-error or --max-cost");
+    if (o->prune && o->engine == "cgal") throw CMGeom::Invalid_input("--prune needs --engine cmgeom");
     if (memory_points->count() && (o->memoryless || o->engine == "cgal"))
       throw CMGeom::Invalid_input(
           "--memory-points applies to the memoryful term (not with --memoryless or --engine cgal)");
@@ -218,6 +227,8 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         throw CMGeom::Invalid_input(
             "--max-error is not supported with --keep-charts (the chart constraints have no error bound); drop "
             "--keep-charts");
+      if (o->prune && o->keep_charts)
+        throw CMGeom::Invalid_input("--prune is not supported with --keep-charts; drop --keep-charts");
       if (o->flips && o->keep_charts)
         throw CMGeom::Invalid_input(
             "--flips is not supported with --keep-charts (flips would need UV rules); drop "
@@ -240,6 +251,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       to.constraints.freeze_chart_boundaries = o->freeze_seams;
       to.keep_charts = o->keep_charts;
       to.flips = o->flips;
+      to.prune_components = o->prune;
       to.surface_memory = !o->memoryless;
       to.memory.fit.rounds = o->fit_rounds;
       to.memory.max_points = o->memory_points;
@@ -275,6 +287,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
         j["textured"] = true;
         j["charts"] = r.charts_kept ? "kept" : "rebuilt";
         j["flips"] = o->flips;
+        j["prune"] = o->prune;
         j["surface_memory"] = !o->memoryless && !r.charts_kept;
         if (!r.charts_kept) {
           j["texels_baked"] = r.atlas.texels_baked;
@@ -329,6 +342,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     so.memory.fit.rounds = o->fit_rounds;
     so.memory.max_points = o->memory_points;
     so.flips = o->flips;
+    so.prune_components = o->prune;
     so.release_input_in_parts = true;  // the input is the file
     // Geometry only: the mesh is simplified without corner UV and face material maps (a textured
     // file simplified as geometry gives its maps up here), then wrapped in a new Textured_mesh
@@ -364,6 +378,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       j["policy"] = o->policy;
       j["merge"] = merge_used;
       j["flips"] = o->flips;
+      j["prune"] = o->prune;
       j["surface_memory"] = !o->memoryless && o->engine == "cmgeom";
       j["fit_rounds"] = so.surface_memory && !max_error->count() ? o->fit_rounds : 0;
       j["fit_moves"] = r.fit_moves;

@@ -2,7 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Edge_collapse_visitor_base: the do-nothing model of CGAL's EdgeCollapseSimplificationVisitor
-// concept (plus CMGeom's OnFlipped) to derive visitors from, for both engines.
+// concept (plus CMGeom's OnFlipped and OnFacesRemoved) to derive visitors from, for both engines.
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_EDGE_COLLAPSE_VISITOR_BASE_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_EDGE_COLLAPSE_VISITOR_BASE_H
 
@@ -31,6 +31,11 @@ struct Edge_collapse_visitor_base {
   /// CMGeom extension (not in CGAL's concept): called after an edge flip; `h` is the new edge.
   template <class TM, class H>
   void OnFlipped(const TM&, const H&) const {}
+  /// CMGeom extension: called after the engine removed a whole connected component
+  /// (parameters::prune_components); `faces` are its faces, removed already (on Surface_mesh their
+  /// indices stay valid until collect_garbage()).
+  template <class TM, class FaceRange>
+  void OnFacesRemoved(const TM&, const FaceRange&) const {}
 };
 
 }  // namespace Textured_simplification

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <iterator>
 #include <memory>
 #include <utility>
 
@@ -37,6 +38,12 @@ public:
     State& s = *state_;
     s.removed += std::size_t(profile.left_face_exists()) + std::size_t(profile.right_face_exists());
     if ((++s.collapses & 1023u) == 0 && s.callback) s.callback(s.removed);
+  }
+
+  /// (a pruned component's faces count as removed)
+  template <class TM, class FaceRange>
+  void OnFacesRemoved(const TM&, const FaceRange& faces) const {
+    state_->removed += std::size_t(std::distance(std::begin(faces), std::end(faces)));
   }
 
   /// Faces removed so far (by this visitor and its copies).

@@ -5,11 +5,13 @@
 // `edge_collapse`): target face count, face ratio, target vertex count, maximum cost.
 //
 // Why not CGAL's: CGAL 5.5.1 only counts edges, and the face-count predicates of later releases
-// scan the mesh (O(F) per call, CGAL issues #5720/#8158). These run in O(1) per call: the face and
-// vertex counts are measured once (O(F + V), on the first call, after the engine's set-up) and
-// then tracked from the edge count the engine passes. Between two calls an engine performs at most
-// one collapse (true of both engines), and a collapse that removes k edges removes k - 1 faces
-// (3 edges / 2 faces inside, 2 edges / 1 face on a border) and one vertex.
+// scan the mesh (O(F) per call, CGAL issues #5720/#8158). These run in O(1) per call: on
+// CGAL::Surface_mesh they read its live counts (which also see a pruned component,
+// parameters::prune_components); on other graphs the face and vertex counts are measured once
+// (O(F + V), on the first call, after the engine's set-up) and then tracked from the edge count the
+// engine passes. Between two calls an engine performs at most one collapse (true of both engines),
+// and a collapse that removes k edges removes k - 1 faces (3 edges / 2 faces inside, 2 edges / 1
+// face on a border) and one vertex.
 //
 // The predicates share their counters between copies (engines copy them), so use one predicate
 // object per simplification run.
@@ -27,6 +29,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace CMGeom {
 namespace Textured_simplification {
@@ -40,6 +43,15 @@ public:
 
   void update(std::size_t current_edge_count) const {
     State& s = *state_;
+    if constexpr (knows_live_counts) {
+      // Surface_mesh's live counts also follow removals that are not collapses (a pruned
+      // component, parameters::prune_components)
+      s.faces = live_faces(*s.tm);
+      s.vertices = live_vertices(*s.tm);
+      s.edges = current_edge_count;
+      s.started = true;
+      return;
+    }
     if (!s.started) {
       // first call: count the live elements once
       s.faces = live_faces(*s.tm);
@@ -79,6 +91,12 @@ private:
     const auto r = vertices(g);
     return static_cast<std::size_t>(std::distance(r.begin(), r.end()));
   }
+
+  template <class G>
+  struct is_sm : std::false_type {};
+  template <class P>
+  struct is_sm<CGAL::Surface_mesh<P>> : std::true_type {};
+  static constexpr bool knows_live_counts = is_sm<TriangleMesh>::value;
 
   struct State {
     const TriangleMesh* tm = nullptr;

@@ -290,6 +290,17 @@ public:
     }
   }
 
+  /// Call before the faces `fs` are removed with no collapse (a whole component pruned, see
+  /// parameters::prune_components): their points are dropped (faces_of_points() gives them
+  /// null_face()), as the surface they stood for leaves the mesh.
+  template <class FaceRange>
+  void drop_faces(const FaceRange& fs) {
+    for (face_descriptor f : fs) {
+      head_[std::size_t(f)] = nil;
+      --faces_alive_;
+    }
+  }
+
   /// Call after an edge flip, `h` the new edge: the points of its two faces join the nearer one.
   void after_flip(const TriangleMesh& tm, halfedge_descriptor h) {
     moving_.clear();

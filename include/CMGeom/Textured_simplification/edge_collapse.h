@@ -49,6 +49,9 @@ namespace Textured_simplification {
 ///   \cgalParamNBegin{edge_is_constrained_map}: constrained edges are never collapsed.
 ///   \cgalParamNBegin{vertex_point_map}, \cgalParamNBegin{geom_traits}: as in CGAL.
 ///   `CMGeom::parameters::edge_flips(bool)`: flips of §3.5.1 after each collapse (default false).
+///   `CMGeom::parameters::prune_components(std::size_t min_faces_left)`: whole connected components
+///     may be removed, cheapest first, down to `min_faces_left` faces (default 0: none; on
+///     `CGAL::Surface_mesh` only; see parameters.h).
 /// \cgalNamedParamsEnd
 template <class TriangleMesh, class StopPredicate, class NamedParameters = CGAL::parameters::Default_named_parameters>
 int edge_collapse(TriangleMesh& tm, const StopPredicate& should_stop,
@@ -66,6 +69,8 @@ int edge_collapse(TriangleMesh& tm, const StopPredicate& should_stop,
   const auto ecm = choose_parameter(get_parameter(np, CGAL::internal_np::edge_is_constrained),
                                     CGAL::Constant_property_map<edge_descriptor, bool>(false));
   const bool flips = choose_parameter(get_parameter(np, CMGeom::internal_np::edge_flips), false);
+  const std::size_t prune_min_faces =
+      choose_parameter(get_parameter(np, CMGeom::internal_np::prune_components), std::size_t(0));
 
   using Cost_np = typename CGAL::internal_np::Lookup_named_param_def<CGAL::internal_np::get_cost_policy_t,
                                                                      NamedParameters, Default_policy>::type;
@@ -85,7 +90,7 @@ int edge_collapse(TriangleMesh& tm, const StopPredicate& should_stop,
   auto run = [&](const auto& cost, const auto& placement) {
     internal::Edge_collapse_engine<TriangleMesh, VPM, GT, ECM, std::decay_t<decltype(cost)>,
                                    std::decay_t<decltype(placement)>, Filter, Visitor, StopPredicate, Memory>
-        engine(tm, should_stop, vpm, gt, ecm, cost, placement, filter, visitor, flips, memory);
+        engine(tm, should_stop, vpm, gt, ecm, cost, placement, filter, visitor, flips, memory, prune_min_faces);
     return engine.run();
   };
 

@@ -85,6 +85,12 @@ struct Level_of_detail_options {
   /// collapses leave it). With `surface_memory` only.
   Surface_memory_options memory;
   bool flips = false;
+  /// Whole connected components may be removed when cheaper than the next collapse (simplify_mesh()'s
+  /// `prune_components`), never below the smallest level's target (in the error-bound mode, whose
+  /// snapshots are measured with what is removed: never below one face). A level that still has a
+  /// component the coarsest one lost is mapped into a shared atlas by its nearest coarse faces and
+  /// gets overflow charts where those show the wrong colours.
+  bool prune_components = false;
   /// Textured input: one atlas for every level (see the file comment) instead of one per level.
   bool shared_texture = false;
   /// The atlas (per-level atlases, or the shared one).
@@ -258,6 +264,12 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
     state->pending = state->next + 1 < state->targets->size() &&
                      p.surface_mesh().number_of_faces() <= (*state->targets)[state->next];
   }
+  /// (a pruned component: the face count falls as after collapses)
+  template <class TM, class Faces>
+  void OnFacesRemoved(const TM& tm, const Faces& fs) const {
+    History_visitor<Visitor>::OnFacesRemoved(tm, fs);
+    state->pending = state->next + 1 < state->targets->size() && tm.number_of_faces() <= (*state->targets)[state->next];
+  }
   void take_pending(const Surface_mesh& mesh) const {
     if (!state->pending) return;
     state->pending = false;
@@ -334,7 +346,7 @@ struct Face_count_or_flag_stop {
 /// is valid until the run's end (the visitor's OnFinished included).
 template <class Stop, class MakeVisitor>
 void collapse_chain(Surface_mesh& work, const Level_of_detail_options& options, const Stop& stop,
-                    const MakeVisitor& make_visitor) {
+                    std::size_t prune_min_faces, const MakeVisitor& make_visitor) {
   using Mesh = Surface_mesh;
   using VPM = Mesh::Property_map<Mesh::Vertex_index, Point_3>;
   check_fit_options(options.memory.fit);
@@ -349,10 +361,12 @@ void collapse_chain(Surface_mesh& work, const Level_of_detail_options& options, 
     };
   collapse_with_placement(policy, false, [&](const auto& placement) {
     edge_collapse(work, stop,
-                  CMGeom::parameters::surface_memory(
-                      m, CMGeom::parameters::edge_flips(
-                             options.flips, CGAL::parameters::get_cost(policy).get_placement(placement).visitor(
-                                                make_visitor(&fitter)))));
+                  CMGeom::parameters::prune_components(
+                      options.prune_components ? prune_min_faces : 0,
+                      CMGeom::parameters::surface_memory(
+                          m, CMGeom::parameters::edge_flips(
+                                 options.flips, CGAL::parameters::get_cost(policy).get_placement(placement).visitor(
+                                                    make_visitor(&fitter))))));
   });
 }
 
@@ -426,7 +440,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
     typename EV::State state{&reference, options.error_step, options.max_errors.back(),
                              double(faces_in) * options.error_step};
     internal::Face_count_or_flag_stop<Surface_mesh> stop{Face_count_stop_predicate<Surface_mesh>(work, 1), &state.stop};
-    internal::collapse_chain(work, options, stop, [&](const internal::Level_fitter* fitter) {
+    internal::collapse_chain(work, options, stop, 1, [&](const internal::Level_fitter* fitter) {
       return EV{&state, visitor, history ? &*history : nullptr, fitter};
     });
     targets.clear();
@@ -483,7 +497,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       typename internal::Snapshot_visitor<Visitor>::State state{&collapsed, 0, {}};
       if (errors) state.errors = &*errors;
       internal::collapse_chain(
-          work, options, Face_count_stop_predicate<Surface_mesh>(work, collapsed.back()),
+          work, options, Face_count_stop_predicate<Surface_mesh>(work, collapsed.back()), collapsed.back(),
           [&](const internal::Level_fitter* fitter) {
             return internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr, fitter};
           });

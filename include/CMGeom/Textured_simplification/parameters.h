@@ -11,10 +11,13 @@
 
 #include <CGAL/Named_function_parameters.h>
 
+#include <cstddef>
+
 namespace CMGeom {
 namespace internal_np {
 enum edge_flips_t { edge_flips };
 enum surface_memory_t { surface_memory };
+enum prune_components_t { prune_components };
 }  // namespace internal_np
 
 namespace parameters {
@@ -42,6 +45,29 @@ CGAL::Named_function_parameters<Memory*, internal_np::surface_memory_t, CGAL::Na
 surface_memory(Memory* m, const CGAL::Named_function_parameters<T, Tag, Base>& base) {
   return CGAL::Named_function_parameters<Memory*, internal_np::surface_memory_t,
                                          CGAL::Named_function_parameters<T, Tag, Base>>(m, base);
+}
+
+/// Lets CMGeom's engine remove whole connected components (on `CGAL::Surface_mesh` only; other
+/// graphs ignore it): a component goes when its price is at most the cost of the collapse on top
+/// of the queue, or when no collapse is left; cheapest first; never the component of largest area,
+/// and never when fewer than `min_faces_left` faces would remain. 0 (the default) removes none.
+/// The price, in the quadric's unit (area x squared distance), is sum over the component's faces of
+/// area x mean squared distance of its corners to the component's area centroid: what collapsing
+/// the whole component to its centroid would cost, taken once from the mesh the run starts with.
+/// It does not look at how far the component lies from the rest of the surface (a small part
+/// floating away goes as early as one lying on the surface), as meshoptimizer's pruning, which
+/// compares a part's size with the error, does not. The memory's points on the removed faces are
+/// dropped (Surface_memory::drop_faces()) and the visitor's `OnFacesRemoved(tm, faces)` is called.
+inline CGAL::Named_function_parameters<std::size_t, internal_np::prune_components_t> prune_components(
+    std::size_t min_faces_left) {
+  return CGAL::Named_function_parameters<std::size_t, internal_np::prune_components_t>(min_faces_left);
+}
+template <class T, class Tag, class Base>
+CGAL::Named_function_parameters<std::size_t, internal_np::prune_components_t,
+                                CGAL::Named_function_parameters<T, Tag, Base>>
+prune_components(std::size_t min_faces_left, const CGAL::Named_function_parameters<T, Tag, Base>& base) {
+  return CGAL::Named_function_parameters<std::size_t, internal_np::prune_components_t,
+                                         CGAL::Named_function_parameters<T, Tag, Base>>(min_faces_left, base);
 }
 
 }  // namespace parameters

@@ -116,6 +116,15 @@ struct Mesh_simplification_options {
   Surface_memory_options memory;
   /// Edge flips between collapses (parameters::edge_flips).
   bool flips = false;
+  /// Whole connected components may be removed, cheapest first, when removing one costs less than
+  /// the next collapse or no collapse is left, never below the face target and never the
+  /// component of largest area (parameters::prune_components: the price is the component's
+  /// area-weighted squared distance to its centroid, in the quadric's unit). Gives the faces that
+  /// small parts (screws, debris, the loose pieces of a game asset) would hold at their smallest
+  /// to the rest; off by default (it changes the number of components). Needs a face target
+  /// (count or ratio); not with max_error (its bound would not cover what is removed) nor with the
+  /// `cgal` engine (Invalid_input / std::invalid_argument).
+  bool prune_components = false;
   /// Placements at an endpoint (Endpoint_placement) instead of the quadric's minimiser.
   bool endpoint_placement = false;
   /// Inputs with at least this many faces are simplified in parts first (0: never; see the file
@@ -515,6 +524,12 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
   if (!(options.parts_tail_per_cut_vertex >= 0.0))
     throw std::invalid_argument("simplify_mesh: parts_tail_per_cut_vertex must be >= 0");
   const bool cgal = options.engine == Simplification_engine::cgal;
+  if (options.prune_components && !options.target_faces && !options.target_ratio)
+    throw std::invalid_argument("simplify_mesh: prune_components needs a face target (target_faces or target_ratio)");
+  if (options.prune_components && options.max_error)
+    throw std::invalid_argument("simplify_mesh: prune_components cannot be combined with max_error");
+  if (options.prune_components && cgal)
+    throw std::invalid_argument("simplify_mesh: prune_components needs CMGeom's engine");
   if (cgal && (options.surface_memory || options.flips))
     throw std::invalid_argument("simplify_mesh: CGAL's engine has no memoryful cost and no flips");
   if (!CGAL::is_triangle_mesh(mesh)) throw Invalid_input("simplify_mesh: not a triangle mesh");
@@ -555,10 +570,13 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
       else
         edge_collapse(
             mesh, stop,
-            CMGeom::parameters::surface_memory(
-                m, CMGeom::parameters::edge_flips(
-                       options.flips,
-                       CGAL::parameters::get_cost(policy).get_placement(placement).filter(own_filter).visitor(vis))));
+            CMGeom::parameters::prune_components(
+                options.prune_components && target ? (std::max)(*target, std::size_t(1)) : 0,
+                CMGeom::parameters::surface_memory(
+                    m,
+                    CMGeom::parameters::edge_flips(
+                        options.flips,
+                        CGAL::parameters::get_cost(policy).get_placement(placement).filter(own_filter).visitor(vis)))));
     };
     // without a bound the filter and the visitor only forward (one instantiation for both cases)
     Bound* b = bound ? &*bound : nullptr;

@@ -81,6 +81,9 @@ struct Textured_simplification_options {
   bool surface_memory = true;
   Surface_memory_options memory;
   Chart_constraint_options constraints;
+  /// Remove whole connected components when cheaper than the next collapse (simplify_mesh()'s
+  /// `prune_components`); new-atlas path only (Invalid_input with keep_charts), not with max_error.
+  bool prune_components = false;
   /// Rewrite the index texture and generate output textures (when the input has a texture).
   bool resample_textures = true;
   /// Texels per unit of UV for the index and output textures (0: the input texture's size).
@@ -188,6 +191,7 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   so.endpoint_placement = options.endpoint_placement;
   if (options.target_faces > 0 || !options.max_error) so.target_faces = options.target_faces;
   so.max_error = options.max_error;
+  so.prune_components = options.prune_components;
   so.before_changing_input = [&take] { take.wait(); };
   const bool paint = collapses && options.paint_from_history && !mesh.has_garbage() &&
                      internal::run_part_levels(res.faces_in, so) == 0;
@@ -289,6 +293,10 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm,
     throw Invalid_input(
         "simplify_textured_mesh: max_error needs a new atlas (keep_charts = false), which needs a decoded "
         "texture and resample_textures");
+  if (options.prune_components)  // nor component pruning
+    throw Invalid_input(
+        "simplify_textured_mesh: prune_components needs a new atlas (keep_charts = false), which needs a "
+        "decoded texture and resample_textures");
 
   std::vector<std::array<UV2, 3>> tris;
   std::vector<int> chart_ids;

@@ -17,6 +17,7 @@
 #define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_EDGE_COLLAPSE_ENGINE_H
 
 #include <CMGeom/config.h>
+#include <CMGeom/Compact_model/internal/Vec3.h>
 #include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
 #include <CMGeom/Textured_simplification/Collapse_profile.h>
 #include <CMGeom/Textured_simplification/No_normal_flip_filter.h>
@@ -33,8 +34,11 @@
 
 #include <boost/mpl/has_xxx.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -88,6 +92,23 @@ struct has_fused_cost<
     std::void_t<decltype(std::declval<const C&>().cost_at_own_placement(std::declval<const Profile&>())),
                 decltype(std::declval<const C&>().shares_state_with(std::declval<const P&>()))>> : std::true_type {};
 
+// A visitor told of the faces a component removal takes (OnFacesRemoved(tm, faces), called once
+// they are removed; see parameters::prune_components).
+template <class V, class TM, class Faces, class = void>
+struct has_on_faces_removed : std::false_type {};
+template <class V, class TM, class Faces>
+struct has_on_faces_removed<
+    V, TM, Faces,
+    std::void_t<decltype(std::declval<V&>().OnFacesRemoved(std::declval<const TM&>(), std::declval<const Faces&>()))>>
+    : std::true_type {};
+
+// A memory told of the faces a component removal takes (drop_faces(faces), before they go).
+template <class M, class Faces, class = void>
+struct has_drop_faces : std::false_type {};
+template <class M, class Faces>
+struct has_drop_faces<M, Faces, std::void_t<decltype(std::declval<M&>()->drop_faces(std::declval<const Faces&>()))>>
+    : std::true_type {};
+
 template <class TM>
 struct is_surface_mesh : std::false_type {};
 template <class P>
@@ -136,6 +157,7 @@ class Edge_collapse_engine {
   using vertex_descriptor = typename GTraits::vertex_descriptor;
   using halfedge_descriptor = typename GTraits::halfedge_descriptor;
   using edge_descriptor = typename GTraits::edge_descriptor;
+  using face_descriptor = typename GTraits::face_descriptor;
   using Profile = Collapse_profile<TM, VPM, GT>;
   using FT = typename GT::FT;
   using Point = typename boost::property_traits<VPM>::value_type;
@@ -147,7 +169,7 @@ class Edge_collapse_engine {
 public:
   Edge_collapse_engine(TM& tm, const StopPredicate& stop, const VPM& vpm, const GT& gt, const ECM& ecm,
                        const GetCost& cost, const GetPlacement& placement, const Filter& filter, Visitor& visitor,
-                       bool flips, Memory memory = Memory())
+                       bool flips, Memory memory = Memory(), std::size_t prune_min_faces = 0)
       : tm_(tm),
         stop_(stop),
         vpm_(vpm),
@@ -162,6 +184,7 @@ public:
         vim_(CGAL::get_initialized_vertex_index_map(tm)),
         eim_(CGAL::get_initialized_edge_index_map(tm)) {
     if constexpr (fused_cost) fused_ = get_cost_.shares_state_with(get_placement_);
+    if constexpr (edge_index_is_position) prune_min_faces_ = prune_min_faces;
   }
 
   int run() {
@@ -294,6 +317,139 @@ private:
       visitor_.OnCollected(p, (flags(i) & HAS_COST) ? Cost(FT(heap_.key(i))) : Cost());
     }
     current_edges_ = initial_edges_;
+    if (prune_min_faces_ > 0) collect_components();
+  }
+
+  /// Component pruning (parameters::prune_components): the connected components of the live faces,
+  /// each priced once by sum over its faces of area x mean squared distance of the corners to the
+  /// component's area centroid, ordered by price (then by first face, for a fixed order).
+  void collect_components() {
+    if constexpr (edge_index_is_position) {
+      using V3 = CM::internal::Vec3;
+      const auto v3 = [](const Point& p) {
+        return V3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+      };
+      const std::size_t nv = mark_.size();
+      std::vector<std::uint32_t> parent(nv);
+      for (std::size_t v = 0; v < nv; ++v) parent[v] = std::uint32_t(v);
+      auto find = [&parent](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+      };
+      for (edge_descriptor e : edges(tm_)) {
+        const std::uint32_t a = find(std::uint32_t(get(vim_, source(halfedge(e, tm_), tm_))));
+        const std::uint32_t b = find(std::uint32_t(get(vim_, target(halfedge(e, tm_), tm_))));
+        if (a != b) parent[(std::max)(a, b)] = (std::min)(a, b);
+      }
+      constexpr std::uint32_t none = 0xffffffffu;
+      std::vector<std::uint32_t> label(nv, none);
+      component_of_vertex_.assign(nv, none);
+      std::vector<V3> weighted_sum;
+      std::vector<double> area;
+      std::vector<std::array<V3, 3>> corners;
+      std::vector<std::uint32_t> face_component;
+      std::vector<face_descriptor> face_list;
+      for (face_descriptor f : faces(tm_)) {
+        const halfedge_descriptor h = halfedge(f, tm_);
+        const std::uint32_t root = find(std::uint32_t(get(vim_, target(h, tm_))));
+        if (label[root] == none) {
+          label[root] = std::uint32_t(area.size());
+          area.push_back(0.);
+          weighted_sum.emplace_back(0., 0., 0.);
+        }
+        const std::uint32_t c = label[root];
+        const std::array<V3, 3> t = {v3(get(vpm_, source(h, tm_))), v3(get(vpm_, target(h, tm_))),
+                                     v3(get(vpm_, target(next(h, tm_), tm_)))};
+        const double a = 0.5 * CM::internal::length(CM::internal::cross(t[1] - t[0], t[2] - t[0]));
+        area[c] += a;
+        weighted_sum[c] = weighted_sum[c] + (a / 3.) * (t[0] + t[1] + t[2]);
+        corners.push_back(t);
+        face_component.push_back(c);
+        face_list.push_back(f);
+      }
+      const std::size_t nc = area.size();
+      if (nc < 2) {
+        prune_min_faces_ = 0;
+        return;
+      }
+      for (std::size_t v = 0; v < nv; ++v) component_of_vertex_[v] = label[find(std::uint32_t(v))];
+      std::vector<V3> centroid(nc);
+      for (std::size_t c = 0; c < nc; ++c)
+        centroid[c] = area[c] > 0. ? (1. / area[c]) * weighted_sum[c] : weighted_sum[c];
+      component_price_.assign(nc, 0.);
+      component_faces_.assign(nc, 0);
+      component_start_.assign(nc + 1, 0);
+      for (std::size_t j = 0; j < face_list.size(); ++j) {
+        const std::uint32_t c = face_component[j];
+        const auto& t = corners[j];
+        const double a = 0.5 * CM::internal::length(CM::internal::cross(t[1] - t[0], t[2] - t[0]));
+        component_price_[c] +=
+            a *
+            (CM::internal::squared_length(t[0] - centroid[c]) + CM::internal::squared_length(t[1] - centroid[c]) +
+             CM::internal::squared_length(t[2] - centroid[c])) /
+            3.;
+        ++component_faces_[c];
+        ++component_start_[c + 1];
+      }
+      for (std::size_t c = 0; c < nc; ++c) component_start_[c + 1] += component_start_[c];
+      component_face_list_.resize(face_list.size());
+      std::vector<std::uint32_t> fill(component_start_.begin(), component_start_.end() - 1);
+      for (std::size_t j = 0; j < face_list.size(); ++j) component_face_list_[fill[face_component[j]]++] = face_list[j];
+      // the largest component (by area, the first of equals) is never removed
+      std::size_t largest = 0;
+      for (std::size_t c = 1; c < nc; ++c)
+        if (area[c] > area[largest]) largest = c;
+      prune_order_.clear();
+      for (std::uint32_t c = 0; c < nc; ++c)
+        if (c != largest) prune_order_.push_back(c);
+      std::stable_sort(prune_order_.begin(), prune_order_.end(),
+                       [this](std::uint32_t a, std::uint32_t b) { return component_price_[a] < component_price_[b]; });
+      prune_next_ = 0;
+    }
+  }
+
+  /// Removes, cheapest first, the components priced at most `cost` (any, when no collapse is
+  /// left: `cost` infinite) whose removal leaves at least prune_min_faces_ faces.
+  void prune_up_to(double cost) {
+    if constexpr (edge_index_is_position) {
+      while (prune_next_ < prune_order_.size()) {
+        const std::uint32_t c = prune_order_[prune_next_];
+        if (component_price_[c] > cost) return;
+        ++prune_next_;
+        const std::size_t live = component_faces_[c];
+        const std::size_t faces_now = tm_.number_of_faces();
+        if (live == 0 || faces_now < prune_min_faces_ + live) continue;
+        remove_component(c);
+      }
+    } else {
+      (void)cost;
+    }
+  }
+
+  void remove_component(std::uint32_t c) {
+    if constexpr (edge_index_is_position) {
+      std::vector<face_descriptor> gone;
+      for (std::uint32_t j = component_start_[c]; j < component_start_[c + 1]; ++j)
+        if (!tm_.is_removed(component_face_list_[j])) gone.push_back(component_face_list_[j]);
+      std::size_t edges_gone = 0;
+      for (face_descriptor f : gone)
+        for (halfedge_descriptor h : CGAL::halfedges_around_face(halfedge(f, tm_), tm_)) {
+          const std::uint32_t i = id(edge(h, tm_));
+          if (flags(i) & DEAD) continue;
+          kill(edge(h, tm_));
+          ++edges_gone;
+        }
+      if constexpr (has_memory && has_drop_faces<Memory, std::vector<face_descriptor>>::value) {
+        if (memory_) memory_->drop_faces(gone);
+      }
+      for (face_descriptor f : gone) CGAL::Euler::remove_face(halfedge(f, tm_), tm_);
+      current_edges_ -= edges_gone;
+      component_faces_[c] = 0;
+      if constexpr (has_on_faces_removed<Visitor, TM, std::vector<face_descriptor>>::value)
+        visitor_.OnFacesRemoved(tm_, gone);
+    } else {
+      (void)c;
+    }
   }
 
   bool is_constrained_vertex(vertex_descriptor v) const {
@@ -303,7 +459,9 @@ private:
   }
 
   void loop() {
-    while (!heap_.empty()) {
+    for (;;) {
+      if (prune_min_faces_ > 0) prune_up_to(heap_.empty() ? std::numeric_limits<double>::infinity() : heap_.top_key());
+      if (heap_.empty()) break;
       const std::uint32_t i = heap_.pop();
       const edge_descriptor e = edge_at(i);
       const Profile p = profile_of(e);
@@ -435,6 +593,9 @@ private:
       kill(has_constraints_ && get(ecm_, ep) ? edge(next(side, tm_), tm_) : ep);
     }
     current_edges_ -= 1 + std::size_t(p.left_face_exists()) + std::size_t(p.right_face_exists());
+    if (prune_min_faces_ > 0)
+      component_faces_[component_of_vertex_[std::size_t(get(vim_, p.v0()))]] -=
+          std::size_t(p.left_face_exists()) + std::size_t(p.right_face_exists());
     // Vertex ids are read before the collapse: graphs such as Polyhedron_3 free the removed
     // vertex, and its id lives in the vertex record.
     const std::size_t id0 = std::size_t(get(vim_, p.v0())), id1 = std::size_t(get(vim_, p.v1()));
@@ -595,6 +756,13 @@ private:
   unsigned stamp_ = 0;
   Indexed_heap heap_;
   std::size_t initial_edges_ = 0, current_edges_ = 0;
+  // component pruning (collect_components())
+  std::size_t prune_min_faces_ = 0;
+  std::vector<std::uint32_t> component_of_vertex_, component_start_, prune_order_;
+  std::vector<std::size_t> component_faces_;
+  std::vector<double> component_price_;
+  std::vector<face_descriptor> component_face_list_;
+  std::size_t prune_next_ = 0;
 };
 
 }  // namespace internal

@@ -113,6 +113,10 @@ struct Forwarding_visitor {
   void OnFlipped(const TM& tm, const H& h) const {
     visitor.OnFlipped(tm, h);
   }
+  template <class TM, class Faces>
+  void OnFacesRemoved(const TM& tm, const Faces& fs) const {
+    visitor.OnFacesRemoved(tm, fs);
+  }
 };
 
 /// A copy of the mesh being simplified and, when the collapse history is followed (shared
@@ -192,6 +196,8 @@ public:
   void before_collapse(const Mesh& tm, Mesh::Halfedge_index h) { memory_.before_collapse(tm, h); }
   void after_collapse(const Mesh& tm, Vertex v) { memory_.after_collapse(tm, v); }
   void after_flip(const Mesh& tm, Mesh::Halfedge_index h) { memory_.after_flip(tm, h); }
+  /// The points of faces a pruned component took are dropped (nil in later snapshots).
+  void drop_faces(const std::vector<Face>& fs) { memory_.drop_faces(fs); }
 
 private:
   /// The memory's options: every point counts for when it starts moving the points of a whole
@@ -241,6 +247,12 @@ struct History_visitor : Forwarding_visitor<Visitor> {
   void OnFlipped(const TM& tm, const H& h) const {
     this->visitor.OnFlipped(tm, h);
     if (history) history->after_flip(tm, h);
+  }
+  /// (the faces of a pruned component: removed already, their indices still name them)
+  template <class TM, class Faces>
+  void OnFacesRemoved(const TM& tm, const Faces& fs) const {
+    this->visitor.OnFacesRemoved(tm, fs);
+    if (history) history->drop_faces(fs);
   }
   /// For the OnCollapsed of the visitors below, before they look at the mesh.
   template <class P, class V>
