@@ -25,7 +25,7 @@ if [[ "${2:-}" == "--quick" ]]; then
   sh "$here/run_textured_bench.sh" "$build" --models spot,bob --fractions 0.1
   bash "$here/run_textured_peers.sh" "$build" --quick
   bash "$here/run_textured_scale.sh" "$build" --repeat 1
-  python3 "$here/run_lod.py" --build "$build" --models spot --reps 2 --out "$here/RESULTS-lod.md" \
+  python3 "$here/run_lod.py" --build "$build" --models spot --reps 2 --prune --out "$here/RESULTS-lod.md" \
     --describe "$describe"
   python3 "$here/run_paint.py" --build "$build" --models spot,Duck --reps 1 --out "$here/RESULTS-paint.md" \
     --describe "$(describe_run)"
@@ -38,7 +38,7 @@ else
   bash "$here/run_policy_comparison.sh" "$build"
   bash "$here/run_memory_comparison.sh" "$build"
   bash "$here/run_other_models.sh" "$build"
-  python3 "$here/run_lod.py" --build "$build" --reps 5 --out "$here/RESULTS-lod.md" --describe "$describe"
+  python3 "$here/run_lod.py" --build "$build" --reps 5 --prune --out "$here/RESULTS-lod.md" --describe "$describe"
   python3 "$here/run_paint.py" --build "$build" --out "$here/RESULTS-paint.md" --describe "$(describe_run)"
   bash "$here/run_max_error_bench.sh" "$build"
 fi
