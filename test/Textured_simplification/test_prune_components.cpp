@@ -12,6 +12,7 @@
 #include <CMGeom/Textured_simplification.h>
 #include <CMGeom/Textured_simplification/level_of_detail.h>
 #include <CMGeom/Textured_simplification/simplify_mesh.h>
+#include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
 
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/boost/graph/copy_face_graph.h>
@@ -21,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cmgeom_test_surface_meshes.h"
+#include "cmgeom_test_textured_grid.h"
 
 #include <algorithm>
 #include <array>
@@ -183,6 +185,18 @@ TEST(PruneComponents, OptionsAreChecked) {
   g.target_faces = 100;
   EXPECT_THROW(TS::simplify_mesh(m, g), std::invalid_argument);
   EXPECT_EQ(m.number_of_faces(), torus_with_small_parts().number_of_faces());  // left as it was
+  // the textured path refuses them as invalid input, before anything changes
+  CMGeom::Textured_mesh tm = cmgeom_test::two_chart_grid(16, 64);
+  const std::size_t faces = tm.mesh().number_of_faces();
+  TS::Textured_simplification_options to;
+  to.prune_components = true;
+  to.target_faces = 50;
+  to.max_error = 0.01;
+  EXPECT_THROW(TS::simplify_textured_mesh(tm, to), CMGeom::Invalid_input);
+  to.max_error.reset();
+  to.keep_charts = true;
+  EXPECT_THROW(TS::simplify_textured_mesh(tm, to), CMGeom::Invalid_input);
+  EXPECT_EQ(tm.mesh().number_of_faces(), faces);
 }
 
 TEST(PruneComponents, LevelOfDetailChainsPruneInTheRunsOrder) {

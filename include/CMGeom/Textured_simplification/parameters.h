@@ -58,6 +58,8 @@ surface_memory(Memory* m, const CGAL::Named_function_parameters<T, Tag, Base>& b
 /// floating away goes as early as one lying on the surface), as meshoptimizer's pruning, which
 /// compares a part's size with the error, does not. The memory's points on the removed faces are
 /// dropped (Surface_memory::drop_faces()) and the visitor's `OnFacesRemoved(tm, faces)` is called.
+/// Meant for face-count stops: a Hausdorff_bound_filter's bound does not cover the removed parts
+/// (simplify_mesh() refuses max_error with it), and a cost bound is compared with collapse costs only.
 inline CGAL::Named_function_parameters<std::size_t, internal_np::prune_components_t> prune_components(
     std::size_t min_faces_left) {
   return CGAL::Named_function_parameters<std::size_t, internal_np::prune_components_t>(min_faces_left);

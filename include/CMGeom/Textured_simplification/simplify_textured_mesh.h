@@ -82,7 +82,7 @@ struct Textured_simplification_options {
   Surface_memory_options memory;
   Chart_constraint_options constraints;
   /// Remove whole connected components when cheaper than the next collapse (simplify_mesh()'s
-  /// `prune_components`); new-atlas path only (Invalid_input with keep_charts), not with max_error.
+  /// `prune_components`); new-atlas path only, with a face target, not with max_error (Invalid_input).
   bool prune_components = false;
   /// Rewrite the index texture and generate output textures (when the input has a texture).
   bool resample_textures = true;
@@ -264,6 +264,9 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm,
     throw Invalid_input(
         "simplify_textured_mesh: edge flips need a new atlas (keep_charts = false): a flip across a "
         "chart would need UV rules the chart constraints do not have");
+  if (options.prune_components && (options.max_error || options.target_faces == 0))
+    throw Invalid_input(
+        "simplify_textured_mesh: prune_components needs a face target and cannot be combined with max_error");
   Textured_simplification_result res;
   res.faces_in = mesh.number_of_faces();
 
