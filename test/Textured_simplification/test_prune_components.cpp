@@ -21,17 +21,16 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cmgeom_test_support.h"
 #include "cmgeom_test_surface_meshes.h"
 #include "cmgeom_test_textured_grid.h"
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <set>
 #include <string>
-#include <sys/wait.h>
 #include <utility>
 #include <vector>
 
@@ -274,42 +273,32 @@ TEST(PruneComponents, SharedAtlasChainOfAModelInManyParts) {
   EXPECT_LT(e_with, e_without);
 }
 
-// Runs a shell command, returns (exit code, stdout).
-std::pair<int, std::string> run(const std::string& cmd) {
-  std::string out;
-  FILE* p = popen((cmd + " 2>/dev/null").c_str(), "r");
-  if (!p) return {-1, out};
-  char buf[4096];
-  std::size_t k;
-  while ((k = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, k);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
 TEST(PruneComponents, CommandLine) {
-  const std::string exe = CMGEOM_CMGEOM_EXE;
-  if (!std::filesystem::exists(exe)) GTEST_SKIP() << "cmgeom not built: " << exe;
-  const std::string dir = CMGEOM_TEST_TMP_DIR;
-  const std::string in = dir + "/prune_parts.off", out = dir + "/prune_parts_out.off";
+  if (!std::filesystem::exists(CMGEOM_CMGEOM_EXE)) GTEST_SKIP() << "cmgeom not built: " << CMGEOM_CMGEOM_EXE;
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string in = dir + "/parts.off", out = dir + "/parts_out.off";
   Mesh parts = torus_with_small_parts();
   ASSERT_TRUE(CGAL::IO::write_polygon_mesh(in, parts, CGAL::parameters::stream_precision(17)));
-  std::filesystem::remove(out);
-  const auto [code, text] = run("'" + exe + "' simplify '" + in + "' -o '" + out + "' --faces 60 --prune --json");
-  ASSERT_EQ(code, 0) << text;
-  const auto j = nlohmann::json::parse(text);
+  const cmgeom_test::Cli_result r =
+      cmgeom_test::run_cli("simplify '" + in + "' -o '" + out + "' --faces 60 --prune --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
   EXPECT_TRUE(j["prune"].get<bool>());
   EXPECT_EQ(j["stopped_by"].get<std::string>(), "target");
   EXPECT_LE(j["faces_out"].get<std::size_t>(), 60u);
   Mesh m;
   ASSERT_TRUE(CGAL::IO::read_polygon_mesh(out, m));
   EXPECT_LT(components(m).size(), 13u);
-  // refused combinations write nothing
-  const std::string never = dir + "/prune_never.off";
-  std::filesystem::remove(never);
+  // refused combinations: exit code 1, a message naming --prune, nothing written
+  const std::size_t files = cmgeom_test::count_files(dir);
   for (const std::string bad :
-       {" --max-error 0.01", " --faces 60 --max-error 0.01", " --faces 60 --engine cgal", " --max-cost 1"})
-    EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --prune" + bad).first, 1) << bad;
-  EXPECT_FALSE(std::filesystem::exists(never));
+       {" --max-error 0.01", " --faces 60 --max-error 0.01", " --faces 60 --engine cgal", " --max-cost 1"}) {
+    const cmgeom_test::Cli_result e =
+        cmgeom_test::run_cli("simplify '" + in + "' -o '" + dir + "/never.off' --prune" + bad, dir);
+    EXPECT_EQ(e.exit_code, 1) << bad;
+    EXPECT_NE(e.err.find("--prune"), std::string::npos) << bad << ": " << e.err;
+  }
+  EXPECT_EQ(cmgeom_test::count_files(dir), files);
 }
 
 }  // namespace
