@@ -35,6 +35,12 @@ namespace CMGeom {
 namespace Textured_simplification {
 namespace internal {
 
+/// Whether a graph is a CGAL::Surface_mesh (live element counts, indices that are positions).
+template <class TM>
+struct is_surface_mesh : std::false_type {};
+template <class P>
+struct is_surface_mesh<CGAL::Surface_mesh<P>> : std::true_type {};
+
 /// Tracks the live face and vertex counts of a mesh being simplified, in O(1) per call.
 template <class TriangleMesh>
 class Mesh_size_tracker {
@@ -92,11 +98,7 @@ private:
     return static_cast<std::size_t>(std::distance(r.begin(), r.end()));
   }
 
-  template <class G>
-  struct is_sm : std::false_type {};
-  template <class P>
-  struct is_sm<CGAL::Surface_mesh<P>> : std::true_type {};
-  static constexpr bool knows_live_counts = is_sm<TriangleMesh>::value;
+  static constexpr bool knows_live_counts = is_surface_mesh<TriangleMesh>::value;
 
   struct State {
     const TriangleMesh* tm = nullptr;

@@ -260,15 +260,19 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
   template <class P, class V>
   void OnCollapsed(const P& p, const V& v) const {
     this->collapsed(p, v);
-    // (the last target is the run's stop: the mesh left at the end is that level)
-    state->pending = state->next + 1 < state->targets->size() &&
-                     p.surface_mesh().number_of_faces() <= (*state->targets)[state->next];
+    note_count(p.surface_mesh());
   }
   /// (a pruned component: the face count falls as after collapses)
   template <class TM, class Faces>
   void OnFacesRemoved(const TM& tm, const Faces& fs) const {
     History_visitor<Visitor>::OnFacesRemoved(tm, fs);
-    state->pending = state->next + 1 < state->targets->size() && tm.number_of_faces() <= (*state->targets)[state->next];
+    note_count(tm);
+  }
+  /// A copy is due once the face count reaches the next target (the last target is the run's
+  /// stop: the mesh left at the end is that level).
+  void note_count(const Surface_mesh& mesh) const {
+    state->pending =
+        state->next + 1 < state->targets->size() && mesh.number_of_faces() <= (*state->targets)[state->next];
   }
   void take_pending(const Surface_mesh& mesh) const {
     if (!state->pending) return;

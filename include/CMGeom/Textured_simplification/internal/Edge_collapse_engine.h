@@ -21,6 +21,7 @@
 #include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
 #include <CMGeom/Textured_simplification/Collapse_profile.h>
 #include <CMGeom/Textured_simplification/No_normal_flip_filter.h>
+#include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/internal/Indexed_heap.h>
 #include <CMGeom/Textured_simplification/internal/collapse_checks.h>
 #include <CMGeom/Textured_simplification/internal/edge_flip.h>
@@ -101,18 +102,6 @@ struct has_on_faces_removed<
     V, TM, Faces,
     std::void_t<decltype(std::declval<V&>().OnFacesRemoved(std::declval<const TM&>(), std::declval<const Faces&>()))>>
     : std::true_type {};
-
-// A memory told of the faces a component removal takes (drop_faces(faces), before they go).
-template <class M, class Faces, class = void>
-struct has_drop_faces : std::false_type {};
-template <class M, class Faces>
-struct has_drop_faces<M, Faces, std::void_t<decltype(std::declval<M&>()->drop_faces(std::declval<const Faces&>()))>>
-    : std::true_type {};
-
-template <class TM>
-struct is_surface_mesh : std::false_type {};
-template <class P>
-struct is_surface_mesh<CGAL::Surface_mesh<P>> : std::true_type {};
 
 // A cost policy whose update_after_collapse can take the kept vertex's star normal, which the
 // engine's fold-over test computes anyway (see Area_weighted_quadric_policies).
@@ -329,6 +318,13 @@ private:
       const auto v3 = [](const Point& p) {
         return V3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
       };
+      // a face's corners and area
+      const auto triangle = [&](face_descriptor f, std::array<V3, 3>& t) {
+        const halfedge_descriptor h = halfedge(f, tm_);
+        t = {v3(get(vpm_, source(h, tm_))), v3(get(vpm_, target(h, tm_))), v3(get(vpm_, target(next(h, tm_), tm_)))};
+        return 0.5 * CM::internal::length(CM::internal::cross(t[1] - t[0], t[2] - t[0]));
+      };
+      const auto corner = [this](face_descriptor f) { return std::size_t(get(vim_, target(halfedge(f, tm_), tm_))); };
       const std::size_t nv = mark_.size();
       std::vector<std::uint32_t> parent(nv);
       for (std::size_t v = 0; v < nv; ++v) parent[v] = std::uint32_t(v);
@@ -341,60 +337,52 @@ private:
         const std::uint32_t b = find(std::uint32_t(get(vim_, target(halfedge(e, tm_), tm_))));
         if (a != b) parent[(std::max)(a, b)] = (std::min)(a, b);
       }
+      // components numbered in the order of their first face; their areas, centroids, face counts
       constexpr std::uint32_t none = 0xffffffffu;
       std::vector<std::uint32_t> label(nv, none);
-      component_of_vertex_.assign(nv, none);
       std::vector<V3> weighted_sum;
       std::vector<double> area;
-      std::vector<std::array<V3, 3>> corners;
-      std::vector<std::uint32_t> face_component;
-      std::vector<face_descriptor> face_list;
+      std::array<V3, 3> t;
       for (face_descriptor f : faces(tm_)) {
-        const halfedge_descriptor h = halfedge(f, tm_);
-        const std::uint32_t root = find(std::uint32_t(get(vim_, target(h, tm_))));
+        const std::uint32_t root = find(std::uint32_t(corner(f)));
         if (label[root] == none) {
           label[root] = std::uint32_t(area.size());
           area.push_back(0.);
           weighted_sum.emplace_back(0., 0., 0.);
+          component_faces_.push_back(0);
         }
         const std::uint32_t c = label[root];
-        const std::array<V3, 3> t = {v3(get(vpm_, source(h, tm_))), v3(get(vpm_, target(h, tm_))),
-                                     v3(get(vpm_, target(next(h, tm_), tm_)))};
-        const double a = 0.5 * CM::internal::length(CM::internal::cross(t[1] - t[0], t[2] - t[0]));
+        const double a = triangle(f, t);
         area[c] += a;
         weighted_sum[c] = weighted_sum[c] + (a / 3.) * (t[0] + t[1] + t[2]);
-        corners.push_back(t);
-        face_component.push_back(c);
-        face_list.push_back(f);
+        ++component_faces_[c];
       }
       const std::size_t nc = area.size();
       if (nc < 2) {
         prune_min_faces_ = 0;
         return;
       }
+      component_of_vertex_.resize(nv);
       for (std::size_t v = 0; v < nv; ++v) component_of_vertex_[v] = label[find(std::uint32_t(v))];
       std::vector<V3> centroid(nc);
       for (std::size_t c = 0; c < nc; ++c)
         centroid[c] = area[c] > 0. ? (1. / area[c]) * weighted_sum[c] : weighted_sum[c];
+      // the prices, and each component's faces (in face order) at its offset of component_face_list_
       component_price_.assign(nc, 0.);
-      component_faces_.assign(nc, 0);
       component_start_.assign(nc + 1, 0);
-      for (std::size_t j = 0; j < face_list.size(); ++j) {
-        const std::uint32_t c = face_component[j];
-        const auto& t = corners[j];
-        const double a = 0.5 * CM::internal::length(CM::internal::cross(t[1] - t[0], t[2] - t[0]));
+      for (std::size_t c = 0; c < nc; ++c) component_start_[c + 1] = component_start_[c] + component_faces_[c];
+      component_face_list_.resize(component_start_[nc]);
+      std::vector<std::uint32_t> fill(component_start_.begin(), component_start_.end() - 1);
+      for (face_descriptor f : faces(tm_)) {
+        const std::uint32_t c = component_of_vertex_[corner(f)];
+        const double a = triangle(f, t);
         component_price_[c] +=
             a *
             (CM::internal::squared_length(t[0] - centroid[c]) + CM::internal::squared_length(t[1] - centroid[c]) +
              CM::internal::squared_length(t[2] - centroid[c])) /
             3.;
-        ++component_faces_[c];
-        ++component_start_[c + 1];
+        component_face_list_[fill[c]++] = f;
       }
-      for (std::size_t c = 0; c < nc; ++c) component_start_[c + 1] += component_start_[c];
-      component_face_list_.resize(face_list.size());
-      std::vector<std::uint32_t> fill(component_start_.begin(), component_start_.end() - 1);
-      for (std::size_t j = 0; j < face_list.size(); ++j) component_face_list_[fill[face_component[j]]++] = face_list[j];
       // the largest component (by area, the first of equals) is never removed
       std::size_t largest = 0;
       for (std::size_t c = 1; c < nc; ++c)
@@ -439,7 +427,7 @@ private:
           kill(edge(h, tm_));
           ++edges_gone;
         }
-      if constexpr (has_memory && has_drop_faces<Memory, std::vector<face_descriptor>>::value) {
+      if constexpr (has_memory) {
         if (memory_) memory_->drop_faces(gone);
       }
       for (face_descriptor f : gone) CGAL::Euler::remove_face(halfedge(f, tm_), tm_);
