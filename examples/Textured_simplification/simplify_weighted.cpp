@@ -3,7 +3,8 @@
 // a policy of CGAL's own (Lindstrom-Turk) swapped into CMGeom's engine, and with the memoryful
 // cost followed by the final fit of the vertices to the input's points (what simplify_mesh() and
 // `cmgeom simplify` do by default), put together by hand; the fit is first foretold without moving
-// anything (Surface_memory::fitted_positions()).
+// anything (Surface_memory::fitted_positions()). Last, the mesh with 40 small spheres beside it,
+// simplified far with and without removing whole parts (parameters::prune_components).
 //   simplify_weighted [mesh.off|obj|ply] [target faces]
 // Without arguments a lat-long sphere is used.
 #include <CMGeom/Error.h>
@@ -17,7 +18,9 @@
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_cost.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_placement.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+#include <CGAL/boost/graph/copy_face_graph.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -34,6 +37,16 @@ struct Counting_visitor : TS::Edge_collapse_visitor_base {
   template <class Profile, class V>
   void OnCollapsed(const Profile&, const V&) const {
     ++*collapses;
+  }
+};
+
+// Counts the whole parts the engine removes (parameters::prune_components).
+struct Pruned_parts_visitor : TS::Edge_collapse_visitor_base {
+  std::size_t* parts;
+  explicit Pruned_parts_visitor(std::size_t* p) : parts(p) {}
+  template <class TM, class FaceRange>
+  void OnFacesRemoved(const TM&, const FaceRange&) const {
+    ++*parts;
   }
 };
 
@@ -129,7 +142,39 @@ int main(int argc, char** argv) {
   std::cout << "cmgeom engine, plain + memoryful cost + fit: " << e.number_of_faces() << " faces, " << moves
             << " vertex moves\n";
 
-  bool ok = moves > 0;
+  // 6. Many parts: the mesh and 40 small spheres (48 faces each) in a row beside it. Collapses
+  //    never remove a part, so a closed sphere keeps a few faces and together they hold a floor of
+  //    faces above a low target; prune_components(target) lets the engine remove whole parts,
+  //    cheapest first, when that costs less than the next collapse, never below the target.
+  Mesh many = input;
+  double x_max = -1e300, size = 0;
+  for (Mesh::Vertex_index v : input.vertices()) x_max = (std::max)(x_max, input.point(v).x());
+  for (Mesh::Vertex_index v : input.vertices()) size = (std::max)(size, std::abs(input.point(v).x() - x_max));
+  const Mesh small = sphere(4);
+  for (int k = 0; k < 40; ++k) {
+    Mesh part = small;
+    for (Mesh::Vertex_index v : part.vertices()) {
+      const K::Point_3& q = part.point(v);
+      part.point(v) =
+          K::Point_3(x_max + 0.02 * size * (2 + 3 * k) + 0.01 * size * q.x(), 0.01 * size * q.y(), 0.01 * size * q.z());
+    }
+    CGAL::copy_face_graph(part, many);
+  }
+  const std::size_t low = target / 4;
+  Mesh kept = many, pruned = many;
+  TS::Area_weighted_quadric_policies<Mesh> kept_policy(kept, plain), pruned_policy(pruned, plain);
+  TS::edge_collapse(kept, TS::Face_count_stop_predicate<Mesh>(kept, low),
+                    CGAL::parameters::get_cost(kept_policy).get_placement(kept_policy));
+  std::size_t parts_removed = 0;
+  TS::edge_collapse(pruned, TS::Face_count_stop_predicate<Mesh>(pruned, low),
+                    CMGeom::parameters::prune_components(low, CGAL::parameters::get_cost(pruned_policy)
+                                                                  .get_placement(pruned_policy)
+                                                                  .visitor(Pruned_parts_visitor(&parts_removed))));
+  std::cout << "41 parts to " << low << " faces: " << kept.number_of_faces() << " faces without pruning, "
+            << pruned.number_of_faces() << " with it (" << parts_removed << " parts removed)\n";
+
+  bool ok = moves > 0 && kept.number_of_faces() > low && pruned.number_of_faces() <= low && parts_removed > 0 &&
+            CGAL::is_valid_polygon_mesh(kept) && CGAL::is_valid_polygon_mesh(pruned);
   for (const Mesh* m : {&a, &b, &c, &d, &e})
     ok = ok && m->number_of_faces() <= target && CGAL::is_valid_polygon_mesh(*m);
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
