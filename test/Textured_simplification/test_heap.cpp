@@ -38,6 +38,14 @@ TEST(TexturedSimplificationHeap, PopsInKeyThenIdOrderUnderUpdates) {
     heap.user(id) = std::uint32_t(step);  // caller data must not disturb the queue
     ASSERT_EQ(heap.size(), ref.size());
     if (step % 7 == 0 && !ref.empty()) {
+      // the first ids without popping them: those of the ordered set, in its order
+      std::vector<std::uint32_t> first;
+      const std::size_t k = std::size_t(rng() % (TS::internal::Indexed_heap::max_first + 1));
+      heap.for_each_first(k, [&](std::uint32_t i) { first.push_back(i); });
+      ASSERT_EQ(first.size(), (std::min)(k, ref.size()));
+      auto it = ref.begin();
+      for (std::size_t j = 0; j < first.size(); ++j, ++it) ASSERT_EQ(first[j], it->second);
+      ASSERT_EQ(heap.size(), ref.size());
       ASSERT_EQ(heap.top(), ref.begin()->second);
       const std::uint32_t top = heap.pop();
       ASSERT_EQ(top, ref.begin()->second);

@@ -7,8 +7,10 @@
 // area x (distance to the new star)^2, the quadric's own unit, which sees a flattened rim, bump or
 // thin part the quadric forgets, plus the other side: the distance from the new vertex to the
 // points. It is the thesis' point gathering (§4.3) turned into a cost.
-// CMGeom's engine uses it lazily (parameters::surface_memory) behind the quadric cost. A cost,
-// not a bound. Complexity: O(V + F) set-up; a cost or an update O(k d).
+// CMGeom's engine uses it lazily (parameters::surface_memory) behind the quadric cost, and prices
+// several collapses at once on all cores (cost() with a Pricing_scratch per thread; a collapse
+// that moves hundreds of points finds their new faces on all cores too). A cost, not a bound.
+// Complexity: O(V + F) set-up; a cost or an update O(k d).
 //
 // Manual: doc/Textured_simplification/README.md, "The memoryful cost".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_SURFACE_MEMORY_H
@@ -24,6 +26,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -79,6 +82,10 @@ struct Surface_memory_options {
   /// Weight of the distance from a collapse's new vertex to the points (see Surface_memory::cost());
   /// 0 = the points' distances to the new faces only.
   double vertex_gap_weight = 1.0;
+  /// CMGeom's engine prices the collapses the queue gives next on all cores at once (the result
+  /// is the same on any number of cores, see Edge_collapse_engine's price_ahead()); off where
+  /// the cores are busy already (simplify_mesh()'s parts).
+  bool parallel_pricing = true;
   /// The fit of the vertices to the points after the collapses (simplify_mesh() runs it without a
   /// guaranteed error bound).
   Surface_fit_options fit;
@@ -110,13 +117,16 @@ class Surface_memory {
   static constexpr std::uint32_t nil = 0xffffffffu;
 
 public:
+  class Pricing_scratch;  // (see below)
+
   /// Takes the input's vertices (or a subset, see Surface_memory_options) as the original points,
   /// each attached to a face of its star and weighted by its star's area.
   Surface_memory(const TriangleMesh& tm, const VertexPointMap& vpm,
                  const Surface_memory_options& options = Surface_memory_options())
       : vpm_(vpm),
         gap_weight_(checked_vertex_gap_weight(options.vertex_gap_weight)),
-        pricing_points_(options.pricing_points) {
+        pricing_points_(options.pricing_points),
+        parallel_pricing_(options.parallel_pricing) {
     const std::size_t live = set_up(tm);
     const std::size_t cap = options.max_points;
     const std::size_t stride = cap > 0 && live > cap ? (live + cap - 1) / cap : 1;
@@ -153,7 +163,8 @@ public:
                  const Surface_memory_options& options)
       : vpm_(vpm),
         gap_weight_(checked_vertex_gap_weight(options.vertex_gap_weight)),
-        pricing_points_(options.pricing_points) {
+        pricing_points_(options.pricing_points),
+        parallel_pricing_(options.parallel_pricing) {
     set_up(tm);
     items_.reserve(std::size_t(std::distance(std::begin(points), std::end(points))));
     for (const auto& [f, p, area] : points) add_point(f, p, area);
@@ -201,6 +212,9 @@ public:
   /// g has 2V + 4g - 4 faces), i.e. from the start when every vertex of an input of at most that
   /// many vertices is a point; on a larger input the earlier collapses are local and the quadric
   /// sees them well.
+  /// Whether the engine may call cost() on several threads at once (Surface_memory_options::parallel_pricing).
+  bool parallel_pricing() const { return parallel_pricing_; }
+
   bool active() const {
     const std::size_t n = pricing_points_ > 0 ? (std::min)(pricing_points_, items_.size()) : items_.size();
     return faces_alive_ <= 2 * n + 8;
@@ -217,6 +231,13 @@ public:
   /// side of each new face.
   template <class Point>
   double cost(const TriangleMesh& tm, halfedge_descriptor h, const Point& placement) const {
+    return cost(tm, h, placement, star_);
+  }
+
+  /// The same, with the caller's scratch space: calls with distinct scratches may run at once
+  /// (on different threads) as long as nothing changes the mesh or the memory meanwhile.
+  template <class Point>
+  double cost(const TriangleMesh& tm, halfedge_descriptor h, const Point& placement, Pricing_scratch& s) const {
     if (!active()) return 0.;
     bool any = false;  // most regions of a large input hold no point: nothing to build then
     for (int side = 0; side < 2 && !any; ++side)
@@ -227,24 +248,24 @@ public:
         }
     if (!any) return 0.;
     star_of_collapse(
-        tm, h, V3(CGAL::to_double(placement.x()), CGAL::to_double(placement.y()), CGAL::to_double(placement.z())));
-    if (tris_.empty()) return 0.;
+        tm, h, V3(CGAL::to_double(placement.x()), CGAL::to_double(placement.y()), CGAL::to_double(placement.z())), s);
+    if (s.tris.empty()) return 0.;
     double sum = 0.;
-    const V3 x = tris_.front().a;
+    const V3 x = s.tris.front().a;
     double gap = std::numeric_limits<double>::infinity();  // from x to the nearest point's disc
-    for (std::size_t j = 0; j < faces_.size(); ++j) {
+    for (std::size_t j = 0; j < s.faces.size(); ++j) {
       // a surviving face's own new triangle is the first guess of its points' nearest one
-      const std::size_t hint = j < removed_ ? 0 : j - removed_;
-      for (std::uint32_t i = head_[std::size_t(faces_[j])]; i != nil; i = items_[i].next) {
+      const std::size_t hint = j < s.removed ? 0 : j - s.removed;
+      for (std::uint32_t i = head_[std::size_t(s.faces[j])]; i != nil; i = items_[i].next) {
         const Item& r = items_[i];
-        const double d = nearest(r.p, hint, floor_sq_).first;
+        const double d = nearest(s.tris, r.p, hint, floor_sq_).first;
         if (d > floor_sq_) sum += r.area * d;
         gap = (std::min)(gap, CM::internal::length(x - r.p) - double(r.radius));
       }
     }
     if (gap > 0. && std::isfinite(gap) && gap_weight_ > 0.) {
       double area = 0.;
-      for (const Tri& t : tris_) area += 0.5 * CM::internal::length(CM::internal::cross(t.b - t.a, t.c - t.a));
+      for (const Tri& t : s.tris) area += 0.5 * CM::internal::length(CM::internal::cross(t.b - t.a, t.c - t.a));
       sum += gap_weight_ * area * gap * gap * (1. / 6.);
     }
     return sum;
@@ -269,23 +290,46 @@ public:
   /// nearest face of its star.
   void after_collapse(const TriangleMesh& tm, vertex_descriptor v) {
     if (moving_.empty()) return;
-    faces_.clear();
-    tris_.clear();
+    std::vector<face_descriptor>& star_faces = star_.faces;
+    std::vector<Tri>& star_tris = star_.tris;
+    star_faces.clear();
+    star_tris.clear();
     const V3 x = point(v);
     for (halfedge_descriptor g : CGAL::halfedges_around_target(v, tm)) {
       if (is_border(g, tm)) continue;
-      faces_.push_back(face(g, tm));
-      tris_.push_back(make_tri(x, point(target(next(g, tm), tm)), point(source(g, tm))));
+      star_faces.push_back(face(g, tm));
+      star_tris.push_back(make_tri(x, point(target(next(g, tm), tm)), point(source(g, tm))));
     }
-    if (faces_.empty()) return;  // cannot happen on a valid collapse; the points are dropped
+    if (star_faces.empty()) return;  // cannot happen on a valid collapse; the points are dropped
+    // a point's first guess: the new triangle of the face it was on (the first for a face the
+    // collapse removed)
+    auto hint_of = [&](face_descriptor from) {
+      const std::size_t k = std::size_t(std::find(star_faces.begin(), star_faces.end(), from) - star_faces.begin());
+      return k == star_faces.size() ? std::size_t(0) : k;
+    };
+    const std::size_t n = moving_.size();
+    if (parallel_pricing_ && n >= parallel_attach_points) {
+      // many points (late in a long run, faces hold dozens): their nearest faces are found on all
+      // cores, then linked in the order of the serial loop below (the same lists)
+      nearest_of_moving_.resize(n);
+      tbb::this_task_arena::isolate([&] {  // (see Edge_collapse_engine's price_ahead())
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+          std::size_t hint = 0;
+          face_descriptor hint_face = GT::null_face();
+          for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            const auto& [i, from] = moving_[k];
+            if (from != hint_face) hint = hint_of(hint_face = from);
+            nearest_of_moving_[k] = std::uint32_t(nearest(star_tris, items_[i].p, hint).second);
+          }
+        });
+      });
+      for (std::size_t k = 0; k < n; ++k) link(moving_[k].first, nearest_of_moving_[k]);
+      return;
+    }
     std::size_t hint = 0;
     face_descriptor hint_face = GT::null_face();
     for (const auto& [i, from] : moving_) {
-      if (from != hint_face) {  // the points come face by face: look the face up once
-        hint_face = from;
-        hint = std::size_t(std::find(faces_.begin(), faces_.end(), from) - faces_.begin());
-        if (hint == faces_.size()) hint = 0;  // a face the collapse removed
-      }
+      if (from != hint_face) hint = hint_of(hint_face = from);  // (the points come face by face)
       attach(i, hint);
     }
   }
@@ -304,15 +348,17 @@ public:
   /// Call after an edge flip, `h` the new edge: the points of its two faces join the nearer one.
   void after_flip(const TriangleMesh& tm, halfedge_descriptor h) {
     moving_.clear();
-    faces_.clear();
-    tris_.clear();
+    std::vector<face_descriptor>& star_faces = star_.faces;
+    std::vector<Tri>& star_tris = star_.tris;
+    star_faces.clear();
+    star_tris.clear();
     for (halfedge_descriptor g : {h, opposite(h, tm)}) {
       if (is_border(g, tm)) continue;
       detach(face(g, tm));
-      faces_.push_back(face(g, tm));
-      tris_.push_back(make_tri(point(source(g, tm)), point(target(g, tm)), point(target(next(g, tm), tm))));
+      star_faces.push_back(face(g, tm));
+      star_tris.push_back(make_tri(point(source(g, tm)), point(target(g, tm)), point(target(next(g, tm), tm))));
     }
-    for (const auto& [i, from] : moving_) attach(i, faces_.size() > 1 && faces_[1] == from ? 1 : 0);
+    for (const auto& [i, from] : moving_) attach(i, star_faces.size() > 1 && star_faces[1] == from ? 1 : 0);
     moving_.clear();
   }
 
@@ -598,6 +644,16 @@ private:
     double radius;
   };
 
+public:
+  /// Scratch space of cost(): the faces a collapse changes and the new star's triangles.
+  class Pricing_scratch {
+    friend class Surface_memory;
+    std::vector<face_descriptor> faces;
+    std::vector<Tri> tris;
+    std::size_t removed = 0;
+  };
+
+private:
   /// Sizes the per-face lists, counts the faces and sets the distance floor; returns the number
   /// of vertices.
   std::size_t set_up(const TriangleMesh& tm) {
@@ -627,9 +683,12 @@ private:
     head = nil;
   }
 
-  /// Attaches point i to the face of faces_ whose triangle in tris_ is nearest (tris_[hint] first).
-  void attach(std::uint32_t i, std::size_t hint) {
-    std::uint32_t& head = head_[std::size_t(faces_[nearest(items_[i].p, hint).second])];
+  /// Attaches point i to the face of star_.faces whose triangle in star_.tris is nearest
+  /// (star_.tris[hint] first).
+  void attach(std::uint32_t i, std::size_t hint) { link(i, nearest(star_.tris, items_[i].p, hint).second); }
+  /// Puts point i at the head of the list of star_.faces[k].
+  void link(std::uint32_t i, std::size_t k) {
+    std::uint32_t& head = head_[std::size_t(star_.faces[k])];
     items_[i].next = head;
     head = i;
   }
@@ -639,20 +698,21 @@ private:
     return Tri{a, b, c, CM::internal::normalized(CM::internal::cross(b - a, c - a)), sphere.centre, sphere.radius};
   }
 
-  /// (squared distance, index) of the triangle of tris_ nearest to q, starting from tris_[hint];
+  /// (squared distance, index) of the triangle of `tris` nearest to q, starting from tris[hint];
   /// a triangle whose plane, or whose bounding sphere, is already farther than the best so far is
   /// skipped (both are lower bounds of the distance: the result is the exact minimum).
   /// With `enough` >= 0 the search ends at the first triangle within sqrt(enough) (cost() counts
   /// any distance below the floor as zero: which such triangle is nearest does not matter there).
-  std::pair<double, std::size_t> nearest(const V3& q, std::size_t hint, double enough = -1.) const {
+  static std::pair<double, std::size_t> nearest(const std::vector<Tri>& tris, const V3& q, std::size_t hint,
+                                                double enough = -1.) {
     auto dist = [&](const Tri& t) {
       return CM::internal::squared_length(q - CM::internal::closest_on_triangle(q, t.a, t.b, t.c));
     };
-    double best = dist(tris_[hint]);
+    double best = dist(tris[hint]);
     std::size_t k_best = hint;
-    for (std::size_t k = 0; k < tris_.size() && best > enough; ++k) {
+    for (std::size_t k = 0; k < tris.size() && best > enough; ++k) {
       if (k == hint) continue;
-      const Tri& t = tris_[k];
+      const Tri& t = tris[k];
       const double plane = CM::internal::dot(q - t.a, t.n);
       if (plane * plane >= best) continue;
       const double out = CM::internal::length(q - t.centre) - t.radius;
@@ -671,31 +731,32 @@ private:
     return V3(CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z()));
   }
 
-  /// faces_: the faces around v0 or v1, the (up to two) faces of the edge first (removed_ of
-  /// them); tris_: the star of the kept vertex at x, tris_[k] replacing faces_[removed_ + k].
-  void star_of_collapse(const TriangleMesh& tm, halfedge_descriptor h, const V3& x) const {
-    faces_.clear();
-    tris_.clear();
+  /// s.faces: the faces around v0 or v1, the (up to two) faces of the edge first (s.removed of
+  /// them); s.tris: the star of the kept vertex at x, s.tris[k] replacing s.faces[s.removed + k].
+  void star_of_collapse(const TriangleMesh& tm, halfedge_descriptor h, const V3& x, Pricing_scratch& s) const {
+    s.faces.clear();
+    s.tris.clear();
     internal::for_each_face_of_collapse(
-        tm, h, [&](face_descriptor f) { faces_.push_back(f); },
+        tm, h, [&](face_descriptor f) { s.faces.push_back(f); },
         [&](face_descriptor f, halfedge_descriptor g) {
-          faces_.push_back(f);
-          tris_.push_back(make_tri(x, point(target(next(g, tm), tm)), point(source(g, tm))));
+          s.faces.push_back(f);
+          s.tris.push_back(make_tri(x, point(target(next(g, tm), tm)), point(source(g, tm))));
         });
-    removed_ = faces_.size() - tris_.size();
+    s.removed = s.faces.size() - s.tris.size();
   }
 
   VertexPointMap vpm_;
   double gap_weight_ = 1.0;
   std::size_t pricing_points_ = 0;
+  bool parallel_pricing_ = true;
+  static constexpr std::size_t parallel_attach_points = 256;  // (see after_collapse())
+  std::vector<std::uint32_t> nearest_of_moving_;              // after_collapse()'s, on all cores
   double floor_sq_ = 0.;
   std::size_t faces_alive_ = 0;
   std::vector<Item> items_;
   std::vector<std::uint32_t> head_;                                // per face: its first point, or nil
   std::vector<std::pair<std::uint32_t, face_descriptor>> moving_;  // detached points and their former face
-  mutable std::vector<face_descriptor> faces_;
-  mutable std::vector<Tri> tris_;
-  mutable std::size_t removed_ = 0;
+  mutable Pricing_scratch star_;  // cost()'s scratch, and after_collapse()'s and after_flip()'s
 };
 
 }  // namespace Textured_simplification

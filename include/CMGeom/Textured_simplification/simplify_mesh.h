@@ -336,6 +336,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     if (options.surface_memory) {
       // (the caps, as shares of the input's)
       Surface_memory_options mo = options.memory;
+      mo.parallel_pricing = false;  // (the cores are busy with the parts)
       for (std::size_t* cap : {&mo.max_points, &mo.pricing_points})
         if (*cap > 0)
           *cap =

@@ -10,6 +10,10 @@
 // own fold-over test, cost updates around the kept vertex only for FastCollapseCostPolicy models,
 // re-costing when a filter moves the placement, the light Collapse_profile. Layout: one 16-byte
 // record per edge, an indexed 8-ary heap updated in place, nothing allocated in the collapse loop.
+// With a memory (Surface_memory.h) the memoryful cost found for an edge is kept until a collapse
+// or a flip changes the faces its own collapse would change (a stamp per vertex), and on two
+// threads or more a pop that needs one prices the next edges of the queue as well, on all cores
+// (price_ahead()): the collapses are the same on any number of cores.
 // Complexity: O(E log E) set-up, O(d log E) per collapse (d = vertex degree).
 //
 // Manual: doc/Textured_simplification/README.md, "The visitor and filter hooks (for the textured part)".
@@ -35,8 +39,15 @@
 
 #include <boost/mpl/has_xxx.hpp>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -132,6 +143,17 @@ struct has_flip_check<
                 decltype(std::declval<const F&>().flipped(std::declval<const TM&>(), std::declval<H>()))>>
     : std::true_type {};
 
+// The scratch space of a memory's cost() (Surface_memory::Pricing_scratch), for pricing on
+// several threads at once; none without a memory.
+template <class M, class = void>
+struct Pricing_scratch_of {
+  struct type {};
+};
+template <class M>
+struct Pricing_scratch_of<M*, std::void_t<typename M::Pricing_scratch>> {
+  using type = typename M::Pricing_scratch;
+};
+
 template <class V, class TM, class H, class = void>
 struct has_on_flipped : std::false_type {};
 template <class V, class TM, class H>
@@ -174,6 +196,13 @@ public:
         eim_(CGAL::get_initialized_edge_index_map(tm)) {
     if constexpr (fused_cost) fused_ = get_cost_.shares_state_with(get_placement_);
     if constexpr (edge_index_is_position) prune_min_faces_ = prune_min_faces;
+    if constexpr (has_memory) {
+      // (on the threads the arena has and the global limit allows)
+      const std::size_t threads =
+          (std::min)(std::size_t(tbb::this_task_arena::max_concurrency()),
+                     tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+      if (memory_ && memory_->parallel_pricing() && threads > 1) price_ahead_ = price_ahead_edges;
+    }
   }
 
   int run() {
@@ -252,7 +281,10 @@ private:
   /// when it was last popped no longer holds.
   void forget_memory_cost(std::uint32_t i) {
     if constexpr (has_memory) {
-      if (memory_) memory_cost_[i] = 0.f;
+      if (memory_) {
+        memory_cost_[i] = 0.;
+        priced_at_[i] = 0;
+      }
     } else {
       (void)i;
     }
@@ -268,7 +300,7 @@ private:
       if constexpr (has_memory) {
         // the memoryful cost last found for this edge stands in for the current one until the
         // edge comes up again (see loop())
-        if (memory_ && memory_->active()) cost = (std::max)(cost, double(memory_cost_[i]));
+        if (memory_ && memory_->active()) cost = (std::max)(cost, memory_cost_[i]);
       }
       if (!heap_.contains(i) || cost != heap_.key(i)) heap_.set(i, cost);
     } else {
@@ -289,7 +321,12 @@ private:
     mark_.assign(max_v, 0u);
     rejected_near_.assign((max_v + 63) / 64, 0u);
     heap_.reset(max_e);
-    if constexpr (has_memory) memory_cost_.assign(memory_ ? max_e : 0, 0.f);
+    if constexpr (has_memory) {
+      memory_cost_.assign(memory_ ? max_e : 0, 0.);
+      priced_at_.assign(memory_ ? max_e : 0, 0u);
+      changed_at_.assign(memory_ ? max_v : 0, 0u);
+      change_count_ = 1;
+    }
     initial_edges_ = 0;
     for (edge_descriptor e : edges(tm_)) {
       const std::uint32_t i = id(e);
@@ -469,8 +506,20 @@ private:
           pl = get_placement_(p);
           have_placement = true;
           if (pl) {
-            const double m = memory_->cost(tm_, p.v0_v1(), *pl);
-            memory_cost_[i] = float(m);
+            // (a cost found at an earlier pop stands while nothing around the edge has changed:
+            // the queue brings an edge the cost sent back up again once the edges before it are
+            // done, most often with its surroundings as they were)
+            const bool active = memory_->active();
+            bool fresh = active && priced_since_change(i, p.v0(), p.v1());
+            if (active && !fresh && price_ahead_ > 0) {
+              if (price_ahead_skip_ > 0)
+                --price_ahead_skip_;
+              else
+                fresh = price_ahead(i, p.v0_v1(), *pl);
+            }
+            const double m = fresh ? memory_cost_[i] : memory_->cost(tm_, p.v0_v1(), *pl);
+            memory_cost_[i] = m;
+            if (active) priced_at_[i] = change_count_;
             if (m > heap_.key(i) && !heap_.empty() && m > heap_.key(heap_.top())) {
               requeue(i, Cost(FT(m)));
               continue;
@@ -613,7 +662,70 @@ private:
       after_collapse(p, v_kept, token);
     }
     update_neighbours(v_kept, std::integral_constant<bool, endpoint_cost<GetCost>::value>());
+    if constexpr (has_memory) {
+      if (memory_) {  // (the faces around v_kept and the points on them have changed)
+        changed_at_[std::size_t(get(vim_, v_kept))] = ++change_count_;
+        for (halfedge_descriptor g : CGAL::halfedges_around_target(v_kept, tm_))
+          changed_at_[std::size_t(get(vim_, source(g, tm_)))] = change_count_;
+      }
+    }
     if (flips_) flip_around(v_kept);
+  }
+
+  /// Whether the memoryful cost of edge i (ends a and b) in memory_cost_ still holds: it was found
+  /// after the last change of the faces around a and around b (the faces its collapse changes)
+  /// and of their points. A collapse changes the faces around the kept vertex, i.e. the stars of
+  /// that vertex and of its neighbours; a flip, the stars of the four corners of its quad.
+  bool priced_since_change(std::uint32_t i, vertex_descriptor a, vertex_descriptor b) const {
+    const std::uint32_t t = priced_at_[i];
+    return t != 0 && t >= changed_at_[std::size_t(get(vim_, a))] && t >= changed_at_[std::size_t(get(vim_, b))];
+  }
+
+  /// On two cores or more: the memoryful costs of popped edge i (halfedge h, placement pl) and of
+  /// the edges the queue gives next (those whose cost does not stand) are found at once, on all
+  /// cores. Each stands until something around its edge changes (priced_since_change()), and a
+  /// pop takes it as if found then: the result is the same on any number of cores. Returns
+  /// whether edge i was priced.
+  bool price_ahead(std::uint32_t i, halfedge_descriptor h, const Point& pl) {
+    jobs_.clear();
+    jobs_.push_back(Pricing_job{i, h, pl, 0.});
+    heap_.for_each_first(price_ahead_ - 1, [&](std::uint32_t j) {
+      if (flags(j) & (DEAD | CONSTRAINED)) return;
+      const halfedge_descriptor hj = halfedge(edge_at(j), tm_);
+      if (priced_since_change(j, source(hj, tm_), target(hj, tm_))) return;
+      const Profile pj = profile_of(edge_at(j));
+      const Placement plj = get_placement_(pj);
+      if (plj) jobs_.push_back(Pricing_job{j, pj.v0_v1(), *plj, 0.});
+    });
+    if (jobs_.size() < 2) return false;  // (the pop prices its edge itself)
+    // (isolated: while it waits for the other cores, this thread must not take up unrelated work,
+    // such as the atlas preparation simplify_textured_mesh() runs beside the collapses)
+    const int caller = tbb::this_task_arena::current_thread_index();
+    std::atomic<bool> helped{false};
+    tbb::this_task_arena::isolate([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, jobs_.size()),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          if (tbb::this_task_arena::current_thread_index() != caller)
+                            helped.store(true, std::memory_order_relaxed);
+                          Pricing_scratch& scratch = scratch_.local();
+                          for (std::size_t k = r.begin(); k != r.end(); ++k)
+                            jobs_[k].cost = memory_->cost(tm_, jobs_[k].h, jobs_[k].placement, scratch);
+                        });
+    });
+    // no other core took part (they are busy elsewhere): the edges priced ahead are work this
+    // thread would mostly not have done, so the next pops price their own edge, for twice as
+    // many pops each time this repeats (the collapses are the same either way)
+    if (helped.load(std::memory_order_relaxed)) {
+      price_ahead_backoff_ = 1;
+    } else {
+      price_ahead_skip_ = price_ahead_backoff_;
+      price_ahead_backoff_ = (std::min)(2 * price_ahead_backoff_, std::size_t(4096));
+    }
+    for (const Pricing_job& job : jobs_) {
+      memory_cost_[job.id] = job.cost;
+      priced_at_[job.id] = change_count_;
+    }
+    return true;
   }
 
   void update_neighbours(vertex_descriptor v, std::true_type) {
@@ -699,7 +811,15 @@ private:
       CGAL::Euler::flip_edge(h, tm_);
       if constexpr (has_flip_check<Filter, TM, halfedge_descriptor>::value) filter_.flipped(tm_, h);
       if constexpr (has_memory) {
-        if (memory_) memory_->after_flip(tm_, h);
+        if (memory_) {
+          memory_->after_flip(tm_, h);
+          // (the two faces of the quad and their points changed)
+          ++change_count_;
+          for (halfedge_descriptor g : {h, opposite(h, tm_)}) {
+            changed_at_[std::size_t(get(vim_, target(g, tm_)))] = change_count_;
+            if (!is_border(g, tm_)) changed_at_[std::size_t(get(vim_, target(next(g, tm_), tm_)))] = change_count_;
+          }
+        }
       }
       if constexpr (has_on_flipped<Visitor, TM, halfedge_descriptor>::value) visitor_.OnFlipped(tm_, h);
       // the flipped edge has new endpoints; rim edges are re-evaluated for policies whose cost
@@ -740,7 +860,24 @@ private:
   std::vector<edge_descriptor> edge_of_;
   std::vector<unsigned> mark_;
   std::vector<std::uint64_t> rejected_near_;  // one bit per vertex, see reject()
-  std::vector<float> memory_cost_;            // per edge: its memoryful cost when last popped
+  std::vector<double> memory_cost_;           // per edge: its memoryful cost when last found
+  // when the faces a collapse changes last changed (per vertex, see priced_since_change()) and
+  // when an edge was last priced (0: not since its cost was last forgotten), in changes so far
+  std::vector<std::uint32_t> changed_at_, priced_at_;
+  std::uint32_t change_count_ = 1;
+  // pricing ahead on several cores (price_ahead()): edges priced per batch (0: none)
+  static constexpr std::size_t price_ahead_edges = 16;
+  std::size_t price_ahead_ = 0;
+  std::size_t price_ahead_skip_ = 0, price_ahead_backoff_ = 1;  // pops left without, and the next such run
+  using Pricing_scratch = typename Pricing_scratch_of<Memory>::type;
+  struct Pricing_job {
+    std::uint32_t id;
+    halfedge_descriptor h;
+    Point placement;
+    double cost;
+  };
+  std::vector<Pricing_job> jobs_;
+  tbb::enumerable_thread_specific<Pricing_scratch> scratch_;
   unsigned stamp_ = 0;
   Indexed_heap heap_;
   std::size_t initial_edges_ = 0, current_edges_ = 0;

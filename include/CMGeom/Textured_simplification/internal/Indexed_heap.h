@@ -16,6 +16,7 @@
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_INDEXED_HEAP_H
 #define CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_INDEXED_HEAP_H
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -108,6 +109,32 @@ public:
       slot_[base_[p].id].pos = p;
       sift_down(p);
       sift_up(p);
+    }
+  }
+
+  /// Calls f(id) for the (at most) k queued ids that pop() would give first, in that order,
+  /// leaving the heap as it is: a best-first walk down from the root (k <= max_first).
+  static constexpr std::size_t max_first = 32;
+  template <class F>
+  void for_each_first(std::size_t k, F&& f) const {
+    if (k > max_first) k = max_first;
+    // the positions whose parent was given, ordered by their node (a heap of candidates: each
+    // node given adds its up to eight children, so 1 + 7k entries suffice)
+    std::uint32_t open[1 + 7 * max_first];
+    std::size_t n = 0;
+    auto later = [this](std::uint32_t a, std::uint32_t b) {
+      return less(base_[b].key, base_[b].id, base_[a].key, base_[a].id);
+    };
+    if (size_ > 0) open[n++] = 0;
+    for (std::size_t given = 0; given < k && n > 0; ++given) {
+      std::pop_heap(open, open + n, later);
+      const std::uint32_t p = open[--n];
+      f(base_[p].id);
+      const std::size_t first = arity * std::size_t(p) + 1;
+      for (std::size_t c = first; c < first + arity && c < size_; ++c) {
+        open[n++] = static_cast<std::uint32_t>(c);
+        std::push_heap(open, open + n, later);
+      }
     }
   }
 
