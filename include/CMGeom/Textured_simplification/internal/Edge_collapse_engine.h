@@ -40,7 +40,6 @@
 #include <boost/mpl/has_xxx.hpp>
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -701,16 +700,17 @@ private:
     // (isolated: while it waits for the other cores, this thread must not take up unrelated work,
     // such as the atlas preparation simplify_textured_mesh() runs beside the collapses)
     const int caller = tbb::this_task_arena::current_thread_index();
+    const std::size_t slots = std::size_t(tbb::this_task_arena::max_concurrency());
+    if (scratch_.size() < slots) scratch_.resize(slots);  // (one per thread slot of the arena)
     std::atomic<bool> helped{false};
     tbb::this_task_arena::isolate([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, jobs_.size()),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          if (tbb::this_task_arena::current_thread_index() != caller)
-                            helped.store(true, std::memory_order_relaxed);
-                          Pricing_scratch& scratch = scratch_.local();
-                          for (std::size_t k = r.begin(); k != r.end(); ++k)
-                            jobs_[k].cost = memory_->cost(tm_, jobs_[k].h, jobs_[k].placement, scratch);
-                        });
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, jobs_.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+            if (tbb::this_task_arena::current_thread_index() != caller) helped.store(true, std::memory_order_relaxed);
+            Pricing_scratch& scratch = scratch_[std::size_t(tbb::this_task_arena::current_thread_index())];
+            for (std::size_t k = r.begin(); k != r.end(); ++k)
+              jobs_[k].cost = memory_->cost(tm_, jobs_[k].h, jobs_[k].placement, scratch);
+          });
     });
     // no other core took part (they are busy elsewhere): the edges priced ahead are work this
     // thread would mostly not have done, so the next pops price their own edge, for twice as
@@ -877,7 +877,7 @@ private:
     double cost;
   };
   std::vector<Pricing_job> jobs_;
-  tbb::enumerable_thread_specific<Pricing_scratch> scratch_;
+  std::vector<Pricing_scratch> scratch_;  // by thread slot of the arena
   unsigned stamp_ = 0;
   Indexed_heap heap_;
   std::size_t initial_edges_ = 0, current_edges_ = 0;
