@@ -131,4 +131,80 @@ TEST(TexturedSimplification, GeneratedTextureDilatesRingByRing) {
   EXPECT_TRUE(out == expected);
 }
 
+// internal::dilate_into_image's distances (a separable chessboard distance transform, on all
+// cores) and rings, against rings grown by rescanning the whole image: random sparse coverage
+// (columns and rows with none, one covered texel, a single row or column, nothing covered), each
+// texel's distance checked against the brute-force minimum and the image against the reference.
+TEST(TexturedSimplification, GutterDistancesAndRingsMatchABruteForceReference) {
+  std::mt19937 rng(2026);
+  struct Case {
+    int W, H;
+    double density;
+  };
+  for (const Case& k : {Case{301, 187, 0.0015}, Case{64, 400, 0.0005}, Case{517, 3, 0.01}, Case{1, 90, 0.05},
+                        Case{90, 1, 0.05}, Case{40, 30, 0.0}, Case{200, 150, -1.0}}) {
+    const int W = k.W, H = k.H, C = 3;
+    const std::size_t n = std::size_t(W) * H;
+    std::vector<std::uint32_t> dist(n, 0xffffffffu);
+    std::vector<float> acc(n * C, 0.f);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::size_t covered = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (u(rng) < k.density) dist[i] = 0;
+    if (k.density < 0) dist[std::size_t(H / 2) * W + std::size_t(W / 3)] = 0;  // one texel
+    for (std::size_t i = 0; i < n; ++i)
+      if (dist[i] == 0) {
+        ++covered;
+        for (int c = 0; c < C; ++c) acc[i * C + c] = float(u(rng));
+      }
+    // brute force: chessboard distance to the nearest covered texel
+    std::vector<std::uint32_t> expected_dist(n, 0xffffffffu);
+    std::vector<std::pair<int, int>> seeds;
+    for (std::size_t i = 0; i < n; ++i)
+      if (dist[i] == 0) seeds.emplace_back(int(i % std::size_t(W)), int(i / std::size_t(W)));
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        for (const auto& [qx, qy] : seeds) {
+          const std::uint32_t d = std::uint32_t((std::max)(std::abs(qx - x), std::abs(qy - y)));
+          std::uint32_t& e = expected_dist[std::size_t(y) * W + x];
+          e = (std::min)(e, d);
+        }
+    // reference rings
+    std::vector<float> ref = acc;
+    std::vector<int> filled(n, 0);
+    for (std::size_t i = 0; i < n; ++i) filled[i] = dist[i] == 0;
+    for (bool grew = true; grew;) {
+      grew = false;
+      std::vector<int> next = filled;
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+          const std::size_t i = std::size_t(y) * W + x;
+          if (filled[i]) continue;
+          float sum[3] = {0, 0, 0};
+          int cnt = 0;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int qx = x + dx, qy = y + dy;
+              if (qx < 0 || qy < 0 || qx >= W || qy >= H || !filled[std::size_t(qy) * W + qx]) continue;
+              for (int c = 0; c < C; ++c) sum[c] += ref[(std::size_t(qy) * W + qx) * C + c];
+              ++cnt;
+            }
+          if (cnt == 0) continue;
+          for (int c = 0; c < C; ++c) ref[i * C + c] = sum[c] / float(cnt);
+          next[i] = 1;
+          grew = true;
+        }
+      filled.swap(next);
+    }
+    CMGeom::Image expected(W, H, C, CMGeom::Image::Format::UInt8);
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        for (int c = 0; c < C; ++c) expected.set_value(x, H - 1 - y, c, ref[(std::size_t(y) * W + x) * C + c]);
+    const CMGeom::Image out = TS::internal::dilate_into_image(W, H, C, dist, acc);
+    SCOPED_TRACE(std::to_string(W) + " x " + std::to_string(H) + ", " + std::to_string(covered) + " covered");
+    EXPECT_TRUE(dist == expected_dist);
+    EXPECT_TRUE(out == expected);
+  }
+}
+
 }  // namespace

@@ -704,41 +704,111 @@ inline Image dilate_into_image(int W, int H, int C, std::vector<std::uint32_t>& 
   Image out(W, H, C, Image::Format::UInt8);
   const std::size_t n = std::size_t(W) * std::size_t(H);
   constexpr std::uint32_t far = 0xffffffffu;
-  // The distances come from a two-pass distance transform, the rings from a counting sort by
+  // The distances come from an exact separable chessboard distance transform (Meijster, Roerdink
+  // and Hesselink, "A general algorithm for computing distance transforms in linear time", 2000):
+  // the distance along each column, then along each row the lower envelope of
+  // max(|x - i|, g(i)); both passes run on all cores. The rings come from a counting sort by
   // distance; a ring only reads inner rings, so the order within a ring does not matter.
-  auto relax = [&](std::size_t i, int qx, int qy) {
-    if (qx < 0 || qy < 0 || qx >= W || qy >= H) return;
-    const std::uint32_t dq = dist[std::size_t(qy) * W + qx];
-    if (dq != far && dq + 1 < dist[i]) dist[i] = dq + 1;
-  };
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      const std::size_t i = std::size_t(y) * W + x;
-      relax(i, x - 1, y);
-      relax(i, x - 1, y - 1);
-      relax(i, x, y - 1);
-      relax(i, x + 1, y - 1);
+  const std::uint32_t inf = std::uint32_t(W) + std::uint32_t(H);  // above every finite distance
+  constexpr int column_block = 256, row_block = 16;
+  // columns: in place (0 stays 0 on the covered texels), a block of columns swept down then up
+  tbb::parallel_for(tbb::blocked_range<int>(0, (W + column_block - 1) / column_block, 1),
+                    [&](const tbb::blocked_range<int>& r) {
+                      const int x0 = r.begin() * column_block, x1 = (std::min)(W, r.end() * column_block);
+                      for (int x = x0; x < x1; ++x) dist[std::size_t(x)] = dist[std::size_t(x)] == 0 ? 0 : inf;
+                      for (int y = 1; y < H; ++y) {
+                        std::uint32_t* row = &dist[std::size_t(y) * W];
+                        const std::uint32_t* below = row - W;
+                        for (int x = x0; x < x1; ++x) row[x] = row[x] == 0 ? 0 : (below[x] == inf ? inf : below[x] + 1);
+                      }
+                      for (int y = H - 2; y >= 0; --y) {
+                        std::uint32_t* row = &dist[std::size_t(y) * W];
+                        const std::uint32_t* above = row + W;
+                        for (int x = x0; x < x1; ++x)
+                          if (above[x] != inf && above[x] + 1 < row[x]) row[x] = above[x] + 1;
+                      }
+                    });
+  // rows: each row's distances from its columns' (g), through the lower envelope of the
+  // functions x -> max(|x - i|, g(i)); the largest distance and the ring sizes counted per block
+  const int row_blocks = (H + row_block - 1) / row_block;
+  std::vector<std::uint32_t> block_max(std::size_t(row_blocks), 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, row_blocks, 1), [&](const tbb::blocked_range<int>& r) {
+    const std::size_t w = std::size_t(W);
+    std::vector<std::int64_t> g(w), s(w), t(w);
+    for (int b = r.begin(); b < r.end(); ++b) {
+      std::uint32_t m = 0;
+      for (int y = b * row_block; y < (std::min)(H, (b + 1) * row_block); ++y) {
+        std::uint32_t* row = &dist[std::size_t(y) * W];
+        for (int x = 0; x < W; ++x) g[std::size_t(x)] = row[x];
+        auto f = [&](std::int64_t x, std::int64_t i) { return (std::max)(x > i ? x - i : i - x, g[std::size_t(i)]); };
+        auto sep = [&](std::int64_t i, std::int64_t u) {
+          const std::int64_t gi = g[std::size_t(i)], gu = g[std::size_t(u)];
+          return gi <= gu ? (std::max)(i + gu, (i + u) / 2) : (std::min)(u - gi, (i + u) / 2);
+        };
+        std::int64_t q = 0;
+        s[0] = 0;
+        t[0] = 0;
+        for (std::int64_t u = 1; u < W; ++u) {
+          while (q >= 0 && f(t[std::size_t(q)], s[std::size_t(q)]) > f(t[std::size_t(q)], u)) --q;
+          if (q < 0) {
+            q = 0;
+            s[0] = u;
+          } else {
+            const std::int64_t w = 1 + sep(s[std::size_t(q)], u);
+            if (w < W) {
+              ++q;
+              s[std::size_t(q)] = u;
+              t[std::size_t(q)] = w;
+            }
+          }
+        }
+        for (std::int64_t u = W - 1; u >= 0; --u) {
+          const std::int64_t d = f(u, s[std::size_t(q)]);
+          row[u] = d >= std::int64_t(inf) ? far : std::uint32_t(d);
+          if (row[u] != far) m = (std::max)(m, row[u]);
+          if (u == t[std::size_t(q)]) --q;
+        }
+      }
+      block_max[std::size_t(b)] = m;
     }
+  });
   std::uint32_t max_d = 0;
-  for (int y = H - 1; y >= 0; --y)
-    for (int x = W - 1; x >= 0; --x) {
-      const std::size_t i = std::size_t(y) * W + x;
-      relax(i, x + 1, y);
-      relax(i, x + 1, y + 1);
-      relax(i, x, y + 1);
-      relax(i, x - 1, y + 1);
-      if (dist[i] != far) max_d = (std::max)(max_d, dist[i]);
+  for (std::uint32_t m : block_max) max_d = (std::max)(max_d, m);
+  // the rings: each block of rows counts its texels per distance, then writes them at its offsets
+  const std::size_t rings = std::size_t(max_d) + 2;
+  std::vector<std::size_t> count(std::size_t(row_blocks) * rings, 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, row_blocks, 1), [&](const tbb::blocked_range<int>& r) {
+    for (int b = r.begin(); b < r.end(); ++b) {
+      std::size_t* c = &count[std::size_t(b) * rings];
+      const std::size_t i1 = std::size_t((std::min)(H, (b + 1) * row_block)) * W;
+      for (std::size_t i = std::size_t(b) * row_block * W; i < i1; ++i)
+        if (dist[i] != far && dist[i] > 0) ++c[dist[i]];
     }
-  std::vector<std::size_t> ring_start(std::size_t(max_d) + 2, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (dist[i] != far && dist[i] > 0) ++ring_start[dist[i] + 1];
-  for (std::size_t d = 1; d < ring_start.size(); ++d) ring_start[d] += ring_start[d - 1];
-  std::vector<std::uint32_t> by_ring = CMGeom::internal::filled_on_huge_pages(ring_start.back(), 0u);
+  });
+  // ring_start[d]: where ring d starts in by_ring; count[b * rings + d] becomes block b's start in it
+  std::vector<std::size_t> ring_start(rings + 1, 0);
   {
-    std::vector<std::size_t> fill = ring_start;
-    for (std::size_t i = 0; i < n; ++i)
-      if (dist[i] != far && dist[i] > 0) by_ring[fill[dist[i]]++] = std::uint32_t(i);
+    std::size_t at = 0;
+    for (std::size_t d = 1; d < rings; ++d) {
+      ring_start[d] = at;
+      for (int b = 0; b < row_blocks; ++b) {
+        const std::size_t c = count[std::size_t(b) * rings + d];
+        count[std::size_t(b) * rings + d] = at;
+        at += c;
+      }
+    }
+    ring_start[0] = 0;
+    ring_start[rings] = at;
   }
+  std::vector<std::uint32_t> by_ring = CMGeom::internal::filled_on_huge_pages(ring_start[rings], 0u);
+  tbb::parallel_for(tbb::blocked_range<int>(0, row_blocks, 1), [&](const tbb::blocked_range<int>& r) {
+    for (int b = r.begin(); b < r.end(); ++b) {
+      std::size_t* fill = &count[std::size_t(b) * rings];
+      const std::size_t i1 = std::size_t((std::min)(H, (b + 1) * row_block)) * W;
+      for (std::size_t i = std::size_t(b) * row_block * W; i < i1; ++i)
+        if (dist[i] != far && dist[i] > 0) by_ring[fill[dist[i]]++] = std::uint32_t(i);
+    }
+  });
   auto dilate = [&](std::uint32_t d, std::size_t r) {
     const std::size_t j = by_ring[r];
     const int x = int(j % std::size_t(W)), y = int(j / std::size_t(W));

@@ -559,7 +559,8 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   std::vector<float> normal_acc;
   if (any_normal) CMGeom::internal::assign_on_huge_pages(normal_acc, n * 3, 0.f);
   std::vector<std::size_t> baked_per_face(nf, 0), fixed_per_face(nf, 0), painted_per_face(nf, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8), [&](const tbb::blocked_range<std::size_t>& range) {
+  // (a face at a time: the coarsest levels have few faces of many texels each)
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t fi = range.begin(); fi < range.end(); ++fi) {
       const auto& P = corner_point[fi];
       const auto& T = face_uv[fi];
