@@ -130,42 +130,6 @@ TEST(SurfaceMemory, EveryPointStaysOnALiveFaceThroughASimplification) {
   EXPECT_LE(m.number_of_faces(), std::size_t(293));
 }
 
-TEST(SurfaceMemory, PricingAheadOnSeveralThreadsGivesTheSameCollapses) {
-  // On two threads or more the engine prices the edges the queue gives next at once and keeps
-  // each cost until something around its edge changes; the collapses must be those of one thread
-  // pricing each edge as it pops. Down to 300 faces the late collapses move hundreds of points
-  // each (after_collapse() then finds their faces on all cores too); with flips, flips change
-  // faces as well.
-  const Mesh input = cmgeom_test::rippled_torus(240, 96, 0.35, 0.35 * 0.15, 5, 3);  // 46,080 faces
-  for (bool flips : {false, true}) {
-    Mesh out[3];
-    for (int k = 0; k < 3; ++k) {
-      tbb::task_arena arena(k == 0 ? 1 : 2);  // (two threads even on one core)
-      arena.execute([&] {
-        Mesh& m = out[k] = input;
-        CMGeom::Textured_simplification::Surface_memory_options mo;
-        mo.parallel_pricing = k != 2;  // the last run prices on one thread in a two-thread arena
-        Memory memory(m, get(CGAL::vertex_point, m), mo);
-        TS::Area_weighted_quadric_policies<Mesh> policy(m, TS::Quadric_options{false});
-        TS::Face_count_stop_predicate<Mesh> stop(m, 300);
-        TS::edge_collapse(m, stop,
-                          CMGeom::parameters::surface_memory(
-                              &memory, CMGeom::parameters::edge_flips(
-                                           flips, CGAL::parameters::get_cost(policy).get_placement(policy))));
-        m.collect_garbage();
-      });
-    }
-    ASSERT_LE(out[0].number_of_faces(), 300u);
-    for (int k = 1; k < 3; ++k) {
-      ASSERT_EQ(out[k].number_of_faces(), out[0].number_of_faces()) << "flips " << flips << ", run " << k;
-      for (auto v : out[0].vertices())
-        ASSERT_EQ(out[k].point(v), out[0].point(v)) << "flips " << flips << ", run " << k;
-      for (auto f : out[0].faces())
-        ASSERT_EQ(out[k].halfedge(f), out[0].halfedge(f)) << "flips " << flips << ", run " << k;
-    }
-  }
-}
-
 TEST(SurfaceMemory, LargeInputsKeepAtMostTheRequestedNumberOfPoints) {
   const std::string path = std::string(CMGEOM_DATA_DIR) + "/textured/DamagedHelmet/DamagedHelmet.obj";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;

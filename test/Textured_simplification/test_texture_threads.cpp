@@ -1,8 +1,10 @@
 // The texture work of Textured_simplification runs on several threads (TBB): index texture
-// set-up, resampling of collapses covering many texels, output texture generation and dilation.
-// These tests check that the results are bit-identical whatever the number of threads. They are a
+// set-up, resampling of collapses covering many texels, output texture generation and dilation;
+// so does the engine's memoryful cost (edges priced ahead, the faces of moving points found on all
+// cores). These tests check that the results are bit-identical whatever the number of threads. They are a
 // program of their own, small enough to be built and run under ThreadSanitizer in CI
 // (scripts/test.sh), on a synthetic model so that they never depend on the shared data.
+#include "cmgeom_test_surface_meshes.h"
 #include "cmgeom_test_textured_grid.h"
 
 #include <CMGeom/Textured_simplification.h>
@@ -168,6 +170,44 @@ TEST(TextureThreads, SimplifyMeshInPartsDoesNotDependOnTheThreads) {
     ASSERT_EQ(one.number_of_vertices(), other->number_of_vertices());
     for (auto v : one.vertices()) EXPECT_EQ(one.point(v), other->point(v));
     for (auto h : one.halfedges()) EXPECT_EQ(one.target(h), other->target(h));
+  }
+}
+
+TEST(TextureThreads, PricingAheadOnSeveralThreadsGivesTheSameCollapses) {
+  // On two threads or more the engine prices the edges the queue gives next at once and keeps
+  // each cost until something around its edge changes; the collapses must be those of one thread
+  // pricing each edge as it pops. Down to 300 faces the late collapses move hundreds of points
+  // each (after_collapse() then finds their faces on all cores too); with flips, flips change
+  // faces as well.
+  using Mesh = CMGeom::Surface_mesh;
+  using Memory = TS::Surface_memory<Mesh, boost::property_map<Mesh, CGAL::vertex_point_t>::type>;
+  const Mesh input = cmgeom_test::rippled_torus(240, 96, 0.35, 0.35 * 0.15, 5, 3);  // 46,080 faces
+  for (bool flips : {false, true}) {
+    Mesh out[3];
+    for (int k = 0; k < 3; ++k) {
+      tbb::task_arena arena(k == 0 ? 1 : 2);  // (two threads even on one core)
+      arena.execute([&] {
+        Mesh& m = out[k] = input;
+        TS::Surface_memory_options mo;
+        mo.parallel_pricing = k != 2;  // the last run prices on one thread in a two-thread arena
+        Memory memory(m, get(CGAL::vertex_point, m), mo);
+        TS::Area_weighted_quadric_policies<Mesh> policy(m, TS::Quadric_options{false});
+        TS::Face_count_stop_predicate<Mesh> stop(m, 300);
+        TS::edge_collapse(m, stop,
+                          CMGeom::parameters::surface_memory(
+                              &memory, CMGeom::parameters::edge_flips(
+                                           flips, CGAL::parameters::get_cost(policy).get_placement(policy))));
+        m.collect_garbage();
+      });
+    }
+    ASSERT_LE(out[0].number_of_faces(), 300u);
+    for (int k = 1; k < 3; ++k) {
+      ASSERT_EQ(out[k].number_of_faces(), out[0].number_of_faces()) << "flips " << flips << ", run " << k;
+      for (auto v : out[0].vertices())
+        ASSERT_EQ(out[k].point(v), out[0].point(v)) << "flips " << flips << ", run " << k;
+      for (auto f : out[0].faces())
+        ASSERT_EQ(out[k].halfedge(f), out[0].halfedge(f)) << "flips " << flips << ", run " << k;
+    }
   }
 }
 
