@@ -58,6 +58,37 @@ TEST(TexturedSimplification, RasterizerCoversExactlyTheTexelsWhoseCentrePassesTh
   EXPECT_GT(drawn, 10000u);
 }
 
+// The reference gutter fill: rings grown by rescanning the whole W x H image (C channels in `acc`,
+// rows upwards) until none grows; each texel not in `filled` gets the mean of its 8-neighbours filled
+// by an earlier ring. Returns the number of scans.
+int grow_rings_by_rescanning(int W, int H, int C, std::vector<int>& filled, std::vector<float>& acc) {
+  int rings = 0;
+  for (bool grew = true; grew; ++rings) {
+    grew = false;
+    std::vector<int> next = filled;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const std::size_t i = std::size_t(y) * W + x;
+        if (filled[i]) continue;
+        float sum[4] = {0, 0, 0, 0};
+        int cnt = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = x + dx, qy = y + dy;
+            if (qx < 0 || qy < 0 || qx >= W || qy >= H || !filled[std::size_t(qy) * W + qx]) continue;
+            for (int c = 0; c < C; ++c) sum[c] += acc[(std::size_t(qy) * W + qx) * C + c];
+            ++cnt;
+          }
+        if (cnt == 0) continue;
+        for (int c = 0; c < C; ++c) acc[i * C + c] = sum[c] / float(cnt);
+        next[i] = 1;
+        grew = true;
+      }
+    filled.swap(next);
+  }
+  return rings;
+}
+
 // generate_texture: covered texels hold the original looked up through the index texture, and
 // the gutters are filled ring by ring, each texel with the mean of its 8-neighbours filled by an
 // earlier ring. The reference grows the rings by scanning the whole image once per ring.
@@ -97,30 +128,7 @@ TEST(TexturedSimplification, GeneratedTextureDilatesRingByRing) {
   }
   ASSERT_GT(covered, 4u);
   ASSERT_LT(covered, std::size_t(W) * H / 4);
-  int rings = 0;
-  for (bool grew = true; grew; ++rings) {
-    grew = false;
-    std::vector<int> next = filled;
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        const std::size_t i = std::size_t(y) * W + x;
-        if (filled[i]) continue;
-        float s[3] = {0, 0, 0};
-        int cnt = 0;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int qx = x + dx, qy = y + dy;
-            if (qx < 0 || qy < 0 || qx >= W || qy >= H || !filled[std::size_t(qy) * W + qx]) continue;
-            for (int c = 0; c < 3; ++c) s[c] += acc[(std::size_t(qy) * W + qx) * 3 + c];
-            ++cnt;
-          }
-        if (cnt == 0) continue;
-        for (int c = 0; c < 3; ++c) acc[i * 3 + c] = s[c] / float(cnt);
-        next[i] = 1;
-        grew = true;
-      }
-    filled.swap(next);
-  }
+  const int rings = grow_rings_by_rescanning(W, H, 3, filled, acc);
   EXPECT_GT(rings, 5);
   CMGeom::Image expected(W, H, 3);
   for (int y = 0; y < H; ++y)
@@ -169,33 +177,11 @@ TEST(TexturedSimplification, GutterDistancesAndRingsMatchABruteForceReference) {
           std::uint32_t& e = expected_dist[std::size_t(y) * W + x];
           e = (std::min)(e, d);
         }
-    // reference rings
+    // reference rings (scans until none grows)
     std::vector<float> ref = acc;
     std::vector<int> filled(n, 0);
     for (std::size_t i = 0; i < n; ++i) filled[i] = dist[i] == 0;
-    for (bool grew = true; grew;) {
-      grew = false;
-      std::vector<int> next = filled;
-      for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-          const std::size_t i = std::size_t(y) * W + x;
-          if (filled[i]) continue;
-          float sum[3] = {0, 0, 0};
-          int cnt = 0;
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int qx = x + dx, qy = y + dy;
-              if (qx < 0 || qy < 0 || qx >= W || qy >= H || !filled[std::size_t(qy) * W + qx]) continue;
-              for (int c = 0; c < C; ++c) sum[c] += ref[(std::size_t(qy) * W + qx) * C + c];
-              ++cnt;
-            }
-          if (cnt == 0) continue;
-          for (int c = 0; c < C; ++c) ref[i * C + c] = sum[c] / float(cnt);
-          next[i] = 1;
-          grew = true;
-        }
-      filled.swap(next);
-    }
+    grow_rings_by_rescanning(W, H, C, filled, ref);
     CMGeom::Image expected(W, H, C, CMGeom::Image::Format::UInt8);
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x)
