@@ -702,7 +702,6 @@ namespace internal {
 /// number of threads.
 inline Image dilate_into_image(int W, int H, int C, std::vector<std::uint32_t>& dist, std::vector<float>& acc) {
   Image out(W, H, C, Image::Format::UInt8);
-  const std::size_t n = std::size_t(W) * std::size_t(H);
   constexpr std::uint32_t far = 0xffffffffu;
   // The distances come from an exact separable chessboard distance transform (Meijster, Roerdink
   // and Hesselink, "A general algorithm for computing distance transforms in linear time", 2000):
@@ -777,14 +776,18 @@ inline Image dilate_into_image(int W, int H, int C, std::vector<std::uint32_t>& 
   // the rings: each block of rows counts its texels per distance, then writes them at its offsets
   const std::size_t rings = std::size_t(max_d) + 2;
   std::vector<std::size_t> count(std::size_t(row_blocks) * rings, 0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, row_blocks, 1), [&](const tbb::blocked_range<int>& r) {
-    for (int b = r.begin(); b < r.end(); ++b) {
-      std::size_t* c = &count[std::size_t(b) * rings];
-      const std::size_t i1 = std::size_t((std::min)(H, (b + 1) * row_block)) * W;
-      for (std::size_t i = std::size_t(b) * row_block * W; i < i1; ++i)
-        if (dist[i] != far && dist[i] > 0) ++c[dist[i]];
-    }
-  });
+  // fn(texel index, its distance) for the gutter texels of every block of rows, blocks on all cores
+  auto for_gutter_texels = [&](const auto& fn) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, row_blocks, 1), [&](const tbb::blocked_range<int>& r) {
+      for (int b = r.begin(); b < r.end(); ++b) {
+        std::size_t* block_count = &count[std::size_t(b) * rings];
+        const std::size_t i1 = std::size_t((std::min)(H, (b + 1) * row_block)) * W;
+        for (std::size_t i = std::size_t(b) * row_block * W; i < i1; ++i)
+          if (dist[i] != far && dist[i] > 0) fn(block_count, i, dist[i]);
+      }
+    });
+  };
+  for_gutter_texels([](std::size_t* block_count, std::size_t, std::uint32_t d) { ++block_count[d]; });
   // ring_start[d]: where ring d starts in by_ring; count[b * rings + d] becomes block b's start in it
   std::vector<std::size_t> ring_start(rings + 1, 0);
   {
@@ -797,18 +800,11 @@ inline Image dilate_into_image(int W, int H, int C, std::vector<std::uint32_t>& 
         at += c;
       }
     }
-    ring_start[0] = 0;
     ring_start[rings] = at;
   }
   std::vector<std::uint32_t> by_ring = CMGeom::internal::filled_on_huge_pages(ring_start[rings], 0u);
-  tbb::parallel_for(tbb::blocked_range<int>(0, row_blocks, 1), [&](const tbb::blocked_range<int>& r) {
-    for (int b = r.begin(); b < r.end(); ++b) {
-      std::size_t* fill = &count[std::size_t(b) * rings];
-      const std::size_t i1 = std::size_t((std::min)(H, (b + 1) * row_block)) * W;
-      for (std::size_t i = std::size_t(b) * row_block * W; i < i1; ++i)
-        if (dist[i] != far && dist[i] > 0) by_ring[fill[dist[i]]++] = std::uint32_t(i);
-    }
-  });
+  for_gutter_texels(
+      [&](std::size_t* block_next, std::size_t i, std::uint32_t d) { by_ring[block_next[d]++] = std::uint32_t(i); });
   auto dilate = [&](std::uint32_t d, std::size_t r) {
     const std::size_t j = by_ring[r];
     const int x = int(j % std::size_t(W)), y = int(j / std::size_t(W));

@@ -207,14 +207,15 @@ public:
         fn(face_descriptor(typename face_descriptor::size_type(f)), items_[i].p, items_[i].area);
   }
 
+  /// Whether the engine may call cost() on several threads at once
+  /// (Surface_memory_options::parallel_pricing).
+  bool parallel_pricing() const { return parallel_pricing_; }
+
   /// Whether cost() prices collapses yet: once there are at most two faces per point, counting at
   /// most Surface_memory_options::pricing_points points (plus 8, for genus: a closed mesh of genus
   /// g has 2V + 4g - 4 faces), i.e. from the start when every vertex of an input of at most that
   /// many vertices is a point; on a larger input the earlier collapses are local and the quadric
   /// sees them well.
-  /// Whether the engine may call cost() on several threads at once (Surface_memory_options::parallel_pricing).
-  bool parallel_pricing() const { return parallel_pricing_; }
-
   bool active() const {
     const std::size_t n = pricing_points_ > 0 ? (std::min)(pricing_points_, items_.size()) : items_.size();
     return faces_alive_ <= 2 * n + 8;
