@@ -7,6 +7,7 @@
 #include <jpeglib.h>
 #include <png.h>
 
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <array>
@@ -23,6 +24,59 @@ TEST(Mesh_IO_image, RgbaPngRoundTripIsLossless) {
   IO::write_image(path, img);
   EXPECT_TRUE(IO::read_image(path) == img);
   EXPECT_EQ(IO::image_size(path), std::make_pair(7, 5));
+}
+
+// Copies share their pixels until written: each side of a copy keeps its own values after writes
+// through set_value(), bytes() and floats(), equality follows the pixels, and a moved-from image
+// is empty.
+TEST(Mesh_IO_image, CopiesShareTheirPixelsUntilOneIsWritten) {
+  for (const Image::Format format : {Image::Format::UInt8, Image::Format::Float32}) {
+    auto made = [&] {
+      Image m(6, 4, 3, format);
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 6; ++x)
+          for (int c = 0; c < 3; ++c) m.set_value(x, y, c, float((x + 2 * y + 5 * c) % 7) / 7.f);
+      return m;
+    };
+    Image a = made();
+    const Image reference = a;  // a second copy that is never written
+    Image b = a;
+    EXPECT_TRUE(b.shares_pixels_with(a));
+    EXPECT_TRUE(b == a);
+    b.set_value(1, 2, 0, 1.f);
+    EXPECT_FALSE(b.shares_pixels_with(a));
+    EXPECT_FALSE(b == a);
+    EXPECT_EQ(a.value(1, 2, 0), reference.value(1, 2, 0));
+    EXPECT_EQ(b.value(1, 2, 0), 1.f);
+    // writes through the storage pointers unshare as well, from either side of the copy
+    Image c = a;
+    if (format == Image::Format::UInt8)
+      a.bytes()[a.index(0, 0, 1)] = 255;
+    else
+      a.floats()[a.index(0, 0, 1)] = 1.f;
+    EXPECT_EQ(a.value(0, 0, 1), 1.f);
+    EXPECT_EQ(c.value(0, 0, 1), reference.value(0, 0, 1));
+    EXPECT_TRUE(c == reference);
+    // an unshared copy with the same pixels is still equal
+    Image d = reference;
+    d.unshare();
+    EXPECT_FALSE(d.shares_pixels_with(reference));
+    EXPECT_TRUE(d == reference);
+    // a copy's pixels written on several threads at once, once unshared, leave the original be
+    Image e = reference;
+    e.unshare();
+    tbb::parallel_for(0, 4, [&](int y) {
+      for (int x = 0; x < 6; ++x) e.set_value(x, y, 2, 1.f);
+    });
+    EXPECT_TRUE(c == reference);
+    EXPECT_EQ(e.value(5, 3, 2), 1.f);
+    EXPECT_TRUE(reference == made());
+    EXPECT_NE(reference.value(5, 3, 2), 1.f);
+    Image moved = std::move(e);
+    EXPECT_TRUE(e.empty());
+    EXPECT_EQ(moved.width(), 6);
+    EXPECT_EQ(moved.value(5, 3, 2), 1.f);
+  }
 }
 
 // OpenImageIO (about 260 shared libraries) is loaded by the first image of a format other than PNG

@@ -15,11 +15,18 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
 namespace CMGeom {
 
+/// Copies share their pixels until one of them is written (copy on write): the first write access
+/// to a copy (bytes(), floats() or set_value() on a non-const Image) whose pixels another Image
+/// still shares copies them first, so copying an image (a texture handed to every level of a
+/// chain, a material copied with its mesh) costs nothing until it is changed. Several threads may
+/// write distinct pixels of one Image at once when its pixels are its own: call bytes() or
+/// floats() (or unshare()) once before handing it to them.
 class Image {
 public:
   enum class Format { UInt8, Float32 };
@@ -29,29 +36,39 @@ public:
       : width_(width), height_(height), channels_(channels), format_(format) {
     CGAL_precondition(width >= 0 && height >= 0 && channels >= 1 && channels <= 4);
     const std::size_t n = std::size_t(width) * std::size_t(height) * std::size_t(channels);
+    pixels_ = std::make_shared<Pixels>();
     if (format == Format::UInt8)
-      internal::assign_on_huge_pages(bytes_, n, std::uint8_t(0));
+      internal::assign_on_huge_pages(pixels_->bytes, n, std::uint8_t(0));
     else
-      internal::assign_on_huge_pages(floats_, n, 0.f);
+      internal::assign_on_huge_pages(pixels_->floats, n, 0.f);
+    point_at_pixels();
   }
 
-  // copies of large images (an atlas handed to every level of a chain) go on huge pages too
-  Image(const Image& o)
+  Image(const Image& o) = default;
+  Image(Image&& o) noexcept
       : width_(o.width_),
         height_(o.height_),
         channels_(o.channels_),
         format_(o.format_),
-        bytes_(internal::copy_on_huge_pages(o.bytes_)),
-        floats_(internal::copy_on_huge_pages(o.floats_)) {}
-  Image(Image&&) noexcept = default;
-  Image& operator=(const Image& o) {
+        pixels_(std::move(o.pixels_)),
+        bytes_(o.bytes_),
+        floats_(o.floats_) {
+    o.clear();
+  }
+  Image& operator=(const Image& o) = default;
+  Image& operator=(Image&& o) noexcept {
     if (this != &o) {
-      Image c(o);
-      *this = std::move(c);
+      width_ = o.width_;
+      height_ = o.height_;
+      channels_ = o.channels_;
+      format_ = o.format_;
+      pixels_ = std::move(o.pixels_);
+      bytes_ = o.bytes_;
+      floats_ = o.floats_;
+      o.clear();
     }
     return *this;
   }
-  Image& operator=(Image&&) noexcept = default;
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -62,12 +79,18 @@ public:
     return (std::size_t(y) * std::size_t(width_) + std::size_t(x)) * std::size_t(channels_) + std::size_t(c);
   }
 
-  /// 8-bit storage (precondition: format() == UInt8).
-  std::uint8_t* bytes() { return bytes_.data(); }
-  const std::uint8_t* bytes() const { return bytes_.data(); }
-  /// Float storage (precondition: format() == Float32).
-  float* floats() { return floats_.data(); }
-  const float* floats() const { return floats_.data(); }
+  /// 8-bit storage (precondition: format() == UInt8); the non-const one unshares the pixels.
+  std::uint8_t* bytes() {
+    unshare();
+    return bytes_;
+  }
+  const std::uint8_t* bytes() const { return bytes_; }
+  /// Float storage (precondition: format() == Float32); the non-const one unshares the pixels.
+  float* floats() {
+    unshare();
+    return floats_;
+  }
+  const float* floats() const { return floats_; }
 
   /// Channel value in [0,1] whatever the storage (8-bit values are divided by 255).
   float value(int x, int y, int c) const {
@@ -75,6 +98,7 @@ public:
     return format_ == Format::UInt8 ? float(bytes_[i]) * (1.f / 255.f) : floats_[i];
   }
   void set_value(int x, int y, int c, float v) {
+    unshare();
     const std::size_t i = index(x, y, c);
     if (format_ == Format::UInt8) {
       v = v < 0.f ? 0.f : (v > 1.f ? 1.f : v);
@@ -84,16 +108,53 @@ public:
     }
   }
 
+  /// Gives the image pixels of its own (a copy when another Image shares them).
+  void unshare() {
+    if (pixels_ && pixels_.use_count() > 1) {
+      auto own = std::make_shared<Pixels>();
+      own->bytes = internal::copy_on_huge_pages(pixels_->bytes);
+      own->floats = internal::copy_on_huge_pages(pixels_->floats);
+      pixels_ = std::move(own);
+      point_at_pixels();
+    }
+  }
+  /// Whether the two images share their pixels (one is an unchanged copy of the other).
+  bool shares_pixels_with(const Image& o) const { return pixels_ != nullptr && pixels_ == o.pixels_; }
+
   friend bool operator==(const Image& a, const Image& b) {
-    return a.width_ == b.width_ && a.height_ == b.height_ && a.channels_ == b.channels_ && a.format_ == b.format_ &&
-           a.bytes_ == b.bytes_ && a.floats_ == b.floats_;
+    if (a.width_ != b.width_ || a.height_ != b.height_ || a.channels_ != b.channels_ || a.format_ != b.format_)
+      return false;
+    if (a.pixels_ == b.pixels_) return true;
+    const std::vector<std::uint8_t> no_bytes;
+    const std::vector<float> no_floats;
+    return (a.pixels_ ? a.pixels_->bytes : no_bytes) == (b.pixels_ ? b.pixels_->bytes : no_bytes) &&
+           (a.pixels_ ? a.pixels_->floats : no_floats) == (b.pixels_ ? b.pixels_->floats : no_floats);
   }
 
 private:
+  struct Pixels {
+    std::vector<std::uint8_t> bytes;
+    std::vector<float> floats;
+  };
+
+  void point_at_pixels() {
+    bytes_ = pixels_ && !pixels_->bytes.empty() ? pixels_->bytes.data() : nullptr;
+    floats_ = pixels_ && !pixels_->floats.empty() ? pixels_->floats.data() : nullptr;
+  }
+  void clear() {
+    width_ = height_ = channels_ = 0;
+    format_ = Format::UInt8;
+    pixels_.reset();
+    bytes_ = nullptr;
+    floats_ = nullptr;
+  }
+
   int width_ = 0, height_ = 0, channels_ = 0;
   Format format_ = Format::UInt8;
-  std::vector<std::uint8_t> bytes_;
-  std::vector<float> floats_;
+  std::shared_ptr<Pixels> pixels_;
+  // (the storage of *pixels_, kept at hand: the pixel accessors read through them)
+  std::uint8_t* bytes_ = nullptr;
+  float* floats_ = nullptr;
 };
 
 }  // namespace CMGeom

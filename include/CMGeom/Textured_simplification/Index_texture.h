@@ -832,11 +832,12 @@ inline Image dilate_into_image(int W, int H, int C, std::vector<std::uint32_t>& 
     }
   }
   // (Image::set_value()'s rounding, a row at a time)
+  std::uint8_t* const pixels = out.bytes();
   internal::parallel_rows(H, [&](int y0, int y1) {
     const std::size_t row = std::size_t(W) * std::size_t(C);
     for (int y = y0; y < y1; ++y) {
       const float* from = &acc[std::size_t(y) * row];
-      std::uint8_t* to = out.bytes() + out.index(0, H - 1 - y);
+      std::uint8_t* to = pixels + out.index(0, H - 1 - y);
       for (std::size_t k = 0; k < row; ++k) {
         const float v = from[k] < 0.f ? 0.f : (from[k] > 1.f ? 1.f : from[k]);
         to[k] = std::uint8_t(v * 255.f + 0.5f);

@@ -613,6 +613,7 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
                                         const std::vector<double>& depth_of_face, int gutter_texels, Atlas_paint& paint,
                                         Face_texels* texels_of_face = nullptr) {
   Image& image = paint.colours;
+  image.unshare();  // (written below on all cores)
   using Face = Surface_mesh::Face_index;
   const int W = image.width(), H = image.height(), C = image.channels();
   if (W <= 0 || H <= 0 || C != source.colour_channels()) return 0.0;
