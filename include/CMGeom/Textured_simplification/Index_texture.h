@@ -628,26 +628,48 @@ inline void sample_original(const Index_texture& it, const Image& original, floa
   float ctx[2], cty[2];
   for (int o = 0; o < 2; ++o) {
     const long long ix = (long long)flx + o, iy = (long long)fly + o;
-    wxs[o] = int(((ix % W0) + W0) % W0);
-    wys[o] = int(((iy % H0) + H0) % H0);
+    // (inside the image, the usual case, without the divisions of the wrap)
+    wxs[o] = ix >= 0 && ix < W0 ? int(ix) : int(((ix % W0) + W0) % W0);
+    wys[o] = iy >= 0 && iy < H0 ? int(iy) : int(((iy % H0) + H0) % H0);
     const UV2 ct = dom.to_texel(UV2{{(double(ix) + 0.5) / W0, 1.0 - (double(iy) + 0.5) / H0}});
     ctx[o] = float(ct[0]);
     cty[o] = float(ct[1]);
+  }
+  std::uint32_t tap_chart[4];
+  for (int k = 0; k < 4; ++k) tap_chart[k] = it.chart_of(ctx[k & 1], cty[k >> 1]);
+  if (cn == 0u || (tap_chart[0] == cn && tap_chart[1] == cn && tap_chart[2] == cn && tap_chart[3] == cn)) {
+    // every tap in the chart (a texel inside it, the usual case): the plain bilinear lookup, the
+    // same sums as below
+    double ws_all = 0;
+    const bool eight_bit = original.format() == Image::Format::UInt8;
+    const std::uint8_t* bytes = eight_bit ? original.bytes() : nullptr;
+    for (int k = 0; k < 4; ++k) {
+      const int ox = k & 1, oy = k >> 1;
+      const double wt = (ox ? fx : 1 - fx) * (oy ? fy : 1 - fy);
+      if (eight_bit) {  // (Image::value() without its test of the format)
+        const std::uint8_t* texel = bytes + original.index(wxs[ox], wys[oy]);
+        for (int c = 0; c < C; ++c) acc[c] += wt * double(float(texel[c]) * (1.f / 255.f));
+      } else {
+        for (int c = 0; c < C; ++c) acc[c] += wt * original.value(wxs[ox], wys[oy], c);
+      }
+      ws_all += wt;
+    }
+    for (int c = 0; c < C; ++c) out[c] = float(ws_all > 0 ? acc[c] / ws_all : acc[c]);
+    return;
   }
   for (int k = 0; k < 4; ++k) {
     const int ox = k & 1, oy = k >> 1;
     const int wx = wxs[ox], wy = wys[oy];
     const double wt = (ox ? fx : 1 - fx) * (oy ? fy : 1 - fy);
-    const std::uint32_t tap_chart = it.chart_of(ctx[ox], cty[oy]);
-    const bool same = cn == 0u || tap_chart == cn;
+    const bool same = tap_chart[k] == cn;
     for (int c = 0; c < C; ++c) {
       const double v = original.value(wx, wy, c);
       acc_all[c] += wt * v;
       if (same) acc[c] += wt * v;
-      if (tap_chart != 0u) acc_any[c] += wt * v;
+      if (tap_chart[k] != 0u) acc_any[c] += wt * v;
     }
     if (same) ws += wt;
-    if (tap_chart != 0u) ws_any += wt;
+    if (tap_chart[k] != 0u) ws_any += wt;
   }
   if (ws == 0 && ws_any > 0) {
     for (int c = 0; c < C; ++c) out[c] = float(acc_any[c] / ws_any);
