@@ -102,6 +102,55 @@ TEST(TexturedSimplification, RedFilledAtlasShowsNoRedInARebuiltAtlas) { red_fill
 // The index texture after resampling only stores positions inside original charts, and texels
 // of an interior-only collapse sequence on a flat single-chart grid keep the identity map
 // (projection onto the plane = the UV map up to scale): resampling a flat isometric patch is exact.
+// The chart map's margin (Index_texture's chart_margin rings): each ring gives every texel outside
+// the charts the smallest chart id among its 8 neighbours, as a plain scan of the 3 x 3
+// neighbourhood computes it here, from the map without margin; charts touching the image's
+// borders and corners, and overlapping triangles (the `contested` id, the largest) included.
+TEST(TexturedSimplification, ChartMarginsGrowTheSmallestNeighbouringChart) {
+  TS::Texture_domain dom;
+  dom.width = 37;
+  dom.height = 29;
+  auto uv = [&](double x, double y) { return UV2{{x / dom.width, y / dom.height}}; };
+  const std::vector<std::array<UV2, 3>> tris{{{uv(-2, -2), uv(6, -1), uv(-1, 7)}},     // a corner
+                                             {{uv(10, 3), uv(16, 4), uv(12, 9)}},      // inside
+                                             {{uv(12, 4), uv(20, 5), uv(15, 12)}},     // overlaps the one before
+                                             {{uv(30, 20), uv(39, 22), uv(33, 31)}},   // over the far corner
+                                             {{uv(3, 15), uv(8, 15.5), uv(4.5, 16)}},  // a sliver
+                                             {{uv(20, 18), uv(24, 18), uv(22, 19)}}};
+  const std::vector<int> ids{4, 0, 2, 1, 3, 5};
+  for (const bool overlaps : {false, true}) {
+    const TS::Index_texture base(dom, tris, ids, 0, overlaps);
+    std::vector<std::uint32_t> ref(std::size_t(dom.width) * std::size_t(dom.height));
+    for (int y = 0; y < dom.height; ++y)
+      for (int x = 0; x < dom.width; ++x) ref[std::size_t(y) * dom.width + x] = base.chart(x, y);
+    if (overlaps) ASSERT_NE(std::count(ref.begin(), ref.end(), TS::Index_texture::contested), 0);
+    for (int margin = 1; margin <= 4; ++margin) {
+      std::vector<std::uint32_t> next = ref;
+      for (int y = 0; y < dom.height; ++y)
+        for (int x = 0; x < dom.width; ++x) {
+          if (ref[std::size_t(y) * dom.width + x] != 0) continue;
+          std::uint32_t best = 0;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int qx = x + dx, qy = y + dy;
+              if (qx < 0 || qy < 0 || qx >= dom.width || qy >= dom.height) continue;
+              const std::uint32_t c = ref[std::size_t(qy) * dom.width + qx];
+              if (c != 0 && (best == 0 || c < best)) best = c;
+            }
+          next[std::size_t(y) * dom.width + x] = best;
+        }
+      ref = next;
+      const TS::Index_texture grown(dom, tris, ids, margin, overlaps);
+      int wrong = 0;
+      for (int y = 0; y < dom.height; ++y)
+        for (int x = 0; x < dom.width; ++x) wrong += grown.chart(x, y) != ref[std::size_t(y) * dom.width + x];
+      EXPECT_EQ(wrong, 0) << "margin " << margin << (overlaps ? ", overlaps marked" : "");
+    }
+    // the margins reached texels of no chart, and some stayed without one
+    EXPECT_GT(std::count(ref.begin(), ref.end(), 0u), 0);
+  }
+}
+
 TEST(TexturedSimplification, ResamplingIsIdentityOnAFlatIsometricPatch) {
   CMGeom::Textured_mesh tm;
   auto& m = tm.mesh();

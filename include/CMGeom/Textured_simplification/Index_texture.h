@@ -207,20 +207,24 @@ public:
         next = CMGeom::internal::copy_on_huge_pages(chart_);
       else
         next = chart_;
+      // (the smallest non-zero id of the 3 x 3 neighbourhood is 1 + the smallest id - 1 in
+      // unsigned arithmetic, where 0 - 1 is the largest value: 0 when there is none; taken down
+      // the columns, then along the row, in loops the compiler vectorises)
       internal::parallel_rows(h_, [&](int y0, int y1) {
-        for (int y = y0; y < y1; ++y)
-          for (int x = 0; x < w_; ++x) {
-            if (chart_[std::size_t(y) * w_ + x] != 0) continue;
-            std::uint32_t best = 0;
-            for (int dy = -1; dy <= 1; ++dy)
-              for (int dx = -1; dx <= 1; ++dx) {
-                const int qx = x + dx, qy = y + dy;
-                if (qx < 0 || qy < 0 || qx >= w_ || qy >= h_) continue;
-                const std::uint32_t c = chart_[std::size_t(qy) * w_ + qx];
-                if (c != 0 && (best == 0 || c < best)) best = c;
-              }
-            next[std::size_t(y) * w_ + x] = best;
+        const std::size_t w = std::size_t(w_);
+        std::vector<std::uint32_t> column(w + 2, 0xffffffffu);  // (a margin each side)
+        for (int y = y0; y < y1; ++y) {
+          const std::uint32_t* row = chart_.data() + std::size_t(y) * w;
+          const std::uint32_t* above = y > 0 ? row - w : row;
+          const std::uint32_t* below = y + 1 < h_ ? row + w : row;
+          for (std::size_t x = 0; x < w; ++x)
+            column[x + 1] = (std::min)((std::min)(above[x] - 1u, row[x] - 1u), below[x] - 1u);
+          std::uint32_t* out = next.data() + std::size_t(y) * w;
+          for (std::size_t x = 0; x < w; ++x) {
+            const std::uint32_t least = (std::min)((std::min)(column[x], column[x + 1]), column[x + 2]) + 1u;
+            out[x] = row[x] != 0 ? row[x] : least;
           }
+        }
       });
       chart_.swap(next);
     }
