@@ -99,9 +99,6 @@ void red_filled_atlas_shows_no_red(bool keep_charts) {
 TEST(TexturedSimplification, RedFilledAtlasShowsNoRed) { red_filled_atlas_shows_no_red(true); }
 TEST(TexturedSimplification, RedFilledAtlasShowsNoRedInARebuiltAtlas) { red_filled_atlas_shows_no_red(false); }
 
-// The index texture after resampling only stores positions inside original charts, and texels
-// of an interior-only collapse sequence on a flat single-chart grid keep the identity map
-// (projection onto the plane = the UV map up to scale): resampling a flat isometric patch is exact.
 // The chart map's margin (Index_texture's chart_margin rings): each ring gives every texel outside
 // the charts the smallest chart id among its 8 neighbours, as a plain scan of the 3 x 3
 // neighbourhood computes it here, from the map without margin; charts touching the image's
@@ -151,6 +148,9 @@ TEST(TexturedSimplification, ChartMarginsGrowTheSmallestNeighbouringChart) {
   }
 }
 
+// The index texture after resampling only stores positions inside original charts, and texels
+// of an interior-only collapse sequence on a flat single-chart grid keep the identity map
+// (projection onto the plane = the UV map up to scale): resampling a flat isometric patch is exact.
 TEST(TexturedSimplification, ResamplingIsIdentityOnAFlatIsometricPatch) {
   CMGeom::Textured_mesh tm;
   auto& m = tm.mesh();

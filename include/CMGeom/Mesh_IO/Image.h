@@ -13,6 +13,7 @@
 
 #include <CGAL/assertions.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -125,10 +126,9 @@ public:
     if (a.width_ != b.width_ || a.height_ != b.height_ || a.channels_ != b.channels_ || a.format_ != b.format_)
       return false;
     if (a.pixels_ == b.pixels_) return true;
-    const std::vector<std::uint8_t> no_bytes;
-    const std::vector<float> no_floats;
-    return (a.pixels_ ? a.pixels_->bytes : no_bytes) == (b.pixels_ ? b.pixels_->bytes : no_bytes) &&
-           (a.pixels_ ? a.pixels_->floats : no_floats) == (b.pixels_ ? b.pixels_->floats : no_floats);
+    const std::size_t n = std::size_t(a.width_) * std::size_t(a.height_) * std::size_t(a.channels_);
+    return a.format_ == Format::UInt8 ? std::equal(a.bytes_, a.bytes_ + n, b.bytes_)
+                                      : std::equal(a.floats_, a.floats_ + n, b.floats_);
   }
 
 private:

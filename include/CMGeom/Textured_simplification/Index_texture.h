@@ -203,10 +203,8 @@ public:
     // grow the charts into the gutters (first ring first; ties: smallest neighbour id)
     std::vector<std::uint32_t> next;
     for (int ring = 0; ring < chart_margin; ++ring) {
-      if (next.size() != chart_.size())
-        next = CMGeom::internal::copy_on_huge_pages(chart_);
-      else
-        next = chart_;
+      // (every texel of `next` is written below: no copy of the map first)
+      if (next.size() != chart_.size()) CMGeom::internal::resize_on_huge_pages(next, chart_.size());
       // (the smallest non-zero id of the 3 x 3 neighbourhood is 1 + the smallest id - 1 in
       // unsigned arithmetic, where 0 - 1 is the largest value: 0 when there is none; taken down
       // the columns, then along the row, in loops the compiler vectorises)
@@ -644,21 +642,13 @@ inline void sample_original(const Index_texture& it, const Image& original, floa
   if (cn == 0u || (tap_chart[0] == cn && tap_chart[1] == cn && tap_chart[2] == cn && tap_chart[3] == cn)) {
     // every tap in the chart (a texel inside it, the usual case): the plain bilinear lookup, the
     // same sums as below
-    double ws_all = 0;
-    const bool eight_bit = original.format() == Image::Format::UInt8;
-    const std::uint8_t* bytes = eight_bit ? original.bytes() : nullptr;
     for (int k = 0; k < 4; ++k) {
       const int ox = k & 1, oy = k >> 1;
       const double wt = (ox ? fx : 1 - fx) * (oy ? fy : 1 - fy);
-      if (eight_bit) {  // (Image::value() without its test of the format)
-        const std::uint8_t* texel = bytes + original.index(wxs[ox], wys[oy]);
-        for (int c = 0; c < C; ++c) acc[c] += wt * double(float(texel[c]) * (1.f / 255.f));
-      } else {
-        for (int c = 0; c < C; ++c) acc[c] += wt * original.value(wxs[ox], wys[oy], c);
-      }
-      ws_all += wt;
+      for (int c = 0; c < C; ++c) acc[c] += wt * original.value(wxs[ox], wys[oy], c);
+      ws += wt;
     }
-    for (int c = 0; c < C; ++c) out[c] = float(ws_all > 0 ? acc[c] / ws_all : acc[c]);
+    for (int c = 0; c < C; ++c) out[c] = float(ws > 0 ? acc[c] / ws : acc[c]);
     return;
   }
   for (int k = 0; k < 4; ++k) {
