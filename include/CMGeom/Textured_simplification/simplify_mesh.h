@@ -13,8 +13,11 @@
 // by default) are simplified on all cores. They are cut into 2^k parts (internal/Mesh_parts.h),
 // each simplified on its own core with the input's quadrics and its cut vertices locked, down to
 // its share of the target plus a few faces per cut vertex; then the whole is rebuilt and the
-// remaining collapses (those of the strips along the cuts, mostly) run on it. The parts depend on
-// the mesh alone, so the result is the same on any number of cores.
+// remaining collapses (those of the strips along the cuts, mostly) run on it. Before that, the
+// parts are put back together pairwise, the last cut first: each pair is simplified along its
+// common cut, with the cuts it still has locked, the pairs of a level at once, so that the stage on
+// the whole is left with the strip of the first cut only. The parts depend on the mesh alone, so
+// the result is the same on any number of cores.
 //
 // Manual: doc/Textured_simplification/README.md, "One call, and large meshes on all cores: `simplify_mesh()`".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_SIMPLIFY_MESH_H
@@ -130,8 +133,10 @@ struct Mesh_simplification_options {
   /// Inputs with at least this many faces are simplified in parts first (0: never; see the file
   /// comment).
   std::size_t parts_min_faces = 262144;
-  /// Each part has at least this many faces (at most 16 parts).
-  std::size_t part_faces = 131072;
+  /// Each part has at least this many faces (at most 16 parts). With 65,536, what a part's
+  /// simplification works on (mesh, queue, quadrics, points: about 12 MB) fits twice in a 32 MB
+  /// last-level cache, which two cores share (doc/Textured_simplification/README.md).
+  std::size_t part_faces = 65536;
   /// Each part stops at this many times its share of the target (>= 1), plus
   /// `parts_tail_per_cut_vertex` faces per cut vertex it holds; parts are used only when the
   /// input has at least four times parts_stop_factor x target faces (below that, rebuilding the
@@ -144,6 +149,12 @@ struct Mesh_simplification_options {
   /// their share (the rule before), while at 10 % the parts do 87 % of the collapses instead of
   /// none (doc/Textured_simplification/README.md, "large meshes on all cores").
   double parts_tail_per_cut_vertex = 3.0;
+  /// The parts are put back together pairwise, level by level (the two halves of each cut, the
+  /// last cut first), each pair simplified along its common cut as a part with the cuts it still
+  /// has locked, the pairs of a level at once: the stage on the whole then has only the strip of
+  /// the first cut left (doc/Textured_simplification/README.md, "large meshes on all cores").
+  /// Off: all parts are put back together at once.
+  bool parts_pairwise = true;
   /// Called once, right before the input mesh is first changed (on a simplification in parts,
   /// after the parts are simplified): a caller may read the input on another core until then, and
   /// waits here for that reading to end. An exception it throws leaves the input unchanged.
@@ -229,6 +240,8 @@ struct Locked_vertex_visitor : Edge_collapse_visitor_base {
     const std::size_t from = part->locked[a] ? a : b;
     part->locked[k] = 1;
     part->to_input[k] = part->to_input[from];
+    part->run[k] = part->run[from];
+    part->run_cut[k] = part->run_cut[from];
   }
 };
 
@@ -237,7 +250,7 @@ inline int part_levels(std::size_t faces, std::size_t target, const Mesh_simplif
   if (o.parts_min_faces == 0 || faces < o.parts_min_faces || o.part_faces == 0) return 0;
   if (4.0 * o.parts_stop_factor * double(target) > double(faces)) return 0;
   int levels = 0;
-  while (levels < 4 && (faces >> (levels + 1)) >= o.part_faces) ++levels;
+  while (levels < max_part_levels && (faces >> (levels + 1)) >= o.part_faces) ++levels;
   return levels;
 }
 
@@ -284,7 +297,8 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     // the parts first; the tables that cut them are dropped before anything else is allocated
     std::vector<std::uint32_t> corner_vertex(mesh.num_halfedges(), no_index), side_edge(mesh.num_halfedges(), no_index);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
-      parts[k] = make_part(mesh, std::uint32_t(k), faces_of[k], label, corner_vertex, side_edge);
+      parts[k] = make_part(mesh, std::uint32_t(k), faces_of[k], label, corner_vertex, side_edge,
+                           options.parts_pairwise ? levels : 0);
     });
   }
   std::vector<std::uint32_t>().swap(label);
@@ -328,32 +342,29 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
         cut_data.emplace(parts[k].to_input[std::size_t(u)],
                          std::make_pair(part_policy[k]->quadric(u), part_policy[k]->weight(u)));
   std::vector<std::optional<Memory>> part_memory(n);
-  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
-    Mesh_part<Point>& part = parts[k];
+  // a part's (or group's) memory: the caps, as shares of the input's
+  auto memory_options = [&](std::size_t part_vertices) {
+    Surface_memory_options mo = options.memory;
+    mo.parallel_pricing = false;  // (the cores are busy with the parts)
+    for (std::size_t* cap : {&mo.max_points, &mo.pricing_points})
+      if (*cap > 0)
+        *cap = (std::max)(std::size_t(1),
+                          std::size_t(std::ceil(double(*cap) * double(part_vertices) / double(vertices_in))));
+    return mo;
+  };
+  // simplifies a part (or group) down to its share of the target plus the room for the cut strips
+  // (parts_tail_per_cut_vertex faces per locked vertex), but at least two faces per locked
+  // vertex: a part emptied down to its locked border would be a flat fan the second stage cannot
+  // repair (measured on the tests' torus cut into 16 parts: at 2 % Hausdorff 4.6x that of the
+  // whole at once without this floor, 1.35x with it)
+  auto simplify_part = [&](Mesh_part<Point>& part, Policy& pp, Memory* pmem) {
     Mesh& pm = part.mesh;
-    Policy& pp = *part_policy[k];
-    Memory* pmem = nullptr;
-    if (options.surface_memory) {
-      // (the caps, as shares of the input's)
-      Surface_memory_options mo = options.memory;
-      mo.parallel_pricing = false;  // (the cores are busy with the parts)
-      for (std::size_t* cap : {&mo.max_points, &mo.pricing_points})
-        if (*cap > 0)
-          *cap =
-              (std::max)(std::size_t(1),
-                         std::size_t(std::ceil(double(*cap) * double(pm.number_of_vertices()) / double(vertices_in))));
-      pmem = &part_memory[k].emplace(pm, pm.points(), mo);
-    }
-    // its share of the target plus the room for the cut strips (parts_tail_per_cut_vertex faces
-    // per locked vertex), but at least two faces per locked vertex: a part emptied down to
-    // its locked border would be a flat fan the second stage cannot repair (measured on the tests'
-    // torus cut into 16 parts: at 2 % Hausdorff 4.6x that of the whole at once without this floor,
-    // 1.35x with it)
     const std::size_t locked = std::size_t(std::count(part.locked.begin(), part.locked.end(), std::uint8_t(1)));
     const std::size_t stop =
         (std::max)(2 * locked, std::size_t(std::ceil(options.parts_stop_factor * double(target) *
-                                                     double(pm.number_of_faces()) / double(faces_in))) +
+                                                     double(part.input_faces) / double(faces_in))) +
                                    std::size_t(std::ceil(options.parts_tail_per_cut_vertex * double(locked))));
+    if (pm.number_of_faces() <= stop) return;
     collapse_with_placement(pp, options.endpoint_placement, [&](const auto& placement) {
       using Base = std::decay_t<decltype(placement)>;
       edge_collapse(pm, Face_count_stop_predicate<Mesh>(pm, stop),
@@ -363,7 +374,100 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
                                   .filter(Locked_vertex_filter{&part.locked})
                                   .visitor(Locked_vertex_visitor<Point>{{}, &part})));
     });
+  };
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
+    Memory* pmem = nullptr;
+    if (options.surface_memory)
+      pmem = &part_memory[k].emplace(parts[k].mesh, parts[k].mesh.points(), memory_options(parts[k].input_vertices));
+    simplify_part(parts[k], *part_policy[k], pmem);
   });
+  // then, with parts_pairwise, level by level, each pair of sibling parts put back together into
+  // their group (the cut between them unlocked) and the group simplified as a part, the pairs of
+  // a level at once: what is left for the whole is the strip along the first cut
+  for (int level = levels - 1; options.parts_pairwise && level >= 1; --level) {
+    const std::size_t m = std::size_t(1) << level, per = parts.size() / m;
+    std::vector<Mesh_part<Point>> groups(m);
+    std::vector<std::optional<Policy>> group_policy(m);
+    std::vector<std::optional<Memory>> group_memory(m);
+    tbb::parallel_for(std::size_t(0), m, [&](std::size_t j) {
+      Mesh_part<Point>& g = groups[j];
+      std::vector<std::size_t> members;  // the parts it is made of
+      std::vector<const Mesh_part<Point>*> list;
+      for (std::size_t k = per * j; k < per * (j + 1); ++k) {
+        members.push_back(k);
+        list.push_back(&parts[k]);
+      }
+      const Merged_parts<Point> merged = merge_part_group(list, level);
+      const std::size_t nv = merged.points.size();
+      build_triangle_mesh(g.mesh, merged.points, merged.corners, merged.sides, merged.edges);
+      g.to_input = merged.input_vertex;
+      g.locked.assign(nv, 0);
+      g.run.assign(nv, {});
+      g.run_cut.assign(nv, 0);
+      std::vector<Quadric> q(nv);
+      std::vector<double> w(nv, 1.0);
+      for (std::size_t i = 0; i < nv; ++i)
+        if (merged.input_vertex[i] != no_index) {
+          const auto& [input_q, input_w] = cut_data.at(merged.input_vertex[i]);
+          q[i] = input_q;
+          w[i] = input_w;
+        }
+      std::vector<std::tuple<typename Mesh::Face_index, CM::internal::Vec3, double>> points;
+      {
+        std::size_t total = 0;
+        for (std::size_t k : members)
+          if (part_memory[k]) total += part_memory[k]->number_of_points();
+        points.reserve(total);
+      }
+      for (std::size_t s = 0; s < members.size(); ++s) {
+        const std::size_t k = members[s];
+        const Mesh_part<Point>& part = parts[k];
+        g.input_faces += part.input_faces;
+        g.input_vertices += part.input_vertices;
+        for (auto u : part.mesh.vertices()) {
+          const std::size_t i = merged.vertex[s][std::size_t(u)];
+          const Quadric& pq = part_policy[k]->quadric(u);
+          if (part.locked[std::size_t(u)]) {  // the quadric of the input plus what each part added
+            g.run[i] = part.run[std::size_t(u)];
+            g.run_cut[i] = part.run_cut[std::size_t(u)];
+            g.locked[i] = std::uint8_t((part.run_cut[std::size_t(u)] >> level) & 1u);
+            const Quadric& input = cut_data.at(merged.input_vertex[i]).first;
+            q[i] = Quadric::combine(q[i], 1.0, Quadric::combine(pq, 1.0, input, -1.0), 1.0);
+          } else {
+            q[i] = pq;
+            w[i] = part_policy[k]->weight(u);
+          }
+        }
+        if (part_memory[k])
+          part_memory[k]->for_each_point([&](auto f, const CM::internal::Vec3& p, double area) {
+            if (f == Mesh::null_face() || merged.face[s][std::size_t(f)] == no_index) return;
+            points.emplace_back(typename Mesh::Face_index(size_type(merged.face[s][std::size_t(f)])), p, area);
+          });
+      }
+      for (std::size_t k : members) {  // freed before the group's simplification
+        part_memory[k].reset();
+        part_policy[k].reset();
+        parts[k] = Mesh_part<Point>();
+      }
+      Policy& gp = group_policy[j].emplace(g.mesh, options.quadric);
+      for (std::size_t i = 0; i < nv; ++i) gp.set_vertex_data(V(size_type(i)), q[i], w[i]);
+      if (options.quadric.weighted)  // a vertex of the unlocked cut has a new star
+        for (std::size_t i = 0; i < nv; ++i)
+          if (merged.input_vertex[i] != no_index && !g.locked[i])
+            gp.recompute_weight(g.mesh, g.mesh.points(), V(size_type(i)));
+      gp.keep_vertex_data_once();
+      Memory* gmem = nullptr;
+      if (options.surface_memory)
+        gmem = &group_memory[j].emplace(g.mesh, g.mesh.points(), points, memory_options(g.input_vertices));
+      decltype(points)().swap(points);
+      simplify_part(g, gp, gmem);
+    });
+    // (a vector swap moves no element: the policies and memories keep their meshes)
+    parts.swap(groups);
+    part_policy.swap(group_policy);
+    part_memory.swap(group_memory);
+  }
+  const std::size_t n_last = parts.size();
 
   Merged_parts<Point> merged = merge_parts(parts, vertex_slots);
   const std::size_t nv = merged.points.size();
@@ -390,7 +494,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
           }
         // then part by part its quadrics and its points, on the faces of the whole; each part's
         // are freed once taken
-        for (std::size_t k = 0; k < n; ++k) {
+        for (std::size_t k = 0; k < n_last; ++k) {
           for (auto u : parts[k].mesh.vertices()) {
             const std::size_t i = merged.vertex[k][std::size_t(u)];
             const Quadric& pq = part_policy[k]->quadric(u);

@@ -6,7 +6,10 @@
 // threads) that are simplified at the same time on separate cores, and putting the simplified
 // parts back together. A part is built straight from the input's halfedges and is manifold; the
 // vertices on a cut are locked, so the parts' borders along the cuts match vertex for vertex at
-// the merge, where the locked copies of an input vertex become one vertex again.
+// the merge, where the locked copies of an input vertex become one vertex again. Sibling parts can
+// also be put back together into their group of a coarser level (merge_part_group()): there the
+// copies that share a run of that group's faces around their input vertex become one vertex, and
+// only those on the group's own cuts stay locked.
 //
 // Manual: doc/Textured_simplification/README.md, "One call, and large meshes on all cores: `simplify_mesh()`".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INTERNAL_MESH_PARTS_H
@@ -22,6 +25,7 @@
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace CMGeom {
@@ -93,13 +97,60 @@ void build_triangle_mesh(CGAL::Surface_mesh<Point>& m, const std::vector<Point>&
   }
 }
 
-/// A part of a mesh cut for simplification (see the file comment).
+/// The most halvings of an input into parts.
+constexpr int max_part_levels = 4;
+
+/// A part of a mesh cut for simplification (see the file comment), or the union of two parts
+/// put back together along their common cut (a group of a coarser level: merge_part_group()).
 template <class Point>
 struct Mesh_part {
   CGAL::Surface_mesh<Point> mesh;
-  std::vector<std::uint32_t> to_input;  ///< part vertex -> input vertex
+  std::vector<std::uint32_t> to_input;  ///< part vertex -> input vertex (for locked vertices)
   std::vector<std::uint8_t> locked;     ///< part vertex on a cut (kept in place)
+  /// For a locked vertex, and each coarser level L = 1 .. levels - 1 (entry L - 1): which run of
+  /// faces around its input vertex, among the faces of its level-L group, holds its own faces (a
+  /// halfedge of the input, the same for every copy in that run: the copies a pairwise merge
+  /// glues into one vertex); bit L of `run_cut` is set when that run ends at a face outside the
+  /// group (the vertex stays locked in the group).
+  std::vector<std::array<std::uint32_t, max_part_levels - 1>> run;
+  std::vector<std::uint8_t> run_cut;
+  std::size_t input_faces = 0, input_vertices = 0;  ///< of the input, in this part
 };
+
+/// The run of faces around the target of `h` that holds face(h), among the faces whose
+/// halfedges `in` accepts: a key the same from every halfedge of the run (its first halfedge
+/// turning clockwise, or the lowest index when the run closes around the vertex) and whether the
+/// run ends at a face `in` refuses (not at the border).
+template <class Mesh, class In>
+std::pair<std::uint32_t, bool> face_run(const Mesh& m, typename Mesh::Halfedge_index h, In in) {
+  using H = typename Mesh::Halfedge_index;
+  H x = h;
+  std::uint32_t lowest = std::uint32_t(h);
+  bool cut = false;
+  for (;;) {  // backwards to the run's first halfedge
+    const H y = m.opposite(x);
+    if (m.is_border(y)) break;
+    if (!in(y)) {
+      cut = true;
+      break;
+    }
+    x = m.prev(y);
+    if (x == h) return {lowest, false};  // closed around the vertex
+    lowest = (std::min)(lowest, std::uint32_t(x));
+  }
+  const H first = x;
+  if (!cut)
+    for (;;) {  // forwards to its other end
+      const H y = m.opposite(m.next(x));
+      if (m.is_border(y)) break;
+      if (!in(y)) {
+        cut = true;
+        break;
+      }
+      x = y;
+    }
+  return {std::uint32_t(first), cut};
+}
 
 /// Labels the live faces of `m` with their part (2^levels parts, median splits along the longest
 /// side of the centroids' box); `label` is indexed by face index, `no_index` for removed faces.
@@ -167,17 +218,21 @@ std::vector<std::vector<std::uint32_t>> split_faces(const CGAL::Surface_mesh<Poi
   return parts;
 }
 
-/// Builds part k of `m` (faces `faces`, labels `label`). `corner_vertex` and `side_edge`, indexed
-/// by the input's halfedge index and filled with no_index by the caller, are shared by all parts:
-/// part k writes only the entries of halfedges of its own faces, so parts can be built at once.
+/// Builds part k of `m` (faces `faces`, labels `label`) of 2^levels parts (`levels` > 0 gives the
+/// locked vertices their runs of the coarser levels, for merge_part_group()). `corner_vertex` and
+/// `side_edge`, indexed by the input's halfedge index and filled with no_index by the caller, are
+/// shared by all parts: part k writes only the entries of halfedges of its own faces, so parts can
+/// be built at once.
 template <class Point>
 Mesh_part<Point> make_part(const CGAL::Surface_mesh<Point>& m, std::uint32_t k, const std::vector<std::uint32_t>& faces,
                            const std::vector<std::uint32_t>& label, std::vector<std::uint32_t>& corner_vertex,
-                           std::vector<std::uint32_t>& side_edge) {
+                           std::vector<std::uint32_t>& side_edge, int levels = 0) {
   using Mesh = CGAL::Surface_mesh<Point>;
   using H = typename Mesh::Halfedge_index;
   using F = typename Mesh::Face_index;
+  if (levels > max_part_levels) throw std::invalid_argument("make_part: more than max_part_levels levels");
   Mesh_part<Point> part;
+  part.input_faces = faces.size();
   std::vector<Point> points;
   auto in_part = [&](H h) { return !m.is_border(h) && label[std::size_t(m.face(h))] == k; };
   // the run of part faces around target(h) that holds face(h) gets one part vertex
@@ -217,6 +272,18 @@ Mesh_part<Point> make_part(const CGAL::Surface_mesh<Point>& m, std::uint32_t k, 
       }
     }
     part.locked.push_back(cut ? 1 : 0);
+    std::array<std::uint32_t, max_part_levels - 1> run{};
+    std::uint8_t run_cut = 0;
+    if (cut)
+      for (int level = 1; level < levels; ++level) {
+        const int shift = levels - level;
+        const auto [key, level_cut] = face_run(
+            m, h, [&](H y) { return !m.is_border(y) && (label[std::size_t(m.face(y))] >> shift) == (k >> shift); });
+        run[std::size_t(level - 1)] = key;
+        if (level_cut) run_cut = std::uint8_t(run_cut | (1u << level));
+      }
+    part.run.push_back(run);
+    part.run_cut.push_back(run_cut);
   };
   std::vector<std::uint32_t> corners(3 * faces.size()), sides(3 * faces.size());
   std::uint32_t edges = 0;
@@ -240,6 +307,7 @@ Mesh_part<Point> make_part(const CGAL::Surface_mesh<Point>& m, std::uint32_t k, 
       sides[3 * i + j] = side_edge[std::size_t(hs[j])];
     }
   }
+  part.input_vertices = points.size();
   build_triangle_mesh(part.mesh, points, corners, sides, edges);
   return part;
 }
@@ -261,12 +329,18 @@ struct Merged_parts {
 /// cuts last, ordered by their end vertices), computed part by part on all cores: each part lists
 /// its live elements, one pass over the locked vertices alone finds the part that numbers each
 /// shared one, and prefix sums place every part's numbers.
-template <class Point>
-Merged_parts<Point> merge_parts(const std::vector<Mesh_part<Point>>& parts, std::size_t input_vertices) {
+/// The locked vertices are glued by `key(k, u)` (part k's vertex u), in [0, keys): the copies of
+/// a vertex have the same key.
+template <class Point, class Key>
+Merged_parts<Point> merge_parts(const std::vector<const Mesh_part<Point>*>& part_list, std::size_t keys, Key key) {
   using Mesh = CGAL::Surface_mesh<Point>;
   using H = typename Mesh::Halfedge_index;
   using V = typename Mesh::Vertex_index;
-  const std::size_t n = parts.size();
+  struct Parts {  // parts[k] reads as for a vector of parts
+    const std::vector<const Mesh_part<Point>*>& list;
+    const Mesh_part<Point>& operator[](std::size_t k) const { return *list[k]; }
+  } parts{part_list};
+  const std::size_t n = part_list.size();
   Merged_parts<Point> out;
   out.vertex.resize(n);
   out.face.resize(n);
@@ -275,15 +349,15 @@ Merged_parts<Point> merge_parts(const std::vector<Mesh_part<Point>>& parts, std:
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     for (auto u : parts[k].mesh.vertices()) live[k].push_back(u);
   });
-  std::vector<std::uint32_t> merged_of_input(input_vertices, no_index);
-  std::vector<std::vector<std::uint8_t>> numbers(n);  // per live vertex: 1 if this part numbers it
+  std::vector<std::uint32_t> merged_of_input(keys, no_index);  // by key
+  std::vector<std::vector<std::uint8_t>> numbers(n);           // per live vertex: 1 if this part numbers it
   std::vector<std::size_t> vertex_start(n + 1, 0);
   for (std::size_t k = 0; k < n; ++k) {
     numbers[k].assign(live[k].size(), 1);
     for (std::size_t i = 0; i < live[k].size(); ++i) {
       const std::size_t u = std::size_t(live[k][i]);
       if (!parts[k].locked[u]) continue;
-      std::uint32_t& owner = merged_of_input[parts[k].to_input[u]];
+      std::uint32_t& owner = merged_of_input[key(k, u)];
       if (owner == no_index)
         owner = 0;  // met: numbered here (the number is set below)
       else
@@ -306,14 +380,13 @@ Merged_parts<Point> merge_parts(const std::vector<Mesh_part<Point>>& parts, std:
       vid[std::size_t(u)] = std::uint32_t(next);
       out.points[next] = part.mesh.point(u);
       out.input_vertex[next] = locked ? part.to_input[std::size_t(u)] : no_index;
-      if (locked) merged_of_input[part.to_input[std::size_t(u)]] = std::uint32_t(next);  // its own entry
+      if (locked) merged_of_input[key(k, std::size_t(u))] = std::uint32_t(next);  // its own entry
       ++next;
     }
   });
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {  // the shared vertices numbered elsewhere
     for (std::size_t i = 0; i < live[k].size(); ++i)
-      if (!numbers[k][i])
-        out.vertex[k][std::size_t(live[k][i])] = merged_of_input[parts[k].to_input[std::size_t(live[k][i])]];
+      if (!numbers[k][i]) out.vertex[k][std::size_t(live[k][i])] = merged_of_input[key(k, std::size_t(live[k][i]))];
   });
   std::vector<std::vector<V>>().swap(live);
   // edges: a border halfedge a -> b between locked vertices waits for b -> a from another part
@@ -389,6 +462,31 @@ Merged_parts<Point> merge_parts(const std::vector<Mesh_part<Point>>& parts, std:
     }
   });
   return out;
+}
+
+/// merge_parts() of all the parts, gluing the copies of an input vertex (`input_vertices`: the
+/// number of the input's vertex slots).
+template <class Point>
+Merged_parts<Point> merge_parts(const std::vector<Mesh_part<Point>>& parts, std::size_t input_vertices) {
+  std::vector<const Mesh_part<Point>*> list;
+  for (const auto& part : parts) list.push_back(&part);
+  return merge_parts(list, input_vertices, [&](std::size_t k, std::size_t u) { return parts[k].to_input[u]; });
+}
+
+/// merge_parts() of the parts `list` of a finer level into their group of level `level` (>= 1),
+/// gluing the copies that share their run of that level (Mesh_part::run).
+template <class Point>
+Merged_parts<Point> merge_part_group(const std::vector<const Mesh_part<Point>*>& list, int level) {
+  std::vector<std::uint32_t> keys;  // the runs, numbered in order
+  for (const auto* p : list)
+    for (auto u : p->mesh.vertices())
+      if (p->locked[std::size_t(u)]) keys.push_back(p->run[std::size_t(u)][std::size_t(level - 1)]);
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return merge_parts(list, keys.size(), [&](std::size_t k, std::size_t u) {
+    const std::uint32_t run = list[k]->run[u][std::size_t(level - 1)];
+    return std::uint32_t(std::lower_bound(keys.begin(), keys.end(), run) - keys.begin());
+  });
 }
 
 }  // namespace internal
