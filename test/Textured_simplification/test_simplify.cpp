@@ -348,6 +348,9 @@ TEST(SimplifyOneCall, InvalidOptionsThrowAndLeaveTheMesh) {
   factor.parts_stop_factor = 1.0;
   factor.parts_tail_per_cut_vertex = -1.0;
   expect_throw(factor, "parts_tail_per_cut_vertex");
+  factor.parts_tail_per_cut_vertex = 3.0;
+  factor.parts_whole_levels = 0;
+  expect_throw(factor, "parts_whole_levels");
   Mesh m = input;
   EXPECT_THROW(TS::Face_count_ratio_stop_predicate<Mesh>(m, 0.0), std::invalid_argument);
   // a quad mesh is not simplified

@@ -16,7 +16,8 @@
 // remaining collapses (those of the strips along the cuts, mostly) run on it. Before that, the
 // parts are put back together pairwise, the last cut first: each pair is simplified along its
 // common cut, with the cuts it still has locked, the pairs of a level at once, so that the stage on
-// the whole is left with the strip of the first cut only. The parts depend on the mesh alone, so
+// the whole is left with the strips of the first two levels' cuts only (it shares the target
+// between the four regions they bound by cost). The parts depend on the mesh alone, so
 // the result is the same on any number of cores.
 //
 // Manual: doc/Textured_simplification/README.md, "One call, and large meshes on all cores: `simplify_mesh()`".
@@ -149,12 +150,15 @@ struct Mesh_simplification_options {
   /// their share (the rule before), while at 10 % the parts do 87 % of the collapses instead of
   /// none (doc/Textured_simplification/README.md, "large meshes on all cores").
   double parts_tail_per_cut_vertex = 3.0;
-  /// The parts are put back together pairwise, level by level (the two halves of each cut, the
-  /// last cut first), each pair simplified along its common cut as a part with the cuts it still
-  /// has locked, the pairs of a level at once: the stage on the whole then has only the strip of
-  /// the first cut left (doc/Textured_simplification/README.md, "large meshes on all cores").
-  /// Off: all parts are put back together at once.
-  bool parts_pairwise = true;
+  /// The cuts of the first `parts_whole_levels` levels of halving (1, 3, 7, ... cuts) are left to
+  /// the stage on the whole, which shares the target between the 2^parts_whole_levels regions they
+  /// bound by cost; the finer cuts are taken up before, pairwise, the last cut first: each pair of
+  /// sibling parts is put back together into their group, simplified along the cut between them as
+  /// a part with the cuts it still has locked, the groups of a level at once (>= 1; 4 or more: all
+  /// parts put back together at once). With 1 the shares of the two halves are fixed by their
+  /// face counts, which costs accuracy where the detail is uneven (the twice-subdivided ogre to 1 %:
+  /// RMS +29 % against 2; doc/Textured_simplification/README.md, "large meshes on all cores").
+  int parts_whole_levels = 2;
   /// Called once, right before the input mesh is first changed (on a simplification in parts,
   /// after the parts are simplified): a caller may read the input on another core until then, and
   /// waits here for that reading to end. An exception it throws leaves the input unchanged.
@@ -298,7 +302,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     std::vector<std::uint32_t> corner_vertex(mesh.num_halfedges(), no_index), side_edge(mesh.num_halfedges(), no_index);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
       parts[k] = make_part(mesh, std::uint32_t(k), faces_of[k], label, corner_vertex, side_edge,
-                           options.parts_pairwise ? levels : 0);
+                           levels > options.parts_whole_levels ? levels : 0);
     });
   }
   std::vector<std::uint32_t>().swap(label);
@@ -381,10 +385,10 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
       pmem = &part_memory[k].emplace(parts[k].mesh, parts[k].mesh.points(), memory_options(parts[k].input_vertices));
     simplify_part(parts[k], *part_policy[k], pmem);
   });
-  // then, with parts_pairwise, level by level, each pair of sibling parts put back together into
-  // their group (the cut between them unlocked) and the group simplified as a part, the pairs of
-  // a level at once: what is left for the whole is the strip along the first cut
-  for (int level = levels - 1; options.parts_pairwise && level >= 1; --level) {
+  // then level by level down to parts_whole_levels, each pair of sibling parts put back together
+  // into their group (the cut between them unlocked) and the group simplified as a part, the pairs
+  // of a level at once: what is left for the whole is the strips of the first levels' cuts
+  for (int level = levels - 1; level >= options.parts_whole_levels; --level) {
     const std::size_t m = std::size_t(1) << level, per = parts.size() / m;
     std::vector<Mesh_part<Point>> groups(m);
     std::vector<std::optional<Policy>> group_policy(m);
@@ -628,6 +632,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
   if (!(options.parts_stop_factor >= 1.0)) throw std::invalid_argument("simplify_mesh: parts_stop_factor must be >= 1");
   if (!(options.parts_tail_per_cut_vertex >= 0.0))
     throw std::invalid_argument("simplify_mesh: parts_tail_per_cut_vertex must be >= 0");
+  if (options.parts_whole_levels < 1) throw std::invalid_argument("simplify_mesh: parts_whole_levels must be >= 1");
   const bool cgal = options.engine == Simplification_engine::cgal;
   if (options.prune_components && !options.target_faces && !options.target_ratio)
     throw std::invalid_argument("simplify_mesh: prune_components needs a face target (target_faces or target_ratio)");
