@@ -97,7 +97,7 @@ if [ -x "$build/bin/bench_simplify" ]; then
     echo '### The first stage in parts against the whole mesh at once'
     echo
     echo 'igea subdivided once (1,074,744 faces), geometry only: `cmgeom-default` is `cmgeom simplify` (simplify_mesh: the'
-    echo 'first collapses in parts on all cores, here 8 parts), `cmgeom-default-whole` the same with the parts switched off;'
+    echo 'first collapses in parts on all cores, here 16 parts, put back together pairwise), `cmgeom-default-whole` the same with the parts switched off;'
     echo "CPU seconds of the call (all threads added up; \"min / median\" of $parts_repeat runs), Metro errors as a fraction"
     echo "of the bounding-box diagonal (\`bench_simplify --models igea-sub --ratios 0.1,0.05,0.02,0.01 --repeat $parts_repeat"
     echo '--tools cmgeom-default,cmgeom-default-whole,meshopt`).'
