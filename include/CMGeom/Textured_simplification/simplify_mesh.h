@@ -379,6 +379,61 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
                                   .visitor(Locked_vertex_visitor<Point>{{}, &part})));
     });
   };
+  // The quadrics and points of the parts first .. first + count - 1, put back together as `merged`,
+  // on its vertices and faces: a cut vertex's quadric is its input quadric plus what each part
+  // added to it. Each part's policy and memory are freed once taken.
+  using Point_list = std::vector<std::tuple<typename Mesh::Face_index, CM::internal::Vec3, double>>;
+  auto gather = [&](std::size_t first, std::size_t count, const Merged_parts<Point>& merged, std::vector<Quadric>& q,
+                    std::vector<double>& w, Point_list& points) {
+    const std::size_t nv = merged.points.size();
+    q.assign(nv, Quadric());
+    w.assign(nv, 1.0);
+    {  // (reserved whole: on the 1M-face mesh the points are half a million, growing by doubling
+       // would leave up to 20 MB unused at the memory's peak)
+      std::size_t total = 0;
+      for (std::size_t k = first; k < first + count; ++k)
+        if (part_memory[k]) total += part_memory[k]->number_of_points();
+      points.reserve(total);
+    }
+    for (std::size_t i = 0; i < nv; ++i)
+      if (merged.input_vertex[i] != no_index) {
+        const auto& [input_q, input_w] = cut_data.at(merged.input_vertex[i]);
+        q[i] = input_q;
+        w[i] = input_w;
+      }
+    for (std::size_t s = 0; s < count; ++s) {
+      const std::size_t k = first + s;
+      for (auto u : parts[k].mesh.vertices()) {
+        const std::size_t i = merged.vertex[s][std::size_t(u)];
+        const Quadric& pq = part_policy[k]->quadric(u);
+        if (parts[k].locked[std::size_t(u)]) {
+          const Quadric& input = cut_data.at(merged.input_vertex[i]).first;
+          q[i] = Quadric::combine(q[i], 1.0, Quadric::combine(pq, 1.0, input, -1.0), 1.0);
+        } else {
+          q[i] = pq;
+          w[i] = part_policy[k]->weight(u);
+        }
+      }
+      part_policy[k].reset();
+      if (!part_memory[k]) continue;
+      part_memory[k]->for_each_point([&](auto f, const CM::internal::Vec3& p, double area) {
+        if (f == Mesh::null_face() || merged.face[s][std::size_t(f)] == no_index) return;
+        points.emplace_back(typename Mesh::Face_index(size_type(merged.face[s][std::size_t(f)])), p, area);
+      });
+      part_memory[k].reset();
+    }
+  };
+  // Gives `pp` the gathered quadrics for the next initialize(); in weighted mode a vertex glued
+  // from cut copies and no longer locked (`locked`, or none) gets its weight from its new star.
+  auto set_quadrics = [&](const Policy& pp, const Mesh& m, const std::vector<Quadric>& q, const std::vector<double>& w,
+                          const Merged_parts<Point>& merged, const std::vector<std::uint8_t>* locked) {
+    for (std::size_t i = 0; i < q.size(); ++i) pp.set_vertex_data(V(size_type(i)), q[i], w[i]);
+    if (options.quadric.weighted)
+      for (std::size_t i = 0; i < q.size(); ++i)
+        if (merged.input_vertex[i] != no_index && !(locked && (*locked)[i]))
+          pp.recompute_weight(m, m.points(), V(size_type(i)));
+    pp.keep_vertex_data_once();
+  };
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     Memory* pmem = nullptr;
     if (options.surface_memory)
@@ -395,12 +450,8 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     std::vector<std::optional<Memory>> group_memory(m);
     tbb::parallel_for(std::size_t(0), m, [&](std::size_t j) {
       Mesh_part<Point>& g = groups[j];
-      std::vector<std::size_t> members;  // the parts it is made of
-      std::vector<const Mesh_part<Point>*> list;
-      for (std::size_t k = per * j; k < per * (j + 1); ++k) {
-        members.push_back(k);
-        list.push_back(&parts[k]);
-      }
+      std::vector<const Mesh_part<Point>*> list;  // the parts it is made of
+      for (std::size_t k = per * j; k < per * (j + 1); ++k) list.push_back(&parts[k]);
       const Merged_parts<Point> merged = merge_part_group(list, level);
       const std::size_t nv = merged.points.size();
       build_triangle_mesh(g.mesh, merged.points, merged.corners, merged.sides, merged.edges);
@@ -408,62 +459,29 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
       g.locked.assign(nv, 0);
       g.run.assign(nv, {});
       g.run_cut.assign(nv, 0);
-      std::vector<Quadric> q(nv);
-      std::vector<double> w(nv, 1.0);
-      for (std::size_t i = 0; i < nv; ++i)
-        if (merged.input_vertex[i] != no_index) {
-          const auto& [input_q, input_w] = cut_data.at(merged.input_vertex[i]);
-          q[i] = input_q;
-          w[i] = input_w;
-        }
-      std::vector<std::tuple<typename Mesh::Face_index, CM::internal::Vec3, double>> points;
-      {
-        std::size_t total = 0;
-        for (std::size_t k : members)
-          if (part_memory[k]) total += part_memory[k]->number_of_points();
-        points.reserve(total);
-      }
-      for (std::size_t s = 0; s < members.size(); ++s) {
-        const std::size_t k = members[s];
-        const Mesh_part<Point>& part = parts[k];
+      for (std::size_t s = 0; s < per; ++s) {  // a cut vertex stays locked if its run is cut here
+        const Mesh_part<Point>& part = *list[s];
         g.input_faces += part.input_faces;
         g.input_vertices += part.input_vertices;
-        for (auto u : part.mesh.vertices()) {
-          const std::size_t i = merged.vertex[s][std::size_t(u)];
-          const Quadric& pq = part_policy[k]->quadric(u);
-          if (part.locked[std::size_t(u)]) {  // the quadric of the input plus what each part added
+        for (auto u : part.mesh.vertices())
+          if (part.locked[std::size_t(u)]) {
+            const std::size_t i = merged.vertex[s][std::size_t(u)];
             g.run[i] = part.run[std::size_t(u)];
             g.run_cut[i] = part.run_cut[std::size_t(u)];
             g.locked[i] = std::uint8_t((part.run_cut[std::size_t(u)] >> level) & 1u);
-            const Quadric& input = cut_data.at(merged.input_vertex[i]).first;
-            q[i] = Quadric::combine(q[i], 1.0, Quadric::combine(pq, 1.0, input, -1.0), 1.0);
-          } else {
-            q[i] = pq;
-            w[i] = part_policy[k]->weight(u);
           }
-        }
-        if (part_memory[k])
-          part_memory[k]->for_each_point([&](auto f, const CM::internal::Vec3& p, double area) {
-            if (f == Mesh::null_face() || merged.face[s][std::size_t(f)] == no_index) return;
-            points.emplace_back(typename Mesh::Face_index(size_type(merged.face[s][std::size_t(f)])), p, area);
-          });
       }
-      for (std::size_t k : members) {  // freed before the group's simplification
-        part_memory[k].reset();
-        part_policy[k].reset();
-        parts[k] = Mesh_part<Point>();
-      }
+      std::vector<Quadric> q;
+      std::vector<double> w;
+      Point_list points;
+      gather(per * j, per, merged, q, w, points);
+      for (std::size_t k = per * j; k < per * (j + 1); ++k) parts[k] = Mesh_part<Point>();  // freed
       Policy& gp = group_policy[j].emplace(g.mesh, options.quadric);
-      for (std::size_t i = 0; i < nv; ++i) gp.set_vertex_data(V(size_type(i)), q[i], w[i]);
-      if (options.quadric.weighted)  // a vertex of the unlocked cut has a new star
-        for (std::size_t i = 0; i < nv; ++i)
-          if (merged.input_vertex[i] != no_index && !g.locked[i])
-            gp.recompute_weight(g.mesh, g.mesh.points(), V(size_type(i)));
-      gp.keep_vertex_data_once();
+      set_quadrics(gp, g.mesh, q, w, merged, &g.locked);
       Memory* gmem = nullptr;
       if (options.surface_memory)
         gmem = &group_memory[j].emplace(g.mesh, g.mesh.points(), points, memory_options(g.input_vertices));
-      decltype(points)().swap(points);
+      Point_list().swap(points);
       simplify_part(g, gp, gmem);
     });
     // (a vector swap moves no element: the policies and memories keep their meshes)
@@ -471,71 +489,27 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     part_policy.swap(group_policy);
     part_memory.swap(group_memory);
   }
-  const std::size_t n_last = parts.size();
 
   Merged_parts<Point> merged = merge_parts(parts, vertex_slots);
-  const std::size_t nv = merged.points.size();
-  std::vector<Quadric> q(nv);
-  std::vector<double> w(nv, 1.0);
-  std::vector<std::tuple<typename Mesh::Face_index, CM::internal::Vec3, double>> points;
-  {  // (reserved whole: on the 1M-face mesh the points are half a million, growing by doubling
-     // would leave up to 20 MB unused at the memory's peak)
-    std::size_t total = 0;
-    for (const auto& pmem : part_memory)
-      if (pmem) total += pmem->number_of_points();
-    points.reserve(total);
-  }
+  std::vector<Quadric> q;
+  std::vector<double> w;
+  Point_list points;
   // The whole is checked before it replaces the input (nothing is lost on a failure), on one
   // core while the other gathers its quadrics and points.
-  tbb::parallel_invoke(
-      [&] {
-        // the quadrics of the whole: a cut vertex's is its input quadric plus what each part added
-        for (std::size_t i = 0; i < nv; ++i)
-          if (merged.input_vertex[i] != no_index) {
-            const auto& [input_q, input_w] = cut_data.at(merged.input_vertex[i]);
-            q[i] = input_q;
-            w[i] = input_w;
-          }
-        // then part by part its quadrics and its points, on the faces of the whole; each part's
-        // are freed once taken
-        for (std::size_t k = 0; k < n_last; ++k) {
-          for (auto u : parts[k].mesh.vertices()) {
-            const std::size_t i = merged.vertex[k][std::size_t(u)];
-            const Quadric& pq = part_policy[k]->quadric(u);
-            if (parts[k].locked[std::size_t(u)]) {
-              const Quadric& input = cut_data.at(merged.input_vertex[i]).first;
-              q[i] = Quadric::combine(q[i], 1.0, Quadric::combine(pq, 1.0, input, -1.0), 1.0);
-            } else {
-              q[i] = pq;
-              w[i] = part_policy[k]->weight(u);
-            }
-          }
-          part_policy[k].reset();
-          if (!part_memory[k]) continue;
-          part_memory[k]->for_each_point([&](auto f, const CM::internal::Vec3& p, double area) {
-            if (f == Mesh::null_face() || merged.face[k][std::size_t(f)] == no_index) return;
-            points.emplace_back(typename Mesh::Face_index(size_type(merged.face[k][std::size_t(f)])), p, area);
-          });
-          part_memory[k].reset();
-        }
-      },
-      [&] {
-        Mesh check;
-        build_triangle_mesh(check, merged.points, merged.corners, merged.sides, merged.edges);
-        if (!CGAL::is_valid_polygon_mesh(check) || !CGAL::is_triangle_mesh(check))
-          throw std::logic_error("simplify_mesh: the simplified parts do not make a valid mesh");
-      });
+  tbb::parallel_invoke([&] { gather(0, parts.size(), merged, q, w, points); },
+                       [&] {
+                         Mesh check;
+                         build_triangle_mesh(check, merged.points, merged.corners, merged.sides, merged.edges);
+                         if (!CGAL::is_valid_polygon_mesh(check) || !CGAL::is_triangle_mesh(check))
+                           throw std::logic_error("simplify_mesh: the simplified parts do not make a valid mesh");
+                       });
   if (options.before_changing_input && !options.release_input_in_parts) options.before_changing_input();
   parts.clear();
   mesh.clear_without_removing_property_maps();
   build_triangle_mesh(mesh, merged.points, merged.corners, merged.sides, merged.edges);
-  for (std::size_t i = 0; i < nv; ++i) policy.set_vertex_data(V(size_type(i)), q[i], w[i]);
-  if (options.quadric.weighted)  // a cut vertex's star has changed in every part
-    for (std::size_t i = 0; i < nv; ++i)
-      if (merged.input_vertex[i] != no_index) policy.recompute_weight(mesh, mesh.points(), V(size_type(i)));
-  policy.keep_vertex_data_once();
+  set_quadrics(policy, mesh, q, w, merged, nullptr);  // (nothing is locked in the whole)
   if (options.surface_memory) memory.emplace(mesh, mesh.points(), points, options.memory);
-  decltype(points)().swap(points);
+  Point_list().swap(points);
 }
 
 }  // namespace internal
