@@ -5,7 +5,10 @@
 // parts and putting them back gives the input again; the locked vertices are exactly the cut
 // ones; a simplification in parts keeps the mesh valid, its topology and its target, and its
 // error stays close to the simplification of the whole at once.
+#include "cmgeom_test_config.h"
+
 #include <CMGeom/Metrics/approximation_error.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Textured_simplification.h>
 
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -14,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cmgeom_test_support.h"
 #include "cmgeom_test_surface_meshes.h"
 
 #include <algorithm>
@@ -21,7 +25,9 @@
 #include <cmath>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
+#include <string>
 #include <vector>
 
 namespace {
@@ -413,6 +419,96 @@ TEST(SimplifyMesh, ReleasingTheInputDuringThePartsChangesNothing) {
     ASSERT_TRUE(CGAL::is_valid_polygon_mesh(released));
     EXPECT_EQ(released.number_of_faces(), kept.number_of_faces());
     EXPECT_TRUE(triangles(released) == triangles(kept));
+  }
+}
+
+// The part-side rule for two locked copies of one input vertex (a part whose faces around that
+// vertex make two runs): on a strip of three quads, p0 and p3 copies of input vertex 7. Without
+// the twin marks the filter lets the bottom edge p1-p2 go, which would join p0 and p3 (one vertex
+// once the parts are glued) by two edges; with them it refuses that and the collapse of p2 onto
+// p3 (p3 would become the neighbour of p1, next to p0), and still accepts the top edge q1-q2.
+TEST(MeshParts, TwinCopiesOfAnInputVertexAreNeverJoinedTwice) {
+  TS::internal::Mesh_part<Point_3> part;
+  Mesh& m = part.mesh;
+  std::vector<Mesh::Vertex_index> p, q;
+  for (int i = 0; i < 4; ++i) p.push_back(m.add_vertex(Point_3(i, 0, 0)));
+  for (int i = 0; i < 4; ++i) q.push_back(m.add_vertex(Point_3(i, 1, 0)));
+  for (std::size_t i = 0; i < 3; ++i) {
+    ASSERT_NE(m.add_face(p[i], p[i + 1], q[i + 1]), Mesh::null_face());
+    ASSERT_NE(m.add_face(p[i], q[i + 1], q[i]), Mesh::null_face());
+  }
+  part.locked.assign(m.num_vertices(), 0);
+  part.to_input.assign(m.num_vertices(), TS::internal::no_index);
+  for (auto v : {p[0], p[3]}) {
+    part.locked[std::size_t(v)] = 1;
+    part.to_input[std::size_t(v)] = 7;
+  }
+  part.locked[std::size_t(q[0])] = 1;  // a locked vertex of its own (no twin)
+  part.to_input[std::size_t(q[0])] = 9;
+  const std::vector<std::uint8_t> twin = TS::internal::locked_twins(part);
+  ASSERT_EQ(twin.size(), m.num_vertices());
+  for (auto v : m.vertices()) EXPECT_EQ(twin[std::size_t(v)] != 0, v == p[0] || v == p[3]) << std::size_t(v);
+  struct Profile {
+    const Mesh* mesh;
+    Mesh::Vertex_index a, b;
+    const Mesh& surface_mesh() const { return *mesh; }
+    Mesh::Vertex_index v0() const { return a; }
+    Mesh::Vertex_index v1() const { return b; }
+  };
+  const std::optional<Point_3> at(Point_3(1.5, 0, 0));
+  auto accepts = [&](const std::vector<std::uint8_t>* marks, Mesh::Vertex_index a, Mesh::Vertex_index b) {
+    return TS::internal::Locked_vertex_filter<Point_3>{&part, marks}(Profile{&m, a, b}, at).has_value();
+  };
+  EXPECT_TRUE(accepts(nullptr, p[1], p[2]));  // what the filter let through before
+  EXPECT_FALSE(accepts(&twin, p[1], p[2]));
+  EXPECT_FALSE(accepts(&twin, p[2], p[1]));
+  EXPECT_FALSE(accepts(&twin, p[2], p[3]));
+  EXPECT_FALSE(accepts(&twin, p[3], p[2]));
+  EXPECT_TRUE(accepts(&twin, q[1], q[2]));
+  EXPECT_TRUE(accepts(&twin, q[2], q[3]));
+  // a part with no twin has no marks
+  part.to_input[std::size_t(p[3])] = 8;
+  EXPECT_TRUE(TS::internal::locked_twins(part).empty());
+}
+
+// The open, non-manifold ogre of the shared data (44 components, borders, 3 non-manifold vertices
+// the reader repairs, zero-area faces), cut into small parts: its fans cross the cuts more than
+// once, and the parts put back together used to hold two edges between the same two vertices
+// (simplify_mesh threw "the simplified parts do not make a valid mesh"). The output is valid, its
+// topology that of the input, and no two edges join the same two vertices.
+TEST(SimplifyMesh, InPartsOnAnOpenNonManifoldScanStaysValid) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const std::string dir = cmgeom_test::scratch_dir();
+  const std::string path = cmgeom_test::shared_mesh("classic/ogre.obj.gz", dir);
+  ASSERT_FALSE(path.empty());
+  CMGeom::IO::Read_options ro;
+  ro.repair = true;
+  ro.allow_degenerate_faces = true;
+  std::vector<std::string> warnings;
+  ro.warnings = &warnings;
+  Mesh input;
+  CMGeom::IO::read_mesh(path, input, ro);
+  ASSERT_EQ(input.number_of_faces(), 124008u);
+  for (double ratio : {0.2, 0.05}) {
+    Mesh m = input;
+    TS::Mesh_simplification_options o;
+    o.target_ratio = ratio;
+    o.parts_min_faces = 4096;
+    o.part_faces = 2048;
+    TS::Mesh_simplification_result r;
+    ASSERT_NO_THROW(r = TS::simplify_mesh(m, o)) << ratio;
+    EXPECT_EQ(r.parts, 16u) << ratio;  // (four halvings at most)
+    ASSERT_TRUE(CGAL::is_valid_polygon_mesh(m)) << ratio;
+    EXPECT_TRUE(CGAL::is_triangle_mesh(m));
+    EXPECT_LE(m.number_of_faces(), r.target_faces) << ratio;
+    EXPECT_EQ(euler_characteristic(m), euler_characteristic(input)) << ratio;
+    EXPECT_EQ(border_loops(m), border_loops(input)) << ratio;
+    std::set<std::pair<std::size_t, std::size_t>> ends;
+    for (auto e : m.edges()) {
+      std::size_t a = std::size_t(m.vertex(e, 0)), b = std::size_t(m.vertex(e, 1));
+      if (a > b) std::swap(a, b);
+      EXPECT_TRUE(ends.emplace(a, b).second) << "two edges join vertices " << a << " and " << b << ", ratio " << ratio;
+    }
   }
 }
 

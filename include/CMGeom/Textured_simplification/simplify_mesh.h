@@ -211,16 +211,25 @@ struct Locked_vertex_placement {
 /// Refuses a collapse onto a locked vertex that would join it to another locked vertex it has no
 /// edge to: edges between locked vertices stay those of the input, so that two parts cannot make
 /// the same new edge (the whole would have it twice).
+/// A part may also hold two locked copies of one input vertex, when its faces around that vertex
+/// make two runs (a fan that crosses the cut twice, as on the open, non-manifold ogre): the copies
+/// become one vertex when the parts are put back together, so no vertex may become a neighbour of
+/// both (the whole would have two edges between the same two vertices) and no copy a neighbour of
+/// another. `twin` (null when the part has none) marks the locked vertices whose input vertex has
+/// another locked copy in the part.
+template <class Point>
 struct Locked_vertex_filter {
-  const std::vector<std::uint8_t>* locked;
+  const Mesh_part<Point>* part;
+  const std::vector<std::uint8_t>* twin;
   template <class Profile, class Placement>
   Placement operator()(const Profile& p, const Placement& placement) const {
     const auto& tm = p.surface_mesh();
-    const bool a = (*locked)[std::size_t(p.v0())] != 0;
-    if (!a && !(*locked)[std::size_t(p.v1())]) return placement;
+    const std::vector<std::uint8_t>& locked = part->locked;
+    const bool a = locked[std::size_t(p.v0())] != 0;
+    if (!a && !locked[std::size_t(p.v1())]) return twin ? twins_apart(p, placement) : placement;
     const auto kept = a ? p.v0() : p.v1(), gone = a ? p.v1() : p.v0();
     for (auto w : CGAL::vertices_around_target(gone, tm)) {
-      if (w == kept || !(*locked)[std::size_t(w)]) continue;
+      if (w == kept || !locked[std::size_t(w)]) continue;
       bool adjacent = false;
       for (auto x : CGAL::vertices_around_target(kept, tm))
         if (x == w) {
@@ -229,14 +238,54 @@ struct Locked_vertex_filter {
         }
       if (!adjacent) return Placement();
     }
+    return twin ? twins_apart(p, placement) : placement;
+  }
+
+private:
+  // the twin rule above, for a collapse the rest of the filter accepts
+  template <class Profile, class Placement>
+  Placement twins_apart(const Profile& p, const Placement& placement) const {
+    const auto& tm = p.surface_mesh();
+    const std::vector<std::uint8_t>& locked = part->locked;
+    const std::vector<std::uint32_t>& to_input = part->to_input;
+    const auto kept = locked[std::size_t(p.v1())] ? p.v1() : p.v0(), gone = kept == p.v0() ? p.v1() : p.v0();
+    using Vertex = std::decay_t<decltype(kept)>;
+    std::vector<Vertex> around_kept;
+    for (auto x : CGAL::vertices_around_target(kept, tm))
+      if (x != gone) around_kept.push_back(x);
+    auto next_to_kept = [&](Vertex w) {
+      return std::find(around_kept.begin(), around_kept.end(), w) != around_kept.end();
+    };
+    // the input vertices of the twins around the kept vertex once the collapse is done
+    std::vector<std::uint32_t> keys;
+    for (Vertex x : around_kept)
+      if ((*twin)[std::size_t(x)]) keys.push_back(to_input[std::size_t(x)]);
+    std::vector<Vertex> joined;  // the gone vertex's neighbours that become the kept one's
+    for (auto w : CGAL::vertices_around_target(gone, tm))
+      if (w != kept && !next_to_kept(w)) {
+        joined.push_back(w);
+        if ((*twin)[std::size_t(w)]) keys.push_back(to_input[std::size_t(w)]);
+      }
+    const bool kept_twin = (*twin)[std::size_t(kept)] != 0;
+    const std::uint32_t own = kept_twin ? to_input[std::size_t(kept)] : no_index;
+    std::sort(keys.begin(), keys.end());
+    if (std::adjacent_find(keys.begin(), keys.end()) != keys.end()) return Placement();
+    if (kept_twin && std::binary_search(keys.begin(), keys.end(), own)) return Placement();
+    // a twin kept vertex must not become the neighbour of a vertex next to its other copy
+    if (kept_twin)
+      for (Vertex w : joined)
+        for (auto x : CGAL::vertices_around_target(w, tm))
+          if (x != kept && (*twin)[std::size_t(x)] && to_input[std::size_t(x)] == own) return Placement();
     return placement;
   }
 };
 
-/// The collapse may keep either endpoint: the kept one inherits the lock and the input vertex.
+/// The collapse may keep either endpoint: the kept one inherits the lock, the input vertex and
+/// the twin mark (Locked_vertex_filter).
 template <class Point>
 struct Locked_vertex_visitor : Edge_collapse_visitor_base {
   Mesh_part<Point>* part;
+  std::vector<std::uint8_t>* twin;  // null when the part has none
   template <class Profile, class V>
   void OnCollapsed(const Profile& p, const V& kept) const {
     const std::size_t a = std::size_t(p.v0()), b = std::size_t(p.v1()), k = std::size_t(kept);
@@ -246,8 +295,28 @@ struct Locked_vertex_visitor : Edge_collapse_visitor_base {
     part->to_input[k] = part->to_input[from];
     part->run[k] = part->run[from];
     part->run_cut[k] = part->run_cut[from];
+    if (twin) (*twin)[k] = (*twin)[from];
   }
 };
+
+/// The twin marks of a part's locked vertices (Locked_vertex_filter); empty when no input vertex
+/// has two locked copies in it.
+template <class Point>
+std::vector<std::uint8_t> locked_twins(const Mesh_part<Point>& part) {
+  std::vector<std::uint32_t> keys;
+  for (auto u : part.mesh.vertices())
+    if (part.locked[std::size_t(u)]) keys.push_back(part.to_input[std::size_t(u)]);
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::uint32_t> twice;
+  for (std::size_t i = 1; i < keys.size(); ++i)
+    if (keys[i] == keys[i - 1] && (twice.empty() || twice.back() != keys[i])) twice.push_back(keys[i]);
+  if (twice.empty()) return {};
+  std::vector<std::uint8_t> twin(part.locked.size(), 0);
+  for (auto u : part.mesh.vertices())
+    if (part.locked[std::size_t(u)] && std::binary_search(twice.begin(), twice.end(), part.to_input[std::size_t(u)]))
+      twin[std::size_t(u)] = 1;
+  return twin;
+}
 
 /// Number of halvings of the input into parts (0: none), see the file comment.
 inline int part_levels(std::size_t faces, std::size_t target, const Mesh_simplification_options& o) {
@@ -369,14 +438,16 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
                                                      double(part.input_faces) / double(faces_in))) +
                                    std::size_t(std::ceil(options.parts_tail_per_cut_vertex * double(locked))));
     if (pm.number_of_faces() <= stop) return;
+    std::vector<std::uint8_t> twin = locked_twins(part);
+    std::vector<std::uint8_t>* twins = twin.empty() ? nullptr : &twin;
     collapse_with_placement(pp, options.endpoint_placement, [&](const auto& placement) {
       using Base = std::decay_t<decltype(placement)>;
       edge_collapse(pm, Face_count_stop_predicate<Mesh>(pm, stop),
                     CMGeom::parameters::surface_memory(
                         pmem, CGAL::parameters::get_cost(pp)
                                   .get_placement(Locked_vertex_placement<Base>{placement, &part.locked})
-                                  .filter(Locked_vertex_filter{&part.locked})
-                                  .visitor(Locked_vertex_visitor<Point>{{}, &part})));
+                                  .filter(Locked_vertex_filter<Point>{&part, twins})
+                                  .visitor(Locked_vertex_visitor<Point>{{}, &part, twins})));
     });
   };
   // The quadrics and points of the parts first .. first + count - 1, put back together as `merged`,
