@@ -5,8 +5,8 @@
 // (an error, an unknown statement) and so reports its errors and warnings.
 //
 // Own parser rather than tinyobjloader: every error must carry its line number (tinyobjloader
-// reports out-of-range indices without one, or not at all), polygons must be split into fans in
-// file order, and coordinates must read back bit-exactly (std::from_chars / std::to_chars). The
+// reports out-of-range indices without one, or not at all), polygons must be split into fans as
+// build_textured_mesh() does (textured_mesh.cpp), and coordinates must read back bit-exactly (std::from_chars / std::to_chars). The
 // test suite cross-checks this parser against tinyobjloader on every textured model.
 #include "io_internal.h"
 

@@ -1,5 +1,6 @@
 // Tests of building a Compact Model: point gathering, sharp-edge detection (box: all crease
-// edges, sphere: none, fandisk), the support check of coarse bases, the progress hook.
+// edges, sphere: none, fandisk), the support check of coarse bases, the progress hook, the refusal
+// of triangles back to back.
 #include "compact_model_test_util.h"
 
 namespace {
@@ -38,6 +39,26 @@ TEST(CompactModelBuild, GatheringIsLinearAndCoversEveryVertex) {
     if (!t.is_removed(v))
       for (auto p : g2.points_of(std::uint32_t(v.idx()))) seen2[p] = 1;
   for (std::size_t i = 0; i < V; ++i) EXPECT_TRUE(seen2[i]) << "point " << i;
+}
+
+// A sphere with a second component: two triangles back to back on the same three vertices. Every
+// base edge is split at one midpoint per pair of end vertices, so the reconstruction of such a
+// pocket cannot be a manifold mesh; the build refuses it (before, the build succeeded and every
+// reconstruction above level 0 failed).
+TEST(CompactModelBuild, TrianglesBackToBackAreRefused) {
+  Surface_mesh s = make_sphere(3);
+  const auto a = s.add_vertex(Point_3(3, 0, 0)), b = s.add_vertex(Point_3(4, 0, 0)), c = s.add_vertex(Point_3(3, 1, 0));
+  ASSERT_NE(s.add_face(a, b, c), Surface_mesh::null_face());
+  ASSERT_NE(s.add_face(a, c, b), Surface_mesh::null_face());
+  ASSERT_TRUE(CGAL::is_valid_polygon_mesh(s));
+  try {
+    build_compact_model(s, 120);
+    ADD_FAILURE() << "no exception";
+  } catch (const CMGeom::Invalid_input& e) {
+    EXPECT_NE(std::string(e.what()).find("same three vertices"), std::string::npos) << e.what();
+  }
+  // the sphere alone builds
+  EXPECT_NO_THROW(build_compact_model(make_sphere(3), 120));
 }
 
 TEST(CompactModelBuild, SphereHasNoSharpEdge) {

@@ -1,5 +1,6 @@
 // Tests of the OBJ and PLY readers on hand-made files: triangle strips, polygons split in file
-// order, negative indices, unknown statements; large generated OBJ files (read in chunks).
+// order (from another corner where that fan would repeat an edge), negative indices, unknown statements; large
+// generated OBJ files (read in chunks).
 #include "mesh_io_test_util.h"
 
 #include "../Reliability/fuzz_mutate.h"
@@ -91,6 +92,33 @@ TEST(Mesh_IO_obj, PolygonsAreFanSplitInFileOrderAndNegativeIndicesWork) {
   EXPECT_EQ(faces[0], (std::vector<std::size_t>{0, 1, 2}));
   EXPECT_EQ(faces[1], (std::vector<std::size_t>{0, 2, 3}));
   EXPECT_EQ(faces[2], (std::vector<std::size_t>{2, 4, 3}));
+}
+
+// Two quads that share three corners (as Blender's Suzanne has, shared suzanne.obj line 1170): both
+// first-corner fans take the diagonal 1-3, which would give that edge four triangles, two of them on
+// the same three vertices. The second quad's fan starts at its next corner instead (diagonal 4-5):
+// the mesh reads without repair, manifold, with each corner's texture coordinate kept.
+TEST(Mesh_IO_obj, AFanWhoseDiagonalIsAlreadyAnEdgeStartsAtAnotherCorner) {
+  const std::string dir = scratch_dir();
+  const std::string path = write_text(dir, "shared_corners.obj",
+                                      "v 0 0 0\nv 1 -1 0\nv 2 0 0\nv 1 0.5 0\nv 1 2 0\n"
+                                      "vt 0 0\nvt 0.5 0\nvt 1 0\nvt 0.5 0.25\nvt 0.5 1\n"
+                                      "f 1/1 2/2 3/3 4/4\nf 1/1 4/4 3/3 5/5\n");
+  Textured_mesh tm;
+  ASSERT_NO_THROW(IO::read_mesh(path, tm));  // (no repair asked)
+  const Surface_mesh& m = tm.mesh();
+  ASSERT_EQ(m.number_of_faces(), 4u);
+  EXPECT_TRUE(CGAL::is_valid_polygon_mesh(m));
+  EXPECT_EQ((oriented_triangles(tm)),
+            (std::vector<std::array<std::size_t, 3>>{{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {2, 4, 3}}));
+  for (auto h : m.halfedges())
+    if (!m.is_border(h)) {  // vertex i (0-based) has texture coordinate i in the file
+      const auto uv = tm.uv(h);
+      const double expected[5][2] = {{0, 0}, {0.5, 0}, {1, 0}, {0.5, 0.25}, {0.5, 1}};
+      EXPECT_EQ(uv.x(), expected[std::size_t(m.target(h))][0]);
+      EXPECT_EQ(uv.y(), expected[std::size_t(m.target(h))][1]);
+    }
+  // the fans of files that read before are unchanged (the test above)
 }
 
 TEST(Mesh_IO_obj, UnknownStatementsAreSkippedWithAWarning) {

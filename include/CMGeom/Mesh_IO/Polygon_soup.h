@@ -50,7 +50,7 @@ struct Polygon_soup {
 };
 
 /// What `analyze_soup()` measures. Counts refer to the polygons as they are in the file (before
-/// the fan triangulation build_textured_mesh() does) and before any repair.
+/// build_textured_mesh() splits polygons into fans) and before any repair.
 struct Mesh_statistics {
   std::size_t vertices = 0;  ///< referenced vertices
   std::size_t unreferenced_vertices = 0;
