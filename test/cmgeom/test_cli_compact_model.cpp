@@ -2,7 +2,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // End-to-end tests of `cmgeom cm build` writing the compact CM file (format version 3) and of its
-// rate-distortion options (--max-error, --bytes), on the bundled Spot.
+// rate-distortion options (--max-error, --bytes), on the bundled Spot; the --texture option of an
+// input that names no texture (cm build, simplify, lod).
 #include "cmgeom_test_support.h"
 
 #include <gtest/gtest.h>
@@ -13,6 +14,8 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace {
 
@@ -113,5 +116,46 @@ TEST(cmgeom_cli, CmBuildRefusesInconsistentRateOptionsAndWritesNothing) {
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
     EXPECT_EQ(cmgeom_test::count_files(dir), 0u);
+  }
+}
+
+// An OBJ with texture coordinates that names no texture, its image beside it (as the shared
+// spot.obj): `cm build`, `simplify` and `lod` never guess the texture. Each refuses, naming the
+// image and the options, and writes nothing; with --texture each makes a textured output (cm build:
+// its JSON says textured, and the base's new atlas is written beside the CM file).
+TEST(cmgeom_cli, AnInputThatNamesNoTextureIsRefusedUntilTextureOrNoTextureIsGiven) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  const fs::path data = fs::path(CMGEOM_SOURCE_DIR) / "data" / "spot";
+  {
+    std::ifstream in(data / "spot.obj");
+    std::ofstream out(fs::path(dir) / "cow.obj");
+    std::string line;
+    while (std::getline(in, line))
+      if (line.rfind("mtllib", 0) != 0 && line.rfind("usemtl", 0) != 0) out << line << '\n';
+  }
+  fs::copy_file(data / "spot_texture.png", fs::path(dir) / "cow_colours.png");
+  fs::create_directories(fs::path(dir) / "out");
+  const std::string in = "'" + dir + "/cow.obj'";
+  const std::string texture = " --texture '" + dir + "/cow_colours.png'";
+  const std::vector<std::pair<std::string, std::string>> commands = {{"cm build " + in + " --faces 300 -o ", "out.cm"},
+                                                                     {"simplify " + in + " --ratio 0.1 -o ", "out.obj"},
+                                                                     {"lod " + in + " --ratios 1,0.25 -o ", "out.glb"}};
+  for (const auto& [command, output] : commands) {
+    SCOPED_TRACE(command);
+    const std::string out = dir + "/out/" + output;  // (not beside the input: outputs are images too)
+    const auto refused = cmgeom_test::run_cli("--quiet " + command + "'" + out + "'", dir);
+    EXPECT_EQ(refused.exit_code, 1);
+    EXPECT_NE(refused.err.find("names no texture (its folder holds cow_colours.png)"), std::string::npos)
+        << refused.err;
+    EXPECT_NE(refused.err.find("--texture FILE"), std::string::npos) << refused.err;
+    EXPECT_FALSE(fs::exists(out));
+    const auto given = cmgeom_test::run_cli("--quiet " + command + "'" + out + "'" + texture + " --json", dir);
+    ASSERT_EQ(given.exit_code, 0) << given.err;
+    EXPECT_TRUE(fs::exists(out));
+    const auto j = nlohmann::json::parse(given.out);
+    if (j.contains("textured")) EXPECT_EQ(j["textured"], true);
+    if (output == "out.cm") EXPECT_TRUE(fs::exists(fs::path(dir) / "out" / "out.png"));  // the base's atlas
+    const auto plain = cmgeom_test::run_cli("--quiet " + command + "'" + out + "'" + " --no-texture", dir);
+    EXPECT_EQ(plain.exit_code, 0) << plain.err;
   }
 }

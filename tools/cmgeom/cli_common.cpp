@@ -166,6 +166,40 @@ void add_repair_option(CLI::App& app, bool& repair) {
                "(CGAL's orient_polygon_soup) instead of refusing the file");
 }
 
+void apply_texture_option(CMGeom::Textured_mesh& tm, const std::string& input, const std::string& texture) {
+  if (texture.empty()) return;
+  if (!tm.has_uvs()) throw CMGeom::Invalid_input(input + ": --texture given but the mesh has no texture coordinates");
+  if (tm.materials().empty()) tm.materials().emplace_back();
+  for (auto& m : tm.materials()) {
+    if (m.name.empty()) m.name = "material";
+    m.diffuse_texture = std::filesystem::absolute(texture).string();
+    m.diffuse_texture_blob.clear();
+  }
+  for (auto f : tm.mesh().faces()) tm.material_map()[f] = 0;
+}
+
+void refuse_unnamed_texture(const CMGeom::Textured_mesh& tm, const std::string& input,
+                            const std::string& textured_use) {
+  if (!tm.has_uvs()) return;
+  for (const auto& m : tm.materials())
+    if (m.has_diffuse_texture() || !m.normal_texture.empty()) return;
+  std::vector<std::string> images;
+  std::error_code ec;
+  const auto dir = std::filesystem::absolute(input).parent_path();
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    std::string ext = e.path().extension().string();
+    for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tga" || ext == ".bmp")
+      images.push_back(e.path().filename().string());
+  }
+  std::sort(images.begin(), images.end());
+  std::string beside;
+  for (const auto& name : images) beside += (beside.empty() ? "" : ", ") + name;
+  if (!beside.empty())
+    throw CMGeom::Invalid_input(input + ": has texture coordinates but names no texture (its folder holds " + beside +
+                                "); pass --texture FILE " + textured_use + ", or --no-texture for geometry only");
+}
+
 CLI::Option* add_memory_points_option(CLI::App& app, std::size_t& max_points) {
   return app
       .add_option("--memory-points", max_points,

@@ -70,6 +70,17 @@ void add_allow_degenerate_option(CLI::App& app, bool& allow_degenerate_faces);
 // inconsistently oriented input names) to a command that reads a mesh and does not repair by default.
 void add_repair_option(CLI::App& app, bool& repair);
 
+// Gives every material of `tm` (one is made when it has none, and every face takes it) the diffuse
+// texture `texture` (the --texture option of an input whose file names none, e.g. spot.obj);
+// nothing when `texture` is empty. Invalid_input when the mesh has no texture coordinates.
+void apply_texture_option(CMGeom::Textured_mesh& tm, const std::string& input, const std::string& texture);
+
+// Invalid_input when `tm` has texture coordinates, no material names a texture and the input's
+// folder holds images: a texture is never guessed, the message names those images and the options
+// (--texture FILE, or --no-texture; `textured_use` says what --texture is for, e.g. "to simplify it
+// textured").
+void refuse_unnamed_texture(const CMGeom::Textured_mesh& tm, const std::string& input, const std::string& textured_use);
+
 // Adds --memory-points N (Surface_memory_options::max_points) to a command that simplifies with the
 // memoryful term; returns the option (its count() tells whether it was given).
 CLI::Option* add_memory_points_option(CLI::App& app, std::size_t& max_points);

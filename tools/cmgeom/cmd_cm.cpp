@@ -1,5 +1,6 @@
 // cmgeom cm build <in> -o <model.cm> (--faces N | --ratio r) [--sharp-angle deg] [--cubic]
-//                 [--joint-fit] [--error-bound x [--error-rounds n] [--error-level L]] [--json]
+//                 [--texture image | --no-texture] [--joint-fit] [--error-bound x [--error-rounds n] [--error-level L]]
+//                 [--json]
 // cmgeom cm reconstruct <model.cm> -o <out> [--level L | --edge-length x | --roi x,y,z,r |
 //                       --silhouette x,y,z] [--max-level L] [--projection normal|closest] [--json]
 // cmgeom cm deform <model.cm> (--cages <system.json> | --affine a11,...,a34) -o <out>
@@ -100,6 +101,7 @@ CMGEOM_CLI_COMMAND(
     int texture_size = 0, normal_bits = 12, max_level = 3;
     double tolerance = 0, max_error = 0;
     std::size_t max_bytes = 0;
+    std::string texture;
   };
   auto b = std::make_shared<Build_args>();
   CLI::App* build = app.add_subcommand("build", "Build the Compact Model of a triangle mesh (thesis §4.3–4.4)");
@@ -137,6 +139,7 @@ CMGEOM_CLI_COMMAND(
                   "Refit all local surfaces together so that their blend follows the input (CMGeom addition; "
                   "default: the thesis' independent fits)");
   build->add_flag("--no-texture", b->no_texture, "Geometry only even for an input with texture coordinates");
+  build->add_option("--texture", b->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
   cmgeom_cli::add_repair_option(*build, b->repair);
   cmgeom_cli::add_allow_degenerate_option(*build, b->allow_degenerate);
   build->add_option("--texture-size", b->texture_size,
@@ -389,6 +392,10 @@ CMGEOM_CLI_COMMAND(
       cmgeom_cli::print_warnings("cm build", warnings);
       CMGeom::Surface_mesh& mesh = tm.mesh();
       if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(b->input + ": not a triangle mesh");
+      if (!b->no_texture) {
+        cmgeom_cli::apply_texture_option(tm, b->input, b->texture);
+        cmgeom_cli::refuse_unnamed_texture(tm, b->input, "for a textured Compact Model");
+      }
       // A textured input gives a textured CM (thesis §4.5.4): the base is simplified under the
       // chart constraints of chapter 3 and, when the texture can be decoded, gets a new atlas
       // written next to the CM file as <output stem>.png.

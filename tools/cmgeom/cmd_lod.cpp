@@ -127,16 +127,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     CMGeom::IO::read_mesh(o->input, tm, ro);
     cmgeom_cli::print_warnings("lod", warnings);
     if (!CGAL::is_triangle_mesh(tm.mesh())) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
-    if (!o->texture.empty() && !o->no_texture) {
-      if (!tm.has_uvs())
-        throw CMGeom::Invalid_input(o->input + ": --texture given but the mesh has no texture coordinates");
-      if (tm.materials().empty()) tm.materials().emplace_back();
-      for (auto& m : tm.materials()) {
-        if (m.name.empty()) m.name = "material";
-        m.diffuse_texture = std::filesystem::absolute(o->texture).string();
-        m.diffuse_texture_blob.clear();
-      }
-      for (auto f : tm.mesh().faces()) tm.material_map()[f] = 0;
+    if (!o->no_texture) {
+      cmgeom_cli::apply_texture_option(tm, o->input, o->texture);
+      cmgeom_cli::refuse_unnamed_texture(tm, o->input, "for textured levels");
     }
     if (o->no_texture) {
       tm.set_has_uvs(false);

@@ -165,35 +165,12 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     cmgeom_cli::print_warnings("simplify", warnings);
     Mesh& mesh = geometry_only ? geometry : tm.mesh();
     if (!CGAL::is_triangle_mesh(mesh)) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
-    if (!o->texture.empty() && !o->no_texture) {
-      if (!tm.has_uvs())
-        throw CMGeom::Invalid_input(o->input + ": --texture given but the mesh has no texture coordinates");
-      if (tm.materials().empty()) tm.materials().emplace_back();
-      for (auto& m : tm.materials()) {
-        if (m.name.empty()) m.name = "material";
-        m.diffuse_texture = std::filesystem::absolute(o->texture).string();
-        m.diffuse_texture_blob.clear();
-      }
-      for (auto f : mesh.faces()) tm.material_map()[f] = 0;
+    if (!o->no_texture) {
+      cmgeom_cli::apply_texture_option(tm, o->input, o->texture);
+      cmgeom_cli::refuse_unnamed_texture(tm, o->input, "to simplify it textured");
     }
     bool has_texture = false;
     for (const auto& m : tm.materials()) has_texture |= m.has_diffuse_texture() || !m.normal_texture.empty();
-    if (tm.has_uvs() && !has_texture && !o->no_texture) {
-      // never guess a texture: name the images beside the file and the option that takes one
-      std::string beside;
-      std::error_code ec;
-      const auto dir = std::filesystem::absolute(o->input).parent_path();
-      for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
-        std::string ext = e.path().extension().string();
-        for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tga" || ext == ".bmp")
-          beside += (beside.empty() ? "" : ", ") + e.path().filename().string();
-      }
-      if (!beside.empty())
-        throw CMGeom::Invalid_input(
-            o->input + ": has texture coordinates but names no texture (its folder holds " + beside +
-            "); pass --texture FILE to simplify it textured, or --no-texture for geometry only");
-    }
     const bool textured = tm.has_uvs() && has_texture && !o->no_texture;
     if (o->keep_charts && !textured)
       throw CMGeom::Invalid_input(o->input +
