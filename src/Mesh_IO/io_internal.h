@@ -28,6 +28,16 @@ bool is_oriented_manifold_soup(const Polygon_soup& soup, std::size_t vertices);
 /// (obj_io.cpp); 0 reads every file line by line. The soup, the errors and the warnings are the
 /// same either way (a test compares them on mutated files with tiny chunks).
 constexpr std::size_t obj_chunk_bytes = std::size_t(1) << 20;
+/// True for a path ending in ".gz" (any case): the mesh readers decompress it (gzip, zlib) and
+/// read the rest of the name's extension ("bunny.obj.gz" is an OBJ file); relative references
+/// (an OBJ's material library) are resolved beside the .gz file, and errors name it.
+bool is_gzipped_path(const std::string& path);
+/// The whole decompressed content of a gzip file; IO_error (naming the file) when it is missing,
+/// unreadable, or not valid gzip data to its end.
+std::string gunzip_file(const std::string& path);
+/// slurp(), or gunzip_file() for a .gz path.
+std::string mesh_file_text(const std::string& path);
+
 void read_obj(const std::string& path, Polygon_soup& soup, std::size_t chunk_bytes = obj_chunk_bytes);
 void read_off(const std::string& path, Polygon_soup& soup);
 void read_ply(const std::string& path, Polygon_soup& soup);

@@ -6,8 +6,8 @@
 //
 // Own parser rather than tinyobjloader: every error must carry its line number (tinyobjloader
 // reports out-of-range indices without one, or not at all), polygons must be split into fans as
-// build_textured_mesh() does (textured_mesh.cpp), and coordinates must read back bit-exactly (std::from_chars / std::to_chars). The
-// test suite cross-checks this parser against tinyobjloader on every textured model.
+// build_textured_mesh() does (textured_mesh.cpp), and coordinates must read back bit-exactly (std::from_chars /
+// std::to_chars). The test suite cross-checks this parser against tinyobjloader on every textured model.
 #include "io_internal.h"
 
 #include <CMGeom/Error.h>
@@ -28,6 +28,8 @@
 #include <unistd.h>
 
 #include <tbb/parallel_for.h>
+
+#include <zlib.h>
 
 namespace CMGeom {
 namespace IO {
@@ -52,7 +54,64 @@ std::string slurp(const std::string& path) {
   return data;
 }
 
+bool is_gzipped_path(const std::string& path) {
+  if (path.size() < 3) return false;
+  std::string tail = path.substr(path.size() - 3);
+  for (auto& c : tail) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return tail == ".gz";
+}
+
+std::string gunzip_file(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IO_error(path, "file not found");
+  if (fs::is_directory(path, ec)) throw IO_error(path, "is a directory, not a mesh file");
+  const std::string packed = slurp(path);
+  if (packed.size() < 2 || static_cast<unsigned char>(packed[0]) != 0x1f ||
+      static_cast<unsigned char>(packed[1]) != 0x8b)
+    throw IO_error(path, "not gzip data (the name ends in .gz)");
+  std::string out;
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 32) != Z_OK) throw IO_error(path, "cannot start zlib");
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(packed.data()));
+  std::size_t left = packed.size();
+  std::size_t produced = 0;
+  out.resize((std::max)(std::size_t(1) << 16, 4 * packed.size()));
+  int r = Z_OK;
+  while (true) {
+    if (z.avail_in == 0 && left > 0) {  // (zlib counts in 32-bit unsigned ints)
+      const std::size_t take = (std::min)(left, std::size_t(1) << 30);
+      z.avail_in = uInt(take);
+      left -= take;
+    }
+    if (out.size() - produced < (std::size_t(1) << 16)) out.resize(2 * out.size());
+    const std::size_t room = (std::min)(out.size() - produced, std::size_t(1) << 30);
+    z.next_out = reinterpret_cast<Bytef*>(out.data() + produced);
+    z.avail_out = uInt(room);
+    r = inflate(&z, Z_NO_FLUSH);
+    produced += room - z.avail_out;
+    if (r == Z_STREAM_END) {
+      // concatenated gzip members (as `cat a.gz b.gz` makes) are one file
+      if (z.avail_in == 0 && left == 0) break;
+      if (inflateReset(&z) != Z_OK) break;
+      continue;
+    }
+    if (r != Z_OK && r != Z_BUF_ERROR) break;
+    if (r == Z_BUF_ERROR && z.avail_in == 0 && left == 0) break;  // truncated
+  }
+  inflateEnd(&z);
+  if (r != Z_STREAM_END)
+    throw IO_error(path, std::string("corrupt or truncated gzip data") + (z.msg ? std::string(": ") + z.msg : ""));
+  out.resize(produced);
+  return out;
+}
+
+std::string mesh_file_text(const std::string& path) { return is_gzipped_path(path) ? gunzip_file(path) : slurp(path); }
+
 File_bytes::File_bytes(const std::string& path) {
+  if (is_gzipped_path(path)) {
+    copy_ = gunzip_file(path);
+    return;
+  }
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd >= 0) {
     struct stat st;

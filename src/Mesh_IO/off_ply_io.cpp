@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <iostream>
 #include <new>
 #include <sstream>
@@ -59,7 +60,7 @@ bool number(std::string_view t, T& out) {
 }  // namespace
 
 void read_off(const std::string& path, Polygon_soup& soup) {
-  const std::string data = slurp(path);
+  const std::string data = mesh_file_text(path);
   if (data.empty()) throw IO_error(path, "empty file");
   soup = Polygon_soup();
   soup.source = path;
@@ -317,12 +318,19 @@ void read_ply_elements(std::istream& in, const std::string& path, std::vector<Po
 void read_ply(const std::string& path, Polygon_soup& soup) {
   soup = Polygon_soup();
   soup.source = path;
-  {
-    const std::string data = slurp(path);
-    if (data.empty()) throw IO_error(path, "empty file");
-    check_ply_header(data, path);
+  // (a .gz file is read from its decompressed bytes, a plain one from the file)
+  std::string text = mesh_file_text(path);
+  if (text.empty()) throw IO_error(path, "empty file");
+  check_ply_header(text, path);
+  std::optional<std::istringstream> unpacked;
+  std::optional<std::ifstream> file;
+  if (is_gzipped_path(path)) {
+    unpacked.emplace(std::move(text), std::ios::binary);
+  } else {
+    std::string().swap(text);
+    file.emplace(path, std::ios::binary);
   }
-  std::ifstream in(path, std::ios::binary);
+  std::istream& in = unpacked ? static_cast<std::istream&>(*unpacked) : *file;
   std::vector<Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   try {

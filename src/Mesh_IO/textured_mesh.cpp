@@ -32,7 +32,12 @@ std::string extension(const std::string& path) {
 
 Polygon_soup read_polygon_soup(const std::string& path) {
   Polygon_soup soup;
-  const std::string ext = extension(path);
+  std::string ext = extension(path);
+  if (ext == ".gz") {  // bunny.obj.gz: the readers decompress it (internal::is_gzipped_path)
+    ext = extension(path.substr(0, path.size() - 3));
+    if (ext != ".obj" && ext != ".off" && ext != ".ply")
+      throw IO_error(path, "unsupported compressed file type '" + ext + ".gz' (expected .obj.gz, .off.gz or .ply.gz)");
+  }
   if (ext == ".obj")
     internal::read_obj(path, soup);
   else if (ext == ".off")
@@ -42,7 +47,8 @@ Polygon_soup read_polygon_soup(const std::string& path) {
   else if (ext == ".gltf" || ext == ".glb")
     internal::read_gltf(path, soup);
   else
-    throw IO_error(path, "unsupported file type '" + ext + "' (expected .obj, .off, .ply, .gltf or .glb)");
+    throw IO_error(path, "unsupported file type '" + ext +
+                             "' (expected .obj, .off, .ply, .gltf or .glb, the first three also gzipped: .obj.gz)");
   return soup;
 }
 

@@ -6,6 +6,8 @@
 #include "../Reliability/fuzz_mutate.h"
 
 #include <charconv>
+#include <cstdlib>
+#include <iterator>
 #include <random>
 
 // ------------------------------------------------------------------ small hand-made files
@@ -169,6 +171,106 @@ TEST(Mesh_IO_obj, FacesCarryTextureCoordinatesWhenOneHasThemAtEveryCorner) {
   EXPECT_FALSE(partial.faces_have_uvs());
   partial.corner_uv[1] = 1;
   EXPECT_TRUE(partial.faces_have_uvs());
+}
+
+// ------------------------------------------------------------------ gzipped files
+
+namespace {
+
+// `gzip -c` of a file (the system's gzip: an independent compressor), to `path` + ".gz".
+std::string gzipped(const std::string& path) {
+  const std::string out = path + ".gz";
+  EXPECT_EQ(std::system(("gzip -c '" + path + "' > '" + out + "'").c_str()), 0);
+  return out;
+}
+
+void expect_same_soup(const Polygon_soup& a, const Polygon_soup& b) {
+  EXPECT_EQ(a.positions, b.positions);
+  EXPECT_EQ(a.uvs, b.uvs);
+  EXPECT_EQ(a.face_start, b.face_start);
+  EXPECT_EQ(a.corner_vertex, b.corner_vertex);
+  EXPECT_EQ(a.corner_uv, b.corner_uv);
+  EXPECT_EQ(a.face_material, b.face_material);
+  EXPECT_EQ(a.face_line, b.face_line);
+  ASSERT_EQ(a.materials.size(), b.materials.size());
+  for (std::size_t i = 0; i < a.materials.size(); ++i) {
+    EXPECT_EQ(a.materials[i].name, b.materials[i].name);
+    EXPECT_EQ(a.materials[i].diffuse_texture, b.materials[i].diffuse_texture);
+  }
+}
+
+}  // namespace
+
+// OBJ (with a material library and a texture beside it), OFF and PLY (ASCII and binary) read the
+// same gzipped as plain: same soup, materials resolved beside the .gz file; errors name the .gz
+// file (and their line for text formats); concatenated gzip members are one file; data that is not
+// gzip, a truncated file and a compressed glTF are refused with a clear error.
+TEST(Mesh_IO_gzip, GzippedFilesReadAsTheirContent) {
+  const std::string dir = scratch_dir();
+  write_text(dir, "m.mtl", "newmtl paint\nmap_Kd paint.png\n");
+  write_text(dir, "paint.png", "not read here");
+  const std::string cube_v = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
+  const std::string obj = write_text(dir, "cube.obj",
+                                     "mtllib m.mtl\n" + cube_v +
+                                         "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl paint\n"
+                                         "f 1/1 4/4 3/3 2/2\nf 5/1 6/2 7/3 8/4\nf 1/1 2/2 6/3 5/4\n"
+                                         "f 2/1 3/2 7/3 6/4\nf 3/1 4/2 8/3 7/4\nf 4/1 1/2 5/3 8/4\n");
+  const std::string off =
+      write_text(dir, "tet.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  const std::string ply = write_text(dir, "tet.ply",
+                                     "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                     "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+                                     "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  Textured_mesh tet;
+  IO::read_mesh(off, tet);
+  const std::string bin = (fs::path(dir) / "tet_bin.ply").string();
+  IO::write_mesh(bin, tet);  // binary little-endian PLY
+  for (const std::string& path : {obj, off, ply, bin}) {
+    SCOPED_TRACE(path);
+    const std::string gz = gzipped(path);
+    const Polygon_soup plain = IO::read_polygon_soup(path), packed = IO::read_polygon_soup(gz);
+    expect_same_soup(plain, packed);
+    EXPECT_EQ(packed.source, gz);
+    Textured_mesh a, b;
+    IO::read_mesh(path, a);
+    IO::read_mesh(gz, b);
+    EXPECT_EQ(a.mesh().number_of_faces(), b.mesh().number_of_faces());
+  }
+  EXPECT_EQ(IO::read_polygon_soup(obj + ".gz").materials.at(0).diffuse_texture,
+            fs::absolute(fs::path(dir) / "paint.png").string());
+  // an error inside names the .gz file and the line
+  const std::string bad = write_text(dir, "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+  try {
+    IO::read_polygon_soup(gzipped(bad));
+    ADD_FAILURE() << "no error";
+  } catch (const IO_error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.obj.gz:4"), std::string::npos) << e.what();
+  }
+  // two gzip members, one after the other, are the file they make together
+  const std::string head = write_text(dir, "head.txt", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n");
+  const std::string tail = write_text(dir, "tail.txt", "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  const std::string joined = (fs::path(dir) / "joined.off.gz").string();
+  ASSERT_EQ(std::system(("cat '" + gzipped(head) + "' '" + gzipped(tail) + "' > '" + joined + "'").c_str()), 0);
+  expect_same_soup(IO::read_polygon_soup(joined), IO::read_polygon_soup(off));
+  // refused: not gzip data, a truncated file, an empty one, a compressed glTF
+  auto refused = [&](const std::string& path, const std::string& what) {
+    try {
+      IO::read_polygon_soup(path);
+      ADD_FAILURE() << path << ": no error";
+    } catch (const IO_error& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  refused(write_text(dir, "plain.off.gz", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "not gzip data");
+  {
+    std::ifstream in(obj + ".gz", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    write_text(dir, "cut.obj.gz", bytes.substr(0, bytes.size() / 2));
+  }
+  refused((fs::path(dir) / "cut.obj.gz").string(), "corrupt or truncated gzip data");
+  refused(write_text(dir, "empty.ply.gz", ""), "not gzip data");
+  refused(write_text(dir, "x.glb.gz", "?"), "unsupported compressed file type '.glb.gz'");
+  refused((fs::path(dir) / "missing.obj.gz").string(), "file not found");
 }
 
 // ------------------------------------------------------------ large files (read in chunks)
