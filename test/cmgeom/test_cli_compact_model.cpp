@@ -3,7 +3,7 @@
 //
 // End-to-end tests of `cmgeom cm build` writing the compact CM file (format version 3) and of its
 // rate-distortion options (--max-error, --bytes), on the bundled Spot; the --texture option of an
-// input that names no texture (cm build, simplify, lod).
+// input that names no texture (cm build, simplify, lod, pipeline).
 #include "cmgeom_test_support.h"
 
 #include <gtest/gtest.h>
@@ -158,4 +158,12 @@ TEST(cmgeom_cli, AnInputThatNamesNoTextureIsRefusedUntilTextureOrNoTextureIsGive
     const auto plain = cmgeom_test::run_cli("--quiet " + command + "'" + out + "'" + " --no-texture", dir);
     EXPECT_EQ(plain.exit_code, 0) << plain.err;
   }
+  // the pipeline refuses it before it writes anything (its --texture passes the image to its stages)
+  const std::string report = dir + "/report";
+  const auto pipeline = cmgeom_test::run_cli("--quiet pipeline --model " + in + " -o '" + report + "'", dir);
+  EXPECT_EQ(pipeline.exit_code, 1);
+  EXPECT_NE(pipeline.err.find("names no texture (its folder holds cow_colours.png); pass --texture FILE"),
+            std::string::npos)
+      << pipeline.err;
+  EXPECT_FALSE(fs::exists(report));
 }

@@ -178,8 +178,8 @@ void apply_texture_option(CMGeom::Textured_mesh& tm, const std::string& input, c
   for (auto f : tm.mesh().faces()) tm.material_map()[f] = 0;
 }
 
-void refuse_unnamed_texture(const CMGeom::Textured_mesh& tm, const std::string& input,
-                            const std::string& textured_use) {
+void refuse_unnamed_texture(const CMGeom::Textured_mesh& tm, const std::string& input, const std::string& textured_use,
+                            bool offer_no_texture) {
   if (!tm.has_uvs()) return;
   for (const auto& m : tm.materials())
     if (m.has_diffuse_texture() || !m.normal_texture.empty()) return;
@@ -197,7 +197,8 @@ void refuse_unnamed_texture(const CMGeom::Textured_mesh& tm, const std::string& 
   for (const auto& name : images) beside += (beside.empty() ? "" : ", ") + name;
   if (!beside.empty())
     throw CMGeom::Invalid_input(input + ": has texture coordinates but names no texture (its folder holds " + beside +
-                                "); pass --texture FILE " + textured_use + ", or --no-texture for geometry only");
+                                "); pass --texture FILE " + textured_use +
+                                (offer_no_texture ? ", or --no-texture for geometry only" : ""));
 }
 
 CLI::Option* add_memory_points_option(CLI::App& app, std::size_t& max_points) {

@@ -78,8 +78,9 @@ void apply_texture_option(CMGeom::Textured_mesh& tm, const std::string& input, c
 // Invalid_input when `tm` has texture coordinates, no material names a texture and the input's
 // folder holds images: a texture is never guessed, the message names those images and the options
 // (--texture FILE, or --no-texture; `textured_use` says what --texture is for, e.g. "to simplify it
-// textured").
-void refuse_unnamed_texture(const CMGeom::Textured_mesh& tm, const std::string& input, const std::string& textured_use);
+// textured"; `offer_no_texture` false for a command without --no-texture).
+void refuse_unnamed_texture(const CMGeom::Textured_mesh& tm, const std::string& input, const std::string& textured_use,
+                            bool offer_no_texture = true);
 
 // Adds --memory-points N (Surface_memory_options::max_points) to a command that simplifies with the
 // memoryful term; returns the option (its count() tells whether it was given).

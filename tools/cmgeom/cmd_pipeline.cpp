@@ -1,4 +1,4 @@
-// cmgeom pipeline [--model <mesh>] [--cages <system.json>] -o <dir>: the whole framework of the
+// cmgeom pipeline [--model <mesh> [--texture <image>]] [--cages <system.json>] -o <dir>: the whole framework of the
 // thesis on one model, as the README's main job. Each stage runs the corresponding sub-command
 // in-process (so it gets exactly the validation, atomic output and JSON report of the command a
 // user would type), prints its progress on stderr (unless --quiet; the stages' own progress
@@ -166,7 +166,7 @@ json bent_cage_system(const json& rest, const CGAL::Bbox_3& box, int along, int 
 CMGEOM_CLI_COMMAND(pipeline,
                    "Run the whole framework on a model (default: the bundled Spot) and write report.md/.html") {
   struct Options {
-    std::string model, output, cages, size = "768x768";
+    std::string model, output, cages, size = "768x768", texture;
     double ratio = 0.1, cm_ratio = 0.05;
     int level = 2;
     bool allow_degenerate = false;
@@ -188,6 +188,7 @@ CMGEOM_CLI_COMMAND(pipeline,
                  "Cage-system JSON file (see 'cmgeom deform') for the deformation stages (default: a grid of two "
                  "box cages around the model, mean value and Green coordinates, bent by 30 degrees)");
   app.add_option("--size", o->size, "Picture size WxH (default 768x768)");
+  app.add_option("--texture", o->texture, "Diffuse texture for a model whose file names none (e.g. spot.obj)");
   cmgeom_cli::add_allow_degenerate_option(app, o->allow_degenerate);
 
   return [o]() -> int {
@@ -201,10 +202,18 @@ CMGEOM_CLI_COMMAND(pipeline,
     read_options.repair = true;  // as the stages read it (simplify, cm build and deform repair by default)
     read_options.allow_degenerate_faces = o->allow_degenerate;
     cmgeom_cli::read_mesh_with_progress(model, mesh, read_options);
+    // a texture is never guessed (as simplify, lod and cm build refuse it), before anything is written
+    cmgeom_cli::apply_texture_option(mesh, model, o->texture);
+    cmgeom_cli::refuse_unnamed_texture(mesh, model, "to run the pipeline on it textured", false);
     // the stages that build a mesh from the model read it as the read above does
     const auto reading_model = [&](std::vector<std::string> cmd) {
       if (o->allow_degenerate) cmd.push_back("--allow-degenerate");
       cmd.push_back("--repair");
+      return cmd;
+    };
+    // and those that read its texture get the one given
+    const auto texturing_model = [&](std::vector<std::string> cmd) {
+      if (!o->texture.empty()) cmd.insert(cmd.end(), {"--texture", o->texture});
       return cmd;
     };
     const fs::path out = o->output;
@@ -240,7 +249,7 @@ CMGEOM_CLI_COMMAND(pipeline,
             "render", model,   "-o",        p.path("input.png"),
             "--size", o->size, "--caption", textured ? "input: chart boundaries in red" : "input"};
         if (textured) args.insert(args.end(), {"--charts", "--atlas", p.path("input_atlas.png")});
-        p.run(args);
+        p.run(texturing_model(args));
       }
       if (textured) p.run({"render", model, "-o", p.path("input_shaded.png"), "--size", o->size, "--no-texture"});
       {
@@ -278,10 +287,10 @@ CMGEOM_CLI_COMMAND(pipeline,
           const std::string mesh_out = p.path("simplified_" + run.tag + ".obj");
           std::vector<std::string> cmd = {"simplify", model, "-o", mesh_out, "--ratio", general(o->ratio), "--json"};
           cmd.insert(cmd.end(), run.args.begin(), run.args.end());
-          const json js = p.run(reading_model(cmd));
+          const json js = p.run(texturing_model(reading_model(cmd)));
           const json je = p.run({"error", model, mesh_out, "--json"});
-          const json jc = p.run(
-              {"compare", model, mesh_out, "--json", "-o", p.path("compare_" + run.tag + ".png"), "--size", "256"});
+          const json jc = p.run(texturing_model(
+              {"compare", model, mesh_out, "--json", "-o", p.path("compare_" + run.tag + ".png"), "--size", "256"}));
           std::vector<std::string> render = {
               "render",      mesh_out,    "-o",       p.path("simplified_" + run.tag + ".png"), "--size", o->size,
               "--wireframe", "--caption", run.caption};
@@ -304,8 +313,8 @@ CMGEOM_CLI_COMMAND(pipeline,
 
       p.begin("Compact Model (thesis chapter 4): build, regular and adaptive reconstruction");
       {
-        const json jb = p.run(
-            reading_model({"cm", "build", model, "-o", p.path("model.cm"), "--ratio", general(o->cm_ratio), "--json"}));
+        const json jb = p.run(texturing_model(reading_model(
+            {"cm", "build", model, "-o", p.path("model.cm"), "--ratio", general(o->cm_ratio), "--json"})));
         Report::Table table{
             {"reconstruction", "vertices", "faces", "seconds (library call)", "Hausdorff (% diag)", "RMS (% diag)"},
             {}};
@@ -361,8 +370,8 @@ CMGEOM_CLI_COMMAND(pipeline,
           std::string name, file;
         };
         std::vector<System> systems;
-        p.run({"render", model, "-o", p.path("rest_side.png"), "--size", o->size, "--view", view, "--caption",
-               "rest pose"});
+        p.run(texturing_model({"render", model, "-o", p.path("rest_side.png"), "--size", o->size, "--view", view,
+                               "--caption", "rest pose"}));
         pictures.push_back({"rest_side.png", "the input in its rest pose, seen along its shortest axis"});
         if (system.empty()) {
           // A grid of two box cages split across the longest axis, bent 30 degrees; once with
