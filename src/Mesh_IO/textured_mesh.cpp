@@ -17,7 +17,6 @@
 #include <numeric>
 #include <cctype>
 #include <filesystem>
-#include <unordered_set>
 
 namespace CMGeom {
 namespace IO {
@@ -221,40 +220,9 @@ Surface_mesh build_mesh(const Polygon_soup& soup, const Read_options& options, b
   bool polygons = false;
   uv_seen = false;
   std::size_t first_without_uv = Polygon_soup::no_index;
-  // A polygon is split into a fan from its first corner, unless a diagonal of that fan is already
-  // an edge of the soup (a side of another polygon, or a diagonal taken before): that fan would give
-  // the edge three or four faces, or two triangles on the same three vertices (two quads sharing
-  // three corners, as Blender's Suzanne has). The fan then starts at the first corner whose
-  // diagonals are all new, if there is one. Files whose first-corner fans make a manifold mesh
-  // are split as before.
-  std::unordered_set<std::uint64_t> sides;  // undirected edges, only when there are polygons
-  const auto edge_key = [](std::uint32_t a, std::uint32_t c) {
-    return a < c ? (std::uint64_t(a) << 32) | c : (std::uint64_t(c) << 32) | a;
-  };
-  for (std::size_t f = 0; f < nf && sides.empty(); ++f)
-    if (soup.face_size(f) > 3) {
-      sides.reserve(2 * soup.corner_vertex.size());
-      for (std::size_t g = 0; g < nf; ++g) {
-        const std::uint32_t b = soup.face_start[g], n = std::uint32_t(soup.face_size(g));
-        for (std::uint32_t i = 0; i < n; ++i)
-          sides.insert(edge_key(soup.corner_vertex[b + i], soup.corner_vertex[b + (i + 1) % n]));
-      }
-    }
-  const auto fan_start = [&](std::uint32_t b, std::uint32_t n) {
-    std::uint32_t start = 0;
-    for (std::uint32_t s = 0; s < n; ++s) {
-      bool fresh = true;
-      for (std::uint32_t i = 2; i + 1 < n && fresh; ++i)
-        fresh = !sides.count(edge_key(soup.corner_vertex[b + s], soup.corner_vertex[b + (s + i) % n]));
-      if (fresh) {
-        start = s;
-        break;
-      }
-    }
-    for (std::uint32_t i = 2; i + 1 < n; ++i)
-      sides.insert(edge_key(soup.corner_vertex[b + start], soup.corner_vertex[b + (start + i) % n]));
-    return start;
-  };
+  // Polygons are split into fans as polygon_fan_starts() says (Polygon_soup.h): from the first
+  // corner, or from another where that fan would repeat an edge.
+  const std::vector<std::uint32_t> fan_start = polygon_fan_starts(soup);
   for (std::size_t f = 0; f < nf; ++f) {
     const std::uint32_t b = soup.face_start[f], n = std::uint32_t(soup.face_size(f));
     if (n < 3) throw IO_error(soup.face_location(f), "face with fewer than 3 corners");
@@ -279,9 +247,8 @@ Surface_mesh build_mesh(const Polygon_soup& soup, const Read_options& options, b
       identity = false;
     }
     if (repeated) continue;
-    // Polygons are split into fans (c_s, c_s+i, c_s+i+1), s = 0 but where that makes an edge twice
-    // (see fan_start above).
-    const std::uint32_t s = n > 3 ? fan_start(b, n) : 0;
+    // (c_s, c_s+i, c_s+i+1)
+    const std::uint32_t s = fan_start.empty() ? 0 : fan_start[f];
     for (std::uint32_t i = 1; i + 1 < n; ++i) {
       Triangle t;
       std::array<std::uint32_t, 3> u;

@@ -3,6 +3,8 @@
 // generated OBJ files (read in chunks).
 #include "mesh_io_test_util.h"
 
+#include <CMGeom/Metrics/soup_metrics.h>
+
 #include "../Reliability/fuzz_mutate.h"
 
 #include <charconv>
@@ -103,7 +105,7 @@ TEST(Mesh_IO_obj, PolygonsAreFanSplitInFileOrderAndNegativeIndicesWork) {
 TEST(Mesh_IO_obj, AFanWhoseDiagonalIsAlreadyAnEdgeStartsAtAnotherCorner) {
   const std::string dir = scratch_dir();
   const std::string path = write_text(dir, "shared_corners.obj",
-                                      "v 0 0 0\nv 1 -1 0\nv 2 0 0\nv 1 0.5 0\nv 1 2 0\n"
+                                      "v 0 0 0\nv 1 -1 0\nv 2 0 0\nv 1 0.5 0.3\nv 1 2 0\n"
                                       "vt 0 0\nvt 0.5 0\nvt 1 0\nvt 0.5 0.25\nvt 0.5 1\n"
                                       "f 1/1 2/2 3/3 4/4\nf 1/1 4/4 3/3 5/5\n");
   Textured_mesh tm;
@@ -120,7 +122,19 @@ TEST(Mesh_IO_obj, AFanWhoseDiagonalIsAlreadyAnEdgeStartsAtAnotherCorner) {
       EXPECT_EQ(uv.x(), expected[std::size_t(m.target(h))][0]);
       EXPECT_EQ(uv.y(), expected[std::size_t(m.target(h))][1]);
     }
-  // the fans of files that read before are unchanged (the test above)
+  // the fans of files that read before are unchanged (the test above); the soup metrics and the
+  // renderer split the polygons the same way (polygon_fan_starts): the file measured as a soup
+  // lies on the mesh read from it (vertex 4 is off the plane, so another split would not)
+  const std::string off = (fs::path(dir) / "read.off").string();
+  IO::write_mesh(off, tm);
+  const auto e = CMGeom::Metrics::approximation_error(IO::read_polygon_soup(path), IO::read_polygon_soup(off));
+  EXPECT_LT(e.hausdorff, 1e-12);
+  EXPECT_EQ(CMGeom::polygon_fan_starts(IO::read_polygon_soup(path)), (std::vector<std::uint32_t>{0, 1}));
+  Polygon_soup first_corner = IO::read_polygon_soup(path);  // the same quads, the second's fan moved by hand
+  std::rotate(first_corner.corner_vertex.begin() + 4, first_corner.corner_vertex.begin() + 5,
+              first_corner.corner_vertex.end());
+  EXPECT_EQ(CMGeom::polygon_fan_starts(first_corner), (std::vector<std::uint32_t>{0, 0}));
+  EXPECT_LT(CMGeom::Metrics::approximation_error(first_corner, IO::read_polygon_soup(off)).hausdorff, 1e-12);
 }
 
 TEST(Mesh_IO_obj, UnknownStatementsAreSkippedWithAWarning) {

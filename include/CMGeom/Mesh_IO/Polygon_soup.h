@@ -17,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 namespace CMGeom {
@@ -48,6 +49,54 @@ struct Polygon_soup {
   /// "file:line" of face f, or "file (face f)" for binary formats.
   std::string face_location(std::size_t f) const;
 };
+
+/// The corner each face's fan starts from when a polygon is split into the triangles
+/// (c_s, c_s+i, c_s+i+1), as the readers split them (build_textured_mesh()) and the soup metrics
+/// sample them (Metrics/soup_metrics.h): s = 0, unless a diagonal of that fan is already an edge of
+/// the soup (a side of a polygon, or a diagonal taken by an earlier face), which would give it
+/// three or four triangles, or two triangles on the same three vertices (two quads sharing three
+/// corners, as Blender's Suzanne has); the fan then starts at the first corner whose diagonals are
+/// all new, if there is one. Triangles, and polygons that repeat a vertex, start at 0 and take no
+/// diagonal. Empty (every start 0) when the soup has no polygon of more than three corners.
+/// Corner indices out of range are taken as they are (the caller checks them). O(C) expected for
+/// C corners.
+inline std::vector<std::uint32_t> polygon_fan_starts(const Polygon_soup& soup) {
+  const std::size_t nf = soup.number_of_faces();
+  bool polygons = false;
+  for (std::size_t f = 0; f < nf && !polygons; ++f) polygons = soup.face_size(f) > 3;
+  if (!polygons) return {};
+  const auto key = [](std::uint32_t a, std::uint32_t c) {
+    return a < c ? (std::uint64_t(a) << 32) | c : (std::uint64_t(c) << 32) | a;
+  };
+  std::unordered_set<std::uint64_t> edges;
+  edges.reserve(2 * soup.corner_vertex.size());
+  for (std::size_t f = 0; f < nf; ++f) {
+    const std::uint32_t b = soup.face_start[f], n = std::uint32_t(soup.face_size(f));
+    for (std::uint32_t i = 0; i < n; ++i)
+      edges.insert(key(soup.corner_vertex[b + i], soup.corner_vertex[b + (i + 1) % n]));
+  }
+  std::vector<std::uint32_t> start(nf, 0);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const std::uint32_t b = soup.face_start[f], n = std::uint32_t(soup.face_size(f));
+    if (n <= 3) continue;
+    bool repeated = false;
+    for (std::uint32_t i = 0; i < n && !repeated; ++i)
+      for (std::uint32_t j = i + 1; j < n && !repeated; ++j)
+        repeated = soup.corner_vertex[b + i] == soup.corner_vertex[b + j];
+    if (repeated) continue;
+    const auto corner = [&](std::uint32_t s, std::uint32_t i) { return soup.corner_vertex[b + (s + i) % n]; };
+    for (std::uint32_t s = 0; s < n; ++s) {
+      bool fresh = true;
+      for (std::uint32_t i = 2; i + 1 < n && fresh; ++i) fresh = !edges.count(key(corner(s, 0), corner(s, i)));
+      if (fresh) {
+        start[f] = s;
+        break;
+      }
+    }
+    for (std::uint32_t i = 2; i + 1 < n; ++i) edges.insert(key(corner(start[f], 0), corner(start[f], i)));
+  }
+  return start;
+}
 
 /// What `analyze_soup()` measures. Counts refer to the polygons as they are in the file (before
 /// build_textured_mesh() splits polygons into fans) and before any repair.

@@ -5,7 +5,8 @@
 // directly on the content of a file, without building a halfedge mesh. The Metro measure
 // (thesis §2.3.2.2) is defined on any set of triangles, so non-manifold, non-oriented or
 // multi-component meshes — which a halfedge structure refuses or has to repair — are measured as
-// they are. Polygons are fan-triangulated (c0, ci, ci+1) for face sampling, as the readers do;
+// they are. Polygons are split into the fans the readers make (polygon_fan_starts()) for face
+// sampling;
 // edge samples lie on the polygon sides (each undirected side once); vertices used by no face are
 // not sampled. Vertex fields follow the order of `soup.positions` (the file's vertex order).
 //
@@ -31,6 +32,7 @@ inline Flat_mesh make_flat_mesh(const Polygon_soup& s, const std::string& what) 
   m.points = s.positions;
   m.used.assign(m.points.size(), 0);
   std::vector<std::array<std::uint32_t, 2>> sides;
+  const std::vector<std::uint32_t> fan_start = polygon_fan_starts(s);
   for (std::size_t f = 0; f < s.number_of_faces(); ++f) {
     const std::uint32_t b = s.face_start[f], n = std::uint32_t(s.face_size(f));
     if (n < 3) continue;
@@ -40,8 +42,10 @@ inline Flat_mesh make_flat_mesh(const Polygon_soup& s, const std::string& what) 
       m.used[u] = 1;
       if (u != v) sides.push_back({{std::min(u, v), std::max(u, v)}});
     }
+    const std::uint32_t c = fan_start.empty() ? 0 : fan_start[f];
     for (std::uint32_t k = 1; k + 1 < n; ++k)
-      m.triangles.push_back({{s.corner_vertex[b], s.corner_vertex[b + k], s.corner_vertex[b + k + 1]}});
+      m.triangles.push_back(
+          {{s.corner_vertex[b + c], s.corner_vertex[b + (c + k) % n], s.corner_vertex[b + (c + k + 1) % n]}});
   }
   std::sort(sides.begin(), sides.end());
   sides.erase(std::unique(sides.begin(), sides.end()), sides.end());
@@ -56,18 +60,29 @@ inline Flat_mesh make_flat_mesh(const Polygon_soup& s, const std::string& what) 
 
 /// The triangles of the faces that carry a UV on every corner.
 inline UV_flat_mesh make_uv_flat_mesh(const Polygon_soup& s, const std::string& what) {
-  Polygon_soup t;  // the textured faces only
+  Polygon_soup t;  // the textured faces only, with their UVs
   t.positions = s.positions;
+  t.uvs = s.uvs;
   UV_flat_mesh m;
   for (std::size_t f = 0; f < s.number_of_faces(); ++f) {
     const std::uint32_t b = s.face_start[f], n = std::uint32_t(s.face_size(f));
     bool ok = n >= 3 && !s.corner_uv.empty();
     for (std::uint32_t k = 0; ok && k < n; ++k) ok = s.corner_uv[b + k] < s.uvs.size();
     if (!ok) continue;
-    for (std::uint32_t k = 0; k < n; ++k) t.corner_vertex.push_back(s.corner_vertex[b + k]);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      t.corner_vertex.push_back(s.corner_vertex[b + k]);
+      t.corner_uv.push_back(s.corner_uv[b + k]);
+    }
     t.face_start.push_back(std::uint32_t(t.corner_vertex.size()));
+  }
+  // (the fans of make_flat_mesh(t), corner for corner)
+  const std::vector<std::uint32_t> fan_start = polygon_fan_starts(t);
+  for (std::size_t f = 0; f < t.number_of_faces(); ++f) {
+    const std::uint32_t b = t.face_start[f], n = std::uint32_t(t.face_size(f)),
+                        c = fan_start.empty() ? 0 : fan_start[f];
     for (std::uint32_t k = 1; k + 1 < n; ++k)
-      m.uvs.push_back({{s.uvs[s.corner_uv[b]], s.uvs[s.corner_uv[b + k]], s.uvs[s.corner_uv[b + k + 1]]}});
+      m.uvs.push_back(
+          {{t.uvs[t.corner_uv[b + c]], t.uvs[t.corner_uv[b + (c + k) % n]], t.uvs[t.corner_uv[b + (c + k + 1) % n]]}});
   }
   m.geometry = make_flat_mesh(t, what + " (textured faces)");
   return m;

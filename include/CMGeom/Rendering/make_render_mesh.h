@@ -9,7 +9,7 @@
 // A chart boundary is an edge whose two incident faces give different UVs to one of its end
 // points: the atlas is cut there. Border edges (one incident face) are NOT chart boundaries by
 // this definition — they bound the surface, not a cut between two charts — and are only drawn as
-// part of the wireframe. Polygonal faces are drawn as fans (c0, ci, ci+1).
+// part of the wireframe. Polygonal faces are drawn as the fans the readers make (polygon_fan_starts()).
 //
 // Complexity: O(V + F) time and memory.
 #ifndef CMGEOM_RENDERING_MAKE_RENDER_MESH_H
@@ -224,6 +224,7 @@ inline Render_mesh make_render_mesh(const Polygon_soup& s, const std::vector<dou
   std::vector<Side> sides;
   std::vector<std::array<double, 3>> n(nv, {{0., 0., 0.}});
   Render_mesh rm;
+  const std::vector<std::uint32_t> fan_start = polygon_fan_starts(s);  // the readers' fans
   for (std::size_t f = 0; f < s.number_of_faces(); ++f) {
     const std::uint32_t b = s.face_start[f], k = std::uint32_t(s.face_size(f));
     if (k < 3) continue;
@@ -250,10 +251,10 @@ inline Render_mesh make_render_mesh(const Polygon_soup& s, const std::vector<dou
         rm.uv_lines.insert(rm.uv_lines.end(), {float(p[0]), float(p[1]), float(q[0]), float(q[1])});
       }
     }
+    const std::uint32_t c = fan_start.empty() ? 0 : fan_start[f];
     for (std::uint32_t i = 1; i + 1 < k; ++i) {
-      Tri t{{s.corner_vertex[b], s.corner_vertex[b + i], s.corner_vertex[b + i + 1]},
-            {uv_of(b), uv_of(b + i), uv_of(b + i + 1)},
-            tex};
+      const std::uint32_t c0 = b + c, c1 = b + (c + i) % k, c2 = b + (c + i + 1) % k;
+      Tri t{{s.corner_vertex[c0], s.corner_vertex[c1], s.corner_vertex[c2]}, {uv_of(c0), uv_of(c1), uv_of(c2)}, tex};
       const auto &a = s.positions[t.v[0]], &q = s.positions[t.v[1]], &c = s.positions[t.v[2]];
       const double u[3] = {q[0] - a[0], q[1] - a[1], q[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
       const double cr[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
