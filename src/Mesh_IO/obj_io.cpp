@@ -54,18 +54,10 @@ std::string slurp(const std::string& path) {
   return data;
 }
 
-bool is_gzipped_path(const std::string& path) {
-  if (path.size() < 3) return false;
-  std::string tail = path.substr(path.size() - 3);
-  for (auto& c : tail) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return tail == ".gz";
-}
+bool is_gzipped_path(const std::string& path) { return extension(path) == ".gz"; }
 
 std::string gunzip_file(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw IO_error(path, "file not found");
-  if (fs::is_directory(path, ec)) throw IO_error(path, "is a directory, not a mesh file");
-  const std::string packed = slurp(path);
+  const std::string packed = slurp(path);  // (which reports a missing, unreadable or odd file)
   if (packed.size() < 2 || static_cast<unsigned char>(packed[0]) != 0x1f ||
       static_cast<unsigned char>(packed[1]) != 0x8b)
     throw IO_error(path, "not gzip data (the name ends in .gz)");

@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <optional>
 #include <iostream>
 #include <new>
 #include <sstream>
@@ -318,19 +317,20 @@ void read_ply_elements(std::istream& in, const std::string& path, std::vector<Po
 void read_ply(const std::string& path, Polygon_soup& soup) {
   soup = Polygon_soup();
   soup.source = path;
-  // (a .gz file is read from its decompressed bytes, a plain one from the file)
   std::string text = mesh_file_text(path);
   if (text.empty()) throw IO_error(path, "empty file");
   check_ply_header(text, path);
-  std::optional<std::istringstream> unpacked;
-  std::optional<std::ifstream> file;
-  if (is_gzipped_path(path)) {
-    unpacked.emplace(std::move(text), std::ios::binary);
-  } else {
-    std::string().swap(text);
-    file.emplace(path, std::ios::binary);
-  }
-  std::istream& in = unpacked ? static_cast<std::istream&>(*unpacked) : *file;
+  // A .gz file is parsed from its decompressed bytes, in place (std::istringstream would copy
+  // them); a plain one from the file again, its bytes freed first (a lower peak of memory).
+  const bool packed = is_gzipped_path(path);
+  if (!packed) std::string().swap(text);
+  struct Bytes : std::streambuf {
+    explicit Bytes(std::string& b) { setg(b.data(), b.data(), b.data() + b.size()); }
+  } bytes(text);
+  std::istream unpacked(&bytes);
+  std::ifstream file;
+  if (!packed) file.open(path, std::ios::binary);
+  std::istream& in = packed ? unpacked : static_cast<std::istream&>(file);
   std::vector<Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   try {

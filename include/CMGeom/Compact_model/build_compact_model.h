@@ -652,25 +652,17 @@ inline void check_build_arguments(const CMGeom::Surface_mesh& input, std::size_t
   // triangles back to back on the same three vertices (a pocket), or two edges joining the same
   // two vertices, would give it a non-manifold mesh. The simplifier keeps both as they are, so
   // they are refused here rather than by every reconstruction.
-  std::vector<std::size_t> around;
-  for (auto v : input.vertices()) {
-    around.clear();
-    if (input.halfedge(v) == input.null_halfedge()) continue;  // (an isolated vertex)
-    for (auto h : CGAL::halfedges_around_target(v, input)) {
-      around.push_back(std::size_t(input.source(h)));
-      const auto o = input.opposite(h);
-      if (!input.is_border(h) && !input.is_border(o) && input.target(input.next(h)) == input.target(input.next(o)))
-        throw Invalid_input("build_compact_model: faces " + std::to_string(std::size_t(input.face(h))) + " and " +
-                            std::to_string(std::size_t(input.face(o))) +
-                            " lie on the same three vertices (two triangles back to back), which a Compact Model "
-                            "cannot subdivide");
-    }
-    std::sort(around.begin(), around.end());
-    const auto twice = std::adjacent_find(around.begin(), around.end());
-    if (twice != around.end())
-      throw Invalid_input("build_compact_model: vertices " + std::to_string(std::size_t(v)) + " and " +
-                          std::to_string(*twice) + " are joined by two edges, which a Compact Model cannot subdivide");
+  for (auto h : input.halfedges()) {
+    const auto o = input.opposite(h);
+    if (!input.is_border(h) && !input.is_border(o) && input.target(input.next(h)) == input.target(input.next(o)))
+      throw Invalid_input("build_compact_model: faces " + std::to_string(std::size_t(input.face(h))) + " and " +
+                          std::to_string(std::size_t(input.face(o))) +
+                          " lie on the same three vertices (two triangles back to back), which a Compact Model "
+                          "cannot subdivide");
   }
+  if (const auto e = Textured_simplification::internal::doubled_edge(input))
+    throw Invalid_input("build_compact_model: vertices " + std::to_string(e->first) + " and " +
+                        std::to_string(e->second) + " are joined by two edges, which a Compact Model cannot subdivide");
   if (!(opt.error_bound >= 0.) || opt.error_control_rounds < 0 || opt.error_control_level < 0 ||
       opt.error_control_level > 8 || !(opt.error_control_weight > 0.) || !std::isfinite(opt.error_control_weight))
     throw Invalid_input(

@@ -27,12 +27,13 @@ namespace CMGeom {
 namespace Metrics {
 namespace internal {
 
-inline Flat_mesh make_flat_mesh(const Polygon_soup& s, const std::string& what) {
+/// The soup's triangles, its polygons split as `fan_start` (polygon_fan_starts(s)) says.
+inline Flat_mesh make_flat_mesh(const Polygon_soup& s, const std::string& what,
+                                const std::vector<std::uint32_t>& fan_start) {
   Flat_mesh m;
   m.points = s.positions;
   m.used.assign(m.points.size(), 0);
   std::vector<std::array<std::uint32_t, 2>> sides;
-  const std::vector<std::uint32_t> fan_start = polygon_fan_starts(s);
   for (std::size_t f = 0; f < s.number_of_faces(); ++f) {
     const std::uint32_t b = s.face_start[f], n = std::uint32_t(s.face_size(f));
     if (n < 3) continue;
@@ -58,6 +59,10 @@ inline Flat_mesh make_flat_mesh(const Polygon_soup& s, const std::string& what) 
   return m;
 }
 
+inline Flat_mesh make_flat_mesh(const Polygon_soup& s, const std::string& what) {
+  return make_flat_mesh(s, what, polygon_fan_starts(s));
+}
+
 /// The triangles of the faces that carry a UV on every corner.
 inline UV_flat_mesh make_uv_flat_mesh(const Polygon_soup& s, const std::string& what) {
   Polygon_soup t;  // the textured faces only, with their UVs
@@ -75,7 +80,7 @@ inline UV_flat_mesh make_uv_flat_mesh(const Polygon_soup& s, const std::string& 
     }
     t.face_start.push_back(std::uint32_t(t.corner_vertex.size()));
   }
-  // (the fans of make_flat_mesh(t), corner for corner)
+  // (the fans of the geometry below, corner for corner)
   const std::vector<std::uint32_t> fan_start = polygon_fan_starts(t);
   for (std::size_t f = 0; f < t.number_of_faces(); ++f) {
     const std::uint32_t b = t.face_start[f], n = std::uint32_t(t.face_size(f)),
@@ -84,7 +89,7 @@ inline UV_flat_mesh make_uv_flat_mesh(const Polygon_soup& s, const std::string& 
       m.uvs.push_back(
           {{t.uvs[t.corner_uv[b + c]], t.uvs[t.corner_uv[b + (c + k) % n]], t.uvs[t.corner_uv[b + (c + k + 1) % n]]}});
   }
-  m.geometry = make_flat_mesh(t, what + " (textured faces)");
+  m.geometry = make_flat_mesh(t, what + " (textured faces)", fan_start);
   return m;
 }
 

@@ -57,6 +57,7 @@
 #include <tuple>
 #include <type_traits>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #if defined(__GLIBC__)
@@ -225,9 +226,10 @@ struct Locked_vertex_filter {
   Placement operator()(const Profile& p, const Placement& placement) const {
     const auto& tm = p.surface_mesh();
     const std::vector<std::uint8_t>& locked = part->locked;
-    const bool a = locked[std::size_t(p.v0())] != 0;
-    if (!a && !locked[std::size_t(p.v1())]) return twin ? twins_apart(p, placement) : placement;
-    const auto kept = a ? p.v0() : p.v1(), gone = a ? p.v1() : p.v0();
+    // (the kept vertex is the locked one, if any: see Locked_vertex_placement)
+    const bool a = locked[std::size_t(p.v0())] != 0, b = locked[std::size_t(p.v1())] != 0;
+    const auto kept = b ? p.v1() : p.v0(), gone = b ? p.v0() : p.v1();
+    if (!a && !b) return twin ? twins_apart(tm, kept, gone, placement) : placement;
     for (auto w : CGAL::vertices_around_target(gone, tm)) {
       if (w == kept || !locked[std::size_t(w)]) continue;
       bool adjacent = false;
@@ -238,18 +240,14 @@ struct Locked_vertex_filter {
         }
       if (!adjacent) return Placement();
     }
-    return twin ? twins_apart(p, placement) : placement;
+    return twin ? twins_apart(tm, kept, gone, placement) : placement;
   }
 
 private:
-  // the twin rule above, for a collapse the rest of the filter accepts
-  template <class Profile, class Placement>
-  Placement twins_apart(const Profile& p, const Placement& placement) const {
-    const auto& tm = p.surface_mesh();
-    const std::vector<std::uint8_t>& locked = part->locked;
+  // the twin rule above, for a collapse of `gone` onto `kept` the rest of the filter accepts
+  template <class Mesh, class Vertex, class Placement>
+  Placement twins_apart(const Mesh& tm, Vertex kept, Vertex gone, const Placement& placement) const {
     const std::vector<std::uint32_t>& to_input = part->to_input;
-    const auto kept = locked[std::size_t(p.v1())] ? p.v1() : p.v0(), gone = kept == p.v0() ? p.v1() : p.v0();
-    using Vertex = std::decay_t<decltype(kept)>;
     std::vector<Vertex> around_kept;
     for (auto x : CGAL::vertices_around_target(kept, tm))
       if (x != gone) around_kept.push_back(x);
@@ -596,22 +594,30 @@ double bbox_diagonal(const Mesh& mesh) {
                    CGAL::square(b.zmax() - b.zmin()));
 }
 
-/// Throws CMGeom::Invalid_input when two edges join the same two vertices (e.g. a pocket: a vertex
-/// with two faces on the same three vertices, which triangulating quads can make): CGAL 5.5's
-/// edge_collapse loops or fails an assertion on them; CMGeom's engine never collapses them.
+/// The first two vertices (in vertex order) joined by two edges, or none. A valid
+/// CGAL::Surface_mesh may hold such a pair (e.g. after quads are split along diagonals that meet an
+/// existing edge).
 template <class Mesh>
-void check_for_cgal_engine(const Mesh& mesh) {
+std::optional<std::pair<std::size_t, std::size_t>> doubled_edge(const Mesh& mesh) {
   std::vector<std::size_t> around;
   for (auto v : vertices(mesh)) {
+    if (halfedge(v, mesh) == boost::graph_traits<Mesh>::null_halfedge()) continue;  // (an isolated vertex)
     around.clear();
     for (auto h : CGAL::halfedges_around_target(v, mesh)) around.push_back(std::size_t(source(h, mesh)));
     std::sort(around.begin(), around.end());
     const auto twice = std::adjacent_find(around.begin(), around.end());
-    if (twice != around.end())
-      throw Invalid_input("simplify_mesh: vertices " + std::to_string(std::size_t(v)) + " and " +
-                          std::to_string(*twice) +
-                          " are joined by two edges, which CGAL's edge_collapse does not handle (use CMGeom's engine)");
+    if (twice != around.end()) return std::make_pair(std::size_t(v), *twice);
   }
+  return std::nullopt;
+}
+
+/// Throws CMGeom::Invalid_input when two edges join the same two vertices (doubled_edge()): CGAL
+/// 5.5's edge_collapse loops or fails an assertion on them; CMGeom's engine never collapses them.
+template <class Mesh>
+void check_for_cgal_engine(const Mesh& mesh) {
+  if (const auto e = doubled_edge(mesh))
+    throw Invalid_input("simplify_mesh: vertices " + std::to_string(e->first) + " and " + std::to_string(e->second) +
+                        " are joined by two edges, which CGAL's edge_collapse does not handle (use CMGeom's engine)");
 }
 
 /// The stop of simplify_mesh(): a face count and/or a cost bound, remembering which one fired.
