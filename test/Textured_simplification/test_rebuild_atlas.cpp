@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -429,6 +430,99 @@ TEST(RebuiltAtlas, FlipsOnTexturedInputKeepAValidAtlas) {
   o.keep_charts = false;
   o.resample_textures = false;
   EXPECT_THROW(TS::simplify_textured_mesh(tm, o), CMGeom::Invalid_input);
+}
+
+// The baking looks texels up a tile at a time: the facing faces gathered around the tile's centre,
+// then scanned per texel (Facing_closest_point::gather(), nearest_among()). Checked against the
+// tree's search on a crumpled sheet with duplicated faces (exact ties: the lowest index wins in
+// both) and random tiles of points off it, at every bound the baking uses; and against brute force.
+TEST(RebuiltAtlas, TileLookupsFindWhatTheTreeSearchFinds) {
+  using FCP = TS::internal::Facing_closest_point;
+  using SC = FCP::SC;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const int n = 24;
+  auto height = [](double x, double y) {
+    return 0.08 * std::sin(9 * x) * std::cos(7 * y) + 0.03 * std::sin(31 * x * y);
+  };
+  FCP::Triangles tris;
+  std::vector<Vector_3> normals;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x0 = double(i) / n, y0 = double(j) / n, x1 = double(i + 1) / n, y1 = double(j + 1) / n;
+      const SC::Point_3 a(x0, y0, height(x0, y0)), b(x1, y0, height(x1, y0)), c(x1, y1, height(x1, y1)),
+          d(x0, y1, height(x0, y1));
+      for (const auto& t : {SC::Triangle_3(a, b, c), SC::Triangle_3(a, c, d)}) {
+        tris.push_back(t);
+        const auto nn = CGAL::cross_product(t[1] - t[0], t[2] - t[0]);
+        normals.emplace_back(nn.x(), nn.y(), nn.z());
+        if ((i + j) % 5 == 0) {  // a coincident copy (a second layer of the same surface)
+          tris.push_back(t);
+          normals.emplace_back(nn.x(), nn.y(), nn.z());
+        }
+      }
+    }
+  // a few faces turned away and a few unusable ones
+  for (std::size_t f = 3; f < normals.size(); f += 17) normals[f] = -normals[f];
+  std::vector<char> usable(tris.size(), 1);
+  for (std::size_t f = 5; f < usable.size(); f += 23) usable[f] = 0;
+  const FCP finder(tris, normals, usable);
+
+  // the same rule, by brute force
+  auto brute = [&](const double* p, const Vector_3& dir, double bound2) {
+    FCP::Hit best;
+    best.squared_distance = bound2;
+    for (std::size_t f = 0; f < tris.size(); ++f) finder.test(f, p, dir, best);
+    return best;
+  };
+  std::size_t checked = 0, ties = 0, gathered_tiles = 0;
+  std::vector<FCP::Candidate> candidates;
+  for (int tile = 0; tile < 300; ++tile) {
+    const double cx = u01(rng), cy = u01(rng), off = 0.2 * (u01(rng) - 0.3), r = 0.03 * u01(rng);
+    const Vector_3 dir =
+        tile % 7 == 0 ? Vector_3(0, 0, 0) : Vector_3(0.3 * (u01(rng) - 0.5), 0.3 * (u01(rng) - 0.5), 1);
+    const double bound2 = tile % 3 == 0 ? 0.01 : (tile % 3 == 1 ? 0.04 : 1e30);
+    std::vector<std::array<double, 3>> pts;
+    for (int k = 0; k < 16; ++k)
+      pts.push_back(
+          {{cx + r * (u01(rng) - 0.5), cy + r * (u01(rng) - 0.5), height(cx, cy) + off + r * (u01(rng) - 0.5)}});
+    double q[3] = {0, 0, 0};
+    for (const auto& p : pts)
+      for (int c = 0; c < 3; ++c) q[c] += p[c] / double(pts.size());
+    double radius = 0;
+    std::vector<double> pq;
+    for (const auto& p : pts) {
+      pq.push_back(std::sqrt(CGAL::square(p[0] - q[0]) + CGAL::square(p[1] - q[1]) + CGAL::square(p[2] - q[2])));
+      radius = (std::max)(radius, pq.back());
+    }
+    FCP::Hit at_q;
+    at_q.squared_distance = bound2;
+    finder.search(q, dir, at_q);
+    const double reach = std::sqrt(bound2);
+    const double d = at_q.found() ? (std::min)(std::sqrt(at_q.squared_distance) + radius, reach) : reach;
+    const double g = (d + radius) * (1 + 1e-9);
+    if (!finder.gather(q, dir, g * g, tris.size(), candidates)) continue;
+    ++gathered_tiles;
+    for (std::size_t c = 1; c < candidates.size(); ++c) ASSERT_LE(candidates[c - 1].distance, candidates[c].distance);
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      FCP::Hit by_tree, by_tile;
+      by_tree.squared_distance = by_tile.squared_distance = bound2;
+      finder.search(pts[k].data(), dir, by_tree);
+      finder.nearest_among(pts[k].data(), dir, candidates, pq[k], by_tile);
+      const FCP::Hit expected = brute(pts[k].data(), dir, bound2);
+      ASSERT_EQ(by_tree.face, expected.face);
+      ASSERT_EQ(by_tile.face, expected.face) << "tile " << tile << " point " << k;
+      ASSERT_EQ(by_tile.squared_distance, expected.squared_distance);
+      if (expected.found()) {
+        ++checked;
+        // a coincident copy at the same distance: the lower index won
+        if (expected.face + 1 < tris.size() && tris[expected.face] == tris[expected.face + 1]) ++ties;
+      }
+    }
+  }
+  EXPECT_GT(gathered_tiles, 250u);
+  EXPECT_GT(checked, 3000u);
+  EXPECT_GT(ties, 100u);
 }
 
 TEST(RebuiltAtlas, ATetrahedronStopsWithNoCollapseLeft) {

@@ -96,7 +96,10 @@ inline std::array<Vector_3, 3> tangent_frame(const std::array<Point_3, 3>& p, co
 
 /// The original surface as an AABB tree (CGAL) of plain-double triangles, with the query the
 /// baking needs: the closest point among the faces whose normal makes an angle below 90° with a
-/// given direction (the simplified face's normal), within a given distance.
+/// given direction (the simplified face's normal), within a given distance. Of faces at the same
+/// distance, the one of smallest index: the answer does not depend on the order faces are tried in,
+/// so the tree's search and nearest_among() (over the candidates gather() gives for a group of
+/// nearby points) find the same point.
 class Facing_closest_point {
 public:
   using SC = CGAL::Simple_cartesian<double>;
@@ -129,7 +132,41 @@ public:
     auto v = [](const SC::Point_3& x) { return Vec3(x.x(), x.y(), x.z()); };
     const Vec3 q = CM::internal::closest_on_triangle(Vec3(p[0], p[1], p[2]), v(t[0]), v(t[1]), v(t[2]));
     const double d = CM::internal::squared_length(q - Vec3(p[0], p[1], p[2]));
-    if (d < best.squared_distance) best = {f, {{q.x, q.y, q.z}}, d};
+    if (d < best.squared_distance || (d == best.squared_distance && f < best.face)) best = {f, {{q.x, q.y, q.z}}, d};
+  }
+
+  /// A candidate of gather(): a face and the distance from the gathering point to it.
+  struct Candidate {
+    double distance;
+    std::uint32_t face;
+  };
+
+  /// The faces facing `n` (any for a zero `n`) within sqrt(radius2) of `q`, nearest first (ties
+  /// by index), into `out`; false, with `out` incomplete, when there are more than `most`.
+  bool gather(const double* q, const Vector_3& n, double radius2, std::size_t most, std::vector<Candidate>& out) const {
+    out.clear();
+    Gather_traits traits{this, q, n, radius2, most, &out};
+    tree_.traversal(0, traits);
+    if (out.size() > most) return false;
+    std::sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) {
+      return a.distance < b.distance || (a.distance == b.distance && a.face < b.face);
+    });
+    return true;
+  }
+
+  /// The closest facing point to `p` among `candidates` (gather()'s, at a point q), nearer than
+  /// sqrt(best.squared_distance) (best is kept if none); `pq` is |p - q|. When the candidates hold
+  /// every facing face within sqrt(best.squared_distance) + pq of q, this is search()'s answer:
+  /// a face at distance D from q is at least D - pq from p, so the scan stops at the first
+  /// candidate farther than that from q.
+  void nearest_among(const double* p, const Vector_3& n, const std::vector<Candidate>& candidates, double pq,
+                     Hit& best) const {
+    for (const Candidate& c : candidates) {
+      const double lower = c.distance - pq;
+      // (a relative margin: the distances to q and to p are rounded separately)
+      if (lower > 0 && lower * lower > best.squared_distance * (1 + 1e-9)) break;
+      test(c.face, p, n, best);
+    }
   }
 
   /// The closest facing point nearer than sqrt(best.squared_distance) (best is kept if none).
@@ -150,23 +187,52 @@ private:
     void intersection(const Query&, const Primitive& prim) const {
       self->test(std::size_t(prim.id() - self->tris_.cbegin()), p, n, *best);
     }
-    double box_distance(const CGAL::Bbox_3& b) const {
-      double d = 0;
-      for (int i = 0; i < 3; ++i) {
-        const double lo = b.min(i), hi = b.max(i);
-        const double e = p[i] < lo ? lo - p[i] : (p[i] > hi ? p[i] - hi : 0.0);
-        d += e * e;
-      }
-      return d;
-    }
+    double box_distance(const CGAL::Bbox_3& b) const { return Facing_closest_point::box_distance(p, b); }
+    // (<=: a face as near as the best one may still win the tie)
     template <class Query, class Node>
     bool do_intersect(const Query&, const Node& node) const {
-      return box_distance(node.bbox()) < best->squared_distance;
+      return box_distance(node.bbox()) <= best->squared_distance;
     }
     template <class Query, class Node>
     std::pair<bool, double> do_intersect_with_priority(const Query&, const Node& node) const {
       const double d = box_distance(node.bbox());
-      return {d < best->squared_distance, -d};
+      return {d <= best->squared_distance, -d};
+    }
+  };
+
+  static double box_distance(const double* p, const CGAL::Bbox_3& b) {
+    double d = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double lo = b.min(i), hi = b.max(i);
+      const double e = p[i] < lo ? lo - p[i] : (p[i] > hi ? p[i] - hi : 0.0);
+      d += e * e;
+    }
+    return d;
+  }
+
+  struct Gather_traits {
+    const Facing_closest_point* self;
+    const double* q;
+    Vector_3 n;
+    double radius2;
+    std::size_t most;
+    std::vector<Candidate>* out;
+    bool go_further() const { return out->size() <= most; }
+    template <class Query>
+    void intersection(const Query&, const Primitive& prim) const {
+      const std::size_t f = std::size_t(prim.id() - self->tris_.cbegin());
+      if (!self->usable_[f] || (self->normals_[f] * n <= 0 && n != CGAL::NULL_VECTOR)) return;
+      using CM::internal::Vec3;
+      const auto& t = self->tris_[f];
+      auto v = [](const SC::Point_3& x) { return Vec3(x.x(), x.y(), x.z()); };
+      const Vec3 c(q[0], q[1], q[2]);
+      const double d =
+          CM::internal::squared_length(CM::internal::closest_on_triangle(c, v(t[0]), v(t[1]), v(t[2])) - c);
+      if (d <= radius2) out->push_back({std::sqrt(d), std::uint32_t(f)});
+    }
+    template <class Query, class Node>
+    bool do_intersect(const Query&, const Node& node) const {
+      return box_distance(q, node.bbox()) <= radius2;
     }
   };
 
@@ -559,8 +625,27 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
   std::vector<float> normal_acc;
   if (any_normal) CMGeom::internal::assign_on_huge_pages(normal_acc, n * 3, 0.f);
   std::vector<std::size_t> baked_per_face(nf, 0), fixed_per_face(nf, 0), painted_per_face(nf, 0);
+  // The texels a painter did not give are looked up a tile of tile x tile texels at a time (per
+  // face): the facing faces that can be nearest to any of the tile's points are gathered once
+  // around the tile's centre q (within min(d(q) + r, reach) + r, d being the distance to the
+  // nearest facing face, r the tile's radius about q; d is 1-Lipschitz), then each texel scans
+  // them nearest to q first. Neighbouring texels share most of their tree search otherwise: on the
+  // damaged helmet at 1 %, 55 triangle tests and 212 tree nodes per texel. The answer is the tree
+  // search's (Facing_closest_point: ties go to the lowest face index); a tile with more than
+  // `most_per_texel` candidates per texel is searched texel by texel.
+  constexpr int tile_shift = 3;
+  constexpr std::size_t most_per_texel = 16;
+  struct Lookup {
+    std::size_t i;
+    std::uint64_t tile;
+    double p[3];
+    bool given;
+  };
   // (a face at a time: the coarsest levels have few faces of many texels each)
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<Lookup> lookups;
+    std::vector<I::Facing_closest_point::Candidate> candidates;
+    std::vector<double> pq;  // |p - q| of each texel of a tile
     for (std::size_t fi = range.begin(); fi < range.end(); ++fi) {
       const auto& P = corner_point[fi];
       const auto& T = face_uv[fi];
@@ -572,10 +657,13 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
       if (any_normal) new_frame = I::tangent_frame(P, T);
       const Vector_3 nf_dir = normal[fi];
       std::size_t hint = std::size_t(-1);
+      lookups.clear();
       rasterize_triangle(tex, W, H, [&](int x, int y) {
         const auto [b0, b1, b2] = texel_centre_barycentric(tex, det, x, y);
         const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
         const bool is_given = !given.empty() && given[i];
+        ++baked_per_face[fi];
+        dist[i] = 0;
         if (is_given && (!any_normal || normals_given)) {  // no lookup needed
           give(i, &colour[i * std::size_t(colour_channels)]);
           if (!given_faces.empty() && given_faces[i] != 0 && given_faces[i] <= source.size())
@@ -587,29 +675,28 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
             normal_acc[i * 3 + 1] = float(0.5 * (nobj * new_frame[1]) + 0.5);
             normal_acc[i * 3 + 2] = float(0.5 * (nobj * new_frame[2]) + 0.5);
           }
-          dist[i] = 0;
-          ++baked_per_face[fi];
           return;
         }
         const Point_3 p =
             CGAL::ORIGIN + (b0 * (P[0] - CGAL::ORIGIN) + b1 * (P[1] - CGAL::ORIGIN) + b2 * (P[2] - CGAL::ORIGIN));
-        const double pq[3] = {p.x(), p.y(), p.z()};
-        // the closest facing original point: the previous texel's face first (a tight bound),
-        // then the tree within that bound; if nothing faces this way within reach, the closest
-        // point whatever its side
-        I::Facing_closest_point::Hit hit;
-        hit.squared_distance = reach2;
-        if (hint != std::size_t(-1)) finder->test(hint, pq, nf_dir, hit);
-        finder->search(pq, nf_dir, hit);
-        if (!hit.found()) {
+        const std::uint64_t tile = (std::uint64_t(y >> tile_shift) << 32) | std::uint64_t(x >> tile_shift);
+        lookups.push_back({i, tile, {p.x(), p.y(), p.z()}, is_given});
+      });
+      if (lookups.empty()) continue;
+      // (rows of texels come in order: sorting by tile keeps each tile's texels in that order)
+      std::stable_sort(lookups.begin(), lookups.end(),
+                       [](const Lookup& a, const Lookup& b) { return a.tile < b.tile; });
+      auto look_up = [&](const Lookup& t, I::Facing_closest_point::Hit& hit) {
+        const std::size_t i = t.i;
+        if (!hit.found()) {  // nothing faces this way within reach: the closest point whatever its side
           hit.squared_distance = std::numeric_limits<double>::infinity();
-          finder->search(pq, CGAL::NULL_VECTOR, hit);
+          finder->search(t.p, CGAL::NULL_VECTOR, hit);
           ++fixed_per_face[fi];
         }
         hint = hit.face;
         const std::array<double, 3> w = src.hit_coordinates(hit);
         const double w0 = w[0], w1 = w[1], w2 = w[2];
-        if (is_given)
+        if (t.given)
           give(i, &colour[i * std::size_t(colour_channels)]);
         else
           src.colour_at(hit.face, w0, w1, w2, &colour[i * std::size_t(colour_channels)]);
@@ -620,9 +707,48 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
           normal_acc[i * 3 + 1] = float(0.5 * b + 0.5);
           normal_acc[i * 3 + 2] = float(0.5 * z + 0.5);
         }
-        dist[i] = 0;
-        ++baked_per_face[fi];
-      });
+      };
+      for (std::size_t first = 0; first < lookups.size();) {
+        std::size_t last = first + 1;
+        while (last < lookups.size() && lookups[last].tile == lookups[first].tile) ++last;
+        const std::size_t count = last - first;
+        // the tile's centre and radius
+        double q[3] = {0, 0, 0};
+        for (std::size_t k = first; k < last; ++k)
+          for (int c = 0; c < 3; ++c) q[c] += lookups[k].p[c];
+        for (int c = 0; c < 3; ++c) q[c] /= double(count);
+        pq.assign(count, 0.0);
+        double r = 0;
+        for (std::size_t k = first; k < last; ++k) {
+          const double* p = lookups[k].p;
+          pq[k - first] = std::sqrt(CGAL::square(p[0] - q[0]) + CGAL::square(p[1] - q[1]) + CGAL::square(p[2] - q[2]));
+          r = (std::max)(r, pq[k - first]);
+        }
+        bool gathered = false;
+        if (count > 1) {
+          I::Facing_closest_point::Hit at_q;
+          at_q.squared_distance = reach2;
+          if (hint != std::size_t(-1)) finder->test(hint, q, nf_dir, at_q);
+          finder->search(q, nf_dir, at_q);
+          const double reach = std::sqrt(reach2);
+          const double d = at_q.found() ? (std::min)(std::sqrt(at_q.squared_distance) + r, reach) : reach;
+          // (a relative margin for the rounding of the distances)
+          const double radius = (d + r) * (1 + 1e-9) + 1e-12 * diag;
+          gathered = finder->gather(q, nf_dir, radius * radius, most_per_texel * count, candidates);
+        }
+        for (std::size_t k = first; k < last; ++k) {
+          I::Facing_closest_point::Hit hit;
+          hit.squared_distance = reach2;
+          if (gathered) {
+            finder->nearest_among(lookups[k].p, nf_dir, candidates, pq[k - first], hit);
+          } else {
+            if (hint != std::size_t(-1)) finder->test(hint, lookups[k].p, nf_dir, hit);
+            finder->search(lookups[k].p, nf_dir, hit);
+          }
+          look_up(lookups[k], hit);
+        }
+        first = last;
+      }
     }
   });
   for (std::size_t i = 0; i < nf; ++i) {
