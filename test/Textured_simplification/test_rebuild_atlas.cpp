@@ -508,7 +508,7 @@ TEST(RebuiltAtlas, TileLookupsFindWhatTheTreeSearchFinds) {
       FCP::Hit by_tree, by_tile;
       by_tree.squared_distance = by_tile.squared_distance = bound2;
       finder.search(pts[k].data(), dir, by_tree);
-      finder.nearest_among(pts[k].data(), dir, candidates, pq[k], by_tile);
+      finder.nearest_among(pts[k].data(), candidates, pq[k], by_tile);
       const FCP::Hit expected = brute(pts[k].data(), dir, bound2);
       ASSERT_EQ(by_tree.face, expected.face);
       ASSERT_EQ(by_tile.face, expected.face) << "tile " << tile << " point " << k;

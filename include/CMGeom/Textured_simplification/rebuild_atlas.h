@@ -126,13 +126,7 @@ public:
   /// Face `f` tested alone (a hint: tightens the bound before a search); a zero `n` accepts
   /// faces of any orientation.
   void test(std::size_t f, const double* p, const Vector_3& n, Hit& best) const {
-    if (!usable_[f] || (normals_[f] * n <= 0 && n != CGAL::NULL_VECTOR)) return;
-    using CM::internal::Vec3;
-    const auto& t = tris_[f];
-    auto v = [](const SC::Point_3& x) { return Vec3(x.x(), x.y(), x.z()); };
-    const Vec3 q = CM::internal::closest_on_triangle(Vec3(p[0], p[1], p[2]), v(t[0]), v(t[1]), v(t[2]));
-    const double d = CM::internal::squared_length(q - Vec3(p[0], p[1], p[2]));
-    if (d < best.squared_distance || (d == best.squared_distance && f < best.face)) best = {f, {{q.x, q.y, q.z}}, d};
+    if (accepts(f, n)) consider(f, p, best);
   }
 
   /// The area of face `f`.
@@ -158,20 +152,19 @@ public:
     return true;
   }
 
-  /// The closest facing point to `p` among `candidates` (gather()'s, at a point q), nearer than
+  /// The closest point to `p` among `candidates` (gather()'s, at a point q, facing its `n`), nearer than
   /// sqrt(best.squared_distance) (best is kept if none); `pq` is |p - q|. When the candidates hold
   /// every facing face within sqrt(best.squared_distance) + pq of q, this is search()'s answer:
   /// a face at distance D from q is at least D - pq from p, so the scan stops at the first
   /// candidate farther than that from q.
-  void nearest_among(const double* p, const Vector_3& n, const std::vector<Candidate>& candidates, double pq,
-                     Hit& best) const {
+  void nearest_among(const double* p, const std::vector<Candidate>& candidates, double pq, Hit& best) const {
     for (const Candidate& c : candidates) {
       const double lower = c.distance - pq;
       // (a relative margin: the distances to q and to p are rounded separately)
       if (lower > 0 && lower * lower > best.squared_distance * (1 + 1e-9)) break;
       // (a face whose box is farther than the best cannot be nearer; the margin keeps the ties)
       if (box_distance(p, c.box) > best.squared_distance * (1 + 1e-9)) continue;
-      test(c.face, p, n, best);
+      consider(c.face, p, best);  // (gather() kept only faces it accepts)
     }
   }
 
@@ -206,6 +199,24 @@ private:
     }
   };
 
+  /// Whether face `f` may answer a query along `n`: usable, and facing `n` (any for a zero `n`).
+  bool accepts(std::size_t f, const Vector_3& n) const {
+    return usable_[f] && (n == CGAL::NULL_VECTOR || normals_[f] * n > 0);
+  }
+  /// The point of face `f` closest to `p`.
+  CM::internal::Vec3 closest_point(std::size_t f, const double* p) const {
+    using CM::internal::Vec3;
+    const auto& t = tris_[f];
+    auto v = [](const SC::Point_3& x) { return Vec3(x.x(), x.y(), x.z()); };
+    return CM::internal::closest_on_triangle(Vec3(p[0], p[1], p[2]), v(t[0]), v(t[1]), v(t[2]));
+  }
+  /// Face `f` (accepted) as the answer for `p` if it is nearer than `best` (ties: the lower index).
+  void consider(std::size_t f, const double* p, Hit& best) const {
+    const CM::internal::Vec3 q = closest_point(f, p);
+    const double d = CM::internal::squared_length(q - CM::internal::Vec3(p[0], p[1], p[2]));
+    if (d < best.squared_distance || (d == best.squared_distance && f < best.face)) best = {f, {{q.x, q.y, q.z}}, d};
+  }
+
   static double box_distance(const double* p, const CGAL::Bbox_3& b) {
     double d = 0;
     for (int i = 0; i < 3; ++i) {
@@ -227,14 +238,9 @@ private:
     template <class Query>
     void intersection(const Query&, const Primitive& prim) const {
       const std::size_t f = std::size_t(prim.id() - self->tris_.cbegin());
-      if (!self->usable_[f] || (self->normals_[f] * n <= 0 && n != CGAL::NULL_VECTOR)) return;
-      using CM::internal::Vec3;
-      const auto& t = self->tris_[f];
-      auto v = [](const SC::Point_3& x) { return Vec3(x.x(), x.y(), x.z()); };
-      const Vec3 c(q[0], q[1], q[2]);
-      const double d =
-          CM::internal::squared_length(CM::internal::closest_on_triangle(c, v(t[0]), v(t[1]), v(t[2])) - c);
-      if (d <= radius2) out->push_back({std::sqrt(d), std::uint32_t(f), t.bbox()});
+      if (!self->accepts(f, n)) return;
+      const double d = CM::internal::squared_length(self->closest_point(f, q) - CM::internal::Vec3(q[0], q[1], q[2]));
+      if (d <= radius2) out->push_back({std::sqrt(d), std::uint32_t(f), self->tris_[f].bbox()});
     }
     template <class Query, class Node>
     bool do_intersect(const Query&, const Node& node) const {
@@ -623,7 +629,7 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
     for (int ch = 0; ch < colour_channels; ++ch) c[ch] = given_colours.value(x, H - 1 - y, ch);
   };
   const auto t1 = Clock::now();
-  const double reach2 = CGAL::square(0.1 * diag);  // farther than this, a facing point is no match
+  const double reach = 0.1 * diag, reach2 = CGAL::square(reach);  // farther, a facing point is no match
   const std::size_t n = std::size_t(W) * std::size_t(H);
   constexpr std::uint32_t far = 0xffffffffu;
   std::vector<std::uint32_t> dist = CMGeom::internal::filled_on_huge_pages(n, far), dist_normal;
@@ -740,7 +746,6 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
           at_q.squared_distance = reach2;
           if (hint != std::size_t(-1)) finder->test(hint, q, nf_dir, at_q);
           finder->search(q, nf_dir, at_q);
-          const double reach = std::sqrt(reach2);
           const double d = at_q.found() ? (std::min)(std::sqrt(at_q.squared_distance) + r, reach) : reach;
           // (a relative margin for the rounding of the distances)
           const double radius = (d + r) * (1 + 1e-9) + 1e-12 * diag;
@@ -757,7 +762,7 @@ inline Atlas_result rebuild_atlas(const Atlas_source& src, Textured_mesh& simpli
           I::Facing_closest_point::Hit hit;
           hit.squared_distance = reach2;
           if (gathered) {
-            finder->nearest_among(lookups[k].p, nf_dir, candidates, pq[k - first], hit);
+            finder->nearest_among(lookups[k].p, candidates, pq[k - first], hit);
           } else {
             if (hint != std::size_t(-1)) finder->test(hint, lookups[k].p, nf_dir, hit);
             finder->search(lookups[k].p, nf_dir, hit);
