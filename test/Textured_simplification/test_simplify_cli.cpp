@@ -187,3 +187,46 @@ TEST(TexturedSimplificationCli, MaxErrorReportAndBound) {
   EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --max-error -0.5").first, 1);
   EXPECT_FALSE(fs::exists(never));
 }
+
+TEST(TexturedSimplificationCli, StopAboveTargetNamesTheComponentsAndPrune) {
+  // three closed tetrahedra: no collapse is valid (each would leave a doubled face), so a target
+  // below 12 faces cannot be reached; `simplify` and `lod` say why, with the component count, and
+  // point at --prune unless it was given (with it, whole tetrahedra go)
+  const std::string exe = CMGEOM_CMGEOM_EXE;
+  if (!fs::exists(exe)) GTEST_SKIP() << "cmgeom not built: " << exe;
+  const std::string dir = CMGEOM_TEST_TMP_DIR;
+  const std::string in = dir + "/ts_cli_tets.obj";
+  {
+    std::ofstream f(in);
+    for (int k = 0; k < 3; ++k)
+      f << "v " << 3 * k << " 0 0\nv " << 3 * k + 1 << " 0 0\nv " << 3 * k << " 1 0\nv " << 3 * k << " 0 1\n";
+    for (int k = 0; k < 3; ++k) {
+      const int b = 4 * k + 1;
+      f << "f " << b << ' ' << b + 2 << ' ' << b + 1 << "\nf " << b << ' ' << b + 1 << ' ' << b + 3 << "\nf " << b
+        << ' ' << b + 3 << ' ' << b + 2 << "\nf " << b + 1 << ' ' << b + 2 << ' ' << b + 3 << "\n";
+    }
+  }
+  auto said = [&](const std::string& args, int& code) {
+    const std::string err = dir + "/ts_cli_tets_err.txt";
+    code = run("{ '" + exe + "' " + args + " 2>'" + err + "'; }").first;
+    std::ifstream e(err);
+    return std::string((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
+  };
+  int code = -1;
+  const std::string out = dir + "/ts_cli_tets_out.obj";
+  std::string text = said("simplify '" + in + "' -o '" + out + "' --faces 4", code);
+  EXPECT_EQ(code, 0) << text;
+  EXPECT_NE(text.find("stopped at 12 faces for a target of 4"), std::string::npos) << text;
+  EXPECT_NE(text.find("each of the 3 connected components"), std::string::npos) << text;
+  EXPECT_NE(text.find("--prune removes whole components"), std::string::npos) << text;
+  text = said("simplify '" + in + "' -o '" + out + "' --faces 4 --prune", code);
+  EXPECT_EQ(code, 0) << text;
+  EXPECT_EQ(text.find("--prune removes"), std::string::npos) << text;
+  Mesh pruned;
+  ASSERT_TRUE(CGAL::IO::read_polygon_mesh(out, pruned));
+  EXPECT_EQ(pruned.number_of_faces(), 4u);
+  text = said("lod '" + in + "' -o '" + dir + "/ts_cli_tets.glb' --faces 12,4 --no-error", code);
+  EXPECT_EQ(code, 0) << text;
+  EXPECT_NE(text.find("level 1 stopped at 12 faces for a target of 4"), std::string::npos) << text;
+  EXPECT_NE(text.find("--prune removes whole components"), std::string::npos) << text;
+}

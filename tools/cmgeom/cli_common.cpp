@@ -4,6 +4,8 @@
 #include <CMGeom/Cage_deformation/Grid_cage_system.h>
 #include <CMGeom/Mesh_IO/image_io.h>
 
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
+
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -176,6 +178,18 @@ void apply_texture_option(CMGeom::Textured_mesh& tm, const std::string& input, c
     m.diffuse_texture_blob.clear();
   }
   for (auto f : tm.mesh().faces()) tm.material_map()[f] = 0;
+}
+
+std::string no_collapse_reason(const CMGeom::Surface_mesh& output, bool prune_available) {
+  std::string reason = "no valid collapse left";
+  if (output.number_of_faces() == 0) return reason;
+  std::vector<std::size_t> component(output.num_faces(), 0);
+  const std::size_t components = CGAL::Polygon_mesh_processing::connected_components(
+      output, boost::make_iterator_property_map(component.begin(), get(boost::face_index, output)));
+  if (components < 2) return reason;
+  reason += ": each of the " + std::to_string(components) + " connected components keeps a few faces";
+  if (prune_available) reason += "; --prune removes whole components to reach the target";
+  return reason;
 }
 
 void refuse_unnamed_texture(const CMGeom::Textured_mesh& tm, const std::string& input, const std::string& textured_use,

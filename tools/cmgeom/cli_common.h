@@ -75,6 +75,12 @@ void add_repair_option(CLI::App& app, bool& repair);
 // nothing when `texture` is empty. Invalid_input when the mesh has no texture coordinates.
 void apply_texture_option(CMGeom::Textured_mesh& tm, const std::string& input, const std::string& texture);
 
+// Why a simplification with no valid collapse left stopped above its face target, for its
+// message: "no valid collapse left", and when `output` has several connected components (each
+// keeps a few faces: a closed one at least 4), how many, and that --prune can remove whole ones
+// (when `prune_available`: the command has --prune and it was not given).
+std::string no_collapse_reason(const CMGeom::Surface_mesh& output, bool prune_available);
+
 // Invalid_input when `tm` has texture coordinates, no material names a texture and the input's
 // folder holds images: a texture is never guessed, the message names those images and the options
 // (--texture FILE, or --no-texture; `textured_use` says what --texture is for, e.g. "to simplify it

@@ -205,6 +205,15 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
           << " % of the input's texture (parts of the input fold onto one place of the coarsest level, which is too "
              "coarse for one atlas): raise the smallest ratio, or drop --shared-texture\n";
 
+    if (lo.max_errors.empty())
+      for (std::size_t i = 0; i < r.levels.size(); ++i) {
+        const std::size_t faces = r.levels[i].mesh.mesh().number_of_faces();
+        if (r.levels[i].is_input || faces <= r.levels[i].target_faces) continue;
+        std::cerr << "cmgeom lod: level " << i << " stopped at " << faces << " faces for a target of "
+                  << r.levels[i].target_faces << " ("
+                  << cmgeom_cli::no_collapse_reason(r.levels[i].mesh.mesh(), !o->prune) << ")\n";
+      }
+
     std::vector<CMGeom::IO::Gltf_level> levels;
     for (std::size_t i = 0; i < r.levels.size(); ++i) {
       CMGeom::IO::Gltf_level g;

@@ -252,7 +252,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
             << (r.stopped_by == TS::Stop_reason::chart_limit
                     ? "chart limit: no collapse left that keeps the input's charts; drop --keep-charts to go further"
                 : r.stopped_by == TS::Stop_reason::max_error ? "no collapse left within --max-error"
-                                                             : "no valid collapse left")
+                                                             : cmgeom_cli::no_collapse_reason(tm.mesh(), !o->prune))
             << ")\n";
       if (o->json) {
         nlohmann::ordered_json j;
@@ -338,8 +338,9 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
     const std::size_t faces_out = r.faces_out;
     if ((r.stopped_by == TS::Stop_reason::no_collapse || r.stopped_by == TS::Stop_reason::max_error) && has_target)
       std::cerr << "cmgeom simplify: stopped at " << faces_out << " faces for a target of " << target << " ("
-                << (r.stopped_by == TS::Stop_reason::max_error ? "no collapse left within --max-error"
-                                                               : "no valid collapse left")
+                << (r.stopped_by == TS::Stop_reason::max_error
+                        ? std::string("no collapse left within --max-error")
+                        : cmgeom_cli::no_collapse_reason(geometry, !o->prune && o->engine == "cmgeom"))
                 << ")\n";
 
     const CMGeom::Textured_mesh result(std::move(geometry));  // no UVs, no materials
