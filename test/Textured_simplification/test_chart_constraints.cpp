@@ -101,7 +101,7 @@ Layout_counts count_layout(const std::vector<std::array<UV2, 3>>& in_tris, const
   // charts may grow across concave corners by slivers within 2 texels (1024 per UV unit) of
   // their original texels (Textured_simplification_options::chart_growth_texels): accept corners
   // within 3 texels of the matched chart (rasterised chart ids grown by 3 rings, no other chart)
-  const TS::Index_texture margin(dom, in_tris, in_ids, 3);
+  const TS::Chart_map margin(dom, in_tris, in_ids, 3);
   for (std::size_t i = 0; i < out_tris.size(); ++i)
     for (int c = 0; c < 3; ++c) {
       if (!match.count(out_ids[i])) {

@@ -21,7 +21,7 @@ void red_filled_atlas_shows_no_red(bool keep_charts) {
   layout(tm, tris, ids);
   const TS::Texture_domain dom = TS::make_texture_domain(tris, atlas.width(), atlas.height(), 8192);
   ASSERT_EQ(dom.width, atlas.width()) << "bunny10k's UVs are expected inside [0,1]";
-  const TS::Index_texture region(dom, tris, ids, 2);
+  const TS::Chart_map region(dom, tris, ids, 2);
   auto in_chart = [&](int x, int y) { return region.chart(x, atlas.height() - 1 - y) != 0; };
   const std::array<std::array<float, 3>, 4> candidates{{{{1, 0, 0}}, {{1, 0, 1}}, {{0, 1, 1}}, {{1, 1, 0}}}};
   auto close_to = [](const CMGeom::Image& img, int x, int y, const std::array<float, 3>& c, float tol) {
@@ -99,10 +99,11 @@ void red_filled_atlas_shows_no_red(bool keep_charts) {
 TEST(TexturedSimplification, RedFilledAtlasShowsNoRed) { red_filled_atlas_shows_no_red(true); }
 TEST(TexturedSimplification, RedFilledAtlasShowsNoRedInARebuiltAtlas) { red_filled_atlas_shows_no_red(false); }
 
-// The chart map's margin (Index_texture's chart_margin rings): each ring gives every texel outside
+// The chart map's margin (Chart_map's chart_margin rings): each ring gives every texel outside
 // the charts the smallest chart id among its 8 neighbours, as a plain scan of the 3 x 3
 // neighbourhood computes it here, from the map without margin; charts touching the image's
 // borders and corners, and overlapping triangles (the `contested` id, the largest) included.
+// An Index_texture holds the same map, beside the identity index (each texel's own centre).
 TEST(TexturedSimplification, ChartMarginsGrowTheSmallestNeighbouringChart) {
   TS::Texture_domain dom;
   dom.width = 37;
@@ -116,11 +117,11 @@ TEST(TexturedSimplification, ChartMarginsGrowTheSmallestNeighbouringChart) {
                                              {{uv(20, 18), uv(24, 18), uv(22, 19)}}};
   const std::vector<int> ids{4, 0, 2, 1, 3, 5};
   for (const bool overlaps : {false, true}) {
-    const TS::Index_texture base(dom, tris, ids, 0, overlaps);
+    const TS::Chart_map base(dom, tris, ids, 0, overlaps);
     std::vector<std::uint32_t> ref(std::size_t(dom.width) * std::size_t(dom.height));
     for (int y = 0; y < dom.height; ++y)
       for (int x = 0; x < dom.width; ++x) ref[std::size_t(y) * dom.width + x] = base.chart(x, y);
-    if (overlaps) ASSERT_NE(std::count(ref.begin(), ref.end(), TS::Index_texture::contested), 0);
+    if (overlaps) ASSERT_NE(std::count(ref.begin(), ref.end(), TS::Chart_map::contested), 0);
     for (int margin = 1; margin <= 4; ++margin) {
       std::vector<std::uint32_t> next = ref;
       for (int y = 0; y < dom.height; ++y)
@@ -137,11 +138,18 @@ TEST(TexturedSimplification, ChartMarginsGrowTheSmallestNeighbouringChart) {
           next[std::size_t(y) * dom.width + x] = best;
         }
       ref = next;
-      const TS::Index_texture grown(dom, tris, ids, margin, overlaps);
-      int wrong = 0;
+      const TS::Chart_map grown(dom, tris, ids, margin, overlaps);
+      const TS::Index_texture with_index(dom, tris, ids, margin, overlaps);
+      int wrong = 0, wrong_in_index = 0, not_identity = 0;
       for (int y = 0; y < dom.height; ++y)
-        for (int x = 0; x < dom.width; ++x) wrong += grown.chart(x, y) != ref[std::size_t(y) * dom.width + x];
+        for (int x = 0; x < dom.width; ++x) {
+          wrong += grown.chart(x, y) != ref[std::size_t(y) * dom.width + x];
+          wrong_in_index += with_index.chart(x, y) != ref[std::size_t(y) * dom.width + x];
+          not_identity += with_index.at(x, y)[0] != float(x) + 0.5f || with_index.at(x, y)[1] != float(y) + 0.5f;
+        }
       EXPECT_EQ(wrong, 0) << "margin " << margin << (overlaps ? ", overlaps marked" : "");
+      EXPECT_EQ(wrong_in_index, 0) << "margin " << margin << (overlaps ? ", overlaps marked" : "");
+      EXPECT_EQ(not_identity, 0) << "margin " << margin;
     }
     // the margins reached texels of no chart, and some stayed without one
     EXPECT_GT(std::count(ref.begin(), ref.end(), 0u), 0);

@@ -3,14 +3,13 @@
 //
 // The index texture of thesis §3.3 and its per-collapse resampling through the bijective mappings
 // of §3.6, CPU backend (the reference: deterministic, no dependency beyond TBB): Texture_domain,
-// Index_texture (two floats per texel, a position in the original atlas, and the chart map of the
-// original layout), rasterize_triangle() (fixed point, texel centres, top-left rule, as GL
-// rasterisers), Index_texture_resampler (the resampler hook of Chart_constraint_visitor) and
-// generate_texture() (the output texture looked up through the index texture, then dilated into
-// the gutters). Key choice: every texel gets a chart-aware bilinear sample, computed in float in a
-// fixed order without fused multiply-add, so a GL backend can reproduce it bit for bit.
-// Complexity: O(texels of the new triangles × star size) per collapse; O(W·H) for set-up,
-// texture generation and dilation.
+// Chart_map (the chart of every texel of the original layout), Index_texture (a Chart_map with
+// two floats per texel, a position in the original atlas), rasterize_triangle() (fixed point,
+// texel centres, top-left rule, as GL rasterisers), Index_texture_resampler (the resampler hook of
+// Chart_constraint_visitor) and generate_texture() (the output texture looked up through the index texture, then
+// dilated into the gutters). Key choice: every texel gets a chart-aware bilinear sample, computed in float in a fixed
+// order without fused multiply-add, so a GL backend can reproduce it bit for bit. Complexity: O(texels of the new
+// triangles × star size) per collapse; O(W·H) for set-up, texture generation and dilation.
 //
 // Manual: doc/Textured_simplification/README.md, "What happens at each collapse".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INDEX_TEXTURE_H
@@ -167,30 +166,25 @@ inline std::array<double, 3> texel_centre_barycentric(const std::array<UV2, 3>& 
   return {{1 - b1 - b2, b1, b2}};
 }
 
-/// Index texture (§3.3) and the chart map of the original layout.
-class Index_texture {
+/// The chart map of an original UV layout (§3.3): per texel of a Texture_domain, the chart id + 1
+/// of the layout's triangle whose rasterisation covers the texel centre (0: none), grown into the
+/// gutters by a few rings. The part of the index texture that lookups in the original's texture
+/// need (sample_original(), the new atlas' Atlas_source, the chart-growth test); 4 bytes per texel
+/// where the index texture takes 12.
+class Chart_map {
 public:
-  Index_texture() = default;
+  Chart_map() = default;
 
-  /// Identity index texture over `domain`; `triangles`/`chart_ids` (chart ids >= 0) are the
-  /// original UV layout.
-  /// With `mark_overlaps`, texels covered by two triangles get the id `contested` (used for region
-  /// tests, never for resampling).
-  Index_texture(const Texture_domain& domain, const std::vector<std::array<UV2, 3>>& triangles,
-                const std::vector<int>& chart_ids, int chart_margin = 2, bool mark_overlaps = false)
+  /// The chart map of `triangles` (UVs of `domain`) with `chart_ids` (>= 0), grown by
+  /// `chart_margin` rings (each ring gives a texel outside every chart the smallest id among its 8
+  /// neighbours). With `mark_overlaps`, texels covered by two triangles get the id `contested`
+  /// (used for region tests, never for resampling).
+  Chart_map(const Texture_domain& domain, const std::vector<std::array<UV2, 3>>& triangles,
+            const std::vector<int>& chart_ids, int chart_margin = 2, bool mark_overlaps = false)
       : domain_(domain),
         w_(domain.width),
         h_(domain.height),
-        idx_(CMGeom::internal::filled_on_huge_pages(std::size_t(2) * std::size_t(w_) * std::size_t(h_), 0.f)),
         chart_(CMGeom::internal::filled_on_huge_pages(std::size_t(w_) * std::size_t(h_), 0u)) {
-    internal::parallel_rows(h_, [&](int y0, int y1) {
-      for (int y = y0; y < y1; ++y)
-        for (int x = 0; x < w_; ++x) {
-          float* p = at(x, y);
-          p[0] = float(x) + 0.5f;
-          p[1] = float(y) + 0.5f;
-        }
-    });
     for (std::size_t i = 0; i < triangles.size(); ++i) {
       std::array<UV2, 3> t;
       for (int c = 0; c < 3; ++c) t[c] = domain.to_texel(triangles[i][c]);
@@ -233,10 +227,6 @@ public:
   int width() const { return w_; }
   int height() const { return h_; }
   const Texture_domain& domain() const { return domain_; }
-  float* at(int x, int y) { return &idx_[2 * (std::size_t(y) * std::size_t(w_) + std::size_t(x))]; }
-  const float* at(int x, int y) const { return &idx_[2 * (std::size_t(y) * std::size_t(w_) + std::size_t(x))]; }
-  const std::vector<float>& data() const { return idx_; }
-  std::vector<float>& data() { return idx_; }
   /// Chart id + 1 of the original layout at texel (x, y) (0: no chart).
   std::uint32_t chart(int x, int y) const { return chart_[std::size_t(y) * std::size_t(w_) + std::size_t(x)]; }
   /// Chart of an original-atlas position (texel units), 0 when outside.
@@ -246,11 +236,41 @@ public:
     return chart(x, y);
   }
 
-private:
+protected:
   Texture_domain domain_;
   int w_ = 0, h_ = 0;
-  std::vector<float> idx_;
   std::vector<std::uint32_t> chart_;
+};
+
+/// Index texture (§3.3): per texel, a position in the original atlas (two floats, the identity at
+/// first: the texel's own centre), with the chart map of the original layout (Chart_map).
+class Index_texture : public Chart_map {
+public:
+  Index_texture() = default;
+
+  /// Identity index texture over `domain`; `triangles`/`chart_ids` (chart ids >= 0) are the
+  /// original UV layout, whose chart map is grown by `chart_margin` rings (Chart_map).
+  Index_texture(const Texture_domain& domain, const std::vector<std::array<UV2, 3>>& triangles,
+                const std::vector<int>& chart_ids, int chart_margin = 2, bool mark_overlaps = false)
+      : Chart_map(domain, triangles, chart_ids, chart_margin, mark_overlaps),
+        idx_(CMGeom::internal::filled_on_huge_pages(std::size_t(2) * std::size_t(w_) * std::size_t(h_), 0.f)) {
+    internal::parallel_rows(h_, [&](int y0, int y1) {
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < w_; ++x) {
+          float* p = at(x, y);
+          p[0] = float(x) + 0.5f;
+          p[1] = float(y) + 0.5f;
+        }
+    });
+  }
+
+  float* at(int x, int y) { return &idx_[2 * (std::size_t(y) * std::size_t(w_) + std::size_t(x))]; }
+  const float* at(int x, int y) const { return &idx_[2 * (std::size_t(y) * std::size_t(w_) + std::size_t(x))]; }
+  const std::vector<float>& data() const { return idx_; }
+  std::vector<float>& data() { return idx_; }
+
+private:
+  std::vector<float> idx_;
 };
 
 namespace internal {
@@ -607,12 +627,13 @@ private:
 };
 
 /// Chart-aware bilinear lookup of `original` (any size; UVs outside [0,1] repeat) at the
-/// original-atlas position `a` (index-texture texel units of `it`); channel values in [0,1].
+/// original-atlas position `a` (texel units of the chart map `it`, an Index_texture's or one of
+/// its own); channel values in [0,1].
 /// With `chart` (chart id + 1, as Index_texture::chart() gives) the lookup keeps to that chart's
 /// texels instead of the chart found at `a`. When none of the four taps is in it, the taps in any
 /// chart are used (charts sharing texels: mirrored halves), else the nearest texel of the chart
 /// within 4 rings (a chart too small to cover a texel centre), else all four taps.
-inline void sample_original(const Index_texture& it, const Image& original, float ax, float ay, float* out,
+inline void sample_original(const Chart_map& it, const Image& original, float ax, float ay, float* out,
                             std::uint32_t chart) {
   const Texture_domain& dom = it.domain();
   const int W0 = original.width(), H0 = original.height(), C = original.channels();
@@ -704,7 +725,7 @@ inline void sample_original(const Index_texture& it, const Image& original, floa
 
 /// The same, keeping to the chart found at `a` (the index texture only stores positions inside
 /// charts).
-inline void sample_original(const Index_texture& it, const Image& original, float ax, float ay, float* out) {
+inline void sample_original(const Chart_map& it, const Image& original, float ax, float ay, float* out) {
   sample_original(it, original, ax, ay, out, it.chart_of(ax, ay));
 }
 

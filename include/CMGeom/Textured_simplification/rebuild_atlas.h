@@ -409,7 +409,7 @@ public:
         rw = W_;
         rh = H_;
       }
-      region_ = Index_texture(make_texture_domain(uv_tris, rw, rh, 8192), uv_tris, ids);
+      region_ = Chart_map(make_texture_domain(uv_tris, rw, rh, 8192), uv_tris, ids);
     }
     I::Facing_closest_point::Triangles tris;
     std::vector<Vector_3> fn;
@@ -556,7 +556,7 @@ private:
   double diag_ = 0;
   std::size_t charts_ = 0;
   std::vector<Source> source_;
-  Index_texture region_;
+  Chart_map region_;
   std::unique_ptr<internal::Facing_closest_point> finder_;
 };
 

@@ -317,12 +317,12 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm,
     it = Index_texture(make_texture_domain(tris, su, sv, options.max_texture_side), tris, chart_ids);
   }
   // region map for the growth test: original chart ids grown by chart_growth_texels
-  Index_texture region;
+  Chart_map region;
   auto face_chart = get(CGAL::dynamic_face_property_t<int>(), mesh);
   if (options.chart_growth_texels > 0) {
     // texels where the input's charts overlap (themselves or each other) are nobody's to grow into
-    region = Index_texture(make_texture_domain(tris, su, sv, options.max_texture_side), tris, chart_ids,
-                           options.chart_growth_texels, true);
+    region = Chart_map(make_texture_domain(tris, su, sv, options.max_texture_side), tris, chart_ids,
+                       options.chart_growth_texels, true);
     std::size_t i = 0;
     for (auto f : faces(mesh)) put(face_chart, f, chart_ids[i++]);
   }
