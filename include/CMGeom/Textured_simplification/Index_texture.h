@@ -6,10 +6,11 @@
 // Chart_map (the chart of every texel of the original layout), Index_texture (a Chart_map with
 // two floats per texel, a position in the original atlas), rasterize_triangle() (fixed point,
 // texel centres, top-left rule, as GL rasterisers), Index_texture_resampler (the resampler hook of
-// Chart_constraint_visitor) and generate_texture() (the output texture looked up through the index texture, then
-// dilated into the gutters). Key choice: every texel gets a chart-aware bilinear sample, computed in float in a fixed
-// order without fused multiply-add, so a GL backend can reproduce it bit for bit. Complexity: O(texels of the new
-// triangles × star size) per collapse; O(W·H) for set-up, texture generation and dilation.
+// Chart_constraint_visitor) and generate_texture() (the output texture looked up through the index
+// texture, then dilated into the gutters). Key choice: every texel gets a chart-aware bilinear
+// sample, computed in float in a fixed order without fused multiply-add, so a GL backend can
+// reproduce it bit for bit. Complexity: O(texels of the new triangles × star size) per collapse;
+// O(W·H) for set-up, texture generation and dilation.
 //
 // Manual: doc/Textured_simplification/README.md, "What happens at each collapse".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_INDEX_TEXTURE_H
