@@ -182,6 +182,35 @@ void write_test_jpeg(const std::string& path, int W, int H, int channels) {
 }
 }  // namespace
 
+TEST(Mesh_IO_image, CopyPixelIsTheValueRoundTrip) {
+  // copy_pixel() is what set_value(value()) leaves, channel by channel: on 8-bit images for every
+  // byte value (each survives the division by 255 and back), on float ones for any value; only the
+  // channels asked for; and a copy of the image that shares its pixels is left as it was
+  for (const Image::Format format : {Image::Format::UInt8, Image::Format::Float32}) {
+    Image a(256, 2, 4, format);
+    for (int x = 0; x < 256; ++x)
+      for (int c = 0; c < 4; ++c) {
+        if (format == Image::Format::UInt8)
+          a.bytes()[a.index(x, 0, c)] = std::uint8_t((x + 61 * c) % 256);
+        else
+          a.floats()[a.index(x, 0, c)] = float(x + 61 * c) / 300.f - 0.25f;  // (some outside [0,1])
+        a.set_value(x, 1, c, 0.5f);
+      }
+    const Image before = a;
+    Image by_value = a, by_copy = a;
+    for (int x = 0; x < 256; ++x) {
+      const int channels = x % 5 == 0 ? -1 : 1 + x % 4;  // every one, or the first 1 to 4
+      for (int c = 0; c < (channels < 0 ? 4 : channels); ++c)
+        by_value.set_value(255 - x, 1, c, by_value.value(x, 0, c));
+      by_copy.copy_pixel(255 - x, 1, x, 0, channels);
+    }
+    EXPECT_TRUE(by_copy == by_value) << (format == Image::Format::UInt8 ? "8-bit" : "float");
+    EXPECT_FALSE(by_copy == before);
+    EXPECT_TRUE(a == before);
+    EXPECT_TRUE(a.shares_pixels_with(before));
+  }
+}
+
 TEST(Mesh_IO_image, OpenImageIOIsLoadedForOtherFormatsOnly) {
   EXPECT_FALSE(oiio_mapped_at_start) << "OpenImageIO was loaded at program start";
   const std::string dir = scratch_dir();

@@ -109,6 +109,19 @@ public:
     }
   }
 
+  /// Copies the first `channels` channels (every one when negative) of pixel (fx, fy) to pixel
+  /// (tx, ty): what set_value(tx, ty, c, value(fx, fy, c)) leaves, without the conversions (an
+  /// 8-bit value survives the round trip through [0,1] unchanged).
+  void copy_pixel(int tx, int ty, int fx, int fy, int channels = -1) {
+    unshare();
+    const int n = channels < 0 || channels > channels_ ? channels_ : channels;
+    const std::size_t to = index(tx, ty), from = index(fx, fy);
+    if (format_ == Format::UInt8)
+      for (int c = 0; c < n; ++c) bytes_[to + std::size_t(c)] = bytes_[from + std::size_t(c)];
+    else
+      for (int c = 0; c < n; ++c) floats_[to + std::size_t(c)] = floats_[from + std::size_t(c)];
+  }
+
   /// Gives the image pixels of its own (a copy when another Image shares them).
   void unshare() {
     if (pixels_ && pixels_.use_count() > 1) {

@@ -482,9 +482,8 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
     for (std::size_t at = 0; at < painted.size(); ++at) painted[at] = char(painted[at] | ring_painted[at]);
   }
   auto copy_texel = [&](int tx, int ty, int fx, int fy) {  // strip texel coordinates (y up)
-    for (int q = 0; q < C; ++q) colours.set_value(tx, HTi - 1 - ty, q, colours.value(fx, HTi - 1 - fy, q));
-    if (with_normals)
-      for (int q = 0; q < 3; ++q) normals.set_value(tx, HTi - 1 - ty, q, normals.value(fx, HTi - 1 - fy, q));
+    colours.copy_pixel(tx, HTi - 1 - ty, fx, HTi - 1 - fy, C);
+    if (with_normals) normals.copy_pixel(tx, HTi - 1 - ty, fx, HTi - 1 - fy, 3);
   };
   grow_rings(
       W, S, options.gutter_texels, [&](std::size_t at) { return painted[at] != 0; },

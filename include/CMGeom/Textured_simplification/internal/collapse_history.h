@@ -737,7 +737,7 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
         if (owner[to] != owner[from]) return false;
         const int tx = int(to % std::size_t(W)), ty = int(to / std::size_t(W));
         const int fx = int(from % std::size_t(W)), fy = int(from / std::size_t(W));
-        for (int ch = 0; ch < C; ++ch) image.set_value(tx, H - 1 - ty, ch, image.value(fx, H - 1 - fy, ch));
+        image.copy_pixel(tx, H - 1 - ty, fx, H - 1 - fy, C);
         if (!normals.empty())
           for (int k = 0; k < 3; ++k) normals[3 * to + std::size_t(k)] = normals[3 * from + std::size_t(k)];
         faces[to] = faces[from];
