@@ -630,7 +630,7 @@ private:
 /// Chart-aware bilinear lookup of `original` (any size; UVs outside [0,1] repeat) at the
 /// original-atlas position `a` (texel units of the chart map `it`, an Index_texture's or one of
 /// its own); channel values in [0,1].
-/// With `chart` (chart id + 1, as Index_texture::chart() gives) the lookup keeps to that chart's
+/// With `chart` (chart id + 1, as Chart_map::chart() gives) the lookup keeps to that chart's
 /// texels instead of the chart found at `a`. When none of the four taps is in it, the taps in any
 /// chart are used (charts sharing texels: mirrored halves), else the nearest texel of the chart
 /// within 4 rings (a chart too small to cover a texel centre), else all four taps.
