@@ -58,35 +58,44 @@ std::string uri_of_file_name(const std::string& name) {
   return s;
 }
 
-// The PNG without its colour-space chunks (iCCP, sRGB, gAMA, cHRM). glTF fixes the colour space
+// Removes the colour-space chunks (iCCP, sRGB, gAMA, cHRM) of a PNG. glTF fixes the colour space
 // of every texture (sRGB for base colour, linear for normal maps): its images should not carry
 // colour-space information (ICC profiles, gamma) and viewers must ignore it (glTF 2.0
 // specification, "Images"), so such a chunk only misleads; the Khronos validator warns about it
 // (IMAGE_FEATURES_UNSUPPORTED; the shared textures of spot and bob carry one). The other chunks,
-// pixel data included, are kept byte for byte; a PNG whose chunks cannot be walked is kept as it is.
-std::vector<unsigned char> without_colour_space_chunks(const std::vector<unsigned char>& png) {
+// pixel data included, are kept byte for byte; a PNG whose chunks cannot be walked is kept as it
+// is, and one without such chunks is not copied (an atlas' PNG runs to megabytes).
+void drop_colour_space_chunks(std::vector<unsigned char>& png) {
   auto be32 = [&](std::size_t i) {
     return std::uint32_t(png[i]) << 24 | std::uint32_t(png[i + 1]) << 16 | std::uint32_t(png[i + 2]) << 8 | png[i + 3];
   };
-  std::vector<unsigned char> out(png.begin(), png.begin() + 8);
+  auto is_colour_space = [&](std::size_t i) {
+    const std::string type(png.begin() + std::ptrdiff_t(i + 4), png.begin() + std::ptrdiff_t(i + 8));
+    return type == "iCCP" || type == "sRGB" || type == "gAMA" || type == "cHRM";
+  };
+  // the chunks' ends, checked first: nothing changes unless every chunk is whole
+  std::vector<std::size_t> starts;
+  bool any = false;
   std::size_t i = 8;
   while (i + 12 <= png.size()) {
     const std::size_t end = i + 12 + std::size_t(be32(i));
-    if (end > png.size() || end < i) return png;
-    const std::string type(png.begin() + std::ptrdiff_t(i + 4), png.begin() + std::ptrdiff_t(i + 8));
-    if (type != "iCCP" && type != "sRGB" && type != "gAMA" && type != "cHRM")
-      out.insert(out.end(), png.begin() + std::ptrdiff_t(i), png.begin() + std::ptrdiff_t(end));
+    if (end > png.size() || end < i) return;
+    starts.push_back(i);
+    any = any || is_colour_space(i);
+    const bool last = std::equal(png.begin() + std::ptrdiff_t(i + 4), png.begin() + std::ptrdiff_t(i + 8), "IEND");
     i = end;
-    if (type == "IEND") break;
+    if (last) break;
+  }
+  if (!any) return;
+  std::vector<unsigned char> out(png.begin(), png.begin() + 8);
+  out.reserve(png.size());
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    const std::size_t end = k + 1 < starts.size() ? starts[k + 1] : i;
+    if (!is_colour_space(starts[k]))
+      out.insert(out.end(), png.begin() + std::ptrdiff_t(starts[k]), png.begin() + std::ptrdiff_t(end));
   }
   out.insert(out.end(), png.begin() + std::ptrdiff_t(i), png.end());  // bytes after IEND, if any
-  return out;
-}
-
-std::uint64_t fnv1a(const unsigned char* p, std::size_t n) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
-  return h;
+  png = std::move(out);
 }
 
 // The single binary buffer and its views (each view starts on a 4-byte boundary).
@@ -374,12 +383,12 @@ private:
     if (e.mime_type.empty()) e.mime_type = image_mime_type(e.bytes);
     if (e.mime_type != "image/png" && e.mime_type != "image/jpeg")
       throw IO_error(path_, "texture of material '" + mat.name + "' is neither PNG nor JPEG (glTF allows only those)");
-    if (e.mime_type == "image/png") e.bytes = without_colour_space_chunks(e.bytes);
-    const std::uint64_t h = fnv1a(e.bytes.data(), e.bytes.size());
+    if (e.mime_type == "image/png") drop_colour_space_chunks(e.bytes);
+    // (the levels of a chain that share one atlas hand the same bytes: one image; comparing sizes
+    // first, then the bytes, costs less than hashing them)
     for (std::size_t i = 0; i < images_.size(); ++i)
-      if (image_hash_[i] == h && images_[i].bytes == e.bytes) return int(i);
+      if (images_[i].bytes == e.bytes) return int(i);
     images_.push_back(std::move(e));
-    image_hash_.push_back(h);
     model_.images.emplace_back();
     if (model_.samplers.empty()) {
       tinygltf::Sampler sampler;
@@ -572,7 +581,6 @@ private:
   tinygltf::Model model_;
   Buffer_builder buffer_;
   std::vector<Encoded_image> images_;
-  std::vector<std::uint64_t> image_hash_;
 };
 
 }  // namespace
