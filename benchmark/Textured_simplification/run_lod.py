@@ -19,7 +19,9 @@ shared < mo13 at every simplified level. Timing (wall clock, min / median of --r
 validator when it is installed (test/Mesh_IO/gltf_validator).
 
 Usage: run_lod.py --build DIR [--ratios 1,0.25,0.05,0.01] [--size 256] [--reps 3 (run.sh: 5)] [--out FILE]
-                  [--models a,b] [--describe LINE] [--prune (run.sh: on)]
+                  [--models a,b] [--describe LINE] [--prune (run.sh: on)] [--geometry-models a,b]
+The chains of untextured meshes (--geometry-models, shared/data/classic; '' for none) are timed the
+same way, without --prune.
 --prune runs every chain and the smallest level alone with `--prune` (whole connected components may
 go when that costs less than the next collapse). meshoptimizer runs without its Prune flag either way:
 with the unlimited error these runs give it, Prune removes every component (DamagedHelmet at 1 %
@@ -78,6 +80,11 @@ def machine():
     return "%s, %d cores" % (cpu, os.cpu_count() or 0)
 
 
+# untextured meshes (shared/data/classic) whose chains are timed beside the textured ones: the
+# classic scans, igea large enough for its first level to be simplified in parts
+GEOMETRY_MODELS = ["stanford-bunny.obj.gz", "armadillo.obj.gz", "nefertiti.obj.gz", "horse.ply", "igea.ply.gz"]
+
+
 def validate(glb):
     if not shutil.which("node") or not os.path.isdir(os.path.join(os.path.dirname(VALIDATOR), "node_modules")):
         return "n/a"
@@ -98,6 +105,8 @@ def main():
     ap.add_argument("--models", help="comma-separated subset of the model names")
     ap.add_argument("--prune", action="store_true",
                     help="chains and the smallest level alone with --prune (whole components may go)")
+    ap.add_argument("--geometry-models", default=",".join(GEOMETRY_MODELS),
+                    help="untextured meshes of shared/data/classic whose chains are timed too ('' for none)")
     a = ap.parse_args()
     cmgeom = os.path.join(os.path.abspath(a.build), "bin", "cmgeom")
     root, _ = P.data_dir()
@@ -108,7 +117,7 @@ def main():
     ratios = [float(r) for r in a.ratios.split(",")]
     prune = ["--prune"] if a.prune else []
     work = tempfile.mkdtemp(prefix="cmgeom-lod-")
-    rows, times, checks, hidden, sizes = [], [], [], [], []
+    rows, times, checks, hidden, sizes, geometry_times = [], [], [], [], [], []
     try:
         for name, m in models.items():
             log("lod: %s" % name)
@@ -164,6 +173,25 @@ def main():
                 t_simp.append(dt)
             times.append((name, (min(t_simp), statistics.median(t_simp)), (min(t_lod), statistics.median(t_lod)),
                           (min(t_lod_shared), statistics.median(t_lod_shared))))
+        # untextured chains: the collapses alone (and the GLB), against the smallest level alone
+        classic = os.path.join(os.path.dirname(root), "classic")
+        for g in [x for x in a.geometry_models.split(",") if x]:
+            path = os.path.join(classic, g)
+            if not os.path.isfile(path):
+                log("lod: %s missing, skipped" % path)
+                continue
+            log("lod (geometry): %s" % g)
+            so, _ = must([cmgeom, "lod", path, "-o", os.path.join(work, "g.glb"), "--ratios", a.ratios, "--no-error",
+                          "--json"])
+            info = last_json(so)
+            t_lod, t_simp = [], []
+            for _ in range(a.reps):
+                _, dt = must([cmgeom, "lod", path, "-o", os.path.join(work, "g.glb"), "--ratios", a.ratios, "--no-error"])
+                t_lod.append(dt)
+                _, dt = must([cmgeom, "simplify", path, "-o", os.path.join(work, "g.obj"), "--ratio", str(ratios[-1])])
+                t_simp.append(dt)
+            geometry_times.append((g, info["faces_in"], info.get("parts", 0), (min(t_simp), statistics.median(t_simp)),
+                                   (min(t_lod), statistics.median(t_lod))))
     finally:
         shutil.rmtree(work, ignore_errors=True)
 
@@ -230,6 +258,21 @@ def main():
         L.append("- chain / smallest level alone, median: atlas per level %.2f, shared texture %.2f (target <= 1.2)." % (
             statistics.median([l[1] / s[1] for _, s, l, _ in times]),
             statistics.median([ls[1] / s[1] for _, s, _, ls in times])))
+    if geometry_times:
+        L.append("")
+        L.append("Untextured meshes (shared/data/classic), the same ratios: `cmgeom lod IN -o OUT.glb --no-error` against "
+                 "`cmgeom simplify IN --ratio <smallest>` (OBJ), wall seconds, \"min / median\" of %d interleaved runs; "
+                 "*parts*: the parts the collapses down to the first level ran in (`lod --json`; 0: on the whole)." % a.reps)
+        L.append("")
+        L.append("| model | faces | simplify to the smallest level (s) | lod (s) | ratio | parts |")
+        L.append("|---|---:|---:|---:|---:|---:|")
+        for g, faces, parts, s_, l in geometry_times:
+            L.append("| %s | %d | %.2f / %.2f | %.2f / %.2f | %.2f | %d |" % (g, faces, s_[0], s_[1], l[0], l[1], l[1] / s_[1],
+                                                                          parts))
+        gr = [l[1] / s_[1] for _, _, _, s_, l in geometry_times]
+        L.append("")
+        L.append("- untextured chain / smallest level alone: median %.2f, worst %.2f, within 1.2 on %d of %d (target <= 1.2)." % (
+            statistics.median(gr), max(gr), sum(1 for x in gr if x <= 1.2), len(gr)))
     L.append("")
     L.append("Validator (Khronos glTF validator on each chain's GLB): " + "; ".join(
         "%s %s: %s" % c for c in checks))

@@ -15,6 +15,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tbb/global_control.h>
+
 #include "cmgeom_test_meshes.h"
 #include "cmgeom_test_surface_meshes.h"
 
@@ -100,6 +102,74 @@ TEST(LevelOfDetail, LevelsAreSnapshotsOfOneRun) {
     EXPECT_GT(r.levels[i].rms, 0.0);
     previous_error = r.levels[i].hausdorff;
   }
+}
+
+// A large untextured input: the collapses down to the first level run in parts (as simplify_mesh()
+// cuts the input for that target), and the first level is the mesh simplify_mesh() returns for it;
+// the coarser levels follow on the whole, valid and within their targets; the chain is the same on
+// one core as on all, and without parts (the settings that switch them off) the first level is the
+// run on the whole again.
+TEST(LevelOfDetail, FirstLevelInPartsIsTheRunToItAlone) {
+  const CMGeom::Textured_mesh input(lod_torus(200, 120));  // 48000 faces
+  TS::Level_of_detail_options o;
+  o.target_faces = {48000, 12000, 2400, 480};
+  o.parts_min_faces = 1000;
+  o.part_faces = 8192;  // 4 parts
+  o.measure_error = false;
+  const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
+  ASSERT_EQ(r.levels.size(), 4u);
+  EXPECT_EQ(r.parts, 4u);
+  EXPECT_GE(r.faces_after_parts, 12000u);  // (the parts stop at their shares of the first level, plus their tails)
+  EXPECT_LT(r.faces_after_parts, 24000u);
+  TS::Mesh_simplification_options so;
+  so.parts_min_faces = o.parts_min_faces;
+  so.part_faces = o.part_faces;
+  so.memory = o.memory;
+  so.quadric = o.quadric;
+  {
+    Mesh alone = input.mesh();
+    const TS::Mesh_simplification_result sr = TS::simplify_mesh(alone, o.target_faces[1], so);
+    ASSERT_EQ(sr.parts, 4u);
+    ASSERT_EQ(sr.faces_after_parts, r.faces_after_parts);
+    const Mesh& level = r.levels[1].mesh.mesh();
+    ASSERT_EQ(alone.number_of_vertices(), level.number_of_vertices());
+    EXPECT_EQ(sorted_triangles(level), sorted_triangles(alone)) << "not the mesh of the run to this level alone";
+  }
+  for (std::size_t i = 1; i < r.levels.size(); ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    const Mesh& level = r.levels[i].mesh.mesh();
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(level));
+    EXPECT_TRUE(CGAL::is_closed(level));
+    EXPECT_LE(level.number_of_faces(), o.target_faces[i]);
+    EXPECT_GE(level.number_of_faces() + 2, o.target_faces[i] + 1);
+    if (i > 1) EXPECT_LT(level.number_of_faces(), r.levels[i - 1].mesh.mesh().number_of_faces());
+  }
+  // the same on one core
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    const TS::Level_of_detail_result serial = TS::simplify_to_levels(input, o);
+    ASSERT_EQ(serial.levels.size(), r.levels.size());
+    EXPECT_EQ(serial.faces_after_parts, r.faces_after_parts);
+    for (std::size_t i = 1; i < r.levels.size(); ++i) {
+      const Mesh& a = serial.levels[i].mesh.mesh();
+      const Mesh& b = r.levels[i].mesh.mesh();
+      ASSERT_EQ(a.number_of_vertices(), b.number_of_vertices()) << "level " << i;
+      EXPECT_TRUE(std::equal(a.points().begin(), a.points().end(), b.points().begin())) << "level " << i;
+    }
+  }
+  // without parts: the first level is the run on the whole to it
+  TS::Level_of_detail_options whole = o;
+  whole.parts_min_faces = 0;
+  const TS::Level_of_detail_result w = TS::simplify_to_levels(input, whole);
+  EXPECT_EQ(w.parts, 0u);
+  Mesh alone = input.mesh();
+  so.parts_min_faces = 0;
+  TS::simplify_mesh(alone, o.target_faces[1], so);
+  EXPECT_EQ(sorted_triangles(w.levels[1].mesh.mesh()), sorted_triangles(alone));
+  // a first level above half the input: no parts
+  TS::Level_of_detail_options high = o;
+  high.target_faces = {48000, 30000, 2400};
+  EXPECT_EQ(TS::simplify_to_levels(input, high).parts, 0u);
 }
 
 TEST(LevelOfDetail, TargetsMustDecreaseStrictly) {

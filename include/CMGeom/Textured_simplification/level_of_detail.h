@@ -6,7 +6,9 @@
 // reaches a level's target, so every level is the same collapse sequence stopped earlier; each copy
 // gets the final fit of its vertices to the input's points that simplify_mesh() gives the mesh it
 // ends with (`memory.fit`), made on the copy alone (the run goes on from the unfitted mesh), so a
-// level is vertex for vertex the mesh simplify_mesh() returns for that target. Levels
+// level is vertex for vertex the mesh simplify_mesh() returns for that target. A large untextured
+// input is cut into parts simplified on all cores down to the first collapsed level, as
+// simplify_mesh() cuts it (`parts_min_faces`); the coarser levels then follow on the whole. Levels
 // may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
 // measure, not a guarantee). Texture: an atlas per level (default), painted from the input
 // followed down the collapses onto that level and baked where no input face lands, or one
@@ -112,6 +114,17 @@ struct Level_of_detail_options {
   /// sits in the middle of the values (0.1 to 0.3) that gave image errors within 5 % of each
   /// other on the shared textured models.
   double overflow_colour_tolerance = 0.2;
+  /// Untextured input with face targets: when the input has at least this many faces and the first
+  /// collapsed level at most half of them, the collapses down to that level run in parts on all
+  /// cores first, as simplify_mesh() runs them (internal::simplify_in_parts(), with these two
+  /// settings and its other parts settings at their defaults), then the coarser levels follow on
+  /// the whole, the parts' points kept by the memoryful cost. Where simplify_mesh() itself cuts
+  /// (the target at most a quarter of the faces) the first collapsed level is the mesh it returns
+  /// for that target; the coarser levels are not cut again. 0: never. A textured chain (whose
+  /// collapse history follows the whole mesh) and the error-bound mode run on the whole.
+  std::size_t parts_min_faces = Mesh_simplification_options().parts_min_faces;
+  /// Faces of a part at least (simplify_mesh()'s `part_faces`).
+  std::size_t part_faces = Mesh_simplification_options().part_faces;
   /// Measure every level's error against the input (Metrics::approximation_error, the input's side
   /// prepared once: Metrics::Error_reference), beside the collapses and the texture work.
   bool measure_error = true;
@@ -132,7 +145,10 @@ struct Level_of_detail {
 struct Level_of_detail_result {
   std::vector<Level_of_detail> levels;
   double seconds_collapse = 0;  ///< the collapse run, snapshots included
-  double seconds_texture = 0;   ///< atlas extraction, baking, mapping through the shared atlas
+  /// Parts simplified at once before the first collapsed level (0: the whole at once; see
+  /// Level_of_detail_options::parts_min_faces), and the faces when they were put back together.
+  std::size_t parts = 0, faces_after_parts = 0;
+  double seconds_texture = 0;  ///< atlas extraction, baking, mapping through the shared atlas
   /// The error measures: what is left of them once the texture work is done (they run beside
   /// the collapses and the texture work; the error-bound mode measures inside the collapse run).
   double seconds_error = 0;
@@ -344,19 +360,48 @@ struct Face_count_or_flag_stop {
   }
 };
 
+/// simplify_mesh()'s options for a run of the chain's cost to `target` faces (the parts stage).
+inline Mesh_simplification_options chain_simplification_options(const Level_of_detail_options& options,
+                                                                std::size_t target) {
+  Mesh_simplification_options o;
+  o.target_faces = target;
+  o.quadric = options.quadric;
+  o.surface_memory = options.surface_memory;
+  o.memory = options.memory;
+  o.flips = options.flips;
+  o.prune_components = options.prune_components;
+  o.parts_min_faces = options.parts_min_faces;
+  o.part_faces = options.part_faces;
+  return o;
+}
+
 /// The collapses of a chain on `work` (simplify_mesh()'s engine, cost and memory, without its final
 /// fit and without compacting `work`) until `stop`, with the visitor `make_visitor(fitter)` builds
 /// around the run's Level_fitter (empty without the memoryful cost or without fit rounds), which
-/// is valid until the run's end (the visitor's OnFinished included).
+/// is valid until the run's end (the visitor's OnFinished included). With `parts_target` > 0 the
+/// collapses down to that many faces run in parts first when simplify_mesh() would run them so
+/// (internal::simplify_in_parts(); the visitor sees only the collapses on the whole that follow);
+/// returns the number of parts (0: none) and the faces they left.
 template <class Stop, class MakeVisitor>
-void collapse_chain(Surface_mesh& work, const Level_of_detail_options& options, const Stop& stop,
-                    std::size_t prune_min_faces, const MakeVisitor& make_visitor) {
+std::pair<std::size_t, std::size_t> collapse_chain(Surface_mesh& work, const Level_of_detail_options& options,
+                                                   const Stop& stop, std::size_t prune_min_faces,
+                                                   const MakeVisitor& make_visitor, std::size_t parts_target = 0) {
   using Mesh = Surface_mesh;
   using VPM = Mesh::Property_map<Mesh::Vertex_index, Point_3>;
   check_fit_options(options.memory.fit);
   Area_weighted_quadric_policies<Mesh> policy(work, options.quadric);
   std::optional<Surface_memory<Mesh, VPM>> memory;
-  if (options.surface_memory) memory.emplace(work, work.points(), options.memory);
+  int part_levels = 0;
+  if (parts_target > 0) {
+    const Mesh_simplification_options so = chain_simplification_options(options, parts_target);
+    const std::size_t faces = work.number_of_faces();
+    // (simplify_mesh() cuts when the target is at most a quarter of the faces; a chain, whose
+    // coarser levels then come on one core, gains from the parts down to half)
+    if (2 * parts_target <= faces) part_levels = internal::part_levels(faces, (std::min)(parts_target, faces / 4), so);
+    if (part_levels > 0) simplify_in_parts(work, parts_target, part_levels, so, policy, memory);
+  }
+  const std::size_t faces_after_parts = part_levels > 0 ? work.number_of_faces() : 0;
+  if (part_levels == 0 && options.surface_memory) memory.emplace(work, work.points(), options.memory);
   Surface_memory<Mesh, VPM>* m = memory ? &*memory : nullptr;
   Level_fitter fitter;
   if (m && options.memory.fit.rounds > 0)
@@ -372,6 +417,7 @@ void collapse_chain(Surface_mesh& work, const Level_of_detail_options& options, 
                                  options.flips, CGAL::parameters::get_cost(policy).get_placement(placement).visitor(
                                                     make_visitor(&fitter))))));
   });
+  return {part_levels > 0 ? std::size_t(1) << part_levels : 0, faces_after_parts};
 }
 
 inline double seconds_since_lod(std::chrono::steady_clock::time_point t0) {
@@ -500,11 +546,13 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       // (the last level, and any the run never reached, are taken when it finishes)
       typename internal::Snapshot_visitor<Visitor>::State state{&collapsed, 0, {}};
       if (errors) state.errors = &*errors;
-      internal::collapse_chain(
+      // (an untextured chain: the collapses down to the first level in parts, when that pays)
+      std::tie(res.parts, res.faces_after_parts) = internal::collapse_chain(
           work, options, Face_count_stop_predicate<Surface_mesh>(work, collapsed.back()), collapsed.back(),
           [&](const internal::Level_fitter* fitter) {
             return internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr, fitter};
-          });
+          },
+          history ? 0 : collapsed.front());
       meshes = std::move(state.snapshots);
     }
   } catch (...) {
