@@ -81,7 +81,7 @@ std::vector<std::pair<std::size_t, double>> components(const Mesh& m) {
   return out;
 }
 
-long euler_characteristic(const Mesh& m) {
+long euler_characteristic_of(const Mesh& m) {
   return long(m.number_of_vertices()) - long(m.number_of_edges()) + long(m.number_of_faces());
 }
 
@@ -118,7 +118,7 @@ TEST(PruneComponents, SmallPartsGiveTheirFacesToTheRestSmallestFirst) {
     if (c.second > 2.0) torus_kept = c.first;
   EXPECT_GT(widest.first, torus_kept);
   // every component left is still a closed torus (Euler characteristic 0 each)
-  EXPECT_EQ(euler_characteristic(pruned), 0);
+  EXPECT_EQ(euler_characteristic_of(pruned), 0);
   // the tiny tori went before any of the larger small ones
   int tiny = 0, small = 0;
   for (const auto& c : left) {

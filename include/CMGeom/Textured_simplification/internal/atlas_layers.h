@@ -473,7 +473,8 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
         }
         if (!(signed_area_2(t[0], t[1], t[2]) > 0)) continue;  // folded over the chart
         paint_face(g, t, [&](std::size_t at) {
-          if (painted[at] || ring_painted[at] || owner[at] != std::int32_t(c)) return false;
+          // (the owner first: the task of the chart that owns the texel may be writing ring_painted there)
+          if (owner[at] != std::int32_t(c) || painted[at] || ring_painted[at]) return false;
           ring_painted[at] = 1;
           return true;
         });
