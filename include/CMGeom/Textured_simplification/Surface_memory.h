@@ -35,6 +35,7 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -427,7 +428,50 @@ public:
     return out;
   }
 
+  /// fitted_positions() to be computed later, on any thread, while the collapses go on: what the
+  /// fit reads is copied now (`tm` with its element indices, the vertices' positions and their
+  /// quadrics `quadric_of(v)`, the points and which face each lies on), and the callable returned
+  /// gives what fitted_positions(tm, options, quadric_of) gives now, bit for bit; it holds no
+  /// reference to the memory, `tm` or `quadric_of`, and may be called once. The costs of the copy:
+  /// O(tm's elements, removed ones included, + points). Needs a copyable `TriangleMesh`.
+  template <class QuadricOf>
+  std::function<std::vector<typename boost::property_traits<VertexPointMap>::value_type>()> fitted_positions_later(
+      const TriangleMesh& tm, const Surface_fit_options& options, QuadricOf quadric_of) const {
+    check_fit_options(options);
+    using Point = typename boost::property_traits<VertexPointMap>::value_type;
+    struct State {
+      TriangleMesh tm;
+      std::vector<V3> pos;
+      std::vector<Item> items;
+      std::vector<std::uint32_t> head, link;
+      std::vector<internal::Symmetric_quadric> quadric;
+    };
+    auto s = std::make_shared<State>();
+    s->pos = positions(tm);
+    if (!items_.empty() && options.rounds > 0) {
+      s->tm = tm;
+      s->items = items_;
+      s->head = head_;
+      s->link.resize(items_.size());
+      for (std::size_t i = 0; i < items_.size(); ++i) s->link[i] = items_[i].next;
+      s->quadric.resize(s->pos.size());
+      for (vertex_descriptor v : vertices(tm)) s->quadric[std::size_t(v)] = quadric_of(v);
+    }
+    return [s, options]() {
+      if (!s->items.empty())
+        fit(
+            s->tm, s->items, options, [&](vertex_descriptor v) { return s->quadric[std::size_t(v)]; }, s->pos, s->head,
+            s->link);
+      std::vector<Point> out;
+      out.reserve(s->pos.size());
+      for (const V3& x : s->pos) out.emplace_back(x.x, x.y, x.z);
+      return out;
+    };
+  }
+
 private:
+  struct Item;  // (a point; below)
+
   /// The vertices' positions, indexed by vertex index.
   std::vector<V3> positions(const TriangleMesh& tm) const {
     std::size_t n = 0;
@@ -442,6 +486,13 @@ private:
   template <class QuadricOf>
   std::size_t fit(const TriangleMesh& tm, const Surface_fit_options& options, QuadricOf quadric_of,
                   std::vector<V3>& pos, std::vector<std::uint32_t>& head, std::vector<std::uint32_t>& link) const {
+    return fit(tm, items_, options, quadric_of, pos, head, link);
+  }
+  /// (the body, on the points `items`: a copy of items_ for fitted_positions_later())
+  template <class QuadricOf>
+  static std::size_t fit(const TriangleMesh& tm, const std::vector<Item>& items_, const Surface_fit_options& options,
+                         QuadricOf quadric_of, std::vector<V3>& pos, std::vector<std::uint32_t>& head,
+                         std::vector<std::uint32_t>& link) {
     const int rounds = options.rounds;
     const double damping = options.damping, mu = options.quadric_weight, max_turn = options.max_turn;
     const std::size_t np = items_.size();

@@ -53,8 +53,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <tuple>
@@ -165,6 +167,21 @@ struct Level_of_detail_result {
 
 namespace internal {
 
+/// A tbb::task_group that its destructor waits for, without throwing: the tasks of a run left by an
+/// exception finish before what they read goes (their own exceptions are then dropped).
+struct Waited_task_group {
+  tbb::task_group group;
+  Waited_task_group() = default;
+  Waited_task_group(const Waited_task_group&) = delete;
+  Waited_task_group& operator=(const Waited_task_group&) = delete;
+  ~Waited_task_group() {
+    try {
+      group.wait();
+    } catch (...) {  // (only when wait() was not called: an exception is leaving already)
+    }
+  }
+};
+
 /// The levels' errors, measured beside the work that follows their snapshots (the serial collapses
 /// leave cores idle): the first task prepares the input's side once (Metrics::Error_reference),
 /// then measures the levels one after another as their copies come; a level that comes while no
@@ -268,6 +285,10 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
     std::vector<Level_snapshot> snapshots;
     bool pending = false;                       // a collapse reached the next target: copy at the next call
     Background_level_errors* errors = nullptr;  // measures each copy, when set
+    // the levels' fits, made beside the collapses (each then measured, when asked); finished()
+    // waits for them and gives their positions to the copies
+    std::vector<std::shared_ptr<Pending_level_fit>> fits;
+    Waited_task_group fit_tasks;
   };
   State* state;
   Snapshot_visitor(State* s, const Visitor& v, Collapse_history* h, const Level_fitter* f = nullptr)
@@ -296,15 +317,36 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
     while (state->next + 1 < state->targets->size() && mesh.number_of_faces() <= (*state->targets)[state->next])
       take(mesh);
   }
+  /// The copy now; its fit (and then its error) on another core while the collapses go on: the
+  /// fit reads a copy of what it needs (Surface_memory::fitted_positions_later()).
   void take(const Surface_mesh& mesh) const {
-    state->snapshots.push_back(this->snapshot(mesh));
-    if (state->errors) state->errors->add(state->next, state->snapshots.back().mesh);
-    ++state->next;
+    std::function<std::vector<Point_3>()> later;
+    auto fit = std::make_shared<Pending_level_fit>();
+    fit->level = state->snapshots.size();
+    state->snapshots.push_back(this->snapshot_to_fit(mesh, later, fit->v2v));
+    const std::size_t level = state->next++;
+    Background_level_errors* errors = state->errors;
+    if (!later) {
+      if (errors) errors->add(level, state->snapshots.back().mesh);
+      return;
+    }
+    state->fits.push_back(fit);
+    // (the error is measured on a copy of its own: the snapshots may move meanwhile)
+    auto copy = errors ? std::make_shared<Surface_mesh>(state->snapshots.back().mesh) : nullptr;
+    state->fit_tasks.group.run([fit, later, errors, level, copy] {
+      fit->positions = later();
+      if (!errors) return;
+      set_copied_points(*copy, fit->v2v, fit->positions);
+      errors->add(level, *copy);
+    });
   }
   /// The levels not taken yet (the last, and any the run did not reach) are the mesh the run ends
-  /// with: copied (and fitted) now, while the history's points still name its faces.
+  /// with: copied now, while the history's points still name its faces; then every level gets its
+  /// fitted positions.
   void finished(const Surface_mesh& mesh) const {
     while (state->snapshots.size() < state->targets->size()) take(mesh);
+    state->fit_tasks.group.wait();
+    for (const auto& fit : state->fits) set_copied_points(state->snapshots[fit->level].mesh, fit->v2v, fit->positions);
   }
 };
 
@@ -406,7 +448,8 @@ std::pair<std::size_t, std::size_t> collapse_chain(Surface_mesh& work, const Lev
   Level_fitter fitter;
   if (m && options.memory.fit.rounds > 0)
     fitter = [&](const Mesh& mesh) {
-      return m->fitted_positions(mesh, options.memory.fit, [&](Mesh::Vertex_index v) { return policy.quadric(v); });
+      return m->fitted_positions_later(mesh, options.memory.fit,
+                                       [&](Mesh::Vertex_index v) { return policy.quadric(v); });
     };
   collapse_with_placement(policy, false, [&](const auto& placement) {
     edge_collapse(work, stop,

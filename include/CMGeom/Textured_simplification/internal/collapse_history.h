@@ -33,6 +33,7 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <tuple>
 #include <unordered_map>
 #include <utility>
@@ -55,22 +56,35 @@ inline void set_copied_points(Surface_mesh& to,
 /// Copies the live part of `from` (a mesh that may hold garbage) into a new garbage-free mesh.
 /// `positions` (indexed by `from`'s vertex indices; empty: `from`'s own points) are the copy's
 /// points: a level of a chain is the run's mesh with its vertices fitted (Level_fitter).
-inline Surface_mesh compact_copy(const Surface_mesh& from, const std::vector<Point_3>& positions = {}) {
+/// When given, `v2v` receives the pairs of set_copied_points().
+inline Surface_mesh compact_copy(
+    const Surface_mesh& from, const std::vector<Point_3>& positions = {},
+    std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>>* v2v_out = nullptr) {
   Surface_mesh to;
-  if (positions.empty()) {
+  if (positions.empty() && !v2v_out) {
     CGAL::copy_face_graph(from, to);
   } else {
     std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>> v2v;
     CGAL::copy_face_graph(from, to, CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v)));
     set_copied_points(to, v2v, positions);
+    if (v2v_out) *v2v_out = std::move(v2v);
   }
   return to;
 }
 
-/// Gives the positions of the vertices of the mesh being simplified (by vertex index) after the
-/// final fit simplify_mesh() would make there (Surface_memory::fitted_positions()), without
-/// changing the mesh or the run; empty when the run fits nothing.
-using Level_fitter = std::function<std::vector<Point_3>(const Surface_mesh&)>;
+/// The final fit simplify_mesh() would make on the mesh being simplified, to be computed later:
+/// takes what the fit reads now and returns a callable that gives the fitted positions (by vertex
+/// index of that mesh) on any thread, while the run goes on (Surface_memory::fitted_positions_later());
+/// the mesh and the run are not changed. An empty callable: the run fits nothing.
+using Level_fitter = std::function<std::function<std::vector<Point_3>()>(const Surface_mesh&)>;
+
+/// A level's fit made beside the collapses (Level_fitter): the pairs of the run's vertices and the
+/// level's copy of each, and, once computed, the fitted positions by the run's vertex index.
+struct Pending_level_fit {
+  std::size_t level = 0;  // (index of the snapshot)
+  std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>> v2v;
+  std::vector<Point_3> positions;
+};
 
 /// Forwards every engine call to the caller's visitor; the snapshot visitors below derive from it
 /// and add to OnCollapsed.
@@ -166,7 +180,8 @@ public:
   /// (collect_garbage() renumbers the faces the points are attached to): snapshots are taken
   /// inside the run, the last one when it finishes.
   /// `positions` as compact_copy()'s (the points added keep `work`'s own: the run follows them).
-  Level_snapshot take(const Mesh& work, const std::vector<Point_3>& positions = {}) {
+  Level_snapshot take(const Mesh& work, const std::vector<Point_3>& positions = {},
+                      std::vector<std::pair<Vertex, Vertex>>* v2v_out = nullptr) {
     Level_snapshot s;
     std::vector<std::pair<Vertex, Vertex>> v2v;
     std::vector<std::pair<Face, Face>> f2f;
@@ -182,6 +197,7 @@ public:
       if (on[i] != Mesh::null_face() && std::size_t(on[i]) < copy_face.size())
         s.face_of_point[i] = copy_face[std::size_t(on[i])];
     if (follow_levels_) add_points(work, v2v, f2f, s.mesh.number_of_vertices(), s.mesh.number_of_faces(), s);
+    if (v2v_out) *v2v_out = std::move(v2v);
     return s;
   }
 
@@ -263,8 +279,18 @@ struct History_visitor : Forwarding_visitor<Visitor> {
   /// A copy of `mesh` with its vertices fitted (when there is a fitter), with the history's points
   /// when there is one.
   Level_snapshot snapshot(const Surface_mesh& mesh) const {
-    const std::vector<Point_3> positions = fitter && *fitter ? (*fitter)(mesh) : std::vector<Point_3>();
+    std::vector<Point_3> positions;
+    if (fitter && *fitter)
+      if (const auto later = (*fitter)(mesh)) positions = later();
     return history ? history->take(mesh, positions) : Level_snapshot{compact_copy(mesh, positions), {}, {}, {}};
+  }
+  /// The same copy with the run's positions, and in `later` its fit to be made (empty: none; the
+  /// positions it gives go to the copy's vertices through `v2v`, set_copied_points()).
+  Level_snapshot snapshot_to_fit(
+      const Surface_mesh& mesh, std::function<std::vector<Point_3>()>& later,
+      std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>>& v2v) const {
+    later = fitter && *fitter ? (*fitter)(mesh) : std::function<std::vector<Point_3>()>();
+    return history ? history->take(mesh, {}, &v2v) : Level_snapshot{compact_copy(mesh, {}, &v2v), {}, {}, {}};
   }
 };
 
