@@ -25,8 +25,8 @@ if [[ "${2:-}" == "--quick" ]]; then
   sh "$here/run_textured_bench.sh" "$build" --models spot,bob --fractions 0.1
   bash "$here/run_textured_peers.sh" "$build" --quick
   bash "$here/run_textured_scale.sh" "$build" --repeat 1
-  python3 "$here/run_lod.py" --build "$build" --models spot --reps 2 --prune --out "$here/RESULTS-lod.md" \
-    --describe "$describe"
+  python3 "$here/run_lod.py" --build "$build" --models spot --reps 2 --prune --geometry-models horse.ply \
+    --out "$here/RESULTS-lod.md" --describe "$describe"
   python3 "$here/run_paint.py" --build "$build" --models spot,Duck --reps 1 --out "$here/RESULTS-paint.md" \
     --describe "$(describe_run)"
   bash "$here/run_max_error_bench.sh" "$build" --quick
