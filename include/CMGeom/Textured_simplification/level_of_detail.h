@@ -5,8 +5,9 @@
 // simplify_mesh() run down to the smallest target and the mesh is copied each time the face count
 // reaches a level's target, so every level is the same collapse sequence stopped earlier; each copy
 // gets the final fit of its vertices to the input's points that simplify_mesh() gives the mesh it
-// ends with (`memory.fit`), made on the copy alone (the run goes on from the unfitted mesh), so a
-// level is vertex for vertex the mesh simplify_mesh() returns for that target. A large untextured
+// ends with (`memory.fit`), made on the copy alone, on another core while the run goes on from the
+// unfitted mesh (Surface_memory::fitted_positions_later()), so a level is vertex for vertex the mesh
+// simplify_mesh() returns for that target. A large untextured
 // input is cut into parts simplified on all cores down to the first collapsed level, as
 // simplify_mesh() cuts it (`parts_min_faces`); the coarser levels then follow on the whole. Levels
 // may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
@@ -326,7 +327,7 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
     state->snapshots.push_back(this->snapshot_to_fit(mesh, later, fit->v2v));
     const std::size_t level = state->next++;
     Background_level_errors* errors = state->errors;
-    if (!later) {
+    if (!later) {  // (nothing to fit: the copy is the level)
       if (errors) errors->add(level, state->snapshots.back().mesh);
       return;
     }
