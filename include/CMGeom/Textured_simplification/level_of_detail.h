@@ -191,19 +191,13 @@ class Background_level_errors {
 public:
   Background_level_errors(const Surface_mesh& input, const Metrics::Error_options& options) {
     running_ = true;
-    tasks_.run([this, &input, options] {
+    tasks_.group.run([this, &input, options] {
       reference_.emplace(input, options);
       drain();
     });
   }
   Background_level_errors(const Background_level_errors&) = delete;
   Background_level_errors& operator=(const Background_level_errors&) = delete;
-  ~Background_level_errors() {
-    try {
-      tasks_.wait();
-    } catch (...) {  // (only when wait() was not called: an exception is leaving already)
-    }
-  }
 
   /// Queues level `level` (its geometry, copied now).
   void add(std::size_t level, const Surface_mesh& mesh) {
@@ -212,13 +206,13 @@ public:
     queue_.push_back(std::move(item));
     if (!running_) {
       running_ = true;
-      tasks_.run([this] { drain(); });
+      tasks_.group.run([this] { drain(); });
     }
   }
 
   /// Waits for every queued level; (level, error) pairs, by level. Rethrows a measure's exception.
   std::vector<std::pair<std::size_t, Metrics::Approximation_error>> wait() {
-    tasks_.wait();
+    tasks_.group.wait();
     std::sort(results_.begin(), results_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     return std::move(results_);
   }
@@ -246,12 +240,12 @@ private:
     }
   }
 
-  tbb::task_group tasks_;
   std::mutex mutex_;
   std::optional<Metrics::Error_reference> reference_;  // (written by the first task, before any measure)
   std::vector<Item> queue_;
   bool running_ = false;
   std::vector<std::pair<std::size_t, Metrics::Approximation_error>> results_;
+  Waited_task_group tasks_;  // (last: destroyed first, it waits for the tasks that use the others)
 };
 
 /// What the two snapshot visitors below share: a copy is taken once its collapse is complete, at
