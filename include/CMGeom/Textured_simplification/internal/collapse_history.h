@@ -53,22 +53,14 @@ inline void set_copied_points(Surface_mesh& to,
     for (const auto& [v, w] : v2v) to.point(w) = positions[std::size_t(v)];
 }
 
-/// Copies the live part of `from` (a mesh that may hold garbage) into a new garbage-free mesh.
-/// `positions` (indexed by `from`'s vertex indices; empty: `from`'s own points) are the copy's
-/// points: a level of a chain is the run's mesh with its vertices fitted (Level_fitter).
-/// When given, `v2v` receives the pairs of set_copied_points().
-inline Surface_mesh compact_copy(
-    const Surface_mesh& from, const std::vector<Point_3>& positions = {},
-    std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>>* v2v_out = nullptr) {
+/// Copies the live part of `from` (a mesh that may hold garbage) into a new garbage-free mesh;
+/// `v2v` receives the pairs of set_copied_points() (a level of a chain then gets its fitted
+/// positions: Level_fitter).
+inline Surface_mesh compact_copy(const Surface_mesh& from,
+                                 std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>>& v2v) {
   Surface_mesh to;
-  if (positions.empty() && !v2v_out) {
-    CGAL::copy_face_graph(from, to);
-  } else {
-    std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>> v2v;
-    CGAL::copy_face_graph(from, to, CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v)));
-    set_copied_points(to, v2v, positions);
-    if (v2v_out) *v2v_out = std::move(v2v);
-  }
+  v2v.clear();
+  CGAL::copy_face_graph(from, to, CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v)));
   return to;
 }
 
@@ -179,16 +171,15 @@ public:
   /// copy's vertices and faces become points too. `work` must not have been compacted
   /// (collect_garbage() renumbers the faces the points are attached to): snapshots are taken
   /// inside the run, the last one when it finishes.
-  /// `positions` as compact_copy()'s (the points added keep `work`'s own: the run follows them).
-  Level_snapshot take(const Mesh& work, const std::vector<Point_3>& positions = {},
-                      std::vector<std::pair<Vertex, Vertex>>* v2v_out = nullptr) {
+  /// `v2v` as compact_copy()'s (the copy's points are `work`'s, as are those of the points added:
+  /// the run follows them).
+  Level_snapshot take(const Mesh& work, std::vector<std::pair<Vertex, Vertex>>& v2v) {
     Level_snapshot s;
-    std::vector<std::pair<Vertex, Vertex>> v2v;
+    v2v.clear();
     std::vector<std::pair<Face, Face>> f2f;
     CGAL::copy_face_graph(work, s.mesh,
                           CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v))
                               .face_to_face_output_iterator(std::back_inserter(f2f)));
-    set_copied_points(s.mesh, v2v, positions);
     std::vector<std::uint32_t> copy_face(work.number_of_faces() + work.number_of_removed_faces(), nil);
     for (const auto& [from, to] : f2f) copy_face[std::size_t(from)] = std::uint32_t(to);
     const std::vector<Face> on = memory_.faces_of_points();
@@ -197,7 +188,6 @@ public:
       if (on[i] != Mesh::null_face() && std::size_t(on[i]) < copy_face.size())
         s.face_of_point[i] = copy_face[std::size_t(on[i])];
     if (follow_levels_) add_points(work, v2v, f2f, s.mesh.number_of_vertices(), s.mesh.number_of_faces(), s);
-    if (v2v_out) *v2v_out = std::move(v2v);
     return s;
   }
 
@@ -279,10 +269,11 @@ struct History_visitor : Forwarding_visitor<Visitor> {
   /// A copy of `mesh` with its vertices fitted (when there is a fitter), with the history's points
   /// when there is one.
   Level_snapshot snapshot(const Surface_mesh& mesh) const {
-    std::vector<Point_3> positions;
-    if (fitter && *fitter)
-      if (const auto later = (*fitter)(mesh)) positions = later();
-    return history ? history->take(mesh, positions) : Level_snapshot{compact_copy(mesh, positions), {}, {}, {}};
+    std::function<std::vector<Point_3>()> later;
+    std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>> v2v;
+    Level_snapshot s = snapshot_to_fit(mesh, later, v2v);
+    if (later) set_copied_points(s.mesh, v2v, later());
+    return s;
   }
   /// The same copy with the run's positions, and in `later` its fit to be made (empty: none; the
   /// positions it gives go to the copy's vertices through `v2v`, set_copied_points()).
@@ -290,7 +281,7 @@ struct History_visitor : Forwarding_visitor<Visitor> {
       const Surface_mesh& mesh, std::function<std::vector<Point_3>()>& later,
       std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>>& v2v) const {
     later = fitter && *fitter ? (*fitter)(mesh) : std::function<std::vector<Point_3>()>();
-    return history ? history->take(mesh, {}, &v2v) : Level_snapshot{compact_copy(mesh, {}, &v2v), {}, {}, {}};
+    return history ? history->take(mesh, v2v) : Level_snapshot{compact_copy(mesh, v2v), {}, {}, {}};
   }
 };
 
