@@ -393,8 +393,7 @@ public:
     check_fit_options(options);
     if (items_.empty() || options.rounds == 0) return 0;
     std::vector<V3> pos = positions(tm);
-    std::vector<std::uint32_t> link(items_.size());
-    for (std::size_t i = 0; i < items_.size(); ++i) link[i] = items_[i].next;
+    std::vector<std::uint32_t> link = links();
     const std::size_t moves = fit(tm, options, quadric_of, pos, head_, link);
     for (std::size_t i = 0; i < items_.size(); ++i) items_[i].next = link[i];
     using Point = typename boost::property_traits<VertexPointMap>::value_type;
@@ -417,15 +416,10 @@ public:
     check_fit_options(options);
     std::vector<V3> pos = positions(tm);
     if (!items_.empty() && options.rounds > 0) {
-      std::vector<std::uint32_t> head = head_, link(items_.size());
-      for (std::size_t i = 0; i < items_.size(); ++i) link[i] = items_[i].next;
+      std::vector<std::uint32_t> head = head_, link = links();
       fit(tm, options, quadric_of, pos, head, link);
     }
-    using Point = typename boost::property_traits<VertexPointMap>::value_type;
-    std::vector<Point> out;
-    out.reserve(pos.size());
-    for (const V3& x : pos) out.emplace_back(x.x, x.y, x.z);
-    return out;
+    return as_points(pos);
   }
 
   /// fitted_positions() to be computed later, on any thread, while the collapses go on: what the
@@ -438,7 +432,6 @@ public:
   std::function<std::vector<typename boost::property_traits<VertexPointMap>::value_type>()> fitted_positions_later(
       const TriangleMesh& tm, const Surface_fit_options& options, QuadricOf quadric_of) const {
     check_fit_options(options);
-    using Point = typename boost::property_traits<VertexPointMap>::value_type;
     struct State {
       TriangleMesh tm;
       std::vector<V3> pos;
@@ -452,8 +445,7 @@ public:
       s->tm = tm;
       s->items = items_;
       s->head = head_;
-      s->link.resize(items_.size());
-      for (std::size_t i = 0; i < items_.size(); ++i) s->link[i] = items_[i].next;
+      s->link = links();
       s->quadric.resize(s->pos.size());
       for (vertex_descriptor v : vertices(tm)) s->quadric[std::size_t(v)] = quadric_of(v);
     }
@@ -462,15 +454,27 @@ public:
         fit(
             s->tm, s->items, options, [&](vertex_descriptor v) { return s->quadric[std::size_t(v)]; }, s->pos, s->head,
             s->link);
-      std::vector<Point> out;
-      out.reserve(s->pos.size());
-      for (const V3& x : s->pos) out.emplace_back(x.x, x.y, x.z);
-      return out;
+      return as_points(s->pos);
     };
   }
 
 private:
   struct Item;  // (a point; below)
+
+  /// Each point's successor in its face's list (Item::next), by point index.
+  std::vector<std::uint32_t> links() const {
+    std::vector<std::uint32_t> link(items_.size());
+    for (std::size_t i = 0; i < items_.size(); ++i) link[i] = items_[i].next;
+    return link;
+  }
+  /// `pos` as points of the vertex point map's type.
+  static std::vector<typename boost::property_traits<VertexPointMap>::value_type> as_points(
+      const std::vector<V3>& pos) {
+    std::vector<typename boost::property_traits<VertexPointMap>::value_type> out;
+    out.reserve(pos.size());
+    for (const V3& x : pos) out.emplace_back(x.x, x.y, x.z);
+    return out;
+  }
 
   /// The vertices' positions, indexed by vertex index.
   std::vector<V3> positions(const TriangleMesh& tm) const {
