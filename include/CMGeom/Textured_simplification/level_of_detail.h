@@ -432,9 +432,9 @@ std::pair<std::size_t, std::size_t> collapse_chain(Surface_mesh& work, const Lev
   if (parts_target > 0) {
     const Mesh_simplification_options so = chain_simplification_options(options, parts_target);
     const std::size_t faces = work.number_of_faces();
-    // (simplify_mesh() cuts when the target is at most a quarter of the faces; a chain, whose
-    // coarser levels then come on one core, gains from the parts down to half)
-    if (2 * parts_target <= faces) part_levels = internal::part_levels(faces, (std::min)(parts_target, faces / 4), so);
+    // (simplify_mesh() cuts when the target is at most a quarter of the faces, part_levels(); a
+    // chain, whose coarser levels then come on one core, gains from the parts down to half)
+    if (2 * parts_target <= faces) part_levels = internal::halvings_into_parts(faces, so);
     if (part_levels > 0) simplify_in_parts(work, parts_target, part_levels, so, policy, memory);
   }
   const std::size_t faces_after_parts = part_levels > 0 ? work.number_of_faces() : 0;

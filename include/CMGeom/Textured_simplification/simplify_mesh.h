@@ -316,13 +316,19 @@ std::vector<std::uint8_t> locked_twins(const Mesh_part<Point>& part) {
   return twin;
 }
 
-/// Number of halvings of the input into parts (0: none), see the file comment.
-inline int part_levels(std::size_t faces, std::size_t target, const Mesh_simplification_options& o) {
+/// Number of halvings of an input of `faces` faces into parts of at least `part_faces` (0: none,
+/// or an input below `parts_min_faces`), whatever the target.
+inline int halvings_into_parts(std::size_t faces, const Mesh_simplification_options& o) {
   if (o.parts_min_faces == 0 || faces < o.parts_min_faces || o.part_faces == 0) return 0;
-  if (4.0 * o.parts_stop_factor * double(target) > double(faces)) return 0;
   int levels = 0;
   while (levels < max_part_levels && (faces >> (levels + 1)) >= o.part_faces) ++levels;
   return levels;
+}
+
+/// Number of halvings of the input into parts (0: none), see the file comment.
+inline int part_levels(std::size_t faces, std::size_t target, const Mesh_simplification_options& o) {
+  if (4.0 * o.parts_stop_factor * double(target) > double(faces)) return 0;
+  return halvings_into_parts(faces, o);
 }
 
 /// Number of halvings simplify_mesh() makes of an input of `faces` faces under `o` (0: it runs as
