@@ -14,14 +14,16 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <sstream>
-#include <unordered_map>
+#include <type_traits>
 
 namespace CMGeom {
 namespace IO {
@@ -103,17 +105,23 @@ class Buffer_builder {
 public:
   explicit Buffer_builder(tinygltf::Model& model) : model_(model) {}
 
-  int add_view(const std::vector<unsigned char>& bytes, int target, std::size_t stride) {
+  int add_view(const void* bytes, std::size_t size, int target, std::size_t stride) {
     while (data_.size() % 4) data_.push_back(0);
     tinygltf::BufferView view;
     view.buffer = 0;
     view.byteOffset = data_.size();
-    view.byteLength = bytes.size();
+    view.byteLength = size;
     view.byteStride = stride;
     view.target = target;
-    data_.insert(data_.end(), bytes.begin(), bytes.end());
+    const unsigned char* b = static_cast<const unsigned char*>(bytes);
+    data_.insert(data_.end(), b, b + size);
     model_.bufferViews.push_back(view);
     return int(model_.bufferViews.size() - 1);
+  }
+  template <class T>
+  int add_view(const std::vector<T>& values, int target, std::size_t stride) {
+    static_assert(std::is_arithmetic<T>::value, "a view holds numbers");
+    return add_view(values.data(), values.size() * sizeof(T), target, stride);
   }
 
   std::vector<unsigned char>& data() { return data_; }
@@ -123,28 +131,9 @@ private:
   std::vector<unsigned char> data_;
 };
 
-template <class T>
-void put(std::vector<unsigned char>& out, T value) {
-  unsigned char b[sizeof(T)];
-  std::memcpy(b, &value, sizeof(T));
-  out.insert(out.end(), b, b + sizeof(T));
-}
+constexpr std::uint32_t no_vertex = std::numeric_limits<std::uint32_t>::max();
 
-// One vertex of a primitive: a mesh vertex with one texture coordinate (seams split vertices).
-struct Corner_key {
-  std::uint32_t vertex;
-  std::uint64_t u, v;
-  bool operator==(const Corner_key& o) const { return vertex == o.vertex && u == o.u && v == o.v; }
-};
-struct Corner_key_hash {
-  std::size_t operator()(const Corner_key& k) const {
-    std::uint64_t h = k.vertex * 0x9E3779B97F4A7C15ull;
-    h ^= k.u + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
-    h ^= k.v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
-    return std::size_t(h);
-  }
-};
-
+// The bits of a double: texture coordinates are told apart bit for bit.
 std::uint64_t bits(double x) {
   std::uint64_t b;
   std::memcpy(&b, &x, 8);
@@ -362,17 +351,23 @@ public:
     model_.buffers.push_back(std::move(buffer));
 
     tinygltf::TinyGLTF writer;
-    std::ostringstream s;
-    if (!writer.WriteGltfSceneToStream(&model_, s, !binary, binary)) throw IO_error(path_, "glTF serialisation failed");
-    std::string text = s.str();
-    if (!binary) {
-      // tinygltf embeds buffers in a .gltf written to a stream; ours is the .bin file beside it
-      nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
-      j["buffers"] = nlohmann::ordered_json::array(
-          {nlohmann::ordered_json{{"byteLength", bytes}, {"uri", uri_of_file_name(bin_name)}}});
-      text = j.dump(2) + "\n";
+    if (binary) {
+      // straight into the file (a GLB holds the whole buffer: no copy of it in memory)
+      const std::string tmp = out.add(path_);
+      std::ofstream os(tmp, std::ios::binary);
+      if (!os) throw IO_error(path_, std::string("cannot write: ") + std::strerror(errno));
+      if (!writer.WriteGltfSceneToStream(&model_, os, false, true)) throw IO_error(path_, "glTF serialisation failed");
+      os.flush();
+      if (!os) throw IO_error(path_, "write failed (disk full?)");
+      return;
     }
-    write_file(path_, text, out);
+    std::ostringstream s;
+    if (!writer.WriteGltfSceneToStream(&model_, s, true, false)) throw IO_error(path_, "glTF serialisation failed");
+    // tinygltf embeds buffers in a .gltf written to a stream; ours is the .bin file beside it
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(s.str());
+    j["buffers"] = nlohmann::ordered_json::array(
+        {nlohmann::ordered_json{{"byteLength", bytes}, {"uri", uri_of_file_name(bin_name)}}});
+    write_file(path_, j.dump(2) + "\n", out);
   }
 
 private:
@@ -441,93 +436,110 @@ private:
                      double step, tinygltf::Primitive& prim) {
     const Surface_mesh& m = tm.mesh();
     const bool uvs = tm.has_uvs();
-    std::unordered_map<Corner_key, std::uint32_t, Corner_key_hash> id;
-    id.reserve(faces.size() * 2);
-    std::vector<Halfedge_index> corner;  // a corner of every glTF vertex
+    // the glTF vertices: a mesh vertex once per texture coordinate its corners have (seams split
+    // it), numbered in the order of first use; the glTF vertices of one mesh vertex make a list
+    std::vector<std::uint32_t> first(m.num_vertices(), no_vertex);  // by mesh vertex
+    std::vector<std::uint32_t> other;                               // the list's next, by glTF vertex
+    std::vector<Halfedge_index> corner;                             // a corner of every glTF vertex
     std::vector<std::uint32_t> indices;
     indices.reserve(faces.size() * 3);
     for (Face_index f : faces) {
       for (Halfedge_index h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
-        Corner_key key{std::uint32_t(m.target(h)), 0, 0};
+        const std::size_t v = std::size_t(m.target(h));
+        std::uint32_t id = first[v];
         if (uvs) {
           const Point_2 t = tm.uv(h);
-          key.u = bits(t.x());
-          key.v = bits(t.y());
+          while (id != no_vertex) {
+            const Point_2 s = tm.uv(corner[id]);
+            if (bits(s.x()) == bits(t.x()) && bits(s.y()) == bits(t.y())) break;
+            id = other[id];
+          }
         }
-        auto [it, inserted] = id.emplace(key, std::uint32_t(corner.size()));
-        if (inserted) corner.push_back(h);
-        indices.push_back(it->second);
+        if (id == no_vertex) {
+          id = std::uint32_t(corner.size());
+          corner.push_back(h);
+          other.push_back(first[v]);
+          first[v] = id;
+        }
+        indices.push_back(id);
       }
     }
     const std::size_t n = corner.size();
 
     // POSITION
     {
-      std::vector<unsigned char> b;
       std::vector<double> mn(3, std::numeric_limits<double>::max()), mx(3, -std::numeric_limits<double>::max());
       if (options_.quantize) {
-        b.reserve(n * 8);
+        std::vector<std::uint16_t> q;
+        q.reserve(n * 4);
         for (Halfedge_index h : corner) {
           const Point_3& p = m.point(m.target(h));
           for (int k = 0; k < 3; ++k) {
-            const double q = std::min(65535.0, std::max(0.0, std::round((p[k] - lo[std::size_t(k)]) / step)));
-            put(b, std::uint16_t(q));
-            mn[std::size_t(k)] = std::min(mn[std::size_t(k)], q);
-            mx[std::size_t(k)] = std::max(mx[std::size_t(k)], q);
+            const double x = std::min(65535.0, std::max(0.0, std::round((p[k] - lo[std::size_t(k)]) / step)));
+            q.push_back(std::uint16_t(x));
+            mn[std::size_t(k)] = std::min(mn[std::size_t(k)], x);
+            mx[std::size_t(k)] = std::max(mx[std::size_t(k)], x);
           }
-          put(b, std::uint16_t(0));  // vertex attributes are 4-byte aligned
+          q.push_back(0);  // vertex attributes are 4-byte aligned
         }
         prim.attributes["POSITION"] =
-            add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 8), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+            add_accessor(buffer_.add_view(q, TINYGLTF_TARGET_ARRAY_BUFFER, 8), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
                          TINYGLTF_TYPE_VEC3, n, false, mn, mx);
       } else {
-        b.reserve(n * 12);
+        std::vector<float> x;
+        x.reserve(n * 3);
         for (Halfedge_index h : corner) {
           const Point_3& p = m.point(m.target(h));
           for (int k = 0; k < 3; ++k) {
-            const float x = float(p[k]);
-            put(b, x);
-            mn[std::size_t(k)] = std::min(mn[std::size_t(k)], double(x));
-            mx[std::size_t(k)] = std::max(mx[std::size_t(k)], double(x));
+            const float c = float(p[k]);
+            x.push_back(c);
+            mn[std::size_t(k)] = std::min(mn[std::size_t(k)], double(c));
+            mx[std::size_t(k)] = std::max(mx[std::size_t(k)], double(c));
           }
         }
-        prim.attributes["POSITION"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 12),
+        prim.attributes["POSITION"] = add_accessor(buffer_.add_view(x, TINYGLTF_TARGET_ARRAY_BUFFER, 12),
                                                    TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, false, mn, mx);
       }
     }
     // NORMAL
     if (!normals.empty()) {
-      std::vector<unsigned char> b;
       if (options_.quantize) {
+        std::vector<std::int8_t> x;
+        x.reserve(n * 4);
         for (Halfedge_index h : corner) {
           const auto& nv = normals[std::size_t(m.target(h))];
-          for (int k = 0; k < 3; ++k) put(b, std::int8_t(std::lround(nv[std::size_t(k)] * 127.0)));
-          put(b, std::int8_t(0));
+          for (int k = 0; k < 3; ++k) x.push_back(std::int8_t(std::lround(nv[std::size_t(k)] * 127.0)));
+          x.push_back(0);
         }
-        prim.attributes["NORMAL"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 4),
+        prim.attributes["NORMAL"] = add_accessor(buffer_.add_view(x, TINYGLTF_TARGET_ARRAY_BUFFER, 4),
                                                  TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC3, n, true);
       } else {
+        std::vector<float> x;
+        x.reserve(n * 3);
         for (Halfedge_index h : corner) {
           const auto& nv = normals[std::size_t(m.target(h))];
-          for (int k = 0; k < 3; ++k) put(b, float(nv[std::size_t(k)]));
+          for (int k = 0; k < 3; ++k) x.push_back(float(nv[std::size_t(k)]));
         }
-        prim.attributes["NORMAL"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 12),
+        prim.attributes["NORMAL"] = add_accessor(buffer_.add_view(x, TINYGLTF_TARGET_ARRAY_BUFFER, 12),
                                                  TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, false);
       }
     }
     // TANGENT (xyz, handedness w)
     if (tangents) {
       const std::vector<std::array<double, 4>> t = vertex_tangents(tm, corner, indices, normals);
-      std::vector<unsigned char> b;
       if (options_.quantize) {
+        std::vector<std::int8_t> x;
+        x.reserve(n * 4);
         for (const auto& tv : t)
-          for (int k = 0; k < 4; ++k) put(b, std::int8_t(std::lround(tv[std::size_t(k)] * 127.0)));
-        prim.attributes["TANGENT"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 4),
+          for (int k = 0; k < 4; ++k) x.push_back(std::int8_t(std::lround(tv[std::size_t(k)] * 127.0)));
+        prim.attributes["TANGENT"] = add_accessor(buffer_.add_view(x, TINYGLTF_TARGET_ARRAY_BUFFER, 4),
                                                   TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC4, n, true);
       } else {
+        std::vector<float> x;
+        x.reserve(n * 4);
         for (const auto& tv : t)
-          for (int k = 0; k < 4; ++k) put(b, float(tv[std::size_t(k)]));
-        prim.attributes["TANGENT"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 16),
+          for (int k = 0; k < 4; ++k) x.push_back(float(tv[std::size_t(k)]));
+        prim.attributes["TANGENT"] = add_accessor(buffer_.add_view(x, TINYGLTF_TARGET_ARRAY_BUFFER, 16),
                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, n, false);
       }
     }
@@ -538,40 +550,37 @@ private:
         const Point_2 t = tm.uv(h);
         unit = unit && t.x() >= 0 && t.x() <= 1 && t.y() >= 0 && t.y() <= 1;
       }
-      std::vector<unsigned char> b;
       if (unit) {
+        std::vector<std::uint16_t> x;
+        x.reserve(n * 2);
         for (Halfedge_index h : corner) {
           const Point_2 t = tm.uv(h);
-          put(b, std::uint16_t(std::lround(t.x() * 65535.0)));
-          put(b, std::uint16_t(std::lround((1.0 - t.y()) * 65535.0)));
+          x.push_back(std::uint16_t(std::lround(t.x() * 65535.0)));
+          x.push_back(std::uint16_t(std::lround((1.0 - t.y()) * 65535.0)));
         }
         prim.attributes["TEXCOORD_0"] =
-            add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 4), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+            add_accessor(buffer_.add_view(x, TINYGLTF_TARGET_ARRAY_BUFFER, 4), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
                          TINYGLTF_TYPE_VEC2, n, true);
       } else {
+        std::vector<float> x;
+        x.reserve(n * 2);
         for (Halfedge_index h : corner) {
           const Point_2 t = tm.uv(h);
-          put(b, float(t.x()));
-          put(b, float(1.0 - t.y()));
+          x.push_back(float(t.x()));
+          x.push_back(float(1.0 - t.y()));
         }
-        prim.attributes["TEXCOORD_0"] = add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ARRAY_BUFFER, 8),
+        prim.attributes["TEXCOORD_0"] = add_accessor(buffer_.add_view(x, TINYGLTF_TARGET_ARRAY_BUFFER, 8),
                                                      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, n, false);
       }
     }
     // indices: 16 bits while no index reaches 65535 (the primitive-restart value)
-    {
-      std::vector<unsigned char> b;
-      const bool short_indices = n < 65535;
-      for (std::uint32_t i : indices) {
-        if (short_indices)
-          put(b, std::uint16_t(i));
-        else
-          put(b, i);
-      }
-      prim.indices =
-          add_accessor(buffer_.add_view(b, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0),
-                       short_indices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                       TINYGLTF_TYPE_SCALAR, indices.size(), false);
+    if (n < 65535) {
+      const std::vector<std::uint16_t> x(indices.begin(), indices.end());
+      prim.indices = add_accessor(buffer_.add_view(x, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0),
+                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR, indices.size(), false);
+    } else {
+      prim.indices = add_accessor(buffer_.add_view(indices, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0),
+                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size(), false);
     }
   }
 
