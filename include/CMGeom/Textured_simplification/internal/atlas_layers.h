@@ -676,10 +676,11 @@ inline void level_into_overflow(Textured_mesh& level, const Atlas_layers& layers
       if (!shape_kept && !(longest_ok && better && squashed)) continue;
       if (!majority[f] && !better) continue;
       // and when the colours are checked, only where it shows colours nearer to a bake's
+      // (the searches start from the first input face on it: f has one, as its chart is set)
       if (colour_error) {
         std::size_t n = 0;
-        const auto e =
-            colour_error->squared_errors(corner, std::array<std::array<Point_2, 3>, 2>{{uvs_of(f), moved}}, n);
+        const auto e = colour_error->squared_errors(corner, std::array<std::array<Point_2, 3>, 2>{{uvs_of(f), moved}},
+                                                    n, list[start[f]]);
         if (!(e[1] < e[0])) continue;
       }
       for (int k = 0; k < 3; ++k) level.set_uv(corner_halfedge(lm, lf, k), moved[std::size_t(k)]);
