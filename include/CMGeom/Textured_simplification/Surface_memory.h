@@ -494,12 +494,12 @@ private:
   }
   /// (the body, on the points `items`: a copy of items_ for fitted_positions_later())
   template <class QuadricOf>
-  static std::size_t fit(const TriangleMesh& tm, const std::vector<Item>& items_, const Surface_fit_options& options,
+  static std::size_t fit(const TriangleMesh& tm, const std::vector<Item>& items, const Surface_fit_options& options,
                          QuadricOf quadric_of, std::vector<V3>& pos, std::vector<std::uint32_t>& head,
                          std::vector<std::uint32_t>& link) {
     const int rounds = options.rounds;
     const double damping = options.damping, mu = options.quadric_weight, max_turn = options.max_turn;
-    const std::size_t np = items_.size();
+    const std::size_t np = items.size();
     const auto point = [&pos](vertex_descriptor v) -> const V3& { return pos[std::size_t(v)]; };
     std::vector<face_descriptor> at(np, GT::null_face());
     std::vector<V3> bary(np);
@@ -539,8 +539,8 @@ private:
       const auto consider = [&](face_descriptor g) {
         const auto c = corners(g);
         const V3 a = point(c[0]), b = point(c[1]), cc = point(c[2]);
-        const V3 w = CM::internal::closest_barycentric_on_triangle(items_[i].p, a, b, cc);
-        const double d = CM::internal::squared_length(items_[i].p - (w.x * a + w.y * b + w.z * cc));
+        const V3 w = CM::internal::closest_barycentric_on_triangle(items[i].p, a, b, cc);
+        const double d = CM::internal::squared_length(items[i].p - (w.x * a + w.y * b + w.z * cc));
         if (d < best) {
           best = d;
           at[i] = g;
@@ -587,7 +587,7 @@ private:
         const int k = corner_of(c, v);
         const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
         for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) {
-          const Item& r = items_[i];
+          const Item& r = items[i];
           const double w[3] = {bary[i].x, bary[i].y, bary[i].z};
           V3 rest(0., 0., 0.);
           for (int j = 0; j < 3; ++j)
@@ -627,7 +627,7 @@ private:
         V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
         q[corner_of(c, v)] = x;
         for (std::uint32_t i = head[std::size_t(f)]; i != nil && ok; i = link[i]) {
-          const V3& p = items_[i].p;
+          const V3& p = items[i].p;
           // the point at its coordinates is at least as far as the face: often enough
           if (CM::internal::squared_length(p - (bary[i].x * q[0] + bary[i].y * q[1] + bary[i].z * q[2])) <= worst)
             continue;
