@@ -205,11 +205,26 @@ private:
   static double dist2(const V3& q, const Tri& t) {
     return CM::internal::squared_length(q - CM::internal::closest_on_triangle(q, t.a, t.b, t.c));
   }
+  /// The largest squared distance from the corners of `t` to triangle `q` when none is above
+  /// `limit2`, else the first one found above it (the corners after it are not measured: the
+  /// caller only compares the result with `limit2`). `known[k]`, when not negative, is the squared
+  /// distance from corner k to `q`, found already.
+  static double corners_dist2(const Tri& t, const Tri& q, double limit2, const double (&known)[3]) {
+    const V3* corner[3] = {&t.a, &t.b, &t.c};
+    double m = 0.;
+    for (int k = 0; k < 3; ++k) {
+      const double d = known[k] >= 0. ? known[k] : dist2(*corner[k], q);
+      if (d > limit2) return d;
+      m = (std::max)(m, d);
+    }
+    return m;
+  }
   /// Whether two triangles' bounding spheres are more than E apart (then no point of one is
   /// within E of the other).
-  bool apart(const Tri& s, const Tri& t) const {
-    const double reach = s.radius + t.radius + e_test_;
-    return CM::internal::squared_length(s.centre - t.centre) > reach * reach;
+  bool apart(const Tri& s, const Tri& t) const { return apart(s, t.centre, t.radius); }
+  bool apart(const Tri& s, const V3& centre, double radius) const {
+    const double reach = s.radius + radius + e_test_;
+    return CM::internal::squared_length(s.centre - centre) > reach * reach;
   }
 
   V3 point(vertex_descriptor v) const {
@@ -432,7 +447,7 @@ private:
       part.t = t;
       part.begin = near_.size();
       for (std::uint32_t i : cand_)
-        if (!apart(t, pieces_[i].t)) near_.push_back(i);
+        if (!apart(t, pieces_[i].t)) near_.push_back(Nearby{pieces_[i].t.centre, pieces_[i].t.radius, i});
       part.end = near_.size();
       for (int k = 0; k < 3; ++k) part.corner[k] = nearest(k == 0 ? t.a : k == 1 ? t.b : t.c, part, nil);
       parts_.push_back(part);
@@ -449,8 +464,8 @@ private:
       const std::size_t k = s == 0 ? hint : (s == hint ? 0 : s);
       const Tri& h = home_tri(k);
       if (apart(t, h)) continue;
-      work_ += 3;
-      const double d = (std::max)({dist2(t.a, h), dist2(t.b, h), dist2(t.c, h)});
+      work_ += 3;  // (the budget counts three distances per test, however many corners it measures)
+      const double d = corners_dist2(t, h, e2_, {-1., -1., -1.});
       if (d <= e2_) {
         worst = (std::max)(worst, d);
         placed_.push_back(Placed{i, std::uint32_t(k), whole, t});
@@ -466,6 +481,14 @@ private:
   }
 
   using Near = std::pair<double, std::uint32_t>;  // (squared distance, piece), nil: none
+  /// A piece in a part's list, with its bounding sphere: the lists are scanned for every nearest
+  /// point, and the spheres, read in list order, spare most of those scans a visit to the
+  /// pieces' records (scattered in memory).
+  struct Nearby {
+    V3 centre;
+    double radius;
+    std::uint32_t piece;
+  };
   /// A new face, or a part of one cut for the new-face test: near_[begin, end) are the pieces
   /// near it, corner[k] the nearest of them to its corner k.
   struct Part {
@@ -490,9 +513,9 @@ private:
     if (seed != nil) consider(seed);
     double sb = std::sqrt(best);
     for (std::size_t n = part.begin; n < part.end; ++n) {
-      const std::uint32_t i = near_[n];
+      const Nearby& p = near_[n];
+      const std::uint32_t i = p.piece;
       if (i == seed) continue;
-      const Tri& p = pieces_[i].t;
       // skip when |q - centre| >= radius + sqrt(best): every point of the piece is farther
       const double lim = p.radius + sb;
       if (CM::internal::squared_length(q - p.centre) >= lim * lim) continue;
@@ -535,7 +558,10 @@ private:
           if (tried[k] == nil || std::find(tried, tried + k, tried[k]) != tried + k) continue;
           const Tri& q = pieces_[tried[k]].t;
           work_ += 3;
-          const double m = (std::max)({dist2(t.a, q), dist2(t.b, q), dist2(t.c, q)});
+          // (a corner whose nearest piece this is has its distance to it already)
+          double known[3];
+          for (int c = 0; c < 3; ++c) known[c] = p.corner[c].second == tried[k] ? p.corner[c].first : -1.;
+          const double m = corners_dist2(t, q, e2_, known);
           if (m <= e2_) {  // (a)
             worst = (std::max)(worst, m);
             done = true;
@@ -582,7 +608,7 @@ private:
           c.t = cuts[k];
           c.begin = next_near_.size();
           for (std::size_t n = p.begin; n < p.end; ++n)
-            if (!apart(cuts[k], pieces_[near_[n]].t)) next_near_.push_back(near_[n]);
+            if (!apart(cuts[k], near_[n].centre, near_[n].radius)) next_near_.push_back(near_[n]);
           c.end = next_near_.size();
           std::copy(cut_corners[k], cut_corners[k] + 3, c.corner);
           next_parts_.push_back(c);
@@ -640,8 +666,8 @@ private:
   std::vector<Tri> ring_;
   std::size_t ring_begin_ = 0;
   std::vector<std::uint32_t> cand_;
-  std::vector<Part> parts_, next_parts_;         // the new-face test's parts, level by level
-  std::vector<std::uint32_t> near_, next_near_;  // their lists of nearby pieces
+  std::vector<Part> parts_, next_parts_;  // the new-face test's parts, level by level
+  std::vector<Nearby> near_, next_near_;  // their lists of nearby pieces
   std::vector<Near> mids_;
   std::vector<Placed> placed_;
   vertex_descriptor flip_b_;
