@@ -10,9 +10,12 @@
 // are exact on triangles: the distance to a triangle is convex, so a triangle is within E of
 // another when its three corners are; one that fits in no single triangle is cut in four, down to
 // a depth limit. The input's flat regions are also grouped into convex planar patches, so that a new
-// face across many small flat triangles is tested against their union at once. Conservative: an
-// allowed change is always within E, a refused one may have been.
-// Complexity: O(F) set-up; a test O(k m), k pieces near the edge, m parts a new face is cut in.
+// face across many small flat triangles is tested against their union at once, and a new face is
+// first tested whole against the input's faces projected onto its plane (covered_by_projection()),
+// which most often spares the cuts. Conservative: an allowed change is always within E, a refused
+// one may have been.
+// Complexity: O(F) set-up; a test O(k m + g), k pieces near the edge, m parts a new face is cut in,
+// g input faces gathered for the projections.
 //
 // Manual: doc/Textured_simplification/README.md, "A guaranteed error bound: `max_error`".
 #ifndef CMGEOM_TEXTURED_SIMPLIFICATION_HAUSDORFF_BOUND_H
@@ -81,16 +84,26 @@ public:
     for (face_descriptor f : faces(tm)) nf = (std::max)(nf, std::size_t(f) + 1);
     head_.assign(nf, nil);
     const std::vector<std::uint32_t> face_patch = make_patches(tm, nf);
+    input_.assign(nf, Input_face());
     for (face_descriptor f : faces(tm)) {
       const halfedge_descriptor h = halfedge(f, tm);
+      Input_face& in = input_[std::size_t(f)];
+      halfedge_descriptor g = h;
+      for (int k = 0; k < 3; ++k, g = next(g, tm)) {  // corner k = source of side k
+        in.corner[k] = point(source(g, tm));
+        const halfedge_descriptor o = opposite(g, tm);
+        in.across[k] = is_border(o, tm) ? nil : std::uint32_t(std::size_t(face(o, tm)));
+      }
       Piece p;
       p.t = make_tri(point(source(h, tm)), point(target(h, tm)), point(target(next(h, tm), tm)));
       p.patch = face_patch[std::size_t(f)];
+      p.origin = std::uint32_t(std::size_t(f));
       p.next = head_[std::size_t(f)];
       head_[std::size_t(f)] = std::uint32_t(pieces_.size());
       pieces_.push_back(p);
     }
     live_pieces_ = pieces_.size();
+    seen_.assign(nf, 0);
   }
 
   /// E, in the mesh's units.
@@ -105,6 +118,10 @@ public:
   /// Number of flat patches: convex planar polygons, each the union of two or more adjacent
   /// input faces (see make_patches()).
   std::size_t number_of_patches() const { return patches_.size(); }
+  /// Number of new faces the second test found covered by the input's faces projected onto them
+  /// (see covered_by_projection()), and the number it tested that way.
+  std::size_t projected() const { return projected_; }
+  std::size_t projection_tests() const { return projection_tests_; }
 
   /// Calls `fn(face, a, b, c)` for every piece, `face` the current face it is attached to and
   /// a, b, c its corners (CM::internal::Vec3).
@@ -175,8 +192,15 @@ private:
   };
   struct Piece {
     Tri t;
-    std::uint32_t patch = nil;  // the flat patch of the input face it comes from, if any
+    std::uint32_t patch = nil;   // the flat patch of the input face it comes from, if any
+    std::uint32_t origin = nil;  // that input face
     std::uint32_t next = nil;
+  };
+  /// An input face: its corners (corner k is the source of side k, in the order of
+  /// halfedges_around_face from halfedge(f)) and the face across each side (nil: a border).
+  struct Input_face {
+    V3 corner[3];
+    std::uint32_t across[3] = {nil, nil, nil};
   };
   /// A convex planar polygon that is the union of adjacent input faces, each within tau of its
   /// plane (origin o, orthonormal u, v, normal n); corners_[begin, end) are its corners in (u, v),
@@ -443,6 +467,11 @@ private:
     parts_.clear();
     near_.clear();
     for (const Tri& t : news_) {
+      double h2 = 0.;
+      if (covered_by_projection(t, h2)) {
+        worst = (std::max)(worst, h2);
+        continue;
+      }
       Part part;
       part.t = t;
       part.begin = near_.size();
@@ -454,6 +483,158 @@ private:
     }
     if (!covered(worst)) return false;
     pending_worst_ = worst;
+    return true;
+  }
+
+  /// The second test for a whole new face `t`, at once: whether the input's faces, projected
+  /// orthogonally onto its plane, cover it while lying within E of that plane. A point q' of the
+  /// plane that is the projection of a point p of such a face is within |p - q'|, p's height over
+  /// the plane, of the input, and a face's heights are at most those of its corners. The faces
+  /// kept ("good") are those facing the way t does (positive area once projected) with their three
+  /// corners within E of the plane; they are gathered from the candidate pieces' input faces
+  /// across the input's sides, as far as their projections reach t's bounding box. Let R be the
+  /// union of their projections and t' the triangle t with its sides moved inwards by a margin (a
+  /// billionth of its perimeter). R's boundary is made of sides of good faces with no good face
+  /// across (or on the input's border): across any other side the two good faces lie on either
+  /// side of it once projected, the input being oriented, and the good faces around a corner with
+  /// no such side wind around it. So when (1) none of those sides meets t' and (2) t's centroid
+  /// lies in t' and inside a good face's projection, t' (convex, off R's boundary) lies inside R,
+  /// and every point of t, within margin / sin(a / 2) of t' (a: t's smallest angle), is within that
+  /// plus the largest height of the good faces near t of the input. A side lying along one of t's
+  /// own sides (a crease of the input under an edge of the new face) does not meet t'. The tests
+  /// lean towards "meets" and "outside" by round-off: a refusal only sends t to the test by
+  /// parts. `h2` receives the square of the bound found.
+  bool covered_by_projection(const Tri& t, double& h2) {
+    using CM::internal::cross;
+    using CM::internal::dot;
+    using P2 = std::array<double, 2>;
+    const V3 ab = t.b - t.a, ac = t.c - t.a;
+    const V3 nn = cross(ab, ac);
+    const double area2 = CM::internal::length(nn), lab = CM::internal::length(ab);
+    if (!(area2 > 0.) || !(lab > 0.) || !std::isfinite(area2)) return false;
+    ++projection_tests_;
+    const V3 n = (1. / area2) * nn, u = (1. / lab) * ab, v = cross(n, u);
+    // t in its plane: A = (0, 0), B = (|ab|, 0), C above the x axis
+    const P2 A{0., 0.}, B{lab, 0.}, C{dot(ac, u), dot(ac, v)};
+    const double perimeter = lab + CM::internal::length(ac) + CM::internal::length(t.c - t.b);
+    const double margin = 1e-9 * perimeter;
+    const std::array<P2, 3> tri{A, B, C};
+    const std::array<double, 3> lengths{lab, std::sqrt(squared_distance_2(B, C)), std::sqrt(squared_distance_2(C, A))};
+    const double box_lo[2] = {(std::min)(0., C[0]) - margin, -margin},
+                 box_hi[2] = {(std::max)(lab, C[0]) + margin, C[1] + margin};
+    // marks of this test (above every mark of an earlier one): evaluated and not good; good, its
+    // projection off t's box; good, within reach (its sides are looked at)
+    if (stamp_ > 0xfffffff0u) {  // (before the marks wrap around)
+      std::fill(seen_.begin(), seen_.end(), 0u);
+      stamp_ = 0;
+    }
+    const std::uint32_t bad = ++stamp_, good_off = ++stamp_, good_near = ++stamp_;
+    double worst = 0.;
+    std::array<P2, 3> q;
+    // evaluates input face f once: its mark, and its projected corners in q when it is near
+    auto evaluate = [&](std::uint32_t f) {
+      const Input_face& in = input_[f];
+      double hmax = 0.;
+      for (int k = 0; k < 3; ++k) {
+        const V3 d = in.corner[k] - t.a;
+        q[std::size_t(k)] = P2{dot(d, u), dot(d, v)};
+        hmax = (std::max)(hmax, std::abs(dot(d, n)));
+      }
+      // (facing t's way by more than the round-off of the projection)
+      const double sides2 =
+          squared_distance_2(q[0], q[1]) + squared_distance_2(q[1], q[2]) + squared_distance_2(q[2], q[0]);
+      if (!(hmax <= e_test_) || !(orient(q[0], q[1], q[2]) > 1e-12 * sides2)) return seen_[f] = bad;
+      for (int a = 0; a < 2; ++a) {
+        const double lo = (std::min)({q[0][std::size_t(a)], q[1][std::size_t(a)], q[2][std::size_t(a)]});
+        const double hi = (std::max)({q[0][std::size_t(a)], q[1][std::size_t(a)], q[2][std::size_t(a)]});
+        if (hi < box_lo[a] || lo > box_hi[a]) return seen_[f] = good_off;
+      }
+      worst = (std::max)(worst, hmax * hmax);
+      faces_.push_back(f);
+      proj_.push_back(q);
+      return seen_[f] = good_near;
+    };
+    faces_.clear();
+    proj_.clear();
+    for (std::uint32_t i : cand_) {
+      const std::uint32_t f = pieces_[i].origin;
+      if (f != nil && seen_[f] < bad) evaluate(f);
+    }
+    if (faces_.empty()) return false;
+    // (1) across the sides of the good faces within reach: more such faces, or a side of R's
+    // boundary, which must not meet t' (the sides of good faces off t's box cannot)
+    for (std::size_t j = 0; j < faces_.size(); ++j) {
+      const std::uint32_t f = faces_[j];
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t g = input_[f].across[k];
+        const std::uint32_t mark = g == nil ? bad : seen_[g] >= bad ? seen_[g] : evaluate(g);
+        if (mark != bad) continue;
+        if (segment_meets_triangle(proj_[j][std::size_t(k)], proj_[j][std::size_t((k + 1) % 3)], tri, lengths, margin))
+          return false;
+        if (faces_.size() > options_.max_work) return false;
+      }
+    }
+    // (2) the centroid inside t', and inside a good face's projection by the margin
+    const P2 m{(A[0] + B[0] + C[0]) / 3., (A[1] + B[1] + C[1]) / 3.};
+    for (std::size_t k = 0; k < 3; ++k)
+      if (!(orient(tri[k], tri[(k + 1) % 3], m) > 2. * margin * lengths[k])) return false;
+    // every point of t lies within margin / sin(a / 2) of t', a its smallest angle
+    double sine = 1.;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const P2& o = tri[k];
+      const P2& p = tri[(k + 1) % 3];
+      const P2& r = tri[(k + 2) % 3];
+      const double c =
+          ((p[0] - o[0]) * (r[0] - o[0]) + (p[1] - o[1]) * (r[1] - o[1])) / (lengths[k] * lengths[(k + 2) % 3]);
+      sine = (std::min)(sine, std::sqrt((std::max)(0., 0.5 * (1. - c))));
+    }
+    const double reach = std::sqrt(worst) + margin / sine;
+    if (!(sine > 0.) || !(reach <= e_test_)) return false;
+    for (const auto& p : proj_) {
+      bool inside = true;
+      for (int k = 0; k < 3 && inside; ++k) {  // (beyond the margin: o > margin |p0 p1|)
+        const P2& p0 = p[std::size_t(k)];
+        const P2& p1 = p[std::size_t((k + 1) % 3)];
+        const double o = orient(p0, p1, m);
+        inside = o > 0. && o * o > margin * margin * squared_distance_2(p0, p1);
+      }
+      if (inside) {
+        h2 = reach * reach;
+        ++projected_;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /// Twice the signed area of triangle (p, q, r) in the plane.
+  static double orient(const std::array<double, 2>& p, const std::array<double, 2>& q, const std::array<double, 2>& r) {
+    return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+  }
+
+  static double squared_distance_2(const std::array<double, 2>& p, const std::array<double, 2>& q) {
+    return (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]);
+  }
+
+  /// Whether segment pq may meet t', triangle `tri` (counterclockwise, side k from corner k to
+  /// corner k + 1 of length lengths[k]) with its sides moved inwards by `margin`: false only when
+  /// pq lies wholly less than margin / 2 inside the line of a side of `tri` (outside t' by more
+  /// than the round-off, and so a side lying along one of t's sides does not meet t'), or when
+  /// pq's line leaves the three corners of `tri` on one side by more than the margin.
+  static bool segment_meets_triangle(const std::array<double, 2>& p, const std::array<double, 2>& q,
+                                     const std::array<std::array<double, 2>, 3>& tri,
+                                     const std::array<double, 3>& lengths, double margin) {
+    for (std::size_t k = 0; k < 3; ++k) {  // the segment wholly outside t' across one side
+      const double lim = 0.5 * margin * lengths[k];
+      const auto& s0 = tri[k];
+      const auto& s1 = tri[(k + 1) % 3];
+      if (orient(s0, s1, p) < lim && orient(s0, s1, q) < lim) return false;
+    }
+    const double len = std::sqrt(squared_distance_2(p, q));
+    if (!(len > 0.)) return true;  // (a point side: taken as meeting)
+    const double oa = orient(p, q, tri[0]), ob = orient(p, q, tri[1]), oc = orient(p, q, tri[2]);
+    const double lim = margin * len;
+    if ((oa > lim && ob > lim && oc > lim) || (oa < -lim && ob < -lim && oc < -lim)) return false;
     return true;
   }
 
@@ -642,6 +823,7 @@ private:
         last_cut = p.piece;
         pieces_[r].t = p.t;
         pieces_[r].patch = pieces_[p.piece].patch;
+        pieces_[r].origin = pieces_[p.piece].origin;
       }
       std::uint32_t& head = head_[std::size_t(homes_[p.home])];
       pieces_[r].next = head;
@@ -667,6 +849,12 @@ private:
   std::size_t ring_begin_ = 0;
   std::vector<std::uint32_t> cand_;
   std::vector<Part> parts_, next_parts_;  // the new-face test's parts, level by level
+  std::vector<Input_face> input_;         // the input's faces, by face index
+  std::vector<std::uint32_t> seen_;       // per input face: the projection test's marks
+  std::uint32_t stamp_ = 0;
+  std::vector<std::uint32_t> faces_;                        // the projection test's input faces
+  std::vector<std::array<std::array<double, 2>, 3>> proj_;  // and their corners in t's plane
+  std::size_t projected_ = 0, projection_tests_ = 0;
   std::vector<Nearby> near_, next_near_;  // their lists of nearby pieces
   std::vector<Near> mids_;
   std::vector<Placed> placed_;
