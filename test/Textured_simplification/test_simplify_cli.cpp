@@ -186,6 +186,21 @@ TEST(TexturedSimplificationCli, MaxErrorReportAndBound) {
   EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --max-error 0").first, 1);
   EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --max-error -0.5").first, 1);
   EXPECT_FALSE(fs::exists(never));
+  // a textured input bounded alone: stopping at the bound is where the run ends, not a target
+  // missed (the command used to say "stopped at N faces for a target of 1")
+  const std::string textured = data_dir() + "/textured/fuze/fuze.obj";
+  ASSERT_TRUE(fs::exists(textured)) << textured;
+  const std::string tout = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_fuze_bounded.obj";
+  const std::string terr = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_fuze_bounded_err.txt";
+  const auto [tcode, tjson] =
+      run("{ '" + exe + "' simplify '" + textured + "' -o '" + tout + "' --max-error 0.01 --json 2>'" + terr + "'; }");
+  ASSERT_EQ(tcode, 0) << tjson;
+  const auto tj = nlohmann::json::parse(tjson);
+  EXPECT_EQ(tj["stopped_by"].get<std::string>(), "max_error");
+  EXPECT_LE(tj["error_bound"].get<double>(), 0.01);
+  std::ifstream e(terr);
+  const std::string said((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(said.find("for a target of"), std::string::npos) << said;
 }
 
 TEST(TexturedSimplificationCli, StopAboveTargetNamesTheComponentsAndPrune) {

@@ -246,7 +246,7 @@ CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge 
       const double seconds = cmgeom_cli::now_seconds() - t0;
       state.done(r.faces_in, r.faces_out);
       CMGeom::IO::write_textured_mesh(o->output, tm, o->gltf);
-      if (r.stopped_by != TS::Stop_reason::target)
+      if (r.stopped_by != TS::Stop_reason::target && has_target)  // (a bound alone ends where it stops)
         std::cerr
             << "cmgeom simplify: stopped at " << r.faces_out << " faces for a target of " << target << " ("
             << (r.stopped_by == TS::Stop_reason::chart_limit
