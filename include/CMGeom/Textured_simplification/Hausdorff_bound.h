@@ -119,7 +119,8 @@ public:
   /// input faces (see make_patches()).
   std::size_t number_of_patches() const { return patches_.size(); }
   /// Number of new faces the second test found covered by the input's faces projected onto them
-  /// (see covered_by_projection()), and the number it tested that way.
+  /// whole (see covered_by_projection()), and the number it tested that way (the parts of faces
+  /// cut after failing it are tried that way too, and not counted).
   std::size_t projected() const { return projected_; }
   std::size_t projection_tests() const { return projection_tests_; }
 
@@ -196,6 +197,7 @@ private:
     std::uint32_t origin = nil;  // that input face
     std::uint32_t next = nil;
   };
+  struct Part;  // (below)
   /// An input face: its corners (corner k is the source of side k, in the order of
   /// halfedges_around_face from halfedge(f)) and the face across each side (nil: a border).
   struct Input_face {
@@ -503,8 +505,9 @@ private:
   /// plus the largest height of the good faces near t of the input. A side lying along one of t's
   /// own sides (a crease of the input under an edge of the new face) does not meet t'. The tests
   /// lean towards "meets" and "outside" by round-off: a refusal only sends t to the test by
-  /// parts. `h2` receives the square of the bound found.
-  bool covered_by_projection(const Tri& t, double& h2) {
+  /// parts. `h2` receives the square of the bound found. With `part` (a part of a new face cut by
+  /// covered(), t its triangle), the gathering starts from the pieces of its list.
+  bool covered_by_projection(const Tri& t, double& h2, const Part* part = nullptr) {
     using CM::internal::cross;
     using CM::internal::dot;
     using P2 = std::array<double, 2>;
@@ -512,7 +515,7 @@ private:
     const V3 nn = cross(ab, ac);
     const double area2 = CM::internal::length(nn), lab = CM::internal::length(ab);
     if (!(area2 > 0.) || !(lab > 0.) || !std::isfinite(area2)) return false;
-    ++projection_tests_;
+    if (!part) ++projection_tests_;  // (new faces whole only)
     const V3 n = (1. / area2) * nn, u = (1. / lab) * ab, v = cross(n, u);
     // t in its plane: A = (0, 0), B = (|ab|, 0), C above the x axis
     const P2 A{0., 0.}, B{lab, 0.}, C{dot(ac, u), dot(ac, v)};
@@ -556,10 +559,14 @@ private:
     };
     faces_.clear();
     proj_.clear();
-    for (std::uint32_t i : cand_) {
+    auto seed = [&](std::uint32_t i) {
       const std::uint32_t f = pieces_[i].origin;
       if (f != nil && seen_[f] < bad) evaluate(f);
-    }
+    };
+    if (part)
+      for (std::size_t k = part->begin; k < part->end; ++k) seed(near_[k].piece);
+    else
+      for (std::uint32_t i : cand_) seed(i);
     if (faces_.empty()) return false;
     // (1) across the sides of the good faces within reach: more such faces, or a side of R's
     // boundary, which must not meet t' (the sides of good faces off t's box cannot)
@@ -600,7 +607,7 @@ private:
       }
       if (inside) {
         h2 = reach * reach;
-        ++projected_;
+        if (!part) ++projected_;
         return true;
       }
     }
@@ -720,7 +727,17 @@ private:
     for (int depth = 0; !parts_.empty(); ++depth) {
       // the centroids' nearest pieces, and the points found outside
       mids_.clear();
-      for (const Part& p : parts_) {
+      part_done_.assign(parts_.size(), 0);
+      for (std::size_t j = 0; j < parts_.size(); ++j) {
+        const Part& p = parts_[j];
+        // a cut part is tried by projection first, as its whole face was (covered_by_projection())
+        double h2 = 0.;
+        if (depth > 0 && covered_by_projection(p.t, h2, &p)) {
+          worst = (std::max)(worst, h2);
+          part_done_[j] = 1;
+          mids_.push_back(Near{0., nil});
+          continue;
+        }
         const Near mid = nearest(p.t.centre, p, p.corner[0].second);
         if (mid.second == nil || mid.first > e2_ || p.corner[0].first > e2_ || p.corner[1].first > e2_ ||
             p.corner[2].first > e2_)
@@ -730,6 +747,7 @@ private:
       next_parts_.clear();
       next_near_.clear();
       for (std::size_t j = 0; j < parts_.size(); ++j) {
+        if (part_done_[j]) continue;
         const Part& p = parts_[j];
         const Tri& t = p.t;
         const Near& mid = mids_[j];
@@ -857,6 +875,7 @@ private:
   std::size_t projected_ = 0, projection_tests_ = 0;
   std::vector<Nearby> near_, next_near_;  // their lists of nearby pieces
   std::vector<Near> mids_;
+  std::vector<char> part_done_;  // the parts of a level found covered by projection
   std::vector<Placed> placed_;
   vertex_descriptor flip_b_;
   Plan plan_;
