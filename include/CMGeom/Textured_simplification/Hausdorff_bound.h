@@ -95,7 +95,7 @@ public:
         in.across[k] = is_border(o, tm) ? nil : std::uint32_t(std::size_t(face(o, tm)));
       }
       Piece p;
-      p.t = make_tri(point(source(h, tm)), point(target(h, tm)), point(target(next(h, tm), tm)));
+      p.t = make_tri(in.corner[0], in.corner[1], in.corner[2]);
       p.patch = face_patch[std::size_t(f)];
       p.origin = std::uint32_t(std::size_t(f));
       p.next = head_[std::size_t(f)];
@@ -278,9 +278,6 @@ private:
     std::vector<vertex_descriptor> poly;    // the growing patch's corners (mesh vertices)
     std::vector<std::array<double, 2>> uv;  // and their coordinates in its plane
     std::vector<face_descriptor> members, queue;
-    auto cross2 = [](const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
-      return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-    };
     auto dist2d = [](const std::array<double, 2>& a, const std::array<double, 2>& b) {
       return std::hypot(b[0] - a[0], b[1] - a[1]);
     };
@@ -323,8 +320,8 @@ private:
                                    &after = uv[(i + 2) % m];
           // w beyond the shared side; the corners at its ends convex, up to round-off (a straight
           // side is not refused for a dent of 1e-7 E; the dents are measured below)
-          if (!(cross2(e0, e1, w2) < 0.) || cross2(before, e0, w2) < -dent_tolerance * dist2d(before, w2) ||
-              cross2(w2, e1, after) < -dent_tolerance * dist2d(w2, after))
+          if (!(orient(e0, e1, w2) < 0.) || orient(before, e0, w2) < -dent_tolerance * dist2d(before, w2) ||
+              orient(w2, e1, after) < -dent_tolerance * dist2d(w2, after))
             continue;
           poly.insert(poly.begin() + std::ptrdiff_t(i + 1), wv);
           uv.insert(uv.begin() + std::ptrdiff_t(i + 1), w2);
@@ -351,7 +348,7 @@ private:
         for (std::size_t i = 0; i < m; ++i) {
           if (!keep[i]) continue;
           const auto [a, c] = kept_around(i);
-          if (cross2(uv[a], uv[i], uv[c]) < 0.) keep[i] = 0, changed = true;
+          if (orient(uv[a], uv[i], uv[c]) < 0.) keep[i] = 0, changed = true;
         }
       }
       // Each dent lies between the hull's side (a, c) and the parallel at its depth, over the
@@ -366,7 +363,7 @@ private:
         const double l = dist2d(uv[a], uv[c]);
         const double along =
             (uv[i][0] - uv[a][0]) * (uv[c][0] - uv[a][0]) + (uv[i][1] - uv[a][1]) * (uv[c][1] - uv[a][1]);
-        const double depth = l > 0. ? cross2(uv[a], uv[c], uv[i]) / l : -1.;
+        const double depth = l > 0. ? orient(uv[a], uv[c], uv[i]) / l : -1.;
         dents_over_sides = dents_over_sides && depth >= 0. && along >= 0. && along <= l * l;
         dent = (std::max)(dent, depth);
       }
@@ -575,10 +572,10 @@ private:
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t g = input_[f].across[k];
         const std::uint32_t mark = g == nil ? bad : seen_[g] >= bad ? seen_[g] : evaluate(g);
+        if (faces_.size() > options_.max_work) return false;  // (the gathering's budget)
         if (mark != bad) continue;
         if (segment_meets_triangle(proj_[j][std::size_t(k)], proj_[j][std::size_t((k + 1) % 3)], tri, lengths, margin))
           return false;
-        if (faces_.size() > options_.max_work) return false;
       }
     }
     // (2) the centroid inside t', and inside a good face's projection by the margin
