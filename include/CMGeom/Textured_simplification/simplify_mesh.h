@@ -436,7 +436,11 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   // whole at once without this floor, 1.35x with it)
   auto simplify_part = [&](Mesh_part<Point>& part, Policy& pp, Memory* pmem) {
     Mesh& pm = part.mesh;
-    const std::size_t locked = std::size_t(std::count(part.locked.begin(), part.locked.end(), std::uint8_t(1)));
+    // (over the live vertices: a collapse onto a locked vertex that keeps the other slot moves the
+    // mark there, Locked_vertex_visitor, and leaves it on the removed one; a part simplified a
+    // second time would otherwise count them)
+    std::size_t locked = 0;
+    for (auto u : pm.vertices()) locked += part.locked[std::size_t(u)];
     const std::size_t stop =
         (std::max)(2 * locked, std::size_t(std::ceil(options.parts_stop_factor * double(target) *
                                                      double(part.input_faces) / double(faces_in))) +
