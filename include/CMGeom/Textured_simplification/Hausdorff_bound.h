@@ -722,16 +722,15 @@ private:
   /// farther than E from every piece ends the test at once: no cut can cover that point.
   bool covered(double& worst) {
     for (int depth = 0; !parts_.empty(); ++depth) {
-      // the centroids' nearest pieces, and the points found outside
+      // the centroids' nearest pieces, and the points found outside (a part covered by projection
+      // gets no piece, nil: a part whose centroid has none ends the test here)
       mids_.clear();
-      part_done_.assign(parts_.size(), 0);
       for (std::size_t j = 0; j < parts_.size(); ++j) {
         const Part& p = parts_[j];
         // a cut part is tried by projection first, as its whole face was (covered_by_projection())
         double h2 = 0.;
         if (depth > 0 && covered_by_projection(p.t, h2, &p)) {
           worst = (std::max)(worst, h2);
-          part_done_[j] = 1;
           mids_.push_back(Near{0., nil});
           continue;
         }
@@ -744,10 +743,10 @@ private:
       next_parts_.clear();
       next_near_.clear();
       for (std::size_t j = 0; j < parts_.size(); ++j) {
-        if (part_done_[j]) continue;
+        const Near& mid = mids_[j];
+        if (mid.second == nil) continue;  // (covered by projection)
         const Part& p = parts_[j];
         const Tri& t = p.t;
-        const Near& mid = mids_[j];
         const std::uint32_t tried[4] = {mid.second, p.corner[0].second, p.corner[1].second, p.corner[2].second};
         bool done = false;
         for (int k = 0; k < 4 && !done; ++k) {
@@ -872,7 +871,6 @@ private:
   std::size_t projected_ = 0, projection_tests_ = 0;
   std::vector<Nearby> near_, next_near_;  // their lists of nearby pieces
   std::vector<Near> mids_;
-  std::vector<char> part_done_;  // the parts of a level found covered by projection
   std::vector<Placed> placed_;
   vertex_descriptor flip_b_;
   Plan plan_;
