@@ -84,5 +84,10 @@ mv "$here/RESULTS-reconstruction-speed.md.tmp" "$here/RESULTS-reconstruction-spe
 if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null && [ "$(id -u)" = 0 ]; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-matplotlib >/dev/null 2>&1 || true
 fi
+# The meshoptimizer peer is installed before the run is described, so that the description names
+# the version the run uses (run_rate_distortion.py installs it too when run alone).
+if command -v node >/dev/null && command -v npm >/dev/null && [ ! -d "$here/peers/node_modules/meshoptimizer" ]; then
+  npm ci --silent --prefix "$here/peers" || true
+fi
 python3 "$here/run_rate_distortion.py" --build "$build" ${2:+"$2"} \
   --describe "$(describe_run draco zstd "meshoptimizer-npm=$here/peers" node)"

@@ -151,7 +151,9 @@ double max_distance_to(const Reconstruction& r, const Surface_mesh& input) {
 // A coarse base of a small CAD part (joint.off, 446 faces -> 100) leaves sectors of 3-5 points
 // whose quadrics extrapolate far outside the points they were fitted to. The support check
 // replaces them; without it (max_surface_departure = 0) the reconstruction leaves the part by
-// more than its own size, which is what makes this test able to fail.
+// more than a quarter of its own size (0.44 of the diagonal; more than the whole diagonal before
+// the guard of sharp_edge_point() on its sharp-edge points), which is what makes this test able
+// to fail.
 TEST(CompactModelBuild, SupportCheckKeepsCoarseBasesOnTheSurface) {
   CMGEOM_REQUIRE_SHARED_DATA();
   CMGeom::Textured_mesh tm;
@@ -165,7 +167,7 @@ TEST(CompactModelBuild, SupportCheckKeepsCoarseBasesOnTheSurface) {
   const Compact_model unchecked_model = build_compact_model(tm.mesh(), 100, unchecked);
   EXPECT_GT(st.unsupported_surfaces, 0u);
   const double without = max_distance_to(reconstruct_regular(unchecked_model, 2), tm.mesh());
-  EXPECT_GT(without, diagonal);  // the failure the check exists for
+  EXPECT_GT(without, 0.25 * diagonal);  // the failure the check exists for
   // What the check guarantees, point by point. A sector's surface is kept only if, on each of the
   // sector's base faces, |h - z| <= B at the corners, edge midpoints and centroid (h: the surface's
   // height, z: the face's, in the corner frame; B = max_surface_departure x the sector's longest

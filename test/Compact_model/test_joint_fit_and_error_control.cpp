@@ -50,16 +50,19 @@ TEST(CompactModelBuild, JointFitLowersTheFandiskError) {
 
 // Error control (§4.5.3) must not make a model worse: with the thesis' fits on Fandisk, a bound
 // of 0.01 once raised the level-2 Hausdorff error (0.81 -> 1.16 % of the diagonal); rounds that
-// do not lower the largest distance are now undone.
+// do not lower the largest distance are now undone. Since sharp-edge points far from their edge
+// fall back to their start, that Fandisk round lowers the error; on the CAD block (86 base faces,
+// bound 0.2 % of the diagonal; the same from 80 to 86 faces and bounds of 0.1 to 0.4 %) the one
+// round still raises it, so it is undone.
 TEST(CompactModelBuild, ErrorControlNeverRaisesTheMaximumError) {
   CMGEOM_REQUIRE_SHARED_DATA();
-  const CMGeom::Textured_mesh tm = shared_model("classic/fandisk.obj");
+  const CMGeom::Textured_mesh tm = shared_model("classic/block.off");
   Build_options controlled;
-  controlled.error_bound = 0.01;
+  controlled.error_bound = 0.002 * bbox_diagonal(tm.mesh());
   Build_statistics st;
-  const Compact_model a = build_compact_model(tm.mesh(), 250);
+  const Compact_model a = build_compact_model(tm.mesh(), 86);
   const Compact_model b =
-      build_compact_model(tm.mesh(), 250, controlled, Quadric_surface_traits(), Weighted_quadric_simplifier(), &st);
+      build_compact_model(tm.mesh(), 86, controlled, Quadric_surface_traits(), Weighted_quadric_simplifier(), &st);
   CMGeom::Metrics::Error_options eo;
   eo.samples = 100000;
   eo.vertex_field = false;

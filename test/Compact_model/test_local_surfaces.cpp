@@ -126,4 +126,49 @@ TEST(CompactModelSurfaces, SharpEdgePointLiesOnBothSurfacesInThePlane) {
   }
 }
 
+// Two surfaces through the vertex (the origin) that bend away from the edge (the x axis) and meet
+// far from it: h1 = 3 x^2 and h2 = 3.6 x^2 + k y. In the plane x = 0.1 they intersect at
+// y = -0.006 / k, while the edge point p = (0.1, 0, 0) is 0.1 from the vertex. Newton converges
+// there, but that point is a spike; the guard returns the start (the mean of the projections
+// along N) beyond two reaches, blends between one and two, and is continuous in k.
+TEST(CompactModelSurfaces, SharpEdgePointFarFromTheEdgeFallsBackToTheStart) {
+  using CMGeom::CM::internal::length;
+  const Local_frame f(Vec3(0, 0, 0), Vec3(0, 0, 1));
+  const Vec3 p(0.1, 0, 0), t(1, 0, 0);
+  auto surfaces = [](double k) {
+    Local_surface s1, s2;
+    s1.c = {3, 0, 0, 0, 0, 0, 0, 0, 0};
+    s2.c = {3.6, 0, 0, 0, k, 0, 0, 0, 0};
+    return std::make_pair(s1, s2);
+  };
+  const Vec3 start(0.1, 0, 0.5 * (0.03 + 0.036));  // both projections along N, averaged
+  const double reach = length(p) + length(start - p);
+  for (double k : {0.02, 0.025}) {
+    const auto [s1, s2] = surfaces(k);
+    const Vec3 intersection(0.1, -0.006 / k, 0.03);
+    bool ok = false;
+    const Vec3 q = sharp_edge_point(f, s1, f, s2, p, t, Quadric_surface_traits(), &ok);
+    EXPECT_TRUE(ok);  // Newton converged; the guard, not the old far-jump test, decides
+    EXPECT_GT(length(intersection - p), reach);
+    EXPECT_LE(length(q - p), 1.25 * reach + 1e-12);
+    const double r = length(intersection - p) / reach;
+    const double lambda = std::max(0., 2. - r);
+    const Vec3 expected = lambda * intersection + (1. - lambda) * start;
+    EXPECT_NEAR(length(q - expected), 0., 1e-9) << "k = " << k << ", r = " << r;
+  }
+  // Continuity: from an intersection within one reach (k = 0.1: 0.06 from p) to one beyond two
+  // (k = 0.015), consecutive results move by a small multiple of what the intersection moves (the
+  // blend adds |q - start| / reach, at most 2.3, times it); a switch without the blend would jump
+  // by |q - start| (0.13 to 0.27) once.
+  Vec3 previous = sharp_edge_point(f, surfaces(0.1).first, f, surfaces(0.1).second, p, t);
+  EXPECT_NEAR(length(previous - Vec3(0.1, -0.06, 0.03)), 0., 1e-9);  // within reach: unchanged
+  for (double k = 0.1 - 1e-4; k > 0.015; k -= 1e-4) {
+    const auto [s1, s2] = surfaces(k);
+    const Vec3 q = sharp_edge_point(f, s1, f, s2, p, t);
+    const double moved = 0.006 / (k * k) * 1e-4;  // |d intersection / dk| times the step
+    EXPECT_LE(length(q - previous), 4. * moved + 1e-9) << "k = " << k;
+    previous = q;
+  }
+}
+
 }  // namespace

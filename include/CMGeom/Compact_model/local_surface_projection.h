@@ -7,8 +7,8 @@
 // edges. The thesis says "Newton iteration scheme" without details; here the closest point is
 // Newton on the squared distance (Gauss-Newton where the Hessian is not positive definite), never
 // farther than the projection along N, and the sharp-edge point is Newton on three equations in
-// R^3 started at the mean of the two projections along N. Both have bounded iteration counts,
-// so every call is O(1).
+// R^3 started at the mean of the two projections along N, pulled back to that start when it lands
+// far from the edge. Both have bounded iteration counts, so every call is O(1).
 //
 // Manual: doc/Compact_model/README.md, "Choices where the thesis is open (and why)".
 #ifndef CMGEOM_COMPACT_MODEL_LOCAL_SURFACE_PROJECTION_H
@@ -16,6 +16,7 @@
 
 #include <CMGeom/Compact_model/Local_surface_traits.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace CMGeom {
@@ -97,8 +98,11 @@ Vec3 closest_point(const Local_frame& f, const Local_surface& s, const Vec3& p, 
 }
 
 /// The point of S1 ∩ S2 ∩ pi closest to p, pi the plane through p orthogonal to the unit
-/// direction `t` (§4.5.1, points on sharp edges). `converged` (optional) tells whether Newton
-/// converged; when it did not, the mean of the two projections along N moved into pi is returned.
+/// direction `t` (§4.5.1, points on sharp edges; both frames at the edge's end vertex).
+/// `converged` (optional) tells whether Newton converged; when it did not, the mean of the two
+/// projections along N moved into pi (the start) is returned. A converged point farther from p
+/// than reach = |p - vertex| + |start - p| is moved towards the start, reaching it at two reaches
+/// (a spike guard, see the manual): the result is never farther than two reaches from p.
 template <class Traits = Quadric_surface_traits>
 Vec3 sharp_edge_point(const Local_frame& f1, const Local_surface& s1, const Local_frame& f2, const Local_surface& s2,
                       const Vec3& p, const Vec3& t, const Traits& traits = Traits(), bool* converged = nullptr) {
@@ -134,7 +138,17 @@ Vec3 sharp_edge_point(const Local_frame& f1, const Local_surface& s1, const Loca
   if (ok && internal::length(q - start) > 10. * (internal::length(start - p) + 1e-12 * scale) + 1e-9 * scale)
     ok = false;
   if (converged) *converged = ok;
-  return ok ? q : start;
+  if (!ok) return start;
+  // Reach: a crease through the vertex (f1.origin) that meets pi farther from p than p's distance
+  // to the vertex, plus the start's own offset, leaves the edge at more than 45 degrees; the two
+  // surfaces then intersect where neither was fitted (nearly tangent surfaces at a dart, or an
+  // extrapolated sector), and that point is a spike. Between one and two reaches the result moves
+  // linearly from the intersection to the start, so that it stays continuous along the edge;
+  // beyond two it is the start. The result is always within two reaches of p.
+  const double r = internal::length(q - p) / scale;  // scale is the reach
+  if (!(r > 1.)) return q;
+  const double lambda = std::max(0., 2. - r);
+  return lambda * q + (1. - lambda) * start;
 }
 
 }  // namespace CM
