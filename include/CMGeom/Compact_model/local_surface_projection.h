@@ -102,7 +102,7 @@ Vec3 closest_point(const Local_frame& f, const Local_surface& s, const Vec3& p, 
 /// `converged` (optional) tells whether Newton converged; when it did not, the mean of the two
 /// projections along N moved into pi (the start) is returned. A converged point farther from p
 /// than reach = |p - vertex| + |start - p| is moved towards the start, reaching it at two reaches
-/// (a spike guard, see the manual): the result is never farther than two reaches from p.
+/// (a spike guard, see the manual): the result is never farther than 1.25 reaches from p.
 template <class Traits = Quadric_surface_traits>
 Vec3 sharp_edge_point(const Local_frame& f1, const Local_surface& s1, const Local_frame& f2, const Local_surface& s2,
                       const Vec3& p, const Vec3& t, const Traits& traits = Traits(), bool* converged = nullptr) {
@@ -144,7 +144,8 @@ Vec3 sharp_edge_point(const Local_frame& f1, const Local_surface& s1, const Loca
   // surfaces then intersect where neither was fitted (nearly tangent surfaces at a dart, or an
   // extrapolated sector), and that point is a spike. Between one and two reaches the result moves
   // linearly from the intersection to the start, so that it stays continuous along the edge;
-  // beyond two it is the start. The result is always within two reaches of p.
+  // beyond two it is the start. The result is within 1.25 reaches of p (the blend's distance is at
+  // most (2 - r) r + (r - 1) reaches, largest at r = 1.5).
   const double r = internal::length(q - p) / scale;  // scale is the reach
   if (!(r > 1.)) return q;
   const double lambda = std::max(0., 2. - r);
