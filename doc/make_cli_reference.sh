@@ -23,8 +23,8 @@ trap 'rm -f "$tmp"' EXIT
   echo "there is no animation: a stage that took 0.5 s or more writes one line when it ends,"
   echo "\`cmgeom: <label>: done in X s (<count> <unit>)\`, and shorter stages write nothing, so a log keeps only the"
   echo "steps worth timing. Reading, writing, cage set-up and single pictures have no hook to follow and report"
-  echo "their end only; the simplification's percentage follows the collapses (it waits while a large input is"
-  echo "simplified in parts and while a new atlas is baked). The global \`--quiet\` turns all progress off (the"
+  echo "their end only; the simplification's percentage follows the collapses (those of a large input's parts, on all"
+  echo "cores, included; it waits while a new atlas is baked). The global \`--quiet\` turns all progress off (the"
   echo "pipeline's \`[k/N]\` lines too); warnings and errors are still printed."
   echo
   echo '```'

@@ -28,6 +28,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -563,6 +564,33 @@ TEST(SimplifyMesh, RemovedFacesVisitorCountsWhatTheCollapsesRemove) {
   EXPECT_EQ(counter.removed(), sheet_in - rs.faces_out);
   EXPECT_LE(counter.collapses(), counter.removed());
   EXPECT_GE(2 * counter.collapses(), counter.removed());
+}
+
+TEST(SimplifyMesh, RemovedFacesVisitorCountsTheCollapsesOfTheParts) {
+  // in parts (16 of them): the parts' collapses, on every core, are counted too, and reported
+  // during that stage from the caller's thread; the count ends at the faces removed in all
+  Mesh m = rippled_torus(200, 160);  // 64,000 faces
+  const std::size_t faces_in = m.number_of_faces();
+  std::vector<std::size_t> reported;
+  const std::thread::id caller = std::this_thread::get_id();
+  bool other_thread = false;
+  const TS::Removed_faces_visitor visitor([&](std::size_t removed) {
+    other_thread |= std::this_thread::get_id() != caller;
+    reported.push_back(removed);
+  });
+  const TS::Mesh_simplification_result r = TS::simplify_mesh(m, 1000, small_parts(), visitor);
+  ASSERT_GT(r.parts, 0u);
+  EXPECT_FALSE(other_thread);
+  EXPECT_EQ(visitor.removed(), faces_in - r.faces_out);
+  EXPECT_EQ(visitor.removed_in_parts(), faces_in - r.faces_after_parts);
+  EXPECT_EQ(visitor.collapses(), (r.faces_after_parts - r.faces_out) / 2);  // (closed: two faces each)
+  ASSERT_FALSE(reported.empty());
+  EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end()));
+  EXPECT_LE(reported.back(), visitor.removed());
+  // reports came during the parts' stage, before its final count
+  const std::size_t in_parts = faces_in - r.faces_after_parts;
+  EXPECT_GE(std::count_if(reported.begin(), reported.end(), [&](std::size_t k) { return k < in_parts; }), 1);
+  EXPECT_GE(std::count(reported.begin(), reported.end(), in_parts), 1);
 }
 
 }  // namespace

@@ -417,12 +417,13 @@ inline Mesh_simplification_options chain_simplification_options(const Level_of_d
 /// around the run's Level_fitter (empty without the memoryful cost or without fit rounds), which
 /// is valid until the run's end (the visitor's OnFinished included). With `parts_target` > 0 the
 /// collapses down to that many faces run in parts first when simplify_mesh() would run them so
-/// (internal::simplify_in_parts(); the visitor sees only the collapses on the whole that follow);
-/// returns the number of parts (0: none) and the faces they left.
+/// (internal::simplify_in_parts(); the visitor sees only the collapses on the whole that follow,
+/// `progress` the faces the parts remove); returns the number of parts (0: none) and the faces they left.
 template <class Stop, class MakeVisitor>
 std::pair<std::size_t, std::size_t> collapse_chain(Surface_mesh& work, const Level_of_detail_options& options,
                                                    const Stop& stop, std::size_t prune_min_faces,
-                                                   const MakeVisitor& make_visitor, std::size_t parts_target = 0) {
+                                                   const MakeVisitor& make_visitor, std::size_t parts_target = 0,
+                                                   Parts_progress* progress = nullptr) {
   using Mesh = Surface_mesh;
   using VPM = Mesh::Property_map<Mesh::Vertex_index, Point_3>;
   check_fit_options(options.memory.fit);
@@ -435,7 +436,7 @@ std::pair<std::size_t, std::size_t> collapse_chain(Surface_mesh& work, const Lev
     // (simplify_mesh() cuts when the target is at most a quarter of the faces, part_levels(); a
     // chain, whose coarser levels then come on one core, gains from the parts down to half)
     if (2 * parts_target <= faces) part_levels = internal::halvings_into_parts(faces, so);
-    if (part_levels > 0) simplify_in_parts(work, parts_target, part_levels, so, policy, memory);
+    if (part_levels > 0) simplify_in_parts(work, parts_target, part_levels, so, policy, memory, progress);
   }
   const std::size_t faces_after_parts = part_levels > 0 ? work.number_of_faces() : 0;
   if (part_levels == 0 && options.surface_memory) memory.emplace(work, work.points(), options.memory);
@@ -585,12 +586,14 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       typename internal::Snapshot_visitor<Visitor>::State state{&collapsed, 0, {}};
       if (errors) state.errors = &*errors;
       // (an untextured chain: the collapses down to the first level in parts, when that pays)
+      internal::Parts_progress progress;
+      internal::report_parts_progress_to(visitor, progress);
       std::tie(res.parts, res.faces_after_parts) = internal::collapse_chain(
           work, options, Face_count_stop_predicate<Surface_mesh>(work, collapsed.back()), collapsed.back(),
           [&](const internal::Level_fitter* fitter) {
             return internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr, fitter};
           },
-          history ? 0 : collapsed.front());
+          history ? 0 : collapsed.front(), &progress);
       meshes = std::move(state.snapshots);
     }
   } catch (...) {

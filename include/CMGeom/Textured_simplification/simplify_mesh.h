@@ -47,6 +47,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -54,6 +55,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <type_traits>
 #include <unordered_map>
@@ -278,14 +280,50 @@ private:
   }
 };
 
+/// The faces the collapses of the parts' stage remove, counted on every thread. `report` (when
+/// set) is called with the count so far from the thread that made the object (the caller of the
+/// algorithm, which takes part in the parts' collapses) after every 1024th collapse it makes
+/// itself, and at the stage's end with the exact count; the other threads only count. So a
+/// progress display moves during the parts' stage, and its callback stays on the caller's thread.
+struct Parts_progress {
+  std::function<void(std::size_t removed)> report;
+  std::atomic<std::size_t> removed{0}, collapses{0};
+  std::thread::id caller = std::this_thread::get_id();
+  void collapsed(std::size_t faces) {
+    const std::size_t now = removed.fetch_add(faces, std::memory_order_relaxed) + faces;
+    if ((collapses.fetch_add(1, std::memory_order_relaxed) + 1) % 1024 == 0 && report &&
+        std::this_thread::get_id() == caller)
+      report(now);
+  }
+};
+
+/// Whether Visitor has OnPartsProgress(std::size_t) (Removed_faces_visitor has): the faces the
+/// parts' stage of simplify_mesh() and simplify_to_levels() has removed so far, which CGAL's
+/// visitor concept has no call for.
+template <class Visitor, class = void>
+struct has_parts_progress : std::false_type {};
+template <class Visitor>
+struct has_parts_progress<Visitor, std::void_t<decltype(std::declval<const Visitor&>().OnPartsProgress(std::size_t()))>>
+    : std::true_type {};
+
+/// A Parts_progress that reports to `visitor`'s OnPartsProgress(), when it has one (the visitor
+/// must outlive the stage).
+template <class Visitor>
+void report_parts_progress_to(const Visitor& visitor, Parts_progress& progress) {
+  if constexpr (has_parts_progress<Visitor>::value)
+    progress.report = [&visitor](std::size_t removed) { visitor.OnPartsProgress(removed); };
+}
+
 /// The collapse may keep either endpoint: the kept one inherits the lock, the input vertex and
-/// the twin mark (Locked_vertex_filter).
+/// the twin mark (Locked_vertex_filter). Counts the faces removed in `progress`, when given.
 template <class Point>
 struct Locked_vertex_visitor : Edge_collapse_visitor_base {
   Mesh_part<Point>* part;
   std::vector<std::uint8_t>* twin;  // null when the part has none
+  Parts_progress* progress;         // null: not counted
   template <class Profile, class V>
   void OnCollapsed(const Profile& p, const V& kept) const {
+    if (progress) progress->collapsed(std::size_t(p.left_face_exists()) + std::size_t(p.right_face_exists()));
     const std::size_t a = std::size_t(p.v0()), b = std::size_t(p.v1()), k = std::size_t(kept);
     if (!part->locked[a] && !part->locked[b]) return;
     const std::size_t from = part->locked[a] ? a : b;
@@ -351,11 +389,12 @@ void collapse_with_placement(const Policy& policy, bool endpoint, Fn fn) {
 
 /// The first stage (see the file comment): on return `mesh` is the parts put back together,
 /// `policy` holds their quadrics for the next initialize(), `memory` their points (if asked).
+/// `progress` (optional) counts the faces the stage removes and reports them (Parts_progress).
 template <class Point, class Memory>
 void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int levels,
                        const Mesh_simplification_options& options,
-                       Area_weighted_quadric_policies<CGAL::Surface_mesh<Point>>& policy,
-                       std::optional<Memory>& memory) {
+                       Area_weighted_quadric_policies<CGAL::Surface_mesh<Point>>& policy, std::optional<Memory>& memory,
+                       Parts_progress* progress = nullptr) {
   using Mesh = CGAL::Surface_mesh<Point>;
   using Policy = Area_weighted_quadric_policies<Mesh>;
   using V = typename Mesh::Vertex_index;
@@ -455,7 +494,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
                         pmem, CGAL::parameters::get_cost(pp)
                                   .get_placement(Locked_vertex_placement<Base>{placement, &part.locked})
                                   .filter(Locked_vertex_filter<Point>{&part, twins})
-                                  .visitor(Locked_vertex_visitor<Point>{{}, &part, twins})));
+                                  .visitor(Locked_vertex_visitor<Point>{{}, &part, twins, progress})));
     });
   };
   // The quadrics and points of the parts first .. first + count - 1, put back together as `merged`,
@@ -589,6 +628,8 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   set_quadrics(policy, mesh, q, w, merged, nullptr);  // (nothing is locked in the whole)
   if (options.surface_memory) memory.emplace(mesh, mesh.points(), points, options.memory);
   Point_list().swap(points);
+  // (every input face was in one part: the faces gone are those the collapses removed)
+  if (progress && progress->report) progress->report(faces_in - mesh.number_of_faces());
 }
 
 }  // namespace internal
@@ -661,9 +702,11 @@ struct Target_stop {
 /// finite, parts_stop_factor < 1, parts_tail_per_cut_vertex < 0, memory or flips on CGAL's engine),
 /// CMGeom::Invalid_input when `mesh` is not a triangle mesh or, with max_error, its vertices all lie at one point,
 /// or, on CGAL's engine, two of its edges join the same two vertices.
-/// `visitor` sees the collapses on the whole mesh (not those of the parts). The mesh is garbage-free on return; its
-/// property maps stay, with default values after a simplification in parts (the mesh is then
-/// rebuilt: every index changes, and isolated vertices are dropped).
+/// `visitor` sees the collapses on the whole mesh, not those of the parts (a visitor with
+/// OnPartsProgress(std::size_t), as Removed_faces_visitor, is told the faces they removed).
+/// The mesh is garbage-free on return; its property maps stay, with default values after a
+/// simplification in parts (the mesh is then rebuilt: every index changes, and isolated vertices
+/// are dropped).
 /// Manual: doc/Textured_simplification/README.md, "One call, and large meshes on all cores".
 /// \tparam Point a CGAL kernel's Point_3
 /// \tparam Visitor a model of CGAL's `EdgeCollapseSimplificationVisitor`
@@ -719,7 +762,9 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
     std::optional<Memory> memory;
     const int levels = internal::run_part_levels(res.faces_in, options);
     if (levels > 0) {
-      internal::simplify_in_parts(mesh, *target, levels, options, policy, memory);
+      internal::Parts_progress progress;
+      internal::report_parts_progress_to(visitor, progress);
+      internal::simplify_in_parts(mesh, *target, levels, options, policy, memory, &progress);
       res.parts = std::size_t(1) << levels;
       res.faces_after_parts = mesh.number_of_faces();
       res.seconds_parts = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -796,7 +841,7 @@ using Precompiled_memory =
     Surface_memory<Precompiled_mesh, Precompiled_mesh::Property_map<Precompiled_mesh::Vertex_index, Precompiled_point>>;
 extern template void simplify_in_parts<Precompiled_point, Precompiled_memory>(
     Precompiled_mesh&, std::size_t, int, const Mesh_simplification_options&,
-    Area_weighted_quadric_policies<Precompiled_mesh>&, std::optional<Precompiled_memory>&);
+    Area_weighted_quadric_policies<Precompiled_mesh>&, std::optional<Precompiled_memory>&, Parts_progress*);
 }  // namespace internal
 extern template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, Edge_collapse_visitor_base>(
     internal::Precompiled_mesh&, const Mesh_simplification_options&, Edge_collapse_visitor_base);
