@@ -466,9 +466,10 @@ inline double seconds_since_lod(std::chrono::steady_clock::time_point t0) {
 }  // namespace internal
 
 /// Builds the level-of-detail chain of `input` (see the file comment). `input` is not changed.
-/// `visitor` receives the collapse engine's calls (progress). Throws Invalid_input for targets
-/// that are not strictly decreasing or are 0, error bounds that are not strictly increasing or
-/// are negative, or a non-triangle mesh.
+/// `visitor` receives the collapse engine's calls (progress; the faces removed by an untextured
+/// chain's parts reach it through OnPartsProgress(), as in simplify_mesh()). Throws Invalid_input
+/// for targets that are not strictly decreasing or are 0, error bounds that are not strictly
+/// increasing or are negative, or a non-triangle mesh.
 template <class Visitor = Edge_collapse_visitor_base>
 Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Level_of_detail_options& options,
                                           Visitor visitor = Visitor()) {
