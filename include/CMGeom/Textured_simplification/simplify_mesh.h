@@ -280,20 +280,26 @@ private:
   }
 };
 
-/// The faces the collapses of the parts' stage remove, counted on every thread. `report` (when
-/// set) is called with the count so far from the thread that made the object (the caller of the
-/// algorithm, which takes part in the parts' collapses) after every 1024th collapse it makes
-/// itself, and at the stage's end with the exact count; the other threads only count. So a
+/// The faces the collapses of the parts' stage remove, counted on every thread, as
+/// CMGeom::internal::Progress_reporter counts (CMGeom/Progress.h), but in faces rather than a
+/// fraction: any thread adds to the count, and the thread that made the object (the caller of the
+/// algorithm, which takes part in the parts' collapses) calls `report` with the count so far at its
+/// first collapse after every `step` more faces, and at the stage's end with the exact count. So a
 /// progress display moves during the parts' stage, and its callback stays on the caller's thread.
+/// Nothing is counted without a `report`.
 struct Parts_progress {
+  static constexpr std::size_t step = 2048;  // (about 1024 collapses, as Removed_faces_visitor reports)
   std::function<void(std::size_t removed)> report;
-  std::atomic<std::size_t> removed{0}, collapses{0};
+  std::atomic<std::size_t> removed{0};
   std::thread::id caller = std::this_thread::get_id();
+  std::size_t next = step;  // (the caller's thread only)
   void collapsed(std::size_t faces) {
+    if (!report) return;
     const std::size_t now = removed.fetch_add(faces, std::memory_order_relaxed) + faces;
-    if ((collapses.fetch_add(1, std::memory_order_relaxed) + 1) % 1024 == 0 && report &&
-        std::this_thread::get_id() == caller)
-      report(now);
+    // (`next` belongs to the caller's thread: the id test comes first)
+    if (std::this_thread::get_id() != caller || now < next) return;
+    next = now + step;
+    report(now);
   }
 };
 
