@@ -114,8 +114,12 @@ struct Mesh_simplification_options {
   /// The collapse engine. `cgal` runs the quadrics alone: `surface_memory` and `flips` must then
   /// be false, and there are no parts.
   Simplification_engine engine = Simplification_engine::cmgeom;
-  /// The cost and placement policy (Area_weighted_quadric_policies).
-  Quadric_options quadric;
+  /// The cost and placement policy (Area_weighted_quadric_policies): plain Garland-Heckbert
+  /// quadrics by default, as `cmgeom simplify`, simplify_textured_mesh() and simplify_to_levels()
+  /// (with the memoryful cost, the lowest RMS and Hausdorff error measured; manual,
+  /// Textured_simplification, "Which policy is the default"); `quadric.weighted = true` for the
+  /// thesis' weighting (§3.4.2), the default of the policy class itself.
+  Quadric_options quadric = Quadric_options{false};
   /// The memoryful cost (Surface_memory.h) on top of the quadrics, and after the collapses the fit
   /// of the vertices to the input's points (`memory.fit`; not with max_error, whose bound holds for
   /// the collapsed positions, nor with endpoint_placement, whose vertices are the input's).
