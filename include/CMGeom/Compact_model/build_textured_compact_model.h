@@ -34,13 +34,24 @@ struct Textured_build_result {
   CMGeom::Textured_simplification::Textured_simplification_result simplification;
 };
 
+/// The simplification options of a textured CM base: the weighted quadrics of §3.4.2 (as
+/// Weighted_quadric_simplifier, the geometry-only base's simplifier), charts kept.
+inline CMGeom::Textured_simplification::Textured_simplification_options textured_base_options() {
+  CMGeom::Textured_simplification::Textured_simplification_options o;
+  o.quadric.weighted = true;
+  o.keep_charts = true;
+  return o;
+}
+
 /// Simplifier (see build_compact_model.h) running the textured simplification of chapter 3 on
 /// the build's working copy, whose "h:uv" map it keeps up to date (`keeps_uvs`). The materials
 /// (with their decoded images) are the input's; the new atlas goes to `result`.
 struct Textured_quadric_simplifier {
   static constexpr bool keeps_uvs = true;
   const std::vector<Material>* materials = nullptr;
-  CMGeom::Textured_simplification::Textured_simplification_options options;
+  /// textured_base_options() by default, as build_textured_compact_model()'s (not the default
+  /// Textured_simplification_options, whose quadrics are plain)
+  CMGeom::Textured_simplification::Textured_simplification_options options = textured_base_options();
   Textured_build_result* result = nullptr;
 
   template <class Visitor>
@@ -67,21 +78,13 @@ struct Textured_quadric_simplifier {
   }
 };
 
-/// The simplification options of a textured CM base: the weighted quadrics of §3.4.2 (as
-/// Weighted_quadric_simplifier, the geometry-only base's simplifier), charts kept.
-inline CMGeom::Textured_simplification::Textured_simplification_options textured_base_options() {
-  CMGeom::Textured_simplification::Textured_simplification_options o;
-  o.quadric.weighted = true;
-  o.keep_charts = true;
-  return o;
-}
-
 /// The Compact Model of a textured mesh (see the file comment): `input` must have uvs
 /// (Invalid_input otherwise) and at most one texture atlas. `texture_options` (default:
 /// textured_base_options(), the weighted quadrics of §3.4.2 as the geometry-only CM base uses) tunes the
 /// simplification's texture work (texture size, threads, ...; its target and placement are set
-/// here). The returned model's `texture` is the input material's texture path when the atlas was
-/// not regenerated, empty otherwise (the caller names the file it writes `result->texture` to).
+/// here): start from textured_base_options() to keep the base's quadrics. The returned model's `texture` is the input
+/// material's texture path when the atlas was not regenerated, empty otherwise (the caller names the file it writes
+/// `result->texture` to).
 template <class Traits = Quadric_surface_traits>
 Compact_model build_textured_compact_model(
     const Textured_mesh& input, std::size_t target_faces, const Build_options& opt = Build_options(),
