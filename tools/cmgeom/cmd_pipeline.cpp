@@ -199,7 +199,7 @@ CMGEOM_CLI_COMMAND(pipeline,
     // Read once here (before anything is created) for the facts the stages' parameters depend on.
     CMGeom::Textured_mesh mesh;
     CMGeom::IO::Read_options read_options;
-    read_options.repair = true;  // as the stages read it (simplify, cm build and deform repair by default)
+    read_options.repair = true;  // as the stages read it (each is given --repair below)
     read_options.allow_degenerate_faces = o->allow_degenerate;
     cmgeom_cli::read_mesh_with_progress(model, mesh, read_options);
     // a texture is never guessed (as simplify, lod and cm build refuse it), before anything is written

@@ -3,7 +3,8 @@
 //                 [--texture-backend cpu|osmesa] [--texture-size N] [--texture FILE]
 //                 [--no-texture] [--keep-charts] [--freeze-seams] [--bake-lookups] [--no-repair] [--memoryless]
 //                 [--fit-rounds N] [--memory-points N] [--prune] [--allow-degenerate]
-// Edge-collapse simplification with the weighted quadrics of thesis §3.4 (or plain QEM), on
+// Edge-collapse simplification with plain Garland-Heckbert quadrics (or, --policy weighted, the
+// weighted quadrics of thesis §3.4), on
 // CMGeom's engine or CGAL's; on CMGeom's engine the quadric cost is completed by the memoryful
 // term of Surface_memory.h (the input's points kept on the faces) unless --memoryless, and the
 // vertices are then fitted to those points (--fit-rounds rounds; not with --max-error). A
@@ -44,7 +45,9 @@ using Mesh = CMGeom::Surface_mesh;
 
 }  // namespace
 
-CMGEOM_CLI_COMMAND(simplify, "Simplify a triangle mesh by weighted quadric edge collapse (thesis §3.4)") {
+CMGEOM_CLI_COMMAND(simplify,
+                   "Simplify a triangle mesh by quadric edge collapse (plain quadrics and the memoryful cost; --policy "
+                   "weighted: the weighted quadrics of thesis §3.4)") {
   struct Options {
     std::string input, output, policy = "plain", engine = "cmgeom", merge = "thesis";
     std::string texture_backend = "cpu", texture;
