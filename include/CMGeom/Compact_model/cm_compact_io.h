@@ -30,7 +30,7 @@ struct Compact_encoding {
   /// Grid step of the positions and twice the coefficient tolerance, in model units; 0 = 1e-4
   /// times the bounding-box diagonal of the base vertices (the one box a model knows).
   /// `cmgeom cm build --compact` sets 1e-4 times the input mesh's diagonal instead (`--tolerance`),
-  /// a grid as coarse or coarser, so that the step is the same for every base size of one input.
+  /// a grid as coarse or coarser, whose step is the same for every base size of one input.
   double tolerance = 0.;
   /// Bits per octahedral coordinate of the frame normals, in [6, 20].
   int normal_bits = 12;
