@@ -81,7 +81,8 @@ int main(int argc, char** argv) {
     std::cerr << e.what() << "\n";
     return EXIT_FAILURE;
   }
-  const std::size_t large = 262144;  // Mesh_simplification_options::parts_min_faces' default
+  // the inputs simplify_mesh() simplifies in parts first (262,144 faces by default)
+  const std::size_t large = TS::Mesh_simplification_options().parts_min_faces;
   int rounds = 0;
   while (mesh.number_of_faces() < large) {
     CGAL::Subdivision_method_3::Loop_subdivision(mesh, CGAL::parameters::number_of_iterations(1));

@@ -273,13 +273,6 @@ TEST(TexturedSimplificationEngine, IdenticalToCgalEngineOnASmallMesh) {
     a.collect_garbage();
     b.collect_garbage();
     ASSERT_EQ(a.number_of_faces(), b.number_of_faces());
-    auto sorted_points = [](const Mesh& mesh) {
-      std::vector<std::array<double, 3>> pts;
-      for (vertex_descriptor v : mesh.vertices())
-        pts.push_back({mesh.point(v).x(), mesh.point(v).y(), mesh.point(v).z()});
-      std::sort(pts.begin(), pts.end());
-      return pts;
-    };
     const auto pa_pts = sorted_points(a), pb_pts = sorted_points(b);
     std::size_t same = 0;
     for (const auto& p : pa_pts) same += std::binary_search(pb_pts.begin(), pb_pts.end(), p);

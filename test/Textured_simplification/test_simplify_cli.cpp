@@ -137,12 +137,6 @@ TEST(TexturedSimplificationCli, SimplifyMeshDefaultsGiveTheCommandsOutput) {
   const TS::Mesh_simplification_result r = TS::simplify_mesh(by_call, 700, TS::Mesh_simplification_options());
   EXPECT_EQ(r.faces_out, 700u);
   ASSERT_EQ(by_call.number_of_faces(), by_command.number_of_faces());
-  auto sorted_points = [](const Mesh& m) {
-    std::vector<std::array<double, 3>> p;
-    for (auto v : m.vertices()) p.push_back({m.point(v).x(), m.point(v).y(), m.point(v).z()});
-    std::sort(p.begin(), p.end());
-    return p;
-  };
   EXPECT_TRUE(sorted_points(by_call) == sorted_points(by_command));
   // and the thesis' weighted quadrics, asked for, give another mesh
   Mesh weighted;

@@ -32,6 +32,7 @@
 #include <sys/wait.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -84,6 +85,15 @@ inline bool read_mesh(const std::string& path, Mesh& m) {
 }
 
 inline std::size_t live_faces(const Mesh& m) { return m.number_of_faces(); }
+
+/// The coordinates of m's vertices, sorted (two meshes with the same points compare equal whatever
+/// their vertex order).
+inline std::vector<std::array<double, 3>> sorted_points(const Mesh& m) {
+  std::vector<std::array<double, 3>> p;
+  for (auto v : m.vertices()) p.push_back({m.point(v).x(), m.point(v).y(), m.point(v).z()});
+  std::sort(p.begin(), p.end());
+  return p;
+}
 
 inline long euler_characteristic(const Mesh& m) {
   return long(m.number_of_vertices()) - long(m.number_of_edges()) + long(m.number_of_faces());
