@@ -16,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <vector>
 
 #include <tbb/parallel_invoke.h>
@@ -222,6 +223,39 @@ TEST(Metrics, AgreesWithCGALApproximateHausdorff) {
     bumpy.point(v) = K::Point_3(p.x() + s, p.y() + s, p.z() - s);
   }
   expect_agrees_with_cgal(bunny, bumpy, 0.05);
+}
+
+// The error's closest-point search (internal::Triangle_tree::closest_point: CGAL's tree, our
+// traversal and point-triangle test) against every triangle one by one, from hints near and far,
+// on a closed sphere and on an open, folded grid (boundary edges and corners).
+TEST(Metrics, ClosestPointEqualsTheNearestTriangleByBruteForce) {
+  Mesh folded = grid(12, 0.);
+  for (auto v : folded.vertices()) {
+    const auto p = folded.point(v);
+    folded.point(v) = K::Point_3(p.x(), p.y(), 0.3 * std::sin(5 * p.x()) * p.y());
+  }
+  const Mesh sphere = icosphere(2);
+  for (const Mesh* m : {static_cast<const Mesh*>(&folded), &sphere}) {
+    const Mesh& mesh = *m;
+    const M::internal::Flat_mesh flat = M::internal::make_flat_mesh(mesh, mesh.points(), "test");
+    const M::internal::Triangle_tree tree(flat);
+    using P = M::internal::Distance_kernel::Point_3;
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1.5, 1.5);
+    for (int i = 0; i < 2000; ++i) {
+      const P q(u(rng), u(rng), u(rng));
+      double brute = HUGE_VAL;
+      for (const auto& t : tree.triangles) brute = std::min(brute, CGAL::squared_distance(q, t));
+      // a hint on the surface: a corner of some triangle, near the query or anywhere
+      const auto& t = tree.triangles[std::size_t(rng() % tree.triangles.size())];
+      const P hint = i % 2 ? t.vertex(int(rng() % 3)) : tree.tree.closest_point(q);
+      const P x = tree.closest_point(q, hint);
+      EXPECT_NEAR(CGAL::squared_distance(q, x), brute, 1e-12) << "query " << q;
+      double on_surface = HUGE_VAL;  // the point returned lies on the surface
+      for (const auto& t2 : tree.triangles) on_surface = std::min(on_surface, CGAL::squared_distance(x, t2));
+      EXPECT_LT(on_surface, 1e-20);
+    }
+  }
 }
 
 TEST(Metrics, RejectsNonTriangleFaces) {
