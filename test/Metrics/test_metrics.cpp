@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -227,7 +228,8 @@ TEST(Metrics, AgreesWithCGALApproximateHausdorff) {
 
 // The error's closest-point search (internal::Triangle_tree::closest_point: CGAL's tree, our
 // traversal and point-triangle test) against every triangle one by one, from hints near and far,
-// on a closed sphere and on an open, folded grid (boundary edges and corners).
+// on a closed sphere, an open folded grid (boundary edges and corners) and a flat grid with
+// zero-area faces.
 TEST(Metrics, ClosestPointEqualsTheNearestTriangleByBruteForce) {
   Mesh folded = grid(12, 0.);
   for (auto v : folded.vertices()) {
@@ -235,24 +237,49 @@ TEST(Metrics, ClosestPointEqualsTheNearestTriangleByBruteForce) {
     folded.point(v) = K::Point_3(p.x(), p.y(), 0.3 * std::sin(5 * p.x()) * p.y());
   }
   const Mesh sphere = icosphere(2);
-  for (const Mesh* m : {static_cast<const Mesh*>(&folded), &sphere}) {
+  // a flat grid with zero-area faces: a vertex moved onto the midpoint of an edge of its face
+  // (coordinates in eighths: the three corners exactly collinear)
+  Mesh flattened = grid(8, 0.);
+  {
+    auto corner = [&](double x, double y) {
+      for (auto v : flattened.vertices())
+        if (flattened.point(v) == K::Point_3(x, y, 0.)) return v;
+      return Mesh::null_vertex();
+    };
+    flattened.point(corner(0.5, 0.5)) = K::Point_3(0.4375, 0.375, 0.);
+    flattened.point(corner(0.25, 0.75)) = K::Point_3(0.1875, 0.625, 0.);
+  }
+  for (const Mesh* m :
+       {static_cast<const Mesh*>(&folded), static_cast<const Mesh*>(&sphere), static_cast<const Mesh*>(&flattened)}) {
     const Mesh& mesh = *m;
     const M::internal::Flat_mesh flat = M::internal::make_flat_mesh(mesh, mesh.points(), "test");
     const M::internal::Triangle_tree tree(flat);
     using P = M::internal::Distance_kernel::Point_3;
+    const auto zero_area = std::count_if(tree.triangles.begin(), tree.triangles.end(), [](const auto& t) {
+      return CGAL::collinear(t.vertex(0), t.vertex(1), t.vertex(2));
+    });
+    EXPECT_EQ(zero_area, m == &flattened ? 2 : 0);
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(-1.5, 1.5);
     for (int i = 0; i < 2000; ++i) {
       const P q(u(rng), u(rng), u(rng));
-      double brute = HUGE_VAL;
-      for (const auto& t : tree.triangles) brute = std::min(brute, CGAL::squared_distance(q, t));
+      double brute = HUGE_VAL;  // (a zero-area triangle: the nearest of its sides)
+      for (const auto& t : tree.triangles)
+        if (CGAL::collinear(t.vertex(0), t.vertex(1), t.vertex(2)))
+          for (int k = 0; k < 3; ++k)
+            brute = std::min(brute, CGAL::squared_distance(q, M::internal::Distance_kernel::Segment_3(
+                                                                  t.vertex(k), t.vertex((k + 1) % 3))));
+        else
+          brute = std::min(brute, CGAL::squared_distance(q, t));
       // a hint on the surface: a corner of some triangle, near the query or anywhere
       const auto& t = tree.triangles[std::size_t(rng() % tree.triangles.size())];
       const P hint = i % 2 ? t.vertex(int(rng() % 3)) : tree.tree.closest_point(q);
       const P x = tree.closest_point(q, hint);
       EXPECT_NEAR(CGAL::squared_distance(q, x), brute, 1e-12) << "query " << q;
       double on_surface = HUGE_VAL;  // the point returned lies on the surface
-      for (const auto& t2 : tree.triangles) on_surface = std::min(on_surface, CGAL::squared_distance(x, t2));
+      for (const auto& t2 : tree.triangles)
+        if (!CGAL::collinear(t2.vertex(0), t2.vertex(1), t2.vertex(2)))
+          on_surface = std::min(on_surface, CGAL::squared_distance(x, t2));
       EXPECT_LT(on_surface, 1e-20);
     }
   }
