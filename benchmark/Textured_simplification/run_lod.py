@@ -255,7 +255,7 @@ def main():
                  "models." % (min(r["shared"] for r in full), max(r["shared"] for r in full),
                               min(r["per"] for r in full), max(r["per"] for r in full),
                               sum(1 for r in full if r["shared"] > 1.25 * r["per"]), len(full)))
-        rb = [r for r in full if r.get("rebaked")]
+        rb = [r for r in full if "rebaked" in r and r["rebaked"] > 0]
         if rb:
             q = [r["shared"] / r["rebaked"] for r in rb]
             L.append("- level 0 against its own re-baked atlas (`cmgeom simplify IN --faces <its faces>`: no collapse, "

@@ -249,37 +249,36 @@ TEST(Metrics, ClosestPointEqualsTheNearestTriangleByBruteForce) {
     flattened.point(corner(0.5, 0.5)) = K::Point_3(0.4375, 0.375, 0.);
     flattened.point(corner(0.25, 0.75)) = K::Point_3(0.1875, 0.625, 0.);
   }
-  for (const Mesh* m :
-       {static_cast<const Mesh*>(&folded), static_cast<const Mesh*>(&sphere), static_cast<const Mesh*>(&flattened)}) {
+  for (const Mesh* m : std::array<const Mesh*, 3>{&folded, &sphere, &flattened}) {
     const Mesh& mesh = *m;
     const M::internal::Flat_mesh flat = M::internal::make_flat_mesh(mesh, mesh.points(), "test");
     const M::internal::Triangle_tree tree(flat);
     using P = M::internal::Distance_kernel::Point_3;
-    const auto zero_area = std::count_if(tree.triangles.begin(), tree.triangles.end(), [](const auto& t) {
-      return CGAL::collinear(t.vertex(0), t.vertex(1), t.vertex(2));
-    });
-    EXPECT_EQ(zero_area, m == &flattened ? 2 : 0);
+    std::vector<bool> zero_area;  // per triangle: its corners collinear
+    for (const auto& t : tree.triangles) zero_area.push_back(CGAL::collinear(t.vertex(0), t.vertex(1), t.vertex(2)));
+    EXPECT_EQ(std::count(zero_area.begin(), zero_area.end(), true), m == &flattened ? 2 : 0);
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(-1.5, 1.5);
     for (int i = 0; i < 2000; ++i) {
       const P q(u(rng), u(rng), u(rng));
       double brute = HUGE_VAL;  // (a zero-area triangle: the nearest of its sides)
-      for (const auto& t : tree.triangles)
-        if (CGAL::collinear(t.vertex(0), t.vertex(1), t.vertex(2)))
+      for (std::size_t f = 0; f < tree.triangles.size(); ++f) {
+        const auto& t = tree.triangles[f];
+        if (zero_area[f])
           for (int k = 0; k < 3; ++k)
             brute = std::min(brute, CGAL::squared_distance(q, M::internal::Distance_kernel::Segment_3(
                                                                   t.vertex(k), t.vertex((k + 1) % 3))));
         else
           brute = std::min(brute, CGAL::squared_distance(q, t));
+      }
       // a hint on the surface: a corner of some triangle, near the query or anywhere
       const auto& t = tree.triangles[std::size_t(rng() % tree.triangles.size())];
       const P hint = i % 2 ? t.vertex(int(rng() % 3)) : tree.tree.closest_point(q);
       const P x = tree.closest_point(q, hint);
       EXPECT_NEAR(CGAL::squared_distance(q, x), brute, 1e-12) << "query " << q;
       double on_surface = HUGE_VAL;  // the point returned lies on the surface
-      for (const auto& t2 : tree.triangles)
-        if (!CGAL::collinear(t2.vertex(0), t2.vertex(1), t2.vertex(2)))
-          on_surface = std::min(on_surface, CGAL::squared_distance(x, t2));
+      for (std::size_t f = 0; f < tree.triangles.size(); ++f)
+        if (!zero_area[f]) on_surface = std::min(on_surface, CGAL::squared_distance(x, tree.triangles[f]));
       EXPECT_LT(on_surface, 1e-20);
     }
   }

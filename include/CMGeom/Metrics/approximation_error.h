@@ -149,27 +149,16 @@ private:
     }
     template <class Node>
     bool do_intersect(const K::Point_3&, const Node& node) const {
-      return box_squared_distance(node.bbox()) < best_sq_;
+      return CM::internal::squared_distance_to_box(q_, node.bbox()) < best_sq_;
     }
     template <class Node>
     std::pair<bool, Priority> do_intersect_with_priority(const K::Point_3&, const Node& node) const {
-      const double d = box_squared_distance(node.bbox());
+      const double d = CM::internal::squared_distance_to_box(q_, node.bbox());
       return {d < best_sq_, -d};
     }
     K::Point_3 closest() const { return K::Point_3(best_.x, best_.y, best_.z); }
 
   private:
-    double box_squared_distance(const CGAL::Bbox_3& b) const {
-      double d = 0.;
-      for (int i = 0; i < 3; ++i) {
-        const double c = q_[i];
-        if (c < b.min(i))
-          d += (b.min(i) - c) * (b.min(i) - c);
-        else if (c > b.max(i))
-          d += (c - b.max(i)) * (c - b.max(i));
-      }
-      return d;
-    }
     Vec3 q_, best_;
     double best_sq_;
   };

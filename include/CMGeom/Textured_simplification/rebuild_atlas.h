@@ -218,13 +218,7 @@ private:
   }
 
   static double box_distance(const double* p, const CGAL::Bbox_3& b) {
-    double d = 0;
-    for (int i = 0; i < 3; ++i) {
-      const double lo = b.min(i), hi = b.max(i);
-      const double e = p[i] < lo ? lo - p[i] : (p[i] > hi ? p[i] - hi : 0.0);
-      d += e * e;
-    }
-    return d;
+    return CM::internal::squared_distance_to_box(CM::internal::Vec3(p[0], p[1], p[2]), b);
   }
 
   struct Gather_traits {

@@ -57,6 +57,20 @@ inline Vec3 normalized(const Vec3& a) {
   return l > 0. ? a * (1. / l) : a;
 }
 
+// The squared distance from p to an axis-aligned box (any type with min(i) and max(i), such as
+// CGAL::Bbox_3); 0 inside. The bound by which AABB-tree searches skip a box (Metrics' closest
+// point, the atlas baking's facing closest point).
+template <class Box>
+inline double squared_distance_to_box(const Vec3& p, const Box& b) {
+  double d = 0.;
+  for (int i = 0; i < 3; ++i) {
+    const double lo = b.min(i), hi = b.max(i), c = p[i];
+    const double e = c < lo ? lo - c : (c > hi ? c - hi : 0.0);
+    d += e * e;
+  }
+  return d;
+}
+
 // The bounding sphere of triangle abc about its centroid: the centroid and the largest distance
 // from it to a corner. A point whose distance to the sphere exceeds d is farther than d from the
 // triangle: nearest-triangle searches skip triangles with it (Surface_memory, Hausdorff_bound,
