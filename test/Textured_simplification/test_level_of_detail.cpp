@@ -673,6 +673,37 @@ TEST(LevelOfDetail, SharedAtlasColourCheckFindsFacesShowingOtherColours) {
   TS::internal::mark_input_under_shown_wrong(level, img, source, input_face_point, on_level, 1.5 * mirrored_rms(f1),
                                              marked);
   EXPECT_EQ(marked, (std::vector<char>{0, 0, 0, 0, 1}));
+  // the input level itself (mark_input_shown_wrong()): its own colours are read on each face, with
+  // no search, and equal the closest-point ones; with f1 mirrored only f1 is marked, below its error
+  for (auto f : {f0, f1}) {
+    std::size_t n = 0, n_search = 0;
+    const std::array<std::array<Point_2, 3>, 1> t{{uvs_of(f, true)}};
+    const double own = error.squared_errors_on_input_face(std::size_t(f), t, n)[0];
+    const double searched = error.squared_errors(corners_of(f), t, n_search, std::size_t(f))[0];
+    ASSERT_EQ(n, 12u);
+    EXPECT_EQ(n, n_search);
+    EXPECT_NEAR(own, searched, 1e-9);
+    EXPECT_NEAR(std::sqrt(own / 12), mirrored_rms(f), 2.0 / T);
+  }
+  std::vector<char> input_marked(2, 0);
+  TS::internal::mark_input_shown_wrong(level, img, source, tolerance, input_marked);
+  EXPECT_EQ(input_marked, (std::vector<char>{0, 1}));
+  std::fill(input_marked.begin(), input_marked.end(), 0);
+  TS::internal::mark_input_shown_wrong(level, img, source, 1.5 * mirrored_rms(f1), input_marked);
+  EXPECT_EQ(input_marked, (std::vector<char>{0, 0}));
+  // a mesh whose faces are not the source's is left alone
+  std::vector<char> none(5, 0);
+  {
+    Mesh three;
+    const auto a = three.add_vertex(Point_3(0, 0, 0)), b = three.add_vertex(Point_3(1, 0, 0)),
+               c = three.add_vertex(Point_3(0, 1, 0)), d = three.add_vertex(Point_3(1, 1, 1));
+    three.add_face(a, b, c);
+    three.add_face(b, d, c);
+    three.add_face(a, c, d);
+    CMGeom::Textured_mesh other(three);
+    TS::internal::mark_input_shown_wrong(other, img, source, 0.0, none);
+  }
+  EXPECT_EQ(none, std::vector<char>(5, 0));
   // the option is checked
   TS::Level_of_detail_options bad;
   bad.target_faces = {2};

@@ -86,8 +86,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
                "in it instead of getting charts of their own in a strip under the atlas");
   auto* colour_tolerance =
       app.add_option("--overflow-colour-tolerance", o->overflow_colour_tolerance,
-                     "With --shared-texture: the input under a finer level's face whose colours from the shared atlas "
-                     "are off from a bake's by more than this (RMS, colours in [0, 1]) also gets charts of its own, "
+                     "With --shared-texture: the input faces whose colours from the shared atlas are off from their "
+                     "own, and the input under a finer level's face whose colours from it are off from a bake's, by "
+                     "more than this (RMS, colours in [0, 1]) also get charts of their own, "
                      "and faces take them only where they show nearer colours there; 0: geometric tests alone")
           ->check(CLI::Range(0.0, 1.0))
           ->capture_default_str();

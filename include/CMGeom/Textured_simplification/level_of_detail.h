@@ -19,8 +19,9 @@
 // collapses to the coarse face its part of the surface became, then placed on the nearest face
 // around it; so parts that fold onto one place of the coarsest level (a label over a bottle) keep
 // apart. The parts of the input that this projection squashes (steep against the coarse face they
-// became) or hides, and those under a finer level's face that reads colours other than a bake's
-// from the atlas (`overflow_colour_tolerance`), get charts of their own in a strip added under the
+// became) or hides, those that read colours other than their own from the atlas, and those under
+// a finer level's face that reads colours other than a bake's from it
+// (`overflow_colour_tolerance`), get charts of their own in a strip added under the
 // atlas, which the finer levels' faces standing for them address (`overflow_charts`,
 // internal/atlas_layers.h). Each level's
 // geometric error is measured unless `measure_error` is false.
@@ -112,8 +113,10 @@ struct Level_of_detail_options {
   /// coarsest level's atlas are also checked against what a bake would give it (sampled at fixed
   /// points of the face, internal::Shown_colour_error); the input under a face that is off by
   /// more than this (root mean square, colour values in [0, 1]) gets charts of its own too, and a
-  /// face takes its overflow chart only where that shows colours nearer to the bake's. 0 switches
-  /// the check off (the geometric tests alone decide). The default, a fifth of the colour range,
+  /// face takes its overflow chart only where that shows colours nearer to the bake's. The input
+  /// level's own faces are checked the same way against the input's texture on them
+  /// (internal::mark_input_shown_wrong()). 0 switches the check off (the geometric tests alone
+  /// decide). The default, a fifth of the colour range,
   /// sits in the middle of the values (0.1 to 0.3) that gave image errors within 5 % of each
   /// other on the shared textured models.
   double overflow_colour_tolerance = 0.2;
@@ -662,11 +665,15 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
                                                    coarsest.atlas.texels_per_unit, input_points.face_point,
                                                    meshes[i - kept].face_of_point, under_poor);
         // (the colours checked as well: the atlas as the painter and the bake left it)
-        if (check_colours)
+        if (check_colours) {
+          // the input level itself, and the input under each finer level's faces
+          internal::mark_input_shown_wrong(original, coarsest.mesh.materials()[0].diffuse_image, *source,
+                                           options.overflow_colour_tolerance, under_poor);
           for (std::size_t i = kept; i + 1 < res.levels.size(); ++i)
             internal::mark_input_under_shown_wrong(res.levels[i].mesh, coarsest.mesh.materials()[0].diffuse_image,
                                                    *source, input_points.face_point, meshes[i - kept].face_of_point,
                                                    options.overflow_colour_tolerance, under_poor);
+        }
         layers = internal::add_overflow_charts(*source, coarsest.mesh, original, input_texels,
                                                coarsest.atlas.texels_per_unit, ao, under_poor);
       }

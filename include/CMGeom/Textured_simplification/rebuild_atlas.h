@@ -440,6 +440,8 @@ public:
   bool prepared() const { return finder_ != nullptr; }
   /// Number of charts of the original layout.
   std::size_t charts() const { return charts_; }
+  /// Number of faces of the original (the faces colour_at() and normal_at() take).
+  std::size_t number_of_faces() const { return source_.size(); }
   /// Number of colour channels of the baked atlas (1 to 4).
   int colour_channels() const { return colour_channels_; }
 

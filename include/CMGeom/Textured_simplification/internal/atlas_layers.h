@@ -162,21 +162,41 @@ public:
   std::array<double, N> squared_errors(const std::array<CM::internal::Vec3, 3>& p,
                                        const std::array<std::array<Point_2, 3>, N>& t, std::size_t& count,
                                        std::size_t hint = std::size_t(-1)) const {
+    const CM::internal::Vec3 nv = CM::internal::cross(p[1] - p[0], p[2] - p[0]);
+    const Vector_3 n(nv.x, nv.y, nv.z);
+    return sum_errors(t, count, [&](const double* b, float* own) {
+      const CM::internal::Vec3 x = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
+      source_.colour_near(Point_3(x.x, x.y, x.z), n, own, hint);
+    });
+  }
+
+  /// The same for the input's own face `face` (face order of the original the source was made
+  /// from, corners in corner_halfedge() order): its colours are read there, with no search.
+  template <std::size_t N>
+  std::array<double, N> squared_errors_on_input_face(std::size_t face, const std::array<std::array<Point_2, 3>, N>& t,
+                                                     std::size_t& count) const {
+    return sum_errors(t, count, [&](const double* b, float* own) { source_.colour_at(face, b[0], b[1], b[2], own); });
+  }
+
+private:
+  // the four samples (the centroid and the midpoints between it and the corners), each compared
+  // under every texture coordinates of `t`; own_colour(b, out) gives the colour to match at
+  // barycentric coordinates b
+  template <std::size_t N, class Own>
+  std::array<double, N> sum_errors(const std::array<std::array<Point_2, 3>, N>& t, std::size_t& count,
+                                   const Own& own_colour) const {
     std::array<double, N> sum{};
     count = 0;
     const int W = atlas_.width(), H = atlas_.height(), C = channels_;
     if (W <= 0 || H <= 0 || C <= 0) return sum;
-    const CM::internal::Vec3 nv = CM::internal::cross(p[1] - p[0], p[2] - p[0]);
-    const Vector_3 n(nv.x, nv.y, nv.z);
     for (int s = 0; s < 4; ++s) {
       double b[3] = {1. / 3, 1. / 3, 1. / 3};
       if (s > 0) {
         for (int k = 0; k < 3; ++k) b[k] = 1. / 6;
         b[s - 1] = 2. / 3;
       }
-      const CM::internal::Vec3 x = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
       float own[4];
-      source_.colour_near(Point_3(x.x, x.y, x.z), n, own, hint);
+      own_colour(b, own);
       for (std::size_t i = 0; i < N; ++i) {
         const double u = (std::min)((std::max)(b[0] * t[i][0].x() + b[1] * t[i][1].x() + b[2] * t[i][2].x(), 0.0), 1.0);
         const double v = (std::min)((std::max)(b[0] * t[i][0].y() + b[1] * t[i][1].y() + b[2] * t[i][2].y(), 0.0), 1.0);
@@ -197,7 +217,6 @@ public:
     return sum;
   }
 
-private:
   const Image& atlas_;
   const Atlas_source& source_;
   int channels_ = 0;
@@ -237,6 +256,33 @@ inline void mark_input_under_shown_wrong(const Textured_mesh& level, const Image
     }
   });
   mark_input_under(wrong, input_face_point, on_level, marked);
+}
+
+/// Marks in `marked` (one entry per input face) the faces of `mapped`, the input with its texture
+/// coordinates in the atlas `colours` (as paint_input_onto() leaves them), that show colours other
+/// than their own (Shown_colour_error::squared_errors_on_input_face(): the input's texture read on
+/// the face itself): those whose root mean square difference exceeds `tolerance`. `mapped` has the
+/// faces, in the same order and with the same corners, of the original `source` was made from
+/// (otherwise nothing is marked). It sees what the won-texel count of add_overflow_charts() misses
+/// on the input level itself: a face that kept most of its texels but shows another part's colours
+/// on the rest, or whose texels a neighbour's map smeared.
+inline void mark_input_shown_wrong(const Textured_mesh& mapped, const Image& colours, const Atlas_source& source,
+                                   double tolerance, std::vector<char>& marked) {
+  using Face = Surface_mesh::Face_index;
+  const Surface_mesh& im = mapped.mesh();
+  const std::size_t nf = im.number_of_faces();
+  if (nf != source.number_of_faces() || nf > marked.size()) return;  // (not the original's faces)
+  const Shown_colour_error error(colours, source);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t f = r.begin(); f != r.end(); ++f) {
+      const Face face = Face(static_cast<Surface_mesh::size_type>(f));
+      std::array<std::array<Point_2, 3>, 1> t;
+      for (int k = 0; k < 3; ++k) t[0][std::size_t(k)] = mapped.uv(corner_halfedge(im, face, k));
+      std::size_t n = 0;
+      const double sum = error.squared_errors_on_input_face(f, t, n)[0];
+      if (n > 0 && sum > tolerance * tolerance * double(n)) marked[f] = 1;
+    }
+  });
 }
 
 /// The overflow charts of the shared atlas of `coarse` (its UVs and its one material's images, as
