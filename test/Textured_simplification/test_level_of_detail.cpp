@@ -29,6 +29,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -709,6 +710,52 @@ TEST(LevelOfDetail, SharedAtlasColourCheckFindsFacesShowingOtherColours) {
   bad.target_faces = {2};
   bad.overflow_colour_tolerance = -0.1;
   EXPECT_THROW(TS::simplify_to_levels(tm, bad), CMGeom::Invalid_input);
+}
+
+// nearest_on_texel_triangle() (the painting of the strip's charts of slivers): for points around
+// triangles of every shape, thin ones among them, the nearest point it gives lies on the triangle
+// (barycentric coordinates in [0, 1], summing to 1), is at the distance it reports, and no point of
+// a fine grid of barycentric coordinates over the triangle is nearer.
+TEST(LevelOfDetail, NearestPointOnATexelTriangleIsTheNearestOfTheTriangle) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coord(-5.0, 5.0);
+  const std::array<std::array<TS::UV2, 3>, 3> fixed = {{{{{{0, 0}}, {{30, 0}}, {{30, 0.8}}}},    // a sliver
+                                                        {{{{0, 0}}, {{4, 0}}, {{0, 4}}}},        // right angle
+                                                        {{{{0, 0}}, {{10, 0.1}}, {{20, 0}}}}}};  // clockwise
+  int checked = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    std::array<TS::UV2, 3> t;
+    if (trial < 3)
+      t = fixed[std::size_t(trial)];
+    else
+      for (auto& c : t) c = {{coord(rng), coord(rng)}};
+    const double det = TS::internal::signed_area_2(t[0], t[1], t[2]);
+    if (std::abs(det) < 1e-3) continue;
+    for (int q = 0; q < 20; ++q) {
+      const double x = coord(rng) * 2, y = coord(rng) * 2;
+      const auto [b, d2] = TS::internal::nearest_on_texel_triangle(t, det, x, y);
+      EXPECT_NEAR(b[0] + b[1] + b[2], 1.0, 1e-9);
+      for (double w : b) {
+        EXPECT_GE(w, -1e-9);
+        EXPECT_LE(w, 1 + 1e-9);
+      }
+      const double px = b[0] * t[0][0] + b[1] * t[1][0] + b[2] * t[2][0];
+      const double py = b[0] * t[0][1] + b[1] * t[1][1] + b[2] * t[2][1];
+      EXPECT_NEAR(d2, (px - x) * (px - x) + (py - y) * (py - y), 1e-7 * (1 + d2));
+      double best = std::numeric_limits<double>::infinity();
+      const int n = 200;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j) {
+          const double w1 = double(i) / n, w2 = double(j) / n, w0 = 1 - w1 - w2;
+          const double sx = w0 * t[0][0] + w1 * t[1][0] + w2 * t[2][0] - x;
+          const double sy = w0 * t[0][1] + w1 * t[1][1] + w2 * t[2][1] - y;
+          best = (std::min)(best, sx * sx + sy * sy);
+        }
+      EXPECT_LE(d2, best + 1e-9);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 500);
 }
 
 // texels_per_unit_range() (and least_texels_per_unit(), its first) are the singular values of the map from a

@@ -285,6 +285,19 @@ inline void mark_input_shown_wrong(const Textured_mesh& mapped, const Image& col
   });
 }
 
+/// The point of texel triangle `t` (twice its signed area `twice_area`, not 0) nearest to
+/// (x, y): its barycentric coordinates in `t`, and its squared distance to (x, y).
+inline std::pair<std::array<double, 3>, double> nearest_on_texel_triangle(const std::array<UV2, 3>& t,
+                                                                          double twice_area, double x, double y) {
+  using CM::internal::Vec3;
+  const Vec3 p(x, y, 0);
+  const Vec3 q = CM::internal::closest_on_triangle(p, Vec3(t[0][0], t[0][1], 0), Vec3(t[1][0], t[1][1], 0),
+                                                   Vec3(t[2][0], t[2][1], 0));
+  const UV2 r{{q.x, q.y}};
+  const double b1 = signed_area_2(t[0], r, t[2]) / twice_area, b2 = signed_area_2(t[0], t[1], r) / twice_area;
+  return {{{1 - b1 - b2, b1, b2}}, CM::internal::squared_length(q - p)};
+}
+
 /// The overflow charts of the shared atlas of `coarse` (its UVs and its one material's images, as
 /// rebuild_atlas() with the painter left them; `texels_per_unit` its density), painted from
 /// `source`. `mapped`: the input with its texture coordinates in that atlas, `texels` as
@@ -431,9 +444,20 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
   // input face i rasterised at texel triangle t of the strip (corners in the order of
   // halfedges_around_face from halfedge(i)): its colours, and its normals in the frame of t, at the
   // texels `take(at)` accepts
-  auto paint_face = [&](std::uint32_t i, const std::array<UV2, 3>& t, const auto& take) {
-    const double det = signed_area_2(t[0], t[1], t[2]);
-    if (det == 0 || !std::isfinite(det)) return;
+  // strip texel (x, y) (y up) painted by input face i at barycentric coordinates b, its normal in
+  // `frame` (the frame of its texel triangle)
+  auto paint_texel = [&](std::uint32_t i, const std::array<Vector_3, 3>& frame, int x, int y,
+                         const std::array<double, 3>& b) {
+    float col[4];
+    const int Y = HTi - 1 - y;
+    source.colour_at(i, b[0], b[1], b[2], col);
+    for (int q = 0; q < C; ++q) colours.set_value(x, Y, q, col[q]);
+    if (with_normals) {
+      const Vector_3 n = source.normal_at(i, b[0], b[1], b[2]);
+      for (int q = 0; q < 3; ++q) normals.set_value(x, Y, q, float(0.5 * (n * frame[std::size_t(q)]) + 0.5));
+    }
+  };
+  auto frame_of = [&](std::uint32_t i, const std::array<UV2, 3>& t) {
     std::array<Vector_3, 3> frame;
     if (with_normals) {
       std::array<Point_3, 3> p;
@@ -444,28 +468,31 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
       }
       frame = tangent_frame(p, uv);
     }
-    float col[4];
+    return frame;
+  };
+  auto strip_triangle = [&](std::uint32_t f) {  // input face f's corners in strip texels
+    std::array<UV2, 3> t;
+    for (int k = 0; k < 3; ++k)
+      t[std::size_t(k)] = {{strip_uv[f][std::size_t(k)][0] * W, strip_uv[f][std::size_t(k)][1] * S}};
+    return t;
+  };
+  auto paint_face = [&](std::uint32_t i, const std::array<UV2, 3>& t, const auto& take) {
+    const double det = signed_area_2(t[0], t[1], t[2]);
+    if (det == 0 || !std::isfinite(det)) return;
+    const std::array<Vector_3, 3> frame = frame_of(i, t);
     rasterize_triangle(t, W, S, [&](int x, int y) {
       if (!take(std::size_t(y) * std::size_t(W) + std::size_t(x))) return;
-      const auto [b0, b1, b2] = texel_centre_barycentric(t, det, x, y);
-      const int Y = HTi - 1 - y;
-      source.colour_at(i, b0, b1, b2, col);
-      for (int q = 0; q < C; ++q) colours.set_value(x, Y, q, col[q]);
-      if (with_normals) {
-        const Vector_3 n = source.normal_at(i, b0, b1, b2);
-        for (int q = 0; q < 3; ++q) normals.set_value(x, Y, q, float(0.5 * (n * frame[std::size_t(q)]) + 0.5));
-      }
+      paint_texel(i, frame, x, y, texel_centre_barycentric(t, det, x, y));
     });
   };
+  std::vector<char> covers_a_centre(nf, 0);  // (written by the task of the face's chart only)
   tbb::parallel_for(std::size_t(0), charts.size(), [&](std::size_t c) {
     for (std::size_t j = 0; j < charts[c].faces.size(); ++j) {
       const std::uint32_t f = charts[c].faces[j];
-      std::array<UV2, 3> t;
-      for (int k = 0; k < 3; ++k)
-        t[std::size_t(k)] = {{strip_uv[f][std::size_t(k)][0] * W, strip_uv[f][std::size_t(k)][1] * S}};
-      paint_face(f, t, [&](std::size_t at) {
+      paint_face(f, strip_triangle(f), [&](std::size_t at) {
         painted[at] = 1;
         owner[at] = std::int32_t(c);
+        covers_a_centre[f] = 1;
         return true;
       });
     }
@@ -528,6 +555,37 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
     });
     for (std::size_t at = 0; at < painted.size(); ++at) painted[at] = char(painted[at] | ring_painted[at]);
   }
+  // A face thinner than a texel may cover no texel centre, and a chart made of such faces only (a
+  // band of slivers, e.g. a thin rim) then paints nothing: its faces would read the colours the
+  // gutter growth below brings from other charts (a chart that paints some texels grows its own
+  // into the rest). Such a chart's faces paint the texels whose centres lie within half a texel's
+  // diagonal of them, with the colour of their nearest point. Those texels lie inside the chart's
+  // cell of the packing (its faces start a gutter and half a texel into it), where no other chart
+  // paints; within the chart the first face in its order takes a texel.
+  tbb::parallel_for(std::size_t(0), charts.size(), [&](std::size_t c) {
+    for (std::uint32_t f : charts[c].faces)
+      if (covers_a_centre[f]) return;
+    for (std::uint32_t f : charts[c].faces) {
+      const std::array<UV2, 3> t = strip_triangle(f);
+      const double det = signed_area_2(t[0], t[1], t[2]);
+      if (det == 0 || !std::isfinite(det)) continue;
+      const std::array<Vector_3, 3> frame = frame_of(f, t);
+      const double reach = 0.5 * std::sqrt(2.0);
+      const int x0 = (std::max)(0, int(std::floor((std::min)({t[0][0], t[1][0], t[2][0]}) - reach)));
+      const int x1 = (std::min)(W - 1, int(std::floor((std::max)({t[0][0], t[1][0], t[2][0]}) + reach)));
+      const int y0 = (std::max)(0, int(std::floor((std::min)({t[0][1], t[1][1], t[2][1]}) - reach)));
+      const int y1 = (std::min)(S - 1, int(std::floor((std::max)({t[0][1], t[1][1], t[2][1]}) + reach)));
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+          const std::size_t at = std::size_t(y) * std::size_t(W) + std::size_t(x);
+          if (painted[at]) continue;
+          const auto [b, d2] = nearest_on_texel_triangle(t, det, x + 0.5, y + 0.5);
+          if (!(d2 <= 0.5)) continue;
+          paint_texel(f, frame, x, y, b);
+          painted[at] = 1;
+        }
+    }
+  });
   auto copy_texel = [&](int tx, int ty, int fx, int fy) {  // strip texel coordinates (y up)
     colours.copy_pixel(tx, HTi - 1 - ty, fx, HTi - 1 - fy, C);
     if (with_normals) normals.copy_pixel(tx, HTi - 1 - ty, fx, HTi - 1 - fy, 3);
