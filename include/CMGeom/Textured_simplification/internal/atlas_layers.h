@@ -222,6 +222,29 @@ private:
   int channels_ = 0;
 };
 
+/// The faces of `tm` whose colours through its texture coordinates are off by more than `tolerance`
+/// (root mean square, colour values in [0, 1]): `squared_errors(face index, corners' coordinates,
+/// count)` gives a face's sum of squared differences (Shown_colour_error) and its number of values.
+/// One flag per face; faces on all cores.
+template <class SquaredErrors>
+std::vector<char> faces_shown_wrong(const Textured_mesh& tm, double tolerance, const SquaredErrors& squared_errors) {
+  using Face = Surface_mesh::Face_index;
+  const Surface_mesh& m = tm.mesh();
+  std::vector<char> wrong(m.number_of_faces(), 0);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, wrong.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+          std::array<std::array<Point_2, 3>, 1> t;
+          for (int k = 0; k < 3; ++k)
+            t[0][std::size_t(k)] = tm.uv(corner_halfedge(m, Face(static_cast<Surface_mesh::size_type>(f)), k));
+          std::size_t n = 0;
+          const double sum = squared_errors(f, t, n);
+          wrong[f] = n > 0 && sum > tolerance * tolerance * double(n);
+        }
+      });
+  return wrong;
+}
+
 /// Marks in `marked` (one entry per input face) the input faces under the faces of `level`, mapped
 /// into the atlas `colours` (as map_by_history() leaves it), that show colours other than a bake's
 /// (Shown_colour_error): those whose root mean square difference exceeds `tolerance` (colour
@@ -244,17 +267,11 @@ inline void mark_input_under_shown_wrong(const Textured_mesh& level, const Image
     const std::uint32_t q = input_face_point[j];
     if (q < on_level.size() && on_level[q] < nl && under[on_level[q]] == std::size_t(-1)) under[on_level[q]] = j;
   }
-  std::vector<char> wrong(nl, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nl, 256), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t f = r.begin(); f != r.end(); ++f) {
-      const Face lf = Face(static_cast<Surface_mesh::size_type>(f));
-      std::array<std::array<Point_2, 3>, 1> t;
-      for (int k = 0; k < 3; ++k) t[0][std::size_t(k)] = level.uv(corner_halfedge(lm, lf, k));
-      std::size_t n = 0;
-      const double sum = error.squared_errors(corner_points(lm, lf), t, n, under[f])[0];
-      wrong[f] = n > 0 && sum > tolerance * tolerance * double(n);
-    }
-  });
+  const std::vector<char> wrong =
+      faces_shown_wrong(level, tolerance, [&](std::size_t f, const auto& t, std::size_t& n) {
+        return error.squared_errors(corner_points(lm, Face(static_cast<Surface_mesh::size_type>(f))), t, n,
+                                    under[f])[0];
+      });
   mark_input_under(wrong, input_face_point, on_level, marked);
 }
 
@@ -268,21 +285,14 @@ inline void mark_input_under_shown_wrong(const Textured_mesh& level, const Image
 /// on the rest, or whose texels a neighbour's map smeared.
 inline void mark_input_shown_wrong(const Textured_mesh& mapped, const Image& colours, const Atlas_source& source,
                                    double tolerance, std::vector<char>& marked) {
-  using Face = Surface_mesh::Face_index;
-  const Surface_mesh& im = mapped.mesh();
-  const std::size_t nf = im.number_of_faces();
+  const std::size_t nf = mapped.mesh().number_of_faces();
   if (nf != source.number_of_faces() || nf > marked.size()) return;  // (not the original's faces)
   const Shown_colour_error error(colours, source);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 256), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t f = r.begin(); f != r.end(); ++f) {
-      const Face face = Face(static_cast<Surface_mesh::size_type>(f));
-      std::array<std::array<Point_2, 3>, 1> t;
-      for (int k = 0; k < 3; ++k) t[0][std::size_t(k)] = mapped.uv(corner_halfedge(im, face, k));
-      std::size_t n = 0;
-      const double sum = error.squared_errors_on_input_face(f, t, n)[0];
-      if (n > 0 && sum > tolerance * tolerance * double(n)) marked[f] = 1;
-    }
-  });
+  const std::vector<char> wrong = faces_shown_wrong(
+      mapped, tolerance,
+      [&](std::size_t f, const auto& t, std::size_t& n) { return error.squared_errors_on_input_face(f, t, n)[0]; });
+  for (std::size_t f = 0; f < nf; ++f)
+    if (wrong[f]) marked[f] = 1;
 }
 
 /// The point of texel triangle `t` (twice its signed area `twice_area`, not 0) nearest to
@@ -441,9 +451,6 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
   // leaves gutters between them), then the painted texels grow over the gutters
   std::vector<char> painted = CMGeom::internal::filled_on_huge_pages(std::size_t(W) * std::size_t(S), char(0));
   std::vector<std::int32_t> owner(painted.size(), -1);  // the chart of each texel, then the nearest
-  // input face i rasterised at texel triangle t of the strip (corners in the order of
-  // halfedges_around_face from halfedge(i)): its colours, and its normals in the frame of t, at the
-  // texels `take(at)` accepts
   // strip texel (x, y) (y up) painted by input face i at barycentric coordinates b, its normal in
   // `frame` (the frame of its texel triangle)
   auto paint_texel = [&](std::uint32_t i, const std::array<Vector_3, 3>& frame, int x, int y,
@@ -476,6 +483,9 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
       t[std::size_t(k)] = {{strip_uv[f][std::size_t(k)][0] * W, strip_uv[f][std::size_t(k)][1] * S}};
     return t;
   };
+  // input face i rasterised at texel triangle t of the strip (corners in the order of
+  // halfedges_around_face from halfedge(i)): its colours, and its normals in the frame of t, at the
+  // texels `take(at)` accepts
   auto paint_face = [&](std::uint32_t i, const std::array<UV2, 3>& t, const auto& take) {
     const double det = signed_area_2(t[0], t[1], t[2]);
     if (det == 0 || !std::isfinite(det)) return;
@@ -485,14 +495,14 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
       paint_texel(i, frame, x, y, texel_centre_barycentric(t, det, x, y));
     });
   };
-  std::vector<char> covers_a_centre(nf, 0);  // (written by the task of the face's chart only)
+  std::vector<char> chart_painted(charts.size(), 0);  // (each written by its chart's task only)
   tbb::parallel_for(std::size_t(0), charts.size(), [&](std::size_t c) {
     for (std::size_t j = 0; j < charts[c].faces.size(); ++j) {
       const std::uint32_t f = charts[c].faces[j];
       paint_face(f, strip_triangle(f), [&](std::size_t at) {
         painted[at] = 1;
         owner[at] = std::int32_t(c);
-        covers_a_centre[f] = 1;
+        chart_painted[c] = 1;
         return true;
       });
     }
@@ -562,15 +572,14 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
   // diagonal of them, with the colour of their nearest point. Those texels lie inside the chart's
   // cell of the packing (its faces start a gutter and half a texel into it), where no other chart
   // paints; within the chart the first face in its order takes a texel.
+  const double reach = 0.5 * std::sqrt(2.0);  // (the squared bound below: 0.5)
   tbb::parallel_for(std::size_t(0), charts.size(), [&](std::size_t c) {
-    for (std::uint32_t f : charts[c].faces)
-      if (covers_a_centre[f]) return;
+    if (chart_painted[c]) return;
     for (std::uint32_t f : charts[c].faces) {
       const std::array<UV2, 3> t = strip_triangle(f);
       const double det = signed_area_2(t[0], t[1], t[2]);
       if (det == 0 || !std::isfinite(det)) continue;
       const std::array<Vector_3, 3> frame = frame_of(f, t);
-      const double reach = 0.5 * std::sqrt(2.0);
       const int x0 = (std::max)(0, int(std::floor((std::min)({t[0][0], t[1][0], t[2][0]}) - reach)));
       const int x1 = (std::min)(W - 1, int(std::floor((std::max)({t[0][0], t[1][0], t[2][0]}) + reach)));
       const int y0 = (std::max)(0, int(std::floor((std::min)({t[0][1], t[1][1], t[2][1]}) - reach)));
