@@ -6,8 +6,11 @@
 # (RESULTS-rate-distortion.md). Every line is written here: prose in the echo lines, figures and the
 # machine / peer line from the run.
 #   bash benchmark/Compact_model/run.sh <build-dir> [--quick]     (called by benchmark/run.sh)
+#   bash benchmark/Compact_model/run.sh <build-dir> --speed       (RESULTS-reconstruction-speed.md only)
 set -euo pipefail
-build=${1:?usage: run.sh <build-dir> [--quick]}
+build=${1:?usage: run.sh <build-dir> [--quick | --speed]}
+speed_only=0
+[[ "${2:-}" == "--speed" ]] && speed_only=1
 here=$(cd "$(dirname "$0")" && pwd)
 data=${CMGEOM_DATA_DIR:-$here/../../../shared/data}
 . "$here/../common/describe_run.sh"
@@ -20,6 +23,7 @@ fi
 tmp=$(mktemp)
 adaptive=$(mktemp)
 trap 'rm -f "$tmp" "$adaptive"' EXIT
+if [[ $speed_only == 0 ]]; then
 line=$(describe_run)
 "$build/bin/bench_compact_model" "$data" "${models[@]}" > "$tmp"
 "$build/bin/bench_compact_model" --adaptive "$data" "${adaptive_models[@]}" > "$adaptive"
@@ -53,6 +57,7 @@ line=$(describe_run)
   cat "$adaptive"
 } > "$here/RESULTS.md.tmp"
 mv "$here/RESULTS.md.tmp" "$here/RESULTS.md"
+fi
 
 # Reconstruction throughput (levels with >= 0.5 M output vertices, along N, 1 and 2 threads, fresh and
 # reused output): RESULTS-reconstruction-speed.md.
@@ -77,6 +82,7 @@ line=$(describe_run --threads "1 and 2 (per row)")
   cat "$tmp"
 } > "$here/RESULTS-reconstruction-speed.md.tmp"
 mv "$here/RESULTS-reconstruction-speed.md.tmp" "$here/RESULTS-reconstruction-speed.md"
+[[ $speed_only == 1 ]] && exit 0
 
 # Rate-distortion of the compact CM file against Draco, meshoptimizer + zstd and gzipped OBJ
 # (RESULTS-rate-distortion.md, its CSV, and the plot doc/Compact_model/rate_distortion.png; the plot
