@@ -140,8 +140,8 @@ TEST(CompactModelReconstruction, IdentityVertexMapsAlongNormalGiveThePlainRecons
 // The same with every kind of local surface: the row kernel evaluates quadrics and cones itself
 // (several points at once) and cubics through the traits, and must still give interior()'s bits,
 // also where a cone's quadric form is negative (derivatives NaN: the normal falls back to N) and
-// on rows whose length is not a multiple of the kernel's width (levels 1 to 5); the same for the
-// points of base edges.
+// on rows whose length is not a multiple of the kernel's width (levels 1 to 6), and across the face
+// kernel's chunks of 512 points (level 6: 1,953 points a face); the same for the points of base edges.
 TEST(CompactModelReconstruction, AlongNormalRowsGiveThePointwiseBitsForEverySurfaceModel) {
   Compact_model m = sphere_model();
   std::size_t cones = 0, negative = 0;
@@ -166,7 +166,7 @@ TEST(CompactModelReconstruction, AlongNormalRowsGiveThePointwiseBitsForEverySurf
   Reconstruction_options plain, mapped;
   plain.projection = mapped.projection = Projection::along_normal;
   mapped.vertex_maps = &maps;
-  for (int level = 1; level <= 5; ++level) {
+  for (int level = 1; level <= 6; ++level) {
     const Reconstruction rows = reconstruct_regular(m, level, plain);
     EXPECT_TRUE(same(rows, reconstruct_regular(m, level, mapped))) << "level " << level;
     // the kernels' points (face interiors and base edges, four at a time) against interior()'s
