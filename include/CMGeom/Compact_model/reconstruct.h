@@ -242,6 +242,13 @@ CMGEOM_CM_AVX d4 splat(double s) { return d4{s, s, s, s}; }
 CMGEOM_CM_AVX d4 sqrt(d4 a) { return (d4)_mm256_sqrt_pd((__m256d)a); }
 // m ? a : b per lane (m: all ones or zero).
 CMGEOM_CM_AVX d4 select(m4 m, d4 a, d4 b) { return (d4)(((m4)a & m) | ((m4)b & ~m)); }
+// Four doubles from p and to p, unaligned.
+CMGEOM_CM_AVX d4 load(const double* p) {
+  d4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+CMGEOM_CM_AVX void store(double* p, d4 v) { std::memcpy(p, &v, sizeof v); }
 inline bool has_avx() {
   static const bool avx = __builtin_cpu_supports("avx");
   return avx;
@@ -604,12 +611,13 @@ public:
   // corner coordinates read once per face (the kernel of regular reconstruction); the results
   // are bit-identical to interior()'s. With vertex maps, every point is then mapped as
   // interior() maps it (same normalised weights), so mapped faces also give interior()'s bits.
-  // `lanes` is the table of step 1/n (used by the AVX path) and `scratch` the caller's buffer,
-  // reused from face to face.
-  void along_normal_face(std::uint32_t f, std::size_t n, const Face_lane_table& lanes, std::vector<double>& scratch,
-                         Vec3* pts, Vec3* nrm) const {
+  // The step is that of `lanes` (1/lanes.n; its lanes are what the AVX path reads), and `scratch`
+  // is the caller's buffer, reused from face to face.
+  void along_normal_face(std::uint32_t f, const Face_lane_table& lanes, std::vector<double>& scratch, Vec3* pts,
+                         Vec3* nrm) const {
+    const std::size_t n = lanes.n;
 #ifdef CMGEOM_CM_SIMD_ROWS
-    if (simd::has_avx() && lanes.n == n)
+    if (simd::has_avx())
       along_normal_face_avx(f, lanes, scratch, pts, nrm);
     else
 #endif
@@ -777,16 +785,6 @@ public:
     }
   }
 
-  // (four doubles, loaded and stored unaligned)
-  __attribute__((target("avx"))) static CMGEOM_ALWAYS_INLINE simd::d4 load4(const double* p) {
-    simd::d4 v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-  }
-  __attribute__((target("avx"))) static CMGEOM_ALWAYS_INLINE void store4(double* p, simd::d4 v) {
-    std::memcpy(p, &v, sizeof v);
-  }
-
   // along_normal_row_scalar() on 4 consecutive interior points of face f at a time, in the
   // order of along_normal_face() (the lanes of `table`: packing the rows instead of padding each
   // one saves a tenth of the lanes at level 5). Every lane performs the same operations in the
@@ -821,19 +819,19 @@ public:
         for (std::size_t k = 0; k < gn; ++k) {
           const double* lane = &table.lanes[per_group * (g0 + k)];
           double* sum = &scratch[24 * k];
-          const D a0 = load4(lane), a1 = load4(lane + 4), a2 = load4(lane + 8);
-          const D w = load4(lane + 12 + 4 * c);
+          const D a0 = simd::load(lane), a1 = simd::load(lane + 4), a2 = simd::load(lane + 8);
+          const D w = simd::load(lane + 12 + 4 * c);
           const D x = a0 * L0x + a1 * L1x + a2 * L2x;
           const D y = a0 * L0y + a1 * L1y + a2 * L2y;
           D h, d0, d1;
           height_lanes(s, x, y, h, d0, d1);
           // p += (w inv) to_world(x, y, h); to_world = ((origin + x U) + y V) + h N; p starts at 0.
-          const D wi = w * load4(lane + 24);
-          const D px = c == 0 ? zero : load4(sum), py = c == 0 ? zero : load4(sum + 4),
-                  pz = c == 0 ? zero : load4(sum + 8);
-          store4(sum, px + wi * (((Ox + x * Ux) + y * Vx) + h * Nx));
-          store4(sum + 4, py + wi * (((Oy + x * Uy) + y * Vy) + h * Ny));
-          store4(sum + 8, pz + wi * (((Oz + x * Uz) + y * Vz) + h * Nz));
+          const D wi = w * simd::load(lane + 24);
+          const D px = c == 0 ? zero : simd::load(sum), py = c == 0 ? zero : simd::load(sum + 4),
+                  pz = c == 0 ? zero : simd::load(sum + 8);
+          simd::store(sum, px + wi * (((Ox + x * Ux) + y * Vx) + h * Nx));
+          simd::store(sum + 4, py + wi * (((Oy + x * Uy) + y * Vy) + h * Ny));
+          simd::store(sum + 8, pz + wi * (((Oz + x * Uz) + y * Vz) + h * Nz));
           // g = (N - d0 U) - d1 V; q += (w / |g|) g, or w N when |g|^2 is not finite and positive.
           const D gx = (Nx - d0 * Ux) - d1 * Vx;
           const D gy = (Ny - d0 * Uy) - d1 * Vy;
@@ -841,16 +839,16 @@ public:
           const D g2 = gx * gx + gy * gy + gz * gz;
           const M ok = (g2 > zero) & (g2 <= big);
           const D scale = simd::select(ok, w / simd::sqrt(g2), w);
-          const D qx = c == 0 ? zero : load4(sum + 12), qy = c == 0 ? zero : load4(sum + 16),
-                  qz = c == 0 ? zero : load4(sum + 20);
-          store4(sum + 12, qx + scale * simd::select(ok, gx, Nx));
-          store4(sum + 16, qy + scale * simd::select(ok, gy, Ny));
-          store4(sum + 20, qz + scale * simd::select(ok, gz, Nz));
+          const D qx = c == 0 ? zero : simd::load(sum + 12), qy = c == 0 ? zero : simd::load(sum + 16),
+                  qz = c == 0 ? zero : simd::load(sum + 20);
+          simd::store(sum + 12, qx + scale * simd::select(ok, gx, Nx));
+          simd::store(sum + 16, qy + scale * simd::select(ok, gy, Ny));
+          simd::store(sum + 20, qz + scale * simd::select(ok, gz, Nz));
         }
       }
       for (std::size_t k = 0; k < gn; ++k) {
         const double* sum = &scratch[24 * k];
-        const D qx = load4(sum + 12), qy = load4(sum + 16), qz = load4(sum + 20);
+        const D qx = simd::load(sum + 12), qy = simd::load(sum + 16), qz = simd::load(sum + 20);
         // normalized(q) = q * (1 / |q|) when |q| > 0.
         const D len = simd::sqrt(qx * qx + qy * qy + qz * qz);
         const M pos = len > zero;
@@ -1108,8 +1106,7 @@ void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
           // Interior points, row by row; a face's are consecutive (see index()).
           if (along_n_rows) {
             if (n >= 3)
-              ev.along_normal_face(std::uint32_t(f), n, lanes, scratch, &r.points[index(1, 1)],
-                                   &r.normals[index(1, 1)]);
+              ev.along_normal_face(std::uint32_t(f), lanes, scratch, &r.points[index(1, 1)], &r.normals[index(1, 1)]);
           } else {
             for (std::size_t j = 1; j + 1 < n; ++j) {
               const std::uint32_t id = index(1, j);
