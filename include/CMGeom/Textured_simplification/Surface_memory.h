@@ -20,6 +20,7 @@
 #include <CMGeom/Textured_simplification/internal/collapse_checks.h>
 
 #include <CGAL/boost/graph/helpers.h>
+#include <CGAL/Iterator_range.h>
 #include <CGAL/boost/graph/iterator.h>
 #include <CGAL/number_utils.h>
 
@@ -493,6 +494,14 @@ private:
     return fit(tm, items_, options, quadric_of, pos, head, link);
   }
   /// (the body, on the points `items`: a copy of items_ for fitted_positions_later())
+  ///
+  /// The mesh does not change during the fit, and what the steps read of it is laid out once, at
+  /// the start: the live faces as rows (corners, faces across the edges, normal before the fit,
+  /// and each round the run of their points), numbered in the order a walk of the vertices in index
+  /// order first meets them, and each vertex's star as a run of (row, corner) in the order of
+  /// halfedges_around_target(). Step 2 then reads rows and runs instead of following the mesh's
+  /// halfedges and the points' links, which were most of its time (memory latency); the
+  /// arithmetic, and its order, is the same.
   template <class QuadricOf>
   static std::size_t fit(const TriangleMesh& tm, const std::vector<Item>& items, const Surface_fit_options& options,
                          QuadricOf quadric_of, std::vector<V3>& pos, std::vector<std::uint32_t>& head,
@@ -501,30 +510,73 @@ private:
     const double damping = options.damping, mu = options.quadric_weight, max_turn = options.max_turn;
     const std::size_t np = items.size();
     const auto point = [&pos](vertex_descriptor v) -> const V3& { return pos[std::size_t(v)]; };
-    std::vector<face_descriptor> at(np, GT::null_face());
+    struct Row {
+      V3 n0;                                    // the face's normal before the fit (not unit)
+      std::array<vertex_descriptor, 3> corner;  // in the order of halfedges_around_face(halfedge(f))
+      std::array<std::uint32_t, 3> across;      // rows across the edges (nil across a border)
+      std::uint32_t first = 0, end = 0;         // the face's points: run[first] to run[end - 1]
+      face_descriptor face;
+    };
+    struct Star_entry {
+      std::uint32_t row;
+      std::uint32_t k;  // the vertex's corner in the row
+    };
+    struct Run_point {
+      V3 p, w;  // the point and its barycentric coordinates on its face
+      double area;
+    };
+    // rows, in the order the vertex walk meets them
+    std::vector<std::uint32_t> row_of(head.size(), nil);
+    std::vector<Row> rows;
+    std::vector<std::uint32_t> star_first(pos.size() + 1, 0);
+    std::vector<Star_entry> star;
+    for (vertex_descriptor v : vertices(tm)) {
+      for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
+        if (is_border(h, tm)) continue;
+        const face_descriptor f = face(h, tm);
+        std::uint32_t& r = row_of[std::size_t(f)];
+        if (r == nil) {
+          r = std::uint32_t(rows.size());
+          Row row;
+          const halfedge_descriptor g = halfedge(f, tm);
+          row.corner = {target(g, tm), target(next(g, tm), tm), source(g, tm)};
+          row.face = f;
+          rows.push_back(row);
+        }
+        const auto& c = rows[r].corner;
+        star.push_back({r, c[0] == v ? 0u : (c[1] == v ? 1u : 2u)});
+      }
+      star_first[std::size_t(v) + 1] = std::uint32_t(star.size());
+    }
+    for (std::size_t v = 1; v < star_first.size(); ++v) star_first[v] = (std::max)(star_first[v], star_first[v - 1]);
+    // (faces no vertex walk meets: none in a valid mesh; numbered after the others all the same)
+    for (face_descriptor f : faces(tm))
+      if (row_of[std::size_t(f)] == nil) {
+        row_of[std::size_t(f)] = std::uint32_t(rows.size());
+        Row row;
+        const halfedge_descriptor g = halfedge(f, tm);
+        row.corner = {target(g, tm), target(next(g, tm), tm), source(g, tm)};
+        row.face = f;
+        rows.push_back(row);
+      }
+    const std::size_t nr = rows.size();
+    std::vector<std::uint32_t> at(np, nil);  // each point's row
     std::vector<V3> bary(np);
-    std::vector<V3> n0(head.size());
-    auto corners = [&](face_descriptor f) {
-      const halfedge_descriptor h = halfedge(f, tm);
-      return std::array<vertex_descriptor, 3>{target(h, tm), target(next(h, tm), tm), source(h, tm)};
-    };
-    const auto corner_of = [](const std::array<vertex_descriptor, 3>& c, vertex_descriptor v) {
-      return c[0] == v ? 0 : (c[1] == v ? 1 : 2);
-    };
+    std::vector<Run_point> run(np);
     const double cos_turn = std::cos(max_turn);
-    // each point's face, and each face's normal before the fit
-    std::vector<face_descriptor> live_faces;
-    for (face_descriptor f : faces(tm)) live_faces.push_back(f);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, live_faces.size(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t j = r.begin(); j != r.end(); ++j) {
-                          const face_descriptor f = live_faces[j];
-                          const auto c = corners(f);
-                          const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
-                          n0[std::size_t(f)] = CM::internal::cross(q[1] - q[0], q[2] - q[0]);
-                          for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) at[i] = f;
-                        }
-                      });
+    // each row's neighbours and normal before the fit, and each point's row
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nr, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t j = r.begin(); j != r.end(); ++j) {
+        Row& row = rows[j];
+        std::size_t k = 0;
+        for (halfedge_descriptor g : CGAL::halfedges_around_face(halfedge(row.face, tm), tm))
+          row.across[k++] = is_border(opposite(g, tm), tm) ? nil : row_of[std::size_t(face(opposite(g, tm), tm))];
+        const auto& c = row.corner;
+        const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
+        row.n0 = CM::internal::cross(q[1] - q[0], q[2] - q[0]);
+        for (std::uint32_t i = head[std::size_t(row.face)]; i != nil; i = link[i]) at[i] = std::uint32_t(j);
+      }
+    });
     // step 1 for point i: the nearest face among its face and the faces next to it, and the
     // coordinates there; repeated from the face found while that is nearer (at most 8 steps), "next
     // to" being the faces across its edges and, when the nearest point of the face is one of its
@@ -533,11 +585,11 @@ private:
     // always on the nearest one: the kept vertex moves, its star's faces change shape, and the
     // points stay where they were attached. Returns the squared distance to the face found.
     const auto reattach = [&](std::size_t i) -> double {
-      const face_descriptor start = at[i];
-      if (start == GT::null_face()) return 0.;
+      const std::uint32_t start = at[i];
+      if (start == nil) return 0.;
       double best = std::numeric_limits<double>::infinity();
-      const auto consider = [&](face_descriptor g) {
-        const auto c = corners(g);
+      const auto consider = [&](std::uint32_t g) {
+        const auto& c = rows[g].corner;
         const V3 a = point(c[0]), b = point(c[1]), cc = point(c[2]);
         const V3 w = CM::internal::closest_barycentric_on_triangle(items[i].p, a, b, cc);
         const double d = CM::internal::squared_length(items[i].p - (w.x * a + w.y * b + w.z * cc));
@@ -549,17 +601,15 @@ private:
       };
       consider(start);
       for (int step = 0; step < 8; ++step) {
-        const face_descriptor f = at[i];
-        const halfedge_descriptor hf = halfedge(f, tm);
-        for (halfedge_descriptor h : CGAL::halfedges_around_face(hf, tm))
-          if (!is_border(opposite(h, tm), tm)) consider(face(opposite(h, tm), tm));
+        const std::uint32_t f = at[i];
+        for (const std::uint32_t g : rows[f].across)
+          if (g != nil) consider(g);
         if (at[i] == f) {  // no edge neighbour is nearer: the faces around a corner, if nearest there
           const V3& w = bary[i];
           const int k = w.x == 1. ? 0 : (w.y == 1. ? 1 : (w.z == 1. ? 2 : -1));
           if (k < 0) break;
-          const vertex_descriptor corner = corners(f)[std::size_t(k)];
-          for (halfedge_descriptor h : CGAL::halfedges_around_target(corner, tm))
-            if (!is_border(h, tm)) consider(face(h, tm));
+          const vertex_descriptor corner = rows[f].corner[std::size_t(k)];
+          for (const Star_entry& e : star_range(star, star_first, corner)) consider(e.row);
           if (at[i] == f) break;
         }
       }
@@ -577,18 +627,18 @@ private:
     // the move of v (step 2), from its star alone; true when made
     const auto move = [&](vertex_descriptor v) -> bool {
       const V3 x0 = point(v);
+      const auto stars = star_range(star, star_first, v);
       double aa = 0., weight = 0.;
       V3 rhs(0., 0., 0.);
-      for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
-        if (is_border(h, tm)) continue;
-        const face_descriptor f = face(h, tm);
-        if (head[std::size_t(f)] == nil) continue;
-        const auto c = corners(f);
-        const int k = corner_of(c, v);
+      for (const Star_entry& e : stars) {
+        const Row& row = rows[e.row];
+        if (row.first == row.end) continue;
+        const auto& c = row.corner;
+        const int k = int(e.k);
         const V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
-        for (std::uint32_t i = head[std::size_t(f)]; i != nil; i = link[i]) {
-          const Item& r = items[i];
-          const double w[3] = {bary[i].x, bary[i].y, bary[i].z};
+        for (std::uint32_t t = row.first; t != row.end; ++t) {
+          const Run_point& r = run[t];
+          const double w[3] = {r.w.x, r.w.y, r.w.z};
           V3 rest(0., 0., 0.);
           for (int j = 0; j < 3; ++j)
             if (j != k) rest += w[j] * q[j];
@@ -611,26 +661,26 @@ private:
       if (!q.solve(u)) return false;
       const V3 x(u[0], u[1], u[2]);
       // each face of the star: turned by at most max_turn and not degenerate, and none of its
-      // points farther from it than the farthest point was from its face before the fit
+      // points farther from it than the farthest point was from its face before the fit (the
+      // star's other corners: a = source(h), b = target(next(h)) for the halfedge h into v)
       bool ok = true;
-      for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
-        if (is_border(h, tm)) continue;
-        const face_descriptor f = face(h, tm);
-        const V3 a = point(source(h, tm)), b = point(target(next(h, tm), tm));
+      for (const Star_entry& e : stars) {
+        const Row& row = rows[e.row];
+        const auto& c = row.corner;
+        const V3 a = point(c[(e.k + 2) % 3]), b = point(c[(e.k + 1) % 3]);
         const V3 n = CM::internal::cross(b - x, a - x);
-        const V3& m = n0[std::size_t(f)];
+        const V3& m = row.n0;
         const double nn = CM::internal::squared_length(n), mm = CM::internal::squared_length(m);
         ok = nn > 1e-24 * mm && CM::internal::dot(n, m) > cos_turn * std::sqrt(nn * mm);
         if (!ok) break;
-        if (head[std::size_t(f)] == nil) continue;
-        const auto c = corners(f);
+        if (row.first == row.end) continue;
         V3 q[3] = {point(c[0]), point(c[1]), point(c[2])};
-        q[corner_of(c, v)] = x;
-        for (std::uint32_t i = head[std::size_t(f)]; i != nil && ok; i = link[i]) {
-          const V3& p = items[i].p;
+        q[e.k] = x;
+        for (std::uint32_t t = row.first; t != row.end && ok; ++t) {
+          const V3& p = run[t].p;
+          const V3& w = run[t].w;
           // the point at its coordinates is at least as far as the face: often enough
-          if (CM::internal::squared_length(p - (bary[i].x * q[0] + bary[i].y * q[1] + bary[i].z * q[2])) <= worst)
-            continue;
+          if (CM::internal::squared_length(p - (w.x * q[0] + w.y * q[1] + w.z * q[2])) <= worst) continue;
           ok = CM::internal::squared_length(p - CM::internal::closest_on_triangle(p, q[0], q[1], q[2])) <= worst;
         }
         if (!ok) break;
@@ -664,12 +714,25 @@ private:
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
           for (std::size_t i = r.begin(); i != r.end(); ++i) reattach(i);
         });
+      // each face's list of points (head and link: the fit's output), by increasing index, and
+      // the same points in one run per row for step 2
       std::fill(head.begin(), head.end(), nil);
+      for (Row& row : rows) row.first = row.end = 0;
       for (std::size_t i = np; i-- > 0;) {
-        if (at[i] == GT::null_face()) continue;
-        link[i] = head[std::size_t(at[i])];
-        head[std::size_t(at[i])] = std::uint32_t(i);
+        if (at[i] == nil) continue;
+        Row& row = rows[at[i]];
+        link[i] = head[std::size_t(row.face)];
+        head[std::size_t(row.face)] = std::uint32_t(i);
+        ++row.end;
       }
+      std::uint32_t next_first = 0;
+      for (Row& row : rows) {
+        row.first = next_first;
+        next_first += row.end;
+        row.end = row.first;
+      }
+      for (std::size_t i = 0; i < np; ++i)
+        if (at[i] != nil) run[rows[at[i]].end++] = {items[i].p, bary[i], items[i].area};
       // the inner vertices of the blocks, the blocks at once, then the others in index order
       moves += tbb::parallel_reduce(
           tbb::blocked_range<std::size_t>(0, inner.size(), 1), std::size_t(0),
@@ -682,6 +745,15 @@ private:
       for (vertex_descriptor v : rim) moves += move(v) ? 1 : 0;
     }
     return moves;
+  }
+
+  /// The entries of `star` that hold vertex v's star (fit()).
+  template <class Entry>
+  static CGAL::Iterator_range<const Entry*> star_range(const std::vector<Entry>& star,
+                                                       const std::vector<std::uint32_t>& star_first,
+                                                       vertex_descriptor v) {
+    const Entry* base = star.data();
+    return CGAL::make_range(base + star_first[std::size_t(v)], base + star_first[std::size_t(v) + 1]);
   }
 
   struct Item {
