@@ -25,7 +25,7 @@ if [[ "${2:-}" == "--quick" ]]; then
   sh "$here/run_textured_bench.sh" "$build" --models spot,bob --fractions 0.1
   bash "$here/run_textured_peers.sh" "$build" --quick
   bash "$here/run_textured_scale.sh" "$build" --repeat 1
-  python3 "$here/run_lod.py" --build "$build" --models spot --reps 2 --prune --geometry-models horse.ply \
+  python3 "$here/run_lod.py" --build "$build" --models spot --reps 2 --min-seconds 0 --prune --geometry-models horse.ply \
     --out "$here/RESULTS-lod.md" --describe "$describe"
   python3 "$here/run_paint.py" --build "$build" --models spot,Duck --reps 1 --out "$here/RESULTS-paint.md" \
     --describe "$(describe_run)"

@@ -15,12 +15,14 @@ For every level: image RMSE against the input (`cmgeom compare IN LEVEL.obj --js
 views, 8-bit units; each mesh wears its own texture). Level 0, the input itself, is also compared
 with its own re-baked atlas (`cmgeom simplify IN --faces <its faces>`: no collapse, new charts, the
 texture baked as each simplified level's atlas is), beside the input's own texture. Targets: shared <= 1.25 x per-level and
-shared < mo13 at every simplified level. Timing (wall clock, min / median of --reps runs, interleaved):
+shared < mo13 at every simplified level. Timing (wall clock, min / median of interleaved rounds: at least --reps, more while the smallest
+level alone has taken less than --min-seconds in all, at most --max-reps):
 `cmgeom lod --no-error` (the chain written as GLB) against `cmgeom simplify --ratio <smallest>`
 (that level alone, OBJ + PNG); target: lod <= 1.2 x simplify. Every GLB is run through the Khronos
 validator when it is installed (test/Mesh_IO/gltf_validator).
 
-Usage: run_lod.py --build DIR [--ratios 1,0.25,0.05,0.01] [--size 256] [--reps 3 (run.sh: 5)] [--out FILE]
+Usage: run_lod.py --build DIR [--ratios 1,0.25,0.05,0.01] [--size 256] [--reps 3 (run.sh: 5)] [--min-seconds 4]
+                  [--max-reps 30] [--out FILE]
                   [--models a,b] [--describe LINE] [--prune (run.sh: on)] [--geometry-models a,b]
 The chains of untextured meshes (--geometry-models, shared/data/classic; '' for none) are timed the
 same way, without --prune.
@@ -87,6 +89,14 @@ def machine():
 GEOMETRY_MODELS = ["stanford-bunny.obj.gz", "armadillo.obj.gz", "nefertiti.obj.gz", "horse.ply", "igea.ply.gz"]
 
 
+def more_rounds(a, t_simp):
+    """Whether to time another interleaved round: at least --reps rounds, more (up to --max-reps) while
+    the smallest level alone has taken less than --min-seconds in all (a run of a tenth of a second
+    varies by a third from one run to the next on a shared machine: short runs get more rounds)."""
+    k = len(t_simp)
+    return k < a.reps or (k < a.max_reps and sum(t_simp) < a.min_seconds)
+
+
 def validate(glb):
     if not shutil.which("node") or not os.path.isdir(os.path.join(os.path.dirname(VALIDATOR), "node_modules")):
         return "n/a"
@@ -101,7 +111,10 @@ def main():
     ap.add_argument("--build", required=True)
     ap.add_argument("--ratios", default="1,0.25,0.05,0.01")
     ap.add_argument("--size", type=int, default=256)
-    ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--reps", type=int, default=3, help="timing rounds at least (interleaved)")
+    ap.add_argument("--min-seconds", type=float, default=4.0,
+                    help="more rounds until the smallest level alone has taken this long in all")
+    ap.add_argument("--max-reps", type=int, default=30, help="timing rounds at most")
     ap.add_argument("--out")
     ap.add_argument("--describe", default="", help="a line on the machine and the peers' versions")
     ap.add_argument("--models", help="comma-separated subset of the model names")
@@ -173,7 +186,7 @@ def main():
                 rows.append(row)
             # timing: the chain against its smallest level alone, interleaved
             t_lod, t_lod_shared, t_simp = [], [], []
-            for _ in range(a.reps):
+            while more_rounds(a, t_simp):
                 _, dt = must([cmgeom, "lod", m["obj"], "-o", os.path.join(d, "t.glb"), "--ratios", a.ratios, "--no-error"] + prune + tex)
                 t_lod.append(dt)
                 _, dt = must([cmgeom, "lod", m["obj"], "-o", os.path.join(d, "ts.glb"), "--ratios", a.ratios, "--no-error",
@@ -182,7 +195,7 @@ def main():
                 _, dt = must([cmgeom, "simplify", m["obj"], "-o", os.path.join(d, "t.obj"), "--ratio", str(ratios[-1])] + prune + tex)
                 t_simp.append(dt)
             times.append((name, (min(t_simp), statistics.median(t_simp)), (min(t_lod), statistics.median(t_lod)),
-                          (min(t_lod_shared), statistics.median(t_lod_shared))))
+                          (min(t_lod_shared), statistics.median(t_lod_shared)), len(t_simp)))
         # untextured chains: the collapses alone (and the GLB), against the smallest level alone
         classic = os.path.join(os.path.dirname(root), "classic")
         for g in [x for x in a.geometry_models.split(",") if x]:
@@ -195,13 +208,13 @@ def main():
                           "--json"])
             info = last_json(so)
             t_lod, t_simp = [], []
-            for _ in range(a.reps):
+            while more_rounds(a, t_simp):
                 _, dt = must([cmgeom, "lod", path, "-o", os.path.join(work, "g.glb"), "--ratios", a.ratios, "--no-error"])
                 t_lod.append(dt)
                 _, dt = must([cmgeom, "simplify", path, "-o", os.path.join(work, "g.obj"), "--ratio", str(ratios[-1])])
                 t_simp.append(dt)
             geometry_times.append((g, info["faces_in"], info.get("parts", 0), (min(t_simp), statistics.median(t_simp)),
-                                   (min(t_lod), statistics.median(t_lod))))
+                                   (min(t_lod), statistics.median(t_lod)), len(t_simp)))
     finally:
         shutil.rmtree(work, ignore_errors=True)
 
@@ -274,30 +287,32 @@ def main():
                  "%s %.1f / %.1f (%.0f %%; %.0f %%)" % (n, p / 1e6, s_ / 1e6, 100 * (ov or 0), 100 * (rel or 0))
                  for n, p, s_, rel, ov in sizes) + ".")
     L.append("")
-    L.append("Wall seconds, \"min / median\" of %d runs; ratios of the medians." % a.reps)
+    L.append("Wall seconds, \"min / median\" of *runs* interleaved rounds (at least %d, more until the smallest "
+             "level alone has taken %.0f s in all, at most %d); ratios of the medians." % (a.reps, a.min_seconds, a.max_reps))
     L.append("")
-    L.append("| model | simplify to the smallest level (s) | lod, atlas per level (s) | ratio | lod, shared texture (s) | ratio |")
-    L.append("|---|---:|---:|---:|---:|---:|")
-    for name, s, l, ls in times:
-        L.append("| %s | %.2f / %.2f | %.2f / %.2f | %.2f | %.2f / %.2f | %.2f |" % (
-            name, s[0], s[1], l[0], l[1], l[1] / s[1], ls[0], ls[1], ls[1] / s[1]))
+    L.append("| model | runs | simplify to the smallest level (s) | lod, atlas per level (s) | ratio | lod, shared texture (s) | ratio |")
+    L.append("|---|---:|---:|---:|---:|---:|---:|")
+    for name, s, l, ls, k in times:
+        L.append("| %s | %d | %.2f / %.2f | %.2f / %.2f | %.2f | %.2f / %.2f | %.2f |" % (
+            name, k, s[0], s[1], l[0], l[1], l[1] / s[1], ls[0], ls[1], ls[1] / s[1]))
     if times:
         L.append("")
         L.append("- chain / smallest level alone, median: atlas per level %.2f, shared texture %.2f (target <= 1.2)." % (
-            statistics.median([l[1] / s[1] for _, s, l, _ in times]),
-            statistics.median([ls[1] / s[1] for _, s, _, ls in times])))
+            statistics.median([l[1] / s[1] for _, s, l, _, _ in times]),
+            statistics.median([ls[1] / s[1] for _, s, _, ls, _ in times])))
     if geometry_times:
         L.append("")
         L.append("Untextured meshes (shared/data/classic), the same ratios: `cmgeom lod IN -o OUT.glb --no-error` against "
-                 "`cmgeom simplify IN --ratio <smallest>` (OBJ), wall seconds, \"min / median\" of %d interleaved runs; "
-                 "*parts*: the parts the collapses down to the first level ran in (`lod --json`; 0: on the whole)." % a.reps)
+                 "`cmgeom simplify IN --ratio <smallest>` (OBJ), wall seconds, \"min / median\" of *runs* interleaved "
+                 "rounds (as above); *parts*: the parts the collapses down to the first level ran in (`lod --json`; 0: on "
+                 "the whole).")
         L.append("")
-        L.append("| model | faces | simplify to the smallest level (s) | lod (s) | ratio | parts |")
-        L.append("|---|---:|---:|---:|---:|---:|")
-        for g, faces, parts, s_, l in geometry_times:
-            L.append("| %s | %d | %.2f / %.2f | %.2f / %.2f | %.2f | %d |" % (g, faces, s_[0], s_[1], l[0], l[1], l[1] / s_[1],
-                                                                          parts))
-        gr = [l[1] / s_[1] for _, _, _, s_, l in geometry_times]
+        L.append("| model | faces | runs | simplify to the smallest level (s) | lod (s) | ratio | parts |")
+        L.append("|---|---:|---:|---:|---:|---:|---:|")
+        for g, faces, parts, s_, l, k in geometry_times:
+            L.append("| %s | %d | %d | %.2f / %.2f | %.2f / %.2f | %.2f | %d |" % (
+                g, faces, k, s_[0], s_[1], l[0], l[1], l[1] / s_[1], parts))
+        gr = [l[1] / s_[1] for _, _, _, s_, l, _ in geometry_times]
         L.append("")
         L.append("- untextured chain / smallest level alone: median %.2f, worst %.2f, within 1.2 on %d of %d (target <= 1.2)." % (
             statistics.median(gr), max(gr), sum(1 for x in gr if x <= 1.2), len(gr)))
