@@ -11,6 +11,7 @@
 #include "io_internal.h"
 
 #include <CMGeom/Error.h>
+#include <CMGeom/internal/release_freed_memory.h>
 
 #include <algorithm>
 #include <charconv>
@@ -22,7 +23,6 @@
 #include <unordered_map>
 
 #include <fcntl.h>
-#include <malloc.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -530,11 +530,9 @@ bool read_obj_in_chunks(std::string_view data, std::size_t chunk_bytes, Polygon_
     }
     part = Polygon_soup();  // freed on the core that allocated it
   });
-#if defined(__GLIBC__)
   // The chunks were allocated by the worker threads, in their own malloc arenas, which keep
   // what is freed: give it back, or a large file's chunks stay resident while its mesh is built.
-  malloc_trim(0);
-#endif
+  CMGeom::internal::release_freed_memory();
   return true;
 }
 

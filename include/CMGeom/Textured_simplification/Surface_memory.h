@@ -530,19 +530,22 @@ private:
     std::vector<Row> rows;
     std::vector<std::uint32_t> star_first(pos.size() + 1, 0);
     std::vector<Star_entry> star;
+    const auto row_of_face = [&](face_descriptor f) {  // (a new row the first time f is met)
+      std::uint32_t& r = row_of[std::size_t(f)];
+      if (r == nil) {
+        r = std::uint32_t(rows.size());
+        Row row;
+        const halfedge_descriptor g = halfedge(f, tm);
+        row.corner = {target(g, tm), target(next(g, tm), tm), source(g, tm)};
+        row.face = f;
+        rows.push_back(row);
+      }
+      return r;
+    };
     for (vertex_descriptor v : vertices(tm)) {
       for (halfedge_descriptor h : CGAL::halfedges_around_target(v, tm)) {
         if (is_border(h, tm)) continue;
-        const face_descriptor f = face(h, tm);
-        std::uint32_t& r = row_of[std::size_t(f)];
-        if (r == nil) {
-          r = std::uint32_t(rows.size());
-          Row row;
-          const halfedge_descriptor g = halfedge(f, tm);
-          row.corner = {target(g, tm), target(next(g, tm), tm), source(g, tm)};
-          row.face = f;
-          rows.push_back(row);
-        }
+        const std::uint32_t r = row_of_face(face(h, tm));
         const auto& c = rows[r].corner;
         star.push_back({r, c[0] == v ? 0u : (c[1] == v ? 1u : 2u)});
       }
@@ -550,15 +553,7 @@ private:
     }
     for (std::size_t v = 1; v < star_first.size(); ++v) star_first[v] = (std::max)(star_first[v], star_first[v - 1]);
     // (faces no vertex walk meets: none in a valid mesh; numbered after the others all the same)
-    for (face_descriptor f : faces(tm))
-      if (row_of[std::size_t(f)] == nil) {
-        row_of[std::size_t(f)] = std::uint32_t(rows.size());
-        Row row;
-        const halfedge_descriptor g = halfedge(f, tm);
-        row.corner = {target(g, tm), target(next(g, tm), tm), source(g, tm)};
-        row.face = f;
-        rows.push_back(row);
-      }
+    for (face_descriptor f : faces(tm)) row_of_face(f);
     const std::size_t nr = rows.size();
     std::vector<std::uint32_t> at(np, nil);  // each point's row
     std::vector<V3> bary(np);

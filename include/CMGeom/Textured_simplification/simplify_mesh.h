@@ -26,6 +26,7 @@
 
 #include <CMGeom/config.h>
 #include <CMGeom/Error.h>
+#include <CMGeom/internal/release_freed_memory.h>
 #include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
 #include <CMGeom/Textured_simplification/Edge_collapse_visitor_base.h>
 #include <CMGeom/Textured_simplification/Endpoint_placement.h>
@@ -61,10 +62,6 @@
 #include <unordered_map>
 #include <utility>
 #include <vector>
-
-#if defined(__GLIBC__)
-#include <malloc.h>  // malloc_trim
-#endif
 
 namespace CMGeom {
 namespace Textured_simplification {
@@ -429,9 +426,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   }
   std::vector<std::uint32_t>().swap(label);
   std::vector<std::vector<std::uint32_t>>().swap(faces_of);
-#if defined(__GLIBC__)
-  malloc_trim(0);  // the worker threads' arenas keep what make_part freed
-#endif
+  CMGeom::internal::release_freed_memory();  // the worker threads' arenas keep what make_part freed
   // then the parts' quadrics, the input's numbers: a vertex inside a part has its whole star
   // there, with its faces in the input's order (make_part keeps it), so the part's initialize()
   // sums the same terms in the same order; a vertex on a part's border (on a cut, or on the
@@ -812,13 +807,10 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
     });
     if (m && !bound && !options.endpoint_placement && options.memory.fit.rounds > 0) {
       const auto t_fit = Clock::now();
-#if defined(__GLIBC__)
       // what the collapses freed (the engine's queue and per-edge arrays) goes back to the system
-      // first: glibc keeps large freed blocks in its arenas once its mmap threshold has grown, and
-      // the fit's arrays (about 60 bytes per point) then came on top of them (1M-face igea to 10 %
-      // on two threads: peak RSS 236-251 MB instead of 205-222 MB)
-      malloc_trim(0);
-#endif
+      // first, or the fit's arrays (about 60 bytes per point) come on top of it (1M-face igea to
+      // 10 % on two threads: peak RSS 236-251 MB instead of 205-222 MB)
+      CMGeom::internal::release_freed_memory();
       res.fit_moves = m->fit_vertices(mesh, options.memory.fit, [&](auto v) { return policy.quadric(v); });
       res.seconds_fit = std::chrono::duration<double>(Clock::now() - t_fit).count();
     }
