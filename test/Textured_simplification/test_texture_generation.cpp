@@ -193,4 +193,110 @@ TEST(TexturedSimplification, GutterDistancesAndRingsMatchABruteForceReference) {
   }
 }
 
+// internal::grow_rings (the gutters of the atlases: every chart's texels grow ring by ring into the
+// free texels, the first to reach a texel taking it) against a serial reference written from its
+// contract: the first front is the labelled texels next to an open one in texel order, each ring
+// visits its front in order and each front texel its neighbours left, right, below, above. On
+// random labellings of grids taller than one band of the parallel first scan, whole and partial
+// rows labelled; then the growth's own property: a texel is taken exactly when its 4-neighbour
+// distance to the labelled texels is 1 to `rings`, by the owner of a labelled texel at that distance.
+TEST(TexturedSimplification, GrowRingsMatchesASerialReferenceAndTakesTheTexelsWithinItsRings) {
+  std::mt19937 rng(777);
+  const int sizes[][2] = {{1, 1}, {5, 1}, {1, 200}, {37, 65}, {97, 150}, {256, 129}};
+  int tried = 0;
+  for (const auto& size : sizes)
+    for (double density : {0.0, 0.002, 0.03, 0.3, 1.0})
+      for (int rings : {1, 3, 8}) {
+        const int W = size[0], H = size[1];
+        const std::size_t n = std::size_t(W) * std::size_t(H);
+        std::vector<int> start(n, -1);
+        std::bernoulli_distribution labelled(density);
+        for (std::size_t i = 0; i < n; ++i)
+          if (labelled(rng)) start[i] = int(rng() % 7);
+        if (H > 3)
+          for (int x = 0; x < W; x += 2)
+            start[std::size_t(H / 2) * std::size_t(W) + std::size_t(x)] = 9;  // part of a row
+        // the library's growth
+        std::vector<int> got = start;
+        std::vector<int> ring_of(n, 0);
+        int taken = 0;
+        TS::internal::grow_rings(
+            W, H, rings, [&](std::size_t at) { return got[at] != -1; }, [&](std::size_t at) { return got[at] == -1; },
+            [&](const TS::internal::Grid_texel& to, const TS::internal::Grid_texel& from) {
+              EXPECT_EQ(to.at, std::size_t(to.y) * std::size_t(W) + std::size_t(to.x));
+              EXPECT_EQ(from.at, std::size_t(from.y) * std::size_t(W) + std::size_t(from.x));
+              EXPECT_EQ(std::abs(to.x - from.x) + std::abs(to.y - from.y), 1);
+              got[to.at] = got[from.at];
+              ring_of[to.at] = ring_of[from.at] + 1;
+              ++taken;
+              return true;
+            });
+        // the reference, serial, with divisions
+        std::vector<int> ref = start;
+        std::vector<std::size_t> front, next;
+        const auto neighbours = [&](std::size_t at) {
+          std::vector<std::size_t> out;
+          const std::size_t x = at % std::size_t(W);
+          if (x > 0) out.push_back(at - 1);
+          if (x + 1 < std::size_t(W)) out.push_back(at + 1);
+          if (at >= std::size_t(W)) out.push_back(at - std::size_t(W));
+          if (at + std::size_t(W) < n) out.push_back(at + std::size_t(W));
+          return out;
+        };
+        for (std::size_t at = 0; at < n; ++at) {
+          if (ref[at] == -1) continue;
+          bool border = false;
+          for (std::size_t b : neighbours(at)) border = border || ref[b] == -1;
+          if (border) front.push_back(at);
+        }
+        for (int r = 0; r < rings && !front.empty(); ++r) {
+          next.clear();
+          for (std::size_t at : front)
+            for (std::size_t b : neighbours(at))
+              if (ref[b] == -1) {
+                ref[b] = ref[at];
+                next.push_back(b);
+              }
+          front.swap(next);
+        }
+        SCOPED_TRACE(std::to_string(W) + " x " + std::to_string(H) + ", density " + std::to_string(density) +
+                     ", rings " + std::to_string(rings));
+        ASSERT_TRUE(got == ref);
+        // distances to the labelled texels, to all and to those of each owner (breadth first,
+        // independent of the growth's order)
+        const auto distances = [&](int owner) {  // (owner -1: any)
+          std::vector<int> dist(n, -1);
+          std::vector<std::size_t> queue;
+          for (std::size_t at = 0; at < n; ++at)
+            if (start[at] != -1 && (owner == -1 || start[at] == owner)) {
+              dist[at] = 0;
+              queue.push_back(at);
+            }
+          for (std::size_t q = 0; q < queue.size(); ++q)
+            for (std::size_t b : neighbours(queue[q]))
+              if (dist[b] == -1) {
+                dist[b] = dist[queue[q]] + 1;
+                queue.push_back(b);
+              }
+          return dist;
+        };
+        const std::vector<int> dist = distances(-1);
+        std::map<int, std::vector<int>> dist_to_owner;
+        for (int owner : {0, 1, 2, 3, 4, 5, 6, 9}) dist_to_owner[owner] = distances(owner);
+        int expected_taken = 0;
+        for (std::size_t at = 0; at < n; ++at) {
+          const bool within = dist[at] >= 1 && dist[at] <= rings;
+          expected_taken += within;
+          if (start[at] != -1) continue;
+          ASSERT_EQ(got[at] != -1, within) << "texel " << at;
+          if (!within) continue;
+          ASSERT_EQ(ring_of[at], dist[at]) << "texel " << at;
+          ASSERT_EQ(dist_to_owner.at(got[at])[at], dist[at]) << "texel " << at;  // an owner at that distance
+        }
+        EXPECT_EQ(taken, expected_taken);
+        tried += taken > 0;
+      }
+  EXPECT_GT(tried, 40);
+}
+
 }  // namespace

@@ -116,21 +116,18 @@ public:
     unshare();
     const int n = channels < 0 || channels > channels_ ? channels_ : channels;
     const std::size_t to = index(tx, ty), from = index(fx, fy);
-    if (format_ == Format::UInt8)
-      for (int c = 0; c < n; ++c) bytes_[to + std::size_t(c)] = bytes_[from + std::size_t(c)];
-    else
-      for (int c = 0; c < n; ++c) floats_[to + std::size_t(c)] = floats_[from + std::size_t(c)];
+    if (format_ == Format::UInt8) {
+      std::uint8_t* b = bytes_;  // (a local: the stores through it cannot change it)
+      for (int c = 0; c < n; ++c) b[to + std::size_t(c)] = b[from + std::size_t(c)];
+    } else {
+      float* f = floats_;
+      for (int c = 0; c < n; ++c) f[to + std::size_t(c)] = f[from + std::size_t(c)];
+    }
   }
 
   /// Gives the image pixels of its own (a copy when another Image shares them).
   void unshare() {
-    if (pixels_ && pixels_.use_count() > 1) {
-      auto own = std::make_shared<Pixels>();
-      own->bytes = internal::copy_on_huge_pages(pixels_->bytes);
-      own->floats = internal::copy_on_huge_pages(pixels_->floats);
-      pixels_ = std::move(own);
-      point_at_pixels();
-    }
+    if (pixels_ && pixels_.use_count() > 1) copy_pixels();
   }
   /// Whether the two images share their pixels (one is an unchanged copy of the other).
   bool shares_pixels_with(const Image& o) const { return pixels_ != nullptr && pixels_ == o.pixels_; }
@@ -150,6 +147,14 @@ private:
     std::vector<float> floats;
   };
 
+  // (apart from unshare(), which per-pixel writers call: the check stays inline, the copy does not)
+  void copy_pixels() {
+    auto own = std::make_shared<Pixels>();
+    own->bytes = internal::copy_on_huge_pages(pixels_->bytes);
+    own->floats = internal::copy_on_huge_pages(pixels_->floats);
+    pixels_ = std::move(own);
+    point_at_pixels();
+  }
   void point_at_pixels() {
     bytes_ = pixels_ && !pixels_->bytes.empty() ? pixels_->bytes.data() : nullptr;
     floats_ = pixels_ && !pixels_->floats.empty() ? pixels_->floats.data() : nullptr;

@@ -514,8 +514,8 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
     grow_rings(
         W, S, options.gutter_texels + 1, [&](std::size_t at) { return owner[at] != -1; },
         [&](std::size_t at) { return owner[at] == -1; },
-        [&](std::size_t to, std::size_t from) {
-          owner[to] = owner[from];
+        [&](const Grid_texel& to, const Grid_texel& from) {
+          owner[to.at] = owner[from.at];
           return true;
         });
     std::vector<char> ring_painted(painted.size(), 0);
@@ -602,10 +602,9 @@ inline Atlas_layers add_overflow_charts(const Atlas_source& source, Textured_mes
   grow_rings(
       W, S, options.gutter_texels, [&](std::size_t at) { return painted[at] != 0; },
       [&](std::size_t at) { return !painted[at]; },
-      [&](std::size_t to, std::size_t from) {
-        copy_texel(int(to % std::size_t(W)), int(to / std::size_t(W)), int(from % std::size_t(W)),
-                   int(from / std::size_t(W)));
-        painted[to] = 1;
+      [&](const Grid_texel& to, const Grid_texel& from) {
+        copy_texel(to.x, to.y, from.x, from.y);
+        painted[to.at] = 1;
         return true;
       });
   // the texels farther from every chart (read only by coarse mipmap levels) take the colour of the

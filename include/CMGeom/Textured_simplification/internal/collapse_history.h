@@ -575,32 +575,56 @@ struct Face_texels {
   std::vector<std::uint32_t> covered, won;
 };
 
+/// A texel of a W x H grid: its index y * W + x and its coordinates.
+struct Grid_texel {
+  std::size_t at;
+  int x, y;
+};
+
 /// Grows a texel labelling over the 4-neighbour grid of a W x H image, one ring at a time, at most
 /// `rings` rings: a texel `is_open` next to a labelled one (`is_labelled`, or labelled in an
-/// earlier ring) gets `take(texel, neighbour)`, which returns whether it took it. Serial and in texel
-/// order, so the result does not depend on the thread count; the work is the rings' texels.
+/// earlier ring) gets `take(texel, neighbour)` (two Grid_texel), which returns whether it took it.
+/// The rings are grown serially and in texel order, so the result does not depend on the thread
+/// count; the first front (the labelled texels next to an open one) is found on all cores, a band
+/// of rows each, and joined in row order. `is_labelled` and `is_open` are called concurrently then
+/// (they only read); the work is the image's texels once, then the rings'.
 template <class Labelled, class Open, class Take>
 void grow_rings(int W, int H, int rings, const Labelled& is_labelled, const Open& is_open, const Take& take) {
-  const std::size_t w = std::size_t(W), n = std::size_t(W) * std::size_t(H);
-  auto for_neighbours = [&](std::size_t at, auto&& fn) {
-    const std::size_t x = at % w;
-    if (x > 0) fn(at - 1);
-    if (x + 1 < w) fn(at + 1);
-    if (at >= w) fn(at - w);
-    if (at + w < n) fn(at + w);
+  if (W <= 0 || H <= 0 || rings <= 0) return;
+  const std::size_t w = std::size_t(W);
+  auto for_neighbours = [&](const Grid_texel& t, auto&& fn) {  // (left, right, below, above)
+    if (t.x > 0) fn(Grid_texel{t.at - 1, t.x - 1, t.y});
+    if (t.x + 1 < W) fn(Grid_texel{t.at + 1, t.x + 1, t.y});
+    if (t.y > 0) fn(Grid_texel{t.at - w, t.x, t.y - 1});
+    if (t.y + 1 < H) fn(Grid_texel{t.at + w, t.x, t.y + 1});
   };
-  std::vector<std::size_t> front, next;
-  for (std::size_t at = 0; at < n; ++at) {
-    if (!is_labelled(at)) continue;
-    bool border = false;
-    for_neighbours(at, [&](std::size_t b) { border = border || is_open(b); });
-    if (border) front.push_back(at);
+  const int band = 64;  // rows per task of the first front
+  const int bands = (H + band - 1) / band;
+  std::vector<std::vector<Grid_texel>> fronts(static_cast<std::size_t>(bands));
+  tbb::parallel_for(0, bands, [&](int b) {
+    std::vector<Grid_texel>& out = fronts[std::size_t(b)];
+    for (int y = b * band; y < (std::min)(H, (b + 1) * band); ++y)
+      for (int x = 0; x < W; ++x) {
+        const Grid_texel t{std::size_t(y) * w + std::size_t(x), x, y};
+        if (!is_labelled(t.at)) continue;
+        bool border = false;
+        for_neighbours(t, [&](const Grid_texel& n) { border = border || is_open(n.at); });
+        if (border) out.push_back(t);
+      }
+  });
+  std::vector<Grid_texel> front, next;
+  std::size_t total = 0;
+  for (const auto& f : fronts) total += f.size();
+  front.reserve(total);
+  for (auto& f : fronts) {
+    front.insert(front.end(), f.begin(), f.end());
+    std::vector<Grid_texel>().swap(f);
   }
   for (int ring = 0; ring < rings && !front.empty(); ++ring) {
     next.clear();
-    for (std::size_t at : front)
-      for_neighbours(at, [&](std::size_t b) {
-        if (is_open(b) && take(b, at)) next.push_back(b);
+    for (const Grid_texel& t : front)
+      for_neighbours(t, [&](const Grid_texel& n) {
+        if (is_open(n.at) && take(n, t)) next.push_back(n);
       });
     front.swap(next);
   }
@@ -657,8 +681,8 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
   grow_rings(
       W, H, gutter_texels, [&](std::size_t at) { return owner[at] != -1; },
       [&](std::size_t at) { return owner[at] == -1; },
-      [&](std::size_t to, std::size_t from) {
-        owner[to] = owner[from];
+      [&](const Grid_texel& to, const Grid_texel& from) {
+        owner[to.at] = owner[from.at];
         return true;
       });
   const Surface_mesh& om = original_mapped.mesh();
@@ -750,15 +774,13 @@ inline double paint_atlas_from_original(const Atlas_source& source, const Textur
   grow_rings(
       W, H, gutter_texels, [&](std::size_t at) { return painted[at] != 0; },
       [&](std::size_t at) { return !painted[at] && owner[at] != -1; },
-      [&](std::size_t to, std::size_t from) {
-        if (owner[to] != owner[from]) return false;
-        const int tx = int(to % std::size_t(W)), ty = int(to / std::size_t(W));
-        const int fx = int(from % std::size_t(W)), fy = int(from / std::size_t(W));
-        image.copy_pixel(tx, H - 1 - ty, fx, H - 1 - fy, C);
+      [&](const Grid_texel& to, const Grid_texel& from) {
+        if (owner[to.at] != owner[from.at]) return false;
+        image.copy_pixel(to.x, H - 1 - to.y, from.x, H - 1 - from.y, C);
         if (!normals.empty())
-          for (int k = 0; k < 3; ++k) normals[3 * to + std::size_t(k)] = normals[3 * from + std::size_t(k)];
-        faces[to] = faces[from];
-        painted[to] = 1;
+          for (int k = 0; k < 3; ++k) normals[3 * to.at + std::size_t(k)] = normals[3 * from.at + std::size_t(k)];
+        faces[to.at] = faces[from.at];
+        painted[to.at] = 1;
         return true;
       });
   paint.given = std::move(painted);
