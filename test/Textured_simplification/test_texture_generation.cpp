@@ -198,8 +198,10 @@ TEST(TexturedSimplification, GutterDistancesAndRingsMatchABruteForceReference) {
 // contract: the first front is the labelled texels next to an open one in texel order, each ring
 // visits its front in order and each front texel its neighbours left, right, below, above. On
 // random labellings of grids taller than one band of the parallel first scan, whole and partial
-// rows labelled; then the growth's own property: a texel is taken exactly when its 4-neighbour
-// distance to the labelled texels is 1 to `rings`, by the owner of a labelled texel at that distance.
+// rows labelled, texel by texel: the owner, and the neighbour each texel was taken from (the order
+// decides which texel's colour a gutter texel copies, even between texels of one owner). Then the
+// growth's own property: a texel is taken exactly when its 4-neighbour distance to the labelled
+// texels is 1 to `rings`, by the owner of a labelled texel at that distance.
 TEST(TexturedSimplification, GrowRingsMatchesASerialReferenceAndTakesTheTexelsWithinItsRings) {
   std::mt19937 rng(777);
   const int sizes[][2] = {{1, 1}, {5, 1}, {1, 200}, {37, 65}, {97, 150}, {256, 129}};
@@ -219,6 +221,7 @@ TEST(TexturedSimplification, GrowRingsMatchesASerialReferenceAndTakesTheTexelsWi
         // the library's growth
         std::vector<int> got = start;
         std::vector<int> ring_of(n, 0);
+        std::vector<std::size_t> got_from(n, n);  // the texel each was taken from (what a colour is copied from)
         int taken = 0;
         TS::internal::grow_rings(
             W, H, rings, [&](std::size_t at) { return got[at] != -1; }, [&](std::size_t at) { return got[at] == -1; },
@@ -227,12 +230,14 @@ TEST(TexturedSimplification, GrowRingsMatchesASerialReferenceAndTakesTheTexelsWi
               EXPECT_EQ(from.at, std::size_t(from.y) * std::size_t(W) + std::size_t(from.x));
               EXPECT_EQ(std::abs(to.x - from.x) + std::abs(to.y - from.y), 1);
               got[to.at] = got[from.at];
+              got_from[to.at] = from.at;
               ring_of[to.at] = ring_of[from.at] + 1;
               ++taken;
               return true;
             });
         // the reference, serial, with divisions
         std::vector<int> ref = start;
+        std::vector<std::size_t> ref_from(n, n);
         std::vector<std::size_t> front, next;
         const auto neighbours = [&](std::size_t at) {
           std::vector<std::size_t> out;
@@ -255,6 +260,7 @@ TEST(TexturedSimplification, GrowRingsMatchesASerialReferenceAndTakesTheTexelsWi
             for (std::size_t b : neighbours(at))
               if (ref[b] == -1) {
                 ref[b] = ref[at];
+                ref_from[b] = at;
                 next.push_back(b);
               }
           front.swap(next);
@@ -262,6 +268,7 @@ TEST(TexturedSimplification, GrowRingsMatchesASerialReferenceAndTakesTheTexelsWi
         SCOPED_TRACE(std::to_string(W) + " x " + std::to_string(H) + ", density " + std::to_string(density) +
                      ", rings " + std::to_string(rings));
         ASSERT_TRUE(got == ref);
+        ASSERT_TRUE(got_from == ref_from);
         // distances to the labelled texels, to all and to those of each owner (breadth first,
         // independent of the growth's order)
         const auto distances = [&](int owner) {  // (owner -1: any)
