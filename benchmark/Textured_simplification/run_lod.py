@@ -25,7 +25,8 @@ Usage: run_lod.py --build DIR [--ratios 1,0.25,0.05,0.01] [--size 256] [--reps 3
                   [--max-reps 30] [--out FILE]
                   [--models a,b] [--describe LINE] [--prune (run.sh: on)] [--geometry-models a,b]
 The chains of untextured meshes (--geometry-models, shared/data/classic; '' for none) are timed the
-same way, without --prune.
+same way, without --prune; `igea-sub` stands for igea subdivided once (1,074,744 faces, made at run
+time by benchmark/Scale/subdivide.py), whose 25 % level is itself cut into parts again.
 --prune runs every chain and the smallest level alone with `--prune` (whole connected components may
 go when that costs less than the next collapse). meshoptimizer runs without its Prune flag either way:
 with the unlimited error these runs give it, Prune removes every component (DamagedHelmet at 1 %
@@ -33,6 +34,7 @@ came out empty); its sloppy stage drops small parts anyway.
 Writes one Markdown section (stdout, or --out FILE); progress on stderr.
 """
 import argparse
+import gzip
 import json
 import os
 import shutil
@@ -85,8 +87,10 @@ def machine():
 
 
 # untextured meshes (shared/data/classic) whose chains are timed beside the textured ones: the
-# classic scans, igea large enough for its first level to be simplified in parts
-GEOMETRY_MODELS = ["stanford-bunny.obj.gz", "armadillo.obj.gz", "nefertiti.obj.gz", "horse.ply", "igea.ply.gz"]
+# classic scans, igea large enough for its first level to be simplified in parts, and igea
+# subdivided once (1M faces: its 25 % level is large enough to be cut again)
+GEOMETRY_MODELS = ["stanford-bunny.obj.gz", "armadillo.obj.gz", "nefertiti.obj.gz", "horse.ply", "igea.ply.gz",
+                   "igea-sub"]
 
 
 def more_rounds(a, t_simp):
@@ -200,6 +204,13 @@ def main():
         classic = os.path.join(os.path.dirname(root), "classic")
         for g in [x for x in a.geometry_models.split(",") if x]:
             path = os.path.join(classic, g)
+            if g == "igea-sub" and os.path.isfile(os.path.join(classic, "igea.ply.gz")):
+                path = os.path.join(work, "igea-sub.ply")
+                with gzip.open(os.path.join(classic, "igea.ply.gz"), "rb") as fi, \
+                        open(os.path.join(work, "igea.ply"), "wb") as fo:
+                    shutil.copyfileobj(fi, fo)
+                must([sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Scale",
+                                                   "subdivide.py"), os.path.join(work, "igea.ply"), path])
             if not os.path.isfile(path):
                 log("lod: %s missing, skipped" % path)
                 continue
@@ -213,8 +224,9 @@ def main():
                 t_lod.append(dt)
                 _, dt = must([cmgeom, "simplify", path, "-o", os.path.join(work, "g.obj"), "--ratio", str(ratios[-1])])
                 t_simp.append(dt)
-            geometry_times.append((g, info["faces_in"], info.get("parts", 0), (min(t_simp), statistics.median(t_simp)),
-                                   (min(t_lod), statistics.median(t_lod)), len(t_simp)))
+            geometry_times.append((g, info["faces_in"], (info.get("parts", 0), info.get("runs_in_parts", 0)),
+                                   (min(t_simp), statistics.median(t_simp)), (min(t_lod), statistics.median(t_lod)),
+                                   len(t_simp)))
     finally:
         shutil.rmtree(work, ignore_errors=True)
 
@@ -305,13 +317,14 @@ def main():
         L.append("Untextured meshes (shared/data/classic), the same ratios: `cmgeom lod IN -o OUT.glb --no-error` against "
                  "`cmgeom simplify IN --ratio <smallest>` (OBJ), wall seconds, \"min / median\" of *runs* interleaved "
                  "rounds (as above); *parts*: the parts the collapses down to the first level ran in (`lod --json`; 0: on "
-                 "the whole).")
+                 "the whole), and how many of the chain's runs began in parts (a level large enough is cut again "
+                 "on the way down to the next).")
         L.append("")
-        L.append("| model | faces | runs | simplify to the smallest level (s) | lod (s) | ratio | parts |")
+        L.append("| model | faces | runs | simplify to the smallest level (s) | lod (s) | ratio | parts (runs in parts) |")
         L.append("|---|---:|---:|---:|---:|---:|---:|")
         for g, faces, parts, s_, l, k in geometry_times:
-            L.append("| %s | %d | %d | %.2f / %.2f | %.2f / %.2f | %.2f | %d |" % (
-                g, faces, k, s_[0], s_[1], l[0], l[1], l[1] / s_[1], parts))
+            L.append("| %s | %d | %d | %.2f / %.2f | %.2f / %.2f | %.2f | %d (%d) |" % (
+                g, faces, k, s_[0], s_[1], l[0], l[1], l[1] / s_[1], parts[0], parts[1]))
         gr = [l[1] / s_[1] for _, _, _, s_, l, _ in geometry_times]
         L.append("")
         L.append("- untextured chain / smallest level alone: median %.2f, worst %.2f, within 1.2 on %d of %d (target <= 1.2)." % (

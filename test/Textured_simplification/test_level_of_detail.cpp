@@ -173,6 +173,58 @@ TEST(LevelOfDetail, FirstLevelInPartsIsTheRunToItAlone) {
   EXPECT_EQ(TS::simplify_to_levels(input, high).parts, 0u);
 }
 
+// A level still large enough to be cut: the collapses down to the next level run in parts again,
+// going on from the quadrics and points the run so far left. Every level is valid and within its
+// target, the chain is the same on one core as on all, the progress counts every face removed
+// once (parts of both runs, and collapses on the whole), and every level stays within a quarter
+// of the error of the chain run on the whole.
+TEST(LevelOfDetail, LevelsLargeEnoughRunInPartsAgain) {
+  const CMGeom::Textured_mesh input(lod_torus(200, 120));  // 48000 faces
+  TS::Level_of_detail_options o;
+  o.target_faces = {48000, 12000, 2400, 480};
+  o.parts_min_faces = 1000;
+  o.part_faces = 2048;  // the input in 16 parts, the 12000-face level in 4; 2400 faces are not cut
+  std::size_t reported = 0;
+  bool monotone = true;
+  TS::Removed_faces_visitor progress([&](std::size_t removed) {
+    monotone = monotone && removed >= reported;
+    reported = removed;
+  });
+  const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o, progress);
+  ASSERT_EQ(r.levels.size(), 4u);
+  EXPECT_EQ(r.parts, 16u);
+  EXPECT_EQ(r.runs_in_parts, 2u);
+  EXPECT_EQ(progress.removed(), 48000 - r.levels.back().mesh.mesh().number_of_faces());
+  EXPECT_TRUE(monotone);
+  EXPECT_LE(reported, progress.removed());
+  // (the second run's parts add to the first's)
+  EXPECT_GT(progress.removed_in_parts(), 48000 - r.faces_after_parts);
+  EXPECT_LT(progress.removed_in_parts(), progress.removed());
+  TS::Level_of_detail_options whole = o;
+  whole.parts_min_faces = 0;
+  const TS::Level_of_detail_result w = TS::simplify_to_levels(input, whole);
+  EXPECT_EQ(w.runs_in_parts, 0u);
+  for (std::size_t i = 1; i < r.levels.size(); ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    const Mesh& level = r.levels[i].mesh.mesh();
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(level));
+    EXPECT_TRUE(CGAL::is_closed(level));
+    EXPECT_LE(level.number_of_faces(), o.target_faces[i]);
+    EXPECT_GE(level.number_of_faces() + 2, o.target_faces[i] + 1);
+    EXPECT_GT(r.levels[i].hausdorff, 0.0);
+    EXPECT_LE(r.levels[i].hausdorff, 1.25 * w.levels[i].hausdorff);
+    EXPECT_LE(r.levels[i].rms, 1.25 * w.levels[i].rms);
+  }
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const TS::Level_of_detail_result serial = TS::simplify_to_levels(input, o);
+  for (std::size_t i = 1; i < r.levels.size(); ++i) {
+    const Mesh& a = serial.levels[i].mesh.mesh();
+    const Mesh& b = r.levels[i].mesh.mesh();
+    ASSERT_EQ(a.number_of_vertices(), b.number_of_vertices()) << "level " << i;
+    EXPECT_TRUE(std::equal(a.points().begin(), a.points().end(), b.points().begin())) << "level " << i;
+  }
+}
+
 TEST(LevelOfDetail, TargetsMustDecreaseStrictly) {
   const CMGeom::Textured_mesh input(lod_torus(20, 16));
   TS::Level_of_detail_options o;

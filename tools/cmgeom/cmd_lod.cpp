@@ -289,6 +289,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       j["seconds_collapse"] = r.seconds_collapse;
       j["parts"] = r.parts;
       if (r.parts > 0) j["faces_after_parts"] = r.faces_after_parts;
+      j["runs_in_parts"] = r.runs_in_parts;
       j["seconds_texture"] = r.seconds_texture;
       j["seconds_error"] = r.seconds_error;
       j["seconds_write"] = seconds_write;

@@ -9,7 +9,9 @@
 // unfitted mesh (Surface_memory::fitted_positions_later()), so a level is vertex for vertex the mesh
 // simplify_mesh() returns for that target. A large untextured
 // input is cut into parts simplified on all cores down to the first collapsed level, as
-// simplify_mesh() cuts it (`parts_min_faces`); the coarser levels then follow on the whole. Levels
+// simplify_mesh() cuts it (`parts_min_faces`), and so is every level still that large on the way
+// down to the next (the quadrics and the memory's points carried into the parts); the rest runs
+// on the whole. Levels
 // may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
 // measure, not a guarantee). Texture: an atlas per level (default), painted from the input
 // followed down the collapses onto that level and baked where no input face lands, or one
@@ -58,6 +60,7 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <list>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -123,10 +126,13 @@ struct Level_of_detail_options {
   /// Untextured input with face targets: when the input has at least this many faces and the first
   /// collapsed level at most half of them, the collapses down to that level run in parts on all
   /// cores first, as simplify_mesh() runs them (internal::simplify_in_parts(), with these two
-  /// settings and its other parts settings at their defaults), then the coarser levels follow on
-  /// the whole, the parts' points kept by the memoryful cost. Where simplify_mesh() itself cuts
-  /// (the target at most a quarter of the faces) the first collapsed level is the mesh it returns
-  /// for that target; the coarser levels are not cut again. 0: never. A textured chain (whose
+  /// settings and its other parts settings at their defaults), then on the whole down to that
+  /// level, the parts' points kept by the memoryful cost. Where simplify_mesh() itself cuts (the
+  /// target at most a quarter of the faces) the first collapsed level is the mesh it returns for
+  /// that target. The same holds level by level: when a level has at least this many faces and the
+  /// next at most half of them, the collapses down to the next level run in parts again, going on
+  /// from the quadrics and points the run so far left (on a 1M-face input with levels 1, 0.25,
+  /// 0.05, 0.01: parts down to 25 % and again down to 5 %). 0: never. A textured chain (whose
   /// collapse history follows the whole mesh) and the error-bound mode run on the whole.
   std::size_t parts_min_faces = Mesh_simplification_options().parts_min_faces;
   /// Faces of a part at least (simplify_mesh()'s `part_faces`).
@@ -154,6 +160,10 @@ struct Level_of_detail_result {
   /// Parts simplified at once before the first collapsed level (0: the whole at once; see
   /// Level_of_detail_options::parts_min_faces), and the faces when they were put back together.
   std::size_t parts = 0, faces_after_parts = 0;
+  /// Runs of the collapses that began in parts: the one down to the first collapsed level, and
+  /// each one down to a coarser level whose finer neighbour is itself large enough to be cut
+  /// (Level_of_detail_options::parts_min_faces). 0: the chain ran on the whole.
+  std::size_t runs_in_parts = 0;
   double seconds_texture = 0;  ///< atlas extraction, baking, mapping through the shared atlas
   /// The error measures: what is left of them once the texture work is done (they run beside
   /// the collapses and the texture work; the error-bound mode measures inside the collapse run).
@@ -281,12 +291,20 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
     const std::vector<std::size_t>* targets;  // the collapsed levels' targets, decreasing
     std::size_t next = 0;
     std::vector<Level_snapshot> snapshots;
+    std::size_t last = 0;                       // the run's last level (its stop; a chain may be taken in several runs)
     bool pending = false;                       // a collapse reached the next target: copy at the next call
     Background_level_errors* errors = nullptr;  // measures each copy, when set
     // the levels' fits, made beside the collapses (each then measured, when asked); finished()
     // waits for them and gives their positions to the copies
     std::vector<std::shared_ptr<Pending_level_fit>> fits;
+    bool complete_when_finished = true;  // false: the caller calls complete_fits() (a run of several)
     Waited_task_group fit_tasks;
+    /// Waits for the levels' fits and gives their positions to the copies.
+    void complete_fits() {
+      fit_tasks.group.wait();
+      for (const auto& fit : fits) set_copied_points(snapshots[fit->level].mesh, fit->v2v, fit->positions);
+      fits.clear();
+    }
   };
   State* state;
   Snapshot_visitor(State* s, const Visitor& v, Collapse_history* h, const Level_fitter* f = nullptr)
@@ -306,14 +324,12 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
   /// A copy is due once the face count reaches the next target (the last target is the run's
   /// stop: the mesh left at the end is that level).
   void note_count(const Surface_mesh& mesh) const {
-    state->pending =
-        state->next + 1 < state->targets->size() && mesh.number_of_faces() <= (*state->targets)[state->next];
+    state->pending = state->next < state->last && mesh.number_of_faces() <= (*state->targets)[state->next];
   }
   void take_pending(const Surface_mesh& mesh) const {
     if (!state->pending) return;
     state->pending = false;
-    while (state->next + 1 < state->targets->size() && mesh.number_of_faces() <= (*state->targets)[state->next])
-      take(mesh);
+    while (state->next < state->last && mesh.number_of_faces() <= (*state->targets)[state->next]) take(mesh);
   }
   /// The copy now; its fit (and then its error) on another core while the collapses go on: the
   /// fit reads a copy of what it needs (Surface_memory::fitted_positions_later()).
@@ -340,11 +356,10 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
   }
   /// The levels not taken yet (the last, and any the run did not reach) are the mesh the run ends
   /// with: copied now, while the history's points still name its faces; then every level gets its
-  /// fitted positions.
+  /// fitted positions (unless the caller completes them later, State::complete_when_finished).
   void finished(const Surface_mesh& mesh) const {
-    while (state->snapshots.size() < state->targets->size()) take(mesh);
-    state->fit_tasks.group.wait();
-    for (const auto& fit : state->fits) set_copied_points(state->snapshots[fit->level].mesh, fit->v2v, fit->positions);
+    while (state->next <= state->last) take(mesh);
+    if (state->complete_when_finished) state->complete_fits();
   }
 };
 
@@ -415,56 +430,81 @@ inline Mesh_simplification_options chain_simplification_options(const Level_of_d
   return o;
 }
 
-/// The collapses of a chain on `work` (simplify_mesh()'s engine, cost and memory, without its final
-/// fit and without compacting `work`) until `stop`, with the visitor `make_visitor(fitter)` builds
-/// around the run's Level_fitter (empty without the memoryful cost or without fit rounds), which
-/// is valid until the run's end (the visitor's OnFinished included). With `parts_target` > 0 the
-/// collapses down to that many faces run in parts first when simplify_mesh() would run them so
-/// (internal::simplify_in_parts(); the visitor sees only the collapses on the whole that follow,
-/// `progress` the faces the parts remove); returns the number of parts (0: none) and the faces they left.
-template <class Stop, class MakeVisitor>
-std::pair<std::size_t, std::size_t> collapse_chain(Surface_mesh& work, const Level_of_detail_options& options,
-                                                   const Stop& stop, std::size_t prune_min_faces,
-                                                   const MakeVisitor& make_visitor, std::size_t parts_target = 0,
-                                                   Parts_progress* progress = nullptr) {
-  using Mesh = Surface_mesh;
-  using VPM = Mesh::Property_map<Mesh::Vertex_index, Point_3>;
-  check_fit_options(options.memory.fit);
-  Area_weighted_quadric_policies<Mesh> policy(work, options.quadric);
-  std::optional<Surface_memory<Mesh, VPM>> memory;
-  int part_levels = 0;
-  if (parts_target > 0) {
-    const Mesh_simplification_options so = chain_simplification_options(options, parts_target);
-    const std::size_t faces = work.number_of_faces();
-    // (simplify_mesh() cuts when the target is at most a quarter of the faces, part_levels(); a
-    // chain, whose coarser levels then come on one core, gains from the parts down to half)
-    if (2 * parts_target <= faces) part_levels = internal::halvings_into_parts(faces, so);
-    if (part_levels > 0) simplify_in_parts(work, parts_target, part_levels, so, policy, memory, progress);
-  }
-  const std::size_t faces_after_parts = part_levels > 0 ? work.number_of_faces() : 0;
-  if (part_levels == 0 && options.surface_memory) memory.emplace(work, work.points(), options.memory);
-  Surface_memory<Mesh, VPM>* m = memory ? &*memory : nullptr;
-  Level_fitter fitter;
-  if (m && options.memory.fit.rounds > 0)
-    fitter = [&](const Mesh& mesh) {
-      return m->fitted_positions_later(mesh, options.memory.fit,
-                                       [&](Mesh::Vertex_index v) { return policy.quadric(v); });
-    };
-  collapse_with_placement(policy, false, [&](const auto& placement) {
-    edge_collapse(work, stop,
-                  CMGeom::parameters::prune_components(
-                      options.prune_components ? prune_min_faces : 0,
-                      CMGeom::parameters::surface_memory(
-                          m, CMGeom::parameters::edge_flips(
-                                 options.flips, CGAL::parameters::get_cost(policy).get_placement(placement).visitor(
-                                                    make_visitor(&fitter))))));
-  });
-  return {part_levels > 0 ? std::size_t(1) << part_levels : 0, faces_after_parts};
-}
-
 inline double seconds_since_lod(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+/// The collapses of a chain on `work`: simplify_mesh()'s engine, cost and memory, without its final
+/// fit and without compacting `work`, in runs that each go on from where the last one stopped
+/// (quadrics and the memory's points carried over).
+class Chain_collapses {
+public:
+  using Mesh = Surface_mesh;
+  using VPM = Mesh::Property_map<Mesh::Vertex_index, Point_3>;
+
+  Chain_collapses(Surface_mesh& work, const Level_of_detail_options& options)
+      : work_(work), options_(options), policy_(work, options.quadric) {
+    check_fit_options(options.memory.fit);
+  }
+  Chain_collapses(const Chain_collapses&) = delete;
+  Chain_collapses& operator=(const Chain_collapses&) = delete;
+
+  /// Whether a run to `target` faces from `faces` faces starts with collapses in parts (see
+  /// run()): the input is large enough for simplify_mesh() to cut it, and the run removes at
+  /// least half of it (simplify_mesh() cuts when its target is at most a quarter of the faces,
+  /// part_levels(); a chain, whose coarser levels then come on one core, gains from the parts down
+  /// to half).
+  int part_levels(std::size_t faces, std::size_t target) const {
+    if (target == 0 || 2 * target > faces) return 0;
+    return halvings_into_parts(faces, chain_simplification_options(options_, target));
+  }
+
+  /// Collapses until `stop`, with the visitor `make_visitor(fitter)` builds around the run's
+  /// Level_fitter (empty without the memoryful cost or without fit rounds), which is valid until
+  /// the run's end (the visitor's OnFinished included). With `parts_target` > 0 the collapses down
+  /// to that many faces run in parts first when part_levels() says so
+  /// (internal::simplify_in_parts(); the visitor sees only the collapses on the whole that follow,
+  /// `progress` the faces the parts remove); returns the number of parts (0: none) and the faces
+  /// they left.
+  template <class Stop, class MakeVisitor>
+  std::pair<std::size_t, std::size_t> run(const Stop& stop, std::size_t prune_min_faces,
+                                          const MakeVisitor& make_visitor, std::size_t parts_target = 0,
+                                          Parts_progress* progress = nullptr) {
+    const int levels = part_levels(work_.number_of_faces(), parts_target);
+    if (levels > 0)
+      simplify_in_parts(work_, parts_target, levels, chain_simplification_options(options_, parts_target), policy_,
+                        memory_, progress, runs_ > 0);
+    const std::size_t faces_after_parts = levels > 0 ? work_.number_of_faces() : 0;
+    if (runs_ == 0 && levels == 0 && options_.surface_memory) memory_.emplace(work_, work_.points(), options_.memory);
+    // (a later run without parts keeps the quadrics the last run left)
+    if (runs_ > 0 && levels == 0) policy_.keep_vertex_data_once();
+    ++runs_;
+    Surface_memory<Mesh, VPM>* m = memory_ ? &*memory_ : nullptr;
+    Level_fitter fitter;
+    if (m && options_.memory.fit.rounds > 0)
+      fitter = [this, m](const Mesh& mesh) {
+        return m->fitted_positions_later(mesh, options_.memory.fit,
+                                         [this](Mesh::Vertex_index v) { return policy_.quadric(v); });
+      };
+    collapse_with_placement(policy_, false, [&](const auto& placement) {
+      edge_collapse(work_, stop,
+                    CMGeom::parameters::prune_components(
+                        options_.prune_components ? prune_min_faces : 0,
+                        CMGeom::parameters::surface_memory(
+                            m, CMGeom::parameters::edge_flips(
+                                   options_.flips, CGAL::parameters::get_cost(policy_).get_placement(placement).visitor(
+                                                       make_visitor(&fitter))))));
+    });
+    return {levels > 0 ? std::size_t(1) << levels : 0, faces_after_parts};
+  }
+
+private:
+  Surface_mesh& work_;
+  const Level_of_detail_options& options_;
+  Area_weighted_quadric_policies<Mesh> policy_;
+  std::optional<Surface_memory<Mesh, VPM>> memory_;
+  int runs_ = 0;
+};
 
 }  // namespace internal
 
@@ -533,7 +573,8 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
     typename EV::State state{&reference, options.error_step, options.max_errors.back(),
                              double(faces_in) * options.error_step};
     internal::Face_count_or_flag_stop<Surface_mesh> stop{Face_count_stop_predicate<Surface_mesh>(work, 1), &state.stop};
-    internal::collapse_chain(work, options, stop, 1, [&](const internal::Level_fitter* fitter) {
+    internal::Chain_collapses chain(work, options);
+    chain.run(stop, 1, [&](const internal::Level_fitter* fitter) {
       return EV{&state, visitor, history ? &*history : nullptr, fitter};
     });
     targets.clear();
@@ -584,21 +625,45 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
         history->follow_levels(options.shared_texture);
         input_points = history->add_input(work);
       }
-      // (simplify_mesh()'s run to the smallest target, whole: snapshots need the whole mesh at
-      // every collapse)
-      // (the last level, and any the run never reached, are taken when it finishes)
-      typename internal::Snapshot_visitor<Visitor>::State state{&collapsed, 0, {}};
-      if (errors) state.errors = &*errors;
-      // (an untextured chain: the collapses down to the first level in parts, when that pays)
+      // (a textured chain: simplify_mesh()'s run to the smallest target, whole, one run: the
+      // collapse history needs the whole mesh at every collapse; an untextured one: the collapses
+      // down to a level run in parts on all cores first when that pays, Chain_collapses::part_levels(),
+      // a run of the whole then takes that level and those after it down to the next level whose
+      // collapses run in parts)
+      // (the last level of a run, and any the run never reached, are taken when it finishes)
+      internal::Chain_collapses chain(work, options);
       internal::Parts_progress progress;
       internal::report_parts_progress_to(visitor, progress);
-      std::tie(res.parts, res.faces_after_parts) = internal::collapse_chain(
-          work, options, Face_count_stop_predicate<Surface_mesh>(work, collapsed.back()), collapsed.back(),
-          [&](const internal::Level_fitter* fitter) {
-            return internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr, fitter};
-          },
-          history ? 0 : collapsed.front(), &progress);
-      meshes = std::move(state.snapshots);
+      // (the levels of a run are fitted beside the runs that follow: each run's state is kept
+      // until all are done)
+      using Run_state = typename internal::Snapshot_visitor<Visitor>::State;
+      std::list<Run_state> runs;
+      for (std::size_t first = 0; first < collapsed.size();) {
+        std::size_t last = first;  // the run's last level
+        if (!history)
+          while (last + 1 < collapsed.size() && chain.part_levels(collapsed[last], collapsed[last + 1]) == 0) ++last;
+        else
+          last = collapsed.size() - 1;
+        Run_state& state = runs.emplace_back();
+        state.targets = &collapsed;
+        state.next = first;
+        state.last = last;
+        state.complete_when_finished = false;
+        if (errors) state.errors = &*errors;
+        const auto [parts, faces_after_parts] = chain.run(
+            Face_count_stop_predicate<Surface_mesh>(work, collapsed[last]), collapsed.back(),
+            [&](const internal::Level_fitter* fitter) {
+              return internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr, fitter};
+            },
+            history ? 0 : collapsed[first], &progress);
+        if (first == 0) std::tie(res.parts, res.faces_after_parts) = std::tie(parts, faces_after_parts);
+        res.runs_in_parts += parts > 0;
+        first = last + 1;
+      }
+      for (Run_state& state : runs) {
+        state.complete_fits();
+        for (auto& snapshot : state.snapshots) meshes.push_back(std::move(snapshot));
+      }
     }
   } catch (...) {
     prepare.wait();

@@ -287,11 +287,13 @@ private:
 /// algorithm, which takes part in the parts' collapses) calls `report` with the count so far at its
 /// first collapse after every `step` more faces, and at the stage's end with the exact count. So a
 /// progress display moves during the parts' stage, and its callback stays on the caller's thread.
-/// Nothing is counted without a `report`.
+/// Nothing is counted without a `report`. One object may serve several stages (a chain's runs,
+/// level_of_detail.h): the counts go on from the stages before.
 struct Parts_progress {
   static constexpr std::size_t step = 2048;  // (about 1024 collapses, as Removed_faces_visitor reports)
   std::function<void(std::size_t removed)> report;
   std::atomic<std::size_t> removed{0};
+  std::size_t before = 0;  // faces removed by the stages that ended (exact counts)
   std::thread::id caller = std::this_thread::get_id();
   std::size_t next = step;  // (the caller's thread only)
   void collapsed(std::size_t faces) {
@@ -397,11 +399,15 @@ void collapse_with_placement(const Policy& policy, bool endpoint, Fn fn) {
 /// The first stage (see the file comment): on return `mesh` is the parts put back together,
 /// `policy` holds their quadrics for the next initialize(), `memory` their points (if asked).
 /// `progress` (optional) counts the faces the stage removes and reports them (Parts_progress).
+/// With `resume`, `mesh` is the result of collapses already made (removed elements allowed) and
+/// the stage goes on from them: each part takes its vertices' quadrics and weights from `policy`
+/// and its faces' points from `memory` (when set), instead of computing them from its faces and
+/// vertices (level_of_detail.h runs a chain's levels so, one stage per level).
 template <class Point, class Memory>
 void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int levels,
                        const Mesh_simplification_options& options,
                        Area_weighted_quadric_policies<CGAL::Surface_mesh<Point>>& policy, std::optional<Memory>& memory,
-                       Parts_progress* progress = nullptr) {
+                       Parts_progress* progress = nullptr, bool resume = false) {
   using Mesh = CGAL::Surface_mesh<Point>;
   using Policy = Area_weighted_quadric_policies<Mesh>;
   using V = typename Mesh::Vertex_index;
@@ -425,6 +431,23 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
     });
   }
   std::vector<std::uint32_t>().swap(label);
+  // resumed: the points of the run so far go to the parts (face i of part k is the mesh's face
+  // faces_of[k][i]); a point on no face is dropped, as the merge below drops it
+  using Point_list = std::vector<std::tuple<typename Mesh::Face_index, CM::internal::Vec3, double>>;
+  std::vector<Point_list> resumed_points(resume && memory ? n : 0);
+  if (resume && memory) {
+    using Face = typename Mesh::Face_index;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> part_face(mesh.num_faces(), {no_index, no_index});
+    for (std::size_t k = 0; k < n; ++k)
+      for (std::size_t i = 0; i < faces_of[k].size(); ++i)
+        part_face[faces_of[k][i]] = {std::uint32_t(k), std::uint32_t(i)};
+    memory->for_each_point([&](Face f, const CM::internal::Vec3& p, double area) {
+      if (f == Mesh::null_face()) return;
+      const auto [k, i] = part_face[std::size_t(f)];
+      if (k != no_index) resumed_points[k].emplace_back(Face(size_type(i)), p, area);
+    });
+    memory.reset();
+  }
   std::vector<std::vector<std::uint32_t>>().swap(faces_of);
   CMGeom::internal::release_freed_memory();  // the worker threads' arenas keep what make_part freed
   // then the parts' quadrics, the input's numbers: a vertex inside a part has its whole star
@@ -434,13 +457,14 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   // the input, taken first, so that the input can be freed before the parts' quadrics are made
   using Vertex_data = std::pair<typename Mesh::Vertex_index, std::pair<Quadric, double>>;
   std::vector<std::vector<Vertex_data>> border_data(n);
-  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
-    const Mesh& pm = parts[k].mesh;
-    for (auto u : pm.vertices())
-      if (CGAL::is_border(u, pm))
-        border_data[k].emplace_back(
-            u, policy.star_vertex_data(mesh, mesh.points(), V(size_type(parts[k].to_input[std::size_t(u)]))));
-  });
+  if (!resume)
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
+      const Mesh& pm = parts[k].mesh;
+      for (auto u : pm.vertices())
+        if (CGAL::is_border(u, pm))
+          border_data[k].emplace_back(
+              u, policy.star_vertex_data(mesh, mesh.points(), V(size_type(parts[k].to_input[std::size_t(u)]))));
+    });
   if (options.release_input_in_parts) {
     if (options.before_changing_input) options.before_changing_input();
     mesh.clear_without_removing_property_maps();
@@ -449,6 +473,14 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     const Mesh& pm = parts[k].mesh;
     Policy& pp = part_policy[k].emplace(parts[k].mesh, options.quadric);
+    if (resume) {  // (every vertex, inner or not, as the run so far left it)
+      for (auto u : pm.vertices()) {
+        const V w(size_type(parts[k].to_input[std::size_t(u)]));
+        pp.set_vertex_data(u, policy.quadric(w), policy.weight(w));
+      }
+      pp.keep_vertex_data_once();
+      return;
+    }
     pp.initialize(pm, pm.points());
     for (const auto& [u, data] : border_data[k]) pp.set_vertex_data(u, data.first, data.second);
     std::vector<Vertex_data>().swap(border_data[k]);
@@ -505,7 +537,6 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   // The quadrics and points of the parts first .. first + count - 1, put back together as `merged`,
   // on its vertices and faces: a cut vertex's quadric is its input quadric plus what each part
   // added to it. Each part's policy and memory are freed once taken.
-  using Point_list = std::vector<std::tuple<typename Mesh::Face_index, CM::internal::Vec3, double>>;
   auto gather = [&](std::size_t first, std::size_t count, const Merged_parts<Point>& merged, std::vector<Quadric>& q,
                     std::vector<double>& w, Point_list& points) {
     const std::size_t nv = merged.points.size();
@@ -559,8 +590,13 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   };
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     Memory* pmem = nullptr;
-    if (options.surface_memory)
+    if (options.surface_memory && !resumed_points.empty()) {
+      pmem = &part_memory[k].emplace(parts[k].mesh, parts[k].mesh.points(), resumed_points[k],
+                                     memory_options(parts[k].input_vertices));
+      Point_list().swap(resumed_points[k]);
+    } else if (options.surface_memory) {
       pmem = &part_memory[k].emplace(parts[k].mesh, parts[k].mesh.points(), memory_options(parts[k].input_vertices));
+    }
     simplify_part(parts[k], *part_policy[k], pmem);
   });
   // then level by level down to parts_whole_levels, each pair of sibling parts put back together
@@ -634,7 +670,10 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   if (options.surface_memory) memory.emplace(mesh, mesh.points(), points, options.memory);
   Point_list().swap(points);
   // (every input face was in one part: the faces gone are those the collapses removed)
-  if (progress && progress->report) progress->report(faces_in - mesh.number_of_faces());
+  if (progress) {
+    progress->before += faces_in - mesh.number_of_faces();
+    if (progress->report) progress->report(progress->before);
+  }
 }
 
 }  // namespace internal
@@ -850,7 +889,7 @@ using Precompiled_memory =
     Surface_memory<Precompiled_mesh, Precompiled_mesh::Property_map<Precompiled_mesh::Vertex_index, Precompiled_point>>;
 extern template void simplify_in_parts<Precompiled_point, Precompiled_memory>(
     Precompiled_mesh&, std::size_t, int, const Mesh_simplification_options&,
-    Area_weighted_quadric_policies<Precompiled_mesh>&, std::optional<Precompiled_memory>&, Parts_progress*);
+    Area_weighted_quadric_policies<Precompiled_mesh>&, std::optional<Precompiled_memory>&, Parts_progress*, bool);
 }  // namespace internal
 extern template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, Edge_collapse_visitor_base>(
     internal::Precompiled_mesh&, const Mesh_simplification_options&, Edge_collapse_visitor_base);
