@@ -105,6 +105,31 @@ TEST(LevelOfDetail, LevelsAreSnapshotsOfOneRun) {
   }
 }
 
+// Every collapsed level of `r` is a valid closed mesh within one face of its target (a collapse
+// removes two), fewer faces than the level before it.
+void expect_levels_valid_within_targets(const TS::Level_of_detail_result& r, const std::vector<std::size_t>& targets) {
+  for (std::size_t i = 1; i < r.levels.size(); ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    const Mesh& level = r.levels[i].mesh.mesh();
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(level));
+    EXPECT_TRUE(CGAL::is_closed(level));
+    EXPECT_LE(level.number_of_faces(), targets[i]);
+    EXPECT_GE(level.number_of_faces() + 2, targets[i] + 1);
+    if (i > 1) EXPECT_LT(level.number_of_faces(), r.levels[i - 1].mesh.mesh().number_of_faces());
+  }
+}
+
+// The collapsed levels of `a` and `b` have the same vertices at the same positions.
+void expect_same_level_points(const TS::Level_of_detail_result& a, const TS::Level_of_detail_result& b) {
+  ASSERT_EQ(a.levels.size(), b.levels.size());
+  for (std::size_t i = 1; i < a.levels.size(); ++i) {
+    const Mesh& x = a.levels[i].mesh.mesh();
+    const Mesh& y = b.levels[i].mesh.mesh();
+    ASSERT_EQ(x.number_of_vertices(), y.number_of_vertices()) << "level " << i;
+    EXPECT_TRUE(std::equal(x.points().begin(), x.points().end(), y.points().begin())) << "level " << i;
+  }
+}
+
 // A large untextured input: the collapses down to the first level run in parts (as simplify_mesh()
 // cuts the input for that target), and the first level is the mesh simplify_mesh() returns for it;
 // the coarser levels follow on the whole, valid and within their targets; the chain is the same on
@@ -136,27 +161,13 @@ TEST(LevelOfDetail, FirstLevelInPartsIsTheRunToItAlone) {
     ASSERT_EQ(alone.number_of_vertices(), level.number_of_vertices());
     EXPECT_EQ(sorted_triangles(level), sorted_triangles(alone)) << "not the mesh of the run to this level alone";
   }
-  for (std::size_t i = 1; i < r.levels.size(); ++i) {
-    SCOPED_TRACE("level " + std::to_string(i));
-    const Mesh& level = r.levels[i].mesh.mesh();
-    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(level));
-    EXPECT_TRUE(CGAL::is_closed(level));
-    EXPECT_LE(level.number_of_faces(), o.target_faces[i]);
-    EXPECT_GE(level.number_of_faces() + 2, o.target_faces[i] + 1);
-    if (i > 1) EXPECT_LT(level.number_of_faces(), r.levels[i - 1].mesh.mesh().number_of_faces());
-  }
+  expect_levels_valid_within_targets(r, o.target_faces);
   // the same on one core
   {
     tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
     const TS::Level_of_detail_result serial = TS::simplify_to_levels(input, o);
-    ASSERT_EQ(serial.levels.size(), r.levels.size());
     EXPECT_EQ(serial.faces_after_parts, r.faces_after_parts);
-    for (std::size_t i = 1; i < r.levels.size(); ++i) {
-      const Mesh& a = serial.levels[i].mesh.mesh();
-      const Mesh& b = r.levels[i].mesh.mesh();
-      ASSERT_EQ(a.number_of_vertices(), b.number_of_vertices()) << "level " << i;
-      EXPECT_TRUE(std::equal(a.points().begin(), a.points().end(), b.points().begin())) << "level " << i;
-    }
+    expect_same_level_points(serial, r);
   }
   // without parts: the first level is the run on the whole to it
   TS::Level_of_detail_options whole = o;
@@ -204,25 +215,15 @@ TEST(LevelOfDetail, LevelsLargeEnoughRunInPartsAgain) {
   whole.parts_min_faces = 0;
   const TS::Level_of_detail_result w = TS::simplify_to_levels(input, whole);
   EXPECT_EQ(w.runs_in_parts, 0u);
+  expect_levels_valid_within_targets(r, o.target_faces);
   for (std::size_t i = 1; i < r.levels.size(); ++i) {
     SCOPED_TRACE("level " + std::to_string(i));
-    const Mesh& level = r.levels[i].mesh.mesh();
-    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(level));
-    EXPECT_TRUE(CGAL::is_closed(level));
-    EXPECT_LE(level.number_of_faces(), o.target_faces[i]);
-    EXPECT_GE(level.number_of_faces() + 2, o.target_faces[i] + 1);
     EXPECT_GT(r.levels[i].hausdorff, 0.0);
     EXPECT_LE(r.levels[i].hausdorff, 1.25 * w.levels[i].hausdorff);
     EXPECT_LE(r.levels[i].rms, 1.25 * w.levels[i].rms);
   }
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-  const TS::Level_of_detail_result serial = TS::simplify_to_levels(input, o);
-  for (std::size_t i = 1; i < r.levels.size(); ++i) {
-    const Mesh& a = serial.levels[i].mesh.mesh();
-    const Mesh& b = r.levels[i].mesh.mesh();
-    ASSERT_EQ(a.number_of_vertices(), b.number_of_vertices()) << "level " << i;
-    EXPECT_TRUE(std::equal(a.points().begin(), a.points().end(), b.points().begin())) << "level " << i;
-  }
+  expect_same_level_points(TS::simplify_to_levels(input, o), r);
 }
 
 TEST(LevelOfDetail, TargetsMustDecreaseStrictly) {

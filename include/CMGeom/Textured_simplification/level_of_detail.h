@@ -7,7 +7,8 @@
 // gets the final fit of its vertices to the input's points that simplify_mesh() gives the mesh it
 // ends with (`memory.fit`), made on the copy alone, on another core while the run goes on from the
 // unfitted mesh (Surface_memory::fitted_positions_later()), so a level is vertex for vertex the mesh
-// simplify_mesh() returns for that target. A large untextured
+// simplify_mesh() returns for that target (on the whole, and where only the first level ran in
+// parts; a level after a run cut again goes on from the levels before it). A large untextured
 // input is cut into parts simplified on all cores down to the first collapsed level, as
 // simplify_mesh() cuts it (`parts_min_faces`), and so is every level still that large on the way
 // down to the next (the quadrics and the memory's points carried into the parts); the rest runs
