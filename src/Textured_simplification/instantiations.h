@@ -14,13 +14,14 @@
 #include <CMGeom/Textured_simplification/simplify_mesh.h>
 #include <CMGeom/Textured_simplification/simplify_textured_mesh.h>
 
-#define CMGEOM_TS_INSTANTIATE_FOR_VISITOR(V)                                                  \
-  template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, V>(          \
-      internal::Precompiled_mesh&, const Mesh_simplification_options&, V);                    \
-  template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, V>(          \
-      internal::Precompiled_mesh&, std::size_t, const Mesh_simplification_options&, V);       \
-  template Textured_simplification_result simplify_textured_mesh<Index_texture_resampler, V>( \
-      Textured_mesh&, const Textured_simplification_options&, V);                             \
-  template Level_of_detail_result simplify_to_levels<V>(const Textured_mesh&, const Level_of_detail_options&, V)
+#define CMGEOM_TS_INSTANTIATE_FOR_VISITOR(V)                                                            \
+  template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, V>(                    \
+      internal::Precompiled_mesh&, const Mesh_simplification_options&, V);                              \
+  template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, V>(                    \
+      internal::Precompiled_mesh&, std::size_t, const Mesh_simplification_options&, V);                 \
+  template Textured_simplification_result simplify_textured_mesh<Index_texture_resampler, V>(           \
+      Textured_mesh&, const Textured_simplification_options&, V);                                       \
+  template Level_of_detail_result internal::simplify_to_levels<V>(const Textured_mesh&, Textured_mesh*, \
+                                                                  const Level_of_detail_options&, V)
 
 #endif  // CMGEOM_SRC_TEXTURED_SIMPLIFICATION_INSTANTIATIONS_H

@@ -226,6 +226,69 @@ TEST(LevelOfDetail, LevelsLargeEnoughRunInPartsAgain) {
   expect_same_level_points(TS::simplify_to_levels(input, o), r);
 }
 
+// Given the input (an rvalue), the chain moves it into the level that is the input, where the
+// const overload copies it; the levels are the same either way, and each keeps its faces'
+// materials.
+TEST(LevelOfDetail, GivenInputIsMovedIntoItsLevel) {
+  CMGeom::Textured_mesh input(lod_torus(60, 40));  // 4800 faces
+  input.materials().resize(2);
+  input.materials()[0].name = "left";
+  input.materials()[1].name = "right";
+  for (auto f : input.mesh().faces()) {
+    const Point_3 c =
+        CGAL::centroid(input.mesh().point(input.mesh().target(input.mesh().halfedge(f))),
+                       input.mesh().point(input.mesh().target(input.mesh().next(input.mesh().halfedge(f)))),
+                       input.mesh().point(input.mesh().source(input.mesh().halfedge(f))));
+    input.material_map()[f] = c.x() < 0 ? 0 : 1;
+  }
+  TS::Level_of_detail_options o;
+  o.target_faces = {4800, 1200, 240};
+  const TS::Level_of_detail_result copied = TS::simplify_to_levels(input, o);
+  CMGeom::Textured_mesh given = input;
+  const TS::Level_of_detail_result moved = TS::simplify_to_levels(std::move(given), o);
+  EXPECT_EQ(given.mesh().number_of_vertices(), 0u);  // moved from
+  ASSERT_EQ(moved.levels.size(), 3u);
+  ASSERT_TRUE(moved.levels[0].is_input);
+  const Mesh& level0 = moved.levels[0].mesh.mesh();
+  ASSERT_EQ(level0.number_of_faces(), input.mesh().number_of_faces());
+  EXPECT_TRUE(std::equal(level0.points().begin(), level0.points().end(), input.mesh().points().begin()));
+  EXPECT_EQ(sorted_triangles(level0), sorted_triangles(input.mesh()));
+  ASSERT_EQ(moved.levels[0].mesh.materials().size(), 2u);
+  expect_same_level_points(copied, moved);
+  // every level keeps its faces' materials: away from the cut at x = 0, that of the side it lies on
+  auto expect_materials_kept = [](const TS::Level_of_detail_result& r) {
+    for (std::size_t i = 0; i < r.levels.size(); ++i) {
+      SCOPED_TRACE("level " + std::to_string(i));
+      const CMGeom::Textured_mesh& level = r.levels[i].mesh;
+      const Mesh& m = level.mesh();
+      EXPECT_EQ(level.materials().size(), 2u);
+      std::size_t by_material[2] = {0, 0};
+      for (auto f : m.faces()) {
+        const int k = level.material(f);
+        ASSERT_TRUE(k == 0 || k == 1);
+        const Point_3 c = CGAL::centroid(m.point(m.target(m.halfedge(f))), m.point(m.target(m.next(m.halfedge(f)))),
+                                         m.point(m.source(m.halfedge(f))));
+        if (std::abs(c.x()) > 0.5) EXPECT_EQ(k, c.x() < 0 ? 0 : 1);
+        ++by_material[k];
+      }
+      EXPECT_GT(by_material[0], 0u);
+      EXPECT_GT(by_material[1], 0u);
+    }
+  };
+  expect_materials_kept(moved);
+  // the parts' stage would lose them: an input whose faces use several materials runs on the
+  // whole, where the same mesh with one material is cut
+  TS::Level_of_detail_options small = o;
+  small.parts_min_faces = 2048;
+  small.part_faces = 1024;
+  const TS::Level_of_detail_result whole = TS::simplify_to_levels(input, small);
+  EXPECT_EQ(whole.parts, 0u);
+  expect_materials_kept(whole);
+  CMGeom::Textured_mesh one = input;
+  for (auto f : one.mesh().faces()) one.material_map()[f] = 0;
+  EXPECT_GT(TS::simplify_to_levels(one, small).parts, 0u);
+}
+
 TEST(LevelOfDetail, TargetsMustDecreaseStrictly) {
   const CMGeom::Textured_mesh input(lod_torus(20, 16));
   TS::Level_of_detail_options o;

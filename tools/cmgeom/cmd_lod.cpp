@@ -26,6 +26,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -197,7 +198,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     cmgeom_cli::Progress bar("lod", double(faces_in > last ? faces_in - last : 0), "faces removed");
     cmgeom_cli::Collapse_progress state{&bar, double(faces_in > last ? faces_in - last : 0)};
     const double t0 = cmgeom_cli::now_seconds();
-    TS::Level_of_detail_result r = TS::simplify_to_levels(tm, lo, state.visitor());
+    TS::Level_of_detail_result r = TS::simplify_to_levels(std::move(tm), lo, state.visitor());  // (tm not read after)
     state.done(faces_in, r.levels.empty() ? faces_in : r.levels.back().mesh.mesh().number_of_faces());
     const double seconds = cmgeom_cli::now_seconds() - t0;
     if (o->shared_texture && r.shared_texture_hidden > 0.05)

@@ -134,7 +134,8 @@ struct Level_of_detail_options {
   /// next at most half of them, the collapses down to the next level run in parts again, going on
   /// from the quadrics and points the run so far left (on a 1M-face input with levels 1, 0.25,
   /// 0.05, 0.01: parts down to 25 % and again down to 5 %). 0: never. A textured chain (whose
-  /// collapse history follows the whole mesh) and the error-bound mode run on the whole.
+  /// collapse history follows the whole mesh), the error-bound mode and an input whose faces use
+  /// several materials (which the parts would not keep) run on the whole.
   std::size_t parts_min_faces = Mesh_simplification_options().parts_min_faces;
   /// Faces of a part at least (simplify_mesh()'s `part_faces`).
   std::size_t part_faces = Mesh_simplification_options().part_faces;
@@ -438,6 +439,23 @@ inline double seconds_since_lod(std::chrono::steady_clock::time_point t0) {
 /// The collapses of a chain on `work`: simplify_mesh()'s engine, cost and memory, without its final
 /// fit and without compacting `work`, in runs that each go on from where the last one stopped
 /// (quadrics and the memory's points carried over).
+/// Whether the faces of `input` use more than one material.
+inline bool faces_have_several_materials(const Textured_mesh& input) {
+  const Surface_mesh& m = input.mesh();
+  bool first = true;
+  int seen = 0;
+  for (Surface_mesh::Face_index f : m.faces()) {
+    const int k = input.material(f);
+    if (first) {
+      seen = k;
+      first = false;
+    } else if (k != seen) {
+      return true;
+    }
+  }
+  return false;
+}
+
 class Chain_collapses {
 public:
   using Mesh = Surface_mesh;
@@ -507,16 +525,12 @@ private:
   int runs_ = 0;
 };
 
-}  // namespace internal
-
-/// Builds the level-of-detail chain of `input` (see the file comment). `input` is not changed.
-/// `visitor` receives the collapse engine's calls (progress; the faces removed by an untextured
-/// chain's parts reach it through OnPartsProgress(), as in simplify_mesh()). Throws Invalid_input
-/// for targets that are not strictly decreasing or are 0, error bounds that are not strictly
-/// increasing or are negative, or a non-triangle mesh.
-template <class Visitor = Edge_collapse_visitor_base>
-Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Level_of_detail_options& options,
-                                          Visitor visitor = Visitor()) {
+/// simplify_to_levels() of `input`; with `owned` (the input itself, given to the chain) the levels
+/// that are the input get it moved in at the end instead of a copy, unless they address a shared
+/// texture (then they are the input with new UVs, and the input is read until the end).
+template <class Visitor>
+Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_mesh* owned,
+                                          const Level_of_detail_options& options, Visitor visitor) {
   using Clock = std::chrono::steady_clock;
   const auto t_start = Clock::now();
   const bool by_error = !options.max_errors.empty();
@@ -549,6 +563,10 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
 
   Level_of_detail_result res;
   const std::size_t faces_in = input.mesh().number_of_faces();
+  // (the parts' stage rebuilds the mesh from its parts without the faces' materials: an input whose
+  // faces have several runs on the whole, its levels keeping each face's material)
+  Level_of_detail_options chain_options = options;
+  if (internal::faces_have_several_materials(input)) chain_options.parts_min_faces = 0;
   Metrics::Error_options eo;
   eo.samples = options.error_samples > 0 ? options.error_samples : 2 * faces_in;
   eo.vertex_field = false;
@@ -574,7 +592,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
     typename EV::State state{&reference, options.error_step, options.max_errors.back(),
                              double(faces_in) * options.error_step};
     internal::Face_count_or_flag_stop<Surface_mesh> stop{Face_count_stop_predicate<Surface_mesh>(work, 1), &state.stop};
-    internal::Chain_collapses chain(work, options);
+    internal::Chain_collapses chain(work, chain_options);
     chain.run(stop, 1, [&](const internal::Level_fitter* fitter) {
       return EV{&state, visitor, history ? &*history : nullptr, fitter};
     });
@@ -632,7 +650,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       // a run of the whole then takes that level and those after it down to the next level whose
       // collapses run in parts)
       // (the last level of a run, and any the run never reached, are taken when it finishes)
-      internal::Chain_collapses chain(work, options);
+      internal::Chain_collapses chain(work, chain_options);
       internal::Parts_progress progress;
       internal::report_parts_progress_to(visitor, progress);
       // (the levels of a run are fitted beside the runs that follow: each run's state is kept
@@ -673,11 +691,12 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
   res.seconds_collapse = internal::seconds_since_lod(t_collapse);
 
   res.levels.resize(targets.size());
+  const bool give_input = owned != nullptr && !options.shared_texture;
   for (std::size_t i = 0; i < targets.size(); ++i) {
     Level_of_detail& l = res.levels[i];
     l.target_faces = targets[i];
     if (i < kept) {
-      l.mesh = input;
+      if (!give_input) l.mesh = input;  // (else at the end)
       l.is_input = true;
     } else {
       l.mesh = Textured_mesh(std::move(meshes[i - kept].mesh));
@@ -806,19 +825,42 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Leve
       res.seconds_error = internal::seconds_since_lod(t_error);
     }
   }
+  if (give_input)  // (nothing reads the input any more)
+    for (std::size_t i = 0; i < kept; ++i) res.levels[i].mesh = i + 1 < kept ? input : std::move(*owned);
   res.seconds = internal::seconds_since_lod(t_start);
   return res;
+}
+
+}  // namespace internal
+
+/// Builds the level-of-detail chain of `input` (see the file comment). `input` is not changed.
+/// `visitor` receives the collapse engine's calls (progress; the faces removed by an untextured
+/// chain's parts reach it through OnPartsProgress(), as in simplify_mesh()). Throws Invalid_input
+/// for targets that are not strictly decreasing or are 0, error bounds that are not strictly
+/// increasing or are negative, or a non-triangle mesh.
+template <class Visitor = Edge_collapse_visitor_base>
+Level_of_detail_result simplify_to_levels(const Textured_mesh& input, const Level_of_detail_options& options,
+                                          Visitor visitor = Visitor()) {
+  return internal::simplify_to_levels(input, nullptr, options, visitor);
+}
+
+/// The same, given the input (`std::move(mesh)`): a level that is the input itself (a target of
+/// at least its face count) gets it moved in, where the overload above copies it (on a 1M-face
+/// input, about 130 MB less at the end of the chain). With `shared_texture` such a level is a copy
+/// with new texture coordinates either way. On an error (an exception) `input` is left as it was.
+template <class Visitor = Edge_collapse_visitor_base>
+Level_of_detail_result simplify_to_levels(Textured_mesh&& input, const Level_of_detail_options& options,
+                                          Visitor visitor = Visitor()) {
+  return internal::simplify_to_levels(input, &input, options, visitor);
 }
 
 #ifdef CMGEOM_TEXTURED_SIMPLIFICATION_PRECOMPILED
 // Compiled once into CMGeom::Textured_simplification with the default visitor and with
 // Removed_faces_visitor.
-extern template Level_of_detail_result simplify_to_levels<Edge_collapse_visitor_base>(const Textured_mesh&,
-                                                                                      const Level_of_detail_options&,
-                                                                                      Edge_collapse_visitor_base);
-extern template Level_of_detail_result simplify_to_levels<Removed_faces_visitor>(const Textured_mesh&,
-                                                                                 const Level_of_detail_options&,
-                                                                                 Removed_faces_visitor);
+extern template Level_of_detail_result internal::simplify_to_levels<Edge_collapse_visitor_base>(
+    const Textured_mesh&, Textured_mesh*, const Level_of_detail_options&, Edge_collapse_visitor_base);
+extern template Level_of_detail_result internal::simplify_to_levels<Removed_faces_visitor>(
+    const Textured_mesh&, Textured_mesh*, const Level_of_detail_options&, Removed_faces_visitor);
 #endif
 
 }  // namespace Textured_simplification

@@ -53,14 +53,29 @@ inline void set_copied_points(Surface_mesh& to,
     for (const auto& [v, w] : v2v) to.point(w) = positions[std::size_t(v)];
 }
 
-/// Copies the live part of `from` (a mesh that may hold garbage) into a new garbage-free mesh;
-/// `v2v` receives the pairs of set_copied_points() (a level of a chain then gets its fitted
-/// positions: Level_fitter).
+/// Gives each copied face (`f2f`: pairs of a face of `from` and its copy in `to`) the material
+/// ("f:material", Textured_mesh's) it has in `from`, when `from` has that map (copy_face_graph()
+/// copies no map of the mesh's own).
+inline void copy_face_materials(const Surface_mesh& from, Surface_mesh& to,
+                                const std::vector<std::pair<Surface_mesh::Face_index, Surface_mesh::Face_index>>& f2f) {
+  const auto material = from.property_map<Surface_mesh::Face_index, int>("f:material");
+  if (!material.second) return;
+  auto copied = to.add_property_map<Surface_mesh::Face_index, int>("f:material", 0).first;
+  for (const auto& [f, g] : f2f) copied[g] = material.first[f];
+}
+
+/// Copies the live part of `from` (a mesh that may hold garbage) into a new garbage-free mesh, its
+/// faces' materials included; `v2v` receives the pairs of set_copied_points() (a level of a chain
+/// then gets its fitted positions: Level_fitter).
 inline Surface_mesh compact_copy(const Surface_mesh& from,
                                  std::vector<std::pair<Surface_mesh::Vertex_index, Surface_mesh::Vertex_index>>& v2v) {
   Surface_mesh to;
   v2v.clear();
-  CGAL::copy_face_graph(from, to, CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v)));
+  std::vector<std::pair<Surface_mesh::Face_index, Surface_mesh::Face_index>> f2f;
+  CGAL::copy_face_graph(from, to,
+                        CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v))
+                            .face_to_face_output_iterator(std::back_inserter(f2f)));
+  copy_face_materials(from, to, f2f);
   return to;
 }
 
@@ -180,6 +195,7 @@ public:
     CGAL::copy_face_graph(work, s.mesh,
                           CGAL::parameters::vertex_to_vertex_output_iterator(std::back_inserter(v2v))
                               .face_to_face_output_iterator(std::back_inserter(f2f)));
+    copy_face_materials(work, s.mesh, f2f);
     std::vector<std::uint32_t> copy_face(work.number_of_faces() + work.number_of_removed_faces(), nil);
     for (const auto& [from, to] : f2f) copy_face[std::size_t(from)] = std::uint32_t(to);
     const std::vector<Face> on = memory_.faces_of_points();
