@@ -245,11 +245,14 @@ TEST(LevelOfDetail, GivenInputIsMovedIntoItsLevel) {
   o.target_faces = {4800, 1200, 240};
   const TS::Level_of_detail_result copied = TS::simplify_to_levels(input, o);
   CMGeom::Textured_mesh given = input;
+  const Point_3* given_points = &given.mesh().point(*given.mesh().vertices().begin());
   const TS::Level_of_detail_result moved = TS::simplify_to_levels(std::move(given), o);
   EXPECT_EQ(given.mesh().number_of_vertices(), 0u);  // moved from
   ASSERT_EQ(moved.levels.size(), 3u);
   ASSERT_TRUE(moved.levels[0].is_input);
   const Mesh& level0 = moved.levels[0].mesh.mesh();
+  // the level holds the given mesh's own arrays, not a copy of them
+  EXPECT_EQ(&level0.point(*level0.vertices().begin()), given_points);
   ASSERT_EQ(level0.number_of_faces(), input.mesh().number_of_faces());
   EXPECT_TRUE(std::equal(level0.points().begin(), level0.points().end(), input.mesh().points().begin()));
   EXPECT_EQ(sorted_triangles(level0), sorted_triangles(input.mesh()));

@@ -826,7 +826,12 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
     }
   }
   if (give_input)  // (nothing reads the input any more)
-    for (std::size_t i = 0; i < kept; ++i) res.levels[i].mesh = i + 1 < kept ? input : std::move(*owned);
+    for (std::size_t i = 0; i < kept; ++i) {
+      if (i + 1 < kept)
+        res.levels[i].mesh = input;
+      else
+        res.levels[i].mesh = std::move(*owned);  // (not in a ?: with `input`: that would copy)
+    }
   res.seconds = internal::seconds_since_lod(t_start);
   return res;
 }
