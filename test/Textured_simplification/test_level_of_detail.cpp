@@ -58,6 +58,12 @@ std::vector<std::array<Point_3, 3>> sorted_triangles(const Mesh& m) {
   return out;
 }
 
+// The centroid of face f of m.
+Point_3 face_centroid(const Mesh& m, Mesh::Face_index f) {
+  const auto h = m.halfedge(f);
+  return CGAL::centroid(m.point(m.target(h)), m.point(m.target(m.next(h))), m.point(m.source(h)));
+}
+
 TEST(LevelOfDetail, LevelsAreSnapshotsOfOneRun) {
   const CMGeom::Textured_mesh input(lod_torus(80, 60));  // 9600 faces
   TS::Level_of_detail_options o;
@@ -234,13 +240,7 @@ TEST(LevelOfDetail, GivenInputIsMovedIntoItsLevel) {
   input.materials().resize(2);
   input.materials()[0].name = "left";
   input.materials()[1].name = "right";
-  for (auto f : input.mesh().faces()) {
-    const Point_3 c =
-        CGAL::centroid(input.mesh().point(input.mesh().target(input.mesh().halfedge(f))),
-                       input.mesh().point(input.mesh().target(input.mesh().next(input.mesh().halfedge(f)))),
-                       input.mesh().point(input.mesh().source(input.mesh().halfedge(f))));
-    input.material_map()[f] = c.x() < 0 ? 0 : 1;
-  }
+  for (auto f : input.mesh().faces()) input.material_map()[f] = face_centroid(input.mesh(), f).x() < 0 ? 0 : 1;
   TS::Level_of_detail_options o;
   o.target_faces = {4800, 1200, 240};
   const TS::Level_of_detail_result copied = TS::simplify_to_levels(input, o);
@@ -269,8 +269,7 @@ TEST(LevelOfDetail, GivenInputIsMovedIntoItsLevel) {
       for (auto f : m.faces()) {
         const int k = level.material(f);
         ASSERT_TRUE(k == 0 || k == 1);
-        const Point_3 c = CGAL::centroid(m.point(m.target(m.halfedge(f))), m.point(m.target(m.next(m.halfedge(f)))),
-                                         m.point(m.source(m.halfedge(f))));
+        const Point_3 c = face_centroid(m, f);
         if (std::abs(c.x()) > 0.5) EXPECT_EQ(k, c.x() < 0 ? 0 : 1);
         ++by_material[k];
       }

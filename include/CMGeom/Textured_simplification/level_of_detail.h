@@ -436,26 +436,18 @@ inline double seconds_since_lod(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// Whether the faces of `input` use more than one material.
+inline bool faces_have_several_materials(const Textured_mesh& input) {
+  const auto faces = input.mesh().faces();
+  if (faces.empty()) return false;
+  const int first = input.material(*faces.begin());
+  return std::any_of(faces.begin(), faces.end(),
+                     [&](Surface_mesh::Face_index f) { return input.material(f) != first; });
+}
+
 /// The collapses of a chain on `work`: simplify_mesh()'s engine, cost and memory, without its final
 /// fit and without compacting `work`, in runs that each go on from where the last one stopped
 /// (quadrics and the memory's points carried over).
-/// Whether the faces of `input` use more than one material.
-inline bool faces_have_several_materials(const Textured_mesh& input) {
-  const Surface_mesh& m = input.mesh();
-  bool first = true;
-  int seen = 0;
-  for (Surface_mesh::Face_index f : m.faces()) {
-    const int k = input.material(f);
-    if (first) {
-      seen = k;
-      first = false;
-    } else if (k != seen) {
-      return true;
-    }
-  }
-  return false;
-}
-
 class Chain_collapses {
 public:
   using Mesh = Surface_mesh;
@@ -564,7 +556,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
   Level_of_detail_result res;
   const std::size_t faces_in = input.mesh().number_of_faces();
   // (the parts' stage rebuilds the mesh from its parts without the faces' materials: an input whose
-  // faces have several runs on the whole, its levels keeping each face's material)
+  // faces use several materials runs on the whole, so that its levels keep each face's material)
   Level_of_detail_options chain_options = options;
   if (internal::faces_have_several_materials(input)) chain_options.parts_min_faces = 0;
   Metrics::Error_options eo;
