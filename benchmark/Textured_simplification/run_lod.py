@@ -120,13 +120,17 @@ def main():
                     help="more rounds until the smallest level alone has taken this long in all")
     ap.add_argument("--max-reps", type=int, default=30, help="timing rounds at most")
     ap.add_argument("--out")
-    ap.add_argument("--describe", default="", help="a line on the machine and the peers' versions")
+    ap.add_argument("--describe", help="a line on the machine and the peers' versions")
     ap.add_argument("--models", help="comma-separated subset of the model names")
     ap.add_argument("--prune", action="store_true",
                     help="chains and the smallest level alone with --prune (whole components may go)")
     ap.add_argument("--geometry-models", default=",".join(GEOMETRY_MODELS),
                     help="untextured meshes of shared/data/classic whose chains are timed too ('' for none)")
     a = ap.parse_args()
+    if a.describe is not None and not a.describe.strip():
+        # what `--describe "$(describe_run ...)"` gives when describe_run.sh was sourced by a
+        # shell other than bash: refuse rather than write results without their machine
+        ap.error("--describe is empty (benchmark/common/describe_run.sh needs bash)")
     cmgeom = os.path.join(os.path.abspath(a.build), "bin", "cmgeom")
     root, _ = P.data_dir()
     models = P.find_models(root)
