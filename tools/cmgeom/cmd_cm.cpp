@@ -97,7 +97,7 @@ CMGEOM_CLI_COMMAND(
     double ratio = 0, sharp_angle = 40, error_bound = 0;
     int error_rounds = 2, error_level = 2;
     bool cubic = false, joint_fit = false, json = false, no_texture = false, repair = false, compact = false,
-         allow_degenerate = false;
+         allow_degenerate = false, no_input_creases = false;
     int texture_size = 0, normal_bits = 12, max_level = 3;
     double tolerance = 0, max_error = 0;
     std::size_t max_bytes = 0;
@@ -138,6 +138,9 @@ CMGEOM_CLI_COMMAND(
   build->add_flag("--joint-fit", b->joint_fit,
                   "Refit all local surfaces together so that their blend follows the input (CMGeom addition; "
                   "default: the thesis' independent fits)");
+  build->add_flag("--no-input-creases", b->no_input_creases,
+                  "Sharp edges from the thesis' fits alone (§4.4.2), without CMGeom's rule that a base edge "
+                  "along a path of input creases is sharp too");
   build->add_flag("--no-texture", b->no_texture, "Geometry only even for an input with texture coordinates");
   build->add_option("--texture", b->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
   cmgeom_cli::add_repair_option(*build, b->repair);
@@ -418,6 +421,7 @@ CMGEOM_CLI_COMMAND(
       opt.error_control_rounds = b->error_rounds;
       opt.error_control_level = b->error_level;
       opt.joint_fit = b->joint_fit;
+      opt.input_creases = !b->no_input_creases;
       CM::Build_statistics st;
       CM::Textured_build_result tr;
       // The rate counts the input's faces (the build's work grows with them); a textured build
