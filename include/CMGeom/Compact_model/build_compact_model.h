@@ -92,7 +92,10 @@ struct Build_options {
   /// the smooth-model and tangent-plane coefficient lists are refitted together, by least
   /// squares, so that the blend of §4.5.1 passes through the input surface. Off: the thesis'
   /// independent fits. Measured on Fandisk (250 base faces, level 2, closest point): Hausdorff
-  /// 0.81 -> 0.36 %, RMS 0.078 -> 0.030 % of the diagonal (doc/Compact_model/README.md).
+  /// 0.81 -> 0.36 %, RMS 0.078 -> 0.030 % of the diagonal; over 60 cases of the shared models
+  /// (level 3) the RMS is lower in 53 and the Hausdorff in 46, but higher in 12 (bob at 1000
+  /// faces 0.35 -> 0.73 %: the refit fits input samples to the blend, not the blend to the input),
+  /// and the build takes 2-4 times longer (doc/Compact_model/README.md); hence off by default.
   bool joint_fit = false;
   /// Weight of each sector's own points (§4.4.3) in the joint refit, per point, relative to the
   /// mean weight of an input sample.
