@@ -52,9 +52,19 @@ namespace fs = std::filesystem;
 
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
-// Per-deformation times: minimum and median of `n` runs.
+// Bind and set-up times: minimum and median of `n` runs.
 template <class F>
 cmgeom_bench::Timing timed(int n, const F& f) {
+  return cmgeom_bench::time_runs(n, f);
+}
+
+// Per-pose times: one pose first, untimed (it allocates the output that an animation then
+// reuses, and brings the data into the caches), then minimum and median of `n` timed poses.
+// Every method of a table is timed this way.
+constexpr int timed_poses = 15;
+template <class F>
+cmgeom_bench::Timing timed_per_pose(int n, const F& f) {
+  f();
   return cmgeom_bench::time_runs(n, f);
 }
 
@@ -210,7 +220,7 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
   a.bind = timed(3, [&] { ba.emplace(setup.bind(orig_pts)); });
   a.coord_bytes = ba->weights_bytes();
   std::vector<CD::Vec3> da;
-  a.per_deformation = timed(5, [&] { ba->deform(basis, da); });
+  a.per_deformation = timed_per_pose(timed_poses, [&] { ba->deform(basis, da); });
   const CMGeom::Surface_mesh ref = mesh_of(da, orig_tris);
   rows.push_back(a);
   // (b) base
@@ -225,7 +235,7 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
     r.bind = timed(3, [&] { bb.emplace(setup.bind(bp)); });
     r.coord_bytes = bb->weights_bytes();
     std::vector<CD::Vec3> d;
-    r.per_deformation = timed(5, [&] { bb->deform(basis, d); });
+    r.per_deformation = timed_per_pose(timed_poses, [&] { bb->deform(basis, d); });
     const auto e = CMGeom::Metrics::approximation_error(ref, mesh_of(d, bt), eo);
     r.hausdorff = 100 * e.hausdorff;
     r.rms = 100 * e.rms;
@@ -244,7 +254,7 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
     c.bind = timed(3, [&] { bc.emplace(setup.bind(rp)); });
     c.coord_bytes = bc->weights_bytes();
     std::vector<CD::Vec3> dc;
-    c.per_deformation = timed(5, [&] { bc->deform(basis, dc); });
+    c.per_deformation = timed_per_pose(timed_poses, [&] { bc->deform(basis, dc); });
     const auto ec = CMGeom::Metrics::approximation_error(ref, mesh_of(dc, rec.triangles), eo);
     c.hausdorff = 100 * ec.hausdorff;
     c.rms = 100 * ec.rms;
@@ -254,16 +264,23 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
       Row d{"(d) deformable CM level " + std::to_string(level) +
             (proj == CM::Projection::closest_point ? "" : ", projection along N")};
       auto cd = setup.deformer();
-      d.bind = timed(3, [&] { cd.bind(dcm.base_vertices()); });
-      d.coord_bytes = cd.weights_bytes();
-      d.other_bytes = dcm.bytes();
-      d.mesh_bytes = cm_bytes;
-      CM::Reconstruction out;
       CM::Reconstruction_options ro;
       ro.projection = proj;
-      d.per_deformation = timed(3, [&] {
+      ro.vertex_maps = &dcm.vertex_maps();  // the reconstructor keeps the blend's tables
+      // Bind: the base's binding and the reconstructor (topology, frames, tables of the level).
+      std::optional<CM::Regular_reconstructor<>> rc;
+      d.bind = timed(3, [&] {
+        cd.bind(dcm.base_vertices());
+        rc.emplace(model, level, ro);
+      });
+      d.coord_bytes = cd.weights_bytes();
+      d.other_bytes = dcm.bytes() + rc->bytes();
+      d.mesh_bytes = cm_bytes;
+      CM::Reconstruction out;
+      dcm.reconstruct_regular(*rc, out, ro);  // the triangles, base faces and uvs, once
+      d.per_deformation = timed_per_pose(timed_poses, [&] {
         dcm.deform(cd);
-        out = dcm.reconstruct_regular(level, ro);
+        dcm.reconstruct_regular_points(*rc, out, ro);
       });
       d.points = out.points.size();
       const auto ed = CMGeom::Metrics::approximation_error(ref, mesh_of(to_cd(out.points), out.triangles), eo);
@@ -286,7 +303,7 @@ void run(const std::string& name, const std::string& cage_name, const Setup& set
       e.other_bytes = dcm.bytes() + cache.bytes() - cache.number_of_points() * 2 * sizeof(CM::Vec3);
       e.mesh_bytes = cm_bytes + cache.number_of_points() * 2 * sizeof(CM::Vec3) + rec.triangles.size() * 12;
       CM::Reconstruction out;
-      e.per_deformation = timed(5, [&] {
+      e.per_deformation = timed_per_pose(timed_poses, [&] {
         dcm.deform(cd);
         cache.deform(dcm, out);
       });
@@ -374,7 +391,7 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
       a_bind = timed(3, [&] { ba.emplace(setup.bind(pts)); });  // emplace frees the previous binding first
       a_bytes = 2 * pts.size() * 24 + tris.size() * 12 + ba->weights_bytes();  // rest and posed points
       a_K = setup.K();
-      a_pose = timed(3, [&] { ba->deform(basis, da); });
+      a_pose = timed_per_pose(timed_poses, [&] { ba->deform(basis, da); });
     }  // the coordinates of every vertex are freed here
     const CMGeom::Surface_mesh ref = mesh_of(da, tris);
     std::printf("| %s (K=%zu) | (a) full mesh, direct | %zu | %.1f | %s | %s | 1.00 | 1.0 | - | - |\n",
@@ -383,7 +400,16 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
     std::fflush(stdout);
     DCM::Deformable_compact_model dcm(model);
     auto cd = setup.deformer();
-    const cmgeom_bench::Timing d_bind = timed(3, [&] { cd.bind(dcm.base_vertices()); });
+    CM::Reconstruction_options ro;
+    ro.projection = CM::Projection::along_normal;
+    ro.vertex_maps = &dcm.vertex_maps();  // the reconstructor keeps the blend's tables
+    // Bind of (d): the base's binding and the reconstructor (topology, frames, tables of the level).
+    std::optional<CM::Regular_reconstructor<>> rc;
+    const cmgeom_bench::Timing d_bind = timed(3, [&] {
+      cd.bind(dcm.base_vertices());
+      rc.emplace(model, level, ro);
+    });
+    const cmgeom_bench::Timing base_bind = timed(3, [&] { cd.bind(dcm.base_vertices()); });
     auto report = [&](const std::string& method, const CM::Reconstruction& out, std::size_t bytes,
                       const cmgeom_bench::Timing& bind, const cmgeom_bench::Timing& per_pose) {
       const auto e = CMGeom::Metrics::approximation_error(ref, mesh_of(to_cd(out.points), out.triangles), eo);
@@ -395,24 +421,23 @@ void run_scale(const std::string& path, std::size_t base_faces, int level) {
     };
     {
       CM::Reconstruction out;
-      CM::Reconstruction_options ro;
-      ro.projection = CM::Projection::along_normal;
-      const cmgeom_bench::Timing per_pose = timed(3, [&] {
+      dcm.reconstruct_regular(*rc, out, ro);  // the triangles, base faces and uvs, once
+      const cmgeom_bench::Timing per_pose = timed_per_pose(timed_poses, [&] {
         dcm.deform(cd);
-        dcm.reconstruct_regular(level, out, ro);
+        dcm.reconstruct_regular_points(*rc, out, ro);
       });
       const std::size_t out_bytes = out.points.size() * 48 + out.triangles.size() * 16;
       report("(d) deformable CM level " + std::to_string(level) + ", along N", out,
-             cm_bytes + cd.weights_bytes() + dcm.bytes() + out_bytes, d_bind, per_pose);
+             cm_bytes + cd.weights_bytes() + dcm.bytes() + rc->bytes() + out_bytes, d_bind, per_pose);
     }
     {
       // Bind: the base's binding, then the rest reconstruction kept (each min / median of 3, summed).
       std::optional<DCM::Deformable_reconstruction> kept;
       const cmgeom_bench::Timing keep = timed(3, [&] { kept.emplace(model, level); });
       const DCM::Deformable_reconstruction& cache = *kept;
-      const cmgeom_bench::Timing bind{d_bind.min + keep.min, d_bind.median + keep.median, 3};
+      const cmgeom_bench::Timing bind{base_bind.min + keep.min, base_bind.median + keep.median, 3};
       CM::Reconstruction out;
-      const cmgeom_bench::Timing per_pose = timed(3, [&] {
+      const cmgeom_bench::Timing per_pose = timed_per_pose(timed_poses, [&] {
         dcm.deform(cd);
         cache.deform(dcm, out);
       });

@@ -27,6 +27,7 @@ template Compact_model build_textured_compact_model<Cubic_surface_traits>(
     const Textured_mesh&, std::size_t, const Build_options&, const Cubic_surface_traits&, Textured_build_result*,
     Build_statistics*, const CMGeom::Textured_simplification::Textured_simplification_options&);
 
+template class Regular_reconstructor<Quadric_surface_traits>;
 template void reconstruct_regular<Quadric_surface_traits>(const Compact_model&, int, Reconstruction&,
                                                           const Reconstruction_options&, const Quadric_surface_traits&);
 template Reconstruction reconstruct_regular<Quadric_surface_traits>(const Compact_model&, int,

@@ -448,6 +448,72 @@ TEST(DeformableCMTransfer, CachedRestReconstructionGivesTheSameBits) {
   }
 }
 
+TEST(DeformableCMTransfer, ReconstructorGivesTheSameBitsPoseAfterPose) {
+  // A textured box with sharp edges (sharp-edge points, uvs) and the smooth ellipsoid.
+  CM::Compact_model box = CM::build_compact_model(make_box(8), 150);
+  box.uvs.resize(box.faces.size());
+  for (std::size_t f = 0; f < box.faces.size(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const Vec3& p = box.vertices[box.faces[f][c].vertex];
+      box.uvs[f][c] = {float(0.5 + 0.25 * p.x), float(0.5 + 0.25 * p.y)};
+    }
+  for (const CM::Compact_model* m : {&ellipsoid_cm(), static_cast<const CM::Compact_model*>(&box)})
+    for (const CM::Projection proj : {CM::Projection::closest_point, CM::Projection::along_normal})
+      for (const int level : {0, 1, 2, 3, 5}) {
+        SCOPED_TRACE("model of " + std::to_string(m->faces.size()) + " faces, projection " + std::to_string(int(proj)) +
+                     ", level " + std::to_string(level));
+        DCM::Deformable_compact_model dcm(*m);
+        CM::Reconstruction_options opt;
+        opt.projection = proj;
+        CM::Reconstruction_options with_maps = opt;
+        with_maps.vertex_maps = &dcm.vertex_maps();
+        // One reconstructor keeping the blend's tables, one without them (each call then makes its own).
+        const CM::Regular_reconstructor<> kept(*m, level, with_maps), plain(*m, level, opt);
+        EXPECT_EQ(kept.number_of_triangles(), m->faces.size() << (2 * level));
+        // the blend's tables: 2 weights per edge point (none at level 0) and 3 per face point
+        EXPECT_EQ(kept.bytes() - plain.bytes(),
+                  sizeof(double) * (2 * ((std::size_t(1) << level) - 1) +
+                                    3 * (((std::size_t(1) << level) - 1) * ((std::size_t(1) << level) - 2) / 2)));
+        // Without maps: the plain reconstruction.
+        CM::Reconstruction out;
+        plain.reconstruct(out, opt);
+        expect_bitwise_equal(out, CM::reconstruct_regular(*m, level, opt));
+        // Three poses: the first writes everything, the next only the points and normals.
+        CM::Reconstruction out_kept, out_plain;
+        for (int k = 0; k < 3; ++k) {
+          std::vector<CM::Vec3> pose = m->vertices;
+          for (auto& v : pose) v = CM::Vec3(v.x + 0.1 * (k + 1) * v.z * v.z, v.y - 0.05 * k * v.x, v.z);
+          dcm.set_deformed_base(pose);
+          const CM::Reconstruction expected = dcm.reconstruct_regular(level, opt);
+          if (k == 0) {
+            dcm.reconstruct_regular(kept, out_kept, opt);
+            dcm.reconstruct_regular(plain, out_plain, opt);
+          } else {
+            dcm.reconstruct_regular_points(kept, out_kept, opt);
+            dcm.reconstruct_regular_points(plain, out_plain, opt);
+          }
+          expect_bitwise_equal(out_kept, expected);
+          expect_bitwise_equal(out_plain, expected);
+        }
+        // An output of another level is refused and left as it was; so is a reconstructor of
+        // another model, and options of another projection.
+        CM::Reconstruction other = CM::reconstruct_regular(*m, level + 1);
+        const CM::Reconstruction before = other;
+        EXPECT_THROW(dcm.reconstruct_regular_points(kept, other, opt), CMGeom::Invalid_input);
+        expect_bitwise_equal(other, before);
+        const CM::Compact_model copy = *m;
+        const CM::Regular_reconstructor<> of_copy(copy, level, opt);
+        EXPECT_THROW(dcm.reconstruct_regular(of_copy, out, opt), CMGeom::Invalid_input);
+        CM::Reconstruction_options other_projection = opt;
+        other_projection.projection =
+            proj == CM::Projection::along_normal ? CM::Projection::closest_point : CM::Projection::along_normal;
+        EXPECT_THROW(kept.reconstruct(out, other_projection), CMGeom::Invalid_input);
+        EXPECT_THROW(kept.reconstruct_points(out_kept, other_projection), CMGeom::Invalid_input);
+      }
+  EXPECT_THROW(CM::Regular_reconstructor<>(ellipsoid_cm(), 13), CMGeom::Invalid_input);
+  EXPECT_THROW(CM::Regular_reconstructor<>(ellipsoid_cm(), -1), CMGeom::Invalid_input);
+}
+
 TEST(DeformableCMTransfer, CageDeformationOfTheBaseApproximatesDeformingTheReconstruction) {
   const CM::Compact_model& m = ellipsoid_cm();
   const CD::Triangle_cage cage = box_cage(1.5);

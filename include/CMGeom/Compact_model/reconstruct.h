@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Reconstruction of a surface from a Compact Model (thesis §4.5): reconstruct_regular(),
+// Regular_reconstructor (the same, made again and again: per deformation frame),
 // reconstruct_adaptive(), Reconstruction_options and the adaptive criteria Edge_length_criterion,
 // Region_of_interest_criterion, Silhouette_criterion, Always_split. Every base triangle is
 // subdivided (regular: 4^L triangles; adaptive: 2-, 3- or 4-splits of the edges a criterion
@@ -1023,152 +1024,255 @@ inline std::array<float, 2> interpolate_uv(const Face_uvs& uv, double a0, double
 
 }  // namespace internal
 
+/// The regular reconstruction of one model at one level (§4.5.2), made again and again: the
+/// base's topology, its corner frames and the level's weight tables are computed once, by the
+/// constructor, instead of by every call (on a 4,000-face base at level 4 they are about a
+/// fifth of a reconstruction's time, with the page faults of their fresh memory). reconstruct()
+/// writes the whole output; reconstruct_points() only the points and normals of an output that
+/// already holds this reconstruction, since its triangles, base faces and texture coordinates
+/// depend on the model and the level alone: one call per deformation frame (with
+/// Reconstruction_options::vertex_maps, §6.4). Both give what reconstruct_regular() gives, bit
+/// for bit. Keeps a reference to the model, which must outlive the reconstructor and not
+/// change. The calls are const: several may run at once into different outputs.
+template <class Traits = Quadric_surface_traits>
+class Regular_reconstructor {
+public:
+  /// The projection is `opt.projection`; with `opt.vertex_maps` set, the blend's weight tables of
+  /// the level are kept too (a call with maps on a reconstructor made without them builds its
+  /// own). \throws Invalid_input if `level` is not in [0, 12] or the model is invalid.
+  Regular_reconstructor(const Compact_model& m, int level, const Reconstruction_options& opt = Reconstruction_options(),
+                        const Traits& traits = Traits())
+      : m_(m),
+        traits_(traits),
+        projection_(opt.projection),
+        level_(checked_level(level)),
+        n_(std::size_t(1) << level),
+        topo_(validated(m)),
+        lanes_(opt.projection == Projection::along_normal ? n_ : 0) {
+    if (opt.vertex_maps) map_weights_.emplace(n_);
+  }
+
+  const Compact_model& model() const { return m_; }
+  int level() const { return level_; }
+  Projection projection() const { return projection_; }
+  /// Points of the output (base vertices, then the points of every base edge and face).
+  std::size_t number_of_points() const {
+    return m_.vertices.size() + topo_.edges.size() * (n_ - 1) + m_.faces.size() * ((n_ - 1) * (n_ - 2) / 2);
+  }
+  std::size_t number_of_triangles() const { return m_.faces.size() * n_ * n_; }
+  /// Memory held (topology, frames, tables), bytes.
+  std::size_t bytes() const {
+    return topo_.edges.size() * sizeof(internal::Base_topology::Edge) +
+           topo_.face_edges.size() * sizeof(topo_.face_edges[0]) + topo_.frames.size() * sizeof(Local_frame) +
+           topo_.corner_local.size() * sizeof(topo_.corner_local[0]) + lanes_.lanes.size() * sizeof(double) +
+           (map_weights_ ? map_weights_->bytes() : 0);
+  }
+
+  /// The whole reconstruction into `r`, reusing its memory: every array is resized and
+  /// overwritten (a buffer of the right size is not reallocated). `opt.projection` must be the
+  /// constructor's. \throws Invalid_input otherwise, or if `opt.vertex_maps` does not hold one
+  /// map per base vertex.
+  void reconstruct(Reconstruction& r, const Reconstruction_options& opt = Reconstruction_options()) const {
+    check_projection(opt);
+    // Large outputs fault in huge pages where the kernel gives them (internal/huge_pages.h).
+    CMGeom::internal::resize_on_huge_pages(r.points, number_of_points());
+    CMGeom::internal::resize_on_huge_pages(r.normals, r.points.size());
+    CMGeom::internal::resize_on_huge_pages(r.triangles, number_of_triangles());
+    CMGeom::internal::resize_on_huge_pages(r.base_face, number_of_triangles());
+    if (m_.has_uvs())
+      CMGeom::internal::resize_on_huge_pages(r.corner_uvs, 3 * number_of_triangles());
+    else
+      r.corner_uvs.clear();
+    run(r, opt, true);
+  }
+
+  /// The points and normals of `r`, which must hold this reconstruction already (from
+  /// reconstruct() or reconstruct_regular() of the same model at the same level, possibly with
+  /// other vertex maps); its triangles, base faces and texture coordinates are left as they are.
+  /// \throws Invalid_input if the sizes of `r` are not this level's, or as reconstruct().
+  void reconstruct_points(Reconstruction& r, const Reconstruction_options& opt = Reconstruction_options()) const {
+    check_projection(opt);
+    if (r.points.size() != number_of_points() || r.normals.size() != r.points.size() ||
+        r.triangles.size() != number_of_triangles() || r.base_face.size() != number_of_triangles() ||
+        r.corner_uvs.size() != (m_.has_uvs() ? 3 * number_of_triangles() : 0))
+      throw Invalid_input("reconstruction: the output does not hold this model's regular reconstruction at level " +
+                          std::to_string(level_) + " (" + std::to_string(r.points.size()) + " points, " +
+                          std::to_string(r.triangles.size()) + " triangles; expected " +
+                          std::to_string(number_of_points()) + " and " + std::to_string(number_of_triangles()) + ")");
+    run(r, opt, false);
+  }
+
+private:
+  static const Compact_model& validated(const Compact_model& m) {
+    m.validate();
+    return m;
+  }
+  static int checked_level(int level) {
+    if (level < 0 || level > 12)
+      throw Invalid_input("reconstruction level must be in [0, 12], got " + std::to_string(level));
+    return level;
+  }
+  void check_projection(const Reconstruction_options& opt) const {
+    if (opt.projection != projection_)
+      throw Invalid_input("reconstruction: the options' projection is not the reconstructor's");
+  }
+
+  // Points and normals; with `connectivity` also triangles, base faces and texture coordinates.
+  // The arrays of `r` have their sizes.
+  void run(Reconstruction& r, const Reconstruction_options& opt, bool connectivity) const {
+    const Compact_model& m = m_;
+    const internal::Base_topology& topo = topo_;
+    const std::size_t n = n_, V = m.vertices.size(), E = topo.edges.size(), F = m.faces.size();
+    std::optional<internal::Map_weight_tables> own_weights;
+    if (opt.vertex_maps && !map_weights_) own_weights.emplace(n);
+    const internal::Evaluator<Traits> ev(m, topo, traits_, opt.projection, opt.vertex_maps,
+                                         !opt.vertex_maps ? nullptr
+                                         : map_weights_   ? &*map_weights_
+                                                          : &*own_weights);
+    const bool along_n_rows = opt.projection == Projection::along_normal;
+    const internal::Face_lane_table& lanes = lanes_;
+    const std::size_t per_edge = n - 1, per_face = (n - 1) * (n - 2) / 2;
+    const std::size_t edge_base = V, face_base = V + E * per_edge;
+    // Base vertices: Phi(v) = v; normal of the first corner that uses it.
+    std::vector<std::uint8_t> seen(V, 0);
+    for (std::size_t i = 0; i < V; ++i) r.points[i] = ev.base_point(i);
+    for (std::uint32_t f = 0; f < F; ++f)
+      for (int c = 0; c < 3; ++c)
+        if (!seen[m.faces[f][c].vertex]) {
+          seen[m.faces[f][c].vertex] = 1;
+          r.normals[m.faces[f][c].vertex] = ev.vertex(f, c).normal;
+        }
+    for (std::size_t i = 0; i < V; ++i)
+      if (!seen[i]) r.normals[i] = Vec3();  // a base vertex no face uses
+    // Progress: the edges' and the faces' shares are those of the points they compute (plus a
+    // quarter of a point per output triangle, and one per element for its fixed cost).
+    CMGeom::internal::Progress_reporter progress(opt.progress);
+    const double edge_cost = double(E) * double(per_edge + 1), face_cost = double(F) * double(per_face + n * n / 4 + 1);
+    const double edge_share = edge_cost + face_cost > 0. ? edge_cost / (edge_cost + face_cost) : 0.;
+    progress.phase(0., edge_share, E);
+    internal::for_range(
+        E, opt.parallel,
+        [&](std::size_t e) {
+          if (n > 1)
+            ev.edge_points(std::uint32_t(e), n, &r.points[edge_base + e * per_edge],
+                           &r.normals[edge_base + e * per_edge]);
+        },
+        &progress);
+    progress.phase(edge_share, 1., F);
+    internal::for_blocks(
+        F, opt.parallel,
+        [&](std::size_t f_begin, std::size_t f_end) {
+          std::vector<std::uint32_t> grid(connectivity ? (n + 1) * (n + 2) / 2 : 0);
+          std::vector<std::array<float, 2>> grid_uv(connectivity && m.has_uvs() ? grid.size() : 0);
+          std::vector<double> scratch;
+          for (std::size_t f = f_begin; f != f_end; ++f) {
+            const auto& Fc = m.faces[f];
+            // Output index of grid point (i, j): corner 0 at (0,0), corner 1 at (n,0), corner 2 at (0,n).
+            auto on_side = [&](int side, std::size_t k_from_start) -> std::uint32_t {
+              const auto& e = topo.edges[topo.face_edges[f][side]];
+              const std::size_t k = (Fc[side].vertex == e.a) ? k_from_start : n - k_from_start;
+              return std::uint32_t(edge_base + topo.face_edges[f][side] * per_edge + k - 1);
+            };
+            auto index = [&](std::size_t i, std::size_t j) -> std::uint32_t {
+              if (i == 0 && j == 0) return Fc[0].vertex;
+              if (i == n && j == 0) return Fc[1].vertex;
+              if (i == 0 && j == n) return Fc[2].vertex;
+              if (j == 0) return on_side(0, i);
+              if (i + j == n) return on_side(1, j);
+              if (i == 0) return on_side(2, n - j);
+              // interior, rows j = 1..n-2, i = 1..n-1-j
+              const std::size_t before = (j - 1) * (n - 2) - (j - 1) * (j - 2) / 2;
+              return std::uint32_t(face_base + f * per_face + before + (i - 1));
+            };
+            // Interior points, row by row; a face's are consecutive (see index()).
+            if (along_n_rows) {
+              if (n >= 3)
+                ev.along_normal_face(std::uint32_t(f), lanes, scratch, &r.points[index(1, 1)], &r.normals[index(1, 1)]);
+            } else {
+              for (std::size_t j = 1; j + 1 < n; ++j) {
+                const std::uint32_t id = index(1, j);
+                for (std::size_t i = 1; i + j < n; ++i) {
+                  const double a1 = double(i) / double(n), a2 = double(j) / double(n),
+                               a0 = double(n - i - j) / double(n);
+                  const Sample s = ev.interior(std::uint32_t(f), a0, a1, a2);
+                  r.points[id + i - 1] = s.point;
+                  r.normals[id + i - 1] = s.normal;
+                }
+              }
+            }
+            if (!connectivity) continue;
+            // The output id (and texture coordinates) of every grid point, computed once, then the
+            // triangles: grid point (i, j) is entry row(j) + i.
+            auto row = [n](std::size_t j) { return j * (n + 1) - j * (j - 1) / 2; };
+            for (std::size_t j = 0; j <= n; ++j) {
+              std::uint32_t* g = grid.data() + row(j);
+              const std::size_t last = n - j;  // row j holds i = 0 .. last
+              g[0] = index(0, j);
+              g[last] = index(last, j);
+              if (j == 0) {
+                for (std::size_t i = 1; i < last; ++i) g[i] = index(i, 0);
+              } else if (last >= 2) {  // interior ids of a row are consecutive
+                const std::uint32_t first = index(1, j);
+                for (std::size_t i = 1; i < last; ++i) g[i] = first + std::uint32_t(i - 1);
+              }
+            }
+            // Triangles (i,j) (i+1,j) (i,j+1) and (i+1,j) (i+1,j+1) (i,j+1), row by row.
+            std::array<std::uint32_t, 3>* T = r.triangles.data() + f * n * n;
+            for (std::size_t j = 0; j < n; ++j) {
+              const std::uint32_t* g0 = grid.data() + row(j);
+              const std::uint32_t* g1 = grid.data() + row(j + 1);
+              const std::size_t last = n - 1 - j;  // i = 0 .. last
+              for (std::size_t i = 0; i < last; ++i) {
+                *T++ = {g0[i], g0[i + 1], g1[i]};
+                *T++ = {g0[i + 1], g1[i + 1], g1[i]};
+              }
+              *T++ = {g0[last], g0[last + 1], g1[last]};
+            }
+            std::fill_n(r.base_face.data() + f * n * n, n * n, std::uint32_t(f));
+            if (m.has_uvs()) {
+              for (std::size_t j = 0; j <= n; ++j)
+                for (std::size_t i = 0; i + j <= n; ++i)
+                  grid_uv[row(j) + i] = internal::interpolate_uv(m.uvs[f], double(n - i - j) / double(n),
+                                                                 double(i) / double(n), double(j) / double(n));
+              std::array<float, 2>* U = r.corner_uvs.data() + 3 * f * n * n;
+              auto put = [&](std::size_t a, std::size_t b, std::size_t c) {
+                *U++ = grid_uv[a];
+                *U++ = grid_uv[b];
+                *U++ = grid_uv[c];
+              };
+              for (std::size_t j = 0; j < n; ++j) {
+                const std::size_t r0 = row(j), r1 = row(j + 1);
+                for (std::size_t i = 0; i + j < n; ++i) {
+                  put(r0 + i, r0 + i + 1, r1 + i);
+                  if (i + j + 2 <= n) put(r0 + i + 1, r1 + i + 1, r1 + i);
+                }
+              }
+            }
+          }
+        },
+        &progress);
+    progress.finish();
+  }
+
+  const Compact_model& m_;
+  Traits traits_;
+  Projection projection_;
+  int level_;
+  std::size_t n_;
+  internal::Base_topology topo_;
+  internal::Face_lane_table lanes_;
+  std::optional<internal::Map_weight_tables> map_weights_;
+};
+
 /// Regular reconstruction at `level` (§4.5.2) into `r`, reusing its memory: every array is
 /// resized and overwritten (a buffer of the right size is not reallocated, so repeated
-/// reconstructions, e.g. one per deformation frame, pay no allocation and no page faults).
+/// reconstructions, e.g. one per deformation frame, pay no allocation and no page faults;
+/// Regular_reconstructor also keeps the base's topology and frames between calls).
 template <class Traits = Quadric_surface_traits>
 void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
                          const Reconstruction_options& opt = Reconstruction_options(),
                          const Traits& traits = Traits()) {
-  if (level < 0 || level > 12)
-    throw Invalid_input("reconstruction level must be in [0, 12], got " + std::to_string(level));
-  m.validate();
-  const internal::Base_topology topo(m);
-  const std::size_t n = std::size_t(1) << level, V = m.vertices.size(), E = topo.edges.size(), F = m.faces.size();
-  std::optional<internal::Map_weight_tables> map_weights;
-  if (opt.vertex_maps) map_weights.emplace(n);
-  const internal::Evaluator<Traits> ev(m, topo, traits, opt.projection, opt.vertex_maps,
-                                       map_weights ? &*map_weights : nullptr);
-  const bool along_n_rows = opt.projection == Projection::along_normal;
-  const internal::Face_lane_table lanes(along_n_rows ? n : 0);
-  const std::size_t per_edge = n - 1, per_face = (n - 1) * (n - 2) / 2;
-  const std::size_t edge_base = V, face_base = V + E * per_edge;
-  // Large outputs fault in huge pages where the kernel gives them (internal/huge_pages.h).
-  CMGeom::internal::resize_on_huge_pages(r.points, face_base + F * per_face);
-  CMGeom::internal::resize_on_huge_pages(r.normals, r.points.size());
-  CMGeom::internal::resize_on_huge_pages(r.triangles, F * n * n);
-  CMGeom::internal::resize_on_huge_pages(r.base_face, F * n * n);
-  if (m.has_uvs())
-    CMGeom::internal::resize_on_huge_pages(r.corner_uvs, 3 * F * n * n);
-  else
-    r.corner_uvs.clear();
-  // Base vertices: Phi(v) = v; normal of the first corner that uses it.
-  std::vector<std::uint8_t> seen(V, 0);
-  for (std::size_t i = 0; i < V; ++i) r.points[i] = ev.base_point(i);
-  for (std::uint32_t f = 0; f < F; ++f)
-    for (int c = 0; c < 3; ++c)
-      if (!seen[m.faces[f][c].vertex]) {
-        seen[m.faces[f][c].vertex] = 1;
-        r.normals[m.faces[f][c].vertex] = ev.vertex(f, c).normal;
-      }
-  for (std::size_t i = 0; i < V; ++i)
-    if (!seen[i]) r.normals[i] = Vec3();  // a base vertex no face uses
-  // Progress: the edges' and the faces' shares are those of the points they compute (plus a
-  // quarter of a point per output triangle, and one per element for its fixed cost).
-  CMGeom::internal::Progress_reporter progress(opt.progress);
-  const double edge_cost = double(E) * double(per_edge + 1), face_cost = double(F) * double(per_face + n * n / 4 + 1);
-  const double edge_share = edge_cost + face_cost > 0. ? edge_cost / (edge_cost + face_cost) : 0.;
-  progress.phase(0., edge_share, E);
-  internal::for_range(
-      E, opt.parallel,
-      [&](std::size_t e) {
-        if (n > 1)
-          ev.edge_points(std::uint32_t(e), n, &r.points[edge_base + e * per_edge],
-                         &r.normals[edge_base + e * per_edge]);
-      },
-      &progress);
-  progress.phase(edge_share, 1., F);
-  internal::for_blocks(
-      F, opt.parallel,
-      [&](std::size_t f_begin, std::size_t f_end) {
-        std::vector<std::uint32_t> grid((n + 1) * (n + 2) / 2);
-        std::vector<std::array<float, 2>> grid_uv(m.has_uvs() ? grid.size() : 0);
-        std::vector<double> scratch;
-        for (std::size_t f = f_begin; f != f_end; ++f) {
-          const auto& Fc = m.faces[f];
-          // Output index of grid point (i, j): corner 0 at (0,0), corner 1 at (n,0), corner 2 at (0,n).
-          auto on_side = [&](int side, std::size_t k_from_start) -> std::uint32_t {
-            const auto& e = topo.edges[topo.face_edges[f][side]];
-            const std::size_t k = (Fc[side].vertex == e.a) ? k_from_start : n - k_from_start;
-            return std::uint32_t(edge_base + topo.face_edges[f][side] * per_edge + k - 1);
-          };
-          auto index = [&](std::size_t i, std::size_t j) -> std::uint32_t {
-            if (i == 0 && j == 0) return Fc[0].vertex;
-            if (i == n && j == 0) return Fc[1].vertex;
-            if (i == 0 && j == n) return Fc[2].vertex;
-            if (j == 0) return on_side(0, i);
-            if (i + j == n) return on_side(1, j);
-            if (i == 0) return on_side(2, n - j);
-            // interior, rows j = 1..n-2, i = 1..n-1-j
-            const std::size_t before = (j - 1) * (n - 2) - (j - 1) * (j - 2) / 2;
-            return std::uint32_t(face_base + f * per_face + before + (i - 1));
-          };
-          // Interior points, row by row; a face's are consecutive (see index()).
-          if (along_n_rows) {
-            if (n >= 3)
-              ev.along_normal_face(std::uint32_t(f), lanes, scratch, &r.points[index(1, 1)], &r.normals[index(1, 1)]);
-          } else {
-            for (std::size_t j = 1; j + 1 < n; ++j) {
-              const std::uint32_t id = index(1, j);
-              for (std::size_t i = 1; i + j < n; ++i) {
-                const double a1 = double(i) / double(n), a2 = double(j) / double(n), a0 = double(n - i - j) / double(n);
-                const Sample s = ev.interior(std::uint32_t(f), a0, a1, a2);
-                r.points[id + i - 1] = s.point;
-                r.normals[id + i - 1] = s.normal;
-              }
-            }
-          }
-          // The output id (and texture coordinates) of every grid point, computed once, then the
-          // triangles: grid point (i, j) is entry row(j) + i.
-          auto row = [n](std::size_t j) { return j * (n + 1) - j * (j - 1) / 2; };
-          for (std::size_t j = 0; j <= n; ++j) {
-            std::uint32_t* g = grid.data() + row(j);
-            const std::size_t last = n - j;  // row j holds i = 0 .. last
-            g[0] = index(0, j);
-            g[last] = index(last, j);
-            if (j == 0) {
-              for (std::size_t i = 1; i < last; ++i) g[i] = index(i, 0);
-            } else if (last >= 2) {  // interior ids of a row are consecutive
-              const std::uint32_t first = index(1, j);
-              for (std::size_t i = 1; i < last; ++i) g[i] = first + std::uint32_t(i - 1);
-            }
-          }
-          // Triangles (i,j) (i+1,j) (i,j+1) and (i+1,j) (i+1,j+1) (i,j+1), row by row.
-          std::array<std::uint32_t, 3>* T = r.triangles.data() + f * n * n;
-          for (std::size_t j = 0; j < n; ++j) {
-            const std::uint32_t* g0 = grid.data() + row(j);
-            const std::uint32_t* g1 = grid.data() + row(j + 1);
-            const std::size_t last = n - 1 - j;  // i = 0 .. last
-            for (std::size_t i = 0; i < last; ++i) {
-              *T++ = {g0[i], g0[i + 1], g1[i]};
-              *T++ = {g0[i + 1], g1[i + 1], g1[i]};
-            }
-            *T++ = {g0[last], g0[last + 1], g1[last]};
-          }
-          std::fill_n(r.base_face.data() + f * n * n, n * n, std::uint32_t(f));
-          if (m.has_uvs()) {
-            for (std::size_t j = 0; j <= n; ++j)
-              for (std::size_t i = 0; i + j <= n; ++i)
-                grid_uv[row(j) + i] = internal::interpolate_uv(m.uvs[f], double(n - i - j) / double(n),
-                                                               double(i) / double(n), double(j) / double(n));
-            std::array<float, 2>* U = r.corner_uvs.data() + 3 * f * n * n;
-            auto put = [&](std::size_t a, std::size_t b, std::size_t c) {
-              *U++ = grid_uv[a];
-              *U++ = grid_uv[b];
-              *U++ = grid_uv[c];
-            };
-            for (std::size_t j = 0; j < n; ++j) {
-              const std::size_t r0 = row(j), r1 = row(j + 1);
-              for (std::size_t i = 0; i + j < n; ++i) {
-                put(r0 + i, r0 + i + 1, r1 + i);
-                if (i + j + 2 <= n) put(r0 + i + 1, r1 + i + 1, r1 + i);
-              }
-            }
-          }
-        }
-      },
-      &progress);
-  progress.finish();
+  Regular_reconstructor<Traits>(m, level, opt, traits).reconstruct(r, opt);
 }
 
 /// Regular reconstruction at `level` (§4.5.2): 4^level triangles per base triangle.
@@ -1439,6 +1543,7 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
 #ifdef CMGEOM_COMPACT_MODEL_PRECOMPILED
 // Compiled once in CMGeom::Compact_model (src/Compact_model/compact_model_instantiations.cpp);
 // linking that library defines the macro.
+extern template class Regular_reconstructor<Quadric_surface_traits>;
 extern template void reconstruct_regular<Quadric_surface_traits>(const Compact_model&, int, Reconstruction&,
                                                                  const Reconstruction_options&,
                                                                  const Quadric_surface_traits&);

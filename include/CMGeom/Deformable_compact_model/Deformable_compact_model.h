@@ -75,6 +75,24 @@ public:
     opt.vertex_maps = &maps_;
     CM::reconstruct_regular(m_, level, out, opt, traits);
   }
+  /// The same by a Regular_reconstructor of this model (which keeps the base's topology, frames
+  /// and, made with `vertex_maps` set in its options, the blend's weight tables between poses);
+  /// `opt.projection` is the reconstructor's. \throws Invalid_input if `rec` is of another model.
+  template <class Traits>
+  void reconstruct_regular(const CM::Regular_reconstructor<Traits>& rec, CM::Reconstruction& out,
+                           CM::Reconstruction_options opt = CM::Reconstruction_options()) const {
+    rec.reconstruct(out, for_reconstructor(rec, opt));
+  }
+  /// Only the points and normals of `out`, which holds the regular reconstruction of this model
+  /// at `rec`'s level already (from an earlier pose): its triangles, base faces and texture
+  /// coordinates do not depend on the pose. Per frame of an animation, after one
+  /// reconstruct_regular(rec, out). \throws Invalid_input if `rec` is of another model or the
+  /// sizes of `out` are not its level's.
+  template <class Traits>
+  void reconstruct_regular_points(const CM::Regular_reconstructor<Traits>& rec, CM::Reconstruction& out,
+                                  CM::Reconstruction_options opt = CM::Reconstruction_options()) const {
+    rec.reconstruct_points(out, for_reconstructor(rec, opt));
+  }
   /// Deformed adaptive reconstruction (§4.5.2 + §6.4); `criterion` sees deformed samples.
   template <class Criterion, class Traits = CM::Quadric_surface_traits>
   CM::Reconstruction reconstruct_adaptive(const Criterion& criterion, int max_level,
@@ -90,6 +108,16 @@ public:
   }
 
 private:
+  template <class Traits>
+  CM::Reconstruction_options for_reconstructor(const CM::Regular_reconstructor<Traits>& rec,
+                                               CM::Reconstruction_options opt) const {
+    if (&rec.model() != &m_)
+      throw Invalid_input("deformable compact model: the reconstructor is of another compact model");
+    opt.projection = rec.projection();
+    opt.vertex_maps = &maps_;
+    return opt;
+  }
+
   const CM::Compact_model& m_;
   Local_deformation_solver solver_;
   std::vector<Vertex_affine_map> maps_;
