@@ -344,10 +344,12 @@ void flatten(const CMGeom::Surface_mesh& mesh, std::vector<CD::Vec3>& pts,
 // --scale: a large mesh (e.g. igea subdivided once, >= 1M faces) posed by the lattice cage
 // (grid 4 x 4 x 4, Green and mean value coordinates); the deformable CM with `base_faces` base
 // faces reconstructed at `level` against the full mesh deformed by the same cage. Per pose: (a)
-// every vertex of the mesh; (d) base deformed, local maps, deformed reconstruction along N into a
-// reused buffer; (e) base deformed, local maps, blend of the kept rest reconstruction. Memory:
+// every vertex of the mesh; (d) base deformed, local maps, the points and normals of the deformed
+// reconstruction along N by a Regular_reconstructor made at binding (the output's triangles are
+// written once); (e) base deformed, local maps, blend of the kept rest reconstruction. Memory:
 // (a) mesh + coordinates of every vertex + posed points; (d) CM file + base coordinates + local-map data +
-// output; (e) also the kept rest points, normals and triangles, and the blend's tables.
+// reconstructor + output; (e) CM file + base coordinates + local-map data + output, and the kept rest
+// points, normals and triangles, and the blend's tables.
 void run_scale(const std::string& path, std::size_t base_faces, int level) {
   CMGeom::Textured_mesh tm;
   CMGeom::IO::read_mesh(path, tm);

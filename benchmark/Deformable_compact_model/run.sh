@@ -40,10 +40,11 @@ fi
     echo "## At scale"
     echo
     echo "\`bench_deformable_compact_model --scale <igea subdivided once>:4000:4\`: the full mesh deformed"
-    echo "directly (a) against the deformable CM reconstructed along N into a reused buffer every pose (d)"
+    echo "directly (a) against the deformable CM whose points and normals are reconstructed along N every pose (d:"
+    echo "a \`CM::Regular_reconstructor\` made at binding, the output's triangles written once)"
     echo "and with its rest reconstruction kept (e), posed by the 4 x 4 x 4 lattice cage (98 vertices)."
     echo "\`memory MB\`: (a) mesh + coordinates of every vertex + posed points; (d) CM file + base coordinates + local-map"
-    echo "data + the output; (e) the same + the kept rest reconstruction (points, normals, triangles) and the tables of its blend."
+    echo "data + the reconstructor (topology, frames, tables) + the output; (e) CM file + base coordinates + local-map data + the output + the kept rest reconstruction (points, normals, triangles) and the tables of its blend."
     echo "Errors: Metro with 2 M face samples per direction and every vertex (no edge samples)."
     echo
     cat "$scale_dir/scale.md"
