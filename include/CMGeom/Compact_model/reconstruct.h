@@ -1018,6 +1018,24 @@ void for_range(std::size_t n, bool parallel, const Body& body,
       progress);
 }
 
+// The base vertices of a reconstruction (its first m.vertices.size() points): Phi(v) = v (mapped
+// when the evaluator has maps), with the normal of the first corner that uses v, or zero for a
+// base vertex no face uses. Regular and adaptive reconstructions alike.
+template <class Traits>
+void put_base_vertices(const Compact_model& m, const Evaluator<Traits>& ev, Vec3* points, Vec3* normals) {
+  const std::size_t V = m.vertices.size();
+  std::vector<std::uint8_t> seen(V, 0);
+  for (std::size_t i = 0; i < V; ++i) points[i] = ev.base_point(i);
+  for (std::uint32_t f = 0; f < m.faces.size(); ++f)
+    for (int c = 0; c < 3; ++c)
+      if (!seen[m.faces[f][c].vertex]) {
+        seen[m.faces[f][c].vertex] = 1;
+        normals[m.faces[f][c].vertex] = ev.vertex(f, c).normal;
+      }
+  for (std::size_t i = 0; i < V; ++i)
+    if (!seen[i]) normals[i] = Vec3();
+}
+
 inline std::array<float, 2> interpolate_uv(const Face_uvs& uv, double a0, double a1, double a2) {
   return {float(a0 * uv[0][0] + a1 * uv[1][0] + a2 * uv[2][0]), float(a0 * uv[0][1] + a1 * uv[1][1] + a2 * uv[2][1])};
 }
@@ -1133,17 +1151,7 @@ private:
     const internal::Face_lane_table& lanes = lanes_;
     const std::size_t per_edge = n - 1, per_face = (n - 1) * (n - 2) / 2;
     const std::size_t edge_base = V, face_base = V + E * per_edge;
-    // Base vertices: Phi(v) = v; normal of the first corner that uses it.
-    std::vector<std::uint8_t> seen(V, 0);
-    for (std::size_t i = 0; i < V; ++i) r.points[i] = ev.base_point(i);
-    for (std::uint32_t f = 0; f < F; ++f)
-      for (int c = 0; c < 3; ++c)
-        if (!seen[m.faces[f][c].vertex]) {
-          seen[m.faces[f][c].vertex] = 1;
-          r.normals[m.faces[f][c].vertex] = ev.vertex(f, c).normal;
-        }
-    for (std::size_t i = 0; i < V; ++i)
-      if (!seen[i]) r.normals[i] = Vec3();  // a base vertex no face uses
+    internal::put_base_vertices(m, ev, r.points.data(), r.normals.data());
     // Progress: the edges' and the faces' shares are those of the points they compute (plus a
     // quarter of a point per output triangle, and one per element for its fixed cost).
     CMGeom::internal::Progress_reporter progress(opt.progress);
@@ -1502,14 +1510,7 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
   Reconstruction r;
   CMGeom::internal::resize_on_huge_pages(r.points, face_offset[F]);
   CMGeom::internal::resize_on_huge_pages(r.normals, face_offset[F]);
-  for (std::size_t i = 0; i < V; ++i) r.points[i] = ev.base_point(i);
-  std::vector<std::uint8_t> seen(V, 0);
-  for (std::uint32_t f = 0; f < F; ++f)
-    for (int c = 0; c < 3; ++c)
-      if (!seen[m.faces[f][c].vertex]) {
-        seen[m.faces[f][c].vertex] = 1;
-        r.normals[m.faces[f][c].vertex] = ev.vertex(f, c).normal;
-      }
+  internal::put_base_vertices(m, ev, r.points.data(), r.normals.data());
   for (std::size_t e = 0; e < E; ++e)
     for (std::size_t k = 0; k < ep[e].s.size(); ++k) {
       r.points[edge_offset[e] + k] = ep[e].s[k].point;
