@@ -509,6 +509,17 @@ TEST(DeformableCMTransfer, ReconstructorGivesTheSameBitsPoseAfterPose) {
             proj == CM::Projection::along_normal ? CM::Projection::closest_point : CM::Projection::along_normal;
         EXPECT_THROW(kept.reconstruct(out, other_projection), CMGeom::Invalid_input);
         EXPECT_THROW(kept.reconstruct_points(out_kept, other_projection), CMGeom::Invalid_input);
+        // Maps for another base: refused by both calls, the output left as it was.
+        const std::vector<CM::Vertex_affine_map> wrong(m->vertices.size() + 1);
+        CM::Reconstruction_options wrong_maps = opt;
+        wrong_maps.vertex_maps = &wrong;
+        CM::Reconstruction other_level = CM::reconstruct_regular(*m, level + 1, opt);
+        const CM::Reconstruction other_before = other_level;
+        EXPECT_THROW(kept.reconstruct(other_level, wrong_maps), CMGeom::Invalid_input);
+        expect_bitwise_equal(other_level, other_before);
+        const CM::Reconstruction kept_before = out_kept;
+        EXPECT_THROW(kept.reconstruct_points(out_kept, wrong_maps), CMGeom::Invalid_input);
+        expect_bitwise_equal(out_kept, kept_before);
       }
   EXPECT_THROW(CM::Regular_reconstructor<>(ellipsoid_cm(), 13), CMGeom::Invalid_input);
   EXPECT_THROW(CM::Regular_reconstructor<>(ellipsoid_cm(), -1), CMGeom::Invalid_input);

@@ -1092,15 +1092,6 @@ public:
   /// map per base vertex.
   void reconstruct(Reconstruction& r, const Reconstruction_options& opt = Reconstruction_options()) const {
     check_projection(opt);
-    // Large outputs fault in huge pages where the kernel gives them (internal/huge_pages.h).
-    CMGeom::internal::resize_on_huge_pages(r.points, number_of_points());
-    CMGeom::internal::resize_on_huge_pages(r.normals, r.points.size());
-    CMGeom::internal::resize_on_huge_pages(r.triangles, number_of_triangles());
-    CMGeom::internal::resize_on_huge_pages(r.base_face, number_of_triangles());
-    if (m_.has_uvs())
-      CMGeom::internal::resize_on_huge_pages(r.corner_uvs, 3 * number_of_triangles());
-    else
-      r.corner_uvs.clear();
     run(r, opt, true);
   }
 
@@ -1135,8 +1126,8 @@ private:
       throw Invalid_input("reconstruction: the options' projection is not the reconstructor's");
   }
 
-  // Points and normals; with `connectivity` also triangles, base faces and texture coordinates.
-  // The arrays of `r` have their sizes.
+  // Points and normals; with `connectivity` the arrays of `r` are sized first and the triangles,
+  // base faces and texture coordinates written too (without it they have their sizes already).
   void run(Reconstruction& r, const Reconstruction_options& opt, bool connectivity) const {
     const Compact_model& m = m_;
     const internal::Base_topology& topo = topo_;
@@ -1147,6 +1138,17 @@ private:
                                          !opt.vertex_maps ? nullptr
                                          : map_weights_   ? &*map_weights_
                                                           : &*own_weights);
+    if (connectivity) {  // after the evaluator's checks: a refused call leaves `r` as it was
+      // Large outputs fault in huge pages where the kernel gives them (internal/huge_pages.h).
+      CMGeom::internal::resize_on_huge_pages(r.points, number_of_points());
+      CMGeom::internal::resize_on_huge_pages(r.normals, r.points.size());
+      CMGeom::internal::resize_on_huge_pages(r.triangles, number_of_triangles());
+      CMGeom::internal::resize_on_huge_pages(r.base_face, number_of_triangles());
+      if (m.has_uvs())
+        CMGeom::internal::resize_on_huge_pages(r.corner_uvs, 3 * number_of_triangles());
+      else
+        r.corner_uvs.clear();
+    }
     const bool along_n_rows = opt.projection == Projection::along_normal;
     const internal::Face_lane_table& lanes = lanes_;
     const std::size_t per_edge = n - 1, per_face = (n - 1) * (n - 2) / 2;
