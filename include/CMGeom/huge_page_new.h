@@ -15,7 +15,9 @@
 // sixth of its time there. internal/huge_pages.h advises the library's own large texel and output
 // buffers; this header does the same for every large allocation of a program, those of CGAL and the
 // standard library included. glibc's tunable glibc.malloc.hugetlb=1 (GLIBC_TUNABLES, glibc 2.35 and
-// later) has the same effect without this header, for programs that cannot be changed.
+// later) has the same effect without this header, for programs that cannot be changed, and covers
+// the smaller blocks of malloc's heap as well; the `cmgeom` tool uses both (it executes itself again
+// with the tunable set, tools/cmgeom/main.cpp).
 //
 // Memory: a large block is rounded up to a multiple of 2 MB (at most a quarter again as much, for
 // an 8 MB block; the kernel backs with huge pages only the 2 MB ranges a block covers, so untouched
