@@ -58,8 +58,13 @@ void execute_again_with_huge_page_heap(char** argv) {
   const bool had_tunables = tunables != nullptr;
   const std::string before = had_tunables ? tunables : "";
   const std::string after = (before.empty() ? "" : before + ":") + huge_page_heap_tunable + "=1";
+  // (the program's own file, by its path: executing /proc/self/exe would name the process "exe")
+  std::vector<char> self(4096);
+  const ssize_t length = readlink("/proc/self/exe", self.data(), self.size() - 1);
+  if (length <= 0 || std::size_t(length) >= self.size() - 1) return;
+  self[std::size_t(length)] = '\0';
   if (setenv("GLIBC_TUNABLES", after.c_str(), 1) != 0) return;
-  execv("/proc/self/exe", argv);
+  execv(self.data(), argv);
   // (the execution failed: the tool runs as it is, in the environment it was given)
   if (had_tunables)
     setenv("GLIBC_TUNABLES", before.c_str(), 1);
