@@ -122,3 +122,23 @@ TEST(cmgeom_cli, CommandsOfTheCageAndTextureStagesAreDeterministic) {
       },
       base);
 }
+
+// The tool executes itself again with glibc's huge-page tunable (tools/cmgeom/main.cpp): its
+// outputs are those of the tool left as it is (CMGEOM_HUGE_PAGE_HEAP=0), and a GLIBC_TUNABLES the
+// caller set already (another tunable) is kept and works.
+TEST(cmgeom_cli, HugePageHeapChangesNoOutput) {
+  const std::string base = cmgeom_test::scratch_dir();
+  const std::string spot = std::string(CMGEOM_SOURCE_DIR) + "/data/spot/spot.obj";
+  const char* environments[] = {"", "CMGEOM_HUGE_PAGE_HEAP=0", "GLIBC_TUNABLES=glibc.malloc.check=0"};
+  std::vector<std::string> outputs;
+  for (int k = 0; k < 3; ++k) {
+    const std::string out = (fs::path(base) / ("w" + std::to_string(k) + ".ply")).string();
+    const std::string cmd = std::string("env ") + environments[k] + " '" + CMGEOM_CMGEOM_EXE + "' --quiet simplify '" +
+                            spot + "' -o '" + out + "' --ratio 0.2 --no-texture > /dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    outputs.push_back(bytes_of(out));
+    ASSERT_FALSE(outputs.back().empty()) << cmd;
+  }
+  EXPECT_TRUE(outputs[0] == outputs[1]) << "the output depends on the heap's pages";
+  EXPECT_TRUE(outputs[0] == outputs[2]) << "the output depends on the caller's GLIBC_TUNABLES";
+}
