@@ -10,6 +10,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -33,9 +34,10 @@ constexpr const char* huge_page_heap_tunable = "glibc.malloc.hugetlb";
 /// the smaller ones (the copies a level-of-detail chain takes of its levels, the memoryful cost's
 /// point lists, CGAL's property arrays of a mid-size mesh) come from malloc's heap, whose fresh 4 kB
 /// pages each cost a fault on first touch, several microseconds on a virtual machine. With the
-/// tunable, `cmgeom lod` of the horse (97k faces, four levels) took 0.54 s instead of 0.67 s and
-/// `cmgeom simplify` of igea to 10 % 0.65 s instead of 0.80 s (doc/Textured_simplification/README.md,
-/// "Large meshes on all cores"). The cost is one more start of the program, about 7 ms.
+/// tunable, `cmgeom lod` of the horse (97k faces, four levels) took 0.51 s instead of 0.64 s and
+/// `cmgeom simplify` of igea to 10 % 0.65-0.70 s instead of 0.81-0.83 s
+/// (doc/Textured_simplification/README.md, "Large meshes on all cores"). The cost is one more start
+/// of the program, about 7 ms.
 ///
 /// Where: Linux with glibc 2.35 or later, a kernel that gives huge pages on request only
 /// (transparent_hugepage/enabled = madvise, Debian's default; with "always" the heap has them
@@ -58,13 +60,13 @@ void execute_again_with_huge_page_heap(char** argv) {
   const bool had_tunables = tunables != nullptr;
   const std::string before = had_tunables ? tunables : "";
   const std::string after = (before.empty() ? "" : before + ":") + huge_page_heap_tunable + "=1";
-  // (the program's own file, by its path: executing /proc/self/exe would name the process "exe")
-  std::vector<char> self(4096);
-  const ssize_t length = readlink("/proc/self/exe", self.data(), self.size() - 1);
-  if (length <= 0 || std::size_t(length) >= self.size() - 1) return;
-  self[std::size_t(length)] = '\0';
+  // (the program's own file, by its path, as cmd_pipeline.cpp finds it: executing /proc/self/exe
+  // would name the process "exe")
+  std::error_code ec;
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+  if (ec || self.empty()) return;
   if (setenv("GLIBC_TUNABLES", after.c_str(), 1) != 0) return;
-  execv(self.data(), argv);
+  execv(self.c_str(), argv);
   // (the execution failed: the tool runs as it is, in the environment it was given)
   if (had_tunables)
     setenv("GLIBC_TUNABLES", before.c_str(), 1);
