@@ -18,7 +18,8 @@ namespace Textured_simplification {
 namespace internal {
 template void simplify_in_parts<Precompiled_point, Precompiled_memory>(
     Precompiled_mesh&, std::size_t, int, const Mesh_simplification_options&,
-    Area_weighted_quadric_policies<Precompiled_mesh>&, std::optional<Precompiled_memory>&, Parts_progress*, bool);
+    Area_weighted_quadric_policies<Precompiled_mesh>&, std::optional<Precompiled_memory>&, Parts_progress*, bool,
+    const Precompiled_mesh*);
 }  // namespace internal
 
 CMGEOM_TS_INSTANTIATE_FOR_VISITOR(Edge_collapse_visitor_base);

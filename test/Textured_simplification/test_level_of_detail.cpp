@@ -201,6 +201,8 @@ TEST(LevelOfDetail, LevelsLargeEnoughRunInPartsAgain) {
   o.target_faces = {48000, 12000, 2400, 480};
   o.parts_min_faces = 1000;
   o.part_faces = 2048;  // the input in 16 parts, the 12000-face level in 4; 2400 faces are not cut
+  o.later_parts_min_faces = o.parts_min_faces;  // (the levels cut as the input is)
+  o.later_part_faces = o.part_faces;
   std::size_t reported = 0;
   bool monotone = true;
   TS::Removed_faces_visitor progress([&](std::size_t removed) {
@@ -228,6 +230,49 @@ TEST(LevelOfDetail, LevelsLargeEnoughRunInPartsAgain) {
     EXPECT_LE(r.levels[i].hausdorff, 1.25 * w.levels[i].hausdorff);
     EXPECT_LE(r.levels[i].rms, 1.25 * w.levels[i].rms);
   }
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  expect_same_level_points(TS::simplify_to_levels(input, o), r);
+}
+
+// A level on the way down is cut with the later parts settings: at least later_parts_min_faces
+// faces, parts of at least later_part_faces, where parts_min_faces alone would leave it whole;
+// with later_parts_min_faces 0 it runs on the whole, and an input too small to be cut is never
+// cut later either. Either way every level is valid and within its target, and the chain with
+// the later cut stays within a quarter of the error of the one without (its coarsest level is
+// the one it changes); the same on one core as on all.
+TEST(LevelOfDetail, LaterLevelsAreCutWithTheirOwnPartSizes) {
+  const CMGeom::Textured_mesh input(lod_torus(200, 120));  // 48000 faces
+  TS::Level_of_detail_options o;
+  o.target_faces = {48000, 12000, 2400, 480};
+  o.parts_min_faces = 20000;
+  o.part_faces = 8192;  // the input in 4 parts
+  o.later_parts_min_faces = 6000;
+  o.later_part_faces = 2048;  // the 12000-face level in 4; the 2400-face one not cut
+  const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
+  ASSERT_EQ(r.levels.size(), 4u);
+  EXPECT_EQ(r.parts, 4u);
+  EXPECT_EQ(r.runs_in_parts, 2u);
+  expect_levels_valid_within_targets(r, o.target_faces);
+  TS::Level_of_detail_options first_only = o;
+  first_only.later_parts_min_faces = 0;
+  const TS::Level_of_detail_result f = TS::simplify_to_levels(input, first_only);
+  EXPECT_EQ(f.parts, 4u);
+  EXPECT_EQ(f.runs_in_parts, 1u);
+  expect_levels_valid_within_targets(f, o.target_faces);
+  // the levels down to the one cut again are the same run
+  EXPECT_EQ(sorted_triangles(r.levels[1].mesh.mesh()), sorted_triangles(f.levels[1].mesh.mesh()));
+  for (std::size_t i = 1; i < r.levels.size(); ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    EXPECT_GT(r.levels[i].hausdorff, 0.0);
+    EXPECT_LE(r.levels[i].hausdorff, 1.25 * f.levels[i].hausdorff);
+    EXPECT_LE(r.levels[i].rms, 1.25 * f.levels[i].rms);
+  }
+  // an input below parts_min_faces: no level is cut, however large
+  TS::Level_of_detail_options small_input = o;
+  small_input.parts_min_faces = 60000;
+  const TS::Level_of_detail_result w = TS::simplify_to_levels(input, small_input);
+  EXPECT_EQ(w.parts, 0u);
+  EXPECT_EQ(w.runs_in_parts, 0u);
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   expect_same_level_points(TS::simplify_to_levels(input, o), r);
 }

@@ -10,9 +10,9 @@
 // simplify_mesh() returns for that target (on the whole, and where only the first level ran in
 // parts; a level after a run cut again goes on from the levels before it). A large untextured
 // input is cut into parts simplified on all cores down to the first collapsed level, as
-// simplify_mesh() cuts it (`parts_min_faces`), and so is every level still that large on the way
-// down to the next (the quadrics and the memory's points carried into the parts); the rest runs
-// on the whole. Levels
+// simplify_mesh() cuts it (`parts_min_faces`), and so is every level large enough on the way
+// down to the next (`later_parts_min_faces`: the quadrics and the memory's points carried into
+// the parts); the rest runs on the whole. Levels
 // may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
 // measure, not a guarantee). Texture: an atlas per level (default), painted from the input
 // followed down the collapses onto that level and baked where no input face lands, or one
@@ -133,12 +133,27 @@ struct Level_of_detail_options {
   /// that target. The same holds level by level: when a level has at least this many faces and the
   /// next at most half of them, the collapses down to the next level run in parts again, going on
   /// from the quadrics and points the run so far left (on a 1M-face input with levels 1, 0.25,
-  /// 0.05, 0.01: parts down to 25 % and again down to 5 %). 0: never. A textured chain (whose
+  /// 0.05, 0.01: parts down to 25 %, again down to 5 % and again down to 1 %, the later cuts with
+  /// `later_parts_min_faces` and `later_part_faces`). 0: never. A textured chain (whose
   /// collapse history follows the whole mesh), the error-bound mode and an input whose faces use
   /// several materials (which the parts would not keep) run on the whole.
   std::size_t parts_min_faces = Mesh_simplification_options().parts_min_faces;
   /// Faces of a part at least (simplify_mesh()'s `part_faces`).
   std::size_t part_faces = Mesh_simplification_options().part_faces;
+  /// When the input was large enough to be cut (`parts_min_faces`), a level on the way down is cut
+  /// again, on the way down to the next level (at most half of it), once it has at least
+  /// `later_parts_min_faces` faces, into parts of at least `later_part_faces` faces (instead of
+  /// the two settings above). A level carries every point of the input on fewer faces: a part of
+  /// 16,384 faces of the 25 % level holds the points of 65,536 input faces, as a part of the
+  /// input's own cut does. With these defaults a 1M-face input's 5 % level (53,736 faces) is cut
+  /// in 2 and its 25 % level in 16 (instead of 4), igea's 25 % level (67,172 faces) in 4 (it was
+  /// simplified on one core before): the chains of igea and its 1M-face subdivision (levels 1,
+  /// 0.25, 0.05, 0.01) 12 and 15 % faster, each coarsest level as close to the input as
+  /// `simplify_mesh()`'s run to that target alone (doc/Textured_simplification/README.md). 0: a
+  /// level is cut only when it has `parts_min_faces` faces.
+  std::size_t later_parts_min_faces = 32768;
+  /// See `later_parts_min_faces`.
+  std::size_t later_part_faces = 16384;
   /// Measure every level's error against the input (Metrics::approximation_error, the input's side
   /// prepared once: Metrics::Error_reference), beside the collapses and the texture work.
   bool measure_error = true;
@@ -447,15 +462,22 @@ inline bool faces_have_several_materials(const Textured_mesh& input) {
 
 /// The collapses of a chain on `work`: simplify_mesh()'s engine, cost and memory, without its final
 /// fit and without compacting `work`, in runs that each go on from where the last one stopped
-/// (quadrics and the memory's points carried over).
+/// (quadrics and the memory's points carried over). With `source`, `work` starts empty and the
+/// first run takes `*source` (left as it is): it cuts its parts from it when it begins in parts,
+/// and copies it into `work` (without its "h:uv" map) when not.
 class Chain_collapses {
 public:
   using Mesh = Surface_mesh;
   using VPM = Mesh::Property_map<Mesh::Vertex_index, Point_3>;
 
-  Chain_collapses(Surface_mesh& work, const Level_of_detail_options& options)
-      : work_(work), options_(options), policy_(work, options.quadric) {
+  Chain_collapses(Surface_mesh& work, const Level_of_detail_options& options, const Surface_mesh* source = nullptr)
+      : work_(work),
+        options_(options),
+        policy_(work, options.quadric),  // (it keeps no map of the mesh: `work` may be assigned later)
+        source_(source),
+        input_faces_(source ? source->number_of_faces() : work.number_of_faces()) {
     check_fit_options(options.memory.fit);
+    if (source && !work.is_empty()) throw std::invalid_argument("Chain_collapses: a source needs an empty work mesh");
   }
   Chain_collapses(const Chain_collapses&) = delete;
   Chain_collapses& operator=(const Chain_collapses&) = delete;
@@ -467,7 +489,20 @@ public:
   /// to half).
   int part_levels(std::size_t faces, std::size_t target) const {
     if (target == 0 || 2 * target > faces) return 0;
-    return halvings_into_parts(faces, chain_simplification_options(options_, target));
+    return halvings_into_parts(faces, parts_options(faces, target));
+  }
+
+  /// simplify_mesh()'s options for a run from `faces` faces down to `target` in parts: a level on
+  /// the way down (fewer faces than the input) of an input large enough to be cut is cut with the
+  /// later parts settings (Level_of_detail_options::later_parts_min_faces), the input itself with
+  /// the first ones.
+  Mesh_simplification_options parts_options(std::size_t faces, std::size_t target) const {
+    Mesh_simplification_options o = chain_simplification_options(options_, target);
+    if (faces < input_faces_ && options_.later_parts_min_faces > 0 && halvings_into_parts(input_faces_, o) > 0) {
+      o.parts_min_faces = options_.later_parts_min_faces;
+      o.part_faces = options_.later_part_faces;
+    }
+    return o;
   }
 
   /// Collapses until `stop`, with the visitor `make_visitor(fitter)` builds around the run's
@@ -481,10 +516,17 @@ public:
   std::pair<std::size_t, std::size_t> run(const Stop& stop, std::size_t prune_min_faces,
                                           const MakeVisitor& make_visitor, std::size_t parts_target = 0,
                                           Parts_progress* progress = nullptr) {
-    const int levels = part_levels(work_.number_of_faces(), parts_target);
+    const std::size_t faces = source_ ? source_->number_of_faces() : work_.number_of_faces();
+    const int levels = part_levels(faces, parts_target);
+    if (source_ && levels == 0) {
+      work_ = *source_;
+      auto uv = work_.property_map<Mesh::Halfedge_index, Point_2>("h:uv");
+      if (uv.second) work_.remove_property_map(uv.first);
+    }
     if (levels > 0)
-      simplify_in_parts(work_, parts_target, levels, chain_simplification_options(options_, parts_target), policy_,
-                        memory_, progress, runs_ > 0);
+      simplify_in_parts(work_, parts_target, levels, parts_options(faces, parts_target), policy_, memory_, progress,
+                        runs_ > 0, source_);
+    source_ = nullptr;
     const std::size_t faces_after_parts = levels > 0 ? work_.number_of_faces() : 0;
     if (runs_ == 0 && levels == 0 && options_.surface_memory) memory_.emplace(work_, work_.points(), options_.memory);
     // (a later run without parts keeps the quadrics the last run left)
@@ -514,6 +556,8 @@ private:
   const Level_of_detail_options& options_;
   Area_weighted_quadric_policies<Mesh> policy_;
   std::optional<Surface_memory<Mesh, VPM>> memory_;
+  const Surface_mesh* source_;  // (until the first run has taken it)
+  std::size_t input_faces_;     // (the faces of the chain's input)
   int runs_ = 0;
 };
 
@@ -627,11 +671,13 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
   try {
     if (!collapsed.empty() && !by_error) {
       // a copy with the input's element order (the collapse order depends on it: the chain's levels
-      // are then those of simplify_mesh() run on the input to each level's target)
-      Surface_mesh work = input.mesh();
-      auto uv = work.property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv");
-      if (uv.second) work.remove_property_map(uv.first);
+      // are then those of simplify_mesh() run on the input to each level's target); untextured, the
+      // chain's first run takes the input itself, and copies nothing of it when it begins in parts
+      Surface_mesh work;
       if (textured) {
+        work = input.mesh();
+        auto uv = work.property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv");
+        if (uv.second) work.remove_property_map(uv.first);
         history.emplace(work);
         history->follow_levels(options.shared_texture);
         input_points = history->add_input(work);
@@ -642,7 +688,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
       // a run of the whole then takes that level and those after it down to the next level whose
       // collapses run in parts)
       // (the last level of a run, and any the run never reached, are taken when it finishes)
-      internal::Chain_collapses chain(work, chain_options);
+      internal::Chain_collapses chain(work, chain_options, textured ? nullptr : &input.mesh());
       internal::Parts_progress progress;
       internal::report_parts_progress_to(visitor, progress);
       // (the levels of a run are fitted beside the runs that follow: each run's state is kept

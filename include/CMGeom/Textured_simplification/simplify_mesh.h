@@ -402,31 +402,37 @@ void collapse_with_placement(const Policy& policy, bool endpoint, Fn fn) {
 /// With `resume`, `mesh` is the result of collapses already made (removed elements allowed) and
 /// the stage goes on from them: each part takes its vertices' quadrics and weights from `policy`
 /// and its faces' points from `memory` (when set), instead of computing them from its faces and
-/// vertices (level_of_detail.h runs a chain's levels so, one stage per level).
+/// vertices (level_of_detail.h runs a chain's levels so, one stage per level). With `source`, the
+/// parts are cut from `*source`, which is left as it is, and put back together into `mesh`, which
+/// must be empty (a chain keeps its input as its first level and copies nothing of it).
 template <class Point, class Memory>
 void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int levels,
                        const Mesh_simplification_options& options,
                        Area_weighted_quadric_policies<CGAL::Surface_mesh<Point>>& policy, std::optional<Memory>& memory,
-                       Parts_progress* progress = nullptr, bool resume = false) {
+                       Parts_progress* progress = nullptr, bool resume = false,
+                       const CGAL::Surface_mesh<Point>* source = nullptr) {
   using Mesh = CGAL::Surface_mesh<Point>;
   using Policy = Area_weighted_quadric_policies<Mesh>;
   using V = typename Mesh::Vertex_index;
   using Quadric = typename Policy::Quadric;
   using size_type = typename Mesh::size_type;
-  const std::size_t faces_in = mesh.number_of_faces(), vertices_in = mesh.number_of_vertices();
-  const std::size_t vertex_slots = mesh.num_vertices();  // removed ones included
+  if (source && (resume || !mesh.is_empty()))
+    throw std::invalid_argument("simplify_in_parts: a separate source needs an empty mesh and no resume");
+  const Mesh& in = source ? *source : mesh;  // (read until the parts are cut)
+  const std::size_t faces_in = in.number_of_faces(), vertices_in = in.number_of_vertices();
+  const std::size_t vertex_slots = in.num_vertices();  // removed ones included
   // No quadric of the whole input is made (`policy` has no records until the merge): each part
   // computes its own from its faces, and only the vertices on a part's border take theirs from
   // their star in the input (see below).
   std::vector<std::uint32_t> label;
-  std::vector<std::vector<std::uint32_t>> faces_of = split_faces(mesh, levels, label);
+  std::vector<std::vector<std::uint32_t>> faces_of = split_faces(in, levels, label);
   const std::size_t n = faces_of.size();
   std::vector<Mesh_part<Point>> parts(n);
   {
     // the parts first; the tables that cut them are dropped before anything else is allocated
-    std::vector<std::uint32_t> corner_vertex(mesh.num_halfedges(), no_index), side_edge(mesh.num_halfedges(), no_index);
+    std::vector<std::uint32_t> corner_vertex(in.num_halfedges(), no_index), side_edge(in.num_halfedges(), no_index);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
-      parts[k] = make_part(mesh, std::uint32_t(k), faces_of[k], label, corner_vertex, side_edge,
+      parts[k] = make_part(in, std::uint32_t(k), faces_of[k], label, corner_vertex, side_edge,
                            levels > options.parts_whole_levels ? levels : 0);
     });
   }
@@ -437,7 +443,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
   std::vector<Point_list> resumed_points(resume && memory ? n : 0);
   if (resume && memory) {
     using Face = typename Mesh::Face_index;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> part_face(mesh.num_faces(), {no_index, no_index});
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> part_face(in.num_faces(), {no_index, no_index});
     for (std::size_t k = 0; k < n; ++k)
       for (std::size_t i = 0; i < faces_of[k].size(); ++i)
         part_face[faces_of[k][i]] = {std::uint32_t(k), std::uint32_t(i)};
@@ -463,7 +469,7 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
       for (auto u : pm.vertices())
         if (CGAL::is_border(u, pm))
           border_data[k].emplace_back(
-              u, policy.star_vertex_data(mesh, mesh.points(), V(size_type(parts[k].to_input[std::size_t(u)]))));
+              u, policy.star_vertex_data(in, in.points(), V(size_type(parts[k].to_input[std::size_t(u)]))));
     });
   if (options.release_input_in_parts) {
     if (options.before_changing_input) options.before_changing_input();
@@ -889,7 +895,8 @@ using Precompiled_memory =
     Surface_memory<Precompiled_mesh, Precompiled_mesh::Property_map<Precompiled_mesh::Vertex_index, Precompiled_point>>;
 extern template void simplify_in_parts<Precompiled_point, Precompiled_memory>(
     Precompiled_mesh&, std::size_t, int, const Mesh_simplification_options&,
-    Area_weighted_quadric_policies<Precompiled_mesh>&, std::optional<Precompiled_memory>&, Parts_progress*, bool);
+    Area_weighted_quadric_policies<Precompiled_mesh>&, std::optional<Precompiled_memory>&, Parts_progress*, bool,
+    const Precompiled_mesh*);
 }  // namespace internal
 extern template Mesh_simplification_result simplify_mesh<internal::Precompiled_point, Edge_collapse_visitor_base>(
     internal::Precompiled_mesh&, const Mesh_simplification_options&, Edge_collapse_visitor_base);
