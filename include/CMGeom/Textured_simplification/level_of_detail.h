@@ -460,6 +460,15 @@ inline bool faces_have_several_materials(const Textured_mesh& input) {
                      [&](Surface_mesh::Face_index f) { return input.material(f) != first; });
 }
 
+/// A copy of `mesh` with its element order (the collapse order depends on it) and without its
+/// "h:uv" map: the chain's collapses carry no texture coordinates.
+inline Surface_mesh copy_without_uvs(const Surface_mesh& mesh) {
+  Surface_mesh copy = mesh;
+  auto uv = copy.property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv");
+  if (uv.second) copy.remove_property_map(uv.first);
+  return copy;
+}
+
 /// The collapses of a chain on `work`: simplify_mesh()'s engine, cost and memory, without its final
 /// fit and without compacting `work`, in runs that each go on from where the last one stopped
 /// (quadrics and the memory's points carried over). With `source`, `work` starts empty and the
@@ -518,11 +527,7 @@ public:
                                           Parts_progress* progress = nullptr) {
     const std::size_t faces = source_ ? source_->number_of_faces() : work_.number_of_faces();
     const int levels = part_levels(faces, parts_target);
-    if (source_ && levels == 0) {
-      work_ = *source_;
-      auto uv = work_.property_map<Mesh::Halfedge_index, Point_2>("h:uv");
-      if (uv.second) work_.remove_property_map(uv.first);
-    }
+    if (source_ && levels == 0) work_ = copy_without_uvs(*source_);
     if (levels > 0)
       simplify_in_parts(work_, parts_target, levels, parts_options(faces, parts_target), policy_, memory_, progress,
                         runs_ > 0, source_);
@@ -615,9 +620,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
   std::vector<std::pair<double, double>> measured;  // (hausdorff, rms) of the collapsed levels
   const auto t_collapse = Clock::now();
   if (by_error) {
-    Surface_mesh work = input.mesh();
-    auto uv = work.property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv");
-    if (uv.second) work.remove_property_map(uv.first);
+    Surface_mesh work = internal::copy_without_uvs(input.mesh());
     if (textured) {
       history.emplace(work);
       history->follow_levels(options.shared_texture);
@@ -670,14 +673,12 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
 
   try {
     if (!collapsed.empty() && !by_error) {
-      // a copy with the input's element order (the collapse order depends on it: the chain's levels
-      // are then those of simplify_mesh() run on the input to each level's target); untextured, the
+      // a copy with the input's element order (copy_without_uvs(): the chain's levels are then
+      // those of simplify_mesh() run on the input to each level's target); untextured, the
       // chain's first run takes the input itself, and copies nothing of it when it begins in parts
       Surface_mesh work;
       if (textured) {
-        work = input.mesh();
-        auto uv = work.property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv");
-        if (uv.second) work.remove_property_map(uv.first);
+        work = internal::copy_without_uvs(input.mesh());
         history.emplace(work);
         history->follow_levels(options.shared_texture);
         input_points = history->add_input(work);
