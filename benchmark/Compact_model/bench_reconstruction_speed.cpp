@@ -6,6 +6,11 @@
 // point, 1 and 2 threads, into a fresh Reconstruction (what a one-off call pays: allocation and
 // first touch of the output) and into a reused one (what a per-frame call pays, e.g. a deformable
 // CM: no allocation). Minimum and median of several runs. Prints Markdown.
+// Built twice: bench_reconstruction_speed with the standard operator new, and
+// bench_reconstruction_speed_huge_new, which replaces it by CMGeom/huge_page_new.h as the `cmgeom`
+// tool does (large blocks 2 MB-aligned and advised for huge pages before their first touch): a
+// fresh output's first touch is most of what separates `fresh` from `reused`, and the header is
+// what a program does about it (doc/Compact_model/README.md, "Reconstruction speed").
 //
 //   bench_reconstruction_speed [data dir] [model:base_faces ...] [--levels A-B] [--along-n]
 //                              [--threads T] [--runs R]
@@ -14,6 +19,10 @@
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
 #include "cmgeom_bench_support.h"
+
+#if defined(CMGEOM_BENCH_HUGE_PAGE_NEW)
+#include <CMGeom/huge_page_new.h>  // this program's operator new (see the file comment)
+#endif
 
 #include <tbb/global_control.h>
 
