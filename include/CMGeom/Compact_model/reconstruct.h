@@ -202,28 +202,43 @@ struct Base_topology {
   }
 };
 
+// A vertex map written about the point c: T(x) = M (x - c) + offset, offset = M (c - rest) +
+// deformed, in this order of operations wherever a kernel below needs it (so that every kernel's
+// bits agree). With c = rest, offset = deformed exactly.
+inline Vec3 map_offset(const Vertex_affine_map& T, const Vec3& c) {
+  const Vec3 d = c - T.rest;
+  return Vec3((T.M[0][0] * d.x + T.M[0][1] * d.y + T.M[0][2] * d.z) + T.deformed.x,
+              (T.M[1][0] * d.x + T.M[1][1] * d.y + T.M[1][2] * d.z) + T.deformed.y,
+              (T.M[2][0] * d.x + T.M[2][1] * d.y + T.M[2][2] * d.z) + T.deformed.z);
+}
+
 // Applies sum_k w[k] T_{v[k]} to a sample (point, and normal through the cofactor matrix of the
 // blended M, which maps the normal of a tangent plane to the normal of its image, orientation
 // included). Corners with zero weight are ignored; if every weighted corner is an identity map,
-// the sample is left untouched (bit-exact identity).
+// the sample is left untouched (bit-exact identity). The blend is one affine map about the rest
+// point c of the first corner's map, B (x - c) + t with B = sum_k w[k] M_k and t = sum_k w[k]
+// offset_k (map_offset()): a point costs one product by B instead of one per corner, and a base
+// vertex (one map, weight 1, x = c) lands exactly on its deformed point.
 inline void apply_vertex_maps(const std::vector<Vertex_affine_map>& maps, int n, const std::uint32_t* v,
                               const double* w, Sample& s) {
   bool moved = false;
   for (int k = 0; k < n; ++k) moved = moved || (w[k] != 0. && !maps[v[k]].identity);
   if (!moved) return;
   double B[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-  Vec3 q(0, 0, 0);
+  Vec3 t(0, 0, 0);
+  const Vec3 c = maps[v[0]].rest;
   for (int k = 0; k < n; ++k) {
     if (w[k] == 0.) continue;
     const Vertex_affine_map& T = maps[v[k]];
-    const Vec3 d = s.point - T.rest;
-    const Vec3 Md(T.M[0][0] * d.x + T.M[0][1] * d.y + T.M[0][2] * d.z,
-                  T.M[1][0] * d.x + T.M[1][1] * d.y + T.M[1][2] * d.z,
-                  T.M[2][0] * d.x + T.M[2][1] * d.y + T.M[2][2] * d.z);
-    q += w[k] * (Md + T.deformed);
+    const Vec3 o = map_offset(T, c);
+    t = Vec3(t.x + w[k] * o.x, t.y + w[k] * o.y, t.z + w[k] * o.z);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) B[i][j] += w[k] * T.M[i][j];
   }
+  const Vec3 p = s.point - c;
+  const Vec3 q((B[0][0] * p.x + B[0][1] * p.y + B[0][2] * p.z) + t.x,
+               (B[1][0] * p.x + B[1][1] * p.y + B[1][2] * p.z) + t.y,
+               (B[2][0] * p.x + B[2][1] * p.y + B[2][2] * p.z) + t.z);
   // Cofactor matrix C of B: C n = (B a) x (B b) for n = a x b.
   const Vec3 r0(B[0][0], B[0][1], B[0][2]), r1(B[1][0], B[1][1], B[1][2]), r2(B[2][0], B[2][1], B[2][2]);
   const Vec3 c0 = cross(r1, r2), c1 = cross(r2, r0), c2 = cross(r0, r1);
@@ -331,22 +346,24 @@ namespace simd {
 template <int K>
 struct Shared_maps {
   const Vertex_affine_map* const* T;  // T[c]
+  const Vec3* O;                      // O[c] = map_offset(*T[c], T[0]->rest)
   CMGEOM_CM_AVX d4 M(int c, int i, int j) const { return splat(T[c]->M[i][j]); }
-  CMGEOM_CM_AVX d4 rest(int c, int axis) const { return splat(T[c]->rest[axis]); }
-  CMGEOM_CM_AVX d4 deformed(int c, int axis) const { return splat(T[c]->deformed[axis]); }
+  CMGEOM_CM_AVX d4 offset(int c, int axis) const { return splat(O[c][axis]); }
+  CMGEOM_CM_AVX d4 center(int axis) const { return splat(T[0]->rest[axis]); }
 };
 // ... or K maps per lane.
 template <int K>
 struct Lane_maps {
   const Vertex_affine_map* T[4][K];  // T[lane][c]
+  Vec3 O[4][K];                      // map_offset(*T[lane][c], T[lane][0]->rest)
   CMGEOM_CM_AVX d4 M(int c, int i, int j) const {
     return d4{T[0][c]->M[i][j], T[1][c]->M[i][j], T[2][c]->M[i][j], T[3][c]->M[i][j]};
   }
-  CMGEOM_CM_AVX d4 rest(int c, int axis) const {
-    return d4{T[0][c]->rest[axis], T[1][c]->rest[axis], T[2][c]->rest[axis], T[3][c]->rest[axis]};
+  CMGEOM_CM_AVX d4 offset(int c, int axis) const {
+    return d4{O[0][c][axis], O[1][c][axis], O[2][c][axis], O[3][c][axis]};
   }
-  CMGEOM_CM_AVX d4 deformed(int c, int axis) const {
-    return d4{T[0][c]->deformed[axis], T[1][c]->deformed[axis], T[2][c]->deformed[axis], T[3][c]->deformed[axis]};
+  CMGEOM_CM_AVX d4 center(int axis) const {
+    return d4{T[0][0]->rest[axis], T[1][0]->rest[axis], T[2][0]->rest[axis], T[3][0]->rest[axis]};
   }
 };
 }  // namespace simd
@@ -360,22 +377,19 @@ CMGEOM_CM_AVX void apply_vertex_maps_lanes(const Maps& maps, const simd::d4 (&w)
   using D = simd::d4;
   using simd::splat;
   const D zero = splat(0.);
-  D qx = zero, qy = zero, qz = zero;
+  D tx = zero, ty = zero, tz = zero;
   D B[3][3] = {{zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero}};
   for (int c = 0; c < K; ++c) {
-    const D dx = s[0] - maps.rest(c, 0), dy = s[1] - maps.rest(c, 1), dz = s[2] - maps.rest(c, 2);
-    D M[3][3];
+    tx = tx + w[c] * maps.offset(c, 0);
+    ty = ty + w[c] * maps.offset(c, 1);
+    tz = tz + w[c] * maps.offset(c, 2);
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) M[i][j] = maps.M(c, i, j);
-    const D mx = M[0][0] * dx + M[0][1] * dy + M[0][2] * dz;
-    const D my = M[1][0] * dx + M[1][1] * dy + M[1][2] * dz;
-    const D mz = M[2][0] * dx + M[2][1] * dy + M[2][2] * dz;
-    qx += w[c] * (mx + maps.deformed(c, 0));
-    qy += w[c] * (my + maps.deformed(c, 1));
-    qz += w[c] * (mz + maps.deformed(c, 2));
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) B[i][j] += w[c] * M[i][j];
+      for (int j = 0; j < 3; ++j) B[i][j] += w[c] * maps.M(c, i, j);
   }
+  const D px = s[0] - maps.center(0), py = s[1] - maps.center(1), pz = s[2] - maps.center(2);
+  const D qx = (B[0][0] * px + B[0][1] * py + B[0][2] * pz) + tx;
+  const D qy = (B[1][0] * px + B[1][1] * py + B[1][2] * pz) + ty;
+  const D qz = (B[2][0] * px + B[2][1] * py + B[2][2] * pz) + tz;
   // Rows of the cofactor matrix: r1 x r2, r2 x r0, r0 x r1 (apply_vertex_maps()'s cross()).
   const D c0x = B[1][1] * B[2][2] - B[1][2] * B[2][1], c0y = B[1][2] * B[2][0] - B[1][0] * B[2][2],
           c0z = B[1][0] * B[2][1] - B[1][1] * B[2][0];
@@ -416,14 +430,14 @@ CMGEOM_CM_AVX void store_lanes(const simd::d4 (&s)[6], Vec3* const (&p)[4], Vec3
 // out_p, out_n (which may be in_p, in_n): all four blend the maps T[0..K-1], sample l with the
 // weights w[K l .. K l + K - 1] (non-zero; some map not the identity).
 template <int K>
-__attribute__((target("avx"))) void apply_vertex_maps_avx(const Vertex_affine_map* const* T, const double* w,
-                                                          const Vec3* in_p, const Vec3* in_n, Vec3* out_p,
-                                                          Vec3* out_n) {
+__attribute__((target("avx"))) void apply_vertex_maps_avx(const Vertex_affine_map* const* T, const Vec3* O,
+                                                          const double* w, const Vec3* in_p, const Vec3* in_n,
+                                                          Vec3* out_p, Vec3* out_n) {
   simd::d4 wl[K];
   for (int c = 0; c < K; ++c) wl[c] = simd::d4{w[c], w[K + c], w[2 * K + c], w[3 * K + c]};
   simd::d4 s[6];
   load_lanes({in_p, in_p + 1, in_p + 2, in_p + 3}, {in_n, in_n + 1, in_n + 2, in_n + 3}, s);
-  apply_vertex_maps_lanes<K>(simd::Shared_maps<K>{T}, wl, s);
+  apply_vertex_maps_lanes<K>(simd::Shared_maps<K>{T, O}, wl, s);
   store_lanes(s, {out_p, out_p + 1, out_p + 2, out_p + 3}, {out_n, out_n + 1, out_n + 2, out_n + 3});
 }
 #endif
@@ -442,12 +456,16 @@ void apply_shared_vertex_maps(const std::vector<Vertex_affine_map>& maps, const 
 #ifdef CMGEOM_CM_SIMD_ROWS
   if (moved && simd::has_avx()) {
     const Vertex_affine_map* T[K];
-    for (int c = 0; c < K; ++c) T[c] = &maps[v[c]];
+    Vec3 O[K];
+    for (int c = 0; c < K; ++c) {
+      T[c] = &maps[v[c]];
+      O[c] = map_offset(*T[c], T[0]->rest);
+    }
     for (; k + 4 <= count; k += 4) {
       // A zero weight drops its map from apply_vertex_maps()'s identity test: such groups go
       // through the scalar path below (never in regular reconstruction, whose weights are > 0).
       if (std::find(w + K * k, w + K * (k + 4), 0.) != w + K * (k + 4)) break;
-      apply_vertex_maps_avx<K>(T, w + K * k, in_p + k, in_n + k, out_p + k, out_n + k);
+      apply_vertex_maps_avx<K>(T, O, w + K * k, in_p + k, in_n + k, out_p + k, out_n + k);
     }
   }
 #endif
@@ -492,6 +510,8 @@ __attribute__((target("avx"))) std::size_t apply_vertex_maps_across_avx(const st
         T.T[l][c] = &maps[corner(e + l, c)];
         moved[l] = moved[l] || !T.T[l][c]->identity;
       }
+    for (int l = 0; l < 4; ++l)
+      for (int c = 0; c < K; ++c) T.O[l][c] = map_offset(*T.T[l][c], T.T[l][0]->rest);
     if (!(moved[0] || moved[1] || moved[2] || moved[3])) {
       if (out_p != in_p || out_n != in_n)
         for (std::size_t i = per * e; i < per * (e + 4); ++i) {
