@@ -439,8 +439,8 @@ Cage_binding<Weight> bind_points(const Coordinates& coords, const PointRange& po
   // blocks and grouped storage groups the rows (measured: a few percent of the time).
   progress.phase(0., options.storage == Weight_storage::dense ? 1. : 0.95, N);
   if (options.storage == Weight_storage::dense) {
-    // (a large block of weights on huge pages: deform() streams through all of it every frame, and
-    // on 4 kB pages its TLB misses made a 537k x 98 frame 1.2-2x slower from run to run)
+    // (a large block of weights on huge pages, its fresh pages faulted in on all cores: binding
+    // 537k points to 98 mean value coordinates 3.0 -> 2.3 s, doc/Cage_deformation/README.md)
     CMGeom::internal::resize_on_huge_pages(b.values_, N * K);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t v = r.begin(); v < r.end(); ++v) b.status_[v] = coords(*(first + v), b.values_.data() + v * K);

@@ -510,8 +510,6 @@ __attribute__((target("avx"))) std::size_t apply_vertex_maps_across_avx(const st
         T.T[l][c] = &maps[corner(e + l, c)];
         moved[l] = moved[l] || !T.T[l][c]->identity;
       }
-    for (int l = 0; l < 4; ++l)
-      for (int c = 0; c < K; ++c) T.O[l][c] = map_offset(*T.T[l][c], T.T[l][0]->rest);
     if (!(moved[0] || moved[1] || moved[2] || moved[3])) {
       if (out_p != in_p || out_n != in_n)
         for (std::size_t i = per * e; i < per * (e + 4); ++i) {
@@ -520,6 +518,8 @@ __attribute__((target("avx"))) std::size_t apply_vertex_maps_across_avx(const st
         }
       continue;
     }
+    for (int l = 0; l < 4; ++l)  // (the offsets, once one of the four runs is known to move)
+      for (int c = 0; c < K; ++c) T.O[l][c] = map_offset(*T.T[l][c], T.T[l][0]->rest);
     const simd::m4 keep{moved[0] ? 0LL : -1LL, moved[1] ? 0LL : -1LL, moved[2] ? 0LL : -1LL, moved[3] ? 0LL : -1LL};
     for (std::size_t k = 0; k < per; ++k) {
       const double* wk = w + K * k;
