@@ -13,16 +13,18 @@
 // Debian's default), each 4 kB page of a fresh block costs a page fault on first touch, and on a
 // virtual machine each fault costs microseconds: reading and simplifying a 1M-face mesh spends a
 // sixth of its time there. internal/huge_pages.h advises the library's own large texel and output
-// buffers; this header does the same for every large allocation of a program, those of CGAL and the
-// standard library included, and aligns them, which the library cannot: malloc writes the header of
-// a large block in its first page before anyone can advise it, and the block's ends seldom fall on
-// 2 MB boundaries, so its first and last 2 MB still fault in 4 kB at a time (a fresh 2M-vertex
-// Compact Model reconstruction: 1,822 page faults with the standard operator new, 88 with this
-// header; doc/Compact_model/README.md, "Reconstruction speed"). glibc's tunable
+// buffers (sized so that malloc's mapping of each falls on 2 MB boundaries, with its first range,
+// where malloc writes the block's header before anyone can advise it, collapsed into a huge page); this
+// header aligns and advises every large allocation of a program, those of CGAL and the standard
+// library included, whose first and last 2 MB otherwise fault in 4 kB at a time (a fresh
+// 2M-vertex Compact Model reconstruction: 1,822 page faults per call with neither, 76 with the
+// library's own sizing, 88 with this header; doc/Compact_model/README.md, "Reconstruction
+// speed"). glibc's tunable
 // glibc.malloc.hugetlb=1 (GLIBC_TUNABLES, glibc 2.35 and later) has part of this effect without the
 // header, for programs that cannot be changed: it advises malloc's blocks before their first touch,
 // the smaller blocks of its heap too, but does not align them (that fresh reconstruction, one
-// thread: 29 M vertices/s with the tunable alone, 29 with neither, 38-39 with this header); the
+// thread, before the library sized its own arrays: 29 M vertices/s with the tunable alone, 29 with
+// neither, 38-39 with this header; now 38-39 with neither); the
 // `cmgeom` tool uses both (it executes itself again with the tunable set, tools/cmgeom/main.cpp).
 //
 // Memory: a large block is rounded up to a multiple of 2 MB (at most a quarter again as much, for

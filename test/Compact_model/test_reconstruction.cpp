@@ -257,6 +257,49 @@ TEST(CompactModelReconstruction, HugePageResizeKeepsResizeSemantics) {
   }
 }
 
+// The capacity reserved for a large block is at least the count asked for, less than 2 MB more, and
+// with malloc's 24 bytes of header and rounding fits a whole number of 2 MB pages; over-aligned
+// types keep the count asked for.
+TEST(CompactModelReconstruction, HugePageCapacityFillsWholeHugePages) {
+  constexpr std::size_t H = CMGeom::internal::huge_page_bytes;
+  for (const std::size_t n : {std::size_t(1), std::size_t(174762), std::size_t(174763), std::size_t(1) << 20,
+                              std::size_t(4456447), std::size_t(4456448)}) {
+    const std::size_t c = CMGeom::internal::capacity_on_whole_huge_pages<Vec3>(n);
+    EXPECT_GE(c, n);
+    EXPECT_LT((c - n) * sizeof(Vec3), H);
+    const std::size_t pages = (c * sizeof(Vec3) + 24 + H - 1) / H;
+    EXPECT_LE(c * sizeof(Vec3) + 24, pages * H);
+    EXPECT_GT((c + 1) * sizeof(Vec3) + 24, pages * H);  // the largest such count
+  }
+  struct alignas(64) Wide {
+    double v[8];
+  };
+  EXPECT_EQ(CMGeom::internal::capacity_on_whole_huge_pages<Wide>(100000), 100000u);
+}
+
+// Advising a block that begins and ends inside 2 MB ranges it shares with other data (another
+// block, malloc's header) changes no byte outside the block, and inside it only the first byte of
+// the block and of its last 2 MB range, which it sets to zero.
+TEST(CompactModelReconstruction, HugePageAdviceKeepsTheNeighboursBytes) {
+  constexpr std::size_t H = CMGeom::internal::huge_page_bytes;
+  std::vector<unsigned char> all(5 * H + 12345);
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<unsigned char>(1 + i % 251);
+  const std::vector<unsigned char> before = all;
+  const std::size_t offset = H / 2 + 4099, bytes = 3 * H + 777;  // neither end on a 2 MB boundary
+  unsigned char* const block = all.data() + offset;
+  CMGeom::internal::advise_new_block_huge_pages(block, bytes);
+  const std::uintptr_t last = (reinterpret_cast<std::uintptr_t>(block) + bytes) / H * H;
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (all[i] == before[i]) continue;
+    ++changed;
+    const bool first_byte = i == offset, last_range_byte = reinterpret_cast<std::uintptr_t>(all.data() + i) == last;
+    EXPECT_TRUE(first_byte || last_range_byte) << "byte " << i << " changed";
+    EXPECT_EQ(all[i], 0);
+  }
+  EXPECT_LE(changed, 2u);
+}
+
 // assign_on_huge_pages(), filled_on_huge_pages() and copy_on_huge_pages() are assign(), the filling
 // constructor and the copy, below and above the threshold; an Image copy (which uses them) is equal
 // to its original and owns its own pixels.

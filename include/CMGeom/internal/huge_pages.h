@@ -16,6 +16,14 @@
 // cores (TBB) before the operation fills it: the kernel zeroes each page as it faults in, and on
 // one core that zeroing is what baking a 2048 x 3072 shared atlas spent a tenth of its wall time
 // on (about 300 MB of fresh buffers), with the other core idle.
+// A block this code reserves is also sized so that glibc's malloc, which maps a large block on its
+// own with a 16-byte header before it, asks the kernel for a whole number of 2 MB pages: the kernel
+// then places the mapping on a 2 MB boundary (measured on Linux 6.18), its last 2 MB range is a
+// whole huge page, and its first, whose 4 kB page malloc has already written, is made a huge page by
+// madvise(MADV_COLLAPSE) (Linux 6.1 and later). Without this the block's first and last 2 MB fault
+// in 4 kB at a time, about 10 microseconds each on a virtual machine: a fresh 100 MB block filled
+// once took 12.3 ms against 6.6 ms so (and 270 ms with no advice at all). The capacity grows by
+// less than 2 MB; the pages past the elements are not touched.
 // Elsewhere, or when the kernel refuses, each is the plain std::vector operation; the contents are
 // the same.
 #ifndef CMGEOM_INTERNAL_HUGE_PAGES_H
@@ -24,6 +32,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -40,6 +50,25 @@ namespace internal {
 /// Blocks smaller than this are resized as usual (a huge page is 2 MB on x86-64).
 constexpr std::size_t huge_page_threshold = std::size_t(4) << 20;
 
+/// The size of a transparent huge page on x86-64 (and of the ranges this file rounds to).
+constexpr std::size_t huge_page_bytes = std::size_t(2) << 20;
+
+/// glibc's header before a block it maps on its own (two size_t words).
+constexpr std::size_t malloc_mapped_header = 2 * sizeof(std::size_t);
+
+/// The capacity, at least `n`, for which a block of T's that glibc's malloc maps on its own spans
+/// whole 2 MB pages (see the file comment): the largest count whose bytes, with malloc's header
+/// and its rounding (8 bytes and a multiple of 16), fit the next multiple of 2 MB. `n` itself for
+/// over-aligned T, which malloc places otherwise.
+template <class T>
+std::size_t capacity_on_whole_huge_pages(std::size_t n) {
+  constexpr std::size_t slack = malloc_mapped_header + sizeof(std::size_t);  // header + rounding
+  if (alignof(T) > alignof(std::max_align_t) || n > (std::size_t(PTRDIFF_MAX) - 2 * huge_page_bytes) / sizeof(T))
+    return n;
+  const std::size_t pages = (n * sizeof(T) + slack + huge_page_bytes - 1) / huge_page_bytes;
+  return (std::max)(n, (pages * huge_page_bytes - slack) / sizeof(T));
+}
+
 /// Asks the kernel to back [p, p + bytes) by transparent huge pages where it can; a hint only.
 inline void advise_huge_pages(void* p, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
@@ -53,6 +82,61 @@ inline void advise_huge_pages(void* p, std::size_t bytes) {
 #else
   (void)p;
   (void)bytes;
+#endif
+}
+
+#if defined(__linux__) && !defined(MADV_COLLAPSE)
+#define CMGEOM_MADV_COLLAPSE 25  // Linux 6.1's value, for older headers
+#elif defined(__linux__)
+#define CMGEOM_MADV_COLLAPSE MADV_COLLAPSE
+#endif
+
+/// Whether the kernel hands out transparent huge pages at all (transparent_hugepage/enabled is not
+/// "never"); read once. MADV_COLLAPSE would make huge pages even then.
+inline bool huge_pages_enabled() {
+#if defined(__linux__)
+  static const bool enabled = [] {
+    std::FILE* f = std::fopen("/sys/kernel/mm/transparent_hugepage/enabled", "r");
+    if (!f) return false;
+    char text[128] = {};
+    const std::size_t n = std::fread(text, 1, sizeof text - 1, f);
+    std::fclose(f);
+    return n > 0 && std::strstr(text, "[never]") == nullptr;
+  }();
+  return enabled;
+#else
+  return false;
+#endif
+}
+
+/// advise_huge_pages() for the `bytes` from `data`, the part of a block about to be filled for the
+/// first time: the 2 MB ranges wholly inside it are advised (the advice ends on 2 MB boundaries),
+/// and the ranges it begins and ends in part of are made huge pages at once (madvise(MADV_COLLAPSE),
+/// which keeps the contents of their other bytes: malloc's header, elements already there, another
+/// block of malloc's heap). A range that is not wholly inside one mapping stays as it is (the kernel
+/// refuses). Hints only; the contents stay the same but for the first and last 2 MB range's first
+/// byte of the block, set to zero (it must hold no value anyone reads).
+inline void advise_new_block_huge_pages(void* data, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t H = huge_page_bytes;
+  const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(data), end = begin + bytes;
+  const std::uintptr_t first = (begin + H - 1) / H * H, last = end / H * H;  // the whole ranges
+  if (!huge_pages_enabled() || first >= last) {
+    advise_huge_pages(data, bytes);
+    return;
+  }
+  (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+  // (a range with no page at all is not collapsed: one byte of the block is written first)
+  if (begin < first) {
+    *static_cast<volatile unsigned char*>(data) = 0;
+    (void)madvise(reinterpret_cast<void*>(first - H), H, CMGEOM_MADV_COLLAPSE);
+  }
+  if (last < end) {
+    *reinterpret_cast<volatile unsigned char*>(last) = 0;
+    (void)madvise(reinterpret_cast<void*>(last), H, CMGEOM_MADV_COLLAPSE);
+  }
+#else
+  advise_huge_pages(data, bytes);
 #endif
 }
 
@@ -76,15 +160,16 @@ inline void fault_in_on_all_cores(void* p, std::size_t bytes) {
                     });
 }
 
-/// v.reserve(n), with a newly needed block of huge_page_threshold bytes or more advised for huge
-/// pages (past v's elements) before its first touch, and faulted in on all cores from
-/// parallel_fault_threshold bytes (see the file comment).
+/// v.reserve(n), with a newly needed block of huge_page_threshold bytes or more sized by
+/// capacity_on_whole_huge_pages(), advised for huge pages past v's elements
+/// (advise_new_block_huge_pages()) before its first touch, and faulted in on all
+/// cores from parallel_fault_threshold bytes (see the file comment).
 template <class T, class Allocator>
 void reserve_on_huge_pages(std::vector<T, Allocator>& v, std::size_t n) {
   if (n > v.capacity() && n * sizeof(T) >= huge_page_threshold) {
-    v.reserve(n);
+    v.reserve(capacity_on_whole_huge_pages<T>(n));
     const std::size_t fresh = (n - v.size()) * sizeof(T);
-    advise_huge_pages(v.data() + v.size(), fresh);
+    advise_new_block_huge_pages(v.data() + v.size(), fresh);
     if (fresh >= parallel_fault_threshold) fault_in_on_all_cores(v.data() + v.size(), fresh);
   }
 }
