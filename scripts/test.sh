@@ -122,10 +122,16 @@ if [[ "${1:-}" != "--no-sanitizers" ]]; then
     # the joint refit on fandisk and on the trim star), 200 s of CPU here, mostly in serial fitting
     # code; the parallel code they reach (reconstruction, error measurement) runs here in the
     # package's other tests.
+    # Two level-of-detail tests are left to the Release and ASan runs too: they run shared-texture
+    # chains and painted simplifications of three large textured models twice each (86 and 54 s
+    # here, two thirds of the stage's CPU); the parallel code they reach (the chain's parts and
+    # fits, the shared atlas with its overflow charts, the painting of an atlas from the collapse
+    # history) runs here on the Duck in SharedTextureLevelsAddressOneAtlasThatShowsTheOriginal and
+    # PerLevelAtlasesArePaintedAsTheyWouldBeBaked, and in the TextureThreads tests.
     TSAN_OPTIONS="suppressions=$root/test/Reliability/tsan.supp:halt_on_error=1:second_deadlock_stack=1" \
     CMGEOM_TSAN_TBB_THREADS=2 \
       ctest --test-dir build-tsan --output-on-failure -j "$jobs" -R "^($suites)\." \
-            -E "^(CompactModelAdaptive\.VertexBudgetIsMetAndFilled|CompactModelRate\.(ErrorBoundIsMetAsMeasuredIndependently|ByteBoundIsMetAndMoreBytesNeverCostError)|CompactModelBuild\.(ErrorControlWithTheJointRefitLowersTheFandiskMaximum|JointFitKeepsSharpEdgesOnTheTrimStar))$"
+            -E "^(LevelOfDetail\.(OverflowChartsGiveSquashedAndHiddenPartsTheirOwnTexels|SimplifyPaintsItsAtlasAsTheLookupsWouldBakeIt)|CompactModelAdaptive\.VertexBudgetIsMetAndFilled|CompactModelRate\.(ErrorBoundIsMetAsMeasuredIndependently|ByteBoundIsMetAndMoreBytesNeverCostError)|CompactModelBuild\.(ErrorControlWithTheJointRefitLowersTheFandiskMaximum|JointFitKeepsSharpEdgesOnTheTrimStar))$"
     stage_done "ThreadSanitizer tests"
   fi
 fi
