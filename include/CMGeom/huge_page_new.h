@@ -52,7 +52,7 @@ constexpr std::size_t huge_page_new_threshold = std::size_t(8) << 20;
 
 /// A block of `n` bytes (see the file comment), or null.
 inline void* allocate_on_huge_pages_if_large(std::size_t n) noexcept {
-  constexpr std::size_t huge_page = std::size_t(2) << 20;
+  constexpr std::size_t huge_page = huge_page_bytes;
   // (no object is larger than PTRDIFF_MAX bytes; the rounding below cannot wrap around)
   if (n > std::size_t(PTRDIFF_MAX) - huge_page) return nullptr;
   if (n >= huge_page_new_threshold) {

@@ -147,7 +147,7 @@ constexpr std::size_t parallel_fault_threshold = std::size_t(16) << 20;
 /// the kernel's zeroing of fresh pages runs in parallel. The memory must be writable and hold no
 /// value anyone reads (allocated storage not yet filled).
 inline void fault_in_on_all_cores(void* p, std::size_t bytes) {
-  constexpr std::size_t range = std::size_t(2) << 20, page = 4096;
+  constexpr std::size_t range = huge_page_bytes, page = 4096;
   unsigned char* const b = static_cast<unsigned char*>(p);
   const std::size_t ranges = (bytes + range - 1) / range;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ranges, 1),
