@@ -315,9 +315,20 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
     // waits for them and gives their positions to the copies
     std::vector<std::shared_ptr<Pending_level_fit>> fits;
     bool complete_when_finished = true;  // false: the caller calls complete_fits() (a run of several)
+    // true: the fits of the levels the run ends with wait for launch_deferred_fits() (the next run
+    // begins in parts, which take both cores; its collapses on the whole that follow take one)
+    bool defer_fits_at_end = false;
+    bool at_end = false;
+    std::vector<std::function<void()>> deferred;
     Waited_task_group fit_tasks;
+    /// Starts the fits held back by defer_fits_at_end.
+    void launch_deferred_fits() {
+      for (auto& task : deferred) fit_tasks.group.run(std::move(task));
+      deferred.clear();
+    }
     /// Waits for the levels' fits and gives their positions to the copies.
     void complete_fits() {
+      launch_deferred_fits();
       fit_tasks.group.wait();
       for (const auto& fit : fits) set_copied_points(snapshots[fit->level].mesh, fit->v2v, fit->positions);
       fits.clear();
@@ -364,17 +375,22 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
     state->fits.push_back(fit);
     // (the error is measured on a copy of its own: the snapshots may move meanwhile)
     auto copy = errors ? std::make_shared<Surface_mesh>(state->snapshots.back().mesh) : nullptr;
-    state->fit_tasks.group.run([fit, later, errors, level, copy] {
+    auto task = [fit, later, errors, level, copy] {
       fit->positions = later();
       if (!errors) return;
       set_copied_points(*copy, fit->v2v, fit->positions);
       errors->add(level, *copy);
-    });
+    };
+    if (state->at_end && state->defer_fits_at_end)
+      state->deferred.emplace_back(std::move(task));
+    else
+      state->fit_tasks.group.run(std::move(task));
   }
   /// The levels not taken yet (the last, and any the run did not reach) are the mesh the run ends
   /// with: copied now, while the history's points still name its faces; then every level gets its
   /// fitted positions (unless the caller completes them later, State::complete_when_finished).
   void finished(const Surface_mesh& mesh) const {
+    state->at_end = true;
     while (state->next <= state->last) take(mesh);
     if (state->complete_when_finished) state->complete_fits();
   }
@@ -520,11 +536,13 @@ public:
   /// to that many faces run in parts first when part_levels() says so
   /// (internal::simplify_in_parts(); the visitor sees only the collapses on the whole that follow,
   /// `progress` the faces the parts remove); returns the number of parts (0: none) and the faces
-  /// they left.
+  /// they left. `after_parts`, when set, is called once the parts are done (at once without them),
+  /// before the collapses on the whole.
   template <class Stop, class MakeVisitor>
   std::pair<std::size_t, std::size_t> run(const Stop& stop, std::size_t prune_min_faces,
                                           const MakeVisitor& make_visitor, std::size_t parts_target = 0,
-                                          Parts_progress* progress = nullptr) {
+                                          Parts_progress* progress = nullptr,
+                                          const std::function<void()>& after_parts = {}) {
     const std::size_t faces = source_ ? source_->number_of_faces() : work_.number_of_faces();
     const int levels = part_levels(faces, parts_target);
     if (source_ && levels == 0) work_ = copy_without_uvs(*source_);
@@ -532,6 +550,7 @@ public:
       simplify_in_parts(work_, parts_target, levels, parts_options(faces, parts_target), policy_, memory_, progress,
                         runs_ > 0, source_);
     source_ = nullptr;
+    if (after_parts) after_parts();
     const std::size_t faces_after_parts = levels > 0 ? work_.number_of_faces() : 0;
     if (runs_ == 0 && levels == 0 && options_.surface_memory) memory_.emplace(work_, work_.points(), options_.memory);
     // (a later run without parts keeps the quadrics the last run left)
@@ -707,13 +726,20 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
         state.next = first;
         state.last = last;
         state.complete_when_finished = false;
+        // (the fits of the levels a run ends with start when the next run's parts are done: they
+        // would take a core from those parts, and the collapses on the whole after them use one;
+        // each fit's result does not depend on when it runs)
+        state.defer_fits_at_end = last + 1 < collapsed.size();
         if (errors) state.errors = &*errors;
         const auto [parts, faces_after_parts] = chain.run(
             Face_count_stop_predicate<Surface_mesh>(work, collapsed[last]), collapsed.back(),
             [&](const internal::Level_fitter* fitter) {
               return internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr, fitter};
             },
-            history ? 0 : collapsed[first], &progress);
+            history ? 0 : collapsed[first], &progress,
+            [&runs] {
+              for (Run_state& earlier : runs) earlier.launch_deferred_fits();
+            });
         if (first == 0) std::tie(res.parts, res.faces_after_parts) = std::tie(parts, faces_after_parts);
         res.runs_in_parts += parts > 0;
         first = last + 1;
