@@ -34,65 +34,15 @@ else
   echo "warning: npm not found; the glTF validator tests will skip"
 fi
 
-# Each sanitizer build runs beside the test stage before it, at low priority (nice -n 10): ctest on
-# two cores leaves one idle for part of its time (tests of one thread ending at different moments,
-# the last long test alone), and the compiler takes that time. A build's output goes to a log that is
-# printed when the build is done; a failing test stage still waits for the build beside it.
-bg_pid=""
-# in_background <log> <command...>
-in_background() {
-  local log=$1
-  shift
-  (
-    renice -n 10 -p "$BASHPID" > /dev/null
-    "$@"
-  ) > "$log" 2>&1 &
-  bg_pid=$!
-}
-# wait_background <log> <what>: waits for the build started by in_background, prints its log
-wait_background() {
-  local rc=0
-  [[ -n "$bg_pid" ]] || return 0
-  wait "$bg_pid" || rc=$?
-  bg_pid=""
-  cat "$1"
-  if [[ $rc != 0 ]]; then
-    echo "error: $2 failed (exit $rc)" >&2
-    exit "$rc"
-  fi
-}
-sanitizers=1
-[[ "${1:-}" == "--no-sanitizers" ]] && sanitizers=0
-tsan=0
-[[ $sanitizers == 1 && "${CMGEOM_TSAN:-1}" != "0" ]] && tsan=1
-
 echo "== build (Release, -O2) =="
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMGEOM_BUILD_TESTS=ON -DCMGEOM_BUILD_EXAMPLES=ON
 cmake --build build -j "$jobs"
 stage_done "Release build"
-
-if [[ $sanitizers == 1 ]]; then
-  # (the programs built here and the options: see the ASan + UBSan stage below)
-  asan_targets=(cmgeom test_Mesh_IO fuzz_readers fuzz_model_readers test_Reliability test_cmgeom_cli
-                test_Rendering test_Textured_simplification_texture)
-  build_asan() {
-    cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMGEOM_SANITIZE=address,undefined \
-          -DCMGEOM_SANITIZE_EXCLUDE=vptr,alignment,null -DCMGEOM_SANITIZE_USE_AFTER_SCOPE=OFF \
-          -DCMGEOM_BUILD_TESTS=ON -DCMGEOM_BUILD_EXAMPLES=OFF &&
-      cmake --build build-asan -j "$jobs" --target "${asan_targets[@]}"
-  }
-  in_background build/asan-build.log build_asan
-fi
 echo "== tests =="
-tests_rc=0
-ctest --test-dir build --output-on-failure -j "$jobs" || tests_rc=$?
-stage_done "Release tests (the ASan + UBSan build beside them)"
-if [[ $tests_rc != 0 ]]; then
-  wait_background build/asan-build.log "the ASan + UBSan build"
-  exit "$tests_rc"
-fi
+ctest --test-dir build --output-on-failure -j "$jobs"
+stage_done "Release tests"
 
-if [[ $sanitizers == 1 ]]; then
+if [[ "${1:-}" != "--no-sanitizers" ]]; then
   echo "== build (ASan + UBSan) =="
   # UndefinedBehaviorSanitizer without its vptr, alignment and null checks: on this template-heavy
   # code they double the compile time of the sanitizer build (218 s -> 141 s for the largest test
@@ -107,32 +57,16 @@ if [[ $sanitizers == 1 ]]; then
   # code runs here through the tool and test_Textured_simplification_texture) are left to the
   # Release run: building them here too took ~10, ~4 and ~1 min of the 2-core CI machine's 30-min
   # budget. The cage commands run here through the tool (CLI tests).
-  # (asan_targets, above). AddressSanitizer's use-after-scope checks are off for the same reason:
-  # they cost ~40 % of this build's compile time (the largest test source: 185 s with them, 105 s
-  # without); the other stack, heap and global checks stay. The build began beside the Release
-  # tests (build_asan, above); here it is waited for.
-  wait_background build/asan-build.log "the ASan + UBSan build"
-  stage_done "ASan + UBSan build (the rest)"
-  if [[ $tsan == 1 ]]; then
-    # ThreadSanitizer on test programs whose code runs in parallel (TBB). Only these targets are
-    # built (a whole second sanitizer build does not fit the CI time budget); the single-threaded
-    # code is covered by ASan. By default the stage runs the two programs whose parallel code
-    # shares the most state between tasks (Metrics' sampling and distance queries; the texture
-    # work: index texture set-up, resampling, generation, dilation); CMGEOM_TSAN_ALL=1 adds
-    # Compact_model (reconstruction, compact files) and Cage_deformation (binding, *Cages,
-    # harmonic solves): building and running them here costs ~5 min of the 2-core CI machine's
-    # 30-min budget. The build runs beside the ASan + UBSan tests (see in_background above).
-    tsan_targets=(test_Metrics test_Textured_simplification_texture)
-    if [[ "${CMGEOM_TSAN_ALL:-0}" == "1" ]]; then
-      tsan_targets+=(test_Compact_model test_Cage_deformation)
-    fi
-    build_tsan() {
-      cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMGEOM_SANITIZE=thread \
-            -DCMGEOM_BUILD_TESTS=ON -DCMGEOM_BUILD_EXAMPLES=OFF -DCMGEOM_BUILD_TOOLS=OFF &&
-        cmake --build build-tsan -j "$jobs" --target "${tsan_targets[@]}"
-    }
-    in_background build/tsan-build.log build_tsan
-  fi
+  asan_targets=(cmgeom test_Mesh_IO fuzz_readers fuzz_model_readers test_Reliability test_cmgeom_cli
+                test_Rendering test_Textured_simplification_texture)
+  # AddressSanitizer's use-after-scope checks are off for the same reason: they cost ~40 % of
+  # this build's compile time (the largest test source: 185 s with them, 105 s without); the
+  # other stack, heap and global checks stay.
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMGEOM_SANITIZE=address,undefined \
+        -DCMGEOM_SANITIZE_EXCLUDE=vptr,alignment,null -DCMGEOM_SANITIZE_USE_AFTER_SCOPE=OFF \
+        -DCMGEOM_BUILD_TESTS=ON -DCMGEOM_BUILD_EXAMPLES=OFF
+  cmake --build build-asan -j "$jobs" --target "${asan_targets[@]}"
+  stage_done "ASan + UBSan build"
   echo "== tests under ASan + UBSan =="
   # The CTest names of the tests of these programs: their GoogleTest suites, and the fuzz smoke runs.
   asan_gtests=()
@@ -149,20 +83,29 @@ if [[ $sanitizers == 1 ]]; then
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan --output-on-failure -j "$jobs" \
           -R "^(($asan_suites)\.|Mesh_IO\.fuzz_readers|Reliability\.fuzz_model_readers)" \
-          -E "^cmgeom_cli\.((PipelineCommands|CommandsOfTheCageAndTextureStages)AreDeterministic|ProgressOnA(Terminal|Pipe).*|SimplifiedGlbOfEveryTexturedModelIsValidAndRendersLikeTheObj)$" ||
-    tests_rc=$?
-  stage_done "ASan + UBSan tests (the ThreadSanitizer build beside them)"
-  if [[ $tests_rc != 0 ]]; then
-    wait_background build/tsan-build.log "the ThreadSanitizer build"
-    exit "$tests_rc"
-  fi
+          -E "^cmgeom_cli\.((PipelineCommands|CommandsOfTheCageAndTextureStages)AreDeterministic|ProgressOnA(Terminal|Pipe).*|SimplifiedGlbOfEveryTexturedModelIsValidAndRendersLikeTheObj)$"
+  stage_done "ASan + UBSan tests"
 
-  if [[ $tsan == 1 ]]; then
+  if [[ "${CMGEOM_TSAN:-1}" != "0" ]]; then
+    # ThreadSanitizer on test programs whose code runs in parallel (TBB). Only these targets are
+    # built (a whole second sanitizer build does not fit the CI time budget); the single-threaded
+    # code is covered by ASan above.
     # oneTBB's scheduler is replaced by test/Reliability/tsan_tbb_runtime.cpp in this build (the
     # system libtbb is not instrumented; see that file), and the check below makes sure no call
     # falls through to libtbb. Known races outside CMGeom: test/Reliability/tsan.supp.
     echo "== build (ThreadSanitizer: the multi-threaded tests) =="
-    wait_background build/tsan-build.log "the ThreadSanitizer build"
+    # By default the stage runs the two programs whose parallel code shares the most state
+    # between tasks (Metrics' sampling and distance queries; the texture work: index texture
+    # set-up, resampling, generation, dilation); CMGEOM_TSAN_ALL=1 adds Compact_model
+    # (reconstruction, compact files) and Cage_deformation (binding, *Cages, harmonic solves):
+    # building and running them here costs ~5 min of the 2-core CI machine's 30-min budget.
+    tsan_targets=(test_Metrics test_Textured_simplification_texture)
+    if [[ "${CMGEOM_TSAN_ALL:-0}" == "1" ]]; then
+      tsan_targets+=(test_Compact_model test_Cage_deformation)
+    fi
+    cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMGEOM_SANITIZE=thread \
+          -DCMGEOM_BUILD_TESTS=ON -DCMGEOM_BUILD_EXAMPLES=OFF -DCMGEOM_BUILD_TOOLS=OFF
+    cmake --build build-tsan -j "$jobs" --target "${tsan_targets[@]}"
     for t in "${tsan_targets[@]}"; do
       if nm -D --undefined-only "build-tsan/bin/$t" | c++filt | grep -q 'tbb::detail::r1::'; then
         echo "error: build-tsan/bin/$t calls the uninstrumented libtbb:" >&2
@@ -170,7 +113,7 @@ if [[ $sanitizers == 1 ]]; then
         exit 1
       fi
     done
-    stage_done "ThreadSanitizer build (the rest)"
+    stage_done "ThreadSanitizer build"
     echo "== tests under ThreadSanitizer (2 threads) =="
     # The CTest names of the tests of these programs (GoogleTest suites they contain).
     suites=$(gtest_suites build-tsan "${tsan_targets[@]}")
