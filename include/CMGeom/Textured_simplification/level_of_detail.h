@@ -318,7 +318,6 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
     // true: the fits of the levels the run ends with wait for launch_deferred_fits() (the next run
     // begins in parts, which take both cores; its collapses on the whole that follow take one)
     bool defer_fits_at_end = false;
-    bool at_end = false;
     std::vector<std::function<void()>> deferred;
     Waited_task_group fit_tasks;
     /// Starts the fits held back by defer_fits_at_end.
@@ -360,8 +359,9 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
     while (state->next < state->last && mesh.number_of_faces() <= (*state->targets)[state->next]) take(mesh);
   }
   /// The copy now; its fit (and then its error) on another core while the collapses go on: the
-  /// fit reads a copy of what it needs (Surface_memory::fitted_positions_later()).
-  void take(const Surface_mesh& mesh) const {
+  /// fit reads a copy of what it needs (Surface_memory::fitted_positions_later()). `at_end`: taken
+  /// when the run finished (its fit then waits for launch_deferred_fits() with defer_fits_at_end).
+  void take(const Surface_mesh& mesh, bool at_end = false) const {
     std::function<std::vector<Point_3>()> later;
     auto fit = std::make_shared<Pending_level_fit>();
     fit->level = state->snapshots.size();
@@ -381,7 +381,7 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
       set_copied_points(*copy, fit->v2v, fit->positions);
       errors->add(level, *copy);
     };
-    if (state->at_end && state->defer_fits_at_end)
+    if (at_end && state->defer_fits_at_end)
       state->deferred.emplace_back(std::move(task));
     else
       state->fit_tasks.group.run(std::move(task));
@@ -390,8 +390,7 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
   /// with: copied now, while the history's points still name its faces; then every level gets its
   /// fitted positions (unless the caller completes them later, State::complete_when_finished).
   void finished(const Surface_mesh& mesh) const {
-    state->at_end = true;
-    while (state->next <= state->last) take(mesh);
+    while (state->next <= state->last) take(mesh, true);
     if (state->complete_when_finished) state->complete_fits();
   }
 };
