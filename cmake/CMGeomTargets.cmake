@@ -123,11 +123,27 @@ file(MAKE_DIRECTORY ${CMGEOM_TEST_TMP_DIR})
 configure_file(${PROJECT_SOURCE_DIR}/cmake/cmgeom_test_config.h.in
                ${CMAKE_BINARY_DIR}/generated/cmgeom_test_config.h @ONLY)
 
+# cmgeom_test_program_here(<name> <var>): <var> is false when the test program <name> is listed in
+# CMGEOM_TEST_PROGRAMS_ELSEWHERE (another build of the same sources runs it; scripts/test.sh leaves
+# the programs its AddressSanitizer build runs whole out of the Release build).
+function(cmgeom_test_program_here name var)
+  if(name IN_LIST CMGEOM_TEST_PROGRAMS_ELSEWHERE)
+    set(${var} FALSE PARENT_SCOPE)
+  else()
+    set(${var} TRUE PARENT_SCOPE)
+  endif()
+endfunction()
+
 # cmgeom_add_gtest(<name> SOURCES <cpp...> [LIBS <targets...>] [TIMEOUT <s>])
 # One GoogleTest executable (group related tests: each CGAL TU costs ~20 s to compile),
-# every TEST registered with CTest individually.
+# every TEST registered with CTest individually. Nothing is made when the program is in
+# CMGEOM_TEST_PROGRAMS_ELSEWHERE (callers test if(TARGET <name>) before adding to it).
 function(cmgeom_add_gtest name)
   cmake_parse_arguments(A "" "TIMEOUT" "SOURCES;LIBS" ${ARGN})
+  cmgeom_test_program_here(${name} _here)
+  if(NOT _here)
+    return()
+  endif()
   add_executable(${name} ${A_SOURCES})
   target_link_libraries(${name} PRIVATE CMGeom::CMGeom GTest::gtest GTest::gtest_main ${A_LIBS})
   target_include_directories(${name} PRIVATE ${CMAKE_BINARY_DIR}/generated

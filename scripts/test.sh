@@ -34,31 +34,44 @@ else
   echo "warning: npm not found; the glTF validator tests will skip"
 fi
 
+sanitizers=1
+[[ "${1:-}" == "--no-sanitizers" ]] && sanitizers=0
+# The programs of the AddressSanitizer + UndefinedBehaviorSanitizer stage (below): the command-line
+# tool and the test programs of input handling and raw-buffer indexing.
+asan_targets=(cmgeom test_Mesh_IO fuzz_readers fuzz_model_readers test_Reliability test_cmgeom_cli
+              test_Rendering test_Textured_simplification_texture)
+# Of these, the test programs that stage runs whole are not built in the Release tree when it runs:
+# building and running them twice cost ~140 s of the 2-core CI machine's 30-min budget
+# (doc/Reliability.md). test_cmgeom_cli stays in both: a few of its tests run in Release only.
+elsewhere=""
+if ((sanitizers)); then
+  elsewhere="test_Mesh_IO;fuzz_readers;fuzz_model_readers;test_Reliability;test_Rendering;test_Textured_simplification_texture"
+fi
+
 echo "== build (Release, -O2) =="
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMGEOM_BUILD_TESTS=ON -DCMGEOM_BUILD_EXAMPLES=ON
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMGEOM_BUILD_TESTS=ON -DCMGEOM_BUILD_EXAMPLES=ON \
+      "-DCMGEOM_TEST_PROGRAMS_ELSEWHERE=$elsewhere"
 cmake --build build -j "$jobs"
 stage_done "Release build"
 echo "== tests =="
 ctest --test-dir build --output-on-failure -j "$jobs"
 stage_done "Release tests"
 
-if [[ "${1:-}" != "--no-sanitizers" ]]; then
+if ((sanitizers)); then
   echo "== build (ASan + UBSan) =="
   # UndefinedBehaviorSanitizer without its vptr, alignment and null checks: on this template-heavy
   # code they double the compile time of the sanitizer build (218 s -> 141 s for the largest test
   # source), which the CI budget does not fit; null dereferences still fault under ASan, and
   # vptr/alignment guard code CMGeom hardly has (little polymorphism, no type punning).
-  # The programs built here: the command-line tool and every test of input handling (readers,
-  # fuzzing, the bad-input catalogue with its bad cages, the CLI), and the tests of the code that
-  # indexes raw buffers (rasterisers, index textures and texture generation). The Compact_model,
+  # The programs built here (asan_targets, above): the command-line tool and every test of input
+  # handling (readers, fuzzing, the bad-input catalogue with its bad cages, the CLI), and the tests
+  # of the code that indexes raw buffers (rasterisers, index textures and texture generation). The Compact_model,
   # Deformable CM, Metrics and Cage_deformation tests (their file parsing is fuzzed here, their
   # parallel code can run under ThreadSanitizer below) and the geometric tests of
   # Textured_simplification (test_Textured_simplification: quadrics, engine, bounds; its texture
   # code runs here through the tool and test_Textured_simplification_texture) are left to the
   # Release run: building them here too took ~10, ~4 and ~1 min of the 2-core CI machine's 30-min
   # budget. The cage commands run here through the tool (CLI tests).
-  asan_targets=(cmgeom test_Mesh_IO fuzz_readers fuzz_model_readers test_Reliability test_cmgeom_cli
-                test_Rendering test_Textured_simplification_texture)
   # AddressSanitizer's use-after-scope checks are off for the same reason: they cost ~40 % of
   # this build's compile time (the largest test source: 185 s with them, 105 s without); the
   # other stack, heap and global checks stay.
@@ -76,14 +89,17 @@ if [[ "${1:-}" != "--no-sanitizers" ]]; then
   # Release run: the commands themselves run here in the other CLI tests, and under ASan these
   # two took a minute of CPU. So are the two progress tests that run those commands again to read
   # their stderr on a terminal and on a pipe (80 s of CPU here): the progress code runs here in the
-  # three other progress tests. And the GLB of every shared textured model rendered against its
+  # other progress tests; so are the quiet pipeline (the pipeline again, 11 s here; it runs here in
+  # the other pipeline tests) and the progress of a bounded simplification (a large sphere through
+  # CGAL's engine, 19 s here; that engine with CMGeom's policy runs here in the CLI's other simplify
+  # tests). And the GLB of every shared textured model rendered against its
   # OBJ (55 s of CPU): textured simplification with its new atlas, GLB writing and rendering run
   # here in the pipeline tests on the bundled model.
   # Leak checking is off: OpenImageIO and OSMesa keep process-lifetime caches that LSan reports.
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan --output-on-failure -j "$jobs" \
           -R "^(($asan_suites)\.|Mesh_IO\.fuzz_readers|Reliability\.fuzz_model_readers)" \
-          -E "^cmgeom_cli\.((PipelineCommands|CommandsOfTheCageAndTextureStages)AreDeterministic|ProgressOnA(Terminal|Pipe).*|SimplifiedGlbOfEveryTexturedModelIsValidAndRendersLikeTheObj)$"
+          -E "^cmgeom_cli\.((PipelineCommands|CommandsOfTheCageAndTextureStages)AreDeterministic|ProgressOnA(Terminal|Pipe).*|QuietPipelinePrintsNothingOnStderr|ProgressOfABoundedSimplificationCountsTheFacesRemoved|SimplifiedGlbOfEveryTexturedModelIsValidAndRendersLikeTheObj)$"
   stage_done "ASan + UBSan tests"
 
   if [[ "${CMGEOM_TSAN:-1}" != "0" ]]; then
@@ -94,14 +110,16 @@ if [[ "${1:-}" != "--no-sanitizers" ]]; then
     # system libtbb is not instrumented; see that file), and the check below makes sure no call
     # falls through to libtbb. Known races outside CMGeom: test/Reliability/tsan.supp.
     echo "== build (ThreadSanitizer: the multi-threaded tests) =="
-    # By default the stage runs the two programs whose parallel code shares the most state
-    # between tasks (Metrics' sampling and distance queries; the texture work: index texture
-    # set-up, resampling, generation, dilation); CMGEOM_TSAN_ALL=1 adds Compact_model
-    # (reconstruction, compact files) and Cage_deformation (binding, *Cages, harmonic solves):
-    # building and running them here costs ~5 min of the 2-core CI machine's 30-min budget.
-    tsan_targets=(test_Metrics test_Textured_simplification_texture)
+    # By default the stage runs the program whose parallel code shares the most state between
+    # tasks (the texture work: index texture set-up, resampling, generation, dilation; the levels
+    # of detail: parts, fits beside the collapses, atlases painted on all cores);
+    # CMGEOM_TSAN_ALL=1 adds Metrics (sampling and distance queries: parallel loops over their own
+    # rows), Compact_model (reconstruction, compact files) and Cage_deformation (binding, *Cages,
+    # harmonic solves): building and running them here costs ~6 min of the 2-core CI machine's
+    # 30-min budget (Metrics alone ~40 s of it).
+    tsan_targets=(test_Textured_simplification_texture)
     if [[ "${CMGEOM_TSAN_ALL:-0}" == "1" ]]; then
-      tsan_targets+=(test_Compact_model test_Cage_deformation)
+      tsan_targets+=(test_Metrics test_Compact_model test_Cage_deformation)
     fi
     cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMGEOM_SANITIZE=thread \
           -DCMGEOM_BUILD_TESTS=ON -DCMGEOM_BUILD_EXAMPLES=OFF -DCMGEOM_BUILD_TOOLS=OFF
@@ -122,7 +140,7 @@ if [[ "${1:-}" != "--no-sanitizers" ]]; then
     # the joint refit on fandisk and on the trim star), 200 s of CPU here, mostly in serial fitting
     # code; the parallel code they reach (reconstruction, error measurement) runs here in the
     # package's other tests.
-    # Two level-of-detail tests are left to the Release and ASan runs too: they run shared-texture
+    # Two level-of-detail tests are left to the ASan run too: they run shared-texture
     # chains and painted simplifications of three large textured models twice each (86 and 54 s
     # here, two thirds of the stage's CPU); the parallel code they reach (the chain's parts and
     # fits, the shared atlas with its overflow charts, the painting of an atlas from the collapse
@@ -131,7 +149,7 @@ if [[ "${1:-}" != "--no-sanitizers" ]]; then
     # tests of untextured chains cut into parts (37, 28 and 27 s of CPU here), one runs here:
     # LevelsLargeEnoughRunInPartsAgain (parts, cut again, the levels' fits beside the collapses and
     # started after the next run's parts); the other two check part sizes and levels against
-    # separate runs, the same parallel code, in the Release and ASan runs.
+    # separate runs, the same parallel code, in the ASan run.
     TSAN_OPTIONS="suppressions=$root/test/Reliability/tsan.supp:halt_on_error=1:second_deadlock_stack=1" \
     CMGEOM_TSAN_TBB_THREADS=2 \
       ctest --test-dir build-tsan --output-on-failure -j "$jobs" -R "^($suites)\." \
