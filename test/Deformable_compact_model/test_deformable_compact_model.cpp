@@ -470,10 +470,11 @@ TEST(DeformableCMTransfer, ReconstructorGivesTheSameBitsPoseAfterPose) {
         // One reconstructor keeping the blend's tables, one without them (each call then makes its own).
         const CM::Regular_reconstructor<> kept(*m, level, with_maps), plain(*m, level, opt);
         EXPECT_EQ(kept.number_of_triangles(), m->faces.size() << (2 * level));
-        // the blend's tables: 2 weights per edge point (none at level 0) and 3 per face point
-        EXPECT_EQ(kept.bytes() - plain.bytes(),
-                  sizeof(double) * (2 * ((std::size_t(1) << level) - 1) +
-                                    3 * (((std::size_t(1) << level) - 1) * ((std::size_t(1) << level) - 2) / 2)));
+        // the blend's tables: 2 weights per edge point (none at level 0) and 3 per face point,
+        // along N again in the four-lane layout of the face kernel (12 per group of four points)
+        const std::size_t n = std::size_t(1) << level, face_points = n > 1 ? (n - 1) * (n - 2) / 2 : 0;
+        const std::size_t lanes = proj == CM::Projection::along_normal ? 12 * ((face_points + 3) / 4) : 0;
+        EXPECT_EQ(kept.bytes() - plain.bytes(), sizeof(double) * (2 * (n - 1) + 3 * face_points + lanes));
         // Without maps: the plain reconstruction.
         CM::Reconstruction out;
         plain.reconstruct(out, opt);

@@ -293,18 +293,32 @@ inline void edge_map_weights(double t, double* wn) {
 // edge and face: `edge` holds 2 per point k = 1 .. n-1 of an edge (from a to b), `face` 3 per
 // interior point of a face in output order (rows j = 1 .. n-2, i = 1 .. n-1-j). Built once per
 // reconstruction (or per Deformable_reconstruction) instead of once per edge and face.
+// With `face_kernel_lanes`, `face_lanes` holds the face weights again in the lanes of
+// Face_lane_table (12 per group of four points: the four weights of corner 0, of corner 1, of
+// corner 2; lanes past the last point repeat it), which the AVX face kernel along N reads when it
+// maps the points it has just computed.
 struct Map_weight_tables {
   std::size_t n;
-  std::vector<double> edge, face;
-  explicit Map_weight_tables(std::size_t steps) : n(steps), edge(2 * (steps - 1)) {
+  std::vector<double> edge, face, face_lanes;
+  bool face_weights_positive = true;  // no interior weight underflows to 0 (the lanes need that)
+  bool edge_weights_positive = true;
+  explicit Map_weight_tables(std::size_t steps, bool face_kernel_lanes = false) : n(steps), edge(2 * (steps - 1)) {
     for (std::size_t k = 1; k < n; ++k) edge_map_weights(double(k) / double(n), &edge[2 * (k - 1)]);
-    face.resize(n > 1 ? 3 * ((n - 1) * (n - 2) / 2) : 0);
+    const std::size_t count = n > 1 ? (n - 1) * (n - 2) / 2 : 0;
+    face.resize(3 * count);
     std::size_t k = 0;
     for (std::size_t j = 1; j + 1 < n; ++j)
       for (std::size_t i = 1; i + j < n; ++i, ++k)
         face_map_weights(double(n - i - j) / double(n), double(i) / double(n), double(j) / double(n), &face[3 * k]);
+    if (face_kernel_lanes) face_lanes.resize(12 * ((count + 3) / 4));
+    for (std::size_t g = 0; 4 * g < count && face_kernel_lanes; ++g)
+      for (std::size_t l = 0; l < 4; ++l)
+        for (std::size_t c = 0; c < 3; ++c)
+          face_lanes[12 * g + 4 * c + l] = face[3 * (std::min)(4 * g + l, count - 1) + c];
+    face_weights_positive = std::find(face.begin(), face.end(), 0.) == face.end();
+    edge_weights_positive = std::find(edge.begin(), edge.end(), 0.) == edge.end();
   }
-  std::size_t bytes() const { return (edge.size() + face.size()) * sizeof(double); }
+  std::size_t bytes() const { return (edge.size() + face.size() + face_lanes.size()) * sizeof(double); }
 };
 
 // The interior points of a face at step 1/n as along_normal_face() computes them, in groups of
@@ -637,16 +651,26 @@ public:
   void along_normal_face(std::uint32_t f, const Face_lane_table& lanes, std::vector<double>& scratch, Vec3* pts,
                          Vec3* nrm) const {
     const std::size_t n = lanes.n;
+    const auto& F = m_.faces[f];
+    const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
 #ifdef CMGEOM_CM_SIMD_ROWS
-    if (simd::has_avx())
+    if (simd::has_avx()) {
+      // Maps that move some corner are applied by the kernel to the points it has in registers
+      // (apply_vertex_maps_lanes(), the same operations as apply_shared_vertex_maps()'s), where
+      // a second pass read them back from the output and wrote them again.
+      if (maps_ && level_weights(n).face_weights_positive && !level_weights(n).face_lanes.empty() &&
+          (!(*maps_)[v[0]].identity || !(*maps_)[v[1]].identity || !(*maps_)[v[2]].identity)) {
+        const Vertex_affine_map* T[3] = {&(*maps_)[v[0]], &(*maps_)[v[1]], &(*maps_)[v[2]]};
+        const Vec3 O[3] = {map_offset(*T[0], T[0]->rest), map_offset(*T[1], T[0]->rest), map_offset(*T[2], T[0]->rest)};
+        along_normal_face_avx(f, lanes, scratch, pts, nrm, T, O, level_weights(n).face_lanes.data());
+        return;
+      }
       along_normal_face_avx(f, lanes, scratch, pts, nrm);
-    else
+    } else
 #endif
       for (std::size_t j = 1, k = 0; j + 1 < n; k += n - 1 - j, ++j) along_normal_row_scalar(f, j, n, pts + k, nrm + k);
     if (!maps_) return;
     // The maps with apply_face_maps()'s weights (the level's table).
-    const auto& F = m_.faces[f];
-    const std::uint32_t v[3] = {F[0].vertex, F[1].vertex, F[2].vertex};
     apply_shared_vertex_maps<3>(*maps_, v, level_weights(n).face.data(), (n - 1) * (n - 2) / 2, pts, nrm, pts, nrm);
   }
 
@@ -663,11 +687,14 @@ public:
 #ifdef CMGEOM_CM_SIMD_ROWS
     const Base_topology::Edge& e = topo_.edges[ei];
     if (proj_ == Projection::along_normal && simd::has_avx() && !sharp_end(e, e.a) && !sharp_end(e, e.b)) {
-      along_normal_edge_avx(ei, n, pts, nrm);
-      if (!maps_) return;
-      // The maps with apply_edge_maps()'s weights (the level's table).
-      const std::uint32_t v[2] = {e.a, e.b};
-      apply_shared_vertex_maps<2>(*maps_, v, level_weights(n).edge.data(), n - 1, pts, nrm, pts, nrm);
+      // Maps that move an end are applied in the kernel (as along_normal_face() does).
+      if (maps_ && level_weights(n).edge_weights_positive && (!(*maps_)[e.a].identity || !(*maps_)[e.b].identity)) {
+        const Vertex_affine_map* T[2] = {&(*maps_)[e.a], &(*maps_)[e.b]};
+        const Vec3 O[2] = {map_offset(*T[0], T[0]->rest), map_offset(*T[1], T[0]->rest)};
+        along_normal_edge_avx(ei, n, pts, nrm, T, O, level_weights(n).edge.data());
+      } else {
+        along_normal_edge_avx(ei, n, pts, nrm);
+      }
       return;
     }
 #endif
@@ -770,8 +797,13 @@ public:
   // on_edge() at t = k / n, k = 1 .. n-1, of base edge ei along N, written to pts[k - 1] and
   // nrm[k - 1], four points at a time with on_edge()'s operations in its order (bit-identical).
   // Only for an edge that is smooth at both ends (edge_end_projection() is then project()).
-  __attribute__((target("avx"))) void along_normal_edge_avx(std::uint32_t ei, std::size_t n, Vec3* pts,
-                                                            Vec3* nrm) const {
+  // With maps T[0..1] (of a and b; O their offsets about T[0]'s rest point) and `map_weights`
+  // (Map_weight_tables::edge), every point is mapped before it is stored (apply_edge_maps()'s
+  // operations, lane-wise).
+  __attribute__((target("avx"))) void along_normal_edge_avx(std::uint32_t ei, std::size_t n, Vec3* pts, Vec3* nrm,
+                                                            const Vertex_affine_map* const* T = nullptr,
+                                                            const Vec3* O = nullptr,
+                                                            const double* map_weights = nullptr) const {
     using D = simd::d4;
     using M = simd::m4;
     const Base_topology::Edge& e = topo_.edges[ei];
@@ -796,12 +828,22 @@ public:
       const D len = simd::sqrt(r[3] * r[3] + r[4] * r[4] + r[5] * r[5]);
       const M pos = len > zero;
       const D inv = simd::select(pos, one / len, one);
-      const D nx = simd::select(pos, r[3] * inv, r[3]), ny = simd::select(pos, r[4] * inv, r[4]),
-              nz = simd::select(pos, r[5] * inv, r[5]);
+      r[3] = simd::select(pos, r[3] * inv, r[3]);
+      r[4] = simd::select(pos, r[4] * inv, r[4]);
+      r[5] = simd::select(pos, r[5] * inv, r[5]);
+      if (T) {
+        D wl[2];
+        for (int l = 0; l < 4; ++l) {
+          const double* w = map_weights + 2 * (std::min(k0 + std::size_t(l), n - 1) - 1);
+          wl[0][l] = w[0];
+          wl[1][l] = w[1];
+        }
+        apply_vertex_maps_lanes<2>(simd::Shared_maps<2>{T, O}, wl, r);
+      }
       const int valid = int(std::min<std::size_t>(4, n - k0));
       for (int l = 0; l < valid; ++l) {
         pts[k0 + l - 1] = Vec3(r[0][l], r[1][l], r[2][l]);
-        nrm[k0 + l - 1] = Vec3(nx[l], ny[l], nz[l]);
+        nrm[k0 + l - 1] = Vec3(r[3][l], r[4][l], r[5][l]);
       }
     }
   }
@@ -815,9 +857,14 @@ public:
   // the groups of one corner do not wait on one another and their square roots and divisions
   // overlap, where a group's three corners, one after the other, left them waiting on the latency
   // (1.35x the points per second of that loop, level 6, one thread). Lanes past the last point
-  // are not stored.
+  // are not stored. With maps T[0..2] (the face's corners; O their offsets, map_offset() about
+  // T[0]'s rest point) and `map_lanes` (Map_weight_tables::face_lanes), every point is mapped
+  // before it is stored.
   __attribute__((target("avx"))) void along_normal_face_avx(std::uint32_t f, const Face_lane_table& table,
-                                                            std::vector<double>& scratch, Vec3* pts, Vec3* nrm) const {
+                                                            std::vector<double>& scratch, Vec3* pts, Vec3* nrm,
+                                                            const Vertex_affine_map* const* T = nullptr,
+                                                            const Vec3* O = nullptr,
+                                                            const double* map_lanes = nullptr) const {
     using D = simd::d4;
     using M = simd::m4;
     constexpr std::size_t chunk = 128, per_group = Face_lane_table::per_group;
@@ -874,13 +921,22 @@ public:
         const D len = simd::sqrt(qx * qx + qy * qy + qz * qz);
         const M pos = len > zero;
         const D r = simd::select(pos, one / len, one);
-        const D nx = simd::select(pos, qx * r, qx), ny = simd::select(pos, qy * r, qy),
-                nz = simd::select(pos, qz * r, qz);
+        D s[6] = {simd::load(sum),
+                  simd::load(sum + 4),
+                  simd::load(sum + 8),
+                  simd::select(pos, qx * r, qx),
+                  simd::select(pos, qy * r, qy),
+                  simd::select(pos, qz * r, qz)};
+        if (T) {
+          const double* wg = map_lanes + 12 * (g0 + k);
+          const D wl[3] = {simd::load(wg), simd::load(wg + 4), simd::load(wg + 8)};
+          apply_vertex_maps_lanes<3>(simd::Shared_maps<3>{T, O}, wl, s);
+        }
         const std::size_t k0 = 4 * (g0 + k);
         const int valid = int((std::min)(std::size_t(4), count - k0));
         for (int l = 0; l < valid; ++l) {
-          pts[k0 + l] = Vec3(sum[l], sum[4 + l], sum[8 + l]);
-          nrm[k0 + l] = Vec3(nx[l], ny[l], nz[l]);
+          pts[k0 + l] = Vec3(s[0][l], s[1][l], s[2][l]);
+          nrm[k0 + l] = Vec3(s[3][l], s[4][l], s[5][l]);
         }
       }
     }
@@ -1062,10 +1118,19 @@ inline std::array<float, 2> interpolate_uv(const Face_uvs& uv, double a0, double
 
 }  // namespace internal
 
+namespace internal {
+// Whether a Regular_reconstructor keeps the points of the base edges sharp at an end.
+struct Keep_sharp_edges {
+  bool value;
+};
+}  // namespace internal
+
 /// The regular reconstruction of one model at one level (§4.5.2), made again and again: the
 /// base's topology, its corner frames and the level's weight tables are computed once, by the
 /// constructor, instead of by every call (on a 4,000-face base at level 4 they are about a
-/// fifth of a reconstruction's time, with the page faults of their fresh memory). reconstruct()
+/// fifth of a reconstruction's time, with the page faults of their fresh memory), and so are the
+/// points of the base edges sharp at an end (Newton solves; a fifth of a mapped call's time on
+/// igea's CM of 4,000 base faces at level 4), which every call copies and maps. reconstruct()
 /// writes the whole output; reconstruct_points() only the points and normals of an output that
 /// already holds this reconstruction, since its triangles, base faces and texture coordinates
 /// depend on the model and the level alone: one call per deformation frame (with
@@ -1077,9 +1142,17 @@ class Regular_reconstructor {
 public:
   /// The projection is `opt.projection`; with `opt.vertex_maps` set, the blend's weight tables of
   /// the level are kept too (a call with maps on a reconstructor made without them builds its
-  /// own). \throws Invalid_input if `level` is not in [0, 12] or the model is invalid.
+  /// own). The points of base edges sharp at an end are computed here and kept (see
+  /// number_of_kept_edges()). \throws Invalid_input if `level` is not in [0, 12] or the model is
+  /// invalid.
   Regular_reconstructor(const Compact_model& m, int level, const Reconstruction_options& opt = Reconstruction_options(),
                         const Traits& traits = Traits())
+      : Regular_reconstructor(internal::Keep_sharp_edges{true}, m, level, opt, traits) {}
+
+  /// The same, keeping the sharp edges' points or not (reconstruct_regular(), one call, does not:
+  /// it computes them into its output).
+  Regular_reconstructor(internal::Keep_sharp_edges keep, const Compact_model& m, int level,
+                        const Reconstruction_options& opt, const Traits& traits)
       : m_(m),
         traits_(traits),
         projection_(opt.projection),
@@ -1087,7 +1160,8 @@ public:
         n_(std::size_t(1) << level),
         topo_(validated(m)),
         lanes_(opt.projection == Projection::along_normal ? n_ : 0) {
-    if (opt.vertex_maps) map_weights_.emplace(n_);
+    if (opt.vertex_maps) map_weights_.emplace(n_, projection_ == Projection::along_normal);
+    if (keep.value) keep_sharp_edges(opt.parallel);
   }
 
   const Compact_model& model() const { return m_; }
@@ -1103,8 +1177,11 @@ public:
     return topo_.edges.size() * sizeof(internal::Base_topology::Edge) +
            topo_.face_edges.size() * sizeof(topo_.face_edges[0]) + topo_.frames.size() * sizeof(Local_frame) +
            topo_.corner_local.size() * sizeof(topo_.corner_local[0]) + lanes_.lanes.size() * sizeof(double) +
-           (map_weights_ ? map_weights_->bytes() : 0);
+           (map_weights_ ? map_weights_->bytes() : 0) + sharp_slot_.size() * sizeof(std::uint32_t) +
+           (sharp_points_.size() + sharp_normals_.size()) * sizeof(Vec3);
   }
+  /// Base edges sharp at an end, whose points the reconstructor keeps (see keep_sharp_edges()).
+  std::size_t number_of_kept_edges() const { return n_ > 1 ? sharp_points_.size() / (n_ - 1) : 0; }
 
   /// The whole reconstruction into `r`, reusing its memory: every array is resized and
   /// overwritten (a buffer of the right size is not reallocated). `opt.projection` must be the
@@ -1146,6 +1223,31 @@ private:
       throw Invalid_input("reconstruction: the options' projection is not the reconstructor's");
   }
 
+  // The points of a base edge sharp at an end are Newton solves (sharp_edge_point(), §4.4.2),
+  // each one costing as much as dozens of smooth points: a few edges took a fifth of a mapped
+  // reconstruction's time (igea, 4,000 base faces, level 4). Their unmapped points and normals
+  // are computed once here and every call copies them, mapped through the vertex maps with the
+  // weights Evaluator::edge_points() gives them (the same bits); 48 bytes per point kept.
+  void keep_sharp_edges(bool parallel) {
+    const std::size_t E = topo_.edges.size(), per = n_ - 1;
+    if (per == 0) return;
+    const internal::Evaluator<Traits> ev(m_, topo_, traits_, projection_);
+    std::vector<std::uint32_t> slot(E, internal::Base_topology::npos);
+    std::uint32_t kept = 0;
+    for (std::size_t e = 0; e < E; ++e) {
+      const internal::Base_topology::Edge& edge = topo_.edges[e];
+      if (ev.sharp_end(edge, edge.a) || ev.sharp_end(edge, edge.b)) slot[e] = kept++;
+    }
+    if (kept == 0) return;
+    sharp_points_.resize(kept * per);
+    sharp_normals_.resize(kept * per);
+    internal::for_range(E, parallel, [&](std::size_t e) {
+      if (slot[e] != internal::Base_topology::npos)
+        ev.edge_points(std::uint32_t(e), n_, &sharp_points_[slot[e] * per], &sharp_normals_[slot[e] * per]);
+    });
+    sharp_slot_ = std::move(slot);
+  }
+
   // Points and normals; with `connectivity` the arrays of `r` are sized first and the triangles,
   // base faces and texture coordinates written too (without it they have their sizes already).
   void run(Reconstruction& r, const Reconstruction_options& opt, bool connectivity) const {
@@ -1153,7 +1255,7 @@ private:
     const internal::Base_topology& topo = topo_;
     const std::size_t n = n_, V = m.vertices.size(), E = topo.edges.size(), F = m.faces.size();
     std::optional<internal::Map_weight_tables> own_weights;
-    if (opt.vertex_maps && !map_weights_) own_weights.emplace(n);
+    if (opt.vertex_maps && !map_weights_) own_weights.emplace(n, opt.projection == Projection::along_normal);
     const internal::Evaluator<Traits> ev(m, topo, traits_, opt.projection, opt.vertex_maps,
                                          !opt.vertex_maps ? nullptr
                                          : map_weights_   ? &*map_weights_
@@ -1183,9 +1285,23 @@ private:
     internal::for_range(
         E, opt.parallel,
         [&](std::size_t e) {
-          if (n > 1)
-            ev.edge_points(std::uint32_t(e), n, &r.points[edge_base + e * per_edge],
-                           &r.normals[edge_base + e * per_edge]);
+          if (n <= 1) return;
+          Vec3* P = &r.points[edge_base + e * per_edge];
+          Vec3* N = &r.normals[edge_base + e * per_edge];
+          if (sharp_slot_.empty() || sharp_slot_[e] == internal::Base_topology::npos) {
+            ev.edge_points(std::uint32_t(e), n, P, N);
+            return;
+          }
+          const Vec3* kept_p = &sharp_points_[sharp_slot_[e] * per_edge];
+          const Vec3* kept_n = &sharp_normals_[sharp_slot_[e] * per_edge];
+          if (opt.vertex_maps) {
+            const std::uint32_t v[2] = {topo.edges[e].a, topo.edges[e].b};
+            internal::apply_shared_vertex_maps<2>(*opt.vertex_maps, v, ev.level_weights(n).edge.data(), per_edge,
+                                                  kept_p, kept_n, P, N);
+          } else {
+            std::copy(kept_p, kept_p + per_edge, P);
+            std::copy(kept_n, kept_n + per_edge, N);
+          }
         },
         &progress);
     progress.phase(edge_share, 1., F);
@@ -1292,6 +1408,10 @@ private:
   internal::Base_topology topo_;
   internal::Face_lane_table lanes_;
   std::optional<internal::Map_weight_tables> map_weights_;
+  // keep_sharp_edges(): per base edge the index of its kept points (npos: not kept; empty: none
+  // kept), and those points and normals, n - 1 per edge, unmapped.
+  std::vector<std::uint32_t> sharp_slot_;
+  std::vector<Vec3> sharp_points_, sharp_normals_;
 };
 
 /// Regular reconstruction at `level` (§4.5.2) into `r`, reusing its memory: every array is
@@ -1302,7 +1422,7 @@ template <class Traits = Quadric_surface_traits>
 void reconstruct_regular(const Compact_model& m, int level, Reconstruction& r,
                          const Reconstruction_options& opt = Reconstruction_options(),
                          const Traits& traits = Traits()) {
-  Regular_reconstructor<Traits>(m, level, opt, traits).reconstruct(r, opt);
+  Regular_reconstructor<Traits>(internal::Keep_sharp_edges{false}, m, level, opt, traits).reconstruct(r, opt);
 }
 
 /// Regular reconstruction at `level` (§4.5.2): 4^level triangles per base triangle.
