@@ -1223,7 +1223,7 @@ private:
       throw Invalid_input("reconstruction: the options' projection is not the reconstructor's");
   }
 
-  // The points of a base edge sharp at an end are Newton solves (sharp_edge_point(), §4.4.2),
+  // The points of a base edge sharp at an end are Newton solves (sharp_edge_point(), §4.5.1),
   // each one costing as much as dozens of smooth points: a few edges took a fifth of a mapped
   // reconstruction's time (igea, 4,000 base faces, level 4). Their unmapped points and normals
   // are computed once here and every call copies them, mapped through the vertex maps with the
