@@ -212,6 +212,24 @@ inline Vec3 map_offset(const Vertex_affine_map& T, const Vec3& c) {
               (T.M[2][0] * d.x + T.M[2][1] * d.y + T.M[2][2] * d.z) + T.deformed.z);
 }
 
+// The maps of K base vertices v[0..K-1] that the samples of one base edge or face all blend:
+// each map, whether any of them moves, and (when one does) their offsets about the first map's
+// rest point, map_offset(*T[c], T[0]->rest), as the four-lane kernels read them.
+template <int K>
+struct Corner_maps {
+  const Vertex_affine_map* T[K];
+  Vec3 O[K];
+  bool moved = false;
+  Corner_maps(const std::vector<Vertex_affine_map>& maps, const std::uint32_t* v) {
+    for (int c = 0; c < K; ++c) {
+      T[c] = &maps[v[c]];
+      moved = moved || !T[c]->identity;
+    }
+    if (moved)
+      for (int c = 0; c < K; ++c) O[c] = map_offset(*T[c], T[0]->rest);
+  }
+};
+
 // Applies sum_k w[k] T_{v[k]} to a sample (point, and normal through the cofactor matrix of the
 // blended M, which maps the normal of a tangent plane to the normal of its image, orientation
 // included). Corners with zero weight are ignored; if every weighted corner is an identity map,
@@ -464,28 +482,21 @@ __attribute__((target("avx"))) void apply_vertex_maps_avx(const Vertex_affine_ma
 template <int K>
 void apply_shared_vertex_maps(const std::vector<Vertex_affine_map>& maps, const std::uint32_t* v, const double* w,
                               std::size_t count, const Vec3* in_p, const Vec3* in_n, Vec3* out_p, Vec3* out_n) {
-  bool moved = false;
-  for (int c = 0; c < K; ++c) moved = moved || !maps[v[c]].identity;
+  const Corner_maps<K> corners(maps, v);
   std::size_t k = 0;
 #ifdef CMGEOM_CM_SIMD_ROWS
-  if (moved && simd::has_avx()) {
-    const Vertex_affine_map* T[K];
-    Vec3 O[K];
-    for (int c = 0; c < K; ++c) {
-      T[c] = &maps[v[c]];
-      O[c] = map_offset(*T[c], T[0]->rest);
-    }
+  if (corners.moved && simd::has_avx()) {
     for (; k + 4 <= count; k += 4) {
       // A zero weight drops its map from apply_vertex_maps()'s identity test: such groups go
       // through the scalar path below (never in regular reconstruction, whose weights are > 0).
       if (std::find(w + K * k, w + K * (k + 4), 0.) != w + K * (k + 4)) break;
-      apply_vertex_maps_avx<K>(T, O, w + K * k, in_p + k, in_n + k, out_p + k, out_n + k);
+      apply_vertex_maps_avx<K>(corners.T, corners.O, w + K * k, in_p + k, in_n + k, out_p + k, out_n + k);
     }
   }
 #endif
   for (; k < count; ++k) {
     Sample s{in_p[k], in_n[k]};
-    if (moved) apply_vertex_maps(maps, K, v, w + K * k, s);
+    if (corners.moved) apply_vertex_maps(maps, K, v, w + K * k, s);
     out_p[k] = s.point;
     out_n[k] = s.normal;
   }
@@ -658,11 +669,10 @@ public:
       // Maps that move some corner are applied by the kernel to the points it has in registers
       // (apply_vertex_maps_lanes(), the same operations as apply_shared_vertex_maps()'s), where
       // a second pass read them back from the output and wrote them again.
-      if (maps_ && level_weights(n).face_weights_positive && !level_weights(n).face_lanes.empty() &&
-          (!(*maps_)[v[0]].identity || !(*maps_)[v[1]].identity || !(*maps_)[v[2]].identity)) {
-        const Vertex_affine_map* T[3] = {&(*maps_)[v[0]], &(*maps_)[v[1]], &(*maps_)[v[2]]};
-        const Vec3 O[3] = {map_offset(*T[0], T[0]->rest), map_offset(*T[1], T[0]->rest), map_offset(*T[2], T[0]->rest)};
-        along_normal_face_avx(f, lanes, scratch, pts, nrm, T, O, level_weights(n).face_lanes.data());
+      if (maps_ && level_weights(n).face_weights_positive && !level_weights(n).face_lanes.empty()) {
+        const Corner_maps<3> corners(*maps_, v);
+        along_normal_face_avx(f, lanes, scratch, pts, nrm, corners.moved ? &corners : nullptr,
+                              level_weights(n).face_lanes.data());
         return;
       }
       along_normal_face_avx(f, lanes, scratch, pts, nrm);
@@ -686,15 +696,16 @@ public:
   void edge_points(std::uint32_t ei, std::size_t n, Vec3* pts, Vec3* nrm) const {
 #ifdef CMGEOM_CM_SIMD_ROWS
     const Base_topology::Edge& e = topo_.edges[ei];
-    if (proj_ == Projection::along_normal && simd::has_avx() && !sharp_end(e, e.a) && !sharp_end(e, e.b)) {
+    if (proj_ == Projection::along_normal && simd::has_avx() && !sharp_at_an_end(e)) {
       // Maps that move an end are applied in the kernel (as along_normal_face() does).
-      if (maps_ && level_weights(n).edge_weights_positive && (!(*maps_)[e.a].identity || !(*maps_)[e.b].identity)) {
-        const Vertex_affine_map* T[2] = {&(*maps_)[e.a], &(*maps_)[e.b]};
-        const Vec3 O[2] = {map_offset(*T[0], T[0]->rest), map_offset(*T[1], T[0]->rest)};
-        along_normal_edge_avx(ei, n, pts, nrm, T, O, level_weights(n).edge.data());
-      } else {
-        along_normal_edge_avx(ei, n, pts, nrm);
+      const std::uint32_t v[2] = {e.a, e.b};
+      if (maps_ && level_weights(n).edge_weights_positive) {
+        const Corner_maps<2> corners(*maps_, v);
+        along_normal_edge_avx(ei, n, pts, nrm, corners.moved ? &corners : nullptr, level_weights(n).edge.data());
+        return;
       }
+      along_normal_edge_avx(ei, n, pts, nrm);
+      if (maps_) apply_shared_vertex_maps<2>(*maps_, v, level_weights(n).edge.data(), n - 1, pts, nrm, pts, nrm);
       return;
     }
 #endif
@@ -797,12 +808,10 @@ public:
   // on_edge() at t = k / n, k = 1 .. n-1, of base edge ei along N, written to pts[k - 1] and
   // nrm[k - 1], four points at a time with on_edge()'s operations in its order (bit-identical).
   // Only for an edge that is smooth at both ends (edge_end_projection() is then project()).
-  // With maps T[0..1] (of a and b; O their offsets about T[0]'s rest point) and `map_weights`
-  // (Map_weight_tables::edge), every point is mapped before it is stored (apply_edge_maps()'s
-  // operations, lane-wise).
+  // With `maps` (of a and b, some moving) and `map_weights` (Map_weight_tables::edge), every
+  // point is mapped before it is stored (apply_edge_maps()'s operations, lane-wise).
   __attribute__((target("avx"))) void along_normal_edge_avx(std::uint32_t ei, std::size_t n, Vec3* pts, Vec3* nrm,
-                                                            const Vertex_affine_map* const* T = nullptr,
-                                                            const Vec3* O = nullptr,
+                                                            const Corner_maps<2>* maps = nullptr,
                                                             const double* map_weights = nullptr) const {
     using D = simd::d4;
     using M = simd::m4;
@@ -831,14 +840,14 @@ public:
       r[3] = simd::select(pos, r[3] * inv, r[3]);
       r[4] = simd::select(pos, r[4] * inv, r[4]);
       r[5] = simd::select(pos, r[5] * inv, r[5]);
-      if (T) {
+      if (maps) {
         D wl[2];
         for (int l = 0; l < 4; ++l) {
           const double* w = map_weights + 2 * (std::min(k0 + std::size_t(l), n - 1) - 1);
           wl[0][l] = w[0];
           wl[1][l] = w[1];
         }
-        apply_vertex_maps_lanes<2>(simd::Shared_maps<2>{T, O}, wl, r);
+        apply_vertex_maps_lanes<2>(simd::Shared_maps<2>{maps->T, maps->O}, wl, r);
       }
       const int valid = int(std::min<std::size_t>(4, n - k0));
       for (int l = 0; l < valid; ++l) {
@@ -857,13 +866,11 @@ public:
   // the groups of one corner do not wait on one another and their square roots and divisions
   // overlap, where a group's three corners, one after the other, left them waiting on the latency
   // (1.35x the points per second of that loop, level 6, one thread). Lanes past the last point
-  // are not stored. With maps T[0..2] (the face's corners; O their offsets, map_offset() about
-  // T[0]'s rest point) and `map_lanes` (Map_weight_tables::face_lanes), every point is mapped
-  // before it is stored.
+  // are not stored. With `maps` (of the face's corners, some moving) and `map_lanes`
+  // (Map_weight_tables::face_lanes), every point is mapped before it is stored.
   __attribute__((target("avx"))) void along_normal_face_avx(std::uint32_t f, const Face_lane_table& table,
                                                             std::vector<double>& scratch, Vec3* pts, Vec3* nrm,
-                                                            const Vertex_affine_map* const* T = nullptr,
-                                                            const Vec3* O = nullptr,
+                                                            const Corner_maps<3>* maps = nullptr,
                                                             const double* map_lanes = nullptr) const {
     using D = simd::d4;
     using M = simd::m4;
@@ -927,10 +934,10 @@ public:
                   simd::select(pos, qx * r, qx),
                   simd::select(pos, qy * r, qy),
                   simd::select(pos, qz * r, qz)};
-        if (T) {
+        if (maps) {
           const double* wg = map_lanes + 12 * (g0 + k);
           const D wl[3] = {simd::load(wg), simd::load(wg + 4), simd::load(wg + 8)};
-          apply_vertex_maps_lanes<3>(simd::Shared_maps<3>{T, O}, wl, s);
+          apply_vertex_maps_lanes<3>(simd::Shared_maps<3>{maps->T, maps->O}, wl, s);
         }
         const std::size_t k0 = 4 * (g0 + k);
         const int valid = int((std::min)(std::size_t(4), count - k0));
@@ -996,6 +1003,8 @@ public:
     const Corner& k1 = m_.faces[e.face[1]][corner_of(e.face[1], v)];
     return k0.surface != k1.surface || k0.normal != k1.normal;
   }
+  // Whether base edge e is sharp at either end (its points are then sharp-edge points, one at a time).
+  bool sharp_at_an_end(const Base_topology::Edge& e) const { return sharp_end(e, e.a) || sharp_end(e, e.b); }
 
   // S-bar at endpoint `end` (0: a, 1: b) of base edge e for the point p (sharp-aware).
   Sample edge_end_projection(const Base_topology::Edge& e, int end, const Vec3& p) const {
@@ -1235,8 +1244,7 @@ private:
     std::vector<std::uint32_t> slot(E, internal::Base_topology::npos);
     std::uint32_t kept = 0;
     for (std::size_t e = 0; e < E; ++e) {
-      const internal::Base_topology::Edge& edge = topo_.edges[e];
-      if (ev.sharp_end(edge, edge.a) || ev.sharp_end(edge, edge.b)) slot[e] = kept++;
+      if (ev.sharp_at_an_end(topo_.edges[e])) slot[e] = kept++;
     }
     if (kept == 0) return;
     sharp_points_.resize(kept * per);
