@@ -111,6 +111,7 @@ Vec3 sharp_edge_point(const Local_frame& f1, const Local_surface& s1, const Loca
   q -= dot(q - p, t) * t;
   const Vec3 start = q;
   const double scale = internal::length(start - p) + internal::length(p - f1.origin) + 1e-300;
+  const double tolerance2 = (1e-13 * scale) * (1e-13 * scale);  // (squared: no square root per step)
   bool ok = false;
   for (int it = 0; it < 20; ++it) {
     double d1[5], d2[5];
@@ -125,11 +126,11 @@ Vec3 sharp_edge_point(const Local_frame& f1, const Local_surface& s1, const Loca
     // Solve [g1; g2; t] dq = -r by Cramer's rule (rows g1, g2, t).
     const Vec3 c12 = internal::cross(g2, t), c20 = internal::cross(t, g1), c01 = internal::cross(g1, g2);
     const double det = dot(g1, c12);
-    if (!(std::abs(det) > 1e-14 * internal::length(g1) * internal::length(g2))) break;
+    if (!(det * det > 1e-28 * (dot(g1, g1) * dot(g2, g2)))) break;  // |det| > 1e-14 |g1| |g2|, squared
     const Vec3 dq = (-1. / det) * (r1 * c12 + r2 * c20 + r3 * c01);
     q += dq;
     if (!std::isfinite(q.x + q.y + q.z)) break;
-    if (internal::length(dq) <= 1e-13 * scale) {
+    if (dot(dq, dq) <= tolerance2) {
       ok = true;
       break;
     }
