@@ -1,6 +1,6 @@
 // Tests of the reconstruction of a Compact Model: analytic reproduction, crack-free and shared
-// vertices, parallel == serial, progress hook, along-normal rows, reused buffers, huge-page resizes, error decreasing
-// with the level.
+// vertices, parallel == serial, progress hook, along-normal rows, reused buffers, streamed connectivity, huge-page
+// resizes, error decreasing with the level.
 #include "compact_model_test_util.h"
 
 #include <CMGeom/Mesh_IO/Image.h>
@@ -273,6 +273,67 @@ TEST(CompactModelReconstruction, ReusedBufferGivesTheFreshResult) {
       EXPECT_EQ(fresh.base_face, buffer.base_face);
       EXPECT_EQ(fresh.corner_uvs, buffer.corner_uvs);
       EXPECT_EQ(buffer.corner_uvs.empty(), !model->has_uvs());
+    }
+}
+
+// The triangles, base faces and texture coordinates of a large output go out with non-temporal
+// stores (reconstruct.h, internal::copy_streaming()): the same triangles, with the same corners and
+// texture coordinates, as adaptive reconstruction's, which builds them one by one.
+TEST(CompactModelReconstruction, StreamedConnectivityIsTheAdaptiveOne) {
+  Compact_model textured = sphere_model();
+  textured.uvs.resize(textured.faces.size());
+  for (std::size_t f = 0; f < textured.faces.size(); ++f)
+    textured.uvs[f] = {{{0.f, 0.f}, {1.f, float(f % 5) / 5.f}, {0.5f, 1.f}}};
+  const int level = 6;  // 120 x 4,096 triangles: 20 MB of triangles, base faces and texture coordinates
+  const std::size_t per_face = std::size_t(1) << (2 * level);
+  ASSERT_GE(textured.faces.size() * per_face * 40, CMGeom::CM::internal::stream_output_bytes);  // (12 + 4 + 24 bytes)
+  Reconstruction_options o;
+  o.projection = Projection::along_normal;
+  const Reconstruction r = reconstruct_regular(textured, level, o);
+  const Reconstruction a = reconstruct_adaptive(textured, Always_split(), level, o);
+  ASSERT_EQ(r.triangles.size(), textured.faces.size() * per_face);
+  ASSERT_EQ(a.triangles.size(), r.triangles.size());
+  for (std::size_t t = 0; t < r.triangles.size(); ++t) ASSERT_EQ(r.base_face[t], t / per_face) << "triangle " << t;
+  // every triangle as its base face and its corners' points and texture coordinates, from its
+  // least corner on (the orientation kept), sorted
+  auto corners = [](const Reconstruction& x) {
+    using Corner = std::array<double, 5>;
+    std::vector<std::array<double, 16>> out(x.triangles.size());
+    for (std::size_t t = 0; t < x.triangles.size(); ++t) {
+      std::array<Corner, 3> c;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3& p = x.points[x.triangles[t][std::size_t(k)]];
+        const auto& uv = x.corner_uvs[3 * t + std::size_t(k)];
+        c[std::size_t(k)] = {p.x, p.y, p.z, double(uv[0]), double(uv[1])};
+      }
+      const std::size_t first = std::size_t(std::min_element(c.begin(), c.end()) - c.begin());
+      out[t][0] = double(x.base_face[t]);
+      for (std::size_t k = 0; k < 3; ++k)
+        for (std::size_t q = 0; q < 5; ++q) out[t][1 + 5 * k + q] = c[(first + k) % 3][q];
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  EXPECT_TRUE(corners(r) == corners(a));
+}
+
+// The streaming copies give std::copy's and std::fill_n's results at every alignment and length
+// (non-temporal stores where both ends are 16-byte aligned, plain ones otherwise).
+TEST(CompactModelReconstruction, StreamingCopiesAreCopies) {
+  std::vector<std::array<std::uint32_t, 3>> from(1000);
+  for (std::size_t i = 0; i < from.size(); ++i)
+    from[i] = {std::uint32_t(3 * i), std::uint32_t(7 * i + 1), std::uint32_t(i * i)};
+  for (std::size_t offset = 0; offset < 4; ++offset)
+    for (const std::size_t count : {std::size_t(0), std::size_t(1), std::size_t(4), std::size_t(5), std::size_t(996)}) {
+      std::vector<std::array<std::uint32_t, 3>> to(1004, {{9, 9, 9}}), expected = to;
+      CMGeom::CM::internal::copy_streaming(from.data(), count, to.data() + offset);
+      std::copy(from.begin(), from.begin() + std::ptrdiff_t(count), expected.begin() + std::ptrdiff_t(offset));
+      std::vector<std::uint32_t> filled(1004, 5), filled_expected = filled;
+      CMGeom::CM::internal::fill_streaming(filled.data() + offset, count, 77);
+      std::fill_n(filled_expected.begin() + std::ptrdiff_t(offset), count, 77u);
+      CMGeom::CM::internal::finish_streaming();
+      EXPECT_TRUE(to == expected) << "offset " << offset << ", count " << count;
+      EXPECT_TRUE(filled == filled_expected) << "offset " << offset << ", count " << count;
     }
 }
 

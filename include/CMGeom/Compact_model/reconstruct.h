@@ -1146,6 +1146,53 @@ struct Keep_sharp_edges {
 /// Reconstruction_options::vertex_maps, §6.4). Both give what reconstruct_regular() gives, bit
 /// for bit. Keeps a reference to the model, which must outlive the reconstructor and not
 /// change. The calls are const: several may run at once into different outputs.
+namespace internal {
+// The triangles, base faces and texture coordinates of a large regular reconstruction are written
+// once and not read back by it: they go out with non-temporal stores (from a face's block built
+// in cache), which skip reading every cache line of the output before writing it. Igea, 2,000
+// base faces, level 5, one thread: the connectivity's 32 MB took 4.9 ms written in place and
+// 3.6 ms so. (The points and normals, written four at a time as 96-byte groups that split cache
+// lines, became four times slower so, and are stored as before.)
+constexpr std::size_t stream_output_bytes = std::size_t(16) << 20;  // outputs from this size
+constexpr std::size_t stream_max_n = 128;  // faces of at most this many rows (the block: <= 393 kB)
+
+// to[0 .. count-1] = from[0 .. count-1], with non-temporal stores when both are 16-byte aligned
+// and the bytes a multiple of 16 (finish_streaming() before another thread reads them).
+template <class T>
+void copy_streaming(const T* from, std::size_t count, T* to) {
+  const std::size_t bytes = count * sizeof(T);
+#ifdef CMGEOM_CM_SIMD_ROWS
+  if (((reinterpret_cast<std::uintptr_t>(to) | reinterpret_cast<std::uintptr_t>(from)) & 15) == 0 && bytes % 16 == 0) {
+    const __m128i* f = reinterpret_cast<const __m128i*>(from);
+    __m128i* t = reinterpret_cast<__m128i*>(to);
+    for (std::size_t i = 0; i < bytes / 16; ++i) _mm_stream_si128(t + i, _mm_load_si128(f + i));
+    return;
+  }
+#endif
+  std::copy(from, from + count, to);
+}
+
+// std::fill_n(to, count, value), with non-temporal stores as copy_streaming().
+inline void fill_streaming(std::uint32_t* to, std::size_t count, std::uint32_t value) {
+#ifdef CMGEOM_CM_SIMD_ROWS
+  if ((reinterpret_cast<std::uintptr_t>(to) & 15) == 0 && count % 4 == 0) {
+    const __m128i v = _mm_set1_epi32(int(value));
+    __m128i* t = reinterpret_cast<__m128i*>(to);
+    for (std::size_t i = 0; i < count / 4; ++i) _mm_stream_si128(t + i, v);
+    return;
+  }
+#endif
+  std::fill_n(to, count, value);
+}
+
+// Orders the non-temporal stores made so far before the stores that follow (a task's end).
+inline void finish_streaming() {
+#ifdef CMGEOM_CM_SIMD_ROWS
+  _mm_sfence();
+#endif
+}
+}  // namespace internal
+
 template <class Traits = Quadric_surface_traits>
 class Regular_reconstructor {
 public:
@@ -1280,6 +1327,10 @@ private:
         r.corner_uvs.clear();
     }
     const bool along_n_rows = opt.projection == Projection::along_normal;
+    const std::size_t connectivity_bytes = number_of_triangles() * (sizeof(r.triangles[0]) + sizeof(r.base_face[0]) +
+                                                                    (m.has_uvs() ? 3 * sizeof(r.corner_uvs[0]) : 0));
+    const bool stream =
+        connectivity && n >= 2 && n <= internal::stream_max_n && connectivity_bytes >= internal::stream_output_bytes;
     const internal::Face_lane_table& lanes = lanes_;
     const std::size_t per_edge = n - 1, per_face = (n - 1) * (n - 2) / 2;
     const std::size_t edge_base = V, face_base = V + E * per_edge;
@@ -1319,6 +1370,9 @@ private:
           std::vector<std::uint32_t> grid(connectivity ? (n + 1) * (n + 2) / 2 : 0);
           std::vector<std::array<float, 2>> grid_uv(connectivity && m.has_uvs() ? grid.size() : 0);
           std::vector<double> scratch;
+          // (with `stream`, a face's triangles and texture coordinates, then copied out)
+          std::vector<std::array<std::uint32_t, 3>> face_triangles(stream ? n * n : 0);
+          std::vector<std::array<float, 2>> face_uvs(stream && m.has_uvs() ? 3 * n * n : 0);
           for (std::size_t f = f_begin; f != f_end; ++f) {
             const auto& Fc = m.faces[f];
             // Output index of grid point (i, j): corner 0 at (0,0), corner 1 at (n,0), corner 2 at (0,n).
@@ -1371,7 +1425,7 @@ private:
               }
             }
             // Triangles (i,j) (i+1,j) (i,j+1) and (i+1,j) (i+1,j+1) (i,j+1), row by row.
-            std::array<std::uint32_t, 3>* T = r.triangles.data() + f * n * n;
+            std::array<std::uint32_t, 3>* T = stream ? face_triangles.data() : r.triangles.data() + f * n * n;
             for (std::size_t j = 0; j < n; ++j) {
               const std::uint32_t* g0 = grid.data() + row(j);
               const std::uint32_t* g1 = grid.data() + row(j + 1);
@@ -1382,13 +1436,18 @@ private:
               }
               *T++ = {g0[last], g0[last + 1], g1[last]};
             }
-            std::fill_n(r.base_face.data() + f * n * n, n * n, std::uint32_t(f));
+            if (stream) {
+              internal::copy_streaming(face_triangles.data(), n * n, r.triangles.data() + f * n * n);
+              internal::fill_streaming(r.base_face.data() + f * n * n, n * n, std::uint32_t(f));
+            } else {
+              std::fill_n(r.base_face.data() + f * n * n, n * n, std::uint32_t(f));
+            }
             if (m.has_uvs()) {
               for (std::size_t j = 0; j <= n; ++j)
                 for (std::size_t i = 0; i + j <= n; ++i)
                   grid_uv[row(j) + i] = internal::interpolate_uv(m.uvs[f], double(n - i - j) / double(n),
                                                                  double(i) / double(n), double(j) / double(n));
-              std::array<float, 2>* U = r.corner_uvs.data() + 3 * f * n * n;
+              std::array<float, 2>* U = stream ? face_uvs.data() : r.corner_uvs.data() + 3 * f * n * n;
               auto put = [&](std::size_t a, std::size_t b, std::size_t c) {
                 *U++ = grid_uv[a];
                 *U++ = grid_uv[b];
@@ -1401,8 +1460,10 @@ private:
                   if (i + j + 2 <= n) put(r0 + i + 1, r1 + i + 1, r1 + i);
                 }
               }
+              if (stream) internal::copy_streaming(face_uvs.data(), 3 * n * n, r.corner_uvs.data() + 3 * f * n * n);
             }
           }
+          if (stream) internal::finish_streaming();
         },
         &progress);
     progress.finish();
