@@ -1128,25 +1128,6 @@ inline std::array<float, 2> interpolate_uv(const Face_uvs& uv, double a0, double
 }  // namespace internal
 
 namespace internal {
-// Whether a Regular_reconstructor keeps the points of the base edges sharp at an end.
-struct Keep_sharp_edges {
-  bool value;
-};
-}  // namespace internal
-
-/// The regular reconstruction of one model at one level (§4.5.2), made again and again: the
-/// base's topology, its corner frames and the level's weight tables are computed once, by the
-/// constructor, instead of by every call (on a 4,000-face base at level 4 they are about a
-/// fifth of a reconstruction's time, with the page faults of their fresh memory), and so are the
-/// points of the base edges sharp at an end (Newton solves; a fifth of a mapped call's time on
-/// igea's CM of 4,000 base faces at level 4), which every call copies and maps. reconstruct()
-/// writes the whole output; reconstruct_points() only the points and normals of an output that
-/// already holds this reconstruction, since its triangles, base faces and texture coordinates
-/// depend on the model and the level alone: one call per deformation frame (with
-/// Reconstruction_options::vertex_maps, §6.4). Both give what reconstruct_regular() gives, bit
-/// for bit. Keeps a reference to the model, which must outlive the reconstructor and not
-/// change. The calls are const: several may run at once into different outputs.
-namespace internal {
 // The triangles, base faces and texture coordinates of a large regular reconstruction are written
 // once and not read back by it: they go out with non-temporal stores (from a face's block built
 // in cache), which skip reading every cache line of the output before writing it. Igea, 2,000
@@ -1191,7 +1172,25 @@ inline void finish_streaming() {
   _mm_sfence();
 #endif
 }
+
+// Whether a Regular_reconstructor keeps the points of the base edges sharp at an end.
+struct Keep_sharp_edges {
+  bool value;
+};
 }  // namespace internal
+
+/// The regular reconstruction of one model at one level (§4.5.2), made again and again: the
+/// base's topology, its corner frames and the level's weight tables are computed once, by the
+/// constructor, instead of by every call (on a 4,000-face base at level 4 they are about a
+/// fifth of a reconstruction's time, with the page faults of their fresh memory), and so are the
+/// points of the base edges sharp at an end (Newton solves; a fifth of a mapped call's time on
+/// igea's CM of 4,000 base faces at level 4), which every call copies and maps. reconstruct()
+/// writes the whole output; reconstruct_points() only the points and normals of an output that
+/// already holds this reconstruction, since its triangles, base faces and texture coordinates
+/// depend on the model and the level alone: one call per deformation frame (with
+/// Reconstruction_options::vertex_maps, §6.4). Both give what reconstruct_regular() gives, bit
+/// for bit. Keeps a reference to the model, which must outlive the reconstructor and not
+/// change. The calls are const: several may run at once into different outputs.
 
 template <class Traits = Quadric_surface_traits>
 class Regular_reconstructor {
