@@ -11,6 +11,15 @@
 
 namespace {
 
+// sphere_model() with texture coordinates: every face maps to a triangle of [0, 1]², five shapes.
+Compact_model textured_sphere_model() {
+  Compact_model textured = sphere_model();
+  textured.uvs.resize(textured.faces.size());
+  for (std::size_t f = 0; f < textured.faces.size(); ++f)
+    textured.uvs[f] = {{{0.f, 0.f}, {1.f, float(f % 5) / 5.f}, {0.5f, 1.f}}};
+  return textured;
+}
+
 // ------------------------------------------------------------------ reconstruction
 TEST(CompactModelReconstruction, ParaboloidReproducedAtEveryLevel) {
   const double a = 0.6, b = 0.2, c = -0.4, d = 0.1, e = -0.2;
@@ -255,10 +264,7 @@ TEST(CompactModelReconstruction, KeptSharpEdgePointsGiveTheAdaptivePointsBitForB
 
 TEST(CompactModelReconstruction, ReusedBufferGivesTheFreshResult) {
   const Compact_model& m = sphere_model();
-  Compact_model textured = m;
-  textured.uvs.resize(textured.faces.size());
-  for (std::size_t f = 0; f < textured.faces.size(); ++f)
-    textured.uvs[f] = {{{0.f, 0.f}, {1.f, float(f % 5) / 5.f}, {0.5f, 1.f}}};
+  const Compact_model textured = textured_sphere_model();
   Reconstruction buffer;
   // Growing, shrinking, the other projection, and a textured model followed by an untextured one:
   // every field is rewritten, nothing of the previous content survives.
@@ -280,10 +286,7 @@ TEST(CompactModelReconstruction, ReusedBufferGivesTheFreshResult) {
 // stores (reconstruct.h, internal::copy_streaming()): the same triangles, with the same corners and
 // texture coordinates, as adaptive reconstruction's, which builds them one by one.
 TEST(CompactModelReconstruction, StreamedConnectivityIsTheAdaptiveOne) {
-  Compact_model textured = sphere_model();
-  textured.uvs.resize(textured.faces.size());
-  for (std::size_t f = 0; f < textured.faces.size(); ++f)
-    textured.uvs[f] = {{{0.f, 0.f}, {1.f, float(f % 5) / 5.f}, {0.5f, 1.f}}};
+  const Compact_model textured = textured_sphere_model();
   const int level = 6;  // 120 x 4,096 triangles: 20 MB of triangles, base faces and texture coordinates
   const std::size_t per_face = std::size_t(1) << (2 * level);
   ASSERT_GE(textured.faces.size() * per_face * 40, CMGeom::CM::internal::stream_output_bytes);  // (12 + 4 + 24 bytes)

@@ -1125,9 +1125,6 @@ inline std::array<float, 2> interpolate_uv(const Face_uvs& uv, double a0, double
   return {float(a0 * uv[0][0] + a1 * uv[1][0] + a2 * uv[2][0]), float(a0 * uv[0][1] + a1 * uv[1][1] + a2 * uv[2][1])};
 }
 
-}  // namespace internal
-
-namespace internal {
 // The triangles, base faces and texture coordinates of a large regular reconstruction are written
 // once and not read back by it: they go out with non-temporal stores (from a face's block built
 // in cache), which skip reading every cache line of the output before writing it. Igea, 2,000
@@ -1191,7 +1188,6 @@ struct Keep_sharp_edges {
 /// Reconstruction_options::vertex_maps, §6.4). Both give what reconstruct_regular() gives, bit
 /// for bit. Keeps a reference to the model, which must outlive the reconstructor and not
 /// change. The calls are const: several may run at once into different outputs.
-
 template <class Traits = Quadric_surface_traits>
 class Regular_reconstructor {
 public:
