@@ -4,16 +4,21 @@
 // CMGeom/huge_page_new.h, included here as a program includes it (once): blocks of
 // huge_page_new_threshold bytes or more come 2 MB-aligned (the default allocator's large blocks
 // never are: glibc's start 16 bytes into a page), smaller ones as before, every byte usable; the
-// replacements keep operator new's contract (new-handler, std::bad_alloc, nothrow returns null).
+// replacements keep operator new's contract (new-handler, std::bad_alloc, nothrow returns null);
+// CMGEOM_HUGE_PAGES=0 turns huge pages off for the process, other values are refused.
 #include <CMGeom/huge_page_new.h>
 
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <new>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace {
@@ -74,6 +79,56 @@ TEST(HugePageNew, KeepsTheContractOfOperatorNew) {
   EXPECT_EQ(std::get_new_handler(), nullptr);
   // rounding a size near the top of size_t up to 2 MB must not wrap around to a small block
   EXPECT_EQ(::operator new(top, std::nothrow), nullptr);
+}
+
+// CMGEOM_HUGE_PAGES=0 (apply_huge_page_setting(), which the cmgeom tool calls first): the process
+// runs without transparent huge pages (the kernel's own record, /proc/self/status, says so), the
+// library's helpers see them off and large blocks come from malloc() again. Run in a child
+// process: the setting cannot be undone.
+int thp_enabled_in_status() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("THP_enabled:", 0) == 0) return std::atoi(line.c_str() + 12);
+  return -1;
+}
+
+TEST(HugePageNew, SettingZeroTurnsHugePagesOffForTheProcess) {
+  if (thp_enabled_in_status() < 0) GTEST_SKIP() << "this kernel's /proc/self/status has no THP_enabled line";
+  EXPECT_EXIT(
+      {
+        setenv(CMGeom::internal::huge_page_setting_variable, "0", 1);
+        const bool before = thp_enabled_in_status() == 1;
+        const bool off = CMGeom::internal::apply_huge_page_setting();
+        const bool after = thp_enabled_in_status() == 0;
+        std::vector<double> v(3'000'000, 1.5);  // 24 MB: 2 MB-aligned when huge pages are on
+        const bool from_malloc = !aligned_2mb(v.data()) && v.back() == 1.5;
+        std::exit(before && off && after && from_malloc && !CMGeom::internal::huge_pages_enabled() ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0), "");
+}
+
+TEST(HugePageNew, SettingUnsetOrOneChangesNothingAndOtherValuesAreRefused) {
+  const char* name = CMGeom::internal::huge_page_setting_variable;
+  unsetenv(name);
+  EXPECT_FALSE(CMGeom::internal::apply_huge_page_setting());
+  setenv(name, "1", 1);
+  EXPECT_FALSE(CMGeom::internal::apply_huge_page_setting());
+  for (const char* bad : {"yes", "00", "off", "2"}) {
+    setenv(name, bad, 1);
+    try {
+      (void)CMGeom::internal::apply_huge_page_setting();
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string(name) + "=" + bad + ": expected 0"), std::string::npos)
+          << e.what();
+    }
+  }
+  unsetenv(name);
+  EXPECT_FALSE(CMGeom::internal::huge_page_new_off());
+  if (thp_enabled_in_status() >= 0) EXPECT_EQ(thp_enabled_in_status(), 1);
+  std::vector<double> v(3'000'000, 1.5);
+  EXPECT_TRUE(aligned_2mb(v.data()));
 }
 
 }  // namespace

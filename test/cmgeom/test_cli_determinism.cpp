@@ -3,6 +3,8 @@
 // runs (the guarantee of doc/Reliability.md).
 #include "cli_test_util.h"
 
+#include <sys/wait.h>
+
 namespace {
 
 struct Step {
@@ -124,14 +126,16 @@ TEST(cmgeom_cli, CommandsOfTheCageAndTextureStagesAreDeterministic) {
 }
 
 // The tool executes itself again with glibc's huge-page tunable (tools/cmgeom/main.cpp): its
-// outputs are those of the tool left as it is (CMGEOM_HUGE_PAGE_HEAP=0), and a GLIBC_TUNABLES the
-// caller set already (another tunable) is kept and works.
+// outputs are those of the tool left as it is (CMGEOM_HUGE_PAGE_HEAP=0) and of the tool without
+// any huge page (CMGEOM_HUGE_PAGES=0), and a GLIBC_TUNABLES the caller set already (another
+// tunable) is kept and works.
 TEST(cmgeom_cli, HugePageHeapChangesNoOutput) {
   const std::string base = cmgeom_test::scratch_dir();
   const std::string spot = std::string(CMGEOM_SOURCE_DIR) + "/data/spot/spot.obj";
-  const char* environments[] = {"", "CMGEOM_HUGE_PAGE_HEAP=0", "GLIBC_TUNABLES=glibc.malloc.check=0"};
+  const char* environments[] = {"", "CMGEOM_HUGE_PAGE_HEAP=0", "GLIBC_TUNABLES=glibc.malloc.check=0",
+                                "CMGEOM_HUGE_PAGES=0"};
   std::vector<std::string> outputs;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < 4; ++k) {
     const std::string out = (fs::path(base) / ("w" + std::to_string(k) + ".ply")).string();
     const std::string cmd = std::string("env ") + environments[k] + " '" + CMGEOM_CMGEOM_EXE + "' --quiet simplify '" +
                             spot + "' -o '" + out + "' --ratio 0.2 --no-texture > /dev/null 2>&1";
@@ -141,4 +145,21 @@ TEST(cmgeom_cli, HugePageHeapChangesNoOutput) {
   }
   EXPECT_TRUE(outputs[0] == outputs[1]) << "the output depends on the heap's pages";
   EXPECT_TRUE(outputs[0] == outputs[2]) << "the output depends on the caller's GLIBC_TUNABLES";
+  EXPECT_TRUE(outputs[0] == outputs[3]) << "the output depends on the process' huge pages";
+}
+
+// A value of CMGEOM_HUGE_PAGES other than 0 or 1 is refused before anything runs: exit code 2, the
+// variable and the values it takes named, no output file.
+TEST(cmgeom_cli, HugePageSettingRefusesOtherValues) {
+  const std::string base = cmgeom_test::scratch_dir();
+  const std::string spot = std::string(CMGEOM_SOURCE_DIR) + "/data/spot/spot.obj";
+  const std::string out = (fs::path(base) / "refused.ply").string();
+  const std::string err = (fs::path(base) / "refused.txt").string();
+  const std::string cmd = std::string("env CMGEOM_HUGE_PAGES=off '") + CMGEOM_CMGEOM_EXE + "' --quiet simplify '" +
+                          spot + "' -o '" + out + "' --ratio 0.2 --no-texture > /dev/null 2> '" + err + "'";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status)) << cmd;
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  EXPECT_NE(bytes_of(err).find("cmgeom: error: CMGEOM_HUGE_PAGES=off: expected 0"), std::string::npos) << bytes_of(err);
+  EXPECT_FALSE(fs::exists(out));
 }

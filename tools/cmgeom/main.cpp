@@ -10,8 +10,10 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -43,7 +45,8 @@ constexpr const char* huge_page_heap_tunable = "glibc.malloc.hugetlb";
 /// (transparent_hugepage/enabled = madvise, Debian's default; with "always" the heap has them
 /// already, with "never" the tunable does nothing); not in a build with a sanitizer or under
 /// valgrind (their allocators replace glibc's); not when GLIBC_TUNABLES names the tunable already
-/// (which also ends the second execution) or CMGEOM_HUGE_PAGE_HEAP is 0.
+/// (which also ends the second execution), when CMGEOM_HUGE_PAGE_HEAP is 0 or when
+/// CMGEOM_HUGE_PAGES=0 turned huge pages off altogether (huge_page_new.h).
 void execute_again_with_huge_page_heap(char** argv) {
 #if defined(__linux__) && defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 35)) && \
     !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
@@ -80,6 +83,14 @@ void execute_again_with_huge_page_heap(char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  execute_again_with_huge_page_heap(argv);
+  // CMGEOM_HUGE_PAGES=0: no transparent huge pages at all (then no heap tunable either)
+  bool huge_pages_off = false;
+  try {
+    huge_pages_off = CMGeom::internal::apply_huge_page_setting();
+  } catch (const std::exception& e) {
+    std::cerr << "cmgeom: error: " << e.what() << "\n";
+    return 2;
+  }
+  if (!huge_pages_off) execute_again_with_huge_page_heap(argv);
   return cmgeom_cli::run(std::vector<std::string>(argv + 1, argv + argc));
 }

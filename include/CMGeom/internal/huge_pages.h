@@ -41,6 +41,7 @@
 
 #if defined(__linux__)
 #include <sys/mman.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 #endif
 
@@ -92,7 +93,9 @@ inline void advise_huge_pages(void* p, std::size_t bytes) {
 #endif
 
 /// Whether the kernel hands out transparent huge pages at all (transparent_hugepage/enabled is not
-/// "never"); read once. MADV_COLLAPSE would make huge pages even then.
+/// "never", read once) and this process has not turned them off (prctl(PR_SET_THP_DISABLE), as
+/// huge_page_new.h's apply_huge_page_setting() does). MADV_COLLAPSE would make huge pages even
+/// then.
 inline bool huge_pages_enabled() {
 #if defined(__linux__)
   static const bool enabled = [] {
@@ -103,6 +106,9 @@ inline bool huge_pages_enabled() {
     std::fclose(f);
     return n > 0 && std::strstr(text, "[never]") == nullptr;
   }();
+#if defined(PR_GET_THP_DISABLE)
+  if (enabled && prctl(PR_GET_THP_DISABLE, 0, 0, 0, 0) == 1) return false;
+#endif
   return enabled;
 #else
   return false;
