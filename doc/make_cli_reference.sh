@@ -32,6 +32,9 @@ trap 'rm -f "$tmp"' EXIT
   echo "again once at start with \`glibc.malloc.hugetlb=1\` added to \`GLIBC_TUNABLES\`, so that its heap faults in 2 MB"
   echo "pages (about a fifth less time on mid-size meshes; see doc/Textured_simplification/README.md, \"Large meshes"
   echo "on all cores\"). Outputs are the same either way; \`CMGEOM_HUGE_PAGE_HEAP=0\` switches it off."
+  echo "\`CMGEOM_HUGE_PAGES=0\` turns transparent huge pages off for the whole process (no 2 MB pages at all;"
+  echo "steadier times on a virtual machine whose host takes back free memory, see"
+  echo "doc/Textured_simplification/README.md, \"Huge pages on a virtual machine\"); any value but 0 or 1 is refused."
   echo
   echo '```'
   "$cmgeom" --help
