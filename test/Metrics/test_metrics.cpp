@@ -191,6 +191,46 @@ TEST(Metrics, ReferencePreparedOnceGivesTheSameNumbers) {
   EXPECT_THROW(square.error(Mesh()), CMGeom::Invalid_input);
 }
 
+TEST(Metrics, LowerBoundIsAtMostTheErrorAndReachesItAtAVertex) {
+  // Error_reference::hausdorff_lower_bound() measures subsets of the samples error() measures:
+  // never above its Hausdorff distance; with stride 1 at least the reference side's maximum; equal
+  // to the whole when the farthest point of either surface is a vertex of the approximation (here
+  // a vertex pushed 0.5 out of the unit sphere, which the fine icosphere stands for).
+  const Mesh ref = icosphere(4);
+  Mesh spike = icosphere(2);
+  const auto top = *spike.vertices().begin();
+  spike.point(top) = K::Point_3(1.5 * spike.point(top).x(), 1.5 * spike.point(top).y(), 1.5 * spike.point(top).z());
+  const Mesh approximations[] = {icosphere(1), icosphere(2), grid(6, 0.3), spike};
+  for (std::size_t budget : {std::size_t(0), std::size_t(3000)})
+    for (bool vertices : {true, false}) {
+      SCOPED_TRACE("samples " + std::to_string(budget) + (vertices ? ", vertices sampled" : ", no vertex samples"));
+      M::Error_options o;
+      o.samples = budget;
+      o.sample_vertices = vertices;
+      o.vertex_field = false;
+      const M::Error_reference prepared(ref, o);
+      for (const Mesh& a : approximations) {
+        const M::Approximation_error e = prepared.error(a);
+        const double whole = prepared.hausdorff_lower_bound(a, 1);
+        EXPECT_LE(whole, e.hausdorff * (1 + 1e-12));
+        EXPECT_GE(whole, e.reference_to_approximation.max / e.diagonal * (1 - 1e-12));
+        for (std::size_t stride : {2, 16, 100000}) {
+          const double part = prepared.hausdorff_lower_bound(a, stride);
+          EXPECT_GE(part, 0.);
+          EXPECT_LE(part, whole * (1 + 1e-12)) << "stride " << stride;
+        }
+      }
+      if (vertices) {  // (without vertex samples no sample lies on the spike's apex)
+        const M::Approximation_error e = prepared.error(spike);
+        EXPECT_NEAR(e.hausdorff * e.diagonal, 0.5, 0.01);  // 0.5 above a sphere the fine mesh hugs
+        EXPECT_NEAR(prepared.hausdorff_lower_bound(spike, 1), e.hausdorff, 1e-12 * e.hausdorff);
+      }
+    }
+  const M::Error_reference prepared(ref);
+  EXPECT_THROW((void)prepared.hausdorff_lower_bound(icosphere(1), 0), CMGeom::Invalid_input);
+  EXPECT_THROW((void)prepared.hausdorff_lower_bound(Mesh(), 4), CMGeom::Invalid_input);
+}
+
 // One direction of our measure against CGAL's, with the same numbers of vertex, edge and face
 // samples (CGAL samples at random, we sample regularly: both approach the same supremum).
 void expect_agrees_with_cgal(const Mesh& a, const Mesh& b, double rel_tol) {

@@ -263,6 +263,33 @@ inline One_sided_error measure(const Sample_set& s, const Triangle_tree& target,
   return e;
 }
 
+/// The largest distance from every `stride`-th sample of `s`, in visiting order, to `target`
+/// (absolute units): measure()'s max over a subset of its samples, hence at most its max (up to
+/// the round-off by which a closest point depends on the search's hint). Deterministic whatever
+/// the number of threads.
+inline double strided_max(const Sample_set& s, std::size_t stride, const Triangle_tree& target) {
+  const std::size_t n = (s.points.size() + stride - 1) / stride;  // positions 0, stride, ...
+  constexpr std::size_t block = 1024;
+  const std::size_t nblocks = (n + block - 1) / block;
+  std::vector<double> partial(nblocks, 0.);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t b = r.begin(); b != r.end(); ++b) {
+      const std::size_t i0 = b * block, i1 = std::min(n, i0 + block);
+      auto hint = target.tree.closest_point(s.points[s.order[i0 * stride]]);
+      double m = 0.;
+      for (std::size_t i = i0; i < i1; ++i) {
+        const auto& q = s.points[s.order[i * stride]];
+        hint = target.closest_point(q, hint);
+        m = std::max(m, std::sqrt(CGAL::squared_distance(q, hint)));
+      }
+      partial[b] = m;
+    }
+  });
+  double m = 0.;
+  for (double x : partial) m = std::max(m, x);
+  return m;
+}
+
 /// The samples a direction's plan gives, in their visiting order.
 inline Sample_set ordered_samples(const Flat_mesh& m, const Sampling_plan& plan, std::uint64_t seed) {
   Sample_set s = make_samples(m, plan, seed);
@@ -427,6 +454,57 @@ public:
       internal::measure_both(r, ref_, s_ref, *tree_, app, s_app, *tree_app, options_);
     });
     return r;
+  }
+
+  /// A lower bound of error(approximation).hausdorff, for a small part of its cost: the largest
+  /// distance (as a fraction of the diagonal) over every `stride`-th sample of the reference, in
+  /// their visiting order, measured against the approximation, and over every `stride`-th vertex
+  /// of the approximation measured against the reference. Both are subsets of the samples error()
+  /// measures (its reference samples are the same set, and it samples every vertex of the
+  /// approximation when `sample_vertices` is on; off, only the reference side counts), so the
+  /// bound is at most error()'s Hausdorff distance, up to the round-off by which a closest point
+  /// depends on where its search starts. For searches that measure many candidates and need the
+  /// full measure only of the few they keep (simplify_to_levels() by error bounds). `stride` >= 1;
+  /// 1 measures every reference sample and every vertex. O((samples + vertices) / stride x log
+  /// faces), plus building the approximation's tree.
+  template <class TriangleMesh, class NP = CGAL::parameters::Default_named_parameters>
+  double hausdorff_lower_bound(const TriangleMesh& approximation, std::size_t stride,
+                               const NP& np = CGAL::parameters::default_values()) const {
+    using CGAL::parameters::choose_parameter;
+    using CGAL::parameters::get_parameter;
+    auto vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
+                                get_const_property_map(CGAL::vertex_point, approximation));
+    return hausdorff_lower_bound_flat(internal::make_flat_mesh(approximation, vpm, "approximation mesh"), stride);
+  }
+
+  /// The same for an approximation already copied into flat arrays.
+  double hausdorff_lower_bound_flat(const internal::Flat_mesh& app, std::size_t stride) const {
+    if (stride == 0) throw Invalid_input("Error_reference::hausdorff_lower_bound: the stride must be at least 1");
+    // (another sample count than the prepared one: error() samples the reference again, and so
+    // does this, with the same plan and seed)
+    const std::size_t target = internal::sample_target(ref_, app, options_);
+    double far = 0.;
+    internal::run_with_threads(options_, [&] {
+      std::unique_ptr<internal::Triangle_tree> tree_app;
+      internal::Sample_set s_vertices, s_ref_own;
+      tbb::parallel_invoke([&] { tree_app = std::make_unique<internal::Triangle_tree>(app); },
+                           [&] {
+                             if (!options_.sample_vertices) return;
+                             internal::Sampling_plan plan;  // the vertices alone
+                             plan.vertices = true;
+                             plan.edges = plan.faces = false;
+                             s_vertices = internal::ordered_samples(app, plan, 0);
+                           },
+                           [&] {
+                             if (target != target_)
+                               s_ref_own = internal::ordered_samples(ref_, internal::plan_of(ref_, target, options_),
+                                                                     options_.seed);
+                           });
+      const internal::Sample_set& s_ref = target != target_ ? s_ref_own : samples_;
+      if (!s_ref.points.empty()) far = internal::strided_max(s_ref, stride, *tree_app);
+      if (!s_vertices.points.empty()) far = std::max(far, internal::strided_max(s_vertices, stride, *tree_));
+    });
+    return far / diagonal_;
   }
 
   const Error_options& options() const { return options_; }
