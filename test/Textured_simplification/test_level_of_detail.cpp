@@ -370,6 +370,18 @@ TEST(LevelOfDetail, ErrorBoundsGiveTheSmallestSnapshotWithinEach) {
   }
   // the largest bound allows a level well below the input
   EXPECT_LT(r.levels.back().mesh.mesh().number_of_faces(), 9600u / 4);
+  // smallest: the run's next snapshot after each level (the same collapses stopped when the face
+  // count falls to error_step times the level's, which a run to that target gives) is above the
+  // level's bound, whether the run measured it in full, skipped it for its lower bound or stopped
+  // there
+  for (std::size_t i = 1; i < r.levels.size(); ++i) {
+    SCOPED_TRACE("bound " + std::to_string(o.max_errors[i]));
+    TS::Level_of_detail_options next;
+    next.target_faces = {std::size_t(double(r.levels[i].mesh.mesh().number_of_faces()) * o.error_step)};
+    const TS::Level_of_detail_result n = TS::simplify_to_levels(input, next);
+    ASSERT_EQ(n.levels.size(), 1u);
+    EXPECT_GT(n.levels[0].hausdorff, o.max_errors[i]);
+  }
   o.max_errors = {0.01, 0.01};
   EXPECT_THROW(TS::simplify_to_levels(input, o), CMGeom::Invalid_input);
   o.max_errors = {-0.01};

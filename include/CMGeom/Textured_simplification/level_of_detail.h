@@ -58,6 +58,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <iterator>
 #include <limits>
@@ -81,8 +82,11 @@ struct Level_of_detail_options {
   /// Instead of face targets: error bounds, strictly increasing, >= 0, as fractions of the input's
   /// bounding-box diagonal. Each level is the smallest snapshot of the run whose measured error
   /// (symmetric Hausdorff, Metrics::approximation_error with `error_samples`) is at most its bound;
-  /// snapshots are taken and measured each time the face count falls to `error_step` times the
-  /// previous snapshot's, and the run stops at the first one above the largest bound. A bound no
+  /// snapshots are taken each time the face count falls to `error_step` times the previous
+  /// snapshot's, and the run stops at the first one whose error is above the largest bound even
+  /// on a sixteenth of the samples (Metrics::Error_reference::hausdorff_lower_bound(): at most the
+  /// full measure). Only the snapshots that can be a level are measured in full: for each bound,
+  /// from the last snapshot back, those whose lower bound is within it, until one is. A bound no
   /// snapshot meets gives the input itself. Ignored when empty.
   std::vector<double> max_errors;
   /// See max_errors; in (0, 1).
@@ -395,14 +399,21 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
   }
 };
 
+/// Every how many of the samples a snapshot's lower bound measures (Error_reference::
+/// hausdorff_lower_bound(); Error_snapshot_visitor).
+inline constexpr std::size_t error_search_stride = 16;
+
 /// Visitor of the error-bound mode: each time the face count falls to the next threshold it copies
-/// the mesh (see Completed_snapshot_visitor), measures its error against the input, keeps it, and
-/// asks the run to stop once an error exceeds the largest bound.
+/// the mesh (see Completed_snapshot_visitor), measures a lower bound of its error against the input
+/// (on every error_search_stride-th sample), keeps it, and asks the run to stop once that lower
+/// bound exceeds the largest bound. last_within() then measures in full only the snapshots that
+/// can be a level: from the last back, those whose lower bound is within the bound, until one is.
 template <class Visitor>
 struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visitor<Visitor>, Visitor> {
   struct Candidate {
     Level_snapshot snapshot;
-    double hausdorff, rms;
+    double lower_bound;               // Error_reference::hausdorff_lower_bound(), at the snapshot
+    double hausdorff = -1, rms = -1;  // the full measure, once taken (-1: not yet)
   };
   struct State {
     const Metrics::Error_reference* reference;  // the input's side of the measure, prepared once
@@ -410,7 +421,7 @@ struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visito
     double next;  // face count of the next snapshot
     bool stop = false;
     bool pending = false;
-    std::vector<Candidate> candidates;
+    std::deque<Candidate> candidates;  // (a deque: a vector that grew would copy every mesh kept)
   };
   State* state;
   Error_snapshot_visitor(State* s, const Visitor& v, Collapse_history* h, const Level_fitter* f = nullptr)
@@ -425,13 +436,28 @@ struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visito
     if (!state->pending) return;
     state->pending = false;
     Level_snapshot copy = this->snapshot(mesh);
-    const Metrics::Approximation_error e = state->reference->error(copy.mesh);
-    if (e.hausdorff > state->largest_bound) {
+    const double lower = state->reference->hausdorff_lower_bound(copy.mesh, error_search_stride);
+    if (lower > state->largest_bound) {
       state->stop = true;
       return;
     }
-    state->candidates.push_back({std::move(copy), e.hausdorff, e.rms});
+    state->candidates.push_back({std::move(copy), lower});
     state->next = double(mesh.number_of_faces()) * state->step;
+  }
+  /// The index of the last candidate whose measured error is within `bound` (-1: none), measuring
+  /// (once each) only the candidates whose lower bound is within it, from the last one back.
+  static std::ptrdiff_t last_within(State& state, double bound) {
+    for (std::size_t c = state.candidates.size(); c-- > 0;) {
+      Candidate& k = state.candidates[c];
+      if (k.lower_bound > bound) continue;  // its measured error is above the bound too
+      if (k.hausdorff < 0) {
+        const Metrics::Approximation_error e = state.reference->error(k.snapshot.mesh);
+        k.hausdorff = e.hausdorff;
+        k.rms = e.rms;
+      }
+      if (k.hausdorff <= bound) return std::ptrdiff_t(c);
+    }
+    return -1;
   }
   void finished(const Surface_mesh&) const {}
 };
@@ -654,16 +680,16 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
       return EV{&state, visitor, history ? &*history : nullptr, fitter};
     });
     targets.clear();
+    meshes.reserve(options.max_errors.size());
     for (double bound : options.max_errors) {
-      std::size_t best = std::size_t(-1);
-      for (std::size_t c = 0; c < state.candidates.size(); ++c)
-        if (state.candidates[c].hausdorff <= bound) best = c;  // the later, the fewer faces
-      if (best == std::size_t(-1)) {
+      const std::ptrdiff_t best = EV::last_within(state, bound);  // the later, the fewer faces
+      if (best < 0) {
         targets.push_back(faces_in);
       } else {
-        targets.push_back(state.candidates[best].snapshot.mesh.number_of_faces());
-        meshes.push_back(state.candidates[best].snapshot);  // two bounds may take the same one
-        measured.emplace_back(state.candidates[best].hausdorff, state.candidates[best].rms);
+        const auto& k = state.candidates[std::size_t(best)];
+        targets.push_back(k.snapshot.mesh.number_of_faces());
+        meshes.push_back(k.snapshot);  // two bounds may take the same one
+        measured.emplace_back(k.hausdorff, k.rms);
       }
     }
   }
@@ -721,6 +747,9 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
         else
           last = collapsed.size() - 1;
         Run_state& state = runs.emplace_back();
+        // (room for every level the run can take: a Level_snapshot moves by copying its mesh, whose
+        // move constructor is not noexcept, so a vector that grew would copy each level taken)
+        state.snapshots.reserve(collapsed.size() - first);
         state.targets = &collapsed;
         state.next = first;
         state.last = last;
@@ -743,6 +772,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
         res.runs_in_parts += parts > 0;
         first = last + 1;
       }
+      meshes.reserve(collapsed.size());
       for (Run_state& state : runs) {
         state.complete_fits();
         for (auto& snapshot : state.snapshots) meshes.push_back(std::move(snapshot));
