@@ -399,8 +399,9 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
   }
 };
 
-/// Every how many of the samples a snapshot's lower bound measures (Error_reference::
-/// hausdorff_lower_bound(); Error_snapshot_visitor).
+/// The lower bound of a snapshot's error measures one sample in this many (Error_reference::
+/// hausdorff_lower_bound(); Error_snapshot_visitor). In the worst case (lower bounds far below the
+/// full measures) every snapshot is measured in full, as without them.
 inline constexpr std::size_t error_search_stride = 16;
 
 /// Visitor of the error-bound mode: each time the face count falls to the next threshold it copies
