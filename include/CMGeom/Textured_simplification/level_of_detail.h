@@ -86,7 +86,8 @@ struct Level_of_detail_options {
   /// snapshot's, and the run stops at the first one whose error is above the largest bound even
   /// on a sixteenth of the samples (Metrics::Error_reference::hausdorff_lower_bound(): at most the
   /// full measure). Only the snapshots that can be a level are measured in full: for each bound,
-  /// from the last snapshot back, those whose lower bound is within it, until one is. A bound no
+  /// from the last snapshot back, those whose lower bound is within it (and then a second one, on
+  /// a quarter of the samples), until one is. A bound no
   /// snapshot meets gives the input itself. Ignored when empty.
   std::vector<double> max_errors;
   /// See max_errors; in (0, 1).
@@ -403,6 +404,9 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
 /// hausdorff_lower_bound(); Error_snapshot_visitor). In the worst case (lower bounds far below the
 /// full measures) every snapshot is measured in full, as without them.
 inline constexpr std::size_t error_search_stride = 16;
+/// The stride of a second, tighter lower bound taken before a snapshot is measured in full
+/// (Error_snapshot_visitor::last_within()).
+inline constexpr std::size_t error_check_stride = 4;
 
 /// Visitor of the error-bound mode: each time the face count falls to the next threshold it copies
 /// the mesh (see Completed_snapshot_visitor), measures a lower bound of its error against the input
@@ -414,6 +418,7 @@ struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visito
   struct Candidate {
     Level_snapshot snapshot;
     double lower_bound;               // Error_reference::hausdorff_lower_bound(), at the snapshot
+    double finer_bound = -1;          // the same on error_check_stride (-1: not yet)
     double hausdorff = -1, rms = -1;  // the full measure, once taken (-1: not yet)
   };
   struct State {
@@ -451,6 +456,9 @@ struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visito
     for (std::size_t c = state.candidates.size(); c-- > 0;) {
       Candidate& k = state.candidates[c];
       if (k.lower_bound > bound) continue;  // its measured error is above the bound too
+      if (k.hausdorff < 0 && k.finer_bound < 0)
+        k.finer_bound = state.reference->hausdorff_lower_bound(k.snapshot.mesh, error_check_stride);
+      if (k.hausdorff < 0 && k.finer_bound > bound) continue;  // (the same on more samples)
       if (k.hausdorff < 0) {
         const Metrics::Approximation_error e = state.reference->error(k.snapshot.mesh);
         k.hausdorff = e.hausdorff;
