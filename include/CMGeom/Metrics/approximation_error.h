@@ -217,8 +217,12 @@ inline Sample_set make_samples(const Flat_mesh& m, const Sampling_plan& plan, st
 }
 
 /// Measures every sample against `tree`; fills `field[vertex]` for vertex samples when non-null.
-inline One_sided_error measure(const Sample_set& s, const Triangle_tree& target, std::vector<double>* field) {
-  const std::size_t n = s.points.size();
+/// With `stride` > 1, only every stride-th sample in visiting order (a subset: its max is at most
+/// the whole set's, up to the round-off by which a closest point depends on the search's hint);
+/// `samples` then counts those measured, the counts per kind stay the set's.
+inline One_sided_error measure(const Sample_set& s, const Triangle_tree& target, std::vector<double>* field,
+                               std::size_t stride = 1) {
+  const std::size_t n = (s.points.size() + stride - 1) / stride;  // positions 0, stride, ...
   const std::vector<std::size_t>& order = s.order;
   // Fixed block size: partial results per block, reduced in block order => deterministic
   // whatever the number of threads.
@@ -231,10 +235,10 @@ inline One_sided_error measure(const Sample_set& s, const Triangle_tree& target,
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t b = r.begin(); b != r.end(); ++b) {
       const std::size_t i0 = b * block, i1 = std::min(n, i0 + block);
-      auto hint = target.tree.closest_point(s.points[order[i0]]);
+      auto hint = target.tree.closest_point(s.points[order[i0 * stride]]);
       Partial p;
       for (std::size_t i = i0; i < i1; ++i) {
-        const std::size_t k = order[i];
+        const std::size_t k = order[i * stride];
         hint = target.closest_point(s.points[k], hint);
         const double d = std::sqrt(CGAL::squared_distance(s.points[k], hint));
         p.max = std::max(p.max, d);
@@ -261,33 +265,6 @@ inline One_sided_error measure(const Sample_set& s, const Triangle_tree& target,
     e.rms = std::sqrt(sum2 / double(n));
   }
   return e;
-}
-
-/// The largest distance from every `stride`-th sample of `s`, in visiting order, to `target`
-/// (absolute units): measure()'s max over a subset of its samples, hence at most its max (up to
-/// the round-off by which a closest point depends on the search's hint). Deterministic whatever
-/// the number of threads.
-inline double strided_max(const Sample_set& s, std::size_t stride, const Triangle_tree& target) {
-  const std::size_t n = (s.points.size() + stride - 1) / stride;  // positions 0, stride, ...
-  constexpr std::size_t block = 1024;
-  const std::size_t nblocks = (n + block - 1) / block;
-  std::vector<double> partial(nblocks, 0.);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t b = r.begin(); b != r.end(); ++b) {
-      const std::size_t i0 = b * block, i1 = std::min(n, i0 + block);
-      auto hint = target.tree.closest_point(s.points[s.order[i0 * stride]]);
-      double m = 0.;
-      for (std::size_t i = i0; i < i1; ++i) {
-        const auto& q = s.points[s.order[i * stride]];
-        hint = target.closest_point(q, hint);
-        m = std::max(m, std::sqrt(CGAL::squared_distance(q, hint)));
-      }
-      partial[b] = m;
-    }
-  });
-  double m = 0.;
-  for (double x : partial) m = std::max(m, x);
-  return m;
 }
 
 /// The samples a direction's plan gives, in their visiting order.
@@ -501,8 +478,8 @@ public:
                                                                      options_.seed);
                            });
       const internal::Sample_set& s_ref = target != target_ ? s_ref_own : samples_;
-      if (!s_ref.points.empty()) far = internal::strided_max(s_ref, stride, *tree_app);
-      if (!s_vertices.points.empty()) far = std::max(far, internal::strided_max(s_vertices, stride, *tree_));
+      far = internal::measure(s_ref, *tree_app, nullptr, stride).max;
+      far = std::max(far, internal::measure(s_vertices, *tree_, nullptr, stride).max);
     });
     return far / diagonal_;
   }

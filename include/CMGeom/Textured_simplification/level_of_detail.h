@@ -412,7 +412,8 @@ inline constexpr std::size_t error_check_stride = 4;
 /// the mesh (see Completed_snapshot_visitor), measures a lower bound of its error against the input
 /// (on every error_search_stride-th sample), keeps it, and asks the run to stop once that lower
 /// bound exceeds the largest bound. last_within() then measures in full only the snapshots that
-/// can be a level: from the last back, those whose lower bound is within the bound, until one is.
+/// can be a level: from the last back, those whose lower bound and then a second one on every
+/// error_check_stride-th sample are within the bound, until one is.
 template <class Visitor>
 struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visitor<Visitor>, Visitor> {
   struct Candidate {
@@ -451,15 +452,15 @@ struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visito
     state->next = double(mesh.number_of_faces()) * state->step;
   }
   /// The index of the last candidate whose measured error is within `bound` (-1: none), measuring
-  /// (once each) only the candidates whose lower bound is within it, from the last one back.
+  /// (once each) only the candidates whose two lower bounds are within it, from the last one back.
   static std::ptrdiff_t last_within(State& state, double bound) {
     for (std::size_t c = state.candidates.size(); c-- > 0;) {
       Candidate& k = state.candidates[c];
       if (k.lower_bound > bound) continue;  // its measured error is above the bound too
-      if (k.hausdorff < 0 && k.finer_bound < 0)
-        k.finer_bound = state.reference->hausdorff_lower_bound(k.snapshot.mesh, error_check_stride);
-      if (k.hausdorff < 0 && k.finer_bound > bound) continue;  // (the same on more samples)
       if (k.hausdorff < 0) {
+        if (k.finer_bound < 0)
+          k.finer_bound = state.reference->hausdorff_lower_bound(k.snapshot.mesh, error_check_stride);
+        if (k.finer_bound > bound) continue;  // (the same on more samples)
         const Metrics::Approximation_error e = state.reference->error(k.snapshot.mesh);
         k.hausdorff = e.hausdorff;
         k.rms = e.rms;
