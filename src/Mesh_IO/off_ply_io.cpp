@@ -1,12 +1,12 @@
-// OFF (own reader: errors carry line numbers) and PLY (CGAL's PLY_reader for the header and the
-// numbers; faces and triangle strips, `element tristrips` as MeshLab's samples store them) geometry,
-// and their writers.
+// OFF and PLY geometry (own readers: errors carry line numbers where the format has lines; PLY
+// in ASCII and both binary byte orders, faces and triangle strips, `element tristrips` as
+// MeshLab's samples store them), and their writers.
 #include "io_internal.h"
 
 #include <CMGeom/Error.h>
 
-#include <CGAL/IO/PLY.h>
-
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cstdint>
 #include <cmath>
@@ -142,35 +142,85 @@ void read_off(const std::string& path, Polygon_soup& soup) {
 
 namespace {
 
-// CGAL's PLY reader trusts the header (a "property" before any "element" crashes it, a huge
-// count allocates before reading): the header is checked here first, with line numbers.
-void check_ply_header(const std::string& data, const std::string& path) {
-  static const char* const scalar_types[] = {"char",  "uchar",  "short",   "ushort", "int",   "uint",
-                                             "float", "double", "int8",    "uint8",  "int16", "uint16",
-                                             "int32", "uint32", "float32", "float64"};
-  auto is_type = [](std::string_view t) {
-    for (const char* s : scalar_types)
-      if (t == s) return true;
-    return false;
-  };
+// PLY scalar types (both spellings of the specification).
+enum class Ply_type : std::uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
+
+bool ply_type(std::string_view t, Ply_type& out) {
+  static const std::pair<const char*, Ply_type> names[] = {
+      {"char", Ply_type::i8},   {"uchar", Ply_type::u8},   {"short", Ply_type::i16},   {"ushort", Ply_type::u16},
+      {"int", Ply_type::i32},   {"uint", Ply_type::u32},   {"float", Ply_type::f32},   {"double", Ply_type::f64},
+      {"int8", Ply_type::i8},   {"uint8", Ply_type::u8},   {"int16", Ply_type::i16},   {"uint16", Ply_type::u16},
+      {"int32", Ply_type::i32}, {"uint32", Ply_type::u32}, {"float32", Ply_type::f32}, {"float64", Ply_type::f64}};
+  for (const auto& [name, type] : names)
+    if (t == name) {
+      out = type;
+      return true;
+    }
+  return false;
+}
+
+std::size_t ply_size(Ply_type t) {
+  switch (t) {
+    case Ply_type::i8:
+    case Ply_type::u8:
+      return 1;
+    case Ply_type::i16:
+    case Ply_type::u16:
+      return 2;
+    case Ply_type::i32:
+    case Ply_type::u32:
+    case Ply_type::f32:
+      return 4;
+    case Ply_type::f64:
+      return 8;
+  }
+  return 0;
+}
+
+bool ply_integral(Ply_type t) { return t != Ply_type::f32 && t != Ply_type::f64; }
+
+struct Ply_property {
+  std::string name;
+  bool list = false;
+  Ply_type count = Ply_type::u8;  // (lists)
+  Ply_type type = Ply_type::f32;  // the value's, or the list items'
+};
+
+struct Ply_element {
+  std::string name;
+  unsigned long long count = 0;
+  std::vector<Ply_property> properties;
+};
+
+struct Ply_header {
+  enum class Format { ascii, binary_little_endian, binary_big_endian } format = Format::ascii;
+  std::vector<Ply_element> elements;
+  std::size_t body = 0;       // offset of the body's first byte
+  std::size_t body_line = 0;  // its line (ASCII)
+};
+
+// The header of a PLY file, checked with line numbers (a property before any element, a count
+// larger than the file can hold, a missing vertex x, y, z or face list are refused here, before
+// anything is allocated for the body).
+Ply_header read_ply_header(std::string_view data, const std::string& path) {
+  Ply_header hdr;
   std::size_t pos = 0, line_no = 0;
-  bool have_element = false, have_format = false, ended = false, binary = false;
+  bool have_format = false, ended = false;
   bool vertex_x = false, vertex_y = false, vertex_z = false, face_list = false;
-  std::string element;
   unsigned long long vertices = 0, faces = 0;
   while (pos < data.size() && !ended) {
     std::size_t nl = data.find('\n', pos);
-    if (nl == std::string::npos) nl = data.size();
-    std::string line = data.substr(pos, nl - pos);
+    if (nl == std::string_view::npos) nl = data.size();
+    std::string_view line = data.substr(pos, nl - pos);
     pos = nl + 1;
     ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     std::vector<std::string_view> tok;
     for (std::size_t i = 0; i < line.size();) {
       while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
       const std::size_t b = i;
       while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
-      if (i > b) tok.emplace_back(line.data() + b, i - b);
+      if (i > b) tok.push_back(line.substr(b, i - b));
     }
     if (line_no == 1) {
       if (tok.size() != 1 || tok[0] != "ply") throw IO_error(path, 1, "not a PLY file (no 'ply' magic)");
@@ -182,29 +232,40 @@ void check_ply_header(const std::string& data, const std::string& path) {
       if (tok.size() != 3 || (tok[1] != "ascii" && tok[1] != "binary_little_endian" && tok[1] != "binary_big_endian"))
         throw IO_error(path, line_no, "bad PLY format line");
       have_format = true;
-      binary = tok[1] != "ascii";
+      hdr.format = tok[1] == "ascii"                  ? Ply_header::Format::ascii
+                   : tok[1] == "binary_little_endian" ? Ply_header::Format::binary_little_endian
+                                                      : Ply_header::Format::binary_big_endian;
     } else if (tok[0] == "element") {
       unsigned long long n;
       if (tok.size() != 3 || !number(tok[2], n)) throw IO_error(path, line_no, "bad PLY element line");
-      element = std::string(tok[1]);
-      if (element == "vertex") vertices = n;
-      if (element == "face" || element == "tristrips") faces += n;
-      have_element = true;
+      Ply_element& el = hdr.elements.emplace_back();
+      el.name = std::string(tok[1]);
+      el.count = n;
+      if (el.name == "vertex") vertices = n;
+      if (el.name == "face" || el.name == "tristrips") faces += n;
     } else if (tok[0] == "property") {
-      if (!have_element) throw IO_error(path, line_no, "PLY property before any element");
+      if (hdr.elements.empty()) throw IO_error(path, line_no, "PLY property before any element");
+      Ply_element& el = hdr.elements.back();
+      Ply_property pr;
       if (tok.size() == 5 && tok[1] == "list") {
-        if (!is_type(tok[2]) || !is_type(tok[3])) throw IO_error(path, line_no, "bad PLY list property type");
-        if ((element == "face" || element == "tristrips") && (tok[4] == "vertex_indices" || tok[4] == "vertex_index"))
+        if (!ply_type(tok[2], pr.count) || !ply_type(tok[3], pr.type))
+          throw IO_error(path, line_no, "bad PLY list property type");
+        if (!ply_integral(pr.count)) throw IO_error(path, line_no, "PLY list length type must be an integer type");
+        pr.list = true;
+        pr.name = std::string(tok[4]);
+        if ((el.name == "face" || el.name == "tristrips") && (pr.name == "vertex_indices" || pr.name == "vertex_index"))
           face_list = true;
-      } else if (tok.size() == 3 && is_type(tok[1])) {
-        if (element == "vertex") {
-          vertex_x |= tok[2] == "x";
-          vertex_y |= tok[2] == "y";
-          vertex_z |= tok[2] == "z";
+      } else if (tok.size() == 3 && ply_type(tok[1], pr.type)) {
+        pr.name = std::string(tok[2]);
+        if (el.name == "vertex") {
+          vertex_x |= pr.name == "x";
+          vertex_y |= pr.name == "y";
+          vertex_z |= pr.name == "z";
         }
       } else {
         throw IO_error(path, line_no, "bad PLY property line");
       }
+      el.properties.push_back(std::move(pr));
     } else if (tok[0] == "end_header") {
       ended = true;
     } else {
@@ -215,99 +276,230 @@ void check_ply_header(const std::string& data, const std::string& path) {
   if (!have_format) throw IO_error(path, "PLY header without a format line");
   if (!vertex_x || !vertex_y || !vertex_z) throw IO_error(path, "PLY file without vertex x, y, z properties");
   if (!face_list) throw IO_error(path, "PLY file without a face or tristrips element with vertex_indices");
+  hdr.body = (std::min)(pos, data.size());
+  hdr.body_line = line_no + 1;
   // Every vertex takes at least 3 bytes (binary) or 6 characters (ASCII "0 0 0\n"), every face 4.
-  const unsigned long long body = data.size() - std::min<std::size_t>(pos, data.size());
+  const bool binary = hdr.format != Ply_header::Format::ascii;
+  const unsigned long long body = data.size() - hdr.body;
   const unsigned long long need = vertices * (binary ? 3ull : 6ull) + faces * 4ull;
   if (vertices > body || faces > body || need > body)
     throw IO_error(path, "header declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
                              " faces, more than the file can hold (truncated or corrupt)");
+  return hdr;
 }
 
-namespace PLY = CGAL::IO::internal;
+// The values of a PLY body, one at a time, in file order: whitespace-separated numbers (ASCII,
+// with the line of each) or packed binary scalars of either byte order.
+class Ply_body {
+public:
+  Ply_body(std::string_view data, const Ply_header& hdr, const std::string& path)
+      : p_(data.data() + hdr.body),
+        end_(data.data() + data.size()),
+        line_(hdr.body_line),
+        format_(hdr.format),
+        path_(path) {}
 
-// The list `tag` of the current item of `el`, read as Int (the list's declared type).
-template <class Int>
-void take_list(PLY::PLY_element& el, const char* tag, std::vector<long long>& out) {
-  std::vector<Int> v;
-  el.assign(v, tag);
-  out.assign(v.begin(), v.end());
-}
-using List_taker = void (*)(PLY::PLY_element&, const char*, std::vector<long long>&);
-
-// How to read the vertex index list of element `el` (`vertex_indices` or `vertex_index`, any
-// integer type), found once per element; a null taker if it has none.
-std::pair<List_taker, const char*> index_list_of(PLY::PLY_element& el) {
-  for (const char* tag : {"vertex_indices", "vertex_index"}) {
-    if (el.has_property<std::vector<std::int32_t>>(tag)) return {&take_list<std::int32_t>, tag};
-    if (el.has_property<std::vector<std::uint32_t>>(tag)) return {&take_list<std::uint32_t>, tag};
-    if (el.has_property<std::vector<std::int16_t>>(tag)) return {&take_list<std::int16_t>, tag};
-    if (el.has_property<std::vector<std::uint16_t>>(tag)) return {&take_list<std::uint16_t>, tag};
-    if (el.has_property<std::vector<std::int8_t>>(tag)) return {&take_list<std::int8_t>, tag};
-    if (el.has_property<std::vector<std::uint8_t>>(tag)) return {&take_list<std::uint8_t>, tag};
+  bool ascii() const { return format_ == Ply_header::Format::ascii; }
+  // The line the next value starts on (ASCII; 0 for binary).
+  std::size_t line() {
+    if (!ascii()) return 0;
+    skip_space();
+    return line_;
   }
-  return {nullptr, nullptr};
-}
-
-// Reads the vertices, faces and triangle strips of a PLY stream (other elements are skipped).
-// A strip is a list of vertex indices where -1 starts a new strip; its k-th triangle is
-// (s[k], s[k+1], s[k+2]), every other one reversed to keep the orientation; triangles with a
-// repeated vertex (the joins of stitched strips) are dropped.
-void read_ply_elements(std::istream& in, const std::string& path, std::vector<Point_3>& points,
-                       std::vector<std::vector<std::size_t>>& polygons) {
-  PLY::PLY_reader reader(false);
-  if (!reader.init(in)) throw IO_error(path, "malformed PLY header");
-  std::vector<long long> idx;
-  for (std::size_t e = 0; e < reader.number_of_elements(); ++e) {
-    PLY::PLY_element& el = reader.element(e);
-    const std::string name = el.name();
-    const bool vertex = name == "vertex" || name == "vertices";
-    const bool face = name == "face" || name == "faces";
-    const bool strips = name == "tristrips";
-    const auto [take, tag] = face || strips ? index_list_of(el) : std::pair<List_taker, const char*>{nullptr, nullptr};
-    if ((face || strips) && !take && el.number_of_items() > 0)
-      throw IO_error(path, "PLY element '" + name + "' without an integer vertex_indices list");
-    for (std::size_t j = 0; j < el.number_of_items(); ++j) {
-      for (std::size_t k = 0; k < el.number_of_properties(); ++k) {
-        el.property(k)->get(in);
-        if (in.fail())
-          throw IO_error(path, "truncated PLY: element '" + name + "' item " + std::to_string(j) + " of " +
-                                   std::to_string(el.number_of_items()));
+  // The next value, of type `t`, into `v`; false at the end of the data. An ASCII token that is
+  // not a number of that type throws.
+  bool next(Ply_type t, double& v) {
+    if (ascii()) {
+      skip_space();
+      if (p_ == end_) return false;
+      const char* b = p_;
+      while (p_ < end_ && !is_space(*p_)) ++p_;
+      std::string_view tok(b, std::size_t(p_ - b));
+      if (ply_integral(t)) {
+        long long i;
+        if (!number(tok, i)) bad(tok);
+        v = double(i);
+      } else if (!number(tok, v)) {
+        bad(tok);
       }
-      if (vertex) {
-        std::tuple<Point_3> v;
-        PLY::process_properties(el, v, CGAL::IO::make_ply_point_reader(CGAL::make_nth_of_tuple_property_map<0>(v)));
-        points.push_back(std::get<0>(v));
-      } else if (face || strips) {
-        take(el, tag, idx);
-        if (face) {
-          std::vector<std::size_t> poly;
-          for (long long i : idx) {
-            if (i < 0)
-              throw IO_error(
-                  path, "face " + std::to_string(polygons.size()) + ": negative vertex index " + std::to_string(i));
-            poly.push_back(std::size_t(i));
-          }
-          polygons.push_back(std::move(poly));
+      return true;
+    }
+    const std::size_t n = ply_size(t);
+    if (std::size_t(end_ - p_) < n) return false;
+    unsigned char b[8];
+    std::memcpy(b, p_, n);
+    p_ += n;
+    if (format_ == Ply_header::Format::binary_big_endian) std::reverse(b, b + n);
+    switch (t) {
+      case Ply_type::i8:
+        v = double(std::int8_t(b[0]));
+        break;
+      case Ply_type::u8:
+        v = double(b[0]);
+        break;
+      case Ply_type::i16:
+        v = double(load<std::int16_t>(b));
+        break;
+      case Ply_type::u16:
+        v = double(load<std::uint16_t>(b));
+        break;
+      case Ply_type::i32:
+        v = double(load<std::int32_t>(b));
+        break;
+      case Ply_type::u32:
+        v = double(load<std::uint32_t>(b));
+        break;
+      case Ply_type::f32:
+        v = double(load<float>(b));
+        break;
+      case Ply_type::f64:
+        v = load<double>(b);
+        break;
+    }
+    return true;
+  }
+  // Skips `n` values of type `t`; false at the end of the data.
+  bool skip(Ply_type t, unsigned long long n) {
+    if (!ascii()) {
+      const unsigned long long bytes = n * ply_size(t);
+      if (n > std::size_t(end_ - p_) || bytes > std::size_t(end_ - p_)) return false;
+      p_ += bytes;
+      return true;
+    }
+    double v;
+    for (unsigned long long i = 0; i < n; ++i)
+      if (!next(t, v)) return false;
+    return true;
+  }
+
+private:
+  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+  void skip_space() {
+    while (p_ < end_ && is_space(*p_)) {
+      if (*p_ == '\n') ++line_;
+      ++p_;
+    }
+  }
+  template <class T>
+  static T load(const unsigned char* b) {
+    T x;
+    std::memcpy(&x, b, sizeof x);
+    return x;
+  }
+  [[noreturn]] void bad(std::string_view tok) const {
+    throw IO_error(path_, line_, "bad PLY value '" + std::string(tok.substr(0, 40)) + "'");
+  }
+
+  const char* p_;
+  const char* const end_;
+  std::size_t line_;
+  Ply_header::Format format_;
+  const std::string& path_;
+};
+
+// Reads the body of a PLY file into `soup`: the vertices' x, y, z, the faces' vertex index lists
+// and the triangles of triangle strips (`element tristrips`, as MeshLab's samples store them: a
+// list of vertex indices where -1 starts a new strip; its k-th triangle is (s[k], s[k+1], s[k+2]),
+// every other one reversed to keep the orientation; triangles with a repeated vertex, the joins of
+// stitched strips, are dropped). Other elements and properties are read past. The indices are
+// checked against the vertex count once every element is read (the vertices may come last).
+void read_ply_body(std::string_view data, const Ply_header& hdr, const std::string& path, Polygon_soup& soup) {
+  Ply_body body(data, hdr, path);
+  unsigned long long vertices = 0, corners = 0;
+  for (const Ply_element& el : hdr.elements) {
+    if (el.name == "vertex" || el.name == "vertices") vertices += el.count;
+    if (el.name == "face" || el.name == "faces" || el.name == "tristrips") corners += 3 * el.count;
+  }
+  soup.positions.reserve(std::size_t(vertices));
+  soup.corner_vertex.reserve(std::size_t(corners));
+  std::vector<std::uint32_t> strip;
+  for (const Ply_element& el : hdr.elements) {
+    const bool vertex = el.name == "vertex" || el.name == "vertices";
+    const bool face = el.name == "face" || el.name == "faces";
+    const bool strips = el.name == "tristrips";
+    // the roles of the properties: 0 x, 1 y, 2 z, 3 the index list, -1 read past
+    std::vector<int> role(el.properties.size(), -1);
+    bool have_list = false;
+    for (std::size_t k = 0; k < el.properties.size(); ++k) {
+      const Ply_property& pr = el.properties[k];
+      if (vertex && !pr.list) {
+        const int axis = pr.name == "x" ? 0 : pr.name == "y" ? 1 : pr.name == "z" ? 2 : -1;
+        if (axis >= 0 && std::find(role.begin(), role.end(), axis) == role.end()) role[k] = axis;
+      }
+      if ((face || strips) && pr.list && !have_list && (pr.name == "vertex_indices" || pr.name == "vertex_index")) {
+        if (!ply_integral(pr.type) && el.count > 0)
+          throw IO_error(path, "PLY element '" + el.name + "' without an integer vertex_indices list");
+        role[k] = 3;
+        have_list = true;
+      }
+    }
+    if ((face || strips) && !have_list && el.count > 0)
+      throw IO_error(path, "PLY element '" + el.name + "' without an integer vertex_indices list");
+    auto truncated = [&](unsigned long long j) {
+      return IO_error(path, "truncated PLY: element '" + el.name + "' item " + std::to_string(j) + " of " +
+                                std::to_string(el.count));
+    };
+    for (unsigned long long j = 0; j < el.count; ++j) {
+      const std::size_t item_line = body.line();
+      std::array<double, 3> x{{0, 0, 0}};
+      for (std::size_t k = 0; k < el.properties.size(); ++k) {
+        const Ply_property& pr = el.properties[k];
+        double v;
+        if (!pr.list) {
+          if (!body.next(pr.type, v)) throw truncated(j);
+          if (role[k] >= 0) x[std::size_t(role[k])] = v;
           continue;
         }
+        if (!body.next(pr.count, v)) throw truncated(j);
+        if (v < 0)
+          throw IO_error(path, item_line,
+                         "PLY element '" + el.name + "' item " + std::to_string(j) + ": negative list length");
+        const auto n = static_cast<unsigned long long>(v);
+        if (role[k] != 3) {
+          if (!body.skip(pr.type, n)) throw truncated(j);
+          continue;
+        }
+        if (face) {
+          for (unsigned long long i = 0; i < n; ++i) {
+            if (!body.next(pr.type, v)) throw truncated(j);
+            if (v < 0)
+              throw IO_error(path, item_line,
+                             "face " + std::to_string(soup.number_of_faces()) + ": negative vertex index " +
+                                 std::to_string(static_cast<long long>(v)));
+            // (an index the vertex count cannot reach is out of range: the check below names it)
+            soup.corner_vertex.push_back(v > 4294967295.0 ? 0xffffffffu : std::uint32_t(v));
+          }
+          soup.face_start.push_back(std::uint32_t(soup.corner_vertex.size()));
+          soup.face_line.push_back(item_line);
+          continue;
+        }
+        strip.clear();
         std::size_t start = 0;  // first index of the current strip
-        for (std::size_t k = 0; k < idx.size(); ++k) {
-          if (idx[k] == -1) {
-            start = k + 1;
+        for (unsigned long long i = 0; i < n; ++i) {
+          if (!body.next(pr.type, v)) throw truncated(j);
+          if (v == -1) {
+            start = std::size_t(i) + 1;
+            strip.push_back(0);
             continue;
           }
-          if (idx[k] < 0)
-            throw IO_error(path,
-                           "tristrips item " + std::to_string(j) + ": negative vertex index " + std::to_string(idx[k]));
-          if (k < start + 2) continue;
-          const long long a = idx[k - 2], b = idx[k - 1], c = idx[k];
+          if (v < 0)
+            throw IO_error(path, item_line,
+                           "tristrips item " + std::to_string(j) + ": negative vertex index " +
+                               std::to_string(static_cast<long long>(v)));
+          strip.push_back(v > 4294967295.0 ? 0xffffffffu : std::uint32_t(v));
+          const std::size_t k2 = std::size_t(i);
+          if (k2 < start + 2) continue;
+          const std::uint32_t a = strip[k2 - 2], b = strip[k2 - 1], c = strip[k2];
           if (a == b || b == c || a == c) continue;
-          if ((k - start) % 2 == 0)
-            polygons.push_back({std::size_t(a), std::size_t(b), std::size_t(c)});
-          else
-            polygons.push_back({std::size_t(b), std::size_t(a), std::size_t(c)});
+          const bool even = (k2 - start) % 2 == 0;
+          soup.corner_vertex.push_back(even ? a : b);
+          soup.corner_vertex.push_back(even ? b : a);
+          soup.corner_vertex.push_back(c);
+          soup.face_start.push_back(std::uint32_t(soup.corner_vertex.size()));
+          soup.face_line.push_back(item_line);
         }
       }
+      if (vertex) soup.positions.push_back(x);
     }
   }
 }
@@ -317,54 +509,33 @@ void read_ply_elements(std::istream& in, const std::string& path, std::vector<Po
 void read_ply(const std::string& path, Polygon_soup& soup) {
   soup = Polygon_soup();
   soup.source = path;
-  std::string text = mesh_file_text(path);
-  if (text.empty()) throw IO_error(path, "empty file");
-  check_ply_header(text, path);
-  // A .gz file is parsed from its decompressed bytes, in place (std::istringstream would copy
-  // them); a plain one from the file again, its bytes freed first (a lower peak of memory).
-  const bool packed = is_gzipped_path(path);
-  if (!packed) std::string().swap(text);
-  struct Bytes : std::streambuf {
-    explicit Bytes(std::string& b) { setg(b.data(), b.data(), b.data() + b.size()); }
-  } bytes(text);
-  std::istream unpacked(&bytes);
-  std::ifstream file;
-  if (!packed) file.open(path, std::ios::binary);
-  std::istream& in = packed ? unpacked : static_cast<std::istream&>(file);
-  std::vector<Point_3> points;
-  std::vector<std::vector<std::size_t>> polygons;
+  const File_bytes bytes(path);
+  const std::string_view data = bytes.view();
+  if (data.empty()) throw IO_error(path, "empty file");
+  const Ply_header hdr = read_ply_header(data, path);
   try {
-    read_ply_elements(in, path, points, polygons);
+    read_ply_body(data, hdr, path, soup);
   } catch (const std::bad_alloc&) {
     throw IO_error(path, "header declares more elements than can be allocated (corrupt file)");
-  } catch (const IO_error&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw IO_error(path, std::string("malformed PLY: ") + e.what());
   }
-  if (polygons.empty()) throw IO_error(path, "no faces in file");
-  soup.positions.reserve(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Point_3& p = points[i];
-    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
+  if (soup.number_of_faces() == 0) throw IO_error(path, "no faces in file");
+  for (std::size_t i = 0; i < soup.positions.size(); ++i) {
+    const auto& p = soup.positions[i];
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
       throw IO_error(path, "vertex " + std::to_string(i) + " has a non-finite coordinate");
-    soup.positions.push_back({p.x(), p.y(), p.z()});
   }
-  for (std::size_t f = 0; f < polygons.size(); ++f) {
-    const auto& c = polygons[f];
-    if (c.size() < 3) throw IO_error(path, "face " + std::to_string(f) + " has fewer than 3 corners");
-    for (std::size_t idx : c)
-      if (idx >= points.size())
-        throw IO_error(path, "face " + std::to_string(f) + ": vertex index " + std::to_string(idx) + " out of range (" +
-                                 std::to_string(points.size()) + " vertices)");
-    for (std::size_t k : c) {
-      soup.corner_vertex.push_back(std::uint32_t(k));
-      soup.corner_uv.push_back(Polygon_soup::no_index);
-    }
-    soup.face_start.push_back(std::uint32_t(soup.corner_vertex.size()));
-    soup.face_material.push_back(0);
-    soup.face_line.push_back(0);
+  const std::size_t nv = soup.positions.size(), nf = soup.number_of_faces();
+  for (std::size_t f = 0; f < nf; ++f) {
+    const std::uint32_t b = soup.face_start[f], e = soup.face_start[f + 1];
+    if (e - b < 3) throw IO_error(path, soup.face_line[f], "face " + std::to_string(f) + " has fewer than 3 corners");
+    for (std::uint32_t c = b; c < e; ++c)
+      if (soup.corner_vertex[c] >= nv)
+        throw IO_error(path, soup.face_line[f],
+                       "face " + std::to_string(f) + ": vertex index " + std::to_string(soup.corner_vertex[c]) +
+                           " out of range (" + std::to_string(nv) + " vertices)");
   }
+  soup.corner_uv.assign(soup.corner_vertex.size(), Polygon_soup::no_index);
+  soup.face_material.assign(nf, 0);
 }
 
 // ------------------------------------------------------------------------------- writers

@@ -76,6 +76,37 @@ std::vector<Bad_case> bad_cases() {
   v.push_back({"no_end.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "no end_header", 0});
   v.push_back({"strip_negative.ply", ply3_strip + "0 0 0\n1 0 0\n0 1 0\n4 0 1 -2 2\n", "negative vertex index", 0});
   v.push_back({"strip_range.ply", ply3_strip + "0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n", "out of range", 0});
+  // the body's numbers: a token that is not a number of its type, with its line; an index list of
+  // negative length; an ASCII face's own line in the messages checked once all is read
+  v.push_back({"word.ply", ply3_face + "0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n", "bad PLY value 'zero'", 11});
+  v.push_back({"float_index.ply", ply3_face + "0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", "bad PLY value '1.5'", 13});
+  v.push_back(
+      {"negative_length.ply",
+       ply3 + "element face 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n-3 0 1 2\n",
+       "negative list length", 13});
+  v.push_back({"two_corner_face.ply", ply3_face + "0 0 0\n1 0 0\n0 1 0\n2 0 1\n", "fewer than 3 corners", 13});
+  v.push_back({"range_line.ply", ply3_face + "0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n", "vertex index 9 out of range", 13});
+  v.push_back(
+      {"float_count.ply",
+       ply3 + "element face 1\nproperty list float int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+       "length type must be an integer type", 8});
+  v.push_back(
+      {"float_list.ply",
+       ply3 + "element face 1\nproperty list uchar float vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+       "without an integer vertex_indices list", 0});
+  {
+    // binary: the face list ends inside its last index
+    std::string bin =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    const float xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    bin.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+    const unsigned char count = 3;
+    const std::int32_t idx[3] = {0, 1, 2};
+    bin.append(reinterpret_cast<const char*>(&count), 1);
+    bin.append(reinterpret_cast<const char*>(idx), sizeof idx - 2);
+    v.push_back({"cut_binary.ply", bin, "truncated PLY: element 'face' item 0 of 1", 0});
+  }
   v.push_back({"garbage.gltf", "{ this is not json", "", 0});
   v.push_back({"empty.glb", "", "empty file", 0});
   v.push_back({"mesh.stl", "solid x\nendsolid x\n", "unsupported file type", 0});

@@ -11,6 +11,8 @@
 #include <cstdlib>
 #include <iterator>
 #include <random>
+#include <sstream>
+#include <cstring>
 
 // ------------------------------------------------------------------ small hand-made files
 
@@ -76,6 +78,82 @@ TEST(Mesh_IO_ply, TriangleStripsReadAsTheTrianglesTheyEncode) {
   Textured_mesh d;
   IO::read_mesh(binary, d);
   EXPECT_EQ(oriented_triangles(d), oriented_triangles(c));
+}
+
+// PLY as writers lay it out: extra vertex properties (normals, colours, a list), an element the
+// reader does not use, a face property before the index list, faces before vertices, any integer
+// type for the list's length and indices, coordinates as float or double, ASCII and both binary
+// byte orders. Every file reads as the same two triangles on the same four points.
+namespace {
+
+template <class T>
+void put(std::string& out, T value, bool big_endian) {
+  char b[sizeof(T)];
+  std::memcpy(b, &value, sizeof(T));
+  if (big_endian) std::reverse(b, b + sizeof(T));
+  out.append(b, sizeof(T));
+}
+
+}  // namespace
+
+TEST(Mesh_IO_ply, EveryLayoutAndByteOrderReadsTheSameMesh) {
+  const std::string dir = scratch_dir();
+  const double xyz[4][3] = {{0, 0, 0}, {1.5, 0, 0}, {1.5, 2.25, 0}, {0, 2.25, -0.125}};
+  const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+  // ASCII: vertices after the faces, with normals, a colour and a list of their own; an edge
+  // element between them; the faces with a flags property first and uint8 / uint32 lists
+  std::string ascii =
+      "ply\nformat ascii 1.0\ncomment layout test\nobj_info none\nelement face 2\nproperty uchar flags\n"
+      "property list uint8 uint32 vertex_indices\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
+      "element vertex 4\nproperty float nx\nproperty double x\nproperty float y\nproperty list uchar float "
+      "texcoord\nproperty float z\nproperty uchar red\nend_header\n";
+  for (const auto& t : tri)
+    ascii += "7 3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  ascii += "0 1\n";
+  for (const auto& p : xyz) {
+    std::ostringstream line;
+    line << "0 " << p[0] << " " << p[1] << " 2 0.25 0.75 " << p[2] << " 255\r\n";
+    ascii += line.str();
+  }
+  const std::string ascii_path = write_text(dir, "layout_ascii.ply", ascii);
+  // binary: the vertices first with double x, y, z between a float and a list; ushort lengths and
+  // int16 indices; a trailing element of lists the reader skips
+  std::vector<std::string> paths{ascii_path};
+  for (const bool big : {false, true}) {
+    std::string bin = std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
+                      " 1.0\nelement vertex 4\nproperty float nx\nproperty float64 x\nproperty float64 y\n"
+                      "property list uchar int texcoord\nproperty float64 z\nelement face 2\n"
+                      "property list ushort int16 vertex_indices\nelement extra 1\nproperty list int double values\n"
+                      "end_header\n";
+    for (const auto& p : xyz) {
+      put(bin, 0.5f, big);
+      put(bin, p[0], big);
+      put(bin, p[1], big);
+      put(bin, std::uint8_t(2), big);
+      put(bin, std::int32_t(7), big);
+      put(bin, std::int32_t(-8), big);
+      put(bin, p[2], big);
+    }
+    for (const auto& t : tri) {
+      put(bin, std::uint16_t(3), big);
+      for (int k : t) put(bin, std::int16_t(k), big);
+    }
+    put(bin, std::int32_t(2), big);
+    put(bin, 1.0, big);
+    put(bin, 2.0, big);
+    paths.push_back(write_text(dir, big ? "layout_big.ply" : "layout_little.ply", bin));
+  }
+  for (const std::string& path : paths) {
+    SCOPED_TRACE(path);
+    Textured_mesh tm;
+    IO::read_mesh(path, tm);
+    const Surface_mesh& m = tm.mesh();
+    ASSERT_EQ(m.number_of_vertices(), 4u);
+    ASSERT_EQ(m.number_of_faces(), 2u);
+    for (auto v : m.vertices())
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(m.point(v)[k], xyz[std::size_t(v)][k]);
+    EXPECT_EQ(oriented_triangles(tm), (std::vector<std::array<std::size_t, 3>>{{0, 1, 2}, {0, 2, 3}}));
+  }
 }
 
 TEST(Mesh_IO_obj, PolygonsAreFanSplitInFileOrderAndNegativeIndicesWork) {
