@@ -351,34 +351,58 @@ public:
         img.uri = uri_of_file_name(name);
       }
     }
-    tinygltf::Buffer buffer;
-    buffer.data = std::move(buffer_.data());
-    const std::size_t bytes = buffer.data.size();
-    std::string bin_name = stem + ".bin";
-    if (!binary) {
-      write_file((dir / bin_name).string(), std::string(buffer.data.begin(), buffer.data.end()), out);
-      buffer.data.assign(1, 0);  // the JSON's buffer entry is replaced below
-    }
-    model_.buffers.push_back(std::move(buffer));
-
+    const std::vector<unsigned char>& data = buffer_.data();
+    const std::size_t bytes = data.size();
+    const std::string bin_name = stem + ".bin";
+    if (!binary) write_file((dir / bin_name).string(), std::string(data.begin(), data.end()), out);
+    // tinygltf writes the JSON; the buffer it would embed (as base64 in a .gltf written to a
+    // stream, as a copy of it in a GLB) stands in as one byte, and the JSON's buffer entry is
+    // replaced: a .bin file beside the .gltf, or the GLB's binary chunk, written below from the
+    // buffer itself
+    tinygltf::Buffer stand_in;
+    stand_in.data.assign(1, 0);
+    model_.buffers.push_back(std::move(stand_in));
     tinygltf::TinyGLTF writer;
-    if (binary) {
-      // straight into the file (a GLB holds the whole buffer: no copy of it in memory)
-      const std::string tmp = out.add(path_);
-      std::ofstream os(tmp, std::ios::binary);
-      if (!os) throw IO_error(path_, std::string("cannot write: ") + std::strerror(errno));
-      if (!writer.WriteGltfSceneToStream(&model_, os, false, true)) throw IO_error(path_, "glTF serialisation failed");
-      os.flush();
-      if (!os) throw IO_error(path_, "write failed (disk full?)");
+    std::ostringstream s;
+    if (!writer.WriteGltfSceneToStream(&model_, s, !binary, false)) throw IO_error(path_, "glTF serialisation failed");
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(s.str());
+    nlohmann::ordered_json entry{{"byteLength", bytes}};
+    if (!binary) entry["uri"] = uri_of_file_name(bin_name);
+    j["buffers"] = nlohmann::ordered_json::array({entry});
+    if (!binary) {
+      write_file(path_, j.dump(2) + "\n", out);
       return;
     }
-    std::ostringstream s;
-    if (!writer.WriteGltfSceneToStream(&model_, s, true, false)) throw IO_error(path_, "glTF serialisation failed");
-    // tinygltf embeds buffers in a .gltf written to a stream; ours is the .bin file beside it
-    nlohmann::ordered_json j = nlohmann::ordered_json::parse(s.str());
-    j["buffers"] = nlohmann::ordered_json::array(
-        {nlohmann::ordered_json{{"byteLength", bytes}, {"uri", uri_of_file_name(bin_name)}}});
-    write_file(path_, j.dump(2) + "\n", out);
+    // GLB 2.0: a 12-byte header, the JSON chunk (padded with spaces) and the binary chunk (padded
+    // with zeros), each chunk's length a multiple of 4
+    std::string json = j.dump();
+    while (json.size() % 4) json.push_back(' ');
+    const std::size_t padded = (bytes + 3) / 4 * 4;
+    const std::size_t total = 12 + 8 + json.size() + 8 + padded;
+    if (total > 0xffffffffu) throw IO_error(path_, "the GLB would be larger than 4 GB, more than the format holds");
+    auto u32 = [](std::string& o, std::uint32_t v) {
+      for (int k = 0; k < 4; ++k) o.push_back(char((v >> (8 * k)) & 0xffu));
+    };
+    std::string head;
+    head.append("glTF", 4);
+    u32(head, 2);
+    u32(head, std::uint32_t(total));
+    u32(head, std::uint32_t(json.size()));
+    head.append("JSON", 4);
+    std::string bin_head;
+    u32(bin_head, std::uint32_t(padded));
+    bin_head.append("BIN\0", 4);
+    const std::string tmp = out.add(path_);
+    std::ofstream os(tmp, std::ios::binary);
+    if (!os) throw IO_error(path_, std::string("cannot write: ") + std::strerror(errno));
+    os.write(head.data(), std::streamsize(head.size()));
+    os.write(json.data(), std::streamsize(json.size()));
+    os.write(bin_head.data(), std::streamsize(bin_head.size()));
+    os.write(reinterpret_cast<const char*>(data.data()), std::streamsize(bytes));
+    const char zeros[4] = {0, 0, 0, 0};
+    os.write(zeros, std::streamsize(padded - bytes));
+    os.flush();
+    if (!os) throw IO_error(path_, "write failed (disk full?)");
   }
 
 private:
