@@ -24,30 +24,45 @@ namespace internal {
 
 namespace {
 
-struct Token_line {
-  std::size_t line;
-  std::vector<std::string_view> tokens;
-};
+// The non-empty, comment-free lines of an OFF text as tokens, one line at a time (no line is
+// stored: a 1M-face file held every line's tokens at once, 180 MB).
+class Off_lines {
+public:
+  Off_lines(std::string_view data, const std::string& path) : p_(data.data()), end_(p_ + data.size()), path_(path) {}
 
-// Splits OFF text into non-empty, comment-free lines of tokens.
-std::vector<Token_line> tokenize(const std::string& data, const std::string& path) {
-  std::vector<Token_line> lines;
-  for_each_line(data, [&](std::size_t line_no, const char* p, const char* nl) {
-    Token_line tl{line_no, {}};
-    const char* q = p;
-    while (q < nl) {
-      while (q < nl && (*q == ' ' || *q == '\t' || *q == '\r')) ++q;
-      if (q >= nl || *q == '#') break;
-      if (*q == '\0') throw IO_error(path, line_no, "binary data (NUL byte) in a text OFF file");
-      const char* b = q;
-      while (q < nl && *q != ' ' && *q != '\t' && *q != '\r' && *q != '#') ++q;
-      tl.tokens.emplace_back(b, std::size_t(q - b));
-      if (q < nl && *q == '#') break;
+  // The next line with a token: its tokens into `tok` (cleared first) and its number into `line`;
+  // false at the end of the text.
+  bool next(std::vector<std::string_view>& tok, std::size_t& line) {
+    while (p_ < end_) {
+      const char* nl = static_cast<const char*>(std::memchr(p_, '\n', std::size_t(end_ - p_)));
+      if (!nl) nl = end_;
+      ++line_;
+      tok.clear();
+      const char* q = p_;
+      p_ = nl + (nl < end_ ? 1 : 0);
+      while (q < nl) {
+        while (q < nl && (*q == ' ' || *q == '\t' || *q == '\r')) ++q;
+        if (q >= nl || *q == '#') break;
+        if (*q == '\0') throw IO_error(path_, line_, "binary data (NUL byte) in a text OFF file");
+        const char* b = q;
+        while (q < nl && *q != ' ' && *q != '\t' && *q != '\r' && *q != '#') ++q;
+        tok.emplace_back(b, std::size_t(q - b));
+        if (q < nl && *q == '#') break;
+      }
+      if (!tok.empty()) {
+        line = line_;
+        return true;
+      }
     }
-    if (!tl.tokens.empty()) lines.push_back(std::move(tl));
-  });
-  return lines;
-}
+    return false;
+  }
+
+private:
+  const char* p_;
+  const char* const end_;
+  std::size_t line_ = 0;
+  const std::string& path_;
+};
 
 template <class T>
 bool number(std::string_view t, T& out) {
@@ -59,83 +74,83 @@ bool number(std::string_view t, T& out) {
 }  // namespace
 
 void read_off(const std::string& path, Polygon_soup& soup) {
-  const std::string data = mesh_file_text(path);
+  const File_bytes bytes(path);
+  const std::string_view data = bytes.view();
   if (data.empty()) throw IO_error(path, "empty file");
   soup = Polygon_soup();
   soup.source = path;
-  std::vector<Token_line> lines = tokenize(data, path);
-  if (lines.empty()) throw IO_error(path, "no content");
-  std::size_t li = 0;
-  const std::string_view head = lines[0].tokens[0];
-  bool has_uv = false;
+  Off_lines lines(data, path);
+  std::vector<std::string_view> tok;
+  std::size_t line = 0;
+  if (!lines.next(tok, line)) throw IO_error(path, "no content");
+  const std::string_view head = tok[0];
+  bool has_uv = false, counts_here = true;  // (whether `tok` holds the counts)
   if (head.size() >= 3 && head.substr(head.size() - 3) == "OFF") {
-    if (lines[0].tokens.size() > 1 && lines[0].tokens[1] == "BINARY")
-      throw IO_error(path, lines[0].line, "binary OFF is not supported");
+    if (tok.size() > 1 && tok[1] == "BINARY") throw IO_error(path, line, "binary OFF is not supported");
     if (head.find("4") != std::string_view::npos || head.find("n") != std::string_view::npos)
-      throw IO_error(path, lines[0].line, "only 3D OFF files are supported ('" + std::string(head) + "')");
+      throw IO_error(path, line, "only 3D OFF files are supported ('" + std::string(head) + "')");
     has_uv = head.find("ST") != std::string_view::npos;
-    if (lines[0].tokens.size() >= 4) {  // counts on the header line
-      lines[0].tokens.erase(lines[0].tokens.begin());
-    } else {
-      ++li;
-    }
+    if (tok.size() >= 4)  // counts on the header line
+      tok.erase(tok.begin());
+    else
+      counts_here = false;
   }
-  if (li >= lines.size()) throw IO_error(path, "truncated: missing vertex/face counts");
+  if (!counts_here && !lines.next(tok, line)) throw IO_error(path, "truncated: missing vertex/face counts");
   long long nv = -1, nf = -1;
-  if (lines[li].tokens.size() < 2 || !number(lines[li].tokens[0], nv) || !number(lines[li].tokens[1], nf) || nv < 0 ||
-      nf < 0)
-    throw IO_error(path, lines[li].line, "expected '<#vertices> <#faces> [<#edges>]'");
+  if (tok.size() < 2 || !number(tok[0], nv) || !number(tok[1], nf) || nv < 0 || nf < 0)
+    throw IO_error(path, line, "expected '<#vertices> <#faces> [<#edges>]'");
   // A declared count larger than the file could hold is corrupt (and must not allocate).
   if (std::size_t(nv) + std::size_t(nf) > data.size())
-    throw IO_error(path, lines[li].line,
+    throw IO_error(path, line,
                    "declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
                        " faces, more than the file can hold");
-  ++li;
   soup.positions.reserve(std::size_t(nv));
-  for (long long i = 0; i < nv; ++i, ++li) {
-    if (li >= lines.size())
+  if (has_uv) soup.uvs.reserve(std::size_t(nv));
+  soup.face_start.reserve(std::size_t(nf) + 1);
+  soup.face_line.reserve(std::size_t(nf));
+  soup.corner_vertex.reserve(3 * std::size_t(nf));
+  soup.corner_uv.reserve(3 * std::size_t(nf));
+  soup.face_material.reserve(std::size_t(nf));
+  for (long long i = 0; i < nv; ++i) {
+    if (!lines.next(tok, line))
       throw IO_error(path, "truncated: " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
-    const Token_line& l = lines[li];
     std::array<double, 3> x;
-    if (l.tokens.size() < 3) throw IO_error(path, l.line, "vertex needs three coordinates");
+    if (tok.size() < 3) throw IO_error(path, line, "vertex needs three coordinates");
     for (int k = 0; k < 3; ++k) {
-      if (!number(l.tokens[std::size_t(k)], x[std::size_t(k)]))
-        throw IO_error(path, l.line, "bad vertex coordinate '" + std::string(l.tokens[std::size_t(k)]) + "'");
-      if (!std::isfinite(x[std::size_t(k)])) throw IO_error(path, l.line, "vertex coordinate is not finite");
+      if (!number(tok[std::size_t(k)], x[std::size_t(k)]))
+        throw IO_error(path, line, "bad vertex coordinate '" + std::string(tok[std::size_t(k)]) + "'");
+      if (!std::isfinite(x[std::size_t(k)])) throw IO_error(path, line, "vertex coordinate is not finite");
     }
     soup.positions.push_back(x);
     if (has_uv) {
       std::array<double, 2> t;
-      if (l.tokens.size() < 5 || !number(l.tokens[3], t[0]) || !number(l.tokens[4], t[1]) || !std::isfinite(t[0]) ||
+      if (tok.size() < 5 || !number(tok[3], t[0]) || !number(tok[4], t[1]) || !std::isfinite(t[0]) ||
           !std::isfinite(t[1]))
-        throw IO_error(path, l.line, "STOFF vertex needs two finite texture coordinates");
+        throw IO_error(path, line, "STOFF vertex needs two finite texture coordinates");
       soup.uvs.push_back(t);
     }
   }
-  for (long long f = 0; f < nf; ++f, ++li) {
-    if (li >= lines.size())
+  for (long long f = 0; f < nf; ++f) {
+    if (!lines.next(tok, line))
       throw IO_error(path, "truncated: " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
-    const Token_line& l = lines[li];
     long long n;
-    if (!number(l.tokens[0], n) || n < 3 || std::size_t(n) + 1 > l.tokens.size())
-      throw IO_error(path, l.line, "face needs a corner count >= 3 followed by that many indices");
-    std::vector<std::uint32_t> c(static_cast<std::size_t>(n));
+    if (!number(tok[0], n) || n < 3 || std::size_t(n) + 1 > tok.size())
+      throw IO_error(path, line, "face needs a corner count >= 3 followed by that many indices");
+    const std::size_t first = soup.corner_vertex.size();
     for (long long k = 0; k < n; ++k) {
       long long idx;
-      if (!number(l.tokens[std::size_t(k + 1)], idx))
-        throw IO_error(path, l.line, "bad vertex index '" + std::string(l.tokens[std::size_t(k + 1)]) + "'");
+      if (!number(tok[std::size_t(k + 1)], idx))
+        throw IO_error(path, line, "bad vertex index '" + std::string(tok[std::size_t(k + 1)]) + "'");
       if (idx < 0 || idx >= nv)
-        throw IO_error(path, l.line,
+        throw IO_error(path, line,
                        "vertex index " + std::to_string(idx) + " out of range (" + std::to_string(nv) + " vertices)");
-      c[std::size_t(k)] = std::uint32_t(idx);
+      soup.corner_vertex.push_back(std::uint32_t(idx));
     }
-    for (std::uint32_t k : c) {
-      soup.corner_vertex.push_back(k);
-      soup.corner_uv.push_back(has_uv ? k : Polygon_soup::no_index);
-    }
+    for (std::size_t c = first; c < soup.corner_vertex.size(); ++c)
+      soup.corner_uv.push_back(has_uv ? soup.corner_vertex[c] : Polygon_soup::no_index);
     soup.face_start.push_back(std::uint32_t(soup.corner_vertex.size()));
     soup.face_material.push_back(0);
-    soup.face_line.push_back(l.line);
+    soup.face_line.push_back(line);
   }
   if (soup.number_of_faces() == 0) throw IO_error(path, "no faces in file");
 }

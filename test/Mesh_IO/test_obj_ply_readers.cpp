@@ -156,6 +156,40 @@ TEST(Mesh_IO_ply, EveryLayoutAndByteOrderReadsTheSameMesh) {
   }
 }
 
+// OFF as writers lay it out: the counts on the header line or the next, no header at all,
+// comments, blank lines and CRLF line ends, COFF's colours after the coordinates and after a
+// face's indices. Every file reads as the same quad split in two; STOFF's texture coordinates
+// become the corners' own, and each face keeps its line.
+TEST(Mesh_IO_off, HeaderFormsCommentsAndColoursReadTheSameMesh) {
+  const std::string dir = scratch_dir();
+  const std::string verts = "0 0 0\n1.5 0 0\n1.5 2.25 0\n0 2.25 -0.125\n";
+  const std::vector<std::string> texts = {
+      "OFF\n4 2 0\n" + verts + "3 0 1 2\n3 0 2 3\n", "OFF 4 2 0\n" + verts + "3 0 1 2\n3 0 2 3\n",
+      "4 2 0\n" + verts + "3 0 1 2\n3 0 2 3\n",
+      "# a comment\n\nOFF # header\r\n\n4 2 0\r\n# vertices\r\n0 0 0\r\n1.5 0 0 # second\r\n1.5 2.25 0\r\n"
+      "0 2.25 -0.125\r\n\r\n3 0 1 2\r\n3 0 2 3 # last\r\n",
+      "COFF\n4 2 0\n0 0 0 255 0 0 255\n1.5 0 0 0 255 0 255\n1.5 2.25 0 0 0 255 255\n0 2.25 -0.125 9 9 9 255\n"
+      "3 0 1 2 0.5 0.5 0.5\n3 0 2 3 1 1 1\n"};
+  for (std::size_t i = 0; i < texts.size(); ++i) {
+    SCOPED_TRACE(texts[i]);
+    const Polygon_soup soup = IO::read_polygon_soup(write_text(dir, "quad" + std::to_string(i) + ".off", texts[i]));
+    ASSERT_EQ(soup.positions.size(), 4u);
+    EXPECT_EQ(soup.positions[2], (std::array<double, 3>{{1.5, 2.25, 0}}));
+    EXPECT_EQ(soup.positions[3], (std::array<double, 3>{{0, 2.25, -0.125}}));
+    EXPECT_EQ(soup.corner_vertex, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
+    EXPECT_EQ(soup.face_start, (std::vector<std::uint32_t>{0, 3, 6}));
+    EXPECT_EQ(soup.corner_uv, std::vector<std::uint32_t>(6, Polygon_soup::no_index));
+  }
+  // the lines of the faces: the fourth file's are 12 and 13
+  const Polygon_soup commented = IO::read_polygon_soup((fs::path(dir) / "quad3.off").string());
+  EXPECT_EQ(commented.face_line, (std::vector<std::size_t>{12, 13}));
+  const Polygon_soup st = IO::read_polygon_soup(write_text(
+      dir, "quad.off", "STOFF\n4 2 0\n0 0 0 0 0\n1.5 0 0 1 0\n1.5 2.25 0 1 1\n0 2.25 -0.125 0 1\n3 0 1 2\n3 0 2 3\n"));
+  EXPECT_EQ(st.uvs.size(), 4u);
+  EXPECT_EQ(st.uvs[2], (std::array<double, 2>{{1, 1}}));
+  EXPECT_EQ(st.corner_uv, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
+}
+
 TEST(Mesh_IO_obj, PolygonsAreFanSplitInFileOrderAndNegativeIndicesWork) {
   const std::string dir = scratch_dir();
   const std::string path = write_text(dir, "quad.obj",
