@@ -425,8 +425,10 @@ void read_ply_body(std::string_view data, const Ply_header& hdr, const std::stri
     if (el.name == "vertex" || el.name == "vertices") vertices += el.count;
     if (el.name == "face" || el.name == "faces" || el.name == "tristrips") corners += 3 * el.count;
   }
-  soup.positions.reserve(std::size_t(vertices));
-  soup.corner_vertex.reserve(std::size_t(corners));
+  // (every value takes at least a byte: no more room than the file can fill, whatever the
+  // header declares for the elements its checks do not count, e.g. `element vertices`)
+  soup.positions.reserve(std::size_t((std::min)(vertices, static_cast<unsigned long long>(data.size()))));
+  soup.corner_vertex.reserve(std::size_t((std::min)(corners, static_cast<unsigned long long>(data.size()))));
   std::vector<std::uint32_t> strip;
   for (const Ply_element& el : hdr.elements) {
     const bool vertex = el.name == "vertex" || el.name == "vertices";

@@ -106,6 +106,16 @@ std::vector<Bad_case> bad_cases() {
     bin.append(reinterpret_cast<const char*>(&count), 1);
     bin.append(reinterpret_cast<const char*>(idx), sizeof idx - 2);
     v.push_back({"cut_binary.ply", bin, "truncated PLY: element 'face' item 0 of 1", 0});
+    // an element whose huge count the header's size check does not see (only `vertex` and the
+    // face elements are counted there): read until the file ends, nothing allocated for it
+    std::string plural =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement vertices 4000000000\nproperty float x\nelement face 1\n"
+        "property list uchar int vertex_indices\nend_header\n";
+    plural.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+    plural.append(reinterpret_cast<const char*>(&count), 1);
+    plural.append(reinterpret_cast<const char*>(idx), sizeof idx);
+    v.push_back({"huge_plural.ply", plural, "truncated PLY: element 'vertices' item 3 of 4000000000", 0});
   }
   v.push_back({"garbage.gltf", "{ this is not json", "", 0});
   v.push_back({"empty.glb", "", "empty file", 0});
