@@ -35,8 +35,6 @@ bool is_gzipped_path(const std::string& path);
 /// The whole decompressed content of a gzip file; IO_error (naming the file) when it is missing,
 /// unreadable, or not valid gzip data to its end.
 std::string gunzip_file(const std::string& path);
-/// slurp(), or gunzip_file() for a .gz path.
-std::string mesh_file_text(const std::string& path);
 
 void read_obj(const std::string& path, Polygon_soup& soup, std::size_t chunk_bytes = obj_chunk_bytes);
 void read_off(const std::string& path, Polygon_soup& soup);

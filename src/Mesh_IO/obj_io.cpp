@@ -97,8 +97,6 @@ std::string gunzip_file(const std::string& path) {
   return out;
 }
 
-std::string mesh_file_text(const std::string& path) { return is_gzipped_path(path) ? gunzip_file(path) : slurp(path); }
-
 File_bytes::File_bytes(const std::string& path) {
   if (is_gzipped_path(path)) {
     copy_ = gunzip_file(path);

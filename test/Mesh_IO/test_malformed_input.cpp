@@ -61,10 +61,15 @@ std::vector<Bad_case> bad_cases() {
   // an ASCII PLY of three vertices, then its face or strip element
   const std::string ply3 =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
-  const std::string ply3_face = ply3 + "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  // (its face element with an index list of the given length and item types)
+  const auto ply3_list = [&](const char* types) {
+    return ply3 + "element face 1\nproperty list " + types + " vertex_indices\nend_header\n";
+  };
+  const std::string ply3_face = ply3_list("uchar int");
+  const std::string verts3 = "0 0 0\n1 0 0\n0 1 0\n";  // (the three vertices in ASCII)
   const std::string ply3_strip = ply3 + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n";
   v.push_back({"truncated.ply", ply3_face + "0 0 0\n1 0 0\n", "", 0});
-  v.push_back({"range.ply", ply3_face + "0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n", "out of range", 0});
+  v.push_back({"range.ply", ply3_face + verts3 + "3 0 1 9\n", "out of range", 0});
   // Regression (fuzzing): CGAL's PLY reader crashed on a property declared before any element.
   v.push_back({"prop_first.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 1\nend_header\n0\n",
                "property before any element", 3});
@@ -74,26 +79,19 @@ std::vector<Bad_case> bad_cases() {
                "property list uchar int vertex_indices\nend_header\n",
                "more than the file can hold", 0});
   v.push_back({"no_end.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "no end_header", 0});
-  v.push_back({"strip_negative.ply", ply3_strip + "0 0 0\n1 0 0\n0 1 0\n4 0 1 -2 2\n", "negative vertex index", 0});
-  v.push_back({"strip_range.ply", ply3_strip + "0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n", "out of range", 0});
+  v.push_back({"strip_negative.ply", ply3_strip + verts3 + "4 0 1 -2 2\n", "negative vertex index", 0});
+  v.push_back({"strip_range.ply", ply3_strip + verts3 + "3 0 1 5\n", "out of range", 0});
   // the body's numbers: a token that is not a number of its type, with its line; an index list of
   // negative length; an ASCII face's own line in the messages checked once all is read
   v.push_back({"word.ply", ply3_face + "0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n", "bad PLY value 'zero'", 11});
-  v.push_back({"float_index.ply", ply3_face + "0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", "bad PLY value '1.5'", 13});
+  v.push_back({"float_index.ply", ply3_face + verts3 + "3 0 1.5 2\n", "bad PLY value '1.5'", 13});
+  v.push_back({"negative_length.ply", ply3_list("int int") + verts3 + "-3 0 1 2\n", "negative list length", 13});
+  v.push_back({"two_corner_face.ply", ply3_face + verts3 + "2 0 1\n", "fewer than 3 corners", 13});
+  v.push_back({"range_line.ply", ply3_face + verts3 + "3 0 1 9\n", "vertex index 9 out of range", 13});
   v.push_back(
-      {"negative_length.ply",
-       ply3 + "element face 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n-3 0 1 2\n",
-       "negative list length", 13});
-  v.push_back({"two_corner_face.ply", ply3_face + "0 0 0\n1 0 0\n0 1 0\n2 0 1\n", "fewer than 3 corners", 13});
-  v.push_back({"range_line.ply", ply3_face + "0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n", "vertex index 9 out of range", 13});
+      {"float_count.ply", ply3_list("float int") + verts3 + "3 0 1 2\n", "length type must be an integer type", 8});
   v.push_back(
-      {"float_count.ply",
-       ply3 + "element face 1\nproperty list float int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
-       "length type must be an integer type", 8});
-  v.push_back(
-      {"float_list.ply",
-       ply3 + "element face 1\nproperty list uchar float vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
-       "without an integer vertex_indices list", 0});
+      {"float_list.ply", ply3_list("uchar float") + verts3 + "3 0 1 2\n", "without an integer vertex_indices list", 0});
   {
     // binary: the face list ends inside its last index
     std::string bin =
