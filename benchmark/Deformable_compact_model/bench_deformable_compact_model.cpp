@@ -145,7 +145,9 @@ void write_obj(const std::string& path, const std::vector<CD::Vec3>& P,
   }
 }
 
-CMGeom::Surface_mesh mesh_of(const std::vector<CD::Vec3>& P, const std::vector<std::array<std::uint32_t, 3>>& T) {
+// (T: a std::vector or a Reconstruction's CM::Output_array of triangles)
+template <class Triangles>
+CMGeom::Surface_mesh mesh_of(const std::vector<CD::Vec3>& P, const Triangles& T) {
   CMGeom::Surface_mesh m;
   for (const auto& p : P) m.add_vertex(CMGeom::Point_3(p[0], p[1], p[2]));
   for (const auto& t : T)
@@ -153,7 +155,8 @@ CMGeom::Surface_mesh mesh_of(const std::vector<CD::Vec3>& P, const std::vector<s
                CMGeom::Surface_mesh::Vertex_index(t[2]));
   return m;
 }
-std::vector<CD::Vec3> to_cd(const std::vector<CM::Vec3>& P) {
+template <class Points>
+std::vector<CD::Vec3> to_cd(const Points& P) {
   std::vector<CD::Vec3> r;
   r.reserve(P.size());
   for (const auto& p : P) r.push_back({p.x, p.y, p.z});

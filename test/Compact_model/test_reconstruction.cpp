@@ -1,13 +1,15 @@
 // Tests of the reconstruction of a Compact Model: analytic reproduction, crack-free and shared
-// vertices, parallel == serial, progress hook, along-normal rows, reused buffers, streamed connectivity, huge-page
-// resizes, error decreasing with the level.
+// vertices, parallel == serial, progress hook, along-normal rows, reused buffers (every element
+// written), streamed connectivity, huge-page resizes, error decreasing with the level.
 #include "compact_model_test_util.h"
 
 #include <CMGeom/Mesh_IO/Image.h>
 #include <CMGeom/internal/huge_pages.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace {
 
@@ -280,6 +282,43 @@ TEST(CompactModelReconstruction, ReusedBufferGivesTheFreshResult) {
       EXPECT_EQ(fresh.corner_uvs, buffer.corner_uvs);
       EXPECT_EQ(buffer.corner_uvs.empty(), !model->has_uvs());
     }
+}
+
+// An output's arrays are sized without writing their new elements (Output_array): every element
+// must then be written by the reconstruction. Storage holding NaNs and out-of-range indices (an
+// earlier, larger output's, then cleared) gives the fresh result, with no element left unwritten.
+TEST(CompactModelReconstruction, EveryElementOfAReusedOutputIsWritten) {
+  const Compact_model textured = textured_sphere_model();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const Compact_model* model : {&sphere_model(), &textured})
+    for (const Projection proj : {Projection::along_normal, Projection::closest_point})
+      for (int level = 1; level <= 4; ++level) {
+        Reconstruction_options o;
+        o.projection = proj;
+        const Reconstruction fresh = reconstruct_regular(*model, level, o);
+        Reconstruction buffer;
+        const std::size_t room = 4 * fresh.triangles.size();  // more than any of its arrays needs
+        buffer.points.assign(room, Vec3(nan, nan, nan));
+        buffer.normals.assign(room, Vec3(nan, nan, nan));
+        buffer.triangles.assign(room, {0xffffffffu, 0xffffffffu, 0xffffffffu});
+        buffer.base_face.assign(room, 0xffffffffu);
+        buffer.corner_uvs.assign(3 * room, {float(nan), float(nan)});
+        for (auto* a : {&buffer.points, &buffer.normals}) a->clear();
+        buffer.triangles.clear();
+        buffer.base_face.clear();
+        buffer.corner_uvs.clear();
+        reconstruct_regular(*model, level, buffer, o);
+        EXPECT_TRUE(same(fresh, buffer)) << "level " << level;
+        EXPECT_EQ(fresh.base_face, buffer.base_face);
+        EXPECT_EQ(fresh.corner_uvs, buffer.corner_uvs);
+        for (std::size_t i = 0; i < buffer.points.size(); ++i)
+          ASSERT_TRUE(std::isfinite(buffer.points[i].x + buffer.points[i].y + buffer.points[i].z + buffer.normals[i].x +
+                                    buffer.normals[i].y + buffer.normals[i].z))
+              << "point " << i << ", level " << level;
+        for (const auto& t : buffer.triangles)
+          for (std::uint32_t id : t) ASSERT_LT(id, buffer.points.size());
+        for (std::uint32_t f : buffer.base_face) ASSERT_LT(f, model->faces.size());
+      }
 }
 
 // The triangles, base faces and texture coordinates of a large output go out with non-temporal

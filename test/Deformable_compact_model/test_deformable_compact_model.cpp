@@ -97,7 +97,9 @@ Mat similarity(double s) {
   return R;
 }
 
-double diagonal(const std::vector<Vec3>& P) {
+// (of a point list: a std::vector or a Reconstruction's CM::Output_array)
+template <class Points>
+double diagonal(const Points& P) {
   Vec3 lo = P[0], hi = P[0];
   for (const Vec3& p : P) {
     lo = Vec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
@@ -106,7 +108,8 @@ double diagonal(const std::vector<Vec3>& P) {
   return CM::internal::length(hi - lo);
 }
 
-double max_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+template <class A, class B>
+double max_distance(const A& a, const B& b) {
   EXPECT_EQ(a.size(), b.size());
   double d = 0;
   for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) d = std::max(d, CM::internal::length(a[i] - b[i]));

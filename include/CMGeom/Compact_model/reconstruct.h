@@ -81,14 +81,20 @@ struct Sample {
   Vec3 point, normal;
 };
 
+/// The arrays of a Reconstruction: std::vectors whose resize() leaves new elements unwritten
+/// (CMGeom::internal::Unwritten_allocator; reconstruct_*() writes every element, and a fresh
+/// output is not written twice). Code that resizes one itself must write the new elements.
+template <class T>
+using Output_array = std::vector<T, CMGeom::internal::Unwritten_allocator<T>>;
+
 /// Output of reconstruct_*(): an indexed triangle mesh with per-corner texture coordinates
 /// (when the model is textured) and the base face of every triangle.
 struct Reconstruction {
-  std::vector<Vec3> points;
-  std::vector<Vec3> normals;  ///< blended normal of every point
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  std::vector<std::uint32_t> base_face;          ///< per triangle
-  std::vector<std::array<float, 2>> corner_uvs;  ///< 3 per triangle, or empty
+  Output_array<Vec3> points;
+  Output_array<Vec3> normals;  ///< blended normal of every point
+  Output_array<std::array<std::uint32_t, 3>> triangles;
+  Output_array<std::uint32_t> base_face;          ///< per triangle
+  Output_array<std::array<float, 2>> corner_uvs;  ///< 3 per triangle, or empty
 };
 
 // ------------------------------------------------------------------ criteria
@@ -1312,6 +1318,7 @@ private:
                                                           : &*own_weights);
     if (connectivity) {  // after the evaluator's checks: a refused call leaves `r` as it was
       // Large outputs fault in huge pages where the kernel gives them (internal/huge_pages.h).
+      // (every element is written below: an Output_array's resize() writes none)
       CMGeom::internal::resize_on_huge_pages(r.points, number_of_points());
       CMGeom::internal::resize_on_huge_pages(r.normals, r.points.size());
       CMGeom::internal::resize_on_huge_pages(r.triangles, number_of_triangles());

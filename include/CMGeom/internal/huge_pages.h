@@ -34,6 +34,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <memory>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -47,6 +51,42 @@
 
 namespace CMGeom {
 namespace internal {
+
+/// An allocator whose construct() without arguments writes nothing: std::vector::resize() then
+/// leaves the new elements' bytes as the memory holds them (zeros in pages fresh from the kernel,
+/// whatever an earlier use left otherwise) instead of writing zeros over them, for arrays whose
+/// every element the caller writes next. Measured with `perf`: a fresh 2M-point Compact Model
+/// reconstruction spent a ninth of its time on one core in resize()'s zeros, over pages the
+/// kernel had just cleared. Any other construction is std::allocator's. T must be trivially
+/// copyable and trivially destructible (its objects may then begin life in storage without a
+/// constructor call, as malloc's do).
+template <class T>
+struct Unwritten_allocator : std::allocator<T> {
+  static_assert(std::is_trivially_copyable<T>::value && std::is_trivially_destructible<T>::value,
+                "Unwritten_allocator: T must be trivially copyable and trivially destructible");
+  using value_type = T;
+  template <class U>
+  struct rebind {
+    using other = Unwritten_allocator<U>;
+  };
+  Unwritten_allocator() noexcept = default;
+  template <class U>
+  Unwritten_allocator(const Unwritten_allocator<U>&) noexcept {}
+  template <class U>
+  void construct(U*) noexcept {}
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T, class U>
+bool operator==(const Unwritten_allocator<T>&, const Unwritten_allocator<U>&) noexcept {
+  return true;
+}
+template <class T, class U>
+bool operator!=(const Unwritten_allocator<T>&, const Unwritten_allocator<U>&) noexcept {
+  return false;
+}
 
 /// Blocks smaller than this are resized as usual (a huge page is 2 MB on x86-64).
 constexpr std::size_t huge_page_threshold = std::size_t(4) << 20;
