@@ -3,7 +3,9 @@
 //
 // reserve_on_huge_pages(v, n), resize_on_huge_pages(v, n), assign_on_huge_pages(v, n, value),
 // filled_on_huge_pages<T>(n, value) and copy_on_huge_pages(v): std::vector's reserve(), resize(),
-// assign() and copy for large buffers (texture atlases, index textures, Compact Model outputs).
+// assign() and copy for large buffers (texture atlases, index textures, Compact Model outputs);
+// and Unwritten_allocator, with which a vector's resize() leaves new elements unwritten (Compact
+// Model outputs, whose every element the reconstruction writes).
 // When one needs a new block of at least `huge_page_threshold` bytes, the block is reserved first
 // and, on Linux, marked for transparent huge pages (madvise(MADV_HUGEPAGE)) before anything touches it, so that
 // the first writes fault in 2 MB pages instead of 4 kB ones. On a machine whose kernel hands out
