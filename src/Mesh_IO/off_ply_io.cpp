@@ -412,6 +412,10 @@ private:
   const std::string& path_;
 };
 
+// A non-negative vertex index read as a double, as a 32-bit index; one too large for 32 bits
+// becomes 0xffffffff, which no vertex count reaches, so the range check of read_ply() names it.
+std::uint32_t vertex_index(double v) { return v > 4294967295.0 ? 0xffffffffu : std::uint32_t(v); }
+
 // Reads the body of a PLY file into `soup`: the vertices' x, y, z, the faces' vertex index lists
 // and the triangles of triangle strips (`element tristrips`, as MeshLab's samples store them: a
 // list of vertex indices where -1 starts a new strip; its k-th triangle is (s[k], s[k+1], s[k+2]),
@@ -483,8 +487,7 @@ void read_ply_body(std::string_view data, const Ply_header& hdr, const std::stri
               throw IO_error(path, item_line,
                              "face " + std::to_string(soup.number_of_faces()) + ": negative vertex index " +
                                  std::to_string(static_cast<long long>(v)));
-            // (an index the vertex count cannot reach is out of range: the check below names it)
-            soup.corner_vertex.push_back(v > 4294967295.0 ? 0xffffffffu : std::uint32_t(v));
+            soup.corner_vertex.push_back(vertex_index(v));
           }
           soup.face_start.push_back(std::uint32_t(soup.corner_vertex.size()));
           soup.face_line.push_back(item_line);
@@ -503,7 +506,7 @@ void read_ply_body(std::string_view data, const Ply_header& hdr, const std::stri
             throw IO_error(path, item_line,
                            "tristrips item " + std::to_string(j) + ": negative vertex index " +
                                std::to_string(static_cast<long long>(v)));
-          strip.push_back(v > 4294967295.0 ? 0xffffffffu : std::uint32_t(v));
+          strip.push_back(vertex_index(v));
           const std::size_t k2 = std::size_t(i);
           if (k2 < start + 2) continue;
           const std::uint32_t a = strip[k2 - 2], b = strip[k2 - 1], c = strip[k2];
