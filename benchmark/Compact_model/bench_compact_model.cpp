@@ -6,7 +6,9 @@
 // 2001) on the same base, same level. Each model is built three times: with the thesis' independent
 // local fits (fit `thesis`), with CMGeom's joint refit (fit `joint`, Build_options::joint_fit), and
 // with the joint refit, cubic surfaces and error control at level 3 with a bound of 0.3 % of the
-// diagonal (fit `joint+cubic+ec`: the Fandisk target of 0.3 %).
+// diagonal (fit `joint+cubic+ec`), and by build_selected_compact_model() with its default
+// candidates measured at level 3 (fit `selected`: what `cmgeom cm build` does by default; its build
+// time includes the candidates' builds and measures).
 // Prints a Markdown table. Never run by CTest.
 //
 // Usage: bench_compact_model [data_dir] [model:faces ...]   (default: the six models below)
@@ -19,6 +21,7 @@
 // Environment: CMGEOM_CM_CONE_RATIO overrides Build_options::cone_error_ratio.
 #include <CMGeom/Compact_model.h>
 #include <CMGeom/Compact_model/error_criterion.h>
+#include <CMGeom/Compact_model/select_compact_model.h>
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -246,11 +249,12 @@ int main(int argc, char** argv) {
     if (!read_model(data, md, tmp, tm)) continue;
     const CMGeom::Surface_mesh& mesh = tm.mesh();
     const double diagonal = cmgeom_bench::diagonal(CGAL::Polygon_mesh_processing::bbox(mesh));
-    for (const char* fit : {"thesis", "joint", "joint+cubic+ec"}) {
+    for (const char* fit : {"thesis", "joint", "joint+cubic+ec", "selected"}) {
       const bool controlled = std::string(fit) == "joint+cubic+ec";
+      const bool selected = std::string(fit) == "selected";
       CM::Build_statistics st;
       CM::Build_options bo;
-      bo.joint_fit = std::string(fit) != "thesis";
+      bo.joint_fit = std::string(fit) != "thesis" && !selected;
       if (controlled) {
         bo.error_bound = 0.003 * diagonal;
         bo.error_control_level = 3;
@@ -258,11 +262,18 @@ int main(int argc, char** argv) {
       }
       if (const char* r = std::getenv("CMGEOM_CM_CONE_RATIO")) bo.cone_error_ratio = std::atof(r);
       CM::Compact_model model;
+      std::string chosen;
       const cmgeom_bench::Timing build_t = cmgeom_bench::time_runs(build_runs, [&] {
-        model = controlled ? CM::build_compact_model(mesh, md.base_faces, bo, CM::Cubic_surface_traits(),
-                                                     CM::Weighted_quadric_simplifier(), &st)
-                           : CM::build_compact_model(mesh, md.base_faces, bo, CM::Quadric_surface_traits(),
-                                                     CM::Weighted_quadric_simplifier(), &st);
+        if (selected) {
+          CM::Selection_result sr;
+          model = CM::build_selected_compact_model(mesh, md.base_faces, bo, CM::Selection_options(), &sr, &st);
+          chosen = sr.candidates[sr.chosen].configuration.name;
+        } else {
+          model = controlled ? CM::build_compact_model(mesh, md.base_faces, bo, CM::Cubic_surface_traits(),
+                                                       CM::Weighted_quadric_simplifier(), &st)
+                             : CM::build_compact_model(mesh, md.base_faces, bo, CM::Quadric_surface_traits(),
+                                                       CM::Weighted_quadric_simplifier(), &st);
+        }
       });
       const std::size_t bytes = CM::cm_bytes(model).size();
       // Plain mesh of equal bytes: 12 V + 12 F with F ~ 2 V on closed meshes -> F = bytes / 18.
@@ -292,9 +303,9 @@ int main(int argc, char** argv) {
         std::printf(
             "| %s | %s | %zu/%zu | %zu/%zu | %zu | %zu | %s | %zu | %d | %s | %s | %s | %zu | %.3f | %.4f | %.3f | "
             "%.4f | %zu | %.3f | %.4f |\n",
-            name.c_str(), fit, mesh.number_of_vertices(), mesh.number_of_faces(), st.base_vertices, st.base_faces,
-            st.sharp_edges, st.cone_vertices, cmgeom_bench::min_median(build_t, "%.2f").c_str(), bytes, level,
-            cmgeom_bench::min_median(tn).c_str(),
+            name.c_str(), (selected ? "selected: " + chosen : std::string(fit)).c_str(), mesh.number_of_vertices(),
+            mesh.number_of_faces(), st.base_vertices, st.base_faces, st.sharp_edges, st.cone_vertices,
+            cmgeom_bench::min_median(build_t, "%.2f").c_str(), bytes, level, cmgeom_bench::min_median(tn).c_str(),
             cmgeom_bench::rate_min_median(double(rn.points.size()) / 1e6, tn).c_str(),
             cmgeom_bench::min_median(tc).c_str(), rc.points.size(), 100 * err.hausdorff, 100 * err.rms,
             100 * pn.hausdorff, 100 * pn.rms, plain.number_of_faces(), 100 * plain_err.hausdorff, 100 * plain_err.rms);

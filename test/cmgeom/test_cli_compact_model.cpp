@@ -109,6 +109,12 @@ TEST(cmgeom_cli, CmBuildRefusesInconsistentRateOptionsAndWritesNothing) {
       {"--no-texture --max-error 0.01 --tolerance 1e-3 --compact", "--tolerance is chosen"},
       {"--ratio 0.1 --compact --normal-bits 30", "--normal-bits"},
       {"--no-texture --max-error 1e-7", "no model meets the target"},
+      {"--no-texture --ratio 0.1 --fit auto --cubic", "--fit thesis or joint"},
+      {"--no-texture --ratio 0.1 --fit thesis --joint-fit", "contradicts --fit thesis"},
+      {"--no-texture --ratio 0.1 --fit joint --select-level 3", "--select-level applies"},
+      {"--no-texture --ratio 0.1 --select-level 9", "--select-level must"},
+      {"--no-texture --max-error 0.01 --fit auto", "does not combine"},
+      {"--no-texture --ratio 0.1 --fit best", "--fit"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);
@@ -166,4 +172,38 @@ TEST(cmgeom_cli, AnInputThatNamesNoTextureIsRefusedUntilTextureOrNoTextureIsGive
             std::string::npos)
       << pipeline.err;
   EXPECT_FALSE(fs::exists(report));
+}
+
+// `cm build` without --fit measures its candidate builds and keeps the lowest Hausdorff error
+// (select_compact_model.h); the JSON lists them. --fit thesis builds the thesis' model alone, whose
+// error is the thesis candidate's.
+TEST(cmgeom_cli, CmBuildChoosesItsFitsByMeasurement) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  const auto a =
+      cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/a.cm' --no-texture --ratio 0.05 --json", dir);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const auto ja = nlohmann::json::parse(a.out);
+  ASSERT_TRUE(ja.contains("selection"));
+  EXPECT_EQ(ja["selection"]["level"], 3);
+  const auto& cs = ja["selection"]["candidates"];
+  ASSERT_EQ(cs.size(), 3u);
+  EXPECT_EQ(cs[0]["fit"], "thesis");
+  double lowest = 1e300;
+  std::string lowest_fit;
+  for (const auto& c : cs)
+    if (c["hausdorff"].get<double>() < lowest) {
+      lowest = c["hausdorff"].get<double>();
+      lowest_fit = c["fit"].get<std::string>();
+    }
+  EXPECT_EQ(ja["fit"], lowest_fit);
+  EXPECT_TRUE(fs::exists(dir + "/a.cm"));
+
+  const auto t = cmgeom_test::run_cli(
+      "cm build " + spot() + " -o '" + dir + "/t.cm' --no-texture --ratio 0.05 --fit thesis --json", dir);
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  const auto jt = nlohmann::json::parse(t.out);
+  EXPECT_EQ(jt["fit"], "thesis");
+  EXPECT_FALSE(jt.contains("selection"));
+  EXPECT_FALSE(jt["joint_fit"].get<bool>());
+  if (ja["fit"] == "thesis") EXPECT_EQ(file_bytes(dir + "/a.cm"), file_bytes(dir + "/t.cm"));
 }
