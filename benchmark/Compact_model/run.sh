@@ -45,6 +45,10 @@ line=$(describe_run)
   echo "in % of the original's bounding-box diagonal, for the CM reconstruction (closest point), for PN"
   echo "triangles on the same base at the same level, and for the plain simplified mesh (same"
   echo "weighted-quadric simplifier) with the same number of bytes (12 V + 12 F, F = bytes / 18)."
+  echo "\`fit\`: \`thesis\` the thesis' independent fits (the library's default), \`joint\` the joint refit, \`joint+cubic+ec\`"
+  echo "the joint refit with cubic surfaces and error control (bound 0.3 % of the diagonal, level 3, 4 rounds),"
+  echo "\`selected: <candidate>\` build_selected_compact_model() with its default candidates measured at level 3, as"
+  echo "\`cmgeom cm build\` does by default (its build time includes the three builds and measures)."
   echo
   cat "$tmp"
   echo

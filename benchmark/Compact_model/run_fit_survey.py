@@ -12,8 +12,9 @@ the thesis' build: the median ratios, and the build time of the whole set relati
 
     python3 benchmark/Compact_model/run_fit_survey.py --build build [--jobs 2] [--out FILE]
 
-Writes benchmark/Compact_model/RESULTS-fit-survey.md (or FILE). Models `cmgeom` cannot read without
---repair are built with it; a model the error measure cannot read is left out, and named.
+Writes benchmark/Compact_model/RESULTS-fit-survey.md (or FILE). Models `cmgeom` cannot read as they
+are (beetle, cow, ogre, teapot) are built with --repair --allow-degenerate; a case that fails is left
+out, and named with the reason.
 """
 import argparse
 import concurrent.futures as cf
@@ -55,7 +56,7 @@ def one(cmgeom, path, faces, tag, opts, repair):
         cm, rec = os.path.join(d, "m.cm"), os.path.join(d, "r.ply")
         t0 = time.monotonic()
         b = subprocess.run([cmgeom, "--quiet", "cm", "build", path, "-o", cm, "--faces", str(faces)] + opts +
-                           (["--repair"] if repair else []), capture_output=True, text=True)
+                           (["--repair", "--allow-degenerate"] if repair else []), capture_output=True, text=True)
         seconds = time.monotonic() - t0
         if b.returncode != 0:
             return None, b.stderr.strip().splitlines()[-1:] or ["failed"]
@@ -101,7 +102,7 @@ def main():
             name, nb, tag = futures[fu]
             r, why = fu.result()
             if r is None:
-                skipped[(name, nb)] = why[0]
+                skipped[(name, nb)] = why[0].replace(classic + os.sep, "")
             else:
                 results.setdefault((name, nb), {})[tag] = r
     keys = sorted(k for k in results if k not in skipped and len(results[k]) == len(CONFIGS))

@@ -9,7 +9,8 @@
 For every model, everything through the `cmgeom` command of BUILD (so what is measured is what a
 user gets):
   * CM: `cmgeom cm build --faces N --compact` (format version 3, default tolerance) for several base
-    sizes N, with the default build and with --joint-fit; reconstructed at level 3 (`cm reconstruct
+    sizes N, with the default build (fits chosen by measurement among three configurations,
+    `--fit auto`) and with --joint-fit; reconstructed at level 3 (`cm reconstruct
     --level 3`, closest-point projection, the default).
   * plain meshes: `cmgeom simplify --faces F` (the default engine) for F = 250 ... 16000 (at most the
     input's faces), each shipped as

@@ -49,9 +49,9 @@ struct Fit_configuration {
 /// quadric fits: the build of build_compact_model() with the caller's options), the joint refit
 /// with quadric surfaces and a sharp-edge threshold of 25 degrees, and the joint refit with cubic
 /// surfaces at the caller's threshold, both on bases of optimally placed (then snapped) vertices.
-/// Chosen by a survey of eight configurations over the shared classic models (57 cases, level 3;
+/// Chosen by a survey of eight configurations over the shared classic models (60 cases, level 3;
 /// the manual has it): of every set of the thesis' build and two others, these give the lowest
-/// median Hausdorff and RMS errors relative to the thesis' build (0.69 and 0.57).
+/// median Hausdorff and RMS errors relative to the thesis' build (0.69 and 0.58).
 inline std::vector<Fit_configuration> default_fit_candidates() {
   return {
       {"thesis", false, false, false, 0.}, {"joint-25", true, true, false, 25.}, {"joint-cubic", true, true, true, 0.}};
