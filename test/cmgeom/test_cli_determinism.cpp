@@ -73,6 +73,9 @@ TEST(cmgeom_cli, PipelineCommandsAreDeterministic) {
           {"render", "render {dir}/w.obj -o {dir}/w.png --size 256x256 --wireframe", {"w.png"}},
           {"cm build", "cm build {in} -o {dir}/spot.cm --ratio 0.1", {"spot.cm"}},
           {"cm build joint", "cm build {in} -o {dir}/spot_joint.cm --ratio 0.1 --joint-fit", {"spot_joint.cm"}},
+          {"cm build fits chosen by measurement",
+           "cm build {in} -o {dir}/spot_auto.cm --ratio 0.05 --no-texture --fit auto",
+           {"spot_auto.cm"}},
           {"cm build error control",
            "cm build {in} -o {dir}/spot_ec.cm --ratio 0.1 --joint-fit --error-bound 0.02 --error-rounds 3 "
            "--error-level 1",
