@@ -115,6 +115,7 @@ TEST(cmgeom_cli, CmBuildRefusesInconsistentRateOptionsAndWritesNothing) {
       {"--no-texture --ratio 0.1 --select-level 9", "--select-level must"},
       {"--no-texture --max-error 0.01 --fit auto", "does not combine"},
       {"--no-texture --ratio 0.1 --fit best", "--fit"},
+      {"--no-texture --max-error 0.01 --optimal-placement", "--optimal-placement applies"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);

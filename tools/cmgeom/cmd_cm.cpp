@@ -156,7 +156,8 @@ CMGEOM_CLI_COMMAND(
                   "the same as --fit joint)");
   build->add_flag("--optimal-placement", b->optimal_placement,
                   "Place base vertices optimally (weighted quadrics), then snap them to the input (§4.3), "
-                  "instead of keeping them on input vertices (one build: --fit thesis unless joint)");
+                  "instead of keeping them on input vertices (geometry-only builds with --faces or --ratio; one "
+                  "build: --fit thesis unless joint)");
   build->add_flag("--no-input-creases", b->no_input_creases,
                   "Sharp edges from the thesis' fits alone (§4.4.2), without CMGeom's rule that a base edge "
                   "along a path of input creases is sharp too");
@@ -447,6 +448,11 @@ CMGEOM_CLI_COMMAND(
                                                          "input: use --fit thesis or joint, or --no-texture)"));
         b->fit = "thesis";
       }
+      // (the textured base keeps its vertices on input vertices; the rate search builds the default base)
+      if (b->optimal_placement && (textured || rate))
+        throw CMGeom::Invalid_input(b->input +
+                                    ": --optimal-placement applies to geometry-only builds with --faces or "
+                                    "--ratio");
       if (textured && rate)
         throw CMGeom::Invalid_input(b->input +
                                     ": --max-error and --bytes build geometry-only models: add --no-texture");
