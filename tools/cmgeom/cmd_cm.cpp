@@ -143,7 +143,7 @@ CMGEOM_CLI_COMMAND(
                        "How the local surfaces are fitted: auto (default, CMGeom addition: builds the thesis' model "
                        "and the joint refit on optimally placed base vertices, with quadrics at a 25-degree "
                        "sharp threshold and with cubics, and keeps the lowest measured Hausdorff error at "
-                       "--select-level; about 10 times the time of --fit thesis), thesis (the independent "
+                       "--select-level; about 8 times the time of --fit thesis), thesis (the independent "
                        "fits of §4.4.3, base vertices on input vertices), joint (the joint refit)")
           ->check(CLI::IsMember({"auto", "thesis", "joint"}));
   auto* select_level = build->add_option("--select-level", b->select_level,

@@ -29,9 +29,10 @@
 #include <chrono>
 #include <cstddef>
 #include <limits>
-#include <optional>
 #include <string>
 #include <vector>
+
+#include <tbb/task_group.h>
 
 namespace CMGeom {
 namespace CM {
@@ -95,58 +96,69 @@ inline Compact_model build_selected_compact_model(const CMGeom::Surface_mesh& in
     throw Invalid_input("build_selected_compact_model: the level must be in [1, 6]");
   internal::check_build_arguments(input, target_faces, options);
 
-  // Shares of the progress: a build and a measure of one candidate weigh about the same.
+  // Shares of the progress: the builds half, the measures the other half.
   CMGeom::internal::Progress_reporter progress(selection.progress);
   const double n = double(selection.candidates.size());
   Metrics::Error_options eo;
   eo.samples =
       selection.samples ? selection.samples : std::max<std::size_t>(2 * input.number_of_faces(), std::size_t(100000));
   eo.vertex_field = false;
-  std::optional<Metrics::Error_reference> reference;
 
   Selection_result local;
   Selection_result& res = result ? *result : local;
-  res.candidates.clear();
-  Compact_model best;
-  double best_h = std::numeric_limits<double>::infinity(), best_rms = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < selection.candidates.size(); ++i) {
+  res.candidates.assign(selection.candidates.size(), Selection_result::Candidate());
+  std::vector<Compact_model> models(selection.candidates.size());
+  // The builds run at once (each is deterministic and mostly sequential: its simplification and
+  // the joint refit's factorization use one core); the first, on the calling thread, reports the
+  // progress of the builds' half.
+  auto build = [&](std::size_t i) {
     const Fit_configuration& c = selection.candidates[i];
     Build_options o = options;
     o.joint_fit = c.joint_fit;
     if (c.sharp_angle > 0.) o.sharp_angle = c.sharp_angle;
     o.progress = nullptr;
-    if (progress.active()) {
-      const double begin = double(i) / n, span = 0.5 / n;
-      o.progress = [&progress, begin, span](double f) { progress.report(begin + span * f); };
-    }
+    if (i == 0 && progress.active()) o.progress = [&progress](double f) { progress.report(0.5 * f); };
     Weighted_quadric_simplifier simplify;
     simplify.optimal_placement = c.optimal_placement;
-    Selection_result::Candidate r;
+    Selection_result::Candidate& r = res.candidates[i];
     r.configuration = c;
     const auto t0 = std::chrono::steady_clock::now();
-    Compact_model model =
-        c.cubic ? build_compact_model(input, target_faces, o, Cubic_surface_traits(), simplify, &r.statistics)
-                : build_compact_model(input, target_faces, o, Quadric_surface_traits(), simplify, &r.statistics);
+    models[i] = c.cubic
+                    ? build_compact_model(input, target_faces, o, Cubic_surface_traits(), simplify, &r.statistics)
+                    : build_compact_model(input, target_faces, o, Quadric_surface_traits(), simplify, &r.statistics);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    progress.report((double(i) + 0.5) / n);
+  };
+  {
+    tbb::task_group others;
+    for (std::size_t i = 1; i < models.size(); ++i) others.run([&build, i] { build(i); });
+    try {
+      build(0);
+    } catch (...) {
+      others.wait();
+      throw;
+    }
+    others.wait();
+  }
+  progress.report(0.5);
+  const Metrics::Error_reference reference(input, eo);
+  double best_h = std::numeric_limits<double>::infinity(), best_rms = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    Selection_result::Candidate& r = res.candidates[i];
     // (a model stores the kind of every surface: the quadric traits evaluate cubic ones too)
-    const Reconstruction rec = reconstruct_regular(model, selection.level);
-    if (!reference) reference.emplace(input, eo);
-    const Metrics::Approximation_error e = reference->error(to_surface_mesh(rec));
+    const Metrics::Approximation_error e =
+        reference.error(to_surface_mesh(reconstruct_regular(models[i], selection.level)));
     r.hausdorff = e.hausdorff;
     r.rms = e.rms;
-    res.candidates.push_back(r);
     if (i == 0 || r.hausdorff < best_h || (r.hausdorff == best_h && r.rms < best_rms)) {
       best_h = r.hausdorff;
       best_rms = r.rms;
-      best = std::move(model);
       res.chosen = i;
     }
-    progress.report(double(i + 1) / n);
+    progress.report(0.5 + 0.5 * double(i + 1) / n);
   }
   if (stats) *stats = res.candidates[res.chosen].statistics;
   progress.finish();
-  return best;
+  return std::move(models[res.chosen]);
 }
 
 }  // namespace CM
