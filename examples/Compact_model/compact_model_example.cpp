@@ -2,10 +2,13 @@
 // adaptively (region of interest around the first base vertex), swapping the local-surface
 // traits (thesis quadrics, then cubics) to show the policy, and compares the thesis' independent
 // fits with the joint refit (Build_options::joint_fit) and with the joint refit of cubic surfaces
-// under error control (§4.5.3: Build_options::error_bound) by their Metro error.
+// under error control (§4.5.3: Build_options::error_bound) by their Metro error; then lets
+// build_selected_compact_model() choose among its default configurations by measurement (what
+// `cmgeom cm build` does by default).
 //
 // Usage: compact_model_example [mesh] [base_faces]   (default: the shared fandisk, 250 faces)
 #include <CMGeom/Compact_model.h>
+#include <CMGeom/Compact_model/select_compact_model.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Metrics/approximation_error.h>
 
@@ -79,6 +82,16 @@ int main(int argc, char** argv) {
     std::cout << name << ", level 2: Hausdorff " << 100 * e.hausdorff << " %, RMS " << 100 * e.rms
               << " % of the diagonal\n";
   }
+
+  // The fits chosen by measurement: every default configuration built and measured at level 3.
+  CM::Selection_result selection;
+  const CM::Compact_model selected =
+      CM::build_selected_compact_model(input.mesh(), faces, CM::Build_options(), CM::Selection_options(), &selection);
+  for (const auto& k : selection.candidates)
+    std::cout << "candidate " << k.configuration.name << ", level 3: Hausdorff " << 100 * k.hausdorff << " %, RMS "
+              << 100 * k.rms << " %, built in " << k.seconds << " s\n";
+  std::cout << "chosen: " << selection.candidates[selection.chosen].configuration.name << " ("
+            << selected.vertices.size() << " base vertices)\n";
 
   CMGeom::Textured_mesh out;
   CM::to_textured_mesh(regular, out);

@@ -50,6 +50,8 @@ Selection_result check_selection(const Surface_mesh& input, std::size_t faces, i
     EXPECT_GT(c.seconds, 0.) << c.configuration.name;
     lowest = std::min(lowest, h);
     if (i == res.chosen) EXPECT_TRUE(alone == chosen) << "the model returned is not candidate " << c.configuration.name;
+    EXPECT_TRUE(build_configured_compact_model(input, faces, Build_options(), c.configuration) == alone)
+        << "build_configured_compact_model() is not candidate " << c.configuration.name << " built alone";
   }
   EXPECT_EQ(res.candidates[res.chosen].hausdorff, lowest);
   EXPECT_EQ(st.base_faces, chosen.faces.size());

@@ -515,10 +515,8 @@ CMGEOM_CLI_COMMAND(
         opt.progress = nullptr;
         model = CM::build_selected_compact_model(mesh, target, opt, so, &selection, &st);
       } else {
-        CM::Weighted_quadric_simplifier simplify;
-        simplify.optimal_placement = b->optimal_placement;
-        model = b->cubic ? CM::build_compact_model(mesh, target, opt, CM::Cubic_surface_traits(), simplify, &st)
-                         : CM::build_compact_model(mesh, target, opt, CM::Quadric_surface_traits(), simplify, &st);
+        const CM::Fit_configuration c{b->fit, b->optimal_placement, b->fit == "joint", b->cubic, 0.};
+        model = CM::build_configured_compact_model(mesh, target, opt, c, &st);
       }
       const double seconds = cmgeom_cli::now_seconds() - t0;
       stage.done();

@@ -58,6 +58,22 @@ inline std::vector<Fit_configuration> default_fit_candidates() {
       {"thesis", false, false, false, 0.}, {"joint-25", true, true, false, 25.}, {"joint-cubic", true, true, true, 0.}};
 }
 
+/// Builds the Compact Model of `input` in configuration `c`: build_compact_model() with
+/// `options` (its `joint_fit` and, when `c.sharp_angle` > 0, its `sharp_angle` replaced by the
+/// configuration's), the Weighted_quadric_simplifier placing base vertices as `c` says, and the
+/// cubic or quadric traits. `stats` receives the build's statistics.
+inline Compact_model build_configured_compact_model(const CMGeom::Surface_mesh& input, std::size_t target_faces,
+                                                    const Build_options& options, const Fit_configuration& c,
+                                                    Build_statistics* stats = nullptr) {
+  Build_options o = options;
+  o.joint_fit = c.joint_fit;
+  if (c.sharp_angle > 0.) o.sharp_angle = c.sharp_angle;
+  Weighted_quadric_simplifier simplify;
+  simplify.optimal_placement = c.optimal_placement;
+  return c.cubic ? build_compact_model(input, target_faces, o, Cubic_surface_traits(), simplify, stats)
+                 : build_compact_model(input, target_faces, o, Quadric_surface_traits(), simplify, stats);
+}
+
 /// Options of build_selected_compact_model().
 struct Selection_options {
   std::vector<Fit_configuration> candidates = default_fit_candidates();
@@ -112,20 +128,13 @@ inline Compact_model build_selected_compact_model(const CMGeom::Surface_mesh& in
   // the joint refit's factorization use one core); the first, on the calling thread, reports the
   // progress of the builds' half.
   auto build = [&](std::size_t i) {
-    const Fit_configuration& c = selection.candidates[i];
     Build_options o = options;
-    o.joint_fit = c.joint_fit;
-    if (c.sharp_angle > 0.) o.sharp_angle = c.sharp_angle;
     o.progress = nullptr;
     if (i == 0 && progress.active()) o.progress = [&progress](double f) { progress.report(0.5 * f); };
-    Weighted_quadric_simplifier simplify;
-    simplify.optimal_placement = c.optimal_placement;
     Selection_result::Candidate& r = res.candidates[i];
-    r.configuration = c;
+    r.configuration = selection.candidates[i];
     const auto t0 = std::chrono::steady_clock::now();
-    models[i] = c.cubic
-                    ? build_compact_model(input, target_faces, o, Cubic_surface_traits(), simplify, &r.statistics)
-                    : build_compact_model(input, target_faces, o, Quadric_surface_traits(), simplify, &r.statistics);
+    models[i] = build_configured_compact_model(input, target_faces, o, r.configuration, &r.statistics);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   {
