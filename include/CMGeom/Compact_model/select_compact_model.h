@@ -26,12 +26,17 @@
 #include <CMGeom/Progress.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <limits>
+#include <numeric>
+#include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include <tbb/collaborative_call_once.h>
 #include <tbb/task_group.h>
 
 namespace CMGeom {
@@ -112,9 +117,8 @@ inline Compact_model build_selected_compact_model(const CMGeom::Surface_mesh& in
     throw Invalid_input("build_selected_compact_model: the level must be in [1, 6]");
   internal::check_build_arguments(input, target_faces, options);
 
-  // Shares of the progress: the builds half, the measures the other half.
   CMGeom::internal::Progress_reporter progress(selection.progress);
-  const double n = double(selection.candidates.size());
+  const std::size_t n = selection.candidates.size();
   Metrics::Error_options eo;
   eo.samples =
       selection.samples ? selection.samples : std::max<std::size_t>(2 * input.number_of_faces(), std::size_t(100000));
@@ -122,48 +126,64 @@ inline Compact_model build_selected_compact_model(const CMGeom::Surface_mesh& in
 
   Selection_result local;
   Selection_result& res = result ? *result : local;
-  res.candidates.assign(selection.candidates.size(), Selection_result::Candidate());
-  std::vector<Compact_model> models(selection.candidates.size());
-  // The builds run at once (each is deterministic and mostly sequential: its simplification and
-  // the joint refit's factorization use one core); the first, on the calling thread, reports the
-  // progress of the builds' half.
-  auto build = [&](std::size_t i) {
+  res.candidates.assign(n, Selection_result::Candidate());
+  std::vector<Compact_model> models(n);
+  // Every candidate is one task, its build then its measure, all at once: each build is
+  // deterministic and mostly sequential (its simplification and the joint refit's factorization
+  // use one core), so a measure runs beside the builds still going. The reference side of the
+  // measures is prepared once, by the first measure (the others wait for it, helping). Progress:
+  // the fraction of the builds and measures done, reported from the calling thread only, with the
+  // progress of a build that runs there.
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<std::size_t> stages_done{0};
+  const double stages = 2. * double(n);
+  auto stage_done = [&] {
+    const std::size_t k = stages_done.fetch_add(1) + 1;
+    if (std::this_thread::get_id() == caller) progress.report(double(k) / stages);
+  };
+  std::optional<Metrics::Error_reference> reference;
+  tbb::collaborative_once_flag reference_made;
+  auto build_and_measure = [&](std::size_t i) {
     Build_options o = options;
     o.progress = nullptr;
-    if (i == 0 && progress.active()) o.progress = [&progress](double f) { progress.report(0.5 * f); };
+    if (progress.active() && std::this_thread::get_id() == caller)
+      o.progress = [&](double f) { progress.report((double(stages_done.load()) + (std::min)(f, 1.)) / stages); };
     Selection_result::Candidate& r = res.candidates[i];
     r.configuration = selection.candidates[i];
     const auto t0 = std::chrono::steady_clock::now();
     models[i] = build_configured_compact_model(input, target_faces, o, r.configuration, &r.statistics);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  };
-  {
-    tbb::task_group others;
-    for (std::size_t i = 1; i < models.size(); ++i) others.run([&build, i] { build(i); });
-    try {
-      build(0);
-    } catch (...) {
-      others.wait();
-      throw;
-    }
-    others.wait();
-  }
-  progress.report(0.5);
-  const Metrics::Error_reference reference(input, eo);
-  double best_h = std::numeric_limits<double>::infinity(), best_rms = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < models.size(); ++i) {
-    Selection_result::Candidate& r = res.candidates[i];
+    stage_done();
+    tbb::collaborative_call_once(reference_made, [&] { reference.emplace(input, eo); });
     // (a model stores the kind of every surface: the quadric traits evaluate cubic ones too)
     const Metrics::Approximation_error e =
-        reference.error(to_surface_mesh(reconstruct_regular(models[i], selection.level)));
+        reference->error(to_surface_mesh(reconstruct_regular(models[i], selection.level)));
     r.hausdorff = e.hausdorff;
     r.rms = e.rms;
+    stage_done();
+  };
+  // (the costliest configurations first: cubic, then joint refits)
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  auto cost_rank = [&](std::size_t i) {
+    const Fit_configuration& c = selection.candidates[i];
+    return 4 * int(c.cubic) + 2 * int(c.joint_fit) + int(c.optimal_placement);
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return cost_rank(a) > cost_rank(b); });
+  {
+    tbb::task_group tasks;
+    for (std::size_t i : order) tasks.run([&build_and_measure, i] { build_and_measure(i); });
+    tasks.wait();
+  }
+  double best_h = std::numeric_limits<double>::infinity(), best_rms = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Selection_result::Candidate& r = res.candidates[i];
     if (i == 0 || r.hausdorff < best_h || (r.hausdorff == best_h && r.rms < best_rms)) {
       best_h = r.hausdorff;
       best_rms = r.rms;
       res.chosen = i;
     }
-    progress.report(0.5 + 0.5 * double(i + 1) / n);
   }
   if (stats) *stats = res.candidates[res.chosen].statistics;
   progress.finish();
