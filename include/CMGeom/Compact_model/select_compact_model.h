@@ -30,13 +30,13 @@
 #include <chrono>
 #include <cstddef>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include <tbb/collaborative_call_once.h>
 #include <tbb/task_group.h>
 
 namespace CMGeom {
@@ -128,12 +128,13 @@ inline Compact_model build_selected_compact_model(const CMGeom::Surface_mesh& in
   Selection_result& res = result ? *result : local;
   res.candidates.assign(n, Selection_result::Candidate());
   std::vector<Compact_model> models(n);
-  // Every candidate is one task, its build then its measure, all at once: each build is
-  // deterministic and mostly sequential (its simplification and the joint refit's factorization
-  // use one core), so a measure runs beside the builds still going. The reference side of the
-  // measures is prepared once, by the first measure (the others wait for it, helping). Progress:
-  // the fraction of the builds and measures done, reported from the calling thread only, with the
-  // progress of a build that runs there.
+  // Every build is a task, and so is the reference side of the measures (the input's tree and
+  // samples, prepared once); a candidate's measure runs as soon as its build and the reference are
+  // both done, in the task that finished last, so measures run beside the builds still going.
+  // Each build is deterministic and mostly sequential (its simplification and the joint refit's
+  // factorization use one core). No task waits for another (a waiting thread would run other
+  // tasks meanwhile). Progress: the fraction of the builds and measures done, reported from the
+  // calling thread only, with the progress of a build that runs there.
   const std::thread::id caller = std::this_thread::get_id();
   std::atomic<std::size_t> stages_done{0};
   const double stages = 2. * double(n);
@@ -142,8 +143,20 @@ inline Compact_model build_selected_compact_model(const CMGeom::Surface_mesh& in
     if (std::this_thread::get_id() == caller) progress.report(double(k) / stages);
   };
   std::optional<Metrics::Error_reference> reference;
-  tbb::collaborative_once_flag reference_made;
-  auto build_and_measure = [&](std::size_t i) {
+  std::mutex hand_over;            // guards the two below
+  bool reference_ready = false;    // `reference` made
+  std::vector<std::size_t> built;  // candidates built before it, their measures not started
+  auto measure = [&](std::size_t i) {
+    Selection_result::Candidate& r = res.candidates[i];
+    // (a model stores the kind of every surface: the quadric traits evaluate cubic ones too)
+    const Metrics::Approximation_error e =
+        reference->error(to_surface_mesh(reconstruct_regular(models[i], selection.level)));
+    r.hausdorff = e.hausdorff;
+    r.rms = e.rms;
+    stage_done();
+  };
+  tbb::task_group tasks;
+  auto build = [&](std::size_t i) {
     Build_options o = options;
     o.progress = nullptr;
     if (progress.active() && std::this_thread::get_id() == caller)
@@ -154,15 +167,27 @@ inline Compact_model build_selected_compact_model(const CMGeom::Surface_mesh& in
     models[i] = build_configured_compact_model(input, target_faces, o, r.configuration, &r.statistics);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     stage_done();
-    tbb::collaborative_call_once(reference_made, [&] { reference.emplace(input, eo); });
-    // (a model stores the kind of every surface: the quadric traits evaluate cubic ones too)
-    const Metrics::Approximation_error e =
-        reference->error(to_surface_mesh(reconstruct_regular(models[i], selection.level)));
-    r.hausdorff = e.hausdorff;
-    r.rms = e.rms;
-    stage_done();
+    {
+      std::lock_guard<std::mutex> lock(hand_over);
+      if (!reference_ready) {
+        built.push_back(i);
+        return;
+      }
+    }
+    measure(i);
   };
-  // (the costliest configurations first: cubic, then joint refits)
+  auto make_reference = [&] {
+    reference.emplace(input, eo);
+    std::vector<std::size_t> waiting;
+    {
+      std::lock_guard<std::mutex> lock(hand_over);
+      reference_ready = true;
+      waiting.swap(built);
+    }
+    for (std::size_t i : waiting) tasks.run([&measure, i] { measure(i); });
+  };
+  // (the costliest configurations first: cubic, then joint refits; the reference last, which the
+  // calling thread, taking its own newest task first, then starts at once)
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), std::size_t(0));
   auto cost_rank = [&](std::size_t i) {
@@ -171,11 +196,9 @@ inline Compact_model build_selected_compact_model(const CMGeom::Surface_mesh& in
   };
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return cost_rank(a) > cost_rank(b); });
-  {
-    tbb::task_group tasks;
-    for (std::size_t i : order) tasks.run([&build_and_measure, i] { build_and_measure(i); });
-    tasks.wait();
-  }
+  for (std::size_t i : order) tasks.run([&build, i] { build(i); });
+  tasks.run(make_reference);
+  tasks.wait();
   double best_h = std::numeric_limits<double>::infinity(), best_rms = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < n; ++i) {
     const Selection_result::Candidate& r = res.candidates[i];
