@@ -9,7 +9,8 @@
 // Key choice: the error of a CM is not monotone in its base size, so candidate bases (a grid of
 // ratio sqrt 2) are searched upwards from small ones instead of bisected; when no candidate meets
 // the target the closest one is returned with `met` false. Each candidate costs one build, one
-// reconstruction per level and one error measure (about 5-8 candidates).
+// reconstruction and one error measure per level (about 5-8 candidates), the measures against one
+// prepared Metrics::Error_reference of the input.
 //
 // Manual: doc/Compact_model/README.md, "The compact file (version 3) and rate–distortion".
 #ifndef CMGEOM_COMPACT_MODEL_RATE_DISTORTION_H
@@ -97,6 +98,9 @@ Compact_model build_compact_model_for(const CMGeom::Surface_mesh& input, const R
   Metrics::Error_options eo;
   eo.samples = target.samples ? target.samples : 2 * input.number_of_faces();
   eo.vertex_field = false;
+  // the input's side of every measure (its tree and samples), prepared once: the same numbers as
+  // approximation_error() (the number of samples is fixed)
+  const Metrics::Error_reference reference(input, eo);
 
   auto encoding_for = [&](double tolerance_fraction) {
     Compact_encoding e;
@@ -118,8 +122,16 @@ Compact_model build_compact_model_for(const CMGeom::Surface_mesh& input, const R
     const Compact_model q = quantized_model(c.model, c.encoding);
     Reconstruction_options ro;
     for (int level = 1; level <= target.max_level; ++level) {
-      const Reconstruction r = reconstruct_regular(q, level, ro, traits);
-      const Metrics::Approximation_error e = Metrics::approximation_error(input, to_surface_mesh(r), eo);
+      // (with an error bound, the lowest level within it is kept: the finer ones are never chosen)
+      if (target.max_error > 0. && c.hausdorff <= target.max_error) break;
+      const CMGeom::Surface_mesh mesh = to_surface_mesh(reconstruct_regular(q, level, ro, traits));
+      // A level is kept only when its error is below the one kept so far: a lower bound of it on
+      // every 16th sample (a subset of the full measure's; the margin covers the round-off by
+      // which a closest point depends on where its search starts) spares the full measure of one
+      // that cannot be. The choice is the one every full measure gives.
+      if (std::isfinite(c.hausdorff) && reference.hausdorff_lower_bound(mesh, 16) > c.hausdorff * (1. + 1e-9) + 1e-15)
+        continue;
+      const Metrics::Approximation_error e = reference.error(mesh);
       const double h = e.hausdorff, rms = e.rms;  // fractions of the input's diagonal
       // max_error: the lowest level within the bound; otherwise the lowest error
       const bool better = target.max_error > 0. ? (c.hausdorff > target.max_error && h < c.hausdorff) : h < c.hausdorff;
