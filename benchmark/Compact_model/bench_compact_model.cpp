@@ -17,10 +17,14 @@
 // 2-4 with the adaptive one driven by Chord_error_criterion (error_criterion.h: the tolerance
 // chosen by reconstruct_to_vertex_budget for the regular level's vertex count, at most 3 more
 // halvings) and with the length criterion of §4.5.2 (its threshold bisected to the same budget);
-// the CM is built with the default Build_options.
+// the CM is built with the default Build_options. Beside them, the adaptive output placed by the
+// model's level error table (level_errors.h, measured to depth 5 against the input; the measure's
+// time and the table's bytes in a version 2 / version 3 file) for the same budget, at most level 5.
 // Environment: CMGEOM_CM_CONE_RATIO overrides Build_options::cone_error_ratio.
 #include <CMGeom/Compact_model.h>
 #include <CMGeom/Compact_model/error_criterion.h>
+#include <CMGeom/Compact_model/cm_compact_io.h>
+#include <CMGeom/Compact_model/level_errors.h>
 #include <CMGeom/Compact_model/select_compact_model.h>
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -169,10 +173,12 @@ bool read_model(const std::string& data, const Model& md, const std::string& tmp
 
 // Regular against adaptive reconstructions at equal output vertex counts (see the file comment).
 int adaptive_table(const std::string& data, const std::vector<Model>& models, const std::string& tmp) {
+  constexpr int table_depth = 5;
   std::printf(
       "| model | base V/F | level | regular V | regular Hausdorff %% | regular RMS %% | chord-error V | tolerance %% | "
-      "chord-error Hausdorff %% | chord-error RMS %% | length V | length Hausdorff %% | length RMS %% |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "chord-error Hausdorff %% | chord-error RMS %% | length V | length Hausdorff %% | length RMS %% | table V | "
+      "table Hausdorff %% | table RMS %% | table s | table bytes (v2 / v3) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Model& md : models) {
     CMGeom::Textured_mesh tm;
     if (!read_model(data, md, tmp, tm)) continue;
@@ -181,7 +187,14 @@ int adaptive_table(const std::string& data, const std::vector<Model>& models, co
     const CM::Compact_model model = CM::build_compact_model(mesh, md.base_faces);
     CM::Reconstruction_options ro;
     ro.projection = CM::Projection::closest_point;
+    CM::Compact_model tabled = model;
+    const auto tm0 = std::chrono::steady_clock::now();
+    CM::measure_level_errors(tabled, mesh, table_depth, ro);
+    const double table_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm0).count();
     const std::string name = std::filesystem::path(md.file).filename().string();
+    CM::CM_file_parts parts;
+    CM::compact_cm_bytes(tabled, CM::Compact_encoding(), &parts);
+    const std::size_t table_v2 = CM::cm_bytes(tabled).size() - CM::cm_bytes(model).size();
     for (int level = 2; level <= 4; ++level) {
       const CM::Reconstruction reg = CM::reconstruct_regular(model, level, ro);
       const std::size_t budget = reg.points.size();
@@ -202,10 +215,16 @@ int adaptive_table(const std::string& data, const std::vector<Model>& models, co
         }
       }
       const auto el = metro(mesh, CM::to_surface_mesh(len));
-      std::printf("| %s | %zu/%zu | %d | %zu | %.3f | %.4f | %zu | %.4f | %.3f | %.4f | %zu | %.3f | %.4f |\n",
-                  name.c_str(), model.vertices.size(), model.faces.size(), level, budget, 100 * er.hausdorff,
-                  100 * er.rms, ad.reconstruction.points.size(), 100 * ad.tolerance / diagonal, 100 * ea.hausdorff,
-                  100 * ea.rms, len.points.size(), 100 * el.hausdorff, 100 * el.rms);
+      const CM::Vertex_budget_result tb = CM::reconstruct_to_vertex_budget(tabled, budget, table_depth, ro);
+      const auto et = metro(mesh, CM::to_surface_mesh(tb.reconstruction));
+      std::printf(
+          "| %s | %zu/%zu | %d | %zu | %.3f | %.4f | %zu | %.4f | %.3f | %.4f | %zu | %.3f | %.4f | %zu | %.3f | %.4f "
+          "| "
+          "%.2f | %zu / %zu |\n",
+          name.c_str(), model.vertices.size(), model.faces.size(), level, budget, 100 * er.hausdorff, 100 * er.rms,
+          ad.reconstruction.points.size(), 100 * ad.tolerance / diagonal, 100 * ea.hausdorff, 100 * ea.rms,
+          len.points.size(), 100 * el.hausdorff, 100 * el.rms, tb.reconstruction.points.size(), 100 * et.hausdorff,
+          100 * et.rms, table_seconds, table_v2, parts.level_errors);
       std::fflush(stdout);
     }
   }

@@ -533,10 +533,23 @@ std::string compact_cm_bytes(const Compact_model& m, const Compact_encoding& enc
       }
   }
 
+  // Level error table (Compact_model.h), faces in decoding order.
+  std::string level_errors;
+  if (!m.level_errors.empty()) {
+    const Level_errors& le = m.level_errors;
+    internal::Le_writer lw;
+    lw.u8(std::uint8_t(le.depth));
+    lw.f32(le.unit);
+    for (const std::vector<std::uint8_t>* codes : {&le.rms, &le.max})
+      for (int l = 0; l <= le.depth; ++l)
+        for (std::size_t f = 0; f < F; ++f) lw.u8((*codes)[std::size_t(l) * F + std::size_t(ec.old_corner[f][0] / 3)]);
+    level_errors = std::move(lw.out);
+  }
+
   internal::Le_writer w;
   w.out.assign(internal::cm_magic, 8);
   w.u32(version3);
-  w.u32(m.has_uvs() ? 1u : 0u);
+  w.u32((m.has_uvs() ? 1u : 0u) | (m.level_errors.empty() ? 0u : 2u));
   w.u32(std::uint32_t(V));
   w.u32(std::uint32_t(F));
   w.u32(std::uint32_t(K));
@@ -552,6 +565,7 @@ std::string compact_cm_bytes(const Compact_model& m, const Compact_encoding& enc
   pr.normals = put_stream(w, normals.s, enc.zstd_level);
   pr.coefficients = put_stream(w, coefficients.s, enc.zstd_level);
   pr.uvs = put_stream(w, uvs.s, enc.zstd_level);
+  if (!level_errors.empty()) pr.level_errors = put_stream(w, level_errors, enc.zstd_level);
   w.u64(internal::fnv1a64(reinterpret_cast<const unsigned char*>(w.out.data()), w.out.size()));
   pr.checksum = 8;
   if (parts) *parts = pr;
@@ -575,7 +589,7 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
   Le_reader r{data, bytes.size() - 8, 8, file};
   if (r.u32() != version3) throw IO_error(file, "not a version 3 CM file");
   const std::uint64_t flags = r.u32();
-  if (flags & ~1u) throw IO_error(file, "unknown flags " + std::to_string(flags));
+  if (flags & ~3u) throw IO_error(file, "unknown flags " + std::to_string(flags));
   const std::uint64_t V = r.u32(), F = r.u32(), K = r.u32();
   if (F == 0 || F >= max_count || V > 3 * F || V == 0 || K < V || K > 3 * F)
     throw IO_error(file, "corrupt file: inconsistent counts (" + std::to_string(V) + " vertices, " + std::to_string(F) +
@@ -590,6 +604,7 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
     throw IO_error(file, "corrupt file: invalid quantization parameters");
   const std::string cs = get_stream(r, "connectivity"), ss = get_stream(r, "sectors"), ps = get_stream(r, "positions"),
                     ns = get_stream(r, "normals"), fs = get_stream(r, "coefficients"), us = get_stream(r, "uvs");
+  const std::string ls = (flags & 2u) ? get_stream(r, "level errors") : std::string();
   if (r.pos != r.n)
     throw IO_error(file, "corrupt file: " + std::to_string(r.n - r.pos) + " unexpected bytes before the checksum");
   if (F > cs.size()) throw IO_error(file, "corrupt file: the connectivity stream is too short for its faces");
@@ -760,6 +775,21 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
     in.finish();
   } else if (!us.empty()) {
     throw IO_error(file, "corrupt file: texture coordinates in an untextured model");
+  }
+  if (flags & 2u) {
+    if (ls.size() < 5) throw IO_error(file, "corrupt file: the level error stream is too short");
+    Level_errors& le = m.level_errors;
+    le.depth = int(static_cast<unsigned char>(ls[0]));
+    std::uint32_t ub = 0;
+    for (int i = 0; i < 4; ++i) ub |= std::uint32_t(static_cast<unsigned char>(ls[std::size_t(1 + i)])) << (8 * i);
+    float u;
+    std::memcpy(&u, &ub, 4);
+    le.unit = double(u);
+    if (le.depth > 12) throw IO_error(file, "corrupt file: level error table deeper than level 12");
+    const std::size_t n = std::size_t(le.depth + 1) * F;
+    if (ls.size() != 5 + 2 * n) throw IO_error(file, "corrupt file: the level error stream does not match the faces");
+    le.rms.assign(ls.begin() + 5, ls.begin() + std::ptrdiff_t(5 + n));
+    le.max.assign(ls.begin() + std::ptrdiff_t(5 + n), ls.end());
   }
   try {
     m.validate("CM content");

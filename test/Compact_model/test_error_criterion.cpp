@@ -1,6 +1,11 @@
 // Tests of the error-driven adaptive reconstruction (error_criterion.h): the chord estimate,
-// vertex budgets, the tolerance on every output edge.
+// vertex budgets, the tolerance on every output edge; the level error table (level_errors.h):
+// its codes, its agreement with an independent Metro measure, where it puts the error, its file
+// round trips, the exact vertex count of per-face levels, and budgets placed by it.
 #include "compact_model_test_util.h"
+
+#include <CMGeom/Compact_model/cm_compact_io.h>
+#include <CMGeom/Compact_model/level_errors.h>
 
 namespace {
 
@@ -72,6 +77,158 @@ TEST(CompactModelAdaptive, ChordErrorRefinesWhereTheSurfaceBends) {
   };
   EXPECT_LE(ad.reconstruction.points.size(), reg.points.size());
   EXPECT_GT(count(ad.reconstruction, true), 3 * count(ad.reconstruction, false));
+}
+
+// ------------------------------------------------------------------ level error table
+// The unit sphere with a Gaussian bump of height 0.15 around (0, 0, 1).
+Surface_mesh bumped_sphere() {
+  Surface_mesh s = make_sphere(5);
+  for (auto v : s.vertices()) {
+    const Point_3 p = s.point(v);
+    const double d2 = CGAL::squared_distance(p, Point_3(0, 0, 1));
+    s.point(v) = CGAL::ORIGIN + (1. + 0.15 * std::exp(-d2 / 0.02)) * (p - CGAL::ORIGIN);
+  }
+  return s;
+}
+
+// Codes: 0 is 0; a distance comes back within half a step (2^(1/32) - 1 = 2.2 %) inside the range;
+// codes grow with the distance.
+TEST(CompactModelLevelErrors, CodesRoundTripWithinHalfAStep) {
+  const double unit = 1e-6;
+  EXPECT_EQ(Level_errors::encode(0., unit), 0);
+  EXPECT_EQ(Level_errors::decode(0, unit), 0.);
+  int previous = 0;
+  for (double x = unit; x < unit * std::exp2(15.8); x *= 1.013) {
+    const std::uint8_t c = Level_errors::encode(x, unit);
+    EXPECT_GE(int(c), previous);
+    previous = c;
+    EXPECT_NEAR(Level_errors::decode(c, unit), x, 0.0222 * x) << x;
+  }
+  EXPECT_EQ(Level_errors::encode(1., unit), 255);
+}
+
+// A sphere with a bump: the model's table (i) agrees with an independent measure
+// (Metrics::approximation_error, its own random samples) of every regular level: the largest face
+// error within 10 % of the Hausdorff distance, the area-weighted RMS within 15 % of the RMS;
+// (ii) puts the largest level-2 error on a face near the bump.
+TEST(CompactModelLevelErrors, AgreeWithAnIndependentMeasureAndLocateTheError) {
+  const Surface_mesh s = bumped_sphere();
+  const Vec3 bump(0, 0, 1);
+  Compact_model m = build_compact_model(s, 120);
+  measure_level_errors(m, s, 3);
+  ASSERT_EQ(m.level_errors.depth, 3);
+  const std::size_t F = m.faces.size();
+  ASSERT_EQ(m.level_errors.rms.size(), 4 * F);
+  for (int level = 0; level <= 3; ++level) {
+    double mx = 0., s2 = 0., a = 0.;
+    for (std::size_t f = 0; f < F; ++f) {
+      const Vec3 &p = m.vertices[m.faces[f][0].vertex], &q = m.vertices[m.faces[f][1].vertex],
+                 &r = m.vertices[m.faces[f][2].vertex];
+      const double area = internal::length(internal::cross(q - p, r - p));
+      const double e = m.level_errors.rms_at(level, f, F);
+      s2 += area * e * e;
+      a += area;
+      mx = std::max(mx, m.level_errors.max_at(level, f, F));
+    }
+    const Surface_mesh rec = to_surface_mesh(reconstruct_regular(m, level));
+    const CMGeom::Metrics::Approximation_error ref = CMGeom::Metrics::approximation_error(s, rec);
+    EXPECT_NEAR(mx, ref.hausdorff * ref.diagonal, 0.10 * ref.hausdorff * ref.diagonal) << level;
+    EXPECT_NEAR(std::sqrt(s2 / a), ref.rms * ref.diagonal, 0.15 * ref.rms * ref.diagonal) << level;
+  }
+  std::size_t worst = 0;
+  for (std::size_t f = 1; f < F; ++f)
+    if (m.level_errors.max_at(2, f, F) > m.level_errors.max_at(2, worst, F)) worst = f;
+  Vec3 c(0, 0, 0);
+  for (const Corner& k : m.faces[worst]) c = c + (1. / 3.) * m.vertices[k.vertex];
+  EXPECT_LT(internal::length(c - bump), 0.5);
+  EXPECT_THROW(measure_level_errors(m, s, 9), CMGeom::Invalid_input);
+}
+
+// The table survives both file versions: version 2 exactly, version 3 per face (its faces are
+// stored in decoding order: the multiset of per-face code rows is the same). A table that does not
+// match the faces is refused, and a truncated one is a one-line IO_error.
+TEST(CompactModelLevelErrors, SurviveTheFileFormats) {
+  Compact_model m = sphere_model();
+  const Surface_mesh s = make_sphere(5);
+  measure_level_errors(m, s, 2);
+  const std::string v2 = cm_bytes(m);
+  EXPECT_EQ(parse_cm(v2), m);
+  EXPECT_THROW(parse_cm(v2.substr(0, v2.size() - 20) + v2.substr(v2.size() - 8)), CMGeom::IO_error);
+  const Compact_model q = quantized_model(m);
+  ASSERT_EQ(q.level_errors.depth, 2);
+  EXPECT_EQ(q.level_errors.unit, m.level_errors.unit);
+  auto rows = [](const Compact_model& x) {
+    const std::size_t F = x.faces.size();
+    std::vector<std::vector<int>> r(F);
+    for (std::size_t f = 0; f < F; ++f)
+      for (int l = 0; l <= x.level_errors.depth; ++l) {
+        r[f].push_back(x.level_errors.rms[std::size_t(l) * F + f]);
+        r[f].push_back(x.level_errors.max[std::size_t(l) * F + f]);
+      }
+    std::sort(r.begin(), r.end());
+    return r;
+  };
+  EXPECT_EQ(rows(q), rows(m));
+  CMGeom::CM::CM_file_parts parts;
+  const std::string v3 = compact_cm_bytes(m, Compact_encoding(), &parts);
+  EXPECT_GT(parts.level_errors, 0u);
+  EXPECT_EQ(parts.total(), v3.size());
+  Compact_model bad = m;
+  bad.level_errors.max.pop_back();
+  EXPECT_THROW(cm_bytes(bad), CMGeom::Invalid_input);
+}
+
+// reconstruct_face_levels() outputs exactly the points the level topology counts, without cracks,
+// for random per-face levels; uniform levels give the regular reconstruction's count and, bit for
+// bit, the adaptive reconstruction that splits every edge.
+TEST(CompactModelLevelErrors, PerFaceLevelsGiveTheCountedVerticesWithoutCracks) {
+  const Compact_model& m = sphere_model();
+  const internal::Face_level_topology topo(m);
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 4; ++trial) {
+    std::vector<std::uint8_t> levels(m.faces.size());
+    for (auto& l : levels) l = std::uint8_t(rng() % 5);
+    const Reconstruction r = reconstruct_face_levels(m, levels);
+    EXPECT_EQ(r.points.size(), topo.count(m.vertices.size(), levels));
+    std::string why;
+    EXPECT_TRUE(is_closed_and_shared(r, &why)) << why;
+  }
+  for (int l = 0; l <= 3; ++l) {
+    const std::vector<std::uint8_t> levels(m.faces.size(), std::uint8_t(l));
+    EXPECT_EQ(topo.count(m.vertices.size(), levels), reconstruct_regular(m, l).points.size());
+    EXPECT_TRUE(same(reconstruct_face_levels(m, levels), reconstruct_adaptive(m, Always_split(), l)));
+  }
+  EXPECT_THROW(reconstruct_face_levels(m, std::vector<std::uint8_t>(3, 1)), CMGeom::Invalid_input);
+}
+
+// Budgets placed by the table: within the budget, never an estimate worse than the regular
+// level that fits, and, measured independently against the input (Metro), an RMS no larger than
+// that regular level's and a Hausdorff distance no larger up to the measure's sampling (2 %), on
+// the bumped sphere and on the plane with a fillet.
+TEST(CompactModelLevelErrors, BudgetsPlacedByTheTableAreNoWorseThanRegular) {
+  std::vector<std::pair<Surface_mesh, std::size_t>> cases;
+  cases.emplace_back(bumped_sphere(), 120);
+  cases.emplace_back(plane_and_fillet(60), 60);
+  for (auto& [mesh, faces] : cases) {
+    Compact_model m = build_compact_model(mesh, faces);
+    measure_level_errors(m, mesh, 4);
+    for (int level = 1; level <= 3; ++level) {
+      const Reconstruction reg = reconstruct_regular(m, level);
+      const Vertex_budget_result ad = reconstruct_to_vertex_budget(m, reg.points.size(), 4);
+      ASSERT_TRUE(ad.level_errors);
+      EXPECT_EQ(ad.face_levels.regular_level, level);
+      EXPECT_LE(ad.reconstruction.points.size(), reg.points.size());
+      EXPECT_EQ(ad.reconstruction.points.size(), ad.face_levels.vertices);
+      EXPECT_LE(ad.face_levels.estimated_rms, ad.face_levels.regular_estimated_rms);
+      EXPECT_LE(ad.face_levels.estimated_max, ad.face_levels.regular_estimated_max);
+      const auto er = CMGeom::Metrics::approximation_error(mesh, to_surface_mesh(reg));
+      const auto ea = CMGeom::Metrics::approximation_error(mesh, to_surface_mesh(ad.reconstruction));
+      EXPECT_LE(ea.rms, er.rms) << level;
+      EXPECT_LE(ea.hausdorff, er.hausdorff * 1.02) << level;
+    }
+  }
+  Compact_model none = sphere_model();
+  EXPECT_THROW(face_levels_for_budget(none, 1000, 3), CMGeom::Invalid_input);
 }
 
 }  // namespace

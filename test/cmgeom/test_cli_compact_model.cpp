@@ -217,3 +217,52 @@ TEST(cmgeom_cli, CmBuildChoosesItsFitsByMeasurement) {
   EXPECT_NEAR(je["rms"].get<double>(), cs[0]["rms"].get<double>(), 1e-4 * cs[0]["rms"].get<double>());
   if (ja["fit"] == "thesis") EXPECT_EQ(file_bytes(dir + "/a.cm"), file_bytes(dir + "/t.cm"));
 }
+
+// `cm build --level-errors` stores the table (its bytes reported as a part of the compact file);
+// `cm reconstruct --vertices` at the vertex count of regular level 2 places them by it, within
+// the budget, and `cmgeom error` measures an RMS and a Hausdorff distance against the input no
+// larger than the regular level's (the Hausdorff up to the measure's sampling, 2 %). Without a
+// table the budget is placed by the chord error. A depth out of range writes nothing.
+TEST(cmgeom_cli, CmReconstructToAVertexBudgetFromTheLevelErrorTable) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  const auto b = cmgeom_test::run_cli(
+      "cm build " + spot() + " -o '" + dir + "/t.cm' --no-texture --ratio 0.1 --level-errors 3 --compact --json", dir);
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const auto jb = nlohmann::json::parse(b.out);
+  EXPECT_EQ(jb["level_errors"]["depth"].get<int>(), 3);
+  EXPECT_GT(jb["bytes_per_part"]["level_errors"].get<std::size_t>(), 0u);
+  const auto reg =
+      cmgeom_test::run_cli("cm reconstruct '" + dir + "/t.cm' -o '" + dir + "/reg.obj' --level 2 --json", dir);
+  ASSERT_EQ(reg.exit_code, 0) << reg.err;
+  const std::size_t budget = nlohmann::json::parse(reg.out)["vertices"].get<std::size_t>();
+  const auto ad = cmgeom_test::run_cli(
+      "cm reconstruct '" + dir + "/t.cm' -o '" + dir + "/ad.obj' --vertices " + std::to_string(budget) + " --json",
+      dir);
+  ASSERT_EQ(ad.exit_code, 0) << ad.err;
+  const auto ja = nlohmann::json::parse(ad.out);
+  EXPECT_EQ(ja["placed_by"].get<std::string>(), "level errors");
+  EXPECT_EQ(ja["mode"].get<std::string>(), "vertex-budget");
+  EXPECT_LE(ja["vertices"].get<std::size_t>(), budget);
+  EXPECT_LE(ja["estimated_rms"].get<double>(), ja["regular_estimated_rms"].get<double>());
+  const auto er = cmgeom_test::run_cli("error " + spot() + " '" + dir + "/reg.obj' --json", dir);
+  const auto ea = cmgeom_test::run_cli("error " + spot() + " '" + dir + "/ad.obj' --json", dir);
+  ASSERT_EQ(er.exit_code, 0) << er.err;
+  ASSERT_EQ(ea.exit_code, 0) << ea.err;
+  const auto jr = nlohmann::json::parse(er.out), je = nlohmann::json::parse(ea.out);
+  EXPECT_LE(je["rms"].get<double>(), jr["rms"].get<double>());
+  EXPECT_LE(je["hausdorff"].get<double>(), 1.02 * jr["hausdorff"].get<double>());
+
+  ASSERT_EQ(
+      cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/p.cm' --no-texture --ratio 0.1", dir).exit_code, 0);
+  const auto chord = cmgeom_test::run_cli(
+      "cm reconstruct '" + dir + "/p.cm' -o '" + dir + "/c.obj' --vertices " + std::to_string(budget) + " --json", dir);
+  ASSERT_EQ(chord.exit_code, 0) << chord.err;
+  EXPECT_EQ(nlohmann::json::parse(chord.out)["placed_by"].get<std::string>(), "chord error");
+  EXPECT_LE(nlohmann::json::parse(chord.out)["vertices"].get<std::size_t>(), budget);
+
+  const auto bad = cmgeom_test::run_cli(
+      "cm build " + spot() + " -o '" + dir + "/bad.cm' --no-texture --ratio 0.1 --level-errors 9", dir);
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.err.find("--level-errors"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir + "/bad.cm"));
+}

@@ -20,6 +20,8 @@
 #include <CMGeom/Cage_deformation/Cage_system_io.h>
 #include <CMGeom/Compact_model.h>
 #include <CMGeom/Compact_model/cm_compact_io.h>
+#include <CMGeom/Compact_model/error_criterion.h>
+#include <CMGeom/Compact_model/level_errors.h>
 #include <CMGeom/Compact_model/rate_distortion.h>
 #include <CMGeom/Compact_model/select_compact_model.h>
 #include <CMGeom/Deformable_compact_model.h>
@@ -101,7 +103,7 @@ CMGEOM_CLI_COMMAND(
          allow_degenerate = false, no_input_creases = false, optimal_placement = false;
     std::string fit = "auto";
     int select_level = 3;
-    int texture_size = 0, normal_bits = 12, max_level = 3;
+    int texture_size = 0, normal_bits = 12, max_level = 3, level_errors = -1;
     double tolerance = 0, max_error = 0;
     std::size_t max_bytes = 0;
     std::string texture;
@@ -177,6 +179,15 @@ CMGEOM_CLI_COMMAND(
   auto* normal_bits =
       build->add_option("--normal-bits", b->normal_bits,
                         "Compact file: bits per octahedral coordinate of the frame normals, 6-20 (default 12)");
+  auto* level_errors =
+      build
+          ->add_option(
+              "--level-errors", b->level_errors,
+              "Measure the regular reconstruction's error against the input per base face at levels 0-N (0-8) "
+              "and store it in the CM file, for `cm reconstruct --vertices` (CMGeom addition; about 2 bytes per "
+              "face and level)")
+          ->check(CLI::Range(0, 8));
+  level_errors->excludes(max_bytes);
   build->add_flag("--json", b->json, "Print a JSON report on stdout");
 
   // ------------------------------------------------------------------ cm reconstruct
@@ -184,6 +195,7 @@ CMGEOM_CLI_COMMAND(
     std::string input, output, roi, silhouette, projection = "closest";
     int level = 2, max_level = 6;
     double edge_length = 0;
+    std::size_t vertices = 0;
     bool json = false;
   };
   auto r = std::make_shared<Rec_args>();
@@ -194,9 +206,14 @@ CMGEOM_CLI_COMMAND(
   auto* edge = rec->add_option("--edge-length", r->edge_length, "Adaptive: split edges longer than this");
   auto* roi = rec->add_option("--roi", r->roi, "Adaptive: region of interest x,y,z,radius");
   auto* sil = rec->add_option("--silhouette", r->silhouette, "Adaptive: refine the silhouette seen from x,y,z");
-  level->excludes(edge)->excludes(roi)->excludes(sil);
-  edge->excludes(roi)->excludes(sil);
-  roi->excludes(sil);
+  auto* budget = rec->add_option(
+      "--vertices", r->vertices,
+      "Adaptive: at most this many output vertices, placed by the CM's level error table where it has one "
+      "(cm build --level-errors), by the estimated chord error otherwise");
+  level->excludes(edge)->excludes(roi)->excludes(sil)->excludes(budget);
+  edge->excludes(roi)->excludes(sil)->excludes(budget);
+  roi->excludes(sil)->excludes(budget);
+  sil->excludes(budget);
   rec->add_option("--max-level", r->max_level, "Adaptive: maximum halvings of a base edge (default 6)");
   rec->add_option("--projection", r->projection, "Projection onto local surfaces: closest (Newton) or normal")
       ->check(CLI::IsMember({"closest", "normal"}));
@@ -238,7 +255,7 @@ CMGEOM_CLI_COMMAND(
   def->add_flag("--json", d->json, "Print a JSON report on stdout");
 
   return [build, rec, def, b, r, d, faces, ratio, level, edge, roi, sil, d_cages, d_affine, d_edge, d_roi, d_sil,
-          tolerance, normal_bits, max_error, max_bytes, rate_level, fit, select_level]() -> int {
+          tolerance, normal_bits, max_error, max_bytes, rate_level, fit, select_level, level_errors, budget]() -> int {
     if (def->parsed()) {
       const double t_command = cmgeom_cli::now_seconds();
       if (d_cages->count() == 0 && d_affine->count() == 0)
@@ -520,6 +537,19 @@ CMGEOM_CLI_COMMAND(
       }
       const double seconds = cmgeom_cli::now_seconds() - t0;
       stage.done();
+      double level_errors_seconds = 0.;
+      if (level_errors->count()) {
+        cmgeom_cli::Progress le_stage("level errors");
+        CM::Reconstruction_options lo;
+        lo.progress = le_stage.hook();
+        const double t1 = cmgeom_cli::now_seconds();
+        if (b->cubic)
+          CM::measure_level_errors(model, mesh, b->level_errors, lo, CM::Cubic_surface_traits());
+        else
+          CM::measure_level_errors(model, mesh, b->level_errors, lo);
+        level_errors_seconds = cmgeom_cli::now_seconds() - t1;
+        le_stage.done();
+      }
       std::size_t bytes = 0;
       CM::CM_file_parts parts;
       std::string atlas;
@@ -586,6 +616,7 @@ CMGEOM_CLI_COMMAND(
           if (!atlas.empty()) j["atlas"] = atlas;
         }
         j["bytes"] = bytes;
+        if (level_errors->count()) j["level_errors"] = {{"depth", b->level_errors}, {"seconds", level_errors_seconds}};
         if (rate) {
           j["rate"] = {{"max_error", b->max_error},
                        {"max_bytes", b->max_bytes},
@@ -598,10 +629,11 @@ CMGEOM_CLI_COMMAND(
         }
         if (b->compact || rate) {
           j["format_version"] = 3;
-          j["bytes_per_part"] = {{"header", parts.header},   {"connectivity", parts.connectivity},
-                                 {"sectors", parts.sectors}, {"positions", parts.positions},
-                                 {"normals", parts.normals}, {"coefficients", parts.coefficients},
-                                 {"uvs", parts.uvs},         {"checksum", parts.checksum}};
+          j["bytes_per_part"] = {{"header", parts.header},    {"connectivity", parts.connectivity},
+                                 {"sectors", parts.sectors},  {"positions", parts.positions},
+                                 {"normals", parts.normals},  {"coefficients", parts.coefficients},
+                                 {"uvs", parts.uvs},          {"level_errors", parts.level_errors},
+                                 {"checksum", parts.checksum}};
         }
         j["seconds"] = seconds;
         cmgeom_cli::print_json(j);
@@ -618,7 +650,15 @@ CMGEOM_CLI_COMMAND(
     std::string mode = "regular";
     const double t0 = cmgeom_cli::now_seconds();
     CM::Reconstruction out;
-    if (edge->count()) {
+    CM::Vertex_budget_result vb;
+    if (budget->count()) {
+      if (r->vertices == 0) throw CMGeom::Invalid_input("--vertices must be at least 1");
+      mode = "vertex-budget";
+      cmgeom_cli::Progress stage("reconstruct");
+      vb = CM::reconstruct_to_vertex_budget(model, r->vertices, r->max_level, ro);
+      stage.done();
+      out = std::move(vb.reconstruction);
+    } else if (edge->count()) {
       if (!(r->edge_length > 0)) throw CMGeom::Invalid_input("--edge-length must be > 0");
       mode = "edge-length";
       out = reconstruct_with_progress(ro, 0, [&](const CM::Reconstruction_options& o) {
@@ -658,6 +698,20 @@ CMGEOM_CLI_COMMAND(
       j["base_faces"] = model.faces.size();
       j["vertices"] = out.points.size();
       j["faces"] = out.triangles.size();
+      if (budget->count()) {
+        j["budget"] = r->vertices;
+        j["placed_by"] = vb.level_errors ? "level errors" : "chord error";
+        if (vb.level_errors) {
+          j["regular_level"] = vb.face_levels.regular_level;
+          j["regular"] = vb.face_levels.regular;
+          j["estimated_rms"] = vb.face_levels.estimated_rms;
+          j["estimated_max"] = vb.face_levels.estimated_max;
+          j["regular_estimated_rms"] = vb.face_levels.regular_estimated_rms;
+          j["regular_estimated_max"] = vb.face_levels.regular_estimated_max;
+        } else {
+          j["tolerance"] = vb.tolerance;
+        }
+      }
       j["reconstruct_seconds"] = reconstruct_seconds;
       j["seconds"] = seconds;
       cmgeom_cli::print_json(j);

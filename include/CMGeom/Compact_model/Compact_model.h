@@ -7,7 +7,10 @@
 // thesis: an edge is sharp when its two faces use different coefficient lists at an endpoint
 // (the faces on either side belong to different sectors of that vertex). A vertex whose only
 // surface is conical is a cone-type vertex. Textured models carry one texture coordinate per
-// face corner and the path of the texture image (§4.5.4).
+// face corner and the path of the texture image (§4.5.4). A model may carry Level_errors: the
+// error of its regular reconstruction measured against the input, per base face and level (a
+// CMGeom addition: the error control of §4.5.3 measured once at build time, for adaptive
+// reconstruction to a vertex budget, error_criterion.h).
 //
 // Every stored number is float-representable (build_compact_model rounds them, and the CM file
 // stores float32), so writing and reading a model gives back exactly the same model.
@@ -39,6 +42,38 @@ struct Corner {
 /// Texture coordinates of the three corners of a face.
 using Face_uvs = std::array<std::array<float, 2>, 3>;
 
+/// Errors of the regular reconstruction against the input, per base face and level (see the file
+/// comment; measure_level_errors() in level_errors.h computes them). For level l in [0, depth] and
+/// face f, entry l * F + f of `rms` is the RMS distance of the samples attributed to f (both
+/// directions, area-weighted), of `max` their largest distance. Both are stored as 8-bit codes on
+/// a log scale: code 0 is 0, code c > 0 is unit * 2^((c - 1) / 16) (steps of 4.4 %, 16 octaves).
+struct Level_errors {
+  int depth = -1;                      ///< deepest level measured; -1: no table
+  double unit = 0.;                    ///< the distance of code 1 (float-representable)
+  std::vector<std::uint8_t> rms, max;  ///< codes, (depth + 1) x F each
+
+  bool empty() const { return depth < 0; }
+  static double decode(std::uint8_t code, double unit) {
+    return code == 0 ? 0. : unit * std::exp2(double(code - 1) / 16.);
+  }
+  /// The nearest code of `distance` on the log scale; distances below unit / 2^(1/32) give 0,
+  /// those above the largest code give 255.
+  static std::uint8_t encode(double distance, double unit) {
+    if (!(distance > 0.) || !(unit > 0.)) return 0;
+    const double c = std::round(16. * std::log2(distance / unit)) + 1.;
+    return c < 1. ? 0 : std::uint8_t(std::min(c, 255.));
+  }
+  double rms_at(int level, std::size_t face, std::size_t F) const {
+    return decode(rms[std::size_t(level) * F + face], unit);
+  }
+  double max_at(int level, std::size_t face, std::size_t F) const {
+    return decode(max[std::size_t(level) * F + face], unit);
+  }
+  bool operator==(const Level_errors& o) const {
+    return depth == o.depth && (depth < 0 || (unit == o.unit && rms == o.rms && max == o.max));
+  }
+};
+
 /// The Compact Model (see the file comment).
 struct Compact_model {
   std::vector<Vec3> vertices;           ///< base vertices (original points, §4.3)
@@ -47,6 +82,7 @@ struct Compact_model {
   std::vector<std::array<Corner, 3>> faces;
   std::vector<Face_uvs> uvs;  ///< empty, or one entry per face (§4.5.4)
   std::string texture;        ///< texture image path of a textured model ("" otherwise)
+  Level_errors level_errors;  ///< empty, or measured errors per face and level (see above)
 
   bool has_uvs() const { return !uvs.empty(); }
   std::size_t number_of_vertices() const { return vertices.size(); }
@@ -134,11 +170,18 @@ struct Compact_model {
           faces[i][0].vertex == faces[i][2].vertex)
         fail("face " + std::to_string(i) + " repeats a vertex");
     if (!uvs.empty() && uvs.size() != faces.size()) fail("texture coordinates do not match the faces");
+    if (!level_errors.empty()) {
+      const std::size_t n = std::size_t(level_errors.depth + 1) * faces.size();
+      if (level_errors.depth > 12) fail("level error table deeper than level 12");
+      if (!(level_errors.unit > 0.) || !std::isfinite(level_errors.unit)) fail("level error table has an invalid unit");
+      if (level_errors.rms.size() != n || level_errors.max.size() != n)
+        fail("level error table does not match the faces");
+    }
   }
 
   bool operator==(const Compact_model& o) const {
     return vertices == o.vertices && normals == o.normals && surfaces == o.surfaces && faces == o.faces &&
-           uvs == o.uvs && texture == o.texture;
+           uvs == o.uvs && texture == o.texture && level_errors == o.level_errors;
   }
   bool operator!=(const Compact_model& o) const { return !(*this == o); }
 };
@@ -155,6 +198,7 @@ inline void round_to_float(Compact_model& m) {
   for (Vec3& n : m.normals) n = Vec3(r(n.x), r(n.y), r(n.z));
   for (Local_surface& s : m.surfaces)
     for (double& c : s.c) c = r(c);
+  m.level_errors.unit = r(m.level_errors.unit);
 }
 
 }  // namespace CM

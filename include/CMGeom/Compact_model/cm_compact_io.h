@@ -4,8 +4,9 @@
 // The compact CM file (format version 3, a CMGeom addition to §4.4.3): write_compact_cm(),
 // compact_cm_bytes(), quantized_model(), Compact_encoding and CM_file_parts. A Compact Model is
 // quantized to a tolerance and entropy coded (connectivity, sectors, predicted positions,
-// octahedral normals, coefficients, uvs; LEB128 varints, zstd), for shipping a model in as few
-// bytes as its error allows. Versions 1 and 2 (cm_io.h) stay exact; version 3 is lossy by design
+// octahedral normals, coefficients, uvs, and a model's level error table if it has one; LEB128
+// varints, zstd), for shipping a model in as few bytes as its error allows. Versions 1 and 2
+// (cm_io.h) stay exact; version 3 is lossy by design
 // and bounded: each coefficient list is refitted in the decoded frame, then rounded so that the
 // height moves by at most tolerance / 2 within its sector. parse_cm() and read_cm() of cm_io.h
 // read all three versions; reading validates everything and returns no partial model.
@@ -41,9 +42,9 @@ struct Compact_encoding {
 /// Stored bytes of each part of a version 3 file (stream headers included).
 struct CM_file_parts {
   std::size_t header = 0, connectivity = 0, sectors = 0, positions = 0, normals = 0, coefficients = 0, uvs = 0,
-              checksum = 0;
+              level_errors = 0, checksum = 0;
   std::size_t total() const {
-    return header + connectivity + sectors + positions + normals + coefficients + uvs + checksum;
+    return header + connectivity + sectors + positions + normals + coefficients + uvs + level_errors + checksum;
   }
 };
 

@@ -7,7 +7,8 @@
 // versions 1 and 2 are read here, and version 3 (cm_compact_io.h) is read by parse_cm()/read_cm()
 // too. Version 2 is a CMGeom change to the thesis' layout (same model, same numbers): a corner
 // stores its vertex and, where the vertex has several sectors, a sector number, instead of three
-// indices; a model with a vertex of more than 255 sectors is written as version 1.
+// indices; a model with a vertex of more than 255 sectors is written as version 1. A model's level
+// error table (Compact_model::level_errors), when it has one, follows the uvs (flag bit 2).
 // Reading checks every count against the file size before allocating and every index and number
 // after, throws CMGeom::IO_error (file, what) on the first failure and returns no partial model;
 // write_cm() is atomic. Complexity: O(file size) (writing: O(F log F)).
@@ -172,7 +173,7 @@ inline std::string cm_bytes(const Compact_model& m) {
                 (m.has_uvs() ? m.faces.size() * 24 + m.texture.size() : 0));
   w.out.append(internal::cm_magic, 8);
   w.u32(v2 ? internal::cm_version : 1u);
-  w.u32((m.has_uvs() ? 1u : 0u) | (v2 && sec.implicit ? 2u : 0u));
+  w.u32((m.has_uvs() ? 1u : 0u) | (v2 && sec.implicit ? 2u : 0u) | (m.level_errors.empty() ? 0u : 4u));
   const std::vector<std::uint32_t> cones = m.cone_vertices();
   w.u64(m.vertices.size());
   w.u64(m.normals.size());
@@ -223,6 +224,12 @@ inline std::string cm_bytes(const Compact_model& m) {
         w.f32(uv[1]);
       }
   }
+  if (!m.level_errors.empty()) {
+    w.u8(std::uint8_t(m.level_errors.depth));
+    w.f32(m.level_errors.unit);
+    w.out.append(m.level_errors.rms.begin(), m.level_errors.rms.end());
+    w.out.append(m.level_errors.max.begin(), m.level_errors.max.end());
+  }
   w.u64(internal::fnv1a64(reinterpret_cast<const unsigned char*>(w.out.data()), w.out.size()));
   return w.out;
 }
@@ -256,7 +263,7 @@ inline Compact_model parse_cm(const std::string& bytes, const std::string& file 
   if (version != 1 && version != 2)
     throw IO_error(file, "unsupported CM version " + std::to_string(version) + " (this reader knows 1, 2 and 3)");
   const std::uint32_t flags = r.u32();
-  const std::uint32_t known_flags = version == 1 ? 1u : 3u;
+  const std::uint32_t known_flags = version == 1 ? 5u : 7u;
   if (flags & ~known_flags) throw IO_error(file, "unknown flags " + std::to_string(flags));
   const bool implicit = (flags & 2u) != 0;
   const std::uint64_t nv = r.u64(), nn = r.u64(), ns = r.u64(), nc = r.u64(), nf = r.u64();
@@ -375,6 +382,18 @@ inline Compact_model parse_cm(const std::string& bytes, const std::string& file 
         uv[0] = float(r.f32());
         uv[1] = float(r.f32());
       }
+  }
+  if (flags & 4u) {
+    r.need(5, "level error table");
+    Level_errors& le = m.level_errors;
+    le.depth = int(r.u8());
+    le.unit = r.f32();
+    if (le.depth > 12) throw IO_error(file, "level error table deeper than level 12");
+    const std::uint64_t n = std::uint64_t(le.depth + 1) * nf;
+    r.need(2 * n, "level error table");
+    le.rms.assign(data + r.pos, data + r.pos + n);
+    le.max.assign(data + r.pos + n, data + r.pos + 2 * n);
+    r.pos += 2 * n;
   }
   if (r.pos != r.n)
     throw IO_error(file, "corrupt file: " + std::to_string(r.n - r.pos) + " unexpected bytes before the checksum");

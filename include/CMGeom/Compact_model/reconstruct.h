@@ -98,6 +98,15 @@ struct Reconstruction {
 };
 
 // ------------------------------------------------------------------ criteria
+/// Where an adaptive criterion is asked about an edge: the base face(s) it lies in (two for a
+/// segment of an interior base edge, `face[1] == face[0]` inside a face or on the border) and the
+/// number of halvings that made it. A criterion callable as `c(a, b, site)` receives it; one
+/// callable as `c(a, b)` sees the samples alone.
+struct Split_site {
+  std::uint32_t face[2];
+  int level;
+};
+
 /// Splits every edge (adaptive with this criterion = regular subdivision).
 struct Always_split {
   bool operator()(const Sample&, const Sample&) const { return true; }
@@ -136,6 +145,22 @@ struct Silhouette_criterion {
 };
 
 namespace internal {
+
+template <class C, class = void>
+struct Takes_split_site : std::false_type {};
+template <class C>
+struct Takes_split_site<
+    C, std::void_t<decltype(std::declval<const C&>()(std::declval<const Sample&>(), std::declval<const Sample&>(),
+                                                     std::declval<const Split_site&>()))>> : std::true_type {};
+
+/// Asks criterion `c` about the edge (a, b) at `site` (see Split_site).
+template <class C>
+bool ask_criterion(const C& c, const Sample& a, const Sample& b, const Split_site& site) {
+  if constexpr (Takes_split_site<C>::value)
+    return c(a, b, site);
+  else
+    return c(a, b);
+}
 
 // Edges of the base mesh, faces' sides, and per-corner frames (computed once).
 struct Base_topology {
@@ -1568,7 +1593,11 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
         while (!stack.empty()) {
           const Item it = stack.back();
           stack.pop_back();
-          if (it.level >= max_level || !criterion(it.s0, it.s1)) continue;
+          if (it.level >= max_level ||
+              !internal::ask_criterion(
+                  criterion, it.s0, it.s1,
+                  Split_site{{f0, ed.face[1] == internal::Base_topology::npos ? f0 : ed.face[1]}, it.level}))
+            continue;
           const std::int64_t tm = (it.t0 + it.t1) / 2;
           const Sample sm = ev.on_edge(std::uint32_t(e), double(tm) / double(kOne));
           // Right half pushed first so the left one is processed (and its points emitted) first;
@@ -1653,7 +1682,8 @@ Reconstruction reconstruct_adaptive(const Compact_model& m, const Criterion& cri
             const int opp = (k + 2) % 3;
             if (coord(p, opp) == 0 && coord(q, opp) == 0) return memo.count(mid) || edge_lookup(k, mid) != nullptr;
           }
-          return level < max_level && criterion(node(p).s, node(q).s);
+          return level < max_level &&
+                 internal::ask_criterion(criterion, node(p).s, node(q).s, Split_site{{f, f}, level});
         };
         struct Tri {
           Bary p[3];

@@ -128,6 +128,15 @@ struct Triangle_tree {
     return traits.closest();
   }
 
+  /// The same search, also giving the index of the triangle of the closest point; `hint` is a
+  /// point of triangle `hint_triangle` (the result of a previous query serves).
+  std::pair<K::Point_3, std::size_t> closest_point_and_triangle(const K::Point_3& q, const K::Point_3& hint,
+                                                                std::size_t hint_triangle) const {
+    Closest_point_traits traits(q, hint, triangles.begin(), hint_triangle);
+    tree.traversal_with_priority(q, traits);
+    return {traits.closest(), traits.closest_triangle()};
+  }
+
 private:
   using Vec3 = CM::internal::Vec3;
   static Vec3 vec(const K::Point_3& p) { return Vec3(p.x(), p.y(), p.z()); }
@@ -135,8 +144,13 @@ private:
   class Closest_point_traits {
   public:
     using Priority = double;  // (the nearer box has the higher priority: minus its distance)
-    Closest_point_traits(const K::Point_3& q, const K::Point_3& hint)
-        : q_(vec(q)), best_(vec(hint)), best_sq_(CM::internal::squared_length(best_ - q_)) {}
+    Closest_point_traits(const K::Point_3& q, const K::Point_3& hint, Iterator first = Iterator(),
+                         std::size_t hint_triangle = 0)
+        : q_(vec(q)),
+          best_(vec(hint)),
+          best_sq_(CM::internal::squared_length(best_ - q_)),
+          first_(first),
+          best_id_(hint_triangle) {}
     bool go_further() const { return true; }
     void intersection(const K::Point_3&, const Primitive& p) {
       const K::Triangle_3& t = *p.id();
@@ -145,6 +159,7 @@ private:
       if (d < best_sq_) {
         best_sq_ = d;
         best_ = x;
+        best_id_ = std::size_t(p.id() - first_);
       }
     }
     template <class Node>
@@ -157,10 +172,13 @@ private:
       return {d < best_sq_, -d};
     }
     K::Point_3 closest() const { return K::Point_3(best_.x, best_.y, best_.z); }
+    std::size_t closest_triangle() const { return best_id_; }
 
   private:
     Vec3 q_, best_;
     double best_sq_;
+    Iterator first_;  // (triangles.begin(), for the index; unused by closest_point())
+    std::size_t best_id_;
   };
 };
 
