@@ -83,25 +83,11 @@ struct Face_level_topology {
   std::vector<std::array<std::uint32_t, 2>> edge_faces;
   std::vector<std::array<std::uint32_t, 3>> face_edges;
   explicit Face_level_topology(const Compact_model& m) {
-    const std::size_t F = m.faces.size();
-    std::vector<std::array<std::uint32_t, 4>> sides;  // (a, b, face, side)
-    sides.reserve(3 * F);
-    for (std::uint32_t f = 0; f < F; ++f)
-      for (std::uint32_t k = 0; k < 3; ++k) {
-        std::uint32_t a = m.faces[f][k].vertex, b = m.faces[f][(k + 1) % 3].vertex;
-        if (a > b) std::swap(a, b);
-        sides.push_back({a, b, f, k});
-      }
-    std::sort(sides.begin(), sides.end());
-    face_edges.resize(F);
-    for (std::size_t i = 0; i < sides.size();) {
-      std::size_t j = i + 1;
-      while (j < sides.size() && sides[j][0] == sides[i][0] && sides[j][1] == sides[i][1]) ++j;
-      const std::uint32_t e = std::uint32_t(edge_faces.size());
-      edge_faces.push_back({sides[i][2], j > i + 1 ? sides[i + 1][2] : sides[i][2]});
-      for (std::size_t k = i; k < j; ++k) face_edges[sides[k][2]][sides[k][3]] = e;
-      i = j;
-    }
+    Base_topology topo(m);  // (the reconstruction's own edge numbering)
+    edge_faces.reserve(topo.edges.size());
+    for (const auto& e : topo.edges)
+      edge_faces.push_back({e.face[0], e.face[1] == Base_topology::npos ? e.face[0] : e.face[1]});
+    face_edges = std::move(topo.face_edges);
   }
   static std::size_t interior_points(int l) {
     const std::size_t n = std::size_t(1) << l;
