@@ -1,5 +1,6 @@
 // Builds the Compact Model of a mesh, writes and reads it back, and reconstructs it regularly and
-// adaptively (region of interest around the first base vertex), swapping the local-surface
+// adaptively (region of interest around the first base vertex; a vertex budget placed by the
+// model's level error table, measured against the input), swapping the local-surface
 // traits (thesis quadrics, then cubics) to show the policy, and compares the thesis' independent
 // fits with the joint refit (Build_options::joint_fit) and with the joint refit of cubic surfaces
 // under error control (§4.5.3: Build_options::error_bound) by their Metro error; then lets
@@ -8,6 +9,8 @@
 //
 // Usage: compact_model_example [mesh] [base_faces]   (default: the shared fandisk, 250 faces)
 #include <CMGeom/Compact_model.h>
+#include <CMGeom/Compact_model/error_criterion.h>
+#include <CMGeom/Compact_model/level_errors.h>
 #include <CMGeom/Compact_model/select_compact_model.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Metrics/approximation_error.h>
@@ -46,6 +49,16 @@ int main(int argc, char** argv) {
   const CM::Reconstruction roi = CM::reconstruct_adaptive(back, CM::Region_of_interest_criterion{c, 0.1}, 4);
   std::cout << "regular level 2: " << regular.points.size() << " vertices; adaptive (ROI): " << roi.points.size()
             << " vertices\n";
+
+  // The level error table (a CMGeom addition): the error of regular levels 0-3 against the input,
+  // per base face, kept in the model; a vertex budget is then spent where it lowers that error.
+  CM::Compact_model tabled = back;
+  CM::measure_level_errors(tabled, input.mesh(), 3);
+  const CM::Vertex_budget_result budget = CM::reconstruct_to_vertex_budget(tabled, regular.points.size(), 3);
+  std::cout << "budget of " << regular.points.size()
+            << " vertices placed by the level error table: " << budget.reconstruction.points.size()
+            << " vertices, estimated RMS " << budget.face_levels.estimated_rms << " (regular level "
+            << budget.face_levels.regular_level << ": " << budget.face_levels.regular_estimated_rms << ")\n";
 
   // Another traits class: cubic local surfaces where they fit better.
   const CM::Compact_model cubic =

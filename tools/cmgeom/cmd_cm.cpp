@@ -543,10 +543,7 @@ CMGEOM_CLI_COMMAND(
         CM::Reconstruction_options lo;
         lo.progress = le_stage.hook();
         const double t1 = cmgeom_cli::now_seconds();
-        if (b->cubic)
-          CM::measure_level_errors(model, mesh, b->level_errors, lo, CM::Cubic_surface_traits());
-        else
-          CM::measure_level_errors(model, mesh, b->level_errors, lo);
+        CM::measure_level_errors(model, mesh, b->level_errors, lo);  // (any traits evaluate every stored surface)
         level_errors_seconds = cmgeom_cli::now_seconds() - t1;
         le_stage.done();
       }

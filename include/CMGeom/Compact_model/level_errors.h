@@ -56,11 +56,8 @@ inline Triangle_samples plan_triangle_samples(const Metrics::internal::Flat_mesh
   std::vector<double> area(T);
   double total = 0.;
   for (std::size_t t = 0; t < T; ++t) {
-    const auto& a = m.points[m.triangles[t][0]];
-    const auto& b = m.points[m.triangles[t][1]];
-    const auto& c = m.points[m.triangles[t][2]];
-    area[t] =
-        0.5 * length(cross(Vec3(b[0] - a[0], b[1] - a[1], b[2] - a[2]), Vec3(c[0] - a[0], c[1] - a[1], c[2] - a[2])));
+    const auto& tri = m.triangles[t];
+    area[t] = Metrics::internal::triangle_area(m.points[tri[0]], m.points[tri[1]], m.points[tri[2]]);
     if (std::isfinite(area[t])) total += area[t];
   }
   Triangle_samples s;
@@ -173,6 +170,12 @@ void measure_level_errors(Compact_model& m, const TriangleMesh& input, int depth
       w[f] += per_tri[t][1];
       dmax[f] = std::max(dmax[f], per_tri[t][2]);
     }
+    // The closest point of the reconstruction and its triangle, searched from the previous result
+    // unless `first`.
+    auto closest_on_rec = [&rec_tree](const P3& q, bool first, const std::pair<P3, std::size_t>& previous) {
+      return first ? rec_tree.closest_point_and_triangle(q)
+                   : rec_tree.closest_point_and_triangle(q, previous.first, previous.second);
+    };
     // Input -> reconstruction, per sample: its distance (and, at the finest level, the base face of
     // its closest point, which it is attributed to at every level).
     const std::size_t S = s_in.offset.back();
@@ -183,23 +186,12 @@ void measure_level_errors(Compact_model& m, const TriangleMesh& input, int depth
           for (std::size_t t = br.begin(); t != br.end(); ++t) {
             const auto& tri = in.triangles[t];
             const std::size_t o = s_in.offset[t], k = s_in.offset[t + 1] - o;
-            P3 hint;
-            std::size_t hint_t = 0;
+            std::pair<P3, std::size_t> c;
             for (std::size_t j = 0; j < k; ++j) {
               const P3 q = internal::triangle_sample(in.points[tri[0]], in.points[tri[1]], in.points[tri[2]], j, k);
-              if (step != 0) {
-                hint = j == 0 ? rec_tree.tree.closest_point(q) : rec_tree.closest_point(q, hint);
-              } else if (j == 0) {
-                const auto pp = rec_tree.tree.closest_point_and_primitive(q);
-                hint = pp.first;
-                hint_t = std::size_t(pp.second - rec_tree.triangles.begin());
-              } else {
-                const auto pt = rec_tree.closest_point_and_triangle(q, hint, hint_t);
-                hint = pt.first;
-                hint_t = pt.second;
-              }
-              dist[o + j] = std::sqrt(CGAL::squared_distance(q, hint));
-              if (step == 0) face_of[o + j] = r.base_face[hint_t];
+              c = closest_on_rec(q, j == 0, c);
+              dist[o + j] = std::sqrt(CGAL::squared_distance(q, c.first));
+              if (step == 0) face_of[o + j] = r.base_face[c.second];
             }
           }
         });
@@ -209,26 +201,15 @@ void measure_level_errors(Compact_model& m, const TriangleMesh& input, int depth
     std::vector<double> vdist(NV, 0.);
     if (step == 0) vface_of.assign(NV, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NV, block), [&](const tbb::blocked_range<std::size_t>& br) {
-      P3 hint;
-      std::size_t hint_t = 0;
+      std::pair<P3, std::size_t> c;
       bool have = false;
       for (std::size_t v = br.begin(); v != br.end(); ++v) {
         if (!in.used[v]) continue;
         const P3 q(in.points[v][0], in.points[v][1], in.points[v][2]);
-        if (step != 0) {
-          hint = have ? rec_tree.closest_point(q, hint) : rec_tree.tree.closest_point(q);
-        } else if (have) {
-          const auto pt = rec_tree.closest_point_and_triangle(q, hint, hint_t);
-          hint = pt.first;
-          hint_t = pt.second;
-        } else {
-          const auto pp = rec_tree.tree.closest_point_and_primitive(q);
-          hint = pp.first;
-          hint_t = std::size_t(pp.second - rec_tree.triangles.begin());
-        }
-        if (step == 0) vface_of[v] = r.base_face[hint_t];
+        c = closest_on_rec(q, !have, c);
+        if (step == 0) vface_of[v] = r.base_face[c.second];
         have = true;
-        vdist[v] = std::sqrt(CGAL::squared_distance(q, hint));
+        vdist[v] = std::sqrt(CGAL::squared_distance(q, c.first));
       }
     });
     for (std::size_t t = 0; t < in.triangles.size(); ++t)

@@ -128,6 +128,13 @@ struct Triangle_tree {
     return traits.closest();
   }
 
+  /// The closest point and the index of its triangle, searched without a hint (as CGAL's
+  /// closest_point_and_primitive()).
+  std::pair<K::Point_3, std::size_t> closest_point_and_triangle(const K::Point_3& q) const {
+    const auto pp = tree.closest_point_and_primitive(q);
+    return {pp.first, std::size_t(pp.second - triangles.begin())};
+  }
+
   /// The same search, also giving the index of the triangle of the closest point; `hint` is a
   /// point of triangle `hint_triangle` (the result of a previous query serves).
   std::pair<K::Point_3, std::size_t> closest_point_and_triangle(const K::Point_3& q, const K::Point_3& hint,
