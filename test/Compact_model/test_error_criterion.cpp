@@ -7,6 +7,10 @@
 #include <CMGeom/Compact_model/cm_compact_io.h>
 #include <CMGeom/Compact_model/level_errors.h>
 
+#include <tbb/task_arena.h>
+
+#include <cstring>
+
 namespace {
 
 // ------------------------------------------------------------------ error-driven adaptive
@@ -144,6 +148,21 @@ TEST(CompactModelLevelErrors, AgreeWithAnIndependentMeasureAndLocateTheError) {
   EXPECT_THROW(measure_level_errors(m, s, 9), CMGeom::Invalid_input);
 }
 
+// The table is the same on one thread and on four (its searches start from fixed blocks' previous
+// results, so not even the round-off depends on how the work was shared).
+TEST(CompactModelLevelErrors, DoNotDependOnTheThreadCount) {
+  const Surface_mesh s = bumped_sphere();
+  const Compact_model base = build_compact_model(s, 120);
+  std::vector<Compact_model> m(2, base);
+  for (int k = 0; k < 2; ++k) {
+    tbb::task_arena arena(k == 0 ? 1 : 4);
+    arena.execute([&] { measure_level_errors(m[std::size_t(k)], s, 3); });
+  }
+  EXPECT_EQ(m[0].level_errors.unit, m[1].level_errors.unit);
+  EXPECT_EQ(m[0].level_errors.rms, m[1].level_errors.rms);
+  EXPECT_EQ(m[0].level_errors.max, m[1].level_errors.max);
+}
+
 // The table survives both file versions: version 2 exactly, version 3 per face (its faces are
 // stored in decoding order: the multiset of per-face code rows is the same). A table that does not
 // match the faces is refused, and a truncated one is a one-line IO_error.
@@ -173,6 +192,41 @@ TEST(CompactModelLevelErrors, SurviveTheFileFormats) {
   const std::string v3 = compact_cm_bytes(m, Compact_encoding(), &parts);
   EXPECT_GT(parts.level_errors, 0u);
   EXPECT_EQ(parts.total(), v3.size());
+  // Version 3 stores the codes delta-coded (flag bit 2); a file with the codes as they are (flag
+  // bit 1 alone, the first layout of the table) still reads, to the same table.
+  const Compact_model d = parse_cm(v3);
+  EXPECT_EQ(rows(d), rows(m));
+  EXPECT_EQ(static_cast<unsigned char>(v3[12]), 6u);
+  std::string plain = v3.substr(0, v3.size() - 8);
+  std::size_t at = 69;
+  for (int k = 0; k < 6; ++k) {  // skip the six streams before the table's
+    std::uint32_t stored = 0;
+    std::memcpy(&stored, plain.data() + at + 5, 4);
+    at += 9 + stored;
+  }
+  std::string raw(1, char(d.level_errors.depth));
+  const float unit = float(d.level_errors.unit);
+  raw.append(reinterpret_cast<const char*>(&unit), 4);
+  raw.append(d.level_errors.rms.begin(), d.level_errors.rms.end());
+  raw.append(d.level_errors.max.begin(), d.level_errors.max.end());
+  const std::uint32_t n = std::uint32_t(raw.size());
+  plain.resize(at);
+  plain += '\0';  // method 0: raw
+  plain.append(reinterpret_cast<const char*>(&n), 4);
+  plain.append(reinterpret_cast<const char*>(&n), 4);
+  plain += raw;
+  const auto with_flags = [&](char flags) {  // (and the checksum of the bytes with them)
+    std::string out = plain;
+    out[12] = flags;
+    const std::uint64_t hash =
+        CMGeom::CM::internal::fnv1a64(reinterpret_cast<const unsigned char*>(out.data()), out.size());
+    out.append(reinterpret_cast<const char*>(&hash), 8);
+    return out;
+  };
+  EXPECT_EQ(parse_cm(with_flags(2)), d);
+  const Compact_model twice = parse_cm(with_flags(6));  // the raw codes read as deltas: another table
+  EXPECT_NE(twice.level_errors.rms, d.level_errors.rms);
+  EXPECT_THROW(parse_cm(with_flags(4)), CMGeom::IO_error);  // delta-coded codes without a table
   Compact_model bad = m;
   bad.level_errors.max.pop_back();
   EXPECT_THROW(cm_bytes(bad), CMGeom::Invalid_input);

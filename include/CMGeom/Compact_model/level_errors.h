@@ -14,7 +14,8 @@
 // low-discrepancy sequence, each weighted by the area it stands for: max(its triangles, 100 x the
 // base faces) on a reconstruction, max(4 x its triangles, 200 x the base faces) on the input, plus
 // the input's vertices for the largest distance (Metro's vertex samples). Deterministic whatever
-// the thread count (per-triangle partial sums reduced in order). Complexity per level:
+// the thread count (per-triangle partial sums reduced in order; each fixed block of triangles or
+// vertices searches from its previous result). Complexity per level:
 // O((S + T) log T) for S samples and T triangles.
 //
 // Manual: doc/Compact_model/README.md, "Adaptive reconstruction to a vertex budget".
@@ -30,6 +31,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <array>
@@ -146,23 +148,31 @@ void measure_level_errors(Compact_model& m, const TriangleMesh& input, int depth
     // Reconstruction -> input, per reconstructed triangle: sum of w d^2, sum of w, max d.
     const std::size_t T = rec.triangles.size();
     std::vector<std::array<double, 3>> per_tri(T);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, T, block), [&](const tbb::blocked_range<std::size_t>& br) {
-      for (std::size_t t = br.begin(); t != br.end(); ++t) {
-        const auto& tri = rec.triangles[t];
-        const std::size_t k = s_rec.offset[t + 1] - s_rec.offset[t];
-        std::array<double, 3> acc{0., 0., 0.};
-        P3 hint;
-        for (std::size_t j = 0; j < k; ++j) {
-          const P3 q = internal::triangle_sample(rec.points[tri[0]], rec.points[tri[1]], rec.points[tri[2]], j, k);
-          hint = j == 0 ? in_tree.tree.closest_point(q) : in_tree.closest_point(q, hint);
-          const double d = std::sqrt(CGAL::squared_distance(q, hint));
-          acc[0] += s_rec.weight[t] * d * d;
-          acc[1] += s_rec.weight[t];
-          acc[2] = std::max(acc[2], d);
-        }
-        per_tri[t] = acc;
-      }
-    });
+    // (Each block's searches start from the result before them: a reconstruction's triangles come
+    // base face by base face, so the previous sample is near. The blocks are the same whatever the
+    // thread count, simple_partitioner, and so are the results.)
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, T, block),
+        [&](const tbb::blocked_range<std::size_t>& br) {
+          P3 hint;
+          bool have = false;
+          for (std::size_t t = br.begin(); t != br.end(); ++t) {
+            const auto& tri = rec.triangles[t];
+            const std::size_t k = s_rec.offset[t + 1] - s_rec.offset[t];
+            std::array<double, 3> acc{0., 0., 0.};
+            for (std::size_t j = 0; j < k; ++j) {
+              const P3 q = internal::triangle_sample(rec.points[tri[0]], rec.points[tri[1]], rec.points[tri[2]], j, k);
+              hint = have ? in_tree.closest_point(q, hint) : in_tree.tree.closest_point(q);
+              have = true;
+              const double d = std::sqrt(CGAL::squared_distance(q, hint));
+              acc[0] += s_rec.weight[t] * d * d;
+              acc[1] += s_rec.weight[t];
+              acc[2] = std::max(acc[2], d);
+            }
+            per_tri[t] = acc;
+          }
+        },
+        tbb::simple_partitioner());
     std::vector<double> s2(F, 0.), w(F, 0.), dmax(F, 0.);
     for (std::size_t t = 0; t < T; ++t) {
       const std::uint32_t f = r.base_face[t];
@@ -182,36 +192,43 @@ void measure_level_errors(Compact_model& m, const TriangleMesh& input, int depth
     std::vector<double> dist(S);
     if (step == 0) face_of.resize(S);
     tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, in.triangles.size(), block), [&](const tbb::blocked_range<std::size_t>& br) {
+        tbb::blocked_range<std::size_t>(0, in.triangles.size(), block),
+        [&](const tbb::blocked_range<std::size_t>& br) {
+          std::pair<P3, std::size_t> c;
+          bool have = false;
           for (std::size_t t = br.begin(); t != br.end(); ++t) {
             const auto& tri = in.triangles[t];
             const std::size_t o = s_in.offset[t], k = s_in.offset[t + 1] - o;
-            std::pair<P3, std::size_t> c;
             for (std::size_t j = 0; j < k; ++j) {
               const P3 q = internal::triangle_sample(in.points[tri[0]], in.points[tri[1]], in.points[tri[2]], j, k);
-              c = closest_on_rec(q, j == 0, c);
+              c = closest_on_rec(q, !have, c);
+              have = true;
               dist[o + j] = std::sqrt(CGAL::squared_distance(q, c.first));
               if (step == 0) face_of[o + j] = r.base_face[c.second];
             }
           }
-        });
+        },
+        tbb::simple_partitioner());
     // The input's vertices too (Metro's vertex samples: where a thin feature's tip is), for the
     // largest distance only.
     const std::size_t NV = in.points.size();
     std::vector<double> vdist(NV, 0.);
     if (step == 0) vface_of.assign(NV, 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NV, block), [&](const tbb::blocked_range<std::size_t>& br) {
-      std::pair<P3, std::size_t> c;
-      bool have = false;
-      for (std::size_t v = br.begin(); v != br.end(); ++v) {
-        if (!in.used[v]) continue;
-        const P3 q(in.points[v][0], in.points[v][1], in.points[v][2]);
-        c = closest_on_rec(q, !have, c);
-        if (step == 0) vface_of[v] = r.base_face[c.second];
-        have = true;
-        vdist[v] = std::sqrt(CGAL::squared_distance(q, c.first));
-      }
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, NV, block),
+        [&](const tbb::blocked_range<std::size_t>& br) {
+          std::pair<P3, std::size_t> c;
+          bool have = false;
+          for (std::size_t v = br.begin(); v != br.end(); ++v) {
+            if (!in.used[v]) continue;
+            const P3 q(in.points[v][0], in.points[v][1], in.points[v][2]);
+            c = closest_on_rec(q, !have, c);
+            if (step == 0) vface_of[v] = r.base_face[c.second];
+            have = true;
+            vdist[v] = std::sqrt(CGAL::squared_distance(q, c.first));
+          }
+        },
+        tbb::simple_partitioner());
     for (std::size_t t = 0; t < in.triangles.size(); ++t)
       for (std::size_t i = s_in.offset[t]; i < s_in.offset[t + 1]; ++i) {
         const std::uint32_t f = face_of[i];
