@@ -3,8 +3,9 @@
 //
 // The CM file (thesis §4.4.3: vertices, coefficient lists, normals, cone-type vertices, and faces
 // as (vertex, coefficient list, normal) triples): write_cm(), read_cm(), parse_cm(), cm_bytes(),
-// texture_path(). Binary, little-endian, ending with an FNV-1a checksum. Version 2 is written,
-// versions 1 and 2 are read here, and version 3 (cm_compact_io.h) is read by parse_cm()/read_cm()
+// texture_path(). Binary, little-endian, ending with an FNV-1a checksum (fnv1a64(): offset basis
+// 1469598103934665603, not the usual 14695981039346656037). Version 2 is written, versions 1 and
+// 2 are read here, and version 3 (cm_compact_io.h) is read by parse_cm()/read_cm()
 // too. Version 2 is a CMGeom change to the thesis' layout (same model, same numbers): a corner
 // stores its vertex and, where the vertex has several sectors, a sector number, instead of three
 // indices; a model with a vertex of more than 255 sectors is written as version 1. A model's level
