@@ -66,6 +66,22 @@ TEST(TexturedSimplificationCli, SimplifyJsonAndErrors) {
     EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --faces 1000 --fit-rounds -1").first,
               2);  // a usage error
     EXPECT_FALSE(fs::exists(never));
+    // the fit is made with at least --fit-min-points input points per output face (default 3):
+    // bunny's 3,485 vertices on 1,000 faces are 3.485 per face, fitted above, not with 4
+    const std::string few = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_fit_min_points.off";
+    const auto [code, text] =
+        run("'" + exe + "' simplify '" + in + "' -o '" + few + "' --faces 1000 --json --fit-min-points 4");
+    ASSERT_EQ(code, 0) << text;
+    const auto j = nlohmann::json::parse(text);
+    EXPECT_EQ(j["fit_min_points"].get<double>(), 4.0);
+    EXPECT_EQ(j["fit_moves"].get<std::size_t>(), 0u);
+    Mesh unfitted;
+    ASSERT_TRUE(CGAL::IO::read_polygon_mesh(few, unfitted));
+    std::vector<Point> p;
+    for (auto v : unfitted.vertices()) p.push_back(unfitted.point(v));
+    EXPECT_EQ(p, points[0]);  // the --fit-rounds 0 output
+    EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --faces 1000 --fit-min-points -1").first, 2);
+    EXPECT_FALSE(fs::exists(never));
   }
   {
     // --memory-points N: at most N of the input's vertices as points (reported; 0 = all, the

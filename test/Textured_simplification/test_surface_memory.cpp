@@ -26,6 +26,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -361,7 +362,9 @@ TEST(SurfaceMemoryFit, RefusesInvalidOptions) {
                                              bad([](auto& o) { o.quadric_weight = -1; }),
                                              bad([](auto& o) { o.quadric_weight = INFINITY; }),
                                              bad([](auto& o) { o.max_turn = 0; }),
-                                             bad([](auto& o) { o.max_turn = 3.5; })};
+                                             bad([](auto& o) { o.max_turn = 3.5; }),
+                                             bad([](auto& o) { o.min_points_per_face = -1; }),
+                                             bad([](auto& o) { o.min_points_per_face = NAN; })};
   for (const auto& o : invalid) {
     EXPECT_THROW(TS::check_fit_options(o), std::invalid_argument);
     Mesh m = bumpy_torus(12, 8);
@@ -388,6 +391,54 @@ TEST(SurfaceMemoryFit, RefusesInvalidOptions) {
       EXPECT_THROW(TS::simplify_mesh(m, so), std::invalid_argument);
       EXPECT_EQ(m.number_of_faces(), 192u);
     }
+  }
+}
+
+// The fit is made only where the memory holds at least min_points_per_face points per face of the
+// result (default 3): the torus' 5,760 vertices are its points, so 1,920 faces (3 per face) are
+// fitted and 1,922 are not; the boundary is the same for simplify_mesh() and for the memory itself.
+TEST(SurfaceMemoryFit, IsMadeOnlyWithEnoughPointsPerFace) {
+  const Mesh input = bumpy_torus(120, 48);  // 11,520 faces, 5,760 vertices
+  ASSERT_EQ(input.number_of_vertices(), 5760u);
+  ASSERT_EQ(TS::Surface_fit_options().min_points_per_face, 3.0);
+  std::map<std::pair<std::size_t, double>, Mesh> out;
+  for (std::size_t target : {std::size_t(5760), std::size_t(1922), std::size_t(1920), std::size_t(1152)}) {
+    for (double min_points : {3.0, 0.0}) {
+      SCOPED_TRACE(std::to_string(target) + " faces, at least " + std::to_string(min_points) + " points per face");
+      Mesh m = input;
+      TS::Mesh_simplification_options o;
+      o.parts_min_faces = 0;
+      o.memory.fit.min_points_per_face = min_points;
+      const TS::Mesh_simplification_result r = TS::simplify_mesh(m, target, o);
+      ASSERT_EQ(r.faces_out, target);
+      const bool enough = min_points == 0 || 5760 >= 3 * target;
+      EXPECT_EQ(r.fit_moves > 0, enough);
+      out[{target, min_points}] = m;
+    }
+    // without the fit, the result is the collapsed mesh: the same as the run without fit rounds
+    Mesh unfitted = input;
+    TS::Mesh_simplification_options o;
+    o.parts_min_faces = 0;
+    o.memory.fit.rounds = 0;
+    TS::simplify_mesh(unfitted, target, o);
+    const Mesh& d = out[{target, 3.0}];
+    const bool same =
+        std::equal(d.points().begin(), d.points().end(), unfitted.points().begin(), unfitted.points().end());
+    EXPECT_EQ(same, 5760 < 3 * target) << target;
+  }
+  // the memory's own answer, on a mesh collapsed to 1,922 and then to 1,920 faces
+  Mesh m = input;
+  Memory memory(m, get(CGAL::vertex_point, m));
+  TS::Area_weighted_quadric_policies<Mesh> policy(m, TS::Quadric_options{false});
+  for (std::size_t faces : {std::size_t(1922), std::size_t(1920)}) {
+    TS::Face_count_stop_predicate<Mesh> stop(m, faces);
+    TS::edge_collapse(
+        m, stop, CMGeom::parameters::surface_memory(&memory, CGAL::parameters::get_cost(policy).get_placement(policy)));
+    ASSERT_EQ(m.number_of_faces(), faces);
+    TS::Surface_fit_options fo;
+    EXPECT_EQ(memory.fit_applies(m, fo), faces == 1920);
+    fo.rounds = 0;
+    EXPECT_FALSE(memory.fit_applies(m, fo));
   }
 }
 

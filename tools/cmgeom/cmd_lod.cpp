@@ -57,6 +57,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     bool shared_texture = false, no_overflow_charts = false, no_texture = false, no_error = false, json = false,
          no_repair = false, allow_degenerate = false, prune = false;
     int fit_rounds = 3;
+    double fit_min_points = TS::Surface_fit_options().min_points_per_face;
     std::size_t memory_points = 0;
     double overflow_colour_tolerance =
         CMGeom::Textured_simplification::Level_of_detail_options().overflow_colour_tolerance;
@@ -97,10 +98,16 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       ->check(CLI::IsMember({"weighted", "plain"}));
   app.add_option("--texture", o->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
   app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input");
-  app.add_option("--fit-rounds", o->fit_rounds,
-                 "Rounds of the fit of each level's vertices to the input's points (as simplify's --fit-rounds: a "
-                 "level is the mesh simplify gives for its face count); 0 = none. Default 3")
+  app.add_option(
+         "--fit-rounds", o->fit_rounds,
+         "Rounds of the fit of each level's vertices to the input's points (as simplify's --fit-rounds: a "
+         "level is the mesh simplify gives for its face count, and a level with fewer than 3 input points per face is "
+         "not fitted); 0 = none. Default 3")
       ->check(CLI::Range(0, 100));
+  app.add_option("--fit-min-points", o->fit_min_points,
+                 "Fit only when the input has at least this many points per face of a level (0 = always); "
+                 "Surface_fit_options::min_points_per_face. Default 3")
+      ->check(CLI::NonNegativeNumber);
   cmgeom_cli::add_memory_points_option(app, o->memory_points);
   app.add_flag("--no-error", o->no_error, "Do not measure the levels' errors (no 'error' in the nodes' extras)");
   app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");
@@ -189,6 +196,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     lo.overflow_colour_tolerance = o->overflow_colour_tolerance;
     lo.measure_error = !o->no_error;
     lo.memory.fit.rounds = o->fit_rounds;
+    lo.memory.fit.min_points_per_face = o->fit_min_points;
     lo.memory.max_points = o->memory_points;
     lo.prune_components = o->prune;
 
@@ -247,6 +255,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       j["shared_texture"] = o->shared_texture;
       j["policy"] = o->policy;
       j["fit_rounds"] = o->fit_rounds;
+      j["fit_min_points"] = o->fit_min_points;
       j["memory_points"] = o->memory_points;
       j["prune"] = o->prune;
       if (o->shared_texture) {

@@ -54,6 +54,7 @@ CMGEOM_CLI_COMMAND(simplify,
     std::size_t faces = 0;
     double ratio = 0, max_cost = 0, max_error = 0;
     int texture_size = 0, fit_rounds = 3;
+    double fit_min_points = TS::Surface_fit_options().min_points_per_face;
     std::size_t memory_points = 0;
     bool flips = false, json = false, repair = false, no_repair = false, allow_degenerate = false, no_texture = false,
          freeze_seams = false, memoryless = false, prune = false;
@@ -107,10 +108,16 @@ CMGEOM_CLI_COMMAND(simplify,
   app.add_flag("--no-texture", o->no_texture, "Geometry only even for a textured input (UVs dropped)");
   app.add_flag("--memoryless", o->memoryless,
                "Quadric cost alone: no memoryful term (the input's points kept on the faces, Surface_memory.h)");
-  app.add_option("--fit-rounds", o->fit_rounds,
-                 "Rounds of the final fit of the vertices to the input's points (least squares, with the memoryful "
-                 "term; 0 = none; not with --max-error, whose bound holds for the collapsed positions). Default 3")
+  app.add_option(
+         "--fit-rounds", o->fit_rounds,
+         "Rounds of the final fit of the vertices to the input's points (least squares, with the memoryful "
+         "term; 0 = none; not with --max-error, whose bound holds for the collapsed positions; not when the output "
+         "has fewer than 3 input points per face, e.g. above about 1/6 of an input's faces). Default 3")
       ->check(CLI::Range(0, 100));
+  app.add_option("--fit-min-points", o->fit_min_points,
+                 "Fit only when the input has at least this many points per output face (0 = always); "
+                 "Surface_fit_options::min_points_per_face. Default 3")
+      ->check(CLI::NonNegativeNumber);
   auto* memory_points = cmgeom_cli::add_memory_points_option(app, o->memory_points);
   app.add_flag("--keep-charts", o->keep_charts,
                "Textured input: keep the input's charts (thesis §3.5; stops where no collapse keeps them) instead of "
@@ -234,6 +241,7 @@ CMGEOM_CLI_COMMAND(simplify,
       to.prune_components = o->prune;
       to.surface_memory = !o->memoryless;
       to.memory.fit.rounds = o->fit_rounds;
+      to.memory.fit.min_points_per_face = o->fit_min_points;
       to.memory.max_points = o->memory_points;
       to.paint_from_history = !o->bake_lookups;
       cmgeom_cli::Collapse_progress state{&bar, double(faces_in > target ? faces_in - target : 0)};
@@ -320,6 +328,7 @@ CMGEOM_CLI_COMMAND(simplify,
     so.quadric = qo;
     so.surface_memory = !o->memoryless && o->engine == "cmgeom";
     so.memory.fit.rounds = o->fit_rounds;
+    so.memory.fit.min_points_per_face = o->fit_min_points;
     so.memory.max_points = o->memory_points;
     so.flips = o->flips;
     so.prune_components = o->prune;
@@ -362,6 +371,7 @@ CMGEOM_CLI_COMMAND(simplify,
       j["prune"] = o->prune;
       j["surface_memory"] = !o->memoryless && o->engine == "cmgeom";
       j["fit_rounds"] = so.surface_memory && !max_error->count() ? o->fit_rounds : 0;
+      j["fit_min_points"] = o->fit_min_points;
       j["fit_moves"] = r.fit_moves;
       j["memory_points"] = so.surface_memory ? o->memory_points : 0;
       j["faces_in"] = faces_in;

@@ -595,6 +595,8 @@ public:
     Level_fitter fitter;
     if (m && options_.memory.fit.rounds > 0)
       fitter = [this, m](const Mesh& mesh) {
+        // (a level the fit leaves as it is, Surface_fit_options::min_points_per_face: nothing to do later)
+        if (!m->fit_applies(mesh, options_.memory.fit)) return std::function<std::vector<Point_3>()>();
         return m->fitted_positions_later(mesh, options_.memory.fit,
                                          [this](Mesh::Vertex_index v) { return policy_.quadric(v); });
       };
