@@ -31,7 +31,10 @@ for path in "$data"/*; do
     beetle.obj | cow.obj | teapot.obj) extra=(--repair) ;;
     ogre.obj.gz) extra=(--repair --allow-degenerate) ;;
   esac
-  # (those read once, repaired, into a file both sides and the error measure read as it is)
+  # (those read once, repaired, into a file both sides and the error measure read as it is; the
+  # ogre keeps its zero-area faces, which simplify then needs to be told to accept)
+  keep=()
+  [[ " ${extra[*]} " == *" --allow-degenerate "* ]] && keep=(--allow-degenerate)
   if ((${#extra[@]})); then
     if ! "$cmgeom" --quiet convert "$path" -o "$work/repaired.off" "${extra[@]}" >/dev/null 2>"$work/err"; then
       echo "$model: convert failed: $(tail -1 "$work/err")" >&2
@@ -45,7 +48,7 @@ for path in "$data"/*; do
       opts=(--fit-rounds 3 --fit-min-points 0)
       [[ $side == nofit ]] && opts=(--fit-rounds 0)
       out="$work/out.obj"
-      if ! "$cmgeom" --quiet simplify "$path" -o "$out" --ratio "$r" "${opts[@]}" >/dev/null 2>"$work/err"; then
+      if ! "$cmgeom" --quiet simplify "$path" -o "$out" --ratio "$r" "${opts[@]}" "${keep[@]}" >/dev/null 2>"$work/err"; then
         echo "$model at $r: simplify failed: $(tail -1 "$work/err")" >&2
         line=""
         break
