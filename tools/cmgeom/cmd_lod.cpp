@@ -101,8 +101,8 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   app.add_option(
          "--fit-rounds", o->fit_rounds,
          "Rounds of the fit of each level's vertices to the input's points (as simplify's --fit-rounds: a "
-         "level is the mesh simplify gives for its face count, and a level with fewer than 3 input points per face is "
-         "not fitted); 0 = none. Default 3")
+         "level is the mesh simplify gives for its face count, and a level with fewer input points per face than "
+         "--fit-min-points is not fitted); 0 = none. Default 3")
       ->check(CLI::Range(0, 100));
   app.add_option("--fit-min-points", o->fit_min_points,
                  "Fit only when the input has at least this many points per face of a level (0 = always); "

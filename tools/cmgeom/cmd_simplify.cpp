@@ -112,7 +112,8 @@ CMGEOM_CLI_COMMAND(simplify,
          "--fit-rounds", o->fit_rounds,
          "Rounds of the final fit of the vertices to the input's points (least squares, with the memoryful "
          "term; 0 = none; not with --max-error, whose bound holds for the collapsed positions; not when the output "
-         "has fewer than 3 input points per face, e.g. above about 1/6 of an input's faces). Default 3")
+         "has fewer input points per face than --fit-min-points: by default above about 1/6 of the input's faces). "
+         "Default 3")
       ->check(CLI::Range(0, 100));
   app.add_option("--fit-min-points", o->fit_min_points,
                  "Fit only when the input has at least this many points per output face (0 = always); "
