@@ -128,11 +128,17 @@ int main(int argc, char** argv) {
   TS::edge_collapse(e, TS::Face_count_stop_predicate<Mesh>(e, target),
                     CMGeom::parameters::surface_memory(
                         &memory, CGAL::parameters::get_cost(memory_policy).get_placement(memory_policy)));
+  // the fit is made only with points enough: by default 3 rounds, and at least 3 of the input's
+  // points per face of the result (min_points_per_face; fewer, and it would move the vertices off
+  // the points they were made from)
+  const TS::Surface_fit_options fit;
+  std::cout << "points per face " << double(memory.number_of_points()) / double(e.number_of_faces()) << ": the fit is "
+            << (memory.fit_applies(e, fit) ? "made" : "not made (too few points)") << "\n";
   // where the fit will move the vertices, asked first without moving them (what a level-of-detail
   // chain does for each level while its collapses go on)
   const auto quadric_of = [&](Mesh::Vertex_index v) { return memory_policy.quadric(v); };
-  const std::vector<K::Point_3> foretold = memory.fitted_positions(e, TS::Surface_fit_options(), quadric_of);
-  const std::size_t moves = memory.fit_vertices(e, TS::Surface_fit_options(), quadric_of);
+  const std::vector<K::Point_3> foretold = memory.fitted_positions(e, fit, quadric_of);
+  const std::size_t moves = memory.fit_vertices(e, fit, quadric_of);
   for (Mesh::Vertex_index v : e.vertices())
     if (e.point(v) != foretold[std::size_t(v)]) {
       std::cerr << "fitted_positions() did not foretell the fit\n";

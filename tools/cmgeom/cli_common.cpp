@@ -224,6 +224,14 @@ CLI::Option* add_memory_points_option(CLI::App& app, std::size_t& max_points) {
       ->check(CLI::NonNegativeNumber);
 }
 
+CLI::Option* add_fit_min_points_option(CLI::App& app, double& min_points_per_face) {
+  return app
+      .add_option("--fit-min-points", min_points_per_face,
+                  "Fit only when the input has at least this many points per face of the result (of each "
+                  "level, for lod); 0 = always. Surface_fit_options::min_points_per_face. Default 3")
+      ->check(CLI::NonNegativeNumber);
+}
+
 namespace {
 
 std::atomic<bool> quiet_progress{false};

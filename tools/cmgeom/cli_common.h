@@ -92,6 +92,10 @@ void refuse_unnamed_texture(const CMGeom::Textured_mesh& tm, const std::string& 
 // memoryful term; returns the option (its count() tells whether it was given).
 CLI::Option* add_memory_points_option(CLI::App& app, std::size_t& max_points);
 
+// --fit-min-points F of `simplify` and `lod`: the final fit only with at least F input points per
+// face of the result (Surface_fit_options::min_points_per_face; 0 = always).
+CLI::Option* add_fit_min_points_option(CLI::App& app, double& min_points_per_face);
+
 // Prints each warning on stderr as "cmgeom <command>: warning: <text>" (the reader's repairs,
 // skipped statements, ...).
 void print_warnings(const std::string& command, const std::vector<std::string>& warnings);

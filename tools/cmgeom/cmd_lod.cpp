@@ -104,10 +104,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
          "level is the mesh simplify gives for its face count, and a level with fewer input points per face than "
          "--fit-min-points is not fitted); 0 = none. Default 3")
       ->check(CLI::Range(0, 100));
-  app.add_option("--fit-min-points", o->fit_min_points,
-                 "Fit only when the input has at least this many points per face of a level (0 = always); "
-                 "Surface_fit_options::min_points_per_face. Default 3")
-      ->check(CLI::NonNegativeNumber);
+  cmgeom_cli::add_fit_min_points_option(app, o->fit_min_points);
   cmgeom_cli::add_memory_points_option(app, o->memory_points);
   app.add_flag("--no-error", o->no_error, "Do not measure the levels' errors (no 'error' in the nodes' extras)");
   app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");

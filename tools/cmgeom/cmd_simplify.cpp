@@ -115,10 +115,7 @@ CMGEOM_CLI_COMMAND(simplify,
          "has fewer input points per face than --fit-min-points: by default above about 1/6 of the input's faces). "
          "Default 3")
       ->check(CLI::Range(0, 100));
-  app.add_option("--fit-min-points", o->fit_min_points,
-                 "Fit only when the input has at least this many points per output face (0 = always); "
-                 "Surface_fit_options::min_points_per_face. Default 3")
-      ->check(CLI::NonNegativeNumber);
+  cmgeom_cli::add_fit_min_points_option(app, o->fit_min_points);
   auto* memory_points = cmgeom_cli::add_memory_points_option(app, o->memory_points);
   app.add_flag("--keep-charts", o->keep_charts,
                "Textured input: keep the input's charts (thesis §3.5; stops where no collapse keeps them) instead of "

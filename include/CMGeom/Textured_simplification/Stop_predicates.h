@@ -41,6 +41,28 @@ struct is_surface_mesh : std::false_type {};
 template <class P>
 struct is_surface_mesh<CGAL::Surface_mesh<P>> : std::true_type {};
 
+/// The live faces of `g`: Surface_mesh knows them (number_of_faces() excludes removed elements,
+/// while BGL's num_faces() does not); other graphs are counted by iteration.
+template <class P>
+std::size_t live_face_count(const CGAL::Surface_mesh<P>& m) {
+  return m.number_of_faces();
+}
+template <class G>
+std::size_t live_face_count(const G& g) {
+  const auto r = faces(g);
+  return static_cast<std::size_t>(std::distance(r.begin(), r.end()));
+}
+/// The live vertices of `g` (as live_face_count()).
+template <class P>
+std::size_t live_vertex_count(const CGAL::Surface_mesh<P>& m) {
+  return m.number_of_vertices();
+}
+template <class G>
+std::size_t live_vertex_count(const G& g) {
+  const auto r = vertices(g);
+  return static_cast<std::size_t>(std::distance(r.begin(), r.end()));
+}
+
 /// Tracks the live face and vertex counts of a mesh being simplified, in O(1) per call.
 template <class TriangleMesh>
 class Mesh_size_tracker {
@@ -52,16 +74,16 @@ public:
     if constexpr (knows_live_counts) {
       // Surface_mesh's live counts also follow removals that are not collapses (a pruned
       // component, parameters::prune_components)
-      s.faces = live_faces(*s.tm);
-      s.vertices = live_vertices(*s.tm);
+      s.faces = live_face_count(*s.tm);
+      s.vertices = live_vertex_count(*s.tm);
       s.edges = current_edge_count;
       s.started = true;
       return;
     }
     if (!s.started) {
       // first call: count the live elements once
-      s.faces = live_faces(*s.tm);
-      s.vertices = live_vertices(*s.tm);
+      s.faces = live_face_count(*s.tm);
+      s.vertices = live_vertex_count(*s.tm);
       s.edges = current_edge_count;
       s.started = true;
       return;
@@ -77,27 +99,6 @@ public:
   std::size_t vertex_count() const { return state_->vertices; }
 
 private:
-  // Surface_mesh knows its live counts (number_of_faces() excludes removed elements, while BGL's
-  // num_faces() does not); other graphs are counted by iteration.
-  template <class P>
-  static std::size_t live_faces(const CGAL::Surface_mesh<P>& m) {
-    return m.number_of_faces();
-  }
-  template <class P>
-  static std::size_t live_vertices(const CGAL::Surface_mesh<P>& m) {
-    return m.number_of_vertices();
-  }
-  template <class G>
-  static std::size_t live_faces(const G& g) {
-    const auto r = faces(g);
-    return static_cast<std::size_t>(std::distance(r.begin(), r.end()));
-  }
-  template <class G>
-  static std::size_t live_vertices(const G& g) {
-    const auto r = vertices(g);
-    return static_cast<std::size_t>(std::distance(r.begin(), r.end()));
-  }
-
   static constexpr bool knows_live_counts = is_surface_mesh<TriangleMesh>::value;
 
   struct State {

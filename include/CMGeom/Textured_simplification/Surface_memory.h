@@ -17,6 +17,7 @@
 #define CMGEOM_TEXTURED_SIMPLIFICATION_SURFACE_MEMORY_H
 
 #include <CMGeom/Compact_model/internal/Vec3.h>
+#include <CMGeom/Textured_simplification/Stop_predicates.h>
 #include <CMGeom/Textured_simplification/internal/collapse_checks.h>
 
 #include <CGAL/boost/graph/helpers.h>
@@ -419,14 +420,8 @@ public:
   /// above 0, and at least options.min_points_per_face points per face of `tm` (otherwise they
   /// leave the positions as they are).
   bool fit_applies(const TriangleMesh& tm, const Surface_fit_options& options) const {
-    if (items_.empty() || options.rounds == 0) return false;
-    // (the live faces: num_faces() of a Surface_mesh counts the removed ones too)
-    std::size_t live = 0;
-    for (face_descriptor f : faces(tm)) {
-      (void)f;
-      ++live;
-    }
-    return double(items_.size()) >= options.min_points_per_face * double(live);
+    return !items_.empty() && options.rounds > 0 &&
+           double(items_.size()) >= options.min_points_per_face * double(internal::live_face_count(tm));
   }
 
   /// Where fit_vertices() would move the vertices, without moving them and without re-attaching
