@@ -79,9 +79,15 @@ TEST(TexturedSimplificationCli, SimplifyJsonAndErrors) {
     ASSERT_TRUE(CGAL::IO::read_polygon_mesh(few, unfitted));
     std::vector<Point> p;
     for (auto v : unfitted.vertices()) p.push_back(unfitted.point(v));
-    EXPECT_EQ(p, points[0]);  // the --fit-rounds 0 output
-    EXPECT_EQ(run("'" + exe + "' simplify '" + in + "' -o '" + never + "' --faces 1000 --fit-min-points -1").first, 2);
-    EXPECT_FALSE(fs::exists(never));
+    EXPECT_EQ(p, points[0]);                              // the --fit-rounds 0 output
+    for (const char* bad : {"-1", "nan", "inf", "3x"}) {  // usage errors, nothing written
+      const auto [bad_code, bad_text] =
+          run("{ '" + exe + "' simplify '" + in + "' -o '" + never + "' --faces 1000 --fit-min-points " + bad +
+              " 2>&1; }");  // (the message on stdout)
+      EXPECT_EQ(bad_code, 2) << bad;
+      EXPECT_NE(bad_text.find("--fit-min-points: expected a finite number >= 0"), std::string::npos) << bad_text;
+      EXPECT_FALSE(fs::exists(never)) << bad;
+    }
   }
   {
     // --memory-points N: at most N of the input's vertices as points (reported; 0 = all, the

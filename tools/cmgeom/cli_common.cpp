@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <string>
 #include <unistd.h>
 
 namespace cmgeom_cli {
@@ -225,11 +227,27 @@ CLI::Option* add_memory_points_option(CLI::App& app, std::size_t& max_points) {
 }
 
 CLI::Option* add_fit_min_points_option(CLI::App& app, double& min_points_per_face) {
+  // (a finite number >= 0, said in one short line: CLI::NonNegativeNumber prints the largest double
+  // in full and lets "nan" through)
+  const CLI::Validator finite_non_negative(
+      [](std::string& text) -> std::string {
+        std::size_t used = 0;
+        double v = 0;
+        try {
+          v = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != text.size() || !std::isfinite(v) || v < 0)
+          return "expected a finite number >= 0, got '" + text + "'";
+        return std::string();
+      },
+      "NUMBER>=0");
   return app
       .add_option("--fit-min-points", min_points_per_face,
                   "Fit only when the input has at least this many points per face of the result (of each "
                   "level, for lod); 0 = always. Surface_fit_options::min_points_per_face. Default 3")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative);
 }
 
 namespace {
