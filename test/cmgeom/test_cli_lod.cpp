@@ -203,7 +203,13 @@ TEST(cmgeom_cli, LodRefusalsNameTheProblemAndWriteNothing) {
   const auto ok = cmgeom_test::run_cli(
       "--quiet lod " + quoted(sphere) + " -o " + quoted(dir + "/sphere.glb") + " --ratios 1,0.25 --json", dir);
   ASSERT_EQ(ok.exit_code, 0) << ok.err;
-  EXPECT_EQ(nlohmann::json::parse(ok.out)["textured"], false);
+  const nlohmann::json ok_report = nlohmann::json::parse(ok.out);
+  EXPECT_EQ(ok_report["textured"], false);
+  // the times of the three stages, as simplify reports them
+  for (const char* key : {"seconds_read", "seconds", "seconds_write"}) {
+    ASSERT_TRUE(ok_report.contains(key)) << key;
+    EXPECT_GE(ok_report[key].get<double>(), 0.0) << key;
+  }
   // a refused run keeps an existing output as it was
   const std::string kept = cmgeom_test::write_text(dir, "kept.glb", "not replaced");
   const auto r = cmgeom_test::run_cli("--quiet lod " + quoted(duck) + " -o " + quoted(kept) +

@@ -130,7 +130,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     ro.allow_degenerate_faces = o->allow_degenerate;
     std::vector<std::string> warnings;
     ro.warnings = &warnings;
+    const double read_start = cmgeom_cli::now_seconds();
     CMGeom::IO::read_mesh(o->input, tm, ro);
+    const double seconds_read = cmgeom_cli::now_seconds() - read_start;
     cmgeom_cli::print_warnings("lod", warnings);
     if (!CGAL::is_triangle_mesh(tm.mesh())) throw CMGeom::Invalid_input(o->input + ": not a triangle mesh");
     if (!o->no_texture) {
@@ -299,6 +301,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       j["runs_in_parts"] = r.runs_in_parts;
       j["seconds_texture"] = r.seconds_texture;
       j["seconds_error"] = r.seconds_error;
+      j["seconds_read"] = seconds_read;
       j["seconds_write"] = seconds_write;
       cmgeom_cli::print_json(j);
     } else {
