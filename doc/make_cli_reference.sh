@@ -1,8 +1,17 @@
 #!/usr/bin/env bash
 # Regenerates doc/CLI.md from the --help text of every cmgeom sub-command, so the reference
-# cannot drift from the tool.  Usage: bash doc/make_cli_reference.sh path/to/cmgeom
+# cannot drift from the tool.  Usage: bash doc/make_cli_reference.sh path/to/cmgeom [--check]
+# With --check, doc/CLI.md is compared with what it would be and left as it is: exit 1 with the
+# differences when they differ (a CTest test runs this, test/cmgeom/CMakeLists.txt).
 set -euo pipefail
-cmgeom=${1:?usage: make_cli_reference.sh path/to/cmgeom}
+cmgeom=${1:?usage: make_cli_reference.sh path/to/cmgeom [--check]}
+check=0
+if [[ "${2:-}" == "--check" ]]; then
+  check=1
+elif [[ -n "${2:-}" ]]; then
+  echo "usage: make_cli_reference.sh path/to/cmgeom [--check]" >&2
+  exit 2
+fi
 cd "$(dirname "$0")"
 tmp=$(mktemp)
 trap 'rm -f "$tmp"' EXIT
@@ -57,5 +66,13 @@ trap 'rm -f "$tmp"' EXIT
     done
   done
 } > "$tmp"
+if ((check)); then
+  if ! diff -u CLI.md "$tmp"; then
+    echo "doc/CLI.md differs from the tool's help: run bash doc/make_cli_reference.sh path/to/cmgeom" >&2
+    exit 1
+  fi
+  echo "doc/CLI.md matches the tool's help"
+  exit 0
+fi
 mv "$tmp" CLI.md
 echo "wrote doc/CLI.md"

@@ -95,7 +95,8 @@ TEST(cmgeom_cli, EveryRefusalOfAnInputNamesAnOptionOfItsOwnCommandThatReadsTheIn
       {"simplify '" + bowtie + "' -o '" + dir + "/s.off' --faces 60 --no-repair", "simplify", "--repair"},
       {"lod '" + flat + "' -o '" + dir + "/l.glb' --faces 200,100 --no-error", "lod", "--allow-degenerate"},
       {"cm build '" + flat + "' -o '" + dir + "/m.cm' --faces 100", "cm build", "--allow-degenerate"},
-      {"cm build '" + bowtie + "' -o '" + dir + "/m.cm' --faces 60", "cm build", "--repair"},
+      {"lod '" + bowtie + "' -o '" + dir + "/l.glb' --faces 100,60 --no-error --no-repair", "lod", "--repair"},
+      {"cm build '" + bowtie + "' -o '" + dir + "/m.cm' --faces 60 --no-repair", "cm build", "--repair"},
       {"deform '" + flat + "' --grid 1,1,1 -o '" + dir + "/d.off'", "deform", "--allow-degenerate"},
       {"deform '" + bowtie + "' --grid 1,1,1 -o '" + dir + "/d.off'", "deform", "--repair"},
       {"convert '" + flat + "' -o '" + dir + "/c.off'", "convert", "--allow-degenerate"},
@@ -124,7 +125,16 @@ TEST(cmgeom_cli, EveryRefusalOfAnInputNamesAnOptionOfItsOwnCommandThatReadsTheIn
     EXPECT_EQ(read.exit_code, 0) << read.err;
     if (c.help == "pipeline") EXPECT_TRUE(fs::is_regular_file(dir + "/p/report.md"));
   }
-  // the repair says what it did
+  // the commands that approximate their input (simplify, lod, cm build) repair it by default,
+  // saying what they changed; those that keep its elements (deform, convert) do so when asked
+  for (const std::string& cmd : {"simplify '" + bowtie + "' -o '" + dir + "/s.off' --faces 60",
+                                 "lod '" + bowtie + "' -o '" + dir + "/l.glb' --faces 100,60 --no-error",
+                                 "cm build '" + bowtie + "' -o '" + dir + "/m.cm' --faces 60"}) {
+    SCOPED_TRACE(cmd);
+    const auto repaired = cmgeom_test::run_cli(cmd, dir);
+    EXPECT_EQ(repaired.exit_code, 0) << repaired.err;
+    EXPECT_NE(repaired.err.find("repaired: 1 non-manifold vertex duplicated"), std::string::npos) << repaired.err;
+  }
   const auto deformed =
       cmgeom_test::run_cli("deform '" + bowtie + "' --grid 1,1,1 -o '" + dir + "/d.off' --repair", dir);
   ASSERT_EQ(deformed.exit_code, 0) << deformed.err;

@@ -170,6 +170,13 @@ void add_repair_option(CLI::App& app, bool& repair) {
                "(CGAL's orient_polygon_soup) instead of refusing the file");
 }
 
+void add_repair_by_default_options(CLI::App& app, bool& repair, bool& no_repair) {
+  auto* yes = app.add_flag("--repair", repair, "Repair while reading (the default; kept for compatibility)");
+  auto* no = app.add_flag("--no-repair", no_repair,
+                          "Refuse non-manifold or inconsistently oriented input instead of repairing it");
+  yes->excludes(no);
+}
+
 void apply_texture_option(CMGeom::Textured_mesh& tm, const std::string& input, const std::string& texture) {
   if (texture.empty()) return;
   if (!tm.has_uvs()) throw CMGeom::Invalid_input(input + ": --texture given but the mesh has no texture coordinates");

@@ -67,8 +67,15 @@ void add_gltf_options(CLI::App& app, CMGeom::IO::Gltf_options& options);
 void add_allow_degenerate_option(CLI::App& app, bool& allow_degenerate_faces);
 
 // Adds --repair (Read_options::repair, the option the reader's refusal of non-manifold or
-// inconsistently oriented input names) to a command that reads a mesh and does not repair by default.
+// inconsistently oriented input names) to a command that reads a mesh and does not repair by
+// default: those that keep the input's elements as they are (convert, deform: the output's
+// vertices are the input's, in its order).
 void add_repair_option(CLI::App& app, bool& repair);
+
+// Adds --no-repair (refuse instead) and --repair (the default, accepted: the reader's refusal
+// under --no-repair names it) to a command that repairs its input by default: those that
+// approximate it (simplify, lod, cm build). Read_options::repair is then !no_repair.
+void add_repair_by_default_options(CLI::App& app, bool& repair, bool& no_repair);
 
 // Gives every material of `tm` (one is made when it has none, and every face takes it) the diffuse
 // texture `texture` (the --texture option of an input whose file names none, e.g. spot.obj);

@@ -93,10 +93,7 @@ CMGEOM_CLI_COMMAND(simplify,
                "collapse, never below the target; gives their faces to the rest. Needs --faces or --ratio; not "
                "with --max-error, --max-cost, --keep-charts or --engine cgal");
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
-  auto* repair = app.add_flag("--repair", o->repair, "Repair while reading (the default; kept for compatibility)");
-  auto* no_repair = app.add_flag("--no-repair", o->no_repair,
-                                 "Refuse non-manifold or inconsistently oriented input instead of repairing it");
-  repair->excludes(no_repair);
+  cmgeom_cli::add_repair_by_default_options(app, o->repair, o->no_repair);
   cmgeom_cli::add_allow_degenerate_option(app, o->allow_degenerate);
   auto* backend = app.add_option("--texture-backend", o->texture_backend,
                                  "Index-texture resampling backend (textured input): cpu (reference) or osmesa")
