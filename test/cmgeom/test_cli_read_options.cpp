@@ -107,6 +107,8 @@ TEST(cmgeom_cli, EveryRefusalOfAnInputNamesAnOptionOfItsOwnCommandThatReadsTheIn
     SCOPED_TRACE(c.command);
     const auto refused = cmgeom_test::run_cli(c.command, dir);
     ASSERT_EQ(refused.exit_code, 1) << refused.err;
+    // (the message names the command, a nested one by its full path: "cmgeom cm build: error: ")
+    EXPECT_NE(refused.err.find("cmgeom " + c.help + ": error: "), std::string::npos) << refused.err;
     const std::vector<std::string> named = named_options(refused.err);
     EXPECT_NE(std::find(named.begin(), named.end(), c.expected), named.end()) << refused.err;
     const auto help = cmgeom_test::run_cli(c.help + " --help", dir);

@@ -94,7 +94,13 @@ int run_impl(const std::vector<std::string>& args, std::string* error) {
       return named.second();
     } catch (const std::exception& e) {
       *error = one_line(e.what());
-      std::cerr << "cmgeom " << named.first << ": error: " << *error << std::endl;
+      // (the full path of a nested command, "cm build", as its warnings name it)
+      std::string name = named.first;
+      for (const CLI::App* nested = sub; !nested->get_subcommands().empty();) {
+        nested = nested->get_subcommands().front();
+        name += " " + nested->get_name();
+      }
+      std::cerr << "cmgeom " << name << ": error: " << *error << std::endl;
       return 1;
     }
   }
