@@ -328,7 +328,10 @@ CMGEOM_CLI_COMMAND(
         if (undefined)
           throw CMGeom::Invalid_input(d->input + ": " + std::to_string(undefined) + " of " +
                                       std::to_string(model.vertices.size()) +
-                                      " base vertices lie outside the cages, where harmonic coordinates are undefined");
+                                      " base vertices lie outside the cages, where harmonic coordinates are undefined "
+                                      "(mean value and Green coordinates are defined there: give those cages "
+                                      "\"coordinates\": \"mean_value\" or \"green\", or use cages that enclose the "
+                                      "model)");
         j["deformer"] = desc.cages.size() == 1 ? "cage" : "cage_system";
         j["coordinates"] = coordinates;
         j["cages"] = desc.cages.size();
