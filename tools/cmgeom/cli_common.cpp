@@ -176,8 +176,8 @@ void add_repair_option(CLI::App& app, bool& repair) {
                "(CGAL's orient_polygon_soup) instead of refusing the file");
 }
 
-void add_repair_by_default_options(CLI::App& app, bool& repair, bool& no_repair) {
-  auto* yes = app.add_flag("--repair", repair, "Repair while reading (the default; kept for compatibility)");
+void add_repair_by_default_options(CLI::App& app, bool& no_repair) {
+  auto* yes = app.add_flag("--repair", "Repair while reading (the default; kept for compatibility)");
   auto* no = app.add_flag("--no-repair", no_repair,
                           "Refuse non-manifold or inconsistently oriented input instead of repairing it");
   yes->excludes(no);

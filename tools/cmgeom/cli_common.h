@@ -74,8 +74,9 @@ void add_repair_option(CLI::App& app, bool& repair);
 
 // Adds --no-repair (refuse instead) and --repair (the default, accepted: the reader's refusal
 // under --no-repair names it) to a command that repairs its input by default: those that
-// approximate it (simplify, lod, cm build). Read_options::repair is then !no_repair.
-void add_repair_by_default_options(CLI::App& app, bool& repair, bool& no_repair);
+// approximate it (simplify, lod, cm build). Read_options::repair is then !no_repair (--repair
+// changes nothing and binds no variable).
+void add_repair_by_default_options(CLI::App& app, bool& no_repair);
 
 // Gives every material of `tm` (one is made when it has none, and every face takes it) the diffuse
 // texture `texture` (the --texture option of an input whose file names none, e.g. spot.obj);

@@ -99,8 +99,8 @@ CMGEOM_CLI_COMMAND(
     std::size_t faces = 0;
     double ratio = 0, sharp_angle = 40, error_bound = 0;
     int error_rounds = 2, error_level = 2;
-    bool cubic = false, joint_fit = false, json = false, no_texture = false, repair = false, no_repair = false,
-         compact = false, allow_degenerate = false, no_input_creases = false, optimal_placement = false;
+    bool cubic = false, joint_fit = false, json = false, no_texture = false, no_repair = false, compact = false,
+         allow_degenerate = false, no_input_creases = false, optimal_placement = false;
     std::string fit = "auto";
     int select_level = 3;
     int texture_size = 0, normal_bits = 12, max_level = 3, level_errors = -1;
@@ -165,7 +165,7 @@ CMGEOM_CLI_COMMAND(
                   "along a path of input creases is sharp too");
   build->add_flag("--no-texture", b->no_texture, "Geometry only even for an input with texture coordinates");
   build->add_option("--texture", b->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
-  cmgeom_cli::add_repair_by_default_options(*build, b->repair, b->no_repair);
+  cmgeom_cli::add_repair_by_default_options(*build, b->no_repair);
   cmgeom_cli::add_allow_degenerate_option(*build, b->allow_degenerate);
   build->add_option("--texture-size", b->texture_size,
                     "Textured input: texels per UV unit of the base's new atlas (default: the input texture's size)");

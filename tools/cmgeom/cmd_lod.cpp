@@ -55,7 +55,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   struct Options {
     std::string input, output, ratios, faces, max_errors, policy = "plain", texture, obj_prefix;
     bool shared_texture = false, no_overflow_charts = false, no_texture = false, no_error = false, json = false,
-         repair = false, no_repair = false, allow_degenerate = false, prune = false;
+         no_repair = false, allow_degenerate = false, prune = false;
     int fit_rounds = 3;
     double fit_min_points = TS::Surface_fit_options().min_points_per_face;
     std::size_t memory_points = 0;
@@ -108,7 +108,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   cmgeom_cli::add_memory_points_option(app, o->memory_points);
   app.add_flag("--no-error", o->no_error, "Do not measure the levels' errors (no 'error' in the nodes' extras)");
   app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");
-  cmgeom_cli::add_repair_by_default_options(app, o->repair, o->no_repair);
+  cmgeom_cli::add_repair_by_default_options(app, o->no_repair);
   cmgeom_cli::add_allow_degenerate_option(app, o->allow_degenerate);
   app.add_flag("--prune", o->prune,
                "Remove whole connected components (small parts, debris) when that costs less than the next "

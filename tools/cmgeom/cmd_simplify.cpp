@@ -56,7 +56,7 @@ CMGEOM_CLI_COMMAND(simplify,
     int texture_size = 0, fit_rounds = 3;
     double fit_min_points = TS::Surface_fit_options().min_points_per_face;
     std::size_t memory_points = 0;
-    bool flips = false, json = false, repair = false, no_repair = false, allow_degenerate = false, no_texture = false,
+    bool flips = false, json = false, no_repair = false, allow_degenerate = false, no_texture = false,
          freeze_seams = false, memoryless = false, prune = false;
     bool keep_charts = false, bake_lookups = false;
     CMGeom::IO::Gltf_options gltf;
@@ -93,7 +93,7 @@ CMGEOM_CLI_COMMAND(simplify,
                "collapse, never below the target; gives their faces to the rest. Needs --faces or --ratio; not "
                "with --max-error, --max-cost, --keep-charts or --engine cgal");
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
-  cmgeom_cli::add_repair_by_default_options(app, o->repair, o->no_repair);
+  cmgeom_cli::add_repair_by_default_options(app, o->no_repair);
   cmgeom_cli::add_allow_degenerate_option(app, o->allow_degenerate);
   auto* backend = app.add_option("--texture-backend", o->texture_backend,
                                  "Index-texture resampling backend (textured input): cpu (reference) or osmesa")
