@@ -59,6 +59,28 @@ TEST(Cage_system_io, reads_inline_and_file_cages_and_round_trips) {
   EXPECT_EQ(e.cages[1].parents[0].vertices, d.cages[1].parents[0].vertices);
 }
 
+// The harmonic options, "outside" included, are read and written back.
+TEST(Cage_system_io, harmonic_options_round_trip) {
+  const std::string path = write("harmonic.json", std::string(R"({"cages": [
+      {"rest": )") + cube_json + R"(, "coordinates": "harmonic",
+       "harmonic": {"resolution": 24, "interpolation": "trilinear", "outside": "mean_value"}},
+      {"rest": )" + cube_json + R"(, "coordinates": "harmonic"}]})");
+  const Cage_system_description d = read_cage_system(path);
+  ASSERT_EQ(d.cages.size(), 2u);
+  EXPECT_EQ(d.cages[0].harmonic.resolution, 24);
+  EXPECT_EQ(d.cages[0].harmonic.interpolation, Harmonic_interpolation::trilinear);
+  EXPECT_EQ(d.cages[0].harmonic.outside, Harmonic_outside::mean_value);
+  EXPECT_EQ(d.cages[1].harmonic.outside, Harmonic_outside::undefined);  // the default
+  write_cage_system(tmp("harmonic_rt.json"), d);
+  const Cage_system_description e = read_cage_system(tmp("harmonic_rt.json"));
+  ASSERT_EQ(e.cages.size(), 2u);
+  for (std::size_t c = 0; c < 2; ++c) {
+    EXPECT_EQ(e.cages[c].harmonic.resolution, d.cages[c].harmonic.resolution);
+    EXPECT_EQ(e.cages[c].harmonic.interpolation, d.cages[c].harmonic.interpolation);
+    EXPECT_EQ(e.cages[c].harmonic.outside, d.cages[c].harmonic.outside);
+  }
+}
+
 TEST(Cage_system_io, errors_name_the_file_and_the_json_pointer) {
   const std::string c = cube_json;
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -87,6 +109,8 @@ TEST(Cage_system_io, errors_name_the_file_and_the_json_pointer) {
       {R"({"cages": [{"rest": "no_such_file.obj"}]})", "/cages/0/rest: "},
       {R"({"join_coordinates": "green", "cages": [{"rest": )" + c + R"(}]})", "/join_coordinates: join cages need C1"},
       {R"({"cages": [{"rest": )" + c + R"(, "harmonic": {"resolution": 4}}]})", "/cages/0/harmonic/resolution"},
+      {R"({"cages": [{"rest": )" + c + R"(, "harmonic": {"outside": "clamp"}}]})",
+       "/cages/0/harmonic/outside: must be \"undefined\" or \"mean_value\""},
       {R"({"cages": [{"rest": )" + c + R"(, "border_h": {"cage": 1, "h": 0.5}}, {"rest": )" + c + R"(}]})",
        "/cages/0/border_h: must be an array"},
       {R"({"cages": [{"rest": )" + c + R"(, "border_h": [{"cage": 1, "h": 1.5}]}, {"rest": )" + c + R"(}]})",

@@ -101,6 +101,62 @@ TEST(CAGE_SUITE(Cage_Harmonic), outside_points_flagged) {
   EXPECT_NEAR(w[t[2]], 0.5, 1e-14);
 }
 
+// Harmonic_outside::mean_value: a point outside takes the cage's mean value coordinates (the same
+// numbers as Mean_value_coordinates_3 gives), status extended; inside nothing changes; across a
+// face the weights jump by little (both sides tend to the hat functions), where the default's
+// zeros jump by the weights themselves.
+TEST(CAGE_SUITE(Cage_Harmonic), outside_points_take_mean_value_coordinates_when_asked) {
+  std::mt19937 rng(47);
+  Triangle_cage cage = l_cage();
+  Harmonic_options o = harmonic_options(16, Harmonic_interpolation::tricubic);
+  const Harmonic_coordinates_3 strict(cage, o);
+  o.outside = Harmonic_outside::mean_value;
+  const Harmonic_coordinates_3 hc(cage, o);
+  const Mean_value_coordinates_3 mvc(cage);
+  Coordinate_status st;
+  for (Vec3 x : {Vec3{1.5, 1.5, 0.5}, Vec3{-0.3, 0.5, 0.5}, Vec3{5, 5, 5}, Vec3{0.5, 0.5, 1.01}}) {
+    const std::vector<double> w = coordinates(hc, x, &st);
+    EXPECT_EQ(st, Coordinate_status::extended);
+    EXPECT_EQ(w, coordinates(mvc, x));
+    EXPECT_NEAR(sum_of(w, w.size()), 1.0, 1e-9);
+    EXPECT_LT(norm(sub(combine(w, cage.vertices), x)), 1e-9);  // linear precision outside too
+  }
+  // inside (and on the cage): the same numbers and status as without the option
+  for (const Vec3& x : random_points(rng, {0, 0, 0}, {2, 2, 1}, 300)) {
+    if (x[0] > 1 && x[1] > 1) continue;
+    Coordinate_status a, b;
+    EXPECT_EQ(coordinates(hc, x, &a), coordinates(strict, x, &b));
+    EXPECT_EQ(a, b);
+  }
+  // across the top face z = 1: the weights jump by the grid's error near the cage, which shrinks as
+  // the grid gets finer (the default's zeros outside jump by the weights themselves)
+  auto jump_across_top = [&](const Harmonic_coordinates_3& c, double& largest) {
+    double jump = 0;
+    largest = 0;
+    for (const Vec3& p : {Vec3{0.37, 0.41, 1}, Vec3{1.3, 0.6, 1}, Vec3{0.55, 1.45, 1}}) {
+      const std::vector<double> in = coordinates(c, Vec3{p[0], p[1], 1 - 1e-6}, &st);
+      EXPECT_NE(st, Coordinate_status::extended);
+      const std::vector<double> out = coordinates(c, Vec3{p[0], p[1], 1 + 1e-6}, &st);
+      EXPECT_EQ(st, Coordinate_status::extended);
+      for (std::size_t k = 0; k < in.size(); ++k) {
+        jump = std::max(jump, std::abs(in[k] - out[k]));
+        largest = std::max(largest, std::abs(in[k]));
+      }
+    }
+    return jump;
+  };
+  std::vector<double> jumps;
+  for (int R : {16, 32, 48}) {
+    Harmonic_options r = o;
+    r.resolution = R;
+    double largest = 0;
+    jumps.push_back(jump_across_top(Harmonic_coordinates_3(cage, r), largest));
+    EXPECT_LT(jumps.back(), 0.1 * largest) << "resolution " << R;
+  }
+  EXPECT_LT(jumps[1], 0.8 * jumps[0]);
+  EXPECT_LT(jumps[2], 0.8 * jumps[1]);
+}
+
 TEST(CAGE_SUITE(Cage_Harmonic), tricubic_lookup_is_C1) {
   // Gradient (central differences) on both sides of a grid plane: continuous for the cubic
   // B-spline lookup, jumping for the trilinear one.

@@ -16,6 +16,8 @@
 #include "cmgeom_test_meshes.h"
 #include "cmgeom_test_support.h"
 
+#include <nlohmann/json.hpp>
+
 #include <array>
 #include <cstdint>
 #include <cstring>
@@ -517,7 +519,48 @@ TEST_F(Bad_cages, DeformHarmonicCageNotEnclosingTheMesh) {
   const std::string s =
       system(box_cage(0.5), box_cage(0.5, false, 0.2), "harmonic", ", \"harmonic\": {\"resolution\": 16}");
   expect_rejected("deform " + q(mesh()) + " --cages " + q(s) + " -o " + q(output("d.ply")),
-                  {"outside", "\"mean_value\"", "\"green\""});
+                  {"outside", "\"harmonic\": {\"outside\": \"mean_value\"}", "\"green\""});
+}
+
+// The remedy the refusal names first: "harmonic": {"outside": "mean_value"}. Inside the cage the
+// harmonic coordinates, outside it the mean value ones; both reproduce affine maps, so a cage
+// mapped by x -> 2x + (0.1, 0.2, 0.3) maps every vertex of the mesh, inside or out, the same way.
+TEST_F(Bad_cages, DeformHarmonicCageWithMeanValueOutsideMapsEveryVertex) {
+  auto box = [](double s, double k, double tx, double ty, double tz) {
+    std::ostringstream o;
+    o.precision(17);
+    for (int i = 0; i < 8; ++i)
+      o << "v " << k * ((i & 1) ? s : -s) + tx << " " << k * ((i & 2) ? s : -s) + ty << " "
+        << k * ((i & 4) ? s : -s) + tz << "\n";
+    o << "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    return o.str();
+  };
+  const std::string s = system(box(0.9, 1, 0, 0, 0), box(0.9, 2, 0.1, 0.2, 0.3), "harmonic",
+                               ", \"harmonic\": {\"resolution\": 16, \"outside\": \"mean_value\"}");
+  const std::string o = output("d.off");
+  const auto r = run("deform " + q(mesh()) + " --cages " + q(s) + " -o " + q(o) + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // (both kinds of vertices: the unit sphere's points near the axes lie outside the box, those
+  // near its diagonals inside)
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["vertex_status"]["extended"].get<int>(), 0) << r.out;
+  EXPECT_GT(j["vertex_status"]["regular"].get<int>() + j["vertex_status"]["approximate"].get<int>(), 0) << r.out;
+  EXPECT_EQ(j["vertex_status"]["undefined"].get<int>(), 0) << r.out;
+  std::vector<std::array<double, 3>> p;
+  std::vector<std::array<std::size_t, 3>> f;
+  cmgeom_test::icosphere(1, p, f);
+  std::ifstream off(o);
+  std::string magic;
+  std::size_t nv = 0, nf = 0, ne = 0;
+  off >> magic >> nv >> nf >> ne;
+  ASSERT_EQ(nv, p.size());
+  const double t[3] = {0.1, 0.2, 0.3};
+  for (std::size_t i = 0; i < nv; ++i)
+    for (int k = 0; k < 3; ++k) {
+      double x;
+      off >> x;
+      EXPECT_NEAR(x, 2 * p[i][std::size_t(k)] + t[k], 1e-6) << "vertex " << i;
+    }
 }
 
 // Documented handling (doc/Cage_deformation, doc/Reliability.md): mean value coordinates extend

@@ -329,9 +329,9 @@ CMGEOM_CLI_COMMAND(
           throw CMGeom::Invalid_input(d->input + ": " + std::to_string(undefined) + " of " +
                                       std::to_string(model.vertices.size()) +
                                       " base vertices lie outside the cages, where harmonic coordinates are undefined "
-                                      "(mean value and Green coordinates are defined there: give those cages "
-                                      "\"coordinates\": \"mean_value\" or \"green\", or use cages that enclose the "
-                                      "model)");
+                                      "(give those cages \"harmonic\": {\"outside\": \"mean_value\"} to use mean "
+                                      "value coordinates there, or \"coordinates\": \"mean_value\" or \"green\", "
+                                      "which are defined there, or use cages that enclose the model)");
         j["deformer"] = desc.cages.size() == 1 ? "cage" : "cage_system";
         j["coordinates"] = coordinates;
         j["cages"] = desc.cages.size();

@@ -106,9 +106,10 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     if (const std::size_t bad = r.count(CD::Coordinate_status::undefined))
       throw CMGeom::Invalid_input(a->input + ": " + std::to_string(bad) + " of " + std::to_string(points.size()) +
                                   " vertices lie outside the cage" + (single ? " " + desc.cages[0].rest_source : "s") +
-                                  ", where harmonic coordinates are undefined (mean value and Green coordinates "
-                                  "are defined there: give the cage \"coordinates\": \"mean_value\" or \"green\", "
-                                  "or use a cage that encloses the mesh)");
+                                  ", where harmonic coordinates are undefined (give the cage \"harmonic\": "
+                                  "{\"outside\": \"mean_value\"} to use mean value coordinates there, or "
+                                  "\"coordinates\": \"mean_value\" or \"green\", which are defined there, or use a "
+                                  "cage that encloses the mesh)");
     std::size_t i = 0;
     for (auto v : mesh.vertices()) {
       const CD::Vec3& p = r.positions[i++];

@@ -160,7 +160,7 @@ private:
   Harmonic_options harmonic(const json& v, const std::string& ptr) const {
     Harmonic_options o;
     if (!v.is_object()) fail(ptr, "must be an object");
-    known_keys(v, ptr, {"resolution", "interpolation"});
+    known_keys(v, ptr, {"resolution", "interpolation", "outside"});
     if (v.contains("resolution")) {
       const json& r = v["resolution"];
       if (!r.is_number_integer() || r.get<std::int64_t>() < 8 || r.get<std::int64_t>() > 512)
@@ -175,6 +175,15 @@ private:
         o.interpolation = Harmonic_interpolation::trilinear;
       else
         fail(ptr + "/interpolation", "must be \"tricubic\" or \"trilinear\"");
+    }
+    if (v.contains("outside")) {
+      const std::string s = v["outside"].is_string() ? v["outside"].get<std::string>() : "";
+      if (s == "undefined")
+        o.outside = Harmonic_outside::undefined;
+      else if (s == "mean_value")
+        o.outside = Harmonic_outside::mean_value;
+      else
+        fail(ptr + "/outside", "must be \"undefined\" or \"mean_value\"");
     }
     return o;
   }
@@ -411,6 +420,7 @@ inline nlohmann::ordered_json cage_system_to_json(const Cage_system_description&
     oj h;
     h["resolution"] = o.resolution;
     h["interpolation"] = o.interpolation == Harmonic_interpolation::tricubic ? "tricubic" : "trilinear";
+    if (o.outside == Harmonic_outside::mean_value) h["outside"] = "mean_value";
     return h;
   };
   oj j;

@@ -10,6 +10,12 @@
 // discrete solution reproduces every affine map of the cage exactly; `closest_point` keeps the
 // discrete maximum principle instead. Lookup: trilinear or tricubic B-spline. Points on the cage
 // get status on_boundary, outside it undefined (zeros), near it approximate: never silently wrong.
+// Outside the cage, harmonic coordinates do not exist (the Laplace problem lives inside); with
+// `outside = mean_value` a point there takes the cage's mean value coordinates instead (status
+// extended), a choice of ours the thesis leaves open (§5.3.1 pairs HC with MVC per cage; §5.3.4
+// handles coordinates undefined outside by its λ rule): on the cage both are the hat functions
+// (and with the default boundary values the grid's boundary nodes hold MVC), so the map stays
+// continuous across the cage, and MVC reproduce every affine map there too.
 //
 // Manual: doc/Cage_deformation/README.md, "Methods and the choices made".
 #ifndef CMGEOM_CAGE_DEFORMATION_HARMONIC_COORDINATES_3_H
@@ -32,13 +38,17 @@ namespace Cage_deformation {
 
 enum class Harmonic_interpolation { trilinear, tricubic };
 enum class Harmonic_boundary_values { mean_value, closest_point };
+/// What a point outside the cage gets: status undefined and zero weights (default), or the cage's
+/// mean value coordinates with status extended (see the file comment).
+enum class Harmonic_outside { undefined, mean_value };
 
 struct Harmonic_options {
   int resolution = 64;  ///< cells along the longest side of the cage's bounding box
   Harmonic_interpolation interpolation = Harmonic_interpolation::tricubic;
   Harmonic_boundary_values boundary_values = Harmonic_boundary_values::mean_value;
-  double solver_tolerance = 1e-12;  ///< relative residual of every CG solve
-  int max_iterations = 5000;        ///< per level and coordinate
+  double solver_tolerance = 1e-12;                         ///< relative residual of every CG solve
+  int max_iterations = 5000;                               ///< per level and coordinate
+  Harmonic_outside outside = Harmonic_outside::undefined;  ///< points outside the cage
 };
 
 class Harmonic_coordinates_3 {
@@ -82,6 +92,10 @@ public:
     for (std::size_t t = 0; t < g_->m; ++t)
       if (std::abs(g_->signed_distance(t, x)) <= tol && g_->distance_to_triangle(t, x) <= tol) return mvc_(x, out);
     if (g_->winding_number(x) < 0.5) {
+      if (opt_.outside == Harmonic_outside::mean_value) {
+        mvc_(x, out);
+        return Coordinate_status::extended;
+      }
       for (std::size_t i = 0; i < K; ++i) *out++ = 0.0;
       return Coordinate_status::undefined;
     }
