@@ -20,13 +20,20 @@ done
 oiiotool "$TMP/rest.png" "$TMP/mean_value.png" "$TMP/green.png" "$TMP/harmonic.png" --mosaic 4x1 \
   -o "$HERE/images/firehydrant_deform.png"
 # Ogre: the artist's pose moves vertices outside the cage; Green coordinates continue them
-# through their exit face (status "extended"), mean value coordinates are defined everywhere.
-for c in mean_value green; do
+# through their exit face (status "extended"), mean value coordinates are defined everywhere, and
+# harmonic coordinates, undefined there, take the cage's mean value coordinates when asked.
+for c in mean_value green harmonic; do
   cp "$Q/Ogre_Cage.obj" "$Q/Ogre_Cage_Deformed.obj" "$TMP/"
-  printf '{"cages": [{"rest": "Ogre_Cage.obj", "deformed": "Ogre_Cage_Deformed.obj", "coordinates": "%s"}]}\n' "$c" > "$TMP/ogre_$c.json"
+  extra=""
+  caption=$c
+  if [ "$c" = harmonic ]; then
+    extra=', "harmonic": {"outside": "mean_value"}'
+    caption="harmonic, MVC outside"
+  fi
+  printf '{"cages": [{"rest": "Ogre_Cage.obj", "deformed": "Ogre_Cage_Deformed.obj", "coordinates": "%s"%s}]}\n' "$c" "$extra" > "$TMP/ogre_$c.json"
   "$CMGEOM" deform "$Q/Ogre.obj" --cages "$TMP/ogre_$c.json" -o "$TMP/ogre_$c.obj" --json > "$HERE/images/ogre_$c.json"
-  "$CMGEOM" render "$TMP/ogre_$c.obj" -o "$TMP/ogre_$c.png" --view front --size 400x400 --caption "$c"
+  "$CMGEOM" render "$TMP/ogre_$c.obj" -o "$TMP/ogre_$c.png" --view front --size 400x400 --caption "$caption"
 done
 "$CMGEOM" render "$Q/Ogre.obj" -o "$TMP/ogre_rest.png" --view front --size 400x400 --caption rest
-oiiotool "$TMP/ogre_rest.png" "$TMP/ogre_mean_value.png" "$TMP/ogre_green.png" --mosaic 3x1 \
+oiiotool "$TMP/ogre_rest.png" "$TMP/ogre_mean_value.png" "$TMP/ogre_green.png" "$TMP/ogre_harmonic.png" --mosaic 4x1 \
   -o "$HERE/images/ogre_deform.png"
