@@ -473,6 +473,24 @@ protected:
                      coords + "\"" + extra + "}]}");
   }
   std::string mesh() { return input("sphere.obj", cmgeom_test::icosphere_obj(1)); }
+  // The deformed mesh `off` (an OFF file, vertices in mesh()'s order) is mesh() mapped by
+  // x -> scale x + shift, to 1e-6.
+  void expect_mesh_mapped(const std::string& off, double scale, const std::array<double, 3>& shift) {
+    std::vector<std::array<double, 3>> p;
+    std::vector<std::array<std::size_t, 3>> f;
+    cmgeom_test::icosphere(1, p, f);
+    std::ifstream in(off);
+    std::string magic;
+    std::size_t nv = 0, nf = 0, ne = 0;
+    in >> magic >> nv >> nf >> ne;
+    ASSERT_EQ(nv, p.size());
+    for (std::size_t i = 0; i < nv; ++i)
+      for (std::size_t k = 0; k < 3; ++k) {
+        double x = 0;
+        in >> x;
+        EXPECT_NEAR(x, scale * p[i][k] + shift[k], 1e-6) << "vertex " << i;
+      }
+  }
 };
 
 TEST_F(Bad_cages, DeformOpenCage) {
@@ -546,21 +564,7 @@ TEST_F(Bad_cages, DeformHarmonicCageWithMeanValueOutsideMapsEveryVertex) {
   EXPECT_GT(j["vertex_status"]["extended"].get<int>(), 0) << r.out;
   EXPECT_GT(j["vertex_status"]["regular"].get<int>() + j["vertex_status"]["approximate"].get<int>(), 0) << r.out;
   EXPECT_EQ(j["vertex_status"]["undefined"].get<int>(), 0) << r.out;
-  std::vector<std::array<double, 3>> p;
-  std::vector<std::array<std::size_t, 3>> f;
-  cmgeom_test::icosphere(1, p, f);
-  std::ifstream off(o);
-  std::string magic;
-  std::size_t nv = 0, nf = 0, ne = 0;
-  off >> magic >> nv >> nf >> ne;
-  ASSERT_EQ(nv, p.size());
-  const double t[3] = {0.1, 0.2, 0.3};
-  for (std::size_t i = 0; i < nv; ++i)
-    for (int k = 0; k < 3; ++k) {
-      double x;
-      off >> x;
-      EXPECT_NEAR(x, 2 * p[i][std::size_t(k)] + t[k], 1e-6) << "vertex " << i;
-    }
+  expect_mesh_mapped(o, 2, {0.1, 0.2, 0.3});
 }
 
 // Documented handling (doc/Cage_deformation, doc/Reliability.md): mean value coordinates extend
@@ -570,21 +574,7 @@ TEST_F(Bad_cages, DeformMeanValueCageNotEnclosingTheMeshExtends) {
   const std::string o = output("d.off");
   const auto r = run("deform " + q(mesh()) + " --cages " + q(s) + " -o " + q(o));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::vector<std::array<double, 3>> p;
-  std::vector<std::array<std::size_t, 3>> f;
-  cmgeom_test::icosphere(1, p, f);
-  std::ifstream off(o);
-  std::string magic;
-  std::size_t nv = 0, nf = 0, ne = 0;
-  off >> magic >> nv >> nf >> ne;
-  ASSERT_EQ(nv, p.size());
-  for (std::size_t i = 0; i < nv; ++i) {
-    double x, y, z;
-    off >> x >> y >> z;
-    EXPECT_NEAR(x, p[i][0], 1e-6);
-    EXPECT_NEAR(y, p[i][1], 1e-6);
-    EXPECT_NEAR(z, p[i][2], 1e-6);
-  }
+  expect_mesh_mapped(o, 1, {0, 0, 0});
 }
 
 TEST_F(Bad_cages, CmDeformMismatchedCages) {

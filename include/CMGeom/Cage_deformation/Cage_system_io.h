@@ -167,24 +167,20 @@ private:
         fail(ptr + "/resolution", "must be an integer in [8, 512]");
       o.resolution = int(r.get<std::int64_t>());
     }
-    if (v.contains("interpolation")) {
-      const std::string s = v["interpolation"].is_string() ? v["interpolation"].get<std::string>() : "";
-      if (s == "tricubic")
-        o.interpolation = Harmonic_interpolation::tricubic;
-      else if (s == "trilinear")
-        o.interpolation = Harmonic_interpolation::trilinear;
-      else
-        fail(ptr + "/interpolation", "must be \"tricubic\" or \"trilinear\"");
-    }
-    if (v.contains("outside")) {
-      const std::string s = v["outside"].is_string() ? v["outside"].get<std::string>() : "";
-      if (s == "undefined")
-        o.outside = Harmonic_outside::undefined;
-      else if (s == "mean_value")
-        o.outside = Harmonic_outside::mean_value;
-      else
-        fail(ptr + "/outside", "must be \"undefined\" or \"mean_value\"");
-    }
+    // (a key whose value is one of two names)
+    auto choice = [&](const char* key, const char* first, const char* second) {
+      const json& c = v[key];
+      const std::string s = c.is_string() ? c.get<std::string>() : "";
+      if (s != first && s != second)
+        fail(ptr + "/" + key, std::string("must be \"") + first + "\" or \"" + second + "\"");
+      return s == first;
+    };
+    if (v.contains("interpolation"))
+      o.interpolation = choice("interpolation", "tricubic", "trilinear") ? Harmonic_interpolation::tricubic
+                                                                         : Harmonic_interpolation::trilinear;
+    if (v.contains("outside"))
+      o.outside =
+          choice("outside", "undefined", "mean_value") ? Harmonic_outside::undefined : Harmonic_outside::mean_value;
     return o;
   }
 
