@@ -12,8 +12,9 @@
 # (run_lod.py: level-of-detail chains against meshoptimizer-style LODs), RESULTS-paint.md (run_paint.py:
 # the new atlas painted from the input or looked up texel by texel) and RESULTS-max-error.md
 # (run_max_error_bench.sh: the guaranteed error bound's face counts against the peers' at equal
-# measured error; RESULTS-max-error-large.md the same on the 2M-face ogre-sub2) and RESULTS-fit-by-ratio.md (run_fit_by_ratio.sh: the final fit against none by the
-# share of faces kept, what its points-per-face threshold is chosen from). Each script writes its whole
+# measured error; RESULTS-max-error-large.md the same on the 2M-face ogre-sub2) and
+# RESULTS-fit-by-ratio.md (run_fit_by_ratio.sh: the final fit against none by the share of faces kept,
+# what its points-per-face threshold is chosen from). Each script writes its whole
 # file (machine, threads and peer versions from common/describe_run.sh); none is edited by hand.
 #   bash benchmark/Textured_simplification/run.sh <build-dir> [--quick]   (called by benchmark/run.sh)
 set -euo pipefail

@@ -20,9 +20,9 @@ bench="$build/bin/bench_simplify"
 bounds=0.02,0.005,0.001
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-# the two lists take about the same time (fandisk alone is the slowest model)
 out="$here/RESULTS-max-error.md"
 title="Guaranteed error bound against the peers at equal measured error"
+# (the default's two lists take about the same time: fandisk alone is the slowest model)
 if [[ "${2:-}" == "--quick" ]]; then
   lists=(bunny)
 elif [[ "${2:-}" == "--large" ]]; then

@@ -51,12 +51,16 @@ std::vector<std::string> lines_of(const std::string& s) {
 }
 
 // A closed box cage [-s, s]^3 (quads, outward), optionally without its last face, with vertex 7
-// moved by `shift` in x (the "deformed" pose).
-std::string box_cage(double s, bool open = false, double shift = 0) {
+// moved by `shift` in x (the "deformed" pose), then every vertex mapped by x -> scale x + offset.
+std::string box_cage(double s, bool open = false, double shift = 0, double scale = 1,
+                     const std::array<double, 3>& offset = {0, 0, 0}) {
   std::ostringstream o;
+  o.precision(17);
   const double v[8][3] = {{-s, -s, -s}, {s, -s, -s}, {s, s, -s}, {-s, s, -s},
                           {-s, -s, s},  {s, -s, s},  {s, s, s},  {-s, s, s}};
-  for (int i = 0; i < 8; ++i) o << "v " << v[i][0] + (i == 6 ? shift : 0) << " " << v[i][1] << " " << v[i][2] << "\n";
+  for (int i = 0; i < 8; ++i)
+    o << "v " << scale * (v[i][0] + (i == 6 ? shift : 0)) + offset[0] << " " << scale * v[i][1] + offset[1] << " "
+      << scale * v[i][2] + offset[2] << "\n";
   o << "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\n";
   if (!open) o << "f 4 1 5 8\n";
   return o.str();
@@ -544,16 +548,7 @@ TEST_F(Bad_cages, DeformHarmonicCageNotEnclosingTheMesh) {
 // harmonic coordinates, outside it the mean value ones; both reproduce affine maps, so a cage
 // mapped by x -> 2x + (0.1, 0.2, 0.3) maps every vertex of the mesh, inside or out, the same way.
 TEST_F(Bad_cages, DeformHarmonicCageWithMeanValueOutsideMapsEveryVertex) {
-  auto box = [](double s, double k, double tx, double ty, double tz) {
-    std::ostringstream o;
-    o.precision(17);
-    for (int i = 0; i < 8; ++i)
-      o << "v " << k * ((i & 1) ? s : -s) + tx << " " << k * ((i & 2) ? s : -s) + ty << " "
-        << k * ((i & 4) ? s : -s) + tz << "\n";
-    o << "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
-    return o.str();
-  };
-  const std::string s = system(box(0.9, 1, 0, 0, 0), box(0.9, 2, 0.1, 0.2, 0.3), "harmonic",
+  const std::string s = system(box_cage(0.9), box_cage(0.9, false, 0, 2, {0.1, 0.2, 0.3}), "harmonic",
                                ", \"harmonic\": {\"resolution\": 16, \"outside\": \"mean_value\"}");
   const std::string o = output("d.off");
   const auto r = run("deform " + q(mesh()) + " --cages " + q(s) + " -o " + q(o) + " --json");
