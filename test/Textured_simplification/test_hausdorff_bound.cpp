@@ -16,6 +16,7 @@
 #include <CMGeom/Textured_simplification/simplify_mesh.h>
 
 #include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -325,4 +326,96 @@ TEST(HausdorffBound, SharedModelsWithinTheBound) {
     EXPECT_LE(err.hausdorff, r.error_bound * (1 + 1e-9)) << name;
     EXPECT_LE(err.hausdorff, 0.01) << name;
   }
+}
+
+// A pinch: a curved sheet and a strip of triangles that meet at one vertex only, the sheet's
+// corner, kept as one vertex (as CGAL::IO::read_polygon_mesh leaves ogre.obj's non-manifold
+// vertices). The strip's fan at that vertex is a single triangle whose two sides there lie on the
+// border, the case where Euler::collapse_edge takes the vertex for gone while the sheet still
+// holds it. Neither engine's bound nor CMGeom's engine collapses at it: the pinch and the two
+// components are kept, and the measured Hausdorff distance stays within the bound; CGAL's engine,
+// whose topological test does not see pinches, is refused the mesh with the vertex named.
+namespace {
+Mesh hb_pinched_sheet_and_strip() {
+  Mesh m = cmgeom_test::height_field(12, [](double x, double y) { return 0.15 * std::sin(3 * x) * std::sin(2 * y); });
+  const Mesh::Vertex_index corner(0);  // (0, 0, 0), the sheet's first vertex
+  std::vector<Mesh::Vertex_index> a{corner}, b;
+  for (int k = 1; k <= 16; ++k) {  // two rails going away from the corner, curving up
+    const double s = 0.06 * k;
+    a.push_back(m.add_vertex(Point_3(-s, -0.03 - 0.2 * s * s, 0.4 * s * s)));
+    b.push_back(m.add_vertex(Point_3(-s - 0.01, 0.03 + 0.1 * s * s, 0.4 * s * s + 0.05 * s)));
+  }
+  EXPECT_NE(m.add_face(corner, b[0], a[1]), Mesh::null_face());  // the strip's one face at the corner
+  for (std::size_t k = 1; k < 16; ++k) {
+    EXPECT_NE(m.add_face(a[k], b[k - 1], b[k]), Mesh::null_face());
+    EXPECT_NE(m.add_face(a[k], b[k], a[k + 1]), Mesh::null_face());
+  }
+  return m;
+}
+std::size_t hb_components(Mesh m) {  // (a copy: the count needs a face property)
+  auto fcc = m.add_property_map<Mesh::Face_index, std::size_t>("f:hb_cc", 0).first;
+  return PMP::connected_components(m, fcc);
+}
+}  // namespace
+
+TEST(HausdorffBound, PinchedVerticesAreNeverCollapsed) {
+  const Mesh input = hb_pinched_sheet_and_strip();
+  ASSERT_TRUE(CGAL::is_valid_polygon_mesh(input));
+  const auto pinch = TS::internal::pinched_vertex(input);
+  ASSERT_TRUE(pinch.has_value());
+  EXPECT_EQ(pinch->first, 0u);
+  EXPECT_EQ(pinch->second, 2);
+  ASSERT_EQ(hb_components(input), 2u);
+  const Point_3 at = input.point(Mesh::Vertex_index(0));
+  for (int variant = 0; variant < 3; ++variant) {
+    Mesh m = input;
+    TS::Mesh_simplification_options o;
+    if (variant == 0) {  // no bound: the engine's own test (and no fit, which would move the vertex)
+      o.target_faces = 20;
+      o.memory.fit.rounds = 0;
+    }
+    if (variant >= 1) o.max_error = variant == 1 ? 0.01 : 0.05;
+    const std::string what = "variant " + std::to_string(variant);
+    const TS::Mesh_simplification_result r = TS::simplify_mesh(m, o);
+    EXPECT_LT(r.faces_out, r.faces_in / 2) << what;
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(m)) << what;
+    EXPECT_EQ(hb_components(m), 2u) << what;
+    const auto still = TS::internal::pinched_vertex(m);
+    ASSERT_TRUE(still.has_value()) << what;
+    EXPECT_EQ(m.point(Mesh::Vertex_index(Mesh::size_type(still->first))), at) << what;
+    if (o.max_error) {
+      const auto err = hb_measure(input, m);
+      EXPECT_LE(err.hausdorff, r.error_bound * (1 + 1e-9)) << what;
+      EXPECT_LE(err.hausdorff, *o.max_error) << what;
+    }
+  }
+  // the bound on CGAL's engine, used directly: it refuses the collapses at the pinch itself
+  {
+    Mesh m = input;
+    using Bound = TS::Hausdorff_bound<Mesh, decltype(m.points())>;
+    const double diagonal = TS::internal::bbox_diagonal(input);
+    Bound bound(m, m.points(), 0.05 * diagonal);
+    TS::Area_weighted_quadric_policies<Mesh> policy(m, TS::Quadric_options{false});
+    CGAL::Surface_mesh_simplification::edge_collapse(
+        m, TS::Face_count_stop_predicate<Mesh>(m, 1),
+        CGAL::parameters::get_cost(policy)
+            .get_placement(policy)
+            .filter(TS::Hausdorff_bound_filter<Bound, TS::No_normal_flip_filter<>>{&bound})
+            .visitor(TS::Hausdorff_bound_visitor<Bound>(&bound)));
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(m));
+    EXPECT_EQ(hb_components(m), 2u);
+    EXPECT_LE(hb_measure(input, m).hausdorff * diagonal, 0.05 * diagonal);
+  }
+  Mesh m = input;
+  TS::Mesh_simplification_options o;
+  o.target_faces = 20;
+  o.engine = TS::Simplification_engine::cgal;
+  o.surface_memory = false;
+  try {
+    TS::simplify_mesh(m, o);
+    ADD_FAILURE() << "CGAL's engine took a pinched mesh";
+  } catch (const CMGeom::Invalid_input& e) {
+    EXPECT_NE(std::string(e.what()).find("passes vertex 0 2 times"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(m.number_of_faces(), input.number_of_faces());
 }

@@ -12,8 +12,9 @@
 // a depth limit. The input's flat regions are also grouped into convex planar patches, so that a new
 // face across many small flat triangles is tested against their union at once, and a new face is
 // first tested whole against the input's faces projected onto its plane (covered_by_projection()),
-// which most often spares the cuts. Conservative: an allowed change is always within E, a refused
-// one may have been.
+// which most often spares the cuts. A collapse at a vertex the border passes more than once (a
+// pinch, which Euler::collapse_edge does not handle as a 2-manifold vertex) is refused.
+// Conservative: an allowed change is always within E, a refused one may have been.
 // Complexity: O(F) set-up; a test O(k m + g), k pieces near the edge, m parts a new face is cut in,
 // g input faces gathered for the projections.
 //
@@ -137,6 +138,12 @@ public:
   /// bound. If it does, the pieces' new faces are remembered for collapsed().
   bool allows_collapse(const TriangleMesh& tm, halfedge_descriptor h, const V3& x) {
     start_test();
+    // Euler::collapse_edge assumes 2-manifold endpoints: at a vertex the border passes twice it
+    // can leave a fan behind, where the faces walked here would not be the faces it changes
+    if (pinched(tm, source(h, tm)) || pinched(tm, target(h, tm))) {
+      ++refused_;
+      return false;
+    }
     internal::for_each_face_of_collapse(
         tm, h, [&](face_descriptor f) { olds_.push_back(f); },
         [&](face_descriptor f, halfedge_descriptor g) {
@@ -223,6 +230,14 @@ private:
     halfedge_descriptor h;
     V3 x;
   };
+
+  /// Whether the border passes v more than once.
+  static bool pinched(const TriangleMesh& tm, vertex_descriptor v) {
+    int borders = 0;
+    for (halfedge_descriptor g : CGAL::halfedges_around_target(v, tm))
+      if (is_border(g, tm) && ++borders > 1) return true;
+    return false;
+  }
 
   static Tri make_tri(const V3& a, const V3& b, const V3& c) {
     const CM::internal::Centroid_sphere sphere = CM::internal::centroid_sphere(a, b, c);

@@ -712,13 +712,34 @@ std::optional<std::pair<std::size_t, std::size_t>> doubled_edge(const Mesh& mesh
   return std::nullopt;
 }
 
+/// The first vertex (in vertex order) that the border passes more than once, and how many times,
+/// or none: a pinch, where fans of faces meet at one vertex (a non-manifold vertex kept as one, as
+/// CGAL::IO::read_polygon_mesh leaves those of ogre.obj).
+template <class Mesh>
+std::optional<std::pair<std::size_t, int>> pinched_vertex(const Mesh& mesh) {
+  for (auto v : vertices(mesh)) {
+    if (halfedge(v, mesh) == boost::graph_traits<Mesh>::null_halfedge()) continue;  // (an isolated vertex)
+    int borders = 0;
+    for (auto h : CGAL::halfedges_around_target(v, mesh)) borders += int(is_border(h, mesh));
+    if (borders > 1) return std::make_pair(std::size_t(v), borders);
+  }
+  return std::nullopt;
+}
+
 /// Throws CMGeom::Invalid_input when two edges join the same two vertices (doubled_edge()): CGAL
-/// 5.5's edge_collapse loops or fails an assertion on them; CMGeom's engine never collapses them.
+/// 5.5's edge_collapse loops or fails an assertion on them; or when the border passes a vertex
+/// more than once (pinched_vertex()): Euler::collapse_edge, which assumes a 2-manifold, can then
+/// leave a fan of faces behind at the vertex's old place. CMGeom's engine never collapses either.
 template <class Mesh>
 void check_for_cgal_engine(const Mesh& mesh) {
   if (const auto e = doubled_edge(mesh))
     throw Invalid_input("simplify_mesh: vertices " + std::to_string(e->first) + " and " + std::to_string(e->second) +
                         " are joined by two edges, which CGAL's edge_collapse does not handle (use CMGeom's engine)");
+  if (const auto v = pinched_vertex(mesh))
+    throw Invalid_input("simplify_mesh: the border passes vertex " + std::to_string(v->first) + " " +
+                        std::to_string(v->second) +
+                        " times (fans of faces meet there), which CGAL's edge_collapse does not handle (use CMGeom's "
+                        "engine, or split the vertex: CGAL::Polygon_mesh_processing::duplicate_non_manifold_vertices)");
 }
 
 /// The stop of simplify_mesh(): a face count and/or a cost bound, remembering which one fired.

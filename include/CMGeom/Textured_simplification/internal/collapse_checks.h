@@ -92,15 +92,14 @@ void for_each_face_of_collapse(const TriangleMesh& tm,
 /// triangle mesh, plus the cases where the result would be degenerate although the link
 /// condition holds (a tetrahedron, an isolated triangle, a kept vertex with fewer than three
 /// neighbours, an interior edge between two boundary vertices, the edge's two faces on the same
-/// three vertices). A second edge joining v0 and v1 (a valid CGAL::Surface_mesh may hold one, e.g.
-/// after triangulating quads whose diagonals meet an existing edge) fails the link condition: the
-/// apexes of its faces are neighbours of both that are not apexes of this edge. `mark`/`stamp` are caller-owned
-/// scratch (a vertex-indexed array and a counter, used for vertices of degree > 64) so the test
-/// allocates nothing. `on_neighbour(v)` is called for every neighbour of v0 and of v1 met while
-/// the test walks their stars (an engine uses it to prefetch their data); it must not modify the
-/// mesh. If `warm` is not null, the stars of its endpoints are walked too, read only, alongside
-/// the test's own walks and never longer: an engine passes the edge it will most likely test
-/// next, whose halfedge records then come into the cache while this test waits for its own
+/// three vertices, an endpoint the border passes more than once). A second edge joining v0 and v1 (a valid
+/// CGAL::Surface_mesh may hold one, e.g. after triangulating quads whose diagonals meet an existing edge) fails the
+/// link condition: the apexes of its faces are neighbours of both that are not apexes of this edge. `mark`/`stamp` are
+/// caller-owned scratch (a vertex-indexed array and a counter, used for vertices of degree > 64) so the test allocates
+/// nothing. `on_neighbour(v)` is called for every neighbour of v0 and of v1 met while the test walks their stars (an
+/// engine uses it to prefetch their data); it must not modify the mesh. If `warm` is not null, the stars of its
+/// endpoints are walked too, read only, alongside the test's own walks and never longer: an engine passes the edge it
+/// will most likely test next, whose halfedge records then come into the cache while this test waits for its own
 /// (walking a star is a chain of dependent memory accesses; independent chains overlap). The
 /// verdict does not depend on `warm`.
 struct Ignore_neighbour {
@@ -142,6 +141,7 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
   vertex_descriptor ring0[local_max], ring1[local_max];
   bool v0_border = false, v1_border = false;
   std::size_t deg0 = 0, deg1 = 0;
+  int border_in0 = 0, border_in1 = 0;  // border halfedges ending at v0 / v1
   {
     const halfedge_descriptor s0 = halfedge(v0, tm), s1 = halfedge(v1, tm);
     halfedge_descriptor h0 = s0, h1 = s1;
@@ -164,6 +164,7 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
         const vertex_descriptor k = source(h0, tm);
         on_neighbour(k);
         if (deg0 < local_max) ring0[deg0] = k;
+        border_in0 += int(is_border(h0, tm));
         v0_border = v0_border || is_border(h0, tm) || is_border(opposite(h0, tm), tm);
         ++deg0;
         h0 = opposite(next(h0, tm), tm);
@@ -173,6 +174,7 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
         const vertex_descriptor k = source(h1, tm);
         on_neighbour(k);
         if (deg1 < local_max) ring1[deg1] = k;
+        border_in1 += int(is_border(h1, tm));
         v1_border = v1_border || is_border(h1, tm) || is_border(opposite(h1, tm), tm);
         ++deg1;
         h1 = opposite(next(h1, tm), tm);
@@ -180,6 +182,12 @@ bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMa
       }
     }
   }
+  // A vertex the border passes more than once (a pinch: fans of faces that meet at one vertex,
+  // which a halfedge structure can hold) is not a 2-manifold vertex, which Euler::collapse_edge
+  // assumes: with a fan on the edge's border side it removes that fan's face and takes the vertex
+  // for gone while its other fans still hold it, so they keep its old place and one of them can
+  // come off as a new component. Such a vertex is never collapsed (its other edges are).
+  if (border_in0 > 1 || border_in1 > 1) return false;
   const bool use_marks = deg0 > local_max;
   if (use_marks) {
     if (++stamp == 0) {  // counter wrapped: reset the marks once every 2^32 tests
