@@ -41,6 +41,54 @@ TEST(CompactModelBuild, GatheringIsLinearAndCoversEveryVertex) {
   for (std::size_t i = 0; i < V; ++i) EXPECT_TRUE(seen2[i]) << "point " << i;
 }
 
+// Two flat 3 x 3 grids that meet at one corner, kept as one vertex (a pinch: the border passes it
+// twice). CGAL's engine would collapse there as at a 2-manifold vertex and leave a fan behind, so
+// the Garland-Heckbert simplifier refuses the mesh, naming the vertex, and leaves it unchanged;
+// the default simplifier (CMGeom's engine) never collapses at the pinch and keeps it.
+TEST(CompactModelBuild, PinchedVertexRefusedByCgalsEngineKeptByOurs) {
+  Surface_mesh s;
+  const auto corner = s.add_vertex(Point_3(0, 0, 0));
+  for (int grid = 0; grid < 2; ++grid) {
+    const double sx = grid == 0 ? 1. : -1.;  // the second grid in the opposite quadrant, tilted
+    std::vector<Surface_mesh::Vertex_index> v;
+    for (int i = 0; i <= 3; ++i)
+      for (int j = 0; j <= 3; ++j)
+        v.push_back(i == 0 && j == 0 ? corner
+                                     : s.add_vertex(Point_3(sx * i, sx * j, grid == 0 ? 0.1 * i * j : 0.3 * i)));
+    auto at = [&](int i, int j) { return v[std::size_t(i * 4 + j)]; };
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        ASSERT_NE(s.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1)), Surface_mesh::null_face());
+        ASSERT_NE(s.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1)), Surface_mesh::null_face());
+      }
+  }
+  ASSERT_TRUE(CGAL::is_valid_polygon_mesh(s));
+  ASSERT_EQ(s.number_of_faces(), 36u);
+  {
+    Surface_mesh t = s;
+    auto vim = get(CGAL::vertex_index, t);
+    Gathered_points g(t, vim);
+    try {
+      Garland_heckbert_simplifier()(t, 8, Point_gathering_visitor<decltype(vim)>(&g, vim));
+      ADD_FAILURE() << "no exception";
+    } catch (const CMGeom::Invalid_input& e) {
+      EXPECT_NE(std::string(e.what()).find("passes vertex 0 2 times"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(t.number_of_faces(), 36u);
+  }
+  Surface_mesh t = s;
+  auto vim = get(CGAL::vertex_index, t);
+  Gathered_points g(t, vim);
+  Weighted_quadric_simplifier()(t, 8, Point_gathering_visitor<decltype(vim)>(&g, vim));
+  EXPECT_LT(t.number_of_faces(), 36u);
+  EXPECT_TRUE(CGAL::is_valid_polygon_mesh(t));
+  EXPECT_FALSE(t.is_removed(corner));
+  EXPECT_EQ(t.point(corner), Point_3(0, 0, 0));
+  int borders = 0;
+  for (auto h : CGAL::halfedges_around_target(corner, t)) borders += int(t.is_border(h));
+  EXPECT_EQ(borders, 2);
+}
+
 // A sphere with a second component: two triangles back to back on the same three vertices. Every
 // base edge is split at one midpoint per pair of end vertices, so the reconstruction of such a
 // pocket cannot be a manifold mesh; the build refuses it (before, the build succeeded and every

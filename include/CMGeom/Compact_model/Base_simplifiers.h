@@ -11,6 +11,7 @@
 #ifndef CMGEOM_COMPACT_MODEL_BASE_SIMPLIFIERS_H
 #define CMGEOM_COMPACT_MODEL_BASE_SIMPLIFIERS_H
 
+#include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/Textured_mesh.h>
 #include <CMGeom/Textured_simplification/Area_weighted_quadric_policies.h>
 #include <CMGeom/Textured_simplification/Endpoint_placement.h>
@@ -23,6 +24,7 @@
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include <cstddef>
+#include <string>
 
 namespace CMGeom {
 namespace CM {
@@ -54,12 +56,20 @@ struct Weighted_quadric_simplifier {
 };
 
 /// CGAL's edge_collapse with Garland-Heckbert plane quadrics (optimal placement, then §4.3's
-/// snapping).
+/// snapping). Throws CMGeom::Invalid_input, before any change, on a mesh with a vertex the border
+/// passes more than once (fans of faces meeting at one vertex): CGAL's collapse at such a vertex
+/// can leave a fan behind (Textured_simplification::internal::pinched_vertex()).
 struct Garland_heckbert_simplifier {
   template <class Visitor>
   void operator()(CMGeom::Surface_mesh& mesh, std::size_t target_faces, Visitor visitor) const {
     namespace SMS = CGAL::Surface_mesh_simplification;
     namespace TS = CMGeom::Textured_simplification;
+    if (const auto v = TS::internal::pinched_vertex(mesh))
+      throw Invalid_input("Garland_heckbert_simplifier: the border passes vertex " + std::to_string(v->first) + " " +
+                          std::to_string(v->second) +
+                          " times (fans of faces meet there), which CGAL's edge_collapse does not handle (use "
+                          "Weighted_quadric_simplifier, or split the vertex: "
+                          "CGAL::Polygon_mesh_processing::duplicate_non_manifold_vertices)");
     SMS::GarlandHeckbert_plane_policies<CMGeom::Surface_mesh, CMGeom::Kernel> gh(mesh);
     TS::Face_count_stop_predicate<CMGeom::Surface_mesh> stop(mesh, target_faces);
     SMS::edge_collapse(mesh, stop,
