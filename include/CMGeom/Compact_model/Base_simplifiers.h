@@ -65,11 +65,8 @@ struct Garland_heckbert_simplifier {
     namespace SMS = CGAL::Surface_mesh_simplification;
     namespace TS = CMGeom::Textured_simplification;
     if (const auto v = TS::internal::pinched_vertex(mesh))
-      throw Invalid_input("Garland_heckbert_simplifier: the border passes vertex " + std::to_string(v->first) + " " +
-                          std::to_string(v->second) +
-                          " times (fans of faces meet there), which CGAL's edge_collapse does not handle (use "
-                          "Weighted_quadric_simplifier, or split the vertex: "
-                          "CGAL::Polygon_mesh_processing::duplicate_non_manifold_vertices)");
+      throw Invalid_input(
+          TS::internal::pinch_refusal("Garland_heckbert_simplifier", *v, "Weighted_quadric_simplifier"));
     SMS::GarlandHeckbert_plane_policies<CMGeom::Surface_mesh, CMGeom::Kernel> gh(mesh);
     TS::Face_count_stop_predicate<CMGeom::Surface_mesh> stop(mesh, target_faces);
     SMS::edge_collapse(mesh, stop,

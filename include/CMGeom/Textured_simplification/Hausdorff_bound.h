@@ -140,7 +140,7 @@ public:
     start_test();
     // Euler::collapse_edge assumes 2-manifold endpoints: at a vertex the border passes twice it
     // can leave a fan behind, where the faces walked here would not be the faces it changes
-    if (pinched(tm, source(h, tm)) || pinched(tm, target(h, tm))) {
+    if (internal::border_passes(tm, source(h, tm), 2) > 1 || internal::border_passes(tm, target(h, tm), 2) > 1) {
       ++refused_;
       return false;
     }
@@ -230,14 +230,6 @@ private:
     halfedge_descriptor h;
     V3 x;
   };
-
-  /// Whether the border passes v more than once.
-  static bool pinched(const TriangleMesh& tm, vertex_descriptor v) {
-    int borders = 0;
-    for (halfedge_descriptor g : CGAL::halfedges_around_target(v, tm))
-      if (is_border(g, tm) && ++borders > 1) return true;
-    return false;
-  }
 
   static Tri make_tri(const V3& a, const V3& b, const V3& c) {
     const CM::internal::Centroid_sphere sphere = CM::internal::centroid_sphere(a, b, c);

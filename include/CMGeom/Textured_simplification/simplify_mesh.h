@@ -719,11 +719,19 @@ template <class Mesh>
 std::optional<std::pair<std::size_t, int>> pinched_vertex(const Mesh& mesh) {
   for (auto v : vertices(mesh)) {
     if (halfedge(v, mesh) == boost::graph_traits<Mesh>::null_halfedge()) continue;  // (an isolated vertex)
-    int borders = 0;
-    for (auto h : CGAL::halfedges_around_target(v, mesh)) borders += int(is_border(h, mesh));
+    const int borders = border_passes(mesh, v);
     if (borders > 1) return std::make_pair(std::size_t(v), borders);
   }
   return std::nullopt;
+}
+
+/// The message of a refusal by `who` of a mesh with a pinch (pinched_vertex()); `alternative`
+/// names what the caller may use instead of CGAL's edge_collapse.
+inline std::string pinch_refusal(const std::string& who, const std::pair<std::size_t, int>& pinch,
+                                 const std::string& alternative) {
+  return who + ": the border passes vertex " + std::to_string(pinch.first) + " " + std::to_string(pinch.second) +
+         " times (fans of faces meet there), which CGAL's edge_collapse does not handle (use " + alternative +
+         ", or split the vertex: CGAL::Polygon_mesh_processing::duplicate_non_manifold_vertices)";
 }
 
 /// Throws CMGeom::Invalid_input when two edges join the same two vertices (doubled_edge()): CGAL
@@ -735,11 +743,7 @@ void check_for_cgal_engine(const Mesh& mesh) {
   if (const auto e = doubled_edge(mesh))
     throw Invalid_input("simplify_mesh: vertices " + std::to_string(e->first) + " and " + std::to_string(e->second) +
                         " are joined by two edges, which CGAL's edge_collapse does not handle (use CMGeom's engine)");
-  if (const auto v = pinched_vertex(mesh))
-    throw Invalid_input("simplify_mesh: the border passes vertex " + std::to_string(v->first) + " " +
-                        std::to_string(v->second) +
-                        " times (fans of faces meet there), which CGAL's edge_collapse does not handle (use CMGeom's "
-                        "engine, or split the vertex: CGAL::Polygon_mesh_processing::duplicate_non_manifold_vertices)");
+  if (const auto v = pinched_vertex(mesh)) throw Invalid_input(pinch_refusal("simplify_mesh", *v, "CMGeom's engine"));
 }
 
 /// The stop of simplify_mesh(): a face count and/or a cost bound, remembering which one fired.

@@ -13,6 +13,8 @@
 #include <CGAL/number_utils.h>
 #include <boost/graph/graph_traits.hpp>
 
+#include <limits>
+
 namespace CMGeom {
 namespace Textured_simplification {
 namespace internal {
@@ -88,24 +90,39 @@ void for_each_face_of_collapse(const TriangleMesh& tm,
     }
 }
 
-/// Link condition of Dey et al. / Hoppe et al. for collapsing halfedge `h_v0v1` of a manifold
-/// triangle mesh, plus the cases where the result would be degenerate although the link
-/// condition holds (a tetrahedron, an isolated triangle, a kept vertex with fewer than three
-/// neighbours, an interior edge between two boundary vertices, the edge's two faces on the same
-/// three vertices, an endpoint the border passes more than once). A second edge joining v0 and v1 (a valid
-/// CGAL::Surface_mesh may hold one, e.g. after triangulating quads whose diagonals meet an existing edge) fails the
-/// link condition: the apexes of its faces are neighbours of both that are not apexes of this edge. `mark`/`stamp` are
-/// caller-owned scratch (a vertex-indexed array and a counter, used for vertices of degree > 64) so the test allocates
-/// nothing. `on_neighbour(v)` is called for every neighbour of v0 and of v1 met while the test walks their stars (an
-/// engine uses it to prefetch their data); it must not modify the mesh. If `warm` is not null, the stars of its
-/// endpoints are walked too, read only, alongside the test's own walks and never longer: an engine passes the edge it
-/// will most likely test next, whose halfedge records then come into the cache while this test waits for its own
-/// (walking a star is a chain of dependent memory accesses; independent chains overlap). The
-/// verdict does not depend on `warm`.
+/// How many border halfedges end at v: 0 inside, 1 on a boundary, more at a pinch (fans of faces
+/// meeting at one vertex), where Euler::collapse_edge, which assumes a 2-manifold vertex, can leave
+/// a fan behind at the vertex's old place. The count stops at `limit`.
+template <class TriangleMesh>
+int border_passes(const TriangleMesh& tm, typename boost::graph_traits<TriangleMesh>::vertex_descriptor v,
+                  int limit = std::numeric_limits<int>::max()) {
+  int borders = 0;
+  for (auto g : CGAL::halfedges_around_target(v, tm))
+    if (is_border(g, tm) && ++borders >= limit) break;
+  return borders;
+}
+
+/// The default `on_neighbour` of is_collapse_topologically_valid(): does nothing.
 struct Ignore_neighbour {
   template <class V>
   void operator()(const V&) const {}
 };
+
+/// Link condition of Dey et al. / Hoppe et al. for collapsing halfedge `h_v0v1` of a manifold
+/// triangle mesh, plus the cases where the result would be degenerate although the link condition
+/// holds (a tetrahedron, an isolated triangle, a kept vertex with fewer than three neighbours, an
+/// interior edge between two boundary vertices, the edge's two faces on the same three vertices, an
+/// endpoint the border passes more than once). A second edge joining v0 and v1 (a valid
+/// CGAL::Surface_mesh may hold one, e.g. after triangulating quads whose diagonals meet an existing
+/// edge) fails the link condition: the apexes of its faces are neighbours of both that are not
+/// apexes of this edge. `mark`/`stamp` are caller-owned scratch (a vertex-indexed array and a
+/// counter, used for vertices of degree > 64) so the test allocates nothing. `on_neighbour(v)` is
+/// called for every neighbour of v0 and of v1 met while the test walks their stars (an engine uses
+/// it to prefetch their data); it must not modify the mesh. If `warm` is not null, the stars of its
+/// endpoints are walked too, read only, alongside the test's own walks and never longer: an engine
+/// passes the edge it will most likely test next, whose halfedge records then come into the cache
+/// while this test waits for its own (walking a star is a chain of dependent memory accesses;
+/// independent chains overlap). The verdict does not depend on `warm`.
 template <class TriangleMesh, class VertexIndexMap, class MarkVector, class OnNeighbour = Ignore_neighbour>
 bool is_collapse_topologically_valid(const TriangleMesh& tm, const VertexIndexMap& vim,
                                      typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h,
