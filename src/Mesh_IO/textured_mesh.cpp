@@ -201,8 +201,9 @@ bool link_oriented_manifold(Surface_mesh& m, const std::vector<std::array<std::u
 }
 
 // Validates `soup` and builds its mesh (see build_textured_mesh()); with `attributes`, the mesh
-// has the "h:uv" and "f:material" maps of a Textured_mesh (its UVs filled when `uv_seen` is set
-// on return), else neither map (the UVs are checked all the same).
+// has the "f:material" map of a Textured_mesh and, when the soup has texture coordinates
+// (`uv_seen` set on return), its filled "h:uv" map; without, neither map (the UVs are checked all
+// the same).
 Surface_mesh build_mesh(const Polygon_soup& soup, const Read_options& options, bool attributes, bool& uv_seen) {
   const std::string& src = soup.source.empty() ? std::string("<memory>") : soup.source;
   const std::size_t nf = soup.number_of_faces();
@@ -299,7 +300,8 @@ Surface_mesh build_mesh(const Polygon_soup& soup, const Read_options& options, b
     Textured_mesh::UV_map uv;
     Textured_mesh::Material_map mat;
     if (attributes) {
-      uv = m.add_property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv", Point_2(0, 0)).first;
+      // (no "h:uv" map without texture coordinates: it would be 16 bytes a halfedge of zeros)
+      if (uv_seen) uv = m.add_property_map<Surface_mesh::Halfedge_index, Point_2>("h:uv", Point_2(0, 0)).first;
       mat = m.add_property_map<Surface_mesh::Face_index, int>("f:material", 0).first;
     }
     std::vector<bool> used(pts.size(), !options.remove_unreferenced_vertices);
@@ -488,7 +490,10 @@ Surface_mesh build_mesh(const Polygon_soup& soup, const Read_options& options, b
 
 void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Read_options& options) {
   bool uv_seen = false;
-  Textured_mesh built(build_mesh(soup, options, true, uv_seen));
+  Surface_mesh mesh = build_mesh(soup, options, true, uv_seen);
+  // (without texture coordinates, no "h:uv" map until one is asked for: Textured_mesh::uv_map())
+  Textured_mesh built =
+      uv_seen ? Textured_mesh(std::move(mesh)) : Textured_mesh(std::move(mesh), Textured_mesh::without_uv_map);
   built.set_has_uvs(uv_seen);
   built.materials() = soup.materials;
   built.set_source(soup.source);

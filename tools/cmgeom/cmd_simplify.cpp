@@ -350,7 +350,8 @@ CMGEOM_CLI_COMMAND(simplify,
                         : cmgeom_cli::no_collapse_reason(geometry, !o->prune && o->engine == "cmgeom"))
                 << ")\n";
 
-    const CMGeom::Textured_mesh result(std::move(geometry));  // no UVs, no materials
+    const CMGeom::Textured_mesh result(std::move(geometry),
+                                       CMGeom::Textured_mesh::without_uv_map);  // no UVs, no materials
     const double write_start = cmgeom_cli::now_seconds();
     CMGeom::IO::write_textured_mesh(o->output, result, o->gltf);
     const double seconds_write = cmgeom_cli::now_seconds() - write_start;

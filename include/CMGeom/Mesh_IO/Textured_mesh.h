@@ -13,7 +13,13 @@
 // once loaded, as images). Charts are not stored: compute them with compute_chart_ids()
 // (charts.h) when needed, since every collapse may change them.
 //
-// Complexity: O(1) accessors; copying is O(size) and rebinds the property maps to the copy.
+// A mesh without texture coordinates may be held without its "h:uv" map (`without_uv_map`, as
+// the readers build an untextured file's mesh: on a 1M-face mesh the map is 51 MB of zeros whose
+// filling costs as much as a fifth of the reading); the map is then added, filled with (0, 0),
+// the first time it is asked for (uv_map(), uv(), set_uv(), set_has_uvs(true)).
+//
+// Complexity: O(1) accessors (the first access to a deferred "h:uv" map: O(halfedges)); copying
+// is O(size) and rebinds the property maps to the copy.
 #ifndef CMGEOM_MESH_IO_TEXTURED_MESH_H
 #define CMGEOM_MESH_IO_TEXTURED_MESH_H
 
@@ -24,6 +30,8 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <array>
+#include <atomic>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -68,14 +76,22 @@ public:
   using UV_map = Mesh::Property_map<halfedge_descriptor, Point_2>;
   using Material_map = Mesh::Property_map<face_descriptor, int>;
 
-  Textured_mesh() { bind_maps(); }
+  /// The tag of the constructor that leaves out the "h:uv" map until it is asked for.
+  struct Without_uv_map {};
+  static constexpr Without_uv_map without_uv_map{};
+
+  Textured_mesh() { bind_maps(true); }
   /// Takes `mesh` with its property maps: an "h:uv" or "f:material" map it already has becomes
   /// this mesh's (e.g. a Surface_mesh copied from another Textured_mesh's mesh()); has_uvs() is
   /// false until set.
-  explicit Textured_mesh(Mesh mesh) : mesh_(std::move(mesh)) { bind_maps(); }
+  explicit Textured_mesh(Mesh mesh) : mesh_(std::move(mesh)) { bind_maps(true); }
+  /// As Textured_mesh(Mesh), but a mesh without an "h:uv" map gets one only when it is first asked
+  /// for (see the file comment): for a mesh without texture coordinates (has_uvs() false).
+  Textured_mesh(Mesh mesh, Without_uv_map) : mesh_(std::move(mesh)) { bind_maps(false); }
+  /// (a copy has an "h:uv" map when `other` has one)
   Textured_mesh(const Textured_mesh& other)
       : mesh_(other.mesh_), materials_(other.materials_), has_uvs_(other.has_uvs_), source_(other.source_) {
-    bind_maps();
+    bind_maps(false);
   }
   Textured_mesh& operator=(const Textured_mesh& other) {
     if (this != &other) {
@@ -83,7 +99,7 @@ public:
       materials_ = other.materials_;
       has_uvs_ = other.has_uvs_;
       source_ = other.source_;
-      bind_maps();
+      bind_maps(false);
     }
     return *this;
   }
@@ -92,8 +108,8 @@ public:
         materials_(std::move(other.materials_)),
         has_uvs_(other.has_uvs_),
         source_(std::move(other.source_)) {
-    bind_maps();
-    other.bind_maps();
+    bind_maps(false);
+    other.bind_maps(false);
   }
   Textured_mesh& operator=(Textured_mesh&& other) noexcept {
     if (this != &other) {
@@ -101,8 +117,8 @@ public:
       materials_ = std::move(other.materials_);
       has_uvs_ = other.has_uvs_;
       source_ = std::move(other.source_);
-      bind_maps();
-      other.bind_maps();
+      bind_maps(false);
+      other.bind_maps(false);
     }
     return *this;
   }
@@ -110,18 +126,28 @@ public:
   Mesh& mesh() { return mesh_; }
   const Mesh& mesh() const { return mesh_; }
 
-  /// Per-corner texture coordinates ("h:uv"); meaningful only when has_uvs().
-  UV_map uv_map() const { return uv_; }
+  /// Per-corner texture coordinates ("h:uv"); meaningful only when has_uvs(). A deferred map is
+  /// added here, once, even on a const mesh (safe when several threads ask at once; it adds a
+  /// property to mesh(), which a thread looking a property up by name at that moment must not race).
+  UV_map uv_map() const {
+    if (!uv_bound_.load(std::memory_order_acquire)) add_uv_map();
+    return uv_;
+  }
+  /// Whether the "h:uv" map is there (false only while deferred, see the file comment).
+  bool has_uv_map() const { return uv_bound_.load(std::memory_order_acquire); }
   /// Per-face material index ("f:material").
   Material_map material_map() const { return material_; }
 
-  Point_2 uv(halfedge_descriptor h) const { return uv_[h]; }
-  void set_uv(halfedge_descriptor h, const Point_2& p) { uv_[h] = p; }
+  Point_2 uv(halfedge_descriptor h) const { return uv_map()[h]; }
+  void set_uv(halfedge_descriptor h, const Point_2& p) { uv_map()[h] = p; }
   int material(face_descriptor f) const { return material_[f]; }
 
   /// True when every face carries texture coordinates.
   bool has_uvs() const { return has_uvs_; }
-  void set_has_uvs(bool b) { has_uvs_ = b; }
+  void set_has_uvs(bool b) {
+    if (b) (void)uv_map();
+    has_uvs_ = b;
+  }
 
   std::vector<Material>& materials() { return materials_; }
   const std::vector<Material>& materials() const { return materials_; }
@@ -136,17 +162,35 @@ public:
     materials_.clear();
     has_uvs_ = false;
     source_.clear();
-    bind_maps();
+    bind_maps(true);
   }
 
 private:
-  void bind_maps() {
-    uv_ = mesh_.add_property_map<halfedge_descriptor, Point_2>("h:uv", Point_2(0, 0)).first;
+  /// Binds the maps mesh_ has, adding "f:material" when missing and "h:uv" when missing and
+  /// `with_uv_map`.
+  void bind_maps(bool with_uv_map) {
+    const auto found = mesh_.property_map<halfedge_descriptor, Point_2>("h:uv");
+    if (found.second)
+      uv_ = found.first;
+    else if (with_uv_map)
+      uv_ = mesh_.add_property_map<halfedge_descriptor, Point_2>("h:uv", Point_2(0, 0)).first;
+    else
+      uv_ = UV_map();
+    uv_bound_.store(found.second || with_uv_map, std::memory_order_release);
     material_ = mesh_.add_property_map<face_descriptor, int>("f:material", 0).first;
+  }
+  /// Adds the deferred "h:uv" map (uv_map()).
+  void add_uv_map() const {
+    std::lock_guard<std::mutex> lock(uv_mutex_);
+    if (uv_bound_.load(std::memory_order_relaxed)) return;
+    uv_ = const_cast<Mesh&>(mesh_).add_property_map<halfedge_descriptor, Point_2>("h:uv", Point_2(0, 0)).first;
+    uv_bound_.store(true, std::memory_order_release);
   }
 
   Mesh mesh_;
-  UV_map uv_;
+  mutable UV_map uv_;
+  mutable std::atomic<bool> uv_bound_{false};
+  mutable std::mutex uv_mutex_;
   Material_map material_;
   std::vector<Material> materials_;
   bool has_uvs_ = false;

@@ -805,7 +805,9 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
       if (!give_input) l.mesh = input;  // (else at the end)
       l.is_input = true;
     } else {
-      l.mesh = Textured_mesh(std::move(meshes[i - kept].mesh));
+      // (an untextured level gets no "h:uv" map unless one is asked for)
+      l.mesh = textured ? Textured_mesh(std::move(meshes[i - kept].mesh))
+                        : Textured_mesh(std::move(meshes[i - kept].mesh), Textured_mesh::without_uv_map);
     }
   }
 
