@@ -3,6 +3,12 @@
 # Usage: make_figures.sh <path/to/cmgeom> [shared data dir]   (needs gzip and oiiotool)
 set -eu
 CMGEOM=${1:?usage: make_figures.sh <path/to/cmgeom> [data dir]}
+for tool in gzip oiiotool; do
+  command -v "$tool" >/dev/null 2>&1 || {
+    echo "make_figures.sh: needs $tool (Debian: apt-get install $([ "$tool" = oiiotool ] && echo openimageio-tools || echo gzip))" >&2
+    exit 1
+  }
+done
 HERE=$(cd "$(dirname "$0")" && pwd)
 DATA=${2:-$HERE/../../../shared/data}
 Q=$DATA/cages/qmvc
