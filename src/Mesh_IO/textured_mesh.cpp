@@ -490,10 +490,9 @@ Surface_mesh build_mesh(const Polygon_soup& soup, const Read_options& options, b
 
 void build_textured_mesh(const Polygon_soup& soup, Textured_mesh& out, const Read_options& options) {
   bool uv_seen = false;
-  Surface_mesh mesh = build_mesh(soup, options, true, uv_seen);
-  // (without texture coordinates, no "h:uv" map until one is asked for: Textured_mesh::uv_map())
-  Textured_mesh built =
-      uv_seen ? Textured_mesh(std::move(mesh)) : Textured_mesh(std::move(mesh), Textured_mesh::without_uv_map);
+  // (the "h:uv" map build_mesh() made is bound; without texture coordinates it made none, and
+  // none comes until one is asked for: Textured_mesh::uv_map())
+  Textured_mesh built(build_mesh(soup, options, true, uv_seen), Textured_mesh::without_uv_map);
   built.set_has_uvs(uv_seen);
   built.materials() = soup.materials;
   built.set_source(soup.source);
