@@ -121,6 +121,18 @@ CMGeom::Metrics::Approximation_error hb_measure(const Mesh& input, const Mesh& o
   return CMGeom::Metrics::approximation_error(input, output, eo);
 }
 
+// CGAL's edge_collapse down to `target` faces with `bound`'s filter (after CMGeom's normal-flip
+// filter) and visitor, costs and placements from `policy`.
+template <class Bound, class Policy>
+void hb_cgal_collapse(Mesh& m, Bound& bound, Policy& policy, std::size_t target) {
+  CGAL::Surface_mesh_simplification::edge_collapse(
+      m, TS::Face_count_stop_predicate<Mesh>(m, target),
+      CGAL::parameters::get_cost(policy)
+          .get_placement(policy)
+          .filter(TS::Hausdorff_bound_filter<Bound, TS::No_normal_flip_filter<>>{&bound})
+          .visitor(TS::Hausdorff_bound_visitor<Bound>(&bound)));
+}
+
 }  // namespace
 
 // The guarantee, checked by an independent measurement on every kind of mesh, both engines and
@@ -178,12 +190,7 @@ TEST(HausdorffBound, PiecesCoverTheInputWithinE) {
                             .filter(TS::Hausdorff_bound_filter<Bound>{&bound})
                             .visitor(TS::Hausdorff_bound_visitor<Bound>(&bound)));
     else
-      CGAL::Surface_mesh_simplification::edge_collapse(
-          m, TS::Face_count_stop_predicate<Mesh>(m, 20),
-          CGAL::parameters::get_cost(policy)
-              .get_placement(policy)
-              .filter(TS::Hausdorff_bound_filter<Bound, TS::No_normal_flip_filter<>>{&bound})
-              .visitor(TS::Hausdorff_bound_visitor<Bound>(&bound)));
+      hb_cgal_collapse(m, bound, policy, 20);
     EXPECT_GT(bound.refused(), 0u) << "engine " << engine;
     // most new faces are found covered by the input's faces projected onto them; the others
     // went through the test by parts
@@ -396,12 +403,7 @@ TEST(HausdorffBound, PinchedVerticesAreNeverCollapsed) {
     const double diagonal = TS::internal::bbox_diagonal(input);
     Bound bound(m, m.points(), 0.05 * diagonal);
     TS::Area_weighted_quadric_policies<Mesh> policy(m, TS::Quadric_options{false});
-    CGAL::Surface_mesh_simplification::edge_collapse(
-        m, TS::Face_count_stop_predicate<Mesh>(m, 1),
-        CGAL::parameters::get_cost(policy)
-            .get_placement(policy)
-            .filter(TS::Hausdorff_bound_filter<Bound, TS::No_normal_flip_filter<>>{&bound})
-            .visitor(TS::Hausdorff_bound_visitor<Bound>(&bound)));
+    hb_cgal_collapse(m, bound, policy, 1);
     EXPECT_TRUE(CGAL::is_valid_polygon_mesh(m));
     EXPECT_EQ(hb_components(m), 2u);
     EXPECT_LE(hb_measure(input, m).hausdorff * diagonal, 0.05 * diagonal);
