@@ -147,6 +147,34 @@ inline bool segments_cross(const Atlas_uv& p, const Atlas_uv& q, const Atlas_uv&
 /// 3D length units (the map scaled to the chart's surface area). Returns false when the result is
 /// not bijective: a triangle of zero or opposite orientation, or a self-crossing boundary (with
 /// every triangle positively oriented and a simple boundary, the map is one to one).
+/// How much larger than the diagonal of its faces' bounding box a chart's parameterisation may be
+/// (the diagonal of its UV bounding box, in the same units): an isometric map of a chart within the
+/// normal cone is about as large (a cylinder's quarter unrolled: 1.1 times); LSCM's conformal map,
+/// scaled to the chart's area, grows where it shrinks elsewhere, a few times at most.
+inline constexpr double max_chart_stretch = 8.0;
+
+/// The diagonal of the bounding box of the faces `faces` of `m`.
+inline double bbox_diagonal(const Surface_mesh& m, const std::vector<std::uint32_t>& faces) {
+  CGAL::Bbox_3 box;
+  for (std::uint32_t f : faces)
+    for (auto v : CGAL::vertices_around_face(m.halfedge(Surface_mesh::Face_index(f)), m)) box += m.point(v).bbox();
+  return std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                   CGAL::square(box.zmax() - box.zmin()));
+}
+
+/// The diagonal of the bounding box of a chart's texture coordinates.
+inline double uv_extent(const Atlas_chart& chart) {
+  double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  double hi[2] = {-lo[0], -lo[1]};
+  for (const auto& t : chart.uvs)
+    for (const auto& p : t)
+      for (int k = 0; k < 2; ++k) {
+        lo[k] = (std::min)(lo[k], p[std::size_t(k)]);
+        hi[k] = (std::max)(hi[k], p[std::size_t(k)]);
+      }
+  return std::sqrt(CGAL::square(hi[0] - lo[0]) + CGAL::square(hi[1] - lo[1]));
+}
+
 inline bool parameterize_chart(const Surface_mesh& m, Atlas_chart& chart) {
   using V = Surface_mesh::Vertex_index;
   using F = Surface_mesh::Face_index;
@@ -217,6 +245,12 @@ inline bool parameterize_chart(const Surface_mesh& m, Atlas_chart& chart) {
   }
   // every triangle positively oriented (relative to the chart's size, against round-off slivers)
   if (!(min_area > 1e-12 * chart.area_3d)) return false;
+  // no part of the chart blown up: LSCM can map a near-degenerate sliver (an edge of 1e-7 beside two
+  // of 0.014) to a needle whose tiny area the scaling to the chart's 3D area cannot see, thousands of
+  // times the chart's size; the packing then shrank every chart of the atlas to fit it (a 10 % level
+  // of a 1M-face mesh: 2,296 texels in its charts instead of about a million). A map this much
+  // larger than the chart's bounding box is refused, so the chart is cut smaller.
+  if (!(uv_extent(chart) <= max_chart_stretch * bbox_diagonal(m, chart.faces))) return false;
   // the boundary: edges of chart faces whose other face is not in the chart
   std::vector<std::uint32_t> sorted = chart.faces;
   std::sort(sorted.begin(), sorted.end());
