@@ -19,6 +19,7 @@
 
 #include "cmgeom_test_meshes.h"
 #include "cmgeom_test_surface_meshes.h"
+#include "cmgeom_test_textured_grid.h"
 
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 
@@ -275,6 +276,75 @@ TEST(LevelOfDetail, LaterLevelsAreCutWithTheirOwnPartSizes) {
   EXPECT_EQ(w.runs_in_parts, 0u);
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   expect_same_level_points(TS::simplify_to_levels(input, o), r);
+}
+
+// A textured chain with an atlas per level whose first run begins in parts: its collapses are the
+// untextured chain's (in parts, level for level the same meshes), and each level's atlas is the one
+// rebuild_atlas() bakes from the input for that mesh, painted by no collapse history (which follows
+// one whole mesh), as simplify_textured_mesh() bakes the atlas of an input it cuts. The same on one
+// core. Without parts the chain paints its atlases from the history; a shared-texture chain, which
+// needs the history, runs on the whole.
+TEST(LevelOfDetail, PerLevelAtlasChainOfAnInputCutIntoPartsBakesEachLevel) {
+  const CMGeom::Textured_mesh input = cmgeom_test::two_chart_grid(150, 256);  // 45000 faces
+  TS::Level_of_detail_options o;
+  o.target_faces = {45000, 11250, 2250, 450};
+  o.parts_min_faces = 1000;
+  o.part_faces = 8192;  // 4 parts
+  o.measure_error = false;
+  const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
+  ASSERT_EQ(r.levels.size(), 4u);
+  EXPECT_EQ(r.parts, 4u);
+  EXPECT_GE(r.runs_in_parts, 1u);
+  // the same collapses as the untextured chain of the same surface
+  CMGeom::Textured_mesh plain = input;
+  plain.materials()[0].diffuse_image = CMGeom::Image();
+  const TS::Level_of_detail_result u = TS::simplify_to_levels(plain, o);
+  ASSERT_EQ(u.parts, r.parts);
+  expect_same_level_points(r, u);
+  TS::Atlas_source source(input, o.atlas);
+  source.prepare();
+  for (std::size_t i = 1; i < r.levels.size(); ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    const CMGeom::Textured_mesh& level = r.levels[i].mesh;
+    EXPECT_EQ(sorted_triangles(level.mesh()), sorted_triangles(u.levels[i].mesh.mesh()));
+    EXPECT_LE(level.mesh().number_of_faces(), o.target_faces[i]);
+    EXPECT_EQ(r.levels[i].atlas.texels_painted, 0u);
+    ASSERT_TRUE(level.has_uvs());
+    ASSERT_EQ(level.materials().size(), 1u);
+    // the atlas a bake of this mesh from the input gives, texture coordinates and texels
+    CMGeom::Textured_mesh baked(level.mesh());
+    TS::rebuild_atlas(source, baked, o.atlas);
+    auto h_level = level.mesh().halfedges().begin();
+    std::size_t corners = 0;
+    for (auto h : baked.mesh().halfedges()) {
+      if (!baked.mesh().is_border(h)) {
+        ASSERT_EQ(baked.uv(h), level.uv(*h_level));
+        ++corners;
+      }
+      ++h_level;
+    }
+    EXPECT_EQ(corners, 3 * level.mesh().number_of_faces());
+    EXPECT_TRUE(baked.materials()[0].diffuse_image == level.materials()[0].diffuse_image);
+  }
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    const TS::Level_of_detail_result serial = TS::simplify_to_levels(input, o);
+    expect_same_level_points(serial, r);
+    for (std::size_t i = 1; i < r.levels.size(); ++i)
+      EXPECT_TRUE(serial.levels[i].mesh.materials()[0].diffuse_image == r.levels[i].mesh.materials()[0].diffuse_image)
+          << "level " << i;
+  }
+  // without parts, the history paints the atlases
+  TS::Level_of_detail_options whole = o;
+  whole.parts_min_faces = 0;
+  const TS::Level_of_detail_result w = TS::simplify_to_levels(input, whole);
+  EXPECT_EQ(w.parts, 0u);
+  for (std::size_t i = 1; i < w.levels.size(); ++i) EXPECT_GT(w.levels[i].atlas.texels_painted, 0u) << "level " << i;
+  // one shared texture: the history, on the whole
+  TS::Level_of_detail_options shared = o;
+  shared.shared_texture = true;
+  shared.target_faces = {45000, 11250, 2250};
+  EXPECT_EQ(TS::simplify_to_levels(input, shared).parts, 0u);
 }
 
 // Given the input (an rvalue), the chain moves it into the level that is the input, where the

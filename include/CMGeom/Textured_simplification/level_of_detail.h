@@ -8,14 +8,17 @@
 // ends with (`memory.fit`), made on the copy alone, on another core while the run goes on from the
 // unfitted mesh (Surface_memory::fitted_positions_later()), so a level is vertex for vertex the mesh
 // simplify_mesh() returns for that target (on the whole, and where only the first level ran in
-// parts; a level after a run cut again goes on from the levels before it). A large untextured
-// input is cut into parts simplified on all cores down to the first collapsed level, as
+// parts; a level after a run cut again goes on from the levels before it). A large input
+// (untextured, or textured with an atlas per level) is cut into parts simplified on all cores
+// down to the first collapsed level, as
 // simplify_mesh() cuts it (`parts_min_faces`), and so is every level large enough on the way
 // down to the next (`later_parts_min_faces`: the quadrics and the memory's points carried into
 // the parts); the rest runs on the whole. Levels
 // may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
 // measure, not a guarantee). Texture: an atlas per level (default), painted from the input
-// followed down the collapses onto that level and baked where no input face lands, or one
+// followed down the collapses onto that level and baked where no input face lands (an input cut
+// into parts: baked from the input alone, as simplify_textured_mesh() bakes the atlas of an input
+// it cuts, since the collapse history follows one whole mesh), or one
 // shared texture, the coarsest level's atlas, which every finer level addresses (the thesis' future
 // work of levels sharing one texture, §7.1). A finer level is mapped into that atlas through the
 // collapse history (Collapse_history): each of its vertices and faces is followed down the
@@ -139,9 +142,14 @@ struct Level_of_detail_options {
   /// next at most half of them, the collapses down to the next level run in parts again, going on
   /// from the quadrics and points the run so far left (on a 1M-face input with levels 1, 0.25,
   /// 0.05, 0.01: parts down to 25 %, again down to 5 % and again down to 1 %, the later cuts with
-  /// `later_parts_min_faces` and `later_part_faces`). 0: never. A textured chain (whose
-  /// collapse history follows the whole mesh), the error-bound mode and an input whose faces use
-  /// several materials (which the parts would not keep) run on the whole.
+  /// `later_parts_min_faces` and `later_part_faces`). 0: never. A textured chain with an atlas per
+  /// level is cut as an untextured one, and its levels' atlases are then baked from the input
+  /// without the collapse history (which follows one whole mesh): on DamagedHelmet subdivided
+  /// three times (989k faces) the chain of levels 1, 0.25, 0.05, 0.01 took 18.3 s on the whole and
+  /// 9.2 s in parts, `simplify` to 1 % alone 5.4-5.8 s (doc/Textured_simplification/README.md,
+  /// "Levels of detail from one run"). A shared-texture chain (which
+  /// needs the history), the error-bound mode and an input whose faces use several materials
+  /// (which the parts would not keep) run on the whole.
   std::size_t parts_min_faces = Mesh_simplification_options().parts_min_faces;
   /// Faces of a part at least (simplify_mesh()'s `part_faces`).
   std::size_t part_faces = Mesh_simplification_options().part_faces;
@@ -551,6 +559,12 @@ public:
     if (target == 0 || 2 * target > faces) return 0;
     return halvings_into_parts(faces, parts_options(faces, target));
   }
+  /// part_levels() of the chain's first run (from the input's `faces` faces) under `options`,
+  /// before any chain is made.
+  static int first_part_levels(const Level_of_detail_options& options, std::size_t faces, std::size_t target) {
+    if (target == 0 || 2 * target > faces) return 0;
+    return halvings_into_parts(faces, chain_simplification_options(options, target));
+  }
 
   /// simplify_mesh()'s options for a run from `faces` faces down to `target` in parts: a level on
   /// the way down (fewer faces than the input) of an input large enough to be cut is cut with the
@@ -729,23 +743,30 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
 
   try {
     if (!collapsed.empty() && !by_error) {
+      // The collapse history (which paints each level's atlas from the input, and maps the finer
+      // levels into a shared one) follows one whole mesh. A textured chain with an atlas per level
+      // whose first run would begin in parts does without it, as simplify_textured_mesh() does
+      // for an input it cuts: its collapses run as an untextured chain's (in parts on all cores),
+      // and each level's atlas is baked from the input by closest point.
+      const bool follow = textured && (options.shared_texture || internal::Chain_collapses::first_part_levels(
+                                                                     chain_options, faces_in, collapsed.front()) == 0);
       // a copy with the input's element order (copy_without_uvs(): the chain's levels are then
-      // those of simplify_mesh() run on the input to each level's target); untextured, the
-      // chain's first run takes the input itself, and copies nothing of it when it begins in parts
+      // those of simplify_mesh() run on the input to each level's target); without the history,
+      // the chain's first run takes the input itself, and copies nothing of it when it begins in parts
       Surface_mesh work;
-      if (textured) {
+      if (follow) {
         work = internal::copy_without_uvs(input.mesh());
         history.emplace(work);
         history->follow_levels(options.shared_texture);
         input_points = history->add_input(work);
       }
-      // (a textured chain: simplify_mesh()'s run to the smallest target, whole, one run: the
-      // collapse history needs the whole mesh at every collapse; an untextured one: the collapses
-      // down to a level run in parts on all cores first when that pays, Chain_collapses::part_levels(),
-      // a run of the whole then takes that level and those after it down to the next level whose
+      // (with the history: simplify_mesh()'s run to the smallest target, whole, one run: the
+      // history needs the whole mesh at every collapse; without: the collapses down to a level
+      // run in parts on all cores first when that pays, Chain_collapses::part_levels(), a run of
+      // the whole then takes that level and those after it down to the next level whose
       // collapses run in parts)
       // (the last level of a run, and any the run never reached, are taken when it finishes)
-      internal::Chain_collapses chain(work, chain_options, textured ? nullptr : &input.mesh());
+      internal::Chain_collapses chain(work, chain_options, follow ? nullptr : &input.mesh());
       internal::Parts_progress progress;
       internal::report_parts_progress_to(visitor, progress);
       // (the levels of a run are fitted beside the runs that follow: each run's state is kept
