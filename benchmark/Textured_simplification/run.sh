@@ -9,7 +9,8 @@
 # quadrics on the textured models) and RESULTS-memory.md (run_memory_comparison.sh: geometry-only
 # simplification with and without the memoryful cost against CGAL and meshoptimizer),
 # RESULTS-other-models.md (run_other_models.sh: the same on the shared meshes no target names), RESULTS-lod.md
-# (run_lod.py: level-of-detail chains against meshoptimizer-style LODs), RESULTS-paint.md (run_paint.py:
+# (run_lod.py: level-of-detail chains against meshoptimizer-style LODs), RESULTS-lod-scale.md
+# (run_lod_scale.py: the chains of that 989k-face textured mesh), RESULTS-paint.md (run_paint.py:
 # the new atlas painted from the input or looked up texel by texel) and RESULTS-max-error.md
 # (run_max_error_bench.sh: the guaranteed error bound's face counts against the peers' at equal
 # measured error; RESULTS-max-error-large.md the same on the 2M-face ogre-sub2) and
@@ -41,6 +42,7 @@ else
   bash "$here/run_memory_comparison.sh" "$build"
   bash "$here/run_other_models.sh" "$build"
   python3 "$here/run_lod.py" --build "$build" --reps 5 --prune --out "$here/RESULTS-lod.md" --describe "$describe"
+  python3 "$here/run_lod_scale.py" --build "$build" --out "$here/RESULTS-lod-scale.md" --describe "$(describe_run)"
   python3 "$here/run_paint.py" --build "$build" --out "$here/RESULTS-paint.md" --describe "$(describe_run)"
   bash "$here/run_max_error_bench.sh" "$build"
   bash "$here/run_max_error_bench.sh" "$build" --large
