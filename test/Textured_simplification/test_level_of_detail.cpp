@@ -137,6 +137,17 @@ void expect_same_level_points(const TS::Level_of_detail_result& a, const TS::Lev
   }
 }
 
+// The options of a chain whose input of about 48,000 faces is cut into 4 parts (simplify_mesh()'s
+// parts settings scaled down to a test mesh), levels `targets`, errors not measured.
+TS::Level_of_detail_options four_part_chain(std::vector<std::size_t> targets) {
+  TS::Level_of_detail_options o;
+  o.target_faces = std::move(targets);
+  o.parts_min_faces = 1000;
+  o.part_faces = 8192;
+  o.measure_error = false;
+  return o;
+}
+
 // A large untextured input: the collapses down to the first level run in parts (as simplify_mesh()
 // cuts the input for that target), and the first level is the mesh simplify_mesh() returns for it;
 // the coarser levels follow on the whole, valid and within their targets; the chain is the same on
@@ -144,11 +155,7 @@ void expect_same_level_points(const TS::Level_of_detail_result& a, const TS::Lev
 // run on the whole again.
 TEST(LevelOfDetail, FirstLevelInPartsIsTheRunToItAlone) {
   const CMGeom::Textured_mesh input(lod_torus(200, 120));  // 48000 faces
-  TS::Level_of_detail_options o;
-  o.target_faces = {48000, 12000, 2400, 480};
-  o.parts_min_faces = 1000;
-  o.part_faces = 8192;  // 4 parts
-  o.measure_error = false;
+  const TS::Level_of_detail_options o = four_part_chain({48000, 12000, 2400, 480});
   const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
   ASSERT_EQ(r.levels.size(), 4u);
   EXPECT_EQ(r.parts, 4u);
@@ -286,11 +293,7 @@ TEST(LevelOfDetail, LaterLevelsAreCutWithTheirOwnPartSizes) {
 // needs the history, runs on the whole.
 TEST(LevelOfDetail, PerLevelAtlasChainOfAnInputCutIntoPartsBakesEachLevel) {
   const CMGeom::Textured_mesh input = cmgeom_test::two_chart_grid(150, 256);  // 45000 faces
-  TS::Level_of_detail_options o;
-  o.target_faces = {45000, 11250, 2250, 450};
-  o.parts_min_faces = 1000;
-  o.part_faces = 8192;  // 4 parts
-  o.measure_error = false;
+  const TS::Level_of_detail_options o = four_part_chain({45000, 11250, 2250, 450});
   const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
   ASSERT_EQ(r.levels.size(), 4u);
   EXPECT_EQ(r.parts, 4u);
