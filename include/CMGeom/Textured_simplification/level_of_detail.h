@@ -556,14 +556,12 @@ public:
   /// part_levels(); a chain, whose coarser levels then come on one core, gains from the parts down
   /// to half).
   int part_levels(std::size_t faces, std::size_t target) const {
-    if (target == 0 || 2 * target > faces) return 0;
-    return halvings_into_parts(faces, parts_options(faces, target));
+    return levels_into_parts(faces, target, parts_options(faces, target));
   }
   /// part_levels() of the chain's first run (from the input's `faces` faces) under `options`,
-  /// before any chain is made.
+  /// before any chain is made (parts_options() of the input is chain_simplification_options()).
   static int first_part_levels(const Level_of_detail_options& options, std::size_t faces, std::size_t target) {
-    if (target == 0 || 2 * target > faces) return 0;
-    return halvings_into_parts(faces, chain_simplification_options(options, target));
+    return levels_into_parts(faces, target, chain_simplification_options(options, target));
   }
 
   /// simplify_mesh()'s options for a run from `faces` faces down to `target` in parts: a level on
@@ -627,6 +625,12 @@ public:
   }
 
 private:
+  // part_levels() under the parts settings `o`
+  static int levels_into_parts(std::size_t faces, std::size_t target, const Mesh_simplification_options& o) {
+    if (target == 0 || 2 * target > faces) return 0;
+    return halvings_into_parts(faces, o);
+  }
+
   Surface_mesh& work_;
   const Level_of_detail_options& options_;
   Area_weighted_quadric_policies<Mesh> policy_;

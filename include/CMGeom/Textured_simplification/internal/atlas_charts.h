@@ -143,10 +143,6 @@ inline bool segments_cross(const Atlas_uv& p, const Atlas_uv& q, const Atlas_uv&
   return (o1 == 0 && on(p, q, r)) || (o2 == 0 && on(p, q, s)) || (o3 == 0 && on(r, s, p)) || (o4 == 0 && on(r, s, q));
 }
 
-/// LSCM parameterisation of one chart (a disk: see grow_charts), written into `chart.uvs` in
-/// 3D length units (the map scaled to the chart's surface area). Returns false when the result is
-/// not bijective: a triangle of zero or opposite orientation, or a self-crossing boundary (with
-/// every triangle positively oriented and a simple boundary, the map is one to one).
 /// How much larger than the diagonal of its faces' bounding box a chart's parameterisation may be
 /// (the diagonal of its UV bounding box, in the same units): an isometric map of a chart within the
 /// normal cone is about as large (a cylinder's quarter unrolled: 1.1 times); LSCM's conformal map,
@@ -175,6 +171,11 @@ inline double uv_extent(const Atlas_chart& chart) {
   return std::sqrt(CGAL::square(hi[0] - lo[0]) + CGAL::square(hi[1] - lo[1]));
 }
 
+/// LSCM parameterisation of one chart (a disk: see grow_charts), written into `chart.uvs` in
+/// 3D length units (the map scaled to the chart's surface area). Returns false when the result is
+/// not bijective: a triangle of zero or opposite orientation, or a self-crossing boundary (with
+/// every triangle positively oriented and a simple boundary, the map is one to one); and when it
+/// is more than max_chart_stretch times the chart's bounding box (a blown-up sliver, see below).
 inline bool parameterize_chart(const Surface_mesh& m, Atlas_chart& chart) {
   using V = Surface_mesh::Vertex_index;
   using F = Surface_mesh::Face_index;
