@@ -22,7 +22,6 @@ message when DamagedHelmet is not there. Writes one Markdown section (stdout, or
 progress on stderr.
 """
 import argparse
-import json
 import os
 import shutil
 import statistics
@@ -33,10 +32,8 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.normpath(os.path.join(HERE, "..", ".."))
-
-
-def log(msg):
-    print(msg, file=sys.stderr, flush=True)
+sys.path.insert(0, HERE)
+from run_lod import last_json, log  # noqa: E402  (the chains' benchmark on the shared models)
 
 
 def timed(cmd):
@@ -51,10 +48,6 @@ def timed(cmd):
                                                         (p.stderr.strip().splitlines() or [""])[-1]))
         kb = int(tf.read().split()[-1])
     return p.stdout, dt, kb / 1024.0
-
-
-def last_json(text):
-    return json.loads(text[text.index("{"):])
 
 
 def rmse(cmgeom, reference, mesh, size):
