@@ -337,6 +337,24 @@ TEST(LevelOfDetail, PerLevelAtlasChainOfAnInputCutIntoPartsBakesEachLevel) {
       EXPECT_TRUE(serial.levels[i].mesh.materials()[0].diffuse_image == r.levels[i].mesh.materials()[0].diffuse_image)
           << "level " << i;
   }
+  // a first level above half the input runs on the whole, and the next is cut (a level cut again
+  // on the way down): the chain still does without the history, as an untextured chain's collapses
+  {
+    TS::Level_of_detail_options later = o;
+    later.target_faces = {45000, 27000, 11250, 2250};
+    later.later_parts_min_faces = 1000;
+    later.later_part_faces = 8192;
+    const TS::Level_of_detail_result lr = TS::simplify_to_levels(input, later);
+    const TS::Level_of_detail_result lu = TS::simplify_to_levels(plain, later);
+    EXPECT_EQ(lr.parts, 0u);
+    EXPECT_GE(lr.runs_in_parts, 1u);
+    ASSERT_EQ(lu.runs_in_parts, lr.runs_in_parts);
+    expect_same_level_points(lr, lu);
+    for (std::size_t i = 1; i < lr.levels.size(); ++i) {
+      EXPECT_EQ(lr.levels[i].atlas.texels_painted, 0u) << "level " << i;
+      EXPECT_GT(lr.levels[i].atlas.texels_baked, 0u) << "level " << i;
+    }
+  }
   // without parts, the history paints the atlases
   TS::Level_of_detail_options whole = o;
   whole.parts_min_faces = 0;

@@ -16,9 +16,9 @@
 // the parts); the rest runs on the whole. Levels
 // may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
 // measure, not a guarantee). Texture: an atlas per level (default), painted from the input
-// followed down the collapses onto that level and baked where no input face lands (an input cut
-// into parts: baked from the input alone, as simplify_textured_mesh() bakes the atlas of an input
-// it cuts, since the collapse history follows one whole mesh), or one
+// followed down the collapses onto that level and baked where no input face lands (a chain any of
+// whose runs is cut into parts: baked from the input alone, as simplify_textured_mesh() bakes the
+// atlas of an input it cuts, since the collapse history follows one whole mesh), or one
 // shared texture, the coarsest level's atlas, which every finer level addresses (the thesis' future
 // work of levels sharing one texture, §7.1). A finer level is mapped into that atlas through the
 // collapse history (Collapse_history): each of its vertices and faces is followed down the
@@ -143,7 +143,8 @@ struct Level_of_detail_options {
   /// from the quadrics and points the run so far left (on a 1M-face input with levels 1, 0.25,
   /// 0.05, 0.01: parts down to 25 %, again down to 5 % and again down to 1 %, the later cuts with
   /// `later_parts_min_faces` and `later_part_faces`). 0: never. A textured chain with an atlas per
-  /// level is cut as an untextured one, and its levels' atlases are then baked from the input
+  /// level is cut as an untextured one (when any of its runs would be cut, the first or a later
+  /// one), and its levels' atlases are then baked from the input
   /// without the collapse history (which follows one whole mesh): on DamagedHelmet subdivided
   /// three times (989k faces) the chain of levels 1, 0.25, 0.05, 0.01 took 18.3 s on the whole and
   /// 9.2 s in parts, `simplify` to 1 % alone 5.4-5.8 s (doc/Textured_simplification/README.md,
@@ -558,10 +559,17 @@ public:
   int part_levels(std::size_t faces, std::size_t target) const {
     return levels_into_parts(faces, target, parts_options(faces, target));
   }
-  /// part_levels() of the chain's first run (from the input's `faces` faces) under `options`,
-  /// before any chain is made (parts_options() of the input is chain_simplification_options()).
-  static int first_part_levels(const Level_of_detail_options& options, std::size_t faces, std::size_t target) {
-    return levels_into_parts(faces, target, chain_simplification_options(options, target));
+  /// Whether a chain of the levels `targets` (face counts, decreasing) of an input of `faces`
+  /// faces, run without the collapse history, cuts any of its runs into parts (part_levels() of
+  /// each level and the next, the input's first), before any chain is made.
+  static bool cuts_into_parts(const Level_of_detail_options& options, std::size_t faces,
+                              const std::vector<std::size_t>& targets) {
+    std::size_t from = faces;
+    for (std::size_t target : targets) {
+      if (levels_into_parts(from, target, parts_options(options, faces, from, target)) > 0) return true;
+      from = target;
+    }
+    return false;
   }
 
   /// simplify_mesh()'s options for a run from `faces` faces down to `target` in parts: a level on
@@ -569,10 +577,15 @@ public:
   /// later parts settings (Level_of_detail_options::later_parts_min_faces), the input itself with
   /// the first ones.
   Mesh_simplification_options parts_options(std::size_t faces, std::size_t target) const {
-    Mesh_simplification_options o = chain_simplification_options(options_, target);
-    if (faces < input_faces_ && options_.later_parts_min_faces > 0 && halvings_into_parts(input_faces_, o) > 0) {
-      o.parts_min_faces = options_.later_parts_min_faces;
-      o.part_faces = options_.later_part_faces;
+    return parts_options(options_, input_faces_, faces, target);
+  }
+  /// The same for a chain under `options` of an input of `input_faces` faces.
+  static Mesh_simplification_options parts_options(const Level_of_detail_options& options, std::size_t input_faces,
+                                                   std::size_t faces, std::size_t target) {
+    Mesh_simplification_options o = chain_simplification_options(options, target);
+    if (faces < input_faces && options.later_parts_min_faces > 0 && halvings_into_parts(input_faces, o) > 0) {
+      o.parts_min_faces = options.later_parts_min_faces;
+      o.part_faces = options.later_part_faces;
     }
     return o;
   }
@@ -749,11 +762,12 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
     if (!collapsed.empty() && !by_error) {
       // The collapse history (which paints each level's atlas from the input, and maps the finer
       // levels into a shared one) follows one whole mesh. A textured chain with an atlas per level
-      // whose first run would begin in parts does without it, as simplify_textured_mesh() does
-      // for an input it cuts: its collapses run as an untextured chain's (in parts on all cores),
-      // and each level's atlas is baked from the input by closest point.
-      const bool follow = textured && (options.shared_texture || internal::Chain_collapses::first_part_levels(
-                                                                     chain_options, faces_in, collapsed.front()) == 0);
+      // any of whose runs would begin in parts (the first, or one from a level large enough down
+      // to the next) does without it, as simplify_textured_mesh() does for an input it cuts: its
+      // collapses run as an untextured chain's (in parts on all cores where they would), and each
+      // level's atlas is baked from the input by closest point.
+      const bool follow = textured && (options.shared_texture ||
+                                       !internal::Chain_collapses::cuts_into_parts(chain_options, faces_in, collapsed));
       // a copy with the input's element order (copy_without_uvs(): the chain's levels are then
       // those of simplify_mesh() run on the input to each level's target); without the history,
       // the chain's first run takes the input itself, and copies nothing of it when it begins in parts
