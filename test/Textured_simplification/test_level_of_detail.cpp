@@ -289,8 +289,9 @@ TEST(LevelOfDetail, LaterLevelsAreCutWithTheirOwnPartSizes) {
 // untextured chain's (in parts, level for level the same meshes), and each level's atlas is the one
 // rebuild_atlas() bakes from the input for that mesh, painted by no collapse history (which follows
 // one whole mesh), as simplify_textured_mesh() bakes the atlas of an input it cuts. The same on one
-// core. Without parts the chain paints its atlases from the history; a shared-texture chain, which
-// needs the history, runs on the whole.
+// core. So does a chain whose first level is above half the input (its first run on the whole) and
+// whose next run is cut. Without parts the chain paints its atlases from the history; a
+// shared-texture chain, which needs the history, runs on the whole.
 TEST(LevelOfDetail, PerLevelAtlasChainOfAnInputCutIntoPartsBakesEachLevel) {
   const CMGeom::Textured_mesh input = cmgeom_test::two_chart_grid(150, 256);  // 45000 faces
   const TS::Level_of_detail_options o = four_part_chain({45000, 11250, 2250, 450});
