@@ -540,6 +540,34 @@ TEST(SimplifyMesh, SmallInputsAndLowRatiosSkipTheParts) {
   EXPECT_TRUE(triangles(u) == before);
 }
 
+// Vertices in no face (scans carry them: the Stanford bunny's OBJ has 1,113) are no part of the
+// simplified surface: dropped by the run on the whole, on CGAL's engine and in parts alike, the
+// faces' vertices kept.
+TEST(SimplifyMesh, IsolatedVerticesOfTheInputAreDropped) {
+  Mesh input = rippled_torus(120, 80);
+  for (int i = 0; i < 3; ++i) input.add_vertex(Point_3(10 + i, 0, 0));
+  auto referenced = [](const Mesh& m) {
+    std::size_t n = 0;
+    for (auto v : m.vertices()) n += !m.is_isolated(v);
+    return n;
+  };
+  const TS::Mesh_simplification_options in_parts = small_parts();
+  TS::Mesh_simplification_options cgal;
+  cgal.engine = TS::Simplification_engine::cgal;
+  cgal.surface_memory = false;
+  for (const auto& [name, o, ratio] : {std::make_tuple("whole", TS::Mesh_simplification_options(), 3),
+                                       std::make_tuple("cgal", cgal, 3), std::make_tuple("parts", in_parts, 5)}) {
+    SCOPED_TRACE(name);
+    Mesh m = input;
+    const TS::Mesh_simplification_result r = TS::simplify_mesh(m, input.number_of_faces() / ratio, o);
+    EXPECT_EQ(r.parts > 0, std::string(name) == "parts");
+    EXPECT_EQ(referenced(m), m.number_of_vertices());
+    EXPECT_FALSE(m.has_garbage());
+    EXPECT_TRUE(CGAL::is_valid_polygon_mesh(m));
+    EXPECT_LE(m.number_of_faces(), input.number_of_faces() / ratio);
+  }
+}
+
 TEST(SimplifyMesh, RemovedFacesVisitorCountsWhatTheCollapsesRemove) {
   // one stage (below parts_min_faces): the visitor sees every collapse. A closed mesh loses two
   // faces per collapse; the callback gets the count after every 1024th collapse.

@@ -686,6 +686,15 @@ void simplify_in_parts(CGAL::Surface_mesh<Point>& mesh, std::size_t target, int 
 
 namespace internal {
 
+/// Removes the vertices in no face (an input may hold them; no collapse touches them, and they are
+/// no part of a simplified surface); the mesh is left with them marked removed, before its
+/// collect_garbage().
+template <class Point>
+void remove_isolated_vertices(CGAL::Surface_mesh<Point>& mesh) {
+  for (auto v : mesh.vertices())
+    if (mesh.is_isolated(v)) mesh.remove_vertex(v);
+}
+
 /// The diagonal of the bounding box of the mesh's vertices (0 for an empty mesh).
 template <class Mesh>
 double bbox_diagonal(const Mesh& mesh) {
@@ -779,9 +788,9 @@ struct Target_stop {
 /// or, on CGAL's engine, two of its edges join the same two vertices.
 /// `visitor` sees the collapses on the whole mesh, not those of the parts (a visitor with
 /// OnPartsProgress(std::size_t), as Removed_faces_visitor, is told the faces they removed).
-/// The mesh is garbage-free on return; its property maps stay, with default values after a
-/// simplification in parts (the mesh is then rebuilt: every index changes, and isolated vertices
-/// are dropped).
+/// The mesh is garbage-free on return, without isolated vertices (vertices in no face, which the
+/// input may have, are dropped); its property maps stay, with default values after a
+/// simplification in parts (the mesh is then rebuilt: every index changes).
 /// Manual: doc/Textured_simplification/README.md, "One call, and large meshes on all cores".
 /// \tparam Point a CGAL kernel's Point_3
 /// \tparam Visitor a model of CGAL's `EdgeCollapseSimplificationVisitor`
@@ -889,6 +898,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
       if (res.stopped_by == Stop_reason::no_collapse && bound->refused() > 0) res.stopped_by = Stop_reason::max_error;
     }
   }
+  internal::remove_isolated_vertices(mesh);  // (as a run in parts drops them)
   mesh.collect_garbage();
   res.faces_out = mesh.number_of_faces();
   if (target && res.faces_out <= *target) res.stopped_by = Stop_reason::target;

@@ -364,6 +364,7 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm,
   if (resampler) resampler->synchronize();
   resampler.reset();
   const double total = internal::seconds_since(t0);
+  internal::remove_isolated_vertices(mesh);
   mesh.collect_garbage();
   res.statistics = cc.statistics();
   res.faces_out = mesh.number_of_faces();
