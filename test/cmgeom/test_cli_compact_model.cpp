@@ -175,6 +175,42 @@ TEST(cmgeom_cli, AnInputThatNamesNoTextureIsRefusedUntilTextureOrNoTextureIsGive
   EXPECT_FALSE(fs::exists(report));
 }
 
+// Texture coordinates without any texture (none named, no image beside the file) make a
+// geometry-only CM, as `simplify` makes a geometry-only mesh of such an input, with a note; a
+// textured base that the charts stop above its face target says so on stderr and in the JSON.
+TEST(cmgeom_cli, CmBuildOfUVsWithoutTextureIsGeometryOnlyAndATexturedBaseAboveItsTargetSaysWhy) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  {
+    std::ifstream in(fs::path(CMGEOM_SOURCE_DIR) / "data" / "spot" / "spot.obj");
+    std::ofstream out(fs::path(dir) / "bare.obj");
+    std::string line;
+    while (std::getline(in, line))
+      if (line.rfind("mtllib", 0) != 0 && line.rfind("usemtl", 0) != 0) out << line << '\n';
+  }
+  const auto bare =
+      cmgeom_test::run_cli("--quiet cm build '" + dir + "/bare.obj' --faces 300 --json -o '" + dir + "/bare.cm'", dir);
+  ASSERT_EQ(bare.exit_code, 0) << bare.err;
+  EXPECT_NE(bare.err.find("names no texture: texture coordinates are dropped (geometry-only model)"), std::string::npos)
+      << bare.err;
+  const auto jb = nlohmann::json::parse(bare.out);
+  EXPECT_EQ(jb["textured"], false);
+  EXPECT_LE(jb["base_faces"].get<int>(), 300);
+  EXPECT_FALSE(jb.contains("base_stopped_by"));
+  // Spot's 13 charts keep its textured base above 20 faces
+  const auto above =
+      cmgeom_test::run_cli("--quiet cm build " + spot() + " --faces 20 --json -o '" + dir + "/spot.cm'", dir);
+  ASSERT_EQ(above.exit_code, 0) << above.err;
+  const auto ja = nlohmann::json::parse(above.out);
+  EXPECT_EQ(ja["textured"], true);
+  EXPECT_GT(ja["base_faces"].get<int>(), 20);
+  EXPECT_EQ(ja["base_target_faces"], 20);
+  EXPECT_EQ(ja["base_stopped_by"], "chart_limit");
+  EXPECT_NE(above.err.find("the base stopped at " + std::to_string(ja["base_faces"].get<int>()) +
+                           " faces for a target of 20 (chart limit"),
+            std::string::npos)
+      << above.err;
+}
+
 // `cm build` without --fit measures its candidate builds and keeps the lowest Hausdorff error
 // (select_compact_model.h); the JSON lists them. --fit thesis builds the thesis' model alone, whose
 // error is the thesis candidate's.

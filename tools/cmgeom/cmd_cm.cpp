@@ -459,7 +459,16 @@ CMGEOM_CLI_COMMAND(
       // A textured input gives a textured CM (thesis §4.5.4): the base is simplified under the
       // chart constraints of chapter 3 and, when the texture can be decoded, gets a new atlas
       // written next to the CM file as <output stem>.png.
-      const bool textured = tm.has_uvs() && !b->no_texture;
+      // (as simplify: texture coordinates without a texture make a geometry-only model, UVs dropped)
+      bool has_texture = false;
+      for (const auto& m : tm.materials()) has_texture |= m.has_diffuse_texture() || !m.normal_texture.empty();
+      const bool textured = tm.has_uvs() && has_texture && !b->no_texture;
+      if (tm.has_uvs() && !textured) {
+        if (!b->no_texture)
+          std::cerr << "cmgeom cm build: note: " << b->input
+                    << " names no texture: texture coordinates are dropped (geometry-only model)\n";
+        tm.set_has_uvs(false);
+      }
       // the rate-distortion search and textured builds make one configuration's models
       if (b->fit == "auto" && (textured || rate)) {
         if (fit_given)
@@ -540,6 +549,13 @@ CMGEOM_CLI_COMMAND(
       }
       const double seconds = cmgeom_cli::now_seconds() - t0;
       stage.done();
+      // (a textured base keeps the input's charts, §4.5.4, and may stop above its target)
+      const bool base_above_target = textured && tr.simplification.faces_out > target;
+      if (base_above_target)
+        std::cerr << "cmgeom cm build: the base stopped at " << tr.simplification.faces_out << " faces for a target of "
+                  << target
+                  << " (chart limit: no collapse left that keeps the input's charts; --no-texture builds a "
+                     "geometry-only model to the target)\n";
       double level_errors_seconds = 0.;
       if (level_errors->count()) {
         cmgeom_cli::Progress le_stage("level errors");
@@ -586,6 +602,8 @@ CMGEOM_CLI_COMMAND(
         j["input_faces"] = mesh.number_of_faces();
         j["base_vertices"] = st.base_vertices;
         j["base_faces"] = st.base_faces;
+        if (!rate) j["base_target_faces"] = target;
+        if (textured) j["base_stopped_by"] = CMGeom::Textured_simplification::to_string(tr.simplification.stopped_by);
         j["surfaces"] = model.surfaces.size();
         j["sharp_edges"] = st.sharp_edges;
         j["dart_promotions"] = st.dart_promotions;
