@@ -280,6 +280,26 @@ TEST(DeformableCMTransfer, AdaptiveReconstructionFollowsTheDeformedSurface) {
             plain.triangles.size() + plain.triangles.size() / 2);
 }
 
+// A map that flattens the model (a singular linear part) or holds a non-finite entry is refused,
+// whatever its scale; a tiny invertible one is not, and the deformer keeps its last valid map.
+TEST(DeformableCMAffine, SingularOrNonFiniteMapsAreRefused) {
+  using A3 = std::array<std::array<double, 3>, 3>;
+  const Vec3 zero(0, 0, 0);
+  EXPECT_THROW(DCM::Affine_deformer(A3{}, zero), CMGeom::Invalid_input);
+  EXPECT_THROW(DCM::Affine_deformer(A3{{{1, 2, 3}, {2, 4, 6}, {0, 0, 1}}}, zero), CMGeom::Invalid_input);  // rank 2
+  EXPECT_THROW(DCM::Affine_deformer(A3{{{1e-9, 0, 0}, {0, 1e-9, 0}, {0, 0, 0}}}, zero), CMGeom::Invalid_input);
+  EXPECT_THROW(DCM::Affine_deformer(A3{{{1, 0, 0}, {0, std::nan(""), 0}, {0, 0, 1}}}, zero), CMGeom::Invalid_input);
+  EXPECT_THROW(DCM::Affine_deformer(A3{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}, Vec3(0, HUGE_VAL, 0)),
+               CMGeom::Invalid_input);
+  DCM::Affine_deformer tiny(A3{{{1e-9, 0, 0}, {0, 1e-9, 0}, {0, 0, 1e-9}}}, zero);
+  tiny.bind({Vec3(1, 2, 3)});
+  EXPECT_THROW(tiny.set_map(A3{}, zero), CMGeom::Invalid_input);
+  std::vector<Vec3> out;
+  tiny.deform(out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].z, 3e-9);
+}
+
 TEST(DeformableCMTransfer, SharpEdgesAndTextureCoordinatesAreCarried) {
   CM::Build_statistics st;
   CM::Compact_model m = CM::build_compact_model(make_box(8), 150, CM::Build_options(), CM::Quadric_surface_traits(),

@@ -579,6 +579,12 @@ TEST_F(Bad_cages, CmDeformMismatchedCages) {
                   {"system.json", "/cages/0/deformed"});
 }
 
+// A singular affine map would flatten the model (every face degenerate): refused, naming the option.
+TEST_F(Bad_cages, CmDeformSingularAffineMap) {
+  expect_rejected("cm deform " + q(good_cm()) + " --affine 1,0,0,0,0,1,0,0,0,0,0,0 -o " + q(output("d.ply")),
+                  {"--affine 1,0,0,0,0,1,0,0,0,0,0,0", "singular"});
+}
+
 TEST_F(Bad_cages, CmDeformCorruptCm) {
   std::string bytes = read_bytes(good_cm());
   bytes.resize(bytes.size() - 3);

@@ -275,8 +275,12 @@ CMGEOM_CLI_COMMAND(
       std::size_t weights_bytes = 0;
       if (d_affine->count()) {
         const auto a = parse_numbers(d->affine, 12, "--affine");
-        DCM::Affine_deformer af({{{a[0], a[1], a[2]}, {a[4], a[5], a[6]}, {a[8], a[9], a[10]}}},
-                                CM::Vec3(a[3], a[7], a[11]));
+        DCM::Affine_deformer af;
+        try {
+          af.set_map({{{a[0], a[1], a[2]}, {a[4], a[5], a[6]}, {a[8], a[9], a[10]}}}, CM::Vec3(a[3], a[7], a[11]));
+        } catch (const CMGeom::Invalid_input& e) {
+          throw CMGeom::Invalid_input(std::string("--affine ") + d->affine + ": " + e.what());
+        }
         af.bind(dcm.base_vertices());
         const double t0 = cmgeom_cli::now_seconds();
         af.deform(deformed);

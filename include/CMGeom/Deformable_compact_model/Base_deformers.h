@@ -18,6 +18,7 @@
 #include <CMGeom/Compact_model/Compact_model.h>
 #include <CMGeom/Error.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -33,12 +34,28 @@ namespace DCM {
 using CM::Vec3;
 
 /// x -> A x + b (A row-major). Affine maps are reproduced exactly by the deformable CM where
-/// the 1-rings are not flat (§6.1 linear reproduction; see Local_deformations.h).
+/// the 1-rings are not flat (§6.1 linear reproduction; see Local_deformations.h). The map must be
+/// finite and invertible: a singular A (|det A| at most 1e-12 times the cube of its largest entry)
+/// flattens the model, every face of the reconstruction degenerate, and is refused (Invalid_input).
 class Affine_deformer {
 public:
   Affine_deformer() = default;
-  Affine_deformer(const std::array<std::array<double, 3>, 3>& A, const Vec3& b) : A_(A), b_(b) {}
+  Affine_deformer(const std::array<std::array<double, 3>, 3>& A, const Vec3& b) { set_map(A, b); }
   void set_map(const std::array<std::array<double, 3>, 3>& A, const Vec3& b) {
+    double largest = 0;
+    for (const auto& row : A)
+      for (double a : row) {
+        if (!std::isfinite(a)) throw Invalid_input("Affine_deformer: the map has a non-finite entry");
+        largest = (std::max)(largest, std::abs(a));
+      }
+    if (!std::isfinite(b.x) || !std::isfinite(b.y) || !std::isfinite(b.z))
+      throw Invalid_input("Affine_deformer: the map has a non-finite entry");
+    const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+                       A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+                       A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+    if (!(std::abs(det) > 1e-12 * largest * largest * largest))
+      throw Invalid_input("Affine_deformer: the map's linear part is singular (determinant " + std::to_string(det) +
+                          "): it would flatten the model, every face degenerate");
     A_ = A;
     b_ = b;
   }
