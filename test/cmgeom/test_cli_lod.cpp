@@ -33,6 +33,10 @@ TEST(cmgeom_cli, LodWritesOneGlbNodePerLevelListedByMsftLod) {
   if (!validator_missing.empty()) std::cout << "validator not run: " << validator_missing << "\n";
   for (const bool shared : {false, true}) {
     SCOPED_TRACE(shared ? "--shared-texture" : "an atlas per level");
+    const auto duck_info = cmgeom_test::run_cli("info " + quoted(duck) + " --json", dir);
+    ASSERT_EQ(duck_info.exit_code, 0) << duck_info.err;
+    const auto input_charts = nlohmann::json::parse(duck_info.out)["charts"];
+    ASSERT_GT(input_charts.get<int>(), 0);
     const std::string glb = (fs::path(dir) / (shared ? "shared.glb" : "levels.glb")).string();
     const auto r = cmgeom_test::run_cli("--quiet lod " + quoted(duck) + " -o " + quoted(glb) +
                                             " --ratios 1,0.25,0.05 --json" + (shared ? " --shared-texture" : ""),
@@ -59,9 +63,11 @@ TEST(cmgeom_cli, LodWritesOneGlbNodePerLevelListedByMsftLod) {
       EXPECT_LE(faces[i], l["target_faces"].get<std::size_t>());
       EXPECT_GE(faces[i] + 2, l["target_faces"].get<std::size_t>());
       if (i > 0) EXPECT_LT(faces[i], faces[i - 1]);
-      // level 0 keeps the input's texture unless one atlas serves all levels
-      EXPECT_EQ(l["texture_width"].get<int>() > 0, shared || i > 0) << l;
-      EXPECT_EQ(l["texture_height"].get<int>() > 0, shared || i > 0) << l;
+      // every level reports its texture: level 0 the input's own (its image and its charts, as
+      // `cmgeom info` counts them) unless one atlas serves all levels
+      EXPECT_GT(l["texture_width"].get<int>(), 0) << l;
+      EXPECT_GT(l["texture_height"].get<int>(), 0) << l;
+      if (i == 0 && !shared) EXPECT_EQ(l["charts"], input_charts) << l;
       // one atlas: every level reports its size, the strip of overflow charts included
       if (shared) EXPECT_EQ(l["texture_height"], levels[2]["texture_height"]) << l;
       // the making of an atlas is reported on the level it was made for: every simplified level,

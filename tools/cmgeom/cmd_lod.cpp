@@ -15,6 +15,7 @@
 
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/Atomic_output.h>
+#include <CMGeom/Mesh_IO/charts.h>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Mesh_IO/textured_mesh_io.h>
 #include <CMGeom/Textured_simplification/level_of_detail.h>
@@ -278,9 +279,20 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
           e["hausdorff"] = l.hausdorff;
           e["rms"] = l.rms;
         }
-        if (textured) {
-          e["texture_width"] = l.is_input && !o->shared_texture ? 0 : l.atlas.texture_width;
-          e["texture_height"] = l.is_input && !o->shared_texture ? 0 : l.atlas.texture_height;
+        if (textured && l.is_input && !o->shared_texture) {
+          // (the input itself, with its own texture and charts)
+          const CMGeom::Image* image = nullptr;
+          for (const auto& m : l.mesh.materials())
+            if (!image && !m.diffuse_image.empty()) image = &m.diffuse_image;
+          e["texture_width"] = image ? image->width() : 0;
+          e["texture_height"] = image ? image->height() : 0;
+          std::vector<int> chart(l.mesh.mesh().num_faces(), -1);
+          e["charts"] = CMGeom::compute_chart_ids(
+              l.mesh.mesh(), l.mesh.uv_map(),
+              boost::make_iterator_property_map(chart.begin(), get(boost::face_index, l.mesh.mesh())));
+        } else if (textured) {
+          e["texture_width"] = l.atlas.texture_width;
+          e["texture_height"] = l.atlas.texture_height;
           e["charts"] = l.atlas.charts;
           // the making of the atlas, on the level it was made for (the coarsest, for a shared one)
           if (!l.is_input && (!o->shared_texture || i + 1 == r.levels.size())) {
