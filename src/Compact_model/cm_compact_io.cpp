@@ -396,10 +396,40 @@ std::string compact_cm_bytes(const Compact_model& m, const Compact_encoding& enc
   if (!(step > 0.)) step = 1e-6;  // a single point: any grid does
   if (diag / step > double(std::int64_t(1) << 40))
     throw Invalid_input("compact CM: tolerance too small for the model's size (more than 2^40 grid steps)");
-  const double t = step / 2.;
   std::vector<Grid_point> q(V);
-  for (std::size_t v = 0; v < V; ++v)
-    for (int k = 0; k < 3; ++k) q[v][k] = std::llround((m.vertices[ec.old_vertex[v]][k] - lo[k]) / step);
+  auto quantize = [&] {
+    for (std::size_t v = 0; v < V; ++v)
+      for (int k = 0; k < 3; ++k) q[v][k] = std::llround((m.vertices[ec.old_vertex[v]][k] - lo[k]) / step);
+  };
+  quantize();
+  // A base face whose corners the grid rounds onto one line (two onto one grid point: a base
+  // edge shorter than the step, as the chart-keeping simplification of a textured base leaves
+  // along chart borders) would reconstruct into degenerate faces: the grid is halved until no
+  // face that has an area before rounding loses it (exact integer test).
+  auto flat_on_grid = [&](const std::array<std::uint32_t, 3>& f) {
+    using I = __int128;
+    const Grid_point &a = q[f[0]], &b = q[f[1]], &d = q[f[2]];
+    const I u[3] = {I(b[0] - a[0]), I(b[1] - a[1]), I(b[2] - a[2])};
+    const I w[3] = {I(d[0] - a[0]), I(d[1] - a[1]), I(d[2] - a[2])};
+    return u[1] * w[2] - u[2] * w[1] == 0 && u[2] * w[0] - u[0] * w[2] == 0 && u[0] * w[1] - u[1] * w[0] == 0;
+  };
+  auto has_area = [&](const std::array<std::uint32_t, 3>& f) {
+    const Vec3 a = m.vertices[ec.old_vertex[f[0]]], b = m.vertices[ec.old_vertex[f[1]]],
+               d = m.vertices[ec.old_vertex[f[2]]];
+    return internal::length(internal::cross(b - a, d - a)) > 0.;
+  };
+  for (int halvings = 0; halvings < 20 && diag / (step / 2.) <= double(std::int64_t(1) << 40); ++halvings) {
+    bool flattened = false;
+    for (const auto& f : c.faces)
+      if (flat_on_grid(f) && has_area(f)) {
+        flattened = true;
+        break;
+      }
+    if (!flattened) break;
+    step /= 2.;
+    quantize();
+  }
+  const double t = step / 2.;
   std::vector<Vec3> p(V);
   for (std::size_t v = 0; v < V; ++v) p[v] = grid_position(q[v], lo, step);
   Varint_writer positions;

@@ -100,6 +100,35 @@ TEST(CompactModelCompactFile, DecodesToTheSameModelUpToItsTolerance) {
   EXPECT_LT(3 * bytes.size(), cm_bytes(f.model).size());
 }
 
+// A base edge shorter than the grid step (the chart-keeping simplification of a textured base
+// leaves such edges along chart borders) would round two vertices onto one grid point and
+// reconstruct into degenerate faces: the encoder refines its grid until no base face loses its
+// area, so every decoded base face and every reconstructed triangle keeps one.
+TEST(CompactModelCompactFile, NoBaseFaceIsFlattenedByTheGrid) {
+  CMGEOM_REQUIRE_SHARED_DATA();
+  const Built& f = fandisk();
+  Compact_model m = f.model;
+  Compact_encoding enc;
+  enc.tolerance = 1e-4 * f.diagonal;
+  // a corner of the first face moved to 1 % of a step beside another
+  const std::uint32_t a = m.faces[0][0].vertex, b = m.faces[0][1].vertex;
+  m.vertices[b] = m.vertices[a] + Vec3(0.01 * enc.tolerance, 0, 0);
+  auto area = [](const Vec3& p, const Vec3& q, const Vec3& r) {
+    return CMGeom::CM::internal::length(CMGeom::CM::internal::cross(q - p, r - p));
+  };
+  const Compact_model q = quantized_model(m, enc);
+  EXPECT_EQ(q, parse_cm(compact_cm_bytes(m, enc), "q.cm"));
+  ASSERT_EQ(q.faces.size(), m.faces.size());
+  for (std::size_t i = 0; i < q.faces.size(); ++i)
+    EXPECT_GT(
+        area(q.vertices[q.faces[i][0].vertex], q.vertices[q.faces[i][1].vertex], q.vertices[q.faces[i][2].vertex]), 0.)
+        << "base face " << i;
+  const Reconstruction r = reconstruct_regular(q, 2);
+  std::size_t flat = 0;
+  for (const auto& t : r.triangles) flat += !(area(r.points[t[0]], r.points[t[1]], r.points[t[2]]) > 0.);
+  EXPECT_EQ(flat, 0u);
+}
+
 TEST(CompactModelCompactFile, CoarserToleranceGivesSmallerFilesAndLargerDifferences) {
   CMGEOM_REQUIRE_SHARED_DATA();
   const Built& f = fandisk();

@@ -29,7 +29,9 @@ namespace CM {
 /// How a Compact Model is quantized in a version 3 file.
 struct Compact_encoding {
   /// Grid step of the positions and twice the coefficient tolerance, in model units; 0 = 1e-4
-  /// times the bounding-box diagonal of the base vertices (the one box a model knows).
+  /// times the bounding-box diagonal of the base vertices (the one box a model knows). The writer
+  /// halves it while a base face with an area would lie flat on the grid (two vertices closer
+  /// than a step), so that no reconstructed face degenerates.
   /// `cmgeom cm build --compact` sets 1e-4 times the input mesh's diagonal instead (`--tolerance`),
   /// a grid as coarse or coarser, whose step is the same for every base size of one input.
   double tolerance = 0.;
