@@ -172,7 +172,7 @@ if ((sanitizers)); then
     TSAN_OPTIONS="suppressions=$root/test/Reliability/tsan.supp:halt_on_error=1:second_deadlock_stack=1" \
     CMGEOM_TSAN_TBB_THREADS=2 \
       ctest --test-dir build-tsan --output-on-failure -j "$jobs" -R "^($suites)\." \
-            -E "^(LevelOfDetail\.(OverflowChartsGiveSquashedAndHiddenPartsTheirOwnTexels|SimplifyPaintsItsAtlasAsTheLookupsWouldBakeIt|LaterLevelsAreCutWithTheirOwnPartSizes|FirstLevelInPartsIsTheRunToItAlone)|CompactModelAdaptive\.VertexBudgetIsMetAndFilled|CompactModelRate\.(ErrorBoundIsMetAsMeasuredIndependently|ByteBoundIsMetAndMoreBytesNeverCostError)|CompactModelBuild\.(ErrorControlWithTheJointRefitLowersTheFandiskMaximum|JointFitKeepsSharpEdgesOnTheTrimStar))$"
+            -E "^(LevelOfDetail\.(OverflowChartsGiveSquashedAndHiddenPartsTheirOwnTexels|ErrorBoundsAreGuaranteedAndTheFirstIsSimplifyMeshAtItsBound|SimplifyPaintsItsAtlasAsTheLookupsWouldBakeIt|LaterLevelsAreCutWithTheirOwnPartSizes|FirstLevelInPartsIsTheRunToItAlone)|CompactModelAdaptive\.VertexBudgetIsMetAndFilled|CompactModelRate\.(ErrorBoundIsMetAsMeasuredIndependently|ByteBoundIsMetAndMoreBytesNeverCostError)|CompactModelBuild\.(ErrorControlWithTheJointRefitLowersTheFandiskMaximum|JointFitKeepsSharpEdgesOnTheTrimStar))$"
     stage_done "ThreadSanitizer tests"
   fi
 fi

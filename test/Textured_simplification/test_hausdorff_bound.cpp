@@ -255,6 +255,37 @@ void hb_check_cube_covered_whole(double e, int engines) {
   }
 }
 }  // namespace
+// A bound raised between two runs (the levels of detail by error bounds): the second run goes on
+// from the first's mesh, its pieces kept, and the result is within the larger bound; a bound can
+// only be raised.
+TEST(HausdorffBound, RaisedBoundGoesOnFromTheFirstRun) {
+  const Mesh input = cmgeom_test::rippled_torus(36, 24, 0.3, 0.04, 4, 3);
+  Mesh m = input;
+  using Bound = TS::Hausdorff_bound<Mesh, decltype(m.points())>;
+  const double diagonal = TS::internal::bbox_diagonal(input);
+  Bound bound(m, m.points(), 0.002 * diagonal);
+  TS::Area_weighted_quadric_policies<Mesh> policy(m, TS::Quadric_options{false});
+  auto run = [&] {
+    TS::edge_collapse(m, TS::Face_count_stop_predicate<Mesh>(m, 1),
+                      CGAL::parameters::get_cost(policy)
+                          .get_placement(policy)
+                          .filter(TS::Hausdorff_bound_filter<Bound>{&bound})
+                          .visitor(TS::Hausdorff_bound_visitor<Bound>(&bound)));
+  };
+  run();
+  const std::size_t first = m.number_of_faces();
+  EXPECT_THROW(bound.raise_max_error(0.001 * diagonal), std::invalid_argument);
+  bound.raise_max_error(0.01 * diagonal);
+  EXPECT_DOUBLE_EQ(bound.max_error(), 0.01 * diagonal);
+  run();
+  EXPECT_LT(m.number_of_faces(), first / 2);
+  EXPECT_LE(bound.bound(), 0.01 * diagonal);
+  CMGeom::Metrics::Error_options o;
+  o.samples = 20 * input.number_of_faces();
+  o.vertex_field = false;
+  EXPECT_LE(CMGeom::Metrics::approximation_error(input, m, o).hausdorff, 0.01);
+}
+
 TEST(HausdorffBound, FlatRegionsAreCoveredWholeAt3Percent) { hb_check_cube_covered_whole(0.03, 1); }
 TEST(HausdorffBound, FlatRegionsAreCoveredWhole) { hb_check_cube_covered_whole(0.005, 2); }
 

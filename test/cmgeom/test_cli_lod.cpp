@@ -173,6 +173,7 @@ TEST(cmgeom_cli, LodRefusalsNameTheProblemAndWriteNothing) {
       {duck, "-o {out}/x --ratios 1,0.25", 1, "a level-of-detail chain is written as .glb or .gltf"},
       {duck, "-o {out}/x.glb", 1, "one of --ratios, --faces or --max-errors is required"},
       {duck, "-o {out}/x.glb --max-errors 0.01,0.01", 1, "--max-errors: the bounds must increase strictly"},
+      {duck, "-o {out}/x.glb --max-errors 0,0.01 --prune", 1, "--prune cannot be combined with --max-errors"},
       {duck, "-o {out}/x.glb --ratios 1,0.25 --faces 1000", 2, "--ratios excludes --faces"},
       {sphere, "-o {out}/x.glb --ratios 1,0.25 --shared-texture", 1, "--shared-texture needs a textured input"},
       {duck, "-o {out}/x.glb --ratios 1,0.25 --no-overflow-charts", 1,

@@ -212,7 +212,8 @@ TEST(cmgeom_cli, QuietPipelinePrintsNothingOnStderr) {
 // the final progress line counts the faces the chain actually removed, down to its last level.
 TEST(cmgeom_cli, ProgressOfLevelsByErrorCountsTheFacesRemoved) {
   const std::string dir = cmgeom_test::scratch_dir();
-  // 81,920 faces: the snapshots' fits and errors take about 2 s here, past the 0.5 s a line needs
+  // 81,920 faces: the bounded runs and the levels' errors take a few seconds here, past the 0.5 s a
+  // line needs
   const std::string sphere = cmgeom_test::write_text(dir, "sphere6.obj", cmgeom_test::icosphere_obj(6));
   const auto r =
       cmgeom_test::run_cli("lod '" + sphere + "' -o '" + dir + "/chain.glb' --max-errors 0,0.002,0.01 --json", dir);

@@ -74,8 +74,9 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   auto* errors =
       app.add_option("--max-errors", o->max_errors,
                      "Levels by error bound instead: symmetric Hausdorff distances as fractions of the bounding-box "
-                     "diagonal, increasing, comma-separated (e.g. 0,0.002,0.01,0.05; 0 is the input); each level is "
-                     "the smallest snapshot of the run within its bound");
+                     "diagonal, increasing, comma-separated (e.g. 0,0.002,0.01,0.05; 0 is the input); each level "
+                     "is guaranteed within its bound (as simplify's --max-error: the run goes on from one bound to "
+                     "the next until no collapse within it is left; levels not fitted; not with --prune)");
   ratios->excludes(faces);
   faces->excludes(ratios);
   errors->excludes(ratios);
@@ -172,6 +173,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
         lo.target_faces.push_back(std::max<std::size_t>(1, std::size_t(std::llround(r * double(faces_in)))));
       }
     } else if (errors->count()) {
+      if (o->prune) throw CMGeom::Invalid_input("--prune cannot be combined with --max-errors");
       lo.max_errors = parse_list<double>(o->max_errors, "--max-errors");
       for (std::size_t i = 0; i < lo.max_errors.size(); ++i) {
         if (!(lo.max_errors[i] >= 0)) throw CMGeom::Invalid_input("--max-errors: every bound must be >= 0");
@@ -253,7 +255,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
       j["textured"] = textured;
       j["shared_texture"] = o->shared_texture;
       j["policy"] = o->policy;
-      j["fit_rounds"] = o->fit_rounds;
+      j["fit_rounds"] = lo.max_errors.empty() ? o->fit_rounds : 0;  // (levels by bound are not fitted)
       j["fit_min_points"] = o->fit_min_points;
       j["memory_points"] = o->memory_points;
       j["prune"] = o->prune;

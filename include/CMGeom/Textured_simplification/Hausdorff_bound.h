@@ -109,6 +109,17 @@ public:
 
   /// E, in the mesh's units.
   double max_error() const { return e_; }
+  /// Raises the bound to `max_error` (>= the current one) for the collapses that follow: what the
+  /// earlier ones were allowed stays within it (a level-of-detail chain by error bounds runs on
+  /// with each larger bound).
+  void raise_max_error(double max_error) {
+    if (!(max_error >= e_) || !std::isfinite(max_error))
+      throw std::invalid_argument("Hausdorff_bound: raise_max_error needs a finite bound >= the current one, got " +
+                                  std::to_string(max_error));
+    e_ = max_error;
+    e_test_ = e_ * (1.0 - 1e-6);
+    e2_ = e_test_ * e_test_;
+  }
   /// The largest distance any accepted test found (<= E): a bound on the Hausdorff distance
   /// between the current mesh and the input.
   double bound() const { return bound_; }

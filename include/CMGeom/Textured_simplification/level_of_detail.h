@@ -14,14 +14,13 @@
 // simplify_mesh() cuts it (`parts_min_faces`), and so is every level large enough on the way
 // down to the next (`later_parts_min_faces`: the quadrics and the memory's points carried into
 // the parts); the rest runs on the whole. Levels
-// may also be asked by error bound (`max_errors`, snapshots every `error_step`; a sampled
-// measure, not a guarantee). Texture: an atlas per level (default), painted from the input
-// followed down the collapses onto that level and baked where no input face lands (a chain any of
-// whose runs is cut into parts: baked from the input alone, as simplify_textured_mesh() bakes the
-// atlas of an input it cuts, since the collapse history follows one whole mesh), or one
-// shared texture, the coarsest level's atlas, which every finer level addresses (the thesis' future
-// work of levels sharing one texture, §7.1). A finer level is mapped into that atlas through the
-// collapse history (Collapse_history): each of its vertices and faces is followed down the
+// may also be asked by error bound (`max_errors`: each level's Hausdorff distance to the input
+// guaranteed within its bound by Hausdorff_bound, one run per bound). Texture: an atlas per level (default), painted
+// from the input followed down the collapses onto that level and baked where no input face lands (a chain any of whose
+// runs is cut into parts: baked from the input alone, as simplify_textured_mesh() bakes the atlas of an input it cuts,
+// since the collapse history follows one whole mesh), or one shared texture, the coarsest level's atlas, which every
+// finer level addresses (the thesis' future work of levels sharing one texture, §7.1). A finer level is mapped into
+// that atlas through the collapse history (Collapse_history): each of its vertices and faces is followed down the
 // collapses to the coarse face its part of the surface became, then placed on the nearest face
 // around it; so parts that fold onto one place of the coarsest level (a label over a bottle) keep
 // apart. The parts of the input that this projection squashes (steep against the coarse face they
@@ -44,6 +43,7 @@
 #include <CMGeom/Textured_simplification/Removed_faces_visitor.h>
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
+#include <CMGeom/Textured_simplification/Hausdorff_bound.h>
 #include <CMGeom/Textured_simplification/simplify_mesh.h>
 #include <CMGeom/Textured_simplification/internal/atlas_layers.h>
 #include <CMGeom/Textured_simplification/internal/collapse_history.h>
@@ -83,18 +83,16 @@ struct Level_of_detail_options {
   /// input itself).
   std::vector<std::size_t> target_faces;
   /// Instead of face targets: error bounds, strictly increasing, >= 0, as fractions of the input's
-  /// bounding-box diagonal. Each level is the smallest snapshot of the run whose measured error
-  /// (symmetric Hausdorff, Metrics::approximation_error with `error_samples`) is at most its bound;
-  /// snapshots are taken each time the face count falls to `error_step` times the previous
-  /// snapshot's, and the run stops at the first one whose error is above the largest bound even
-  /// on a sixteenth of the samples (Metrics::Error_reference::hausdorff_lower_bound(): at most the
-  /// full measure). Only the snapshots that can be a level are measured in full: for each bound,
-  /// from the last snapshot back, those whose lower bound is within it (and then a second one, on
-  /// a quarter of the samples), until one is. A bound no
-  /// snapshot meets gives the input itself. Ignored when empty.
+  /// bounding-box diagonal. Each level's Hausdorff distance to the input, both ways, is guaranteed
+  /// at most its bound: the chain runs once per bound, each run going on from the last with the
+  /// larger bound, every collapse checked by Hausdorff_bound as simplify_mesh() checks them for
+  /// `max_error`, and a level is the mesh left when no collapse within its bound is (0, or a bound
+  /// no collapse meets: the input itself). The levels are not fitted (the bound holds for the
+  /// collapsed positions) and not pruned (prune_components is refused with bounds). Each level's
+  /// error is then measured (Metrics::approximation_error with `error_samples`). Ignored when empty.
   std::vector<double> max_errors;
-  /// See max_errors; in (0, 1).
-  double error_step = 0.8;
+  /// The tests of the bound (Hausdorff_bound_options), with max_errors.
+  Hausdorff_bound_options error_bound;
   /// Cost and placement (plain Garland-Heckbert by default, as simplify_mesh).
   Quadric_options quadric = Quadric_options{false};
   bool surface_memory = true;
@@ -409,87 +407,20 @@ struct Snapshot_visitor : Completed_snapshot_visitor<Snapshot_visitor<Visitor>, 
   }
 };
 
-/// The lower bound of a snapshot's error measures one sample in this many (Error_reference::
-/// hausdorff_lower_bound(); Error_snapshot_visitor). In the worst case (lower bounds far below the
-/// full measures) every snapshot is measured in full, as without them.
-inline constexpr std::size_t error_search_stride = 16;
-/// The stride of a second, tighter lower bound taken before a snapshot is measured in full
-/// (Error_snapshot_visitor::last_within()).
-inline constexpr std::size_t error_check_stride = 4;
-
-/// Visitor of the error-bound mode: each time the face count falls to the next threshold it copies
-/// the mesh (see Completed_snapshot_visitor), measures a lower bound of its error against the input
-/// (on every error_search_stride-th sample), keeps it, and asks the run to stop once that lower
-/// bound exceeds the largest bound. last_within() then measures in full only the snapshots that
-/// can be a level: from the last back, those whose lower bound and then a second one on every
-/// error_check_stride-th sample are within the bound, until one is.
+/// Copies the mesh a run ends with (the error-bound mode: a level is where no collapse is left
+/// within its bound), and forwards every call to the caller's visitor.
 template <class Visitor>
-struct Error_snapshot_visitor : Completed_snapshot_visitor<Error_snapshot_visitor<Visitor>, Visitor> {
-  struct Candidate {
-    Level_snapshot snapshot;
-    double lower_bound;               // Error_reference::hausdorff_lower_bound(), at the snapshot
-    double finer_bound = -1;          // the same on error_check_stride (-1: not yet)
-    double hausdorff = -1, rms = -1;  // the full measure, once taken (-1: not yet)
-  };
-  struct State {
-    const Metrics::Error_reference* reference;  // the input's side of the measure, prepared once
-    double step, largest_bound;
-    double next;  // face count of the next snapshot
-    bool stop = false;
-    bool pending = false;
-    std::deque<Candidate> candidates;  // (a deque: a vector that grew would copy every mesh kept)
-  };
-  State* state;
-  Error_snapshot_visitor(State* s, const Visitor& v, Collapse_history* h, const Level_fitter* f = nullptr)
-      : Completed_snapshot_visitor<Error_snapshot_visitor<Visitor>, Visitor>(v, h, f), state(s) {}
-
+struct Final_snapshot_visitor : Completed_snapshot_visitor<Final_snapshot_visitor<Visitor>, Visitor> {
+  std::optional<Level_snapshot>* out;
+  Final_snapshot_visitor(std::optional<Level_snapshot>* o, const Visitor& v, Collapse_history* h,
+                         const Level_fitter* f = nullptr)
+      : Completed_snapshot_visitor<Final_snapshot_visitor<Visitor>, Visitor>(v, h, f), out(o) {}
   template <class P, class V>
   void OnCollapsed(const P& p, const V& v) const {
     this->collapsed(p, v);
-    state->pending = !state->stop && double(p.surface_mesh().number_of_faces()) <= state->next;
   }
-  void take_pending(const Surface_mesh& mesh) const {
-    if (!state->pending) return;
-    state->pending = false;
-    Level_snapshot copy = this->snapshot(mesh);
-    const double lower = state->reference->hausdorff_lower_bound(copy.mesh, error_search_stride);
-    if (lower > state->largest_bound) {
-      state->stop = true;
-      return;
-    }
-    state->candidates.push_back({std::move(copy), lower});
-    state->next = double(mesh.number_of_faces()) * state->step;
-  }
-  /// The index of the last candidate whose measured error is within `bound` (-1: none), measuring
-  /// (once each) only the candidates whose two lower bounds are within it, from the last one back.
-  static std::ptrdiff_t last_within(State& state, double bound) {
-    for (std::size_t c = state.candidates.size(); c-- > 0;) {
-      Candidate& k = state.candidates[c];
-      if (k.lower_bound > bound) continue;  // its measured error is above the bound too
-      if (k.hausdorff < 0) {
-        if (k.finer_bound < 0)
-          k.finer_bound = state.reference->hausdorff_lower_bound(k.snapshot.mesh, error_check_stride);
-        if (k.finer_bound > bound) continue;  // (the same on more samples)
-        const Metrics::Approximation_error e = state.reference->error(k.snapshot.mesh);
-        k.hausdorff = e.hausdorff;
-        k.rms = e.rms;
-      }
-      if (k.hausdorff <= bound) return std::ptrdiff_t(c);
-    }
-    return -1;
-  }
-  void finished(const Surface_mesh&) const {}
-};
-
-/// Stops at a face count or when a flag is raised (the error-bound mode's run).
-template <class Mesh>
-struct Face_count_or_flag_stop {
-  Face_count_stop_predicate<Mesh> count;
-  const bool* flag;
-  template <class FT, class Profile>
-  bool operator()(const FT& c, const Profile& p, std::size_t initial, std::size_t current) const {
-    return *flag || count(c, p, initial, current);
-  }
+  void take_pending(const Surface_mesh&) const {}
+  void finished(const Surface_mesh& mesh) const { out->emplace(this->snapshot(mesh)); }
 };
 
 /// simplify_mesh()'s options for a run of the chain's cost to `target` faces (the parts stage).
@@ -548,6 +479,10 @@ public:
     check_fit_options(options.memory.fit);
     if (source && !work.is_empty()) throw std::invalid_argument("Chain_collapses: a source needs an empty work mesh");
   }
+  /// The runs that follow refuse the collapses (and flips) that `bound` does not allow and keep it
+  /// up to date (Hausdorff_bound.h; it must follow the work mesh from its first collapse on);
+  /// nullptr: none.
+  void set_error_bound(Hausdorff_bound<Mesh, VPM>* bound) { bound_ = bound; }
   Chain_collapses(const Chain_collapses&) = delete;
   Chain_collapses& operator=(const Chain_collapses&) = delete;
 
@@ -626,13 +561,19 @@ public:
                                          [this](Mesh::Vertex_index v) { return policy_.quadric(v); });
       };
     collapse_with_placement(policy_, false, [&](const auto& placement) {
-      edge_collapse(work_, stop,
-                    CMGeom::parameters::prune_components(
-                        options_.prune_components ? prune_min_faces : 0,
-                        CMGeom::parameters::surface_memory(
-                            m, CMGeom::parameters::edge_flips(
-                                   options_.flips, CGAL::parameters::get_cost(policy_).get_placement(placement).visitor(
-                                                       make_visitor(&fitter))))));
+      edge_collapse(
+          work_, stop,
+          CMGeom::parameters::prune_components(
+              options_.prune_components ? prune_min_faces : 0,
+              CMGeom::parameters::surface_memory(
+                  m,
+                  CMGeom::parameters::edge_flips(
+                      options_.flips,
+                      CGAL::parameters::get_cost(policy_)
+                          .get_placement(placement)
+                          .filter(Hausdorff_bound_filter<Hausdorff_bound<Mesh, VPM>>{bound_})
+                          .visitor(Hausdorff_bound_visitor<Hausdorff_bound<Mesh, VPM>, decltype(make_visitor(&fitter))>(
+                              bound_, make_visitor(&fitter)))))));
     });
     return {levels > 0 ? std::size_t(1) << levels : 0, faces_after_parts};
   }
@@ -647,6 +588,7 @@ private:
   Surface_mesh& work_;
   const Level_of_detail_options& options_;
   Area_weighted_quadric_policies<Mesh> policy_;
+  Hausdorff_bound<Mesh, VPM>* bound_ = nullptr;  // (set_error_bound())
   std::optional<Surface_memory<Mesh, VPM>> memory_;
   const Surface_mesh* source_;  // (until the first run has taken it)
   std::size_t input_faces_;     // (the faces of the chain's input)
@@ -671,8 +613,8 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
       if (i > 0 && b[i] <= b[i - 1])
         throw Invalid_input("simplify_to_levels: the error bounds must be strictly increasing");
     }
-    if (!(options.error_step > 0 && options.error_step < 1))
-      throw Invalid_input("simplify_to_levels: error_step must be in (0, 1)");
+    if (options.prune_components)
+      throw Invalid_input("simplify_to_levels: prune_components cannot be combined with max_errors");
   } else {
     if (targets.empty()) throw Invalid_input("simplify_to_levels: no level asked for");
     for (std::size_t i = 0; i < targets.size(); ++i) {
@@ -707,33 +649,48 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
   std::vector<std::pair<double, double>> measured;  // (hausdorff, rms) of the collapsed levels
   const auto t_collapse = Clock::now();
   if (by_error) {
+    // One run per bound, each going on from the last with a larger one: every collapse (and flip)
+    // is checked by Hausdorff_bound, as simplify_mesh() checks them for `max_error`, and a level is
+    // the mesh left when no collapse within its bound is: its Hausdorff distance to the input, both
+    // ways, is guaranteed at most the bound. No fit (the bound holds for the collapsed positions)
+    // and no pruning (a bound does not cover what a pruned component removes), as there.
     Surface_mesh work = internal::copy_without_uvs(input.mesh());
     if (textured) {
       history.emplace(work);
       history->follow_levels(options.shared_texture);
       input_points = history->add_input(work);
     }
-    using EV = internal::Error_snapshot_visitor<Visitor>;
     const Metrics::Error_reference reference(input.mesh(), eo);
-    typename EV::State state{&reference, options.error_step, options.max_errors.back(),
-                             double(faces_in) * options.error_step};
-    internal::Face_count_or_flag_stop<Surface_mesh> stop{Face_count_stop_predicate<Surface_mesh>(work, 1), &state.stop};
-    internal::Chain_collapses chain(work, chain_options);
-    chain.run(stop, 1, [&](const internal::Level_fitter* fitter) {
-      return EV{&state, visitor, history ? &*history : nullptr, fitter};
-    });
+    const double diagonal = internal::bbox_diagonal(work);
+    Level_of_detail_options bound_options = chain_options;
+    bound_options.memory.fit.rounds = 0;
+    bound_options.parts_min_faces = 0;
+    internal::Chain_collapses chain(work, bound_options);
+    std::optional<Hausdorff_bound<Surface_mesh, Surface_mesh::Property_map<Surface_mesh::Vertex_index, Point_3>>> bound;
     targets.clear();
     meshes.reserve(options.max_errors.size());
-    for (double bound : options.max_errors) {
-      const std::ptrdiff_t best = EV::last_within(state, bound);  // the later, the fewer faces
-      if (best < 0) {
+    for (double e : options.max_errors) {
+      if (e == 0 || !(diagonal > 0)) {  // the input itself
         targets.push_back(faces_in);
-      } else {
-        const auto& k = state.candidates[std::size_t(best)];
-        targets.push_back(k.snapshot.mesh.number_of_faces());
-        meshes.push_back(k.snapshot);  // two bounds may take the same one
-        measured.emplace_back(k.hausdorff, k.rms);
+        continue;
       }
+      if (!bound)
+        bound.emplace(work, work.points(), e * diagonal, options.error_bound);
+      else
+        bound->raise_max_error(e * diagonal);
+      chain.set_error_bound(&*bound);
+      std::optional<internal::Level_snapshot> level;
+      chain.run(Face_count_stop_predicate<Surface_mesh>(work, 1), 0, [&](const internal::Level_fitter* fitter) {
+        return internal::Final_snapshot_visitor<Visitor>{&level, visitor, history ? &*history : nullptr, fitter};
+      });
+      if (!level || level->mesh.number_of_faces() >= faces_in) {  // no collapse within the bound
+        targets.push_back(faces_in);
+        continue;
+      }
+      targets.push_back(level->mesh.number_of_faces());
+      const Metrics::Approximation_error m = reference.error(level->mesh);
+      measured.emplace_back(m.hausdorff, m.rms);
+      meshes.push_back(std::move(*level));
     }
   }
   // the levels that are the input itself, then the collapsed ones
