@@ -641,7 +641,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
   eo.samples = options.error_samples > 0 ? options.error_samples : 2 * faces_in;
   eo.vertex_field = false;
 
-  // error-bound mode: one run snapshots and measures, each bound takes the smallest snapshot it allows
+  // the collapsed levels' meshes (error-bound mode: the mesh each bounded run ends with)
   std::vector<internal::Level_snapshot> meshes;
   // textured: the collapse history of the input's points (and, for one shared texture, the levels')
   std::optional<internal::Collapse_history> history;
