@@ -394,7 +394,8 @@ std::string compact_cm_bytes(const Compact_model& m, const Compact_encoding& enc
                                 (hi[2] - lo[2]) * (hi[2] - lo[2]));
   double step = enc.tolerance > 0. ? enc.tolerance : 1e-4 * diag;
   if (!(step > 0.)) step = 1e-6;  // a single point: any grid does
-  if (diag / step > double(std::int64_t(1) << 40))
+  const double max_steps = double(std::int64_t(1) << 40);
+  if (diag / step > max_steps)
     throw Invalid_input("compact CM: tolerance too small for the model's size (more than 2^40 grid steps)");
   std::vector<Grid_point> q(V);
   auto quantize = [&] {
@@ -418,7 +419,7 @@ std::string compact_cm_bytes(const Compact_model& m, const Compact_encoding& enc
                d = m.vertices[ec.old_vertex[f[2]]];
     return internal::length(internal::cross(b - a, d - a)) > 0.;
   };
-  for (int halvings = 0; halvings < 20 && diag / (step / 2.) <= double(std::int64_t(1) << 40); ++halvings) {
+  for (int halvings = 0; halvings < 20 && diag / (step / 2.) <= max_steps; ++halvings) {
     bool flattened = false;
     for (const auto& f : c.faces)
       if (flat_on_grid(f) && has_area(f)) {

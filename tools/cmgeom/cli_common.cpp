@@ -207,11 +207,15 @@ std::string no_collapse_reason(const CMGeom::Surface_mesh& output, bool prune_av
   return reason;
 }
 
+bool names_a_texture(const CMGeom::Textured_mesh& tm) {
+  for (const auto& m : tm.materials())
+    if (m.has_diffuse_texture() || !m.normal_texture.empty()) return true;
+  return false;
+}
+
 void refuse_unnamed_texture(const CMGeom::Textured_mesh& tm, const std::string& input, const std::string& textured_use,
                             bool offer_no_texture) {
-  if (!tm.has_uvs()) return;
-  for (const auto& m : tm.materials())
-    if (m.has_diffuse_texture() || !m.normal_texture.empty()) return;
+  if (!tm.has_uvs() || names_a_texture(tm)) return;
   std::vector<std::string> images;
   std::error_code ec;
   const auto dir = std::filesystem::absolute(input).parent_path();

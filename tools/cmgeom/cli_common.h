@@ -89,6 +89,9 @@ void apply_texture_option(CMGeom::Textured_mesh& tm, const std::string& input, c
 // (when `prune_available`: the command has --prune and it was not given).
 std::string no_collapse_reason(const CMGeom::Surface_mesh& output, bool prune_available);
 
+// Whether a material of `tm` names a texture (diffuse or normal map).
+bool names_a_texture(const CMGeom::Textured_mesh& tm);
+
 // Invalid_input when `tm` has texture coordinates, no material names a texture and the input's
 // folder holds images: a texture is never guessed, the message names those images and the options
 // (--texture FILE, or --no-texture; `textured_use` says what --texture is for, e.g. "to simplify it

@@ -464,9 +464,7 @@ CMGEOM_CLI_COMMAND(
       // chart constraints of chapter 3 and, when the texture can be decoded, gets a new atlas
       // written next to the CM file as <output stem>.png.
       // (as simplify: texture coordinates without a texture make a geometry-only model, UVs dropped)
-      bool has_texture = false;
-      for (const auto& m : tm.materials()) has_texture |= m.has_diffuse_texture() || !m.normal_texture.empty();
-      const bool textured = tm.has_uvs() && has_texture && !b->no_texture;
+      const bool textured = tm.has_uvs() && cmgeom_cli::names_a_texture(tm) && !b->no_texture;
       if (tm.has_uvs() && !textured) {
         if (!b->no_texture)
           std::cerr << "cmgeom cm build: note: " << b->input
@@ -554,8 +552,7 @@ CMGEOM_CLI_COMMAND(
       const double seconds = cmgeom_cli::now_seconds() - t0;
       stage.done();
       // (a textured base keeps the input's charts, §4.5.4, and may stop above its target)
-      const bool base_above_target = textured && tr.simplification.faces_out > target;
-      if (base_above_target)
+      if (textured && tr.simplification.faces_out > target)
         std::cerr << "cmgeom cm build: the base stopped at " << tr.simplification.faces_out << " faces for a target of "
                   << target
                   << " (chart limit: no collapse left that keeps the input's charts; --no-texture builds a "

@@ -174,9 +174,7 @@ CMGEOM_CLI_COMMAND(simplify,
       cmgeom_cli::apply_texture_option(tm, o->input, o->texture);
       cmgeom_cli::refuse_unnamed_texture(tm, o->input, "to simplify it textured");
     }
-    bool has_texture = false;
-    for (const auto& m : tm.materials()) has_texture |= m.has_diffuse_texture() || !m.normal_texture.empty();
-    const bool textured = tm.has_uvs() && has_texture && !o->no_texture;
+    const bool textured = tm.has_uvs() && cmgeom_cli::names_a_texture(tm) && !o->no_texture;
     if (o->keep_charts && !textured)
       throw CMGeom::Invalid_input(o->input +
                                   ": --keep-charts needs a textured input (UVs and a texture; see --texture)");

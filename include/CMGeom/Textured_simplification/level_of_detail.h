@@ -40,10 +40,10 @@
 #include <CMGeom/Mesh_IO/charts.h>
 #include <CMGeom/Metrics/approximation_error.h>
 #include <CMGeom/Textured_simplification/Edge_collapse_visitor_base.h>
+#include <CMGeom/Textured_simplification/Hausdorff_bound.h>
 #include <CMGeom/Textured_simplification/Removed_faces_visitor.h>
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
-#include <CMGeom/Textured_simplification/Hausdorff_bound.h>
 #include <CMGeom/Textured_simplification/simplify_mesh.h>
 #include <CMGeom/Textured_simplification/internal/atlas_layers.h>
 #include <CMGeom/Textured_simplification/internal/collapse_history.h>
@@ -469,6 +469,7 @@ class Chain_collapses {
 public:
   using Mesh = Surface_mesh;
   using VPM = Mesh::Property_map<Mesh::Vertex_index, Point_3>;
+  using Bound = Hausdorff_bound<Mesh, VPM>;
 
   Chain_collapses(Surface_mesh& work, const Level_of_detail_options& options, const Surface_mesh* source = nullptr)
       : work_(work),
@@ -482,7 +483,7 @@ public:
   /// The runs that follow refuse the collapses (and flips) that `bound` does not allow and keep it
   /// up to date (Hausdorff_bound.h; it must follow the work mesh from its first collapse on);
   /// nullptr: none.
-  void set_error_bound(Hausdorff_bound<Mesh, VPM>* bound) { bound_ = bound; }
+  void set_error_bound(Bound* bound) { bound_ = bound; }
   Chain_collapses(const Chain_collapses&) = delete;
   Chain_collapses& operator=(const Chain_collapses&) = delete;
 
@@ -566,14 +567,12 @@ public:
           CMGeom::parameters::prune_components(
               options_.prune_components ? prune_min_faces : 0,
               CMGeom::parameters::surface_memory(
-                  m,
-                  CMGeom::parameters::edge_flips(
-                      options_.flips,
-                      CGAL::parameters::get_cost(policy_)
-                          .get_placement(placement)
-                          .filter(Hausdorff_bound_filter<Hausdorff_bound<Mesh, VPM>>{bound_})
-                          .visitor(Hausdorff_bound_visitor<Hausdorff_bound<Mesh, VPM>, decltype(make_visitor(&fitter))>(
-                              bound_, make_visitor(&fitter)))))));
+                  m, CMGeom::parameters::edge_flips(
+                         options_.flips, CGAL::parameters::get_cost(policy_)
+                                             .get_placement(placement)
+                                             .filter(Hausdorff_bound_filter<Bound>{bound_})
+                                             .visitor(Hausdorff_bound_visitor<Bound, decltype(make_visitor(&fitter))>(
+                                                 bound_, make_visitor(&fitter)))))));
     });
     return {levels > 0 ? std::size_t(1) << levels : 0, faces_after_parts};
   }
@@ -588,7 +587,7 @@ private:
   Surface_mesh& work_;
   const Level_of_detail_options& options_;
   Area_weighted_quadric_policies<Mesh> policy_;
-  Hausdorff_bound<Mesh, VPM>* bound_ = nullptr;  // (set_error_bound())
+  Bound* bound_ = nullptr;  // (set_error_bound())
   std::optional<Surface_memory<Mesh, VPM>> memory_;
   const Surface_mesh* source_;  // (until the first run has taken it)
   std::size_t input_faces_;     // (the faces of the chain's input)
@@ -647,6 +646,12 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
   std::optional<internal::Collapse_history> history;
   internal::Level_snapshot input_points;
   std::vector<std::pair<double, double>> measured;  // (hausdorff, rms) of the collapsed levels
+  // the history follows `work`, a copy of the input, from before its first collapse
+  auto follow_history = [&](Surface_mesh& work) {
+    history.emplace(work);
+    history->follow_levels(options.shared_texture);
+    input_points = history->add_input(work);
+  };
   const auto t_collapse = Clock::now();
   if (by_error) {
     // One run per bound, each going on from the last with a larger one: every collapse (and flip)
@@ -655,18 +660,13 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
     // ways, is guaranteed at most the bound. No fit (the bound holds for the collapsed positions)
     // and no pruning (a bound does not cover what a pruned component removes), as there.
     Surface_mesh work = internal::copy_without_uvs(input.mesh());
-    if (textured) {
-      history.emplace(work);
-      history->follow_levels(options.shared_texture);
-      input_points = history->add_input(work);
-    }
+    if (textured) follow_history(work);
     const Metrics::Error_reference reference(input.mesh(), eo);
     const double diagonal = internal::bbox_diagonal(work);
     Level_of_detail_options bound_options = chain_options;
     bound_options.memory.fit.rounds = 0;
-    bound_options.parts_min_faces = 0;
-    internal::Chain_collapses chain(work, bound_options);
-    std::optional<Hausdorff_bound<Surface_mesh, Surface_mesh::Property_map<Surface_mesh::Vertex_index, Point_3>>> bound;
+    internal::Chain_collapses chain(work, bound_options);  // (its runs, given no parts target, are not cut)
+    std::optional<internal::Chain_collapses::Bound> bound;
     targets.clear();
     meshes.reserve(options.max_errors.size());
     for (double e : options.max_errors) {
@@ -731,9 +731,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
       Surface_mesh work;
       if (follow) {
         work = internal::copy_without_uvs(input.mesh());
-        history.emplace(work);
-        history->follow_levels(options.shared_texture);
-        input_points = history->add_input(work);
+        follow_history(work);
       }
       // (with the history: simplify_mesh()'s run to the smallest target, whole, one run: the
       // history needs the whole mesh at every collapse; without: the collapses down to a level
