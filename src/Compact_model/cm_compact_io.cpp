@@ -586,7 +586,7 @@ std::string compact_cm_bytes(const Compact_model& m, const Compact_encoding& enc
   internal::Le_writer w;
   w.out.assign(internal::cm_magic, 8);
   w.u32(version3);
-  w.u32((m.has_uvs() ? 1u : 0u) | (m.level_errors.empty() ? 0u : 2u | 4u));
+  w.u32((m.has_uvs() ? 1u : 0u) | (m.level_errors.empty() ? 0u : 2u | 4u) | (m.reconstruction_level >= 0 ? 8u : 0u));
   w.u32(std::uint32_t(V));
   w.u32(std::uint32_t(F));
   w.u32(std::uint32_t(K));
@@ -603,6 +603,10 @@ std::string compact_cm_bytes(const Compact_model& m, const Compact_encoding& enc
   pr.coefficients = put_stream(w, coefficients.s, enc.zstd_level);
   pr.uvs = put_stream(w, uvs.s, enc.zstd_level);
   if (!level_errors.empty()) pr.level_errors = put_stream(w, level_errors, enc.zstd_level);
+  if (m.reconstruction_level >= 0) {  // (counted with the header)
+    w.u8(std::uint8_t(m.reconstruction_level));
+    ++pr.header;
+  }
   w.u64(internal::fnv1a64(reinterpret_cast<const unsigned char*>(w.out.data()), w.out.size()));
   pr.checksum = 8;
   if (parts) *parts = pr;
@@ -626,7 +630,7 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
   Le_reader r{data, bytes.size() - 8, 8, file};
   if (r.u32() != version3) throw IO_error(file, "not a version 3 CM file");
   const std::uint64_t flags = r.u32();
-  if (flags & ~7u) throw IO_error(file, "unknown flags " + std::to_string(flags));
+  if (flags & ~15u) throw IO_error(file, "unknown flags " + std::to_string(flags));
   if ((flags & 6u) == 4u) throw IO_error(file, "corrupt file: flags say delta-coded level errors but there are none");
   const std::uint64_t V = r.u32(), F = r.u32(), K = r.u32();
   if (F == 0 || F >= max_count || V > 3 * F || V == 0 || K < V || K > 3 * F)
@@ -643,6 +647,13 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
   const std::string cs = get_stream(r, "connectivity"), ss = get_stream(r, "sectors"), ps = get_stream(r, "positions"),
                     ns = get_stream(r, "normals"), fs = get_stream(r, "coefficients"), us = get_stream(r, "uvs");
   const std::string ls = (flags & 2u) ? get_stream(r, "level errors") : std::string();
+  int reconstruction_level = -1;
+  if (flags & 8u) {
+    r.need(1, "reconstruction level");
+    reconstruction_level = int(r.u8());
+    if (reconstruction_level > 12)
+      throw IO_error(file, "reconstruction level " + std::to_string(reconstruction_level) + " above 12");
+  }
   if (r.pos != r.n)
     throw IO_error(file, "corrupt file: " + std::to_string(r.n - r.pos) + " unexpected bytes before the checksum");
   if (F > cs.size()) throw IO_error(file, "corrupt file: the connectivity stream is too short for its faces");
@@ -835,6 +846,7 @@ Compact_model parse_compact_cm(const std::string& bytes, const std::string& file
       }
     }
   }
+  m.reconstruction_level = reconstruction_level;
   try {
     m.validate("CM content");
   } catch (const Invalid_input& e) {

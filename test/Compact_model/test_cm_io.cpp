@@ -173,6 +173,60 @@ TEST(CompactModelFile, Version2IsSmallerAndVersion1StillReads) {
   }
 }
 
+// The reconstruction level a model was chosen for (Compact_model::reconstruction_level): one byte
+// behind flag bit 3 in versions 1 and 2 (and 3, test_compact_file.cpp); a model without one
+// writes the same bytes as before the field existed.
+TEST(CompactModelFile, ReconstructionLevelSurvivesEveryVersion) {
+  const Compact_model& m = sphere_model();
+  ASSERT_EQ(m.reconstruction_level, -1);
+  const std::string plain = cm_bytes(m);
+  EXPECT_EQ(le32(plain, 12) & 8u, 0u);
+  for (int level : {0, 3, 12}) {
+    Compact_model l = m;
+    l.reconstruction_level = level;
+    const std::string b = cm_bytes(l);
+    EXPECT_EQ(b.size(), plain.size() + 1);
+    EXPECT_EQ(le32(b, 12), le32(plain, 12) | 8u);
+    EXPECT_EQ(std::uint8_t(b[b.size() - 9]), level);  // the byte before the checksum
+    const Compact_model back = parse_cm(b);
+    EXPECT_EQ(back.reconstruction_level, level);
+    EXPECT_TRUE(back == l);
+    EXPECT_FALSE(back == m);
+  }
+  // version 1 (a vertex of 256 sectors) carries it as well
+  Compact_model fan;
+  fan.vertices.push_back(Vec3(0, 0, 0));
+  const int n = 256;
+  for (int i = 0; i < n; ++i) {
+    fan.vertices.push_back(Vec3(std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0));
+    fan.normals.push_back(Vec3(0, 0, 1));
+    fan.surfaces.push_back(Local_surface());
+  }
+  for (int i = 0; i < n; ++i)
+    fan.faces.push_back({Corner{0, std::uint32_t(i), std::uint32_t(i)},
+                         Corner{std::uint32_t(1 + i), std::uint32_t(i), std::uint32_t(i)},
+                         Corner{std::uint32_t(1 + (i + 1) % n), std::uint32_t(i), std::uint32_t(i)}});
+  fan.reconstruction_level = 4;
+  const std::string fb = cm_bytes(fan);
+  ASSERT_EQ(le32(fb, 8), 1u);
+  EXPECT_EQ(parse_cm(fb).reconstruction_level, 4);
+  // out of range: refused by the writer (validation) and, with the checksum fixed, by the reader
+  Compact_model bad_level = m;
+  bad_level.reconstruction_level = 13;
+  EXPECT_THROW(cm_bytes(bad_level), CMGeom::Invalid_input);
+  bad_level.reconstruction_level = 7;
+  std::string b = cm_bytes(bad_level).substr(0, plain.size() + 1 - 8);
+  b.back() = char(13);
+  const std::uint64_t h = CMGeom::CM::internal::fnv1a64(reinterpret_cast<const unsigned char*>(b.data()), b.size());
+  for (int i = 0; i < 8; ++i) b.push_back(char((h >> (8 * i)) & 0xffu));
+  try {
+    parse_cm(b, "bad.cm");
+    ADD_FAILURE() << "no error for a reconstruction level of 13";
+  } catch (const CMGeom::IO_error& e) {
+    EXPECT_NE(std::string(e.what()).find("reconstruction level 13 above 12"), std::string::npos) << e.what();
+  }
+}
+
 TEST(CompactModelFile, CorruptOrTruncatedFilesGiveOneLineErrors) {
   const Compact_model& m = sphere_model();
   const std::string bytes = cm_bytes(m);

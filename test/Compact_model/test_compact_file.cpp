@@ -225,6 +225,20 @@ TEST(CompactModelCompactFile, WrittenAtomicallyAndReadBackByReadCm) {
   EXPECT_EQ(n, parts.total());
   EXPECT_EQ(read_cm(path), quantized_model(fandisk().model));
   EXPECT_EQ(cmgeom_test::count_files(dir), 1u);
+  // The reconstruction level (flag bit 3): one byte more, counted with the header, read back.
+  ASSERT_EQ(fandisk().model.reconstruction_level, -1);
+  Compact_model with_level = fandisk().model;
+  with_level.reconstruction_level = 3;
+  CM_file_parts level_parts;
+  const std::string lb = compact_cm_bytes(with_level, Compact_encoding(), &level_parts);
+  EXPECT_EQ(lb.size(), n + 1);
+  EXPECT_EQ(level_parts.header, parts.header + 1);
+  EXPECT_EQ(level_parts.total(), lb.size());
+  const Compact_model read_level = parse_cm(lb);
+  EXPECT_EQ(read_level.reconstruction_level, 3);
+  Compact_model expected = quantized_model(fandisk().model);
+  expected.reconstruction_level = 3;
+  EXPECT_EQ(read_level, expected);
   // Bad encodings are refused before anything is written.
   Compact_encoding bad;
   bad.normal_bits = 3;
@@ -246,6 +260,9 @@ TEST(CompactModelRate, ErrorBoundIsMetAsMeasuredIndependently) {
   EXPECT_GE(c.level, 1);
   EXPECT_LE(c.level, 3);
   EXPECT_EQ(compact_cm_bytes(m, c.encoding).size(), c.bytes);
+  // the model carries its level into its file (cmgeom cm reconstruct's default)
+  EXPECT_EQ(m.reconstruction_level, c.level);
+  EXPECT_EQ(parse_cm(compact_cm_bytes(m, c.encoding)).reconstruction_level, c.level);
   // Measured again here with more samples, from the decoded file: within the bound (5 % margin
   // for the sampling).
   CMGeom::Metrics::Error_options o;
@@ -275,6 +292,8 @@ TEST(CompactModelRate, ByteBoundIsMetAndMoreBytesNeverCostError) {
     const Compact_model m = build_compact_model_for(f.mesh, t, c);
     ASSERT_TRUE(c.met) << budget;
     EXPECT_LE(compact_cm_bytes(m, c.encoding).size(), budget);
+    EXPECT_EQ(compact_cm_bytes(m, c.encoding).size(), c.bytes);  // (the level byte counted)
+    EXPECT_EQ(m.reconstruction_level, c.level);
     EXPECT_LE(c.hausdorff, last * 1.5) << budget;  // sampled: allow the noise of one measure
     last = c.hausdorff;
   }

@@ -78,15 +78,30 @@ TEST(cmgeom_cli, CmBuildMeetsAnErrorBoundOrAByteBound) {
   const auto ja = nlohmann::json::parse(a.out);
   EXPECT_LE(ja["rate"]["hausdorff"].get<double>(), 0.01);
   EXPECT_EQ(ja["bytes"].get<std::size_t>(), fs::file_size(dir + "/e.cm"));
-  // Measured again by `cmgeom error` (more samples) at the chosen level: within the bound.
+  // Measured again by `cmgeom error` (more samples) at the chosen level, which the file stores and
+  // `cm reconstruct` takes when no level is asked for: within the bound.
   const int level = ja["rate"]["level"].get<int>();
-  ASSERT_EQ(cmgeom_test::run_cli(
-                "cm reconstruct '" + dir + "/e.cm' -o '" + dir + "/e.obj' --level " + std::to_string(level), dir)
-                .exit_code,
-            0);
+  const auto rec = cmgeom_test::run_cli("cm reconstruct '" + dir + "/e.cm' -o '" + dir + "/e.obj' --json", dir);
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  EXPECT_EQ(nlohmann::json::parse(rec.out)["level"].get<int>(), level);
   const auto err = cmgeom_test::run_cli("error " + spot() + " '" + dir + "/e.obj' --json", dir);
   ASSERT_EQ(err.exit_code, 0) << err.err;
   EXPECT_LE(nlohmann::json::parse(err.out)["hausdorff"].get<double>(), 0.0105);
+  // --level still overrides it; a file with no stored level reconstructs at 2
+  const int other = level == 3 ? 1 : 3;
+  const auto over = cmgeom_test::run_cli(
+      "cm reconstruct '" + dir + "/e.cm' -o '" + dir + "/o.obj' --level " + std::to_string(other) + " --json", dir);
+  ASSERT_EQ(over.exit_code, 0) << over.err;
+  EXPECT_EQ(nlohmann::json::parse(over.out)["level"].get<int>(), other);
+  const auto deformed = cmgeom_test::run_cli(
+      "cm deform '" + dir + "/e.cm' --affine 1,0,0,0,0,1,0,0,0,0,1,0 -o '" + dir + "/d.obj' --json", dir);
+  ASSERT_EQ(deformed.exit_code, 0) << deformed.err;
+  EXPECT_EQ(nlohmann::json::parse(deformed.out)["level"].get<int>(), level);
+  ASSERT_EQ(
+      cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/f.cm' --no-texture --faces 200", dir).exit_code, 0);
+  const auto plain = cmgeom_test::run_cli("cm reconstruct '" + dir + "/f.cm' -o '" + dir + "/f.obj' --json", dir);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(nlohmann::json::parse(plain.out)["level"].get<int>(), 2);
 
   const auto b =
       cmgeom_test::run_cli("cm build " + spot() + " -o '" + dir + "/b.cm' --no-texture --bytes 4000 --json", dir);

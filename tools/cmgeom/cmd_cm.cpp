@@ -202,7 +202,10 @@ CMGEOM_CLI_COMMAND(
   CLI::App* rec = app.add_subcommand("reconstruct", "Reconstruct a mesh from a CM file (thesis §4.5)");
   rec->add_option("input", r->input, "CM file")->required();
   rec->add_option("-o,--output", r->output, "Output mesh (.obj, .off, .ply)")->required();
-  auto* level = rec->add_option("--level", r->level, "Regular subdivision level (default 2)");
+  auto* level = rec->add_option(
+      "--level", r->level,
+      "Regular subdivision level (default: the level the file was built for by cm build --max-error or --bytes, "
+      "else 2)");
   auto* edge = rec->add_option("--edge-length", r->edge_length, "Adaptive: split edges longer than this");
   auto* roi = rec->add_option("--roi", r->roi, "Adaptive: region of interest x,y,z,radius");
   auto* sil = rec->add_option("--silhouette", r->silhouette, "Adaptive: refine the silhouette seen from x,y,z");
@@ -237,7 +240,10 @@ CMGEOM_CLI_COMMAND(
   d_cages->excludes(d_affine);
   d_affine->excludes(d_cages);
   def->add_option("-o,--output", d->output, "Output mesh (.obj, .off, .ply)")->required();
-  auto* d_level = def->add_option("--level", d->level, "Regular subdivision level (default 2)");
+  auto* d_level = def->add_option(
+      "--level", d->level,
+      "Regular subdivision level (default: the level the file was built for by cm build --max-error or --bytes, "
+      "else 2)");
   auto* d_edge =
       def->add_option("--edge-length", d->edge_length, "Adaptive: split edges longer than this (deformed lengths)");
   auto* d_roi = def->add_option("--roi", d->roi, "Adaptive: region of interest x,y,z,radius (deformed space)");
@@ -255,7 +261,8 @@ CMGEOM_CLI_COMMAND(
   def->add_flag("--json", d->json, "Print a JSON report on stdout");
 
   return [build, rec, def, b, r, d, faces, ratio, level, edge, roi, sil, d_cages, d_affine, d_edge, d_roi, d_sil,
-          tolerance, normal_bits, max_error, max_bytes, rate_level, fit, select_level, level_errors, budget]() -> int {
+          tolerance, normal_bits, max_error, max_bytes, rate_level, fit, select_level, level_errors, budget,
+          d_level]() -> int {
     if (def->parsed()) {
       const double t_command = cmgeom_cli::now_seconds();
       if (d_cages->count() == 0 && d_affine->count() == 0)
@@ -371,6 +378,7 @@ CMGEOM_CLI_COMMAND(
         });
       } else {
         if (d->level < 0 || d->level > 12) throw CMGeom::Invalid_input("--level must be in [0, 12]");
+        if (d_level->count() == 0 && model.reconstruction_level >= 0) d->level = model.reconstruction_level;
         out = reconstruct_with_progress(
             ro, model.faces.size() << (2 * d->level),
             [&](const CM::Reconstruction_options& o) { return dcm.reconstruct_regular(d->level, o); });
@@ -380,6 +388,7 @@ CMGEOM_CLI_COMMAND(
       const double command_seconds = cmgeom_cli::now_seconds() - t_command;  // reading and writing included
       if (d->json) {
         j["mode"] = mode;
+        if (mode == "regular") j["level"] = d->level;
         j["projection"] = d->projection;
         j["base_vertices"] = model.vertices.size();
         j["base_faces"] = model.faces.size();
@@ -700,6 +709,7 @@ CMGEOM_CLI_COMMAND(
       });
     } else {
       if (r->level < 0 || r->level > 12) throw CMGeom::Invalid_input("--level must be in [0, 12]");
+      if (level->count() == 0 && model.reconstruction_level >= 0) r->level = model.reconstruction_level;
       out = reconstruct_with_progress(
           ro, model.faces.size() << (2 * r->level),
           [&](const CM::Reconstruction_options& o) { return CM::reconstruct_regular(model, r->level, o); });
@@ -712,6 +722,7 @@ CMGEOM_CLI_COMMAND(
       j["input"] = r->input;
       j["output"] = r->output;
       j["mode"] = mode;
+      if (mode == "regular") j["level"] = r->level;
       j["projection"] = r->projection;
       j["base_vertices"] = model.vertices.size();
       j["base_faces"] = model.faces.size();

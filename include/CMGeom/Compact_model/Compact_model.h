@@ -83,6 +83,11 @@ struct Compact_model {
   std::vector<Face_uvs> uvs;  ///< empty, or one entry per face (§4.5.4)
   std::string texture;        ///< texture image path of a textured model ("" otherwise)
   Level_errors level_errors;  ///< empty, or measured errors per face and level (see above)
+  /// The regular reconstruction level the model was chosen for, -1 when none: the level at which
+  /// build_compact_model_for() (rate_distortion.h) measured it within its target. Stored in the
+  /// file (flag bit 3); `cmgeom cm reconstruct` and `cm deform` reconstruct at it when no level is
+  /// asked for.
+  int reconstruction_level = -1;
 
   bool has_uvs() const { return !uvs.empty(); }
   std::size_t number_of_vertices() const { return vertices.size(); }
@@ -135,7 +140,8 @@ struct Compact_model {
   }
 
   /// Throws Invalid_input (one line) when an index is out of range, a number is not finite, a
-  /// normal is zero, a model id is unknown, or the uv array does not match the faces.
+  /// normal is zero, a model id is unknown, the uv array does not match the faces, or the
+  /// reconstruction level is out of range.
   void validate(const std::string& what = "compact model") const {
     auto fail = [&](const std::string& m) { throw Invalid_input(what + ": " + m); };
     for (std::size_t i = 0; i < vertices.size(); ++i)
@@ -177,11 +183,14 @@ struct Compact_model {
       if (level_errors.rms.size() != n || level_errors.max.size() != n)
         fail("level error table does not match the faces");
     }
+    if (reconstruction_level < -1 || reconstruction_level > 12)
+      fail("reconstruction level " + std::to_string(reconstruction_level) + " is not in [0, 12] (or -1: none)");
   }
 
   bool operator==(const Compact_model& o) const {
     return vertices == o.vertices && normals == o.normals && surfaces == o.surfaces && faces == o.faces &&
-           uvs == o.uvs && texture == o.texture && level_errors == o.level_errors;
+           uvs == o.uvs && texture == o.texture && level_errors == o.level_errors &&
+           reconstruction_level == o.reconstruction_level;
   }
   bool operator!=(const Compact_model& o) const { return !(*this == o); }
 };

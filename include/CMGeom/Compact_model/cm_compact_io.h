@@ -5,7 +5,8 @@
 // compact_cm_bytes(), quantized_model(), Compact_encoding and CM_file_parts. A Compact Model is
 // quantized to a tolerance and entropy coded (connectivity, sectors, predicted positions,
 // octahedral normals, coefficients, uvs, and a model's level error table if it has one; LEB128
-// varints, zstd), for shipping a model in as few bytes as its error allows. Versions 1 and 2
+// varints, zstd; then its reconstruction level, one byte, if it has one), for shipping a model in
+// as few bytes as its error allows. Versions 1 and 2
 // (cm_io.h) stay exact; version 3 is lossy by design
 // and bounded: each coefficient list is refitted in the decoded frame, then rounded so that the
 // height moves by at most tolerance / 2 within its sector. parse_cm() and read_cm() of cm_io.h

@@ -9,7 +9,9 @@
 // too. Version 2 is a CMGeom change to the thesis' layout (same model, same numbers): a corner
 // stores its vertex and, where the vertex has several sectors, a sector number, instead of three
 // indices; a model with a vertex of more than 255 sectors is written as version 1. A model's level
-// error table (Compact_model::level_errors), when it has one, follows the uvs (flag bit 2).
+// error table (Compact_model::level_errors), when it has one, follows the uvs (flag bit 2), and
+// its reconstruction level (Compact_model::reconstruction_level), when set, is the last byte
+// before the checksum (flag bit 3).
 // Reading checks every count against the file size before allocating and every index and number
 // after, throws CMGeom::IO_error (file, what) on the first failure and returns no partial model;
 // write_cm() is atomic. Complexity: O(file size) (writing: O(F log F)).
@@ -174,7 +176,8 @@ inline std::string cm_bytes(const Compact_model& m) {
                 (m.has_uvs() ? m.faces.size() * 24 + m.texture.size() : 0));
   w.out.append(internal::cm_magic, 8);
   w.u32(v2 ? internal::cm_version : 1u);
-  w.u32((m.has_uvs() ? 1u : 0u) | (v2 && sec.implicit ? 2u : 0u) | (m.level_errors.empty() ? 0u : 4u));
+  w.u32((m.has_uvs() ? 1u : 0u) | (v2 && sec.implicit ? 2u : 0u) | (m.level_errors.empty() ? 0u : 4u) |
+        (m.reconstruction_level >= 0 ? 8u : 0u));
   const std::vector<std::uint32_t> cones = m.cone_vertices();
   w.u64(m.vertices.size());
   w.u64(m.normals.size());
@@ -231,6 +234,7 @@ inline std::string cm_bytes(const Compact_model& m) {
     w.out.append(m.level_errors.rms.begin(), m.level_errors.rms.end());
     w.out.append(m.level_errors.max.begin(), m.level_errors.max.end());
   }
+  if (m.reconstruction_level >= 0) w.u8(std::uint8_t(m.reconstruction_level));
   w.u64(internal::fnv1a64(reinterpret_cast<const unsigned char*>(w.out.data()), w.out.size()));
   return w.out;
 }
@@ -264,7 +268,7 @@ inline Compact_model parse_cm(const std::string& bytes, const std::string& file 
   if (version != 1 && version != 2)
     throw IO_error(file, "unsupported CM version " + std::to_string(version) + " (this reader knows 1, 2 and 3)");
   const std::uint32_t flags = r.u32();
-  const std::uint32_t known_flags = version == 1 ? 5u : 7u;
+  const std::uint32_t known_flags = version == 1 ? 13u : 15u;
   if (flags & ~known_flags) throw IO_error(file, "unknown flags " + std::to_string(flags));
   const bool implicit = (flags & 2u) != 0;
   const std::uint64_t nv = r.u64(), nn = r.u64(), ns = r.u64(), nc = r.u64(), nf = r.u64();
@@ -395,6 +399,12 @@ inline Compact_model parse_cm(const std::string& bytes, const std::string& file 
     le.rms.assign(data + r.pos, data + r.pos + n);
     le.max.assign(data + r.pos + n, data + r.pos + 2 * n);
     r.pos += 2 * n;
+  }
+  if (flags & 8u) {
+    r.need(1, "reconstruction level");
+    m.reconstruction_level = int(r.u8());
+    if (m.reconstruction_level > 12)
+      throw IO_error(file, "reconstruction level " + std::to_string(m.reconstruction_level) + " above 12");
   }
   if (r.pos != r.n)
     throw IO_error(file, "corrupt file: " + std::to_string(r.n - r.pos) + " unexpected bytes before the checksum");

@@ -70,8 +70,9 @@ struct Rate_candidate {
 }  // namespace internal
 
 /// Builds the Compact Model of `input` for `target` (see the file comment); `choice` receives
-/// what was chosen. Write the result with write_compact_cm(path, model, choice.encoding). Throws
-/// Invalid_input for an invalid target or input.
+/// what was chosen, and the model its reconstruction level (Compact_model::reconstruction_level,
+/// stored in its file, counted in `choice.bytes`). Write the result with write_compact_cm(path, model,
+/// choice.encoding). Throws Invalid_input for an invalid target or input.
 template <class Traits = Quadric_surface_traits>
 Compact_model build_compact_model_for(const CMGeom::Surface_mesh& input, const Rate_target& target, Rate_choice& choice,
                                       const Build_options& options = Build_options(), const Traits& traits = Traits()) {
@@ -113,6 +114,8 @@ Compact_model build_compact_model_for(const CMGeom::Surface_mesh& input, const R
     if (it != cache.end()) return it->second;
     internal::Rate_candidate c;
     c.model = build_compact_model(input, grid[i], options, traits);
+    // (the file stores the chosen level in one byte, whatever its value: counted from the start)
+    c.model.reconstruction_level = 0;
     c.encoding = encoding_for(fixed_tolerance);
     c.bytes = compact_cm_bytes(c.model, c.encoding).size();
     return cache.emplace(i, std::move(c)).first->second;
@@ -221,6 +224,7 @@ Compact_model build_compact_model_for(const CMGeom::Surface_mesh& input, const R
   measure(c);
   choice.base_faces = grid[chosen];
   choice.level = c.level;
+  c.model.reconstruction_level = c.level;
   choice.encoding = c.encoding;
   choice.bytes = c.bytes;
   choice.hausdorff = c.hausdorff;
