@@ -254,6 +254,39 @@ TEST(cmgeom_cli, LodObjPrefixWritesEveryLevelAsObj) {
   EXPECT_FALSE(fs::exists(prefix + "_3.obj"));
 }
 
+// The report counts a level's vertices as the GLB stores them: an input with vertices in no face
+// (scans often have some) reports only those in a face, at the input level as at the others.
+TEST(cmgeom_cli, LodReportsTheVerticesItsLevelsStore) {
+  const std::string dir = cmgeom_test::scratch_dir();
+  std::vector<std::array<double, 3>> p;
+  std::vector<std::array<std::size_t, 3>> f;
+  cmgeom_test::icosphere(3, p, f);
+  const std::size_t sphere_vertices = p.size();
+  p.push_back({5, 5, 5});  // two vertices in no face
+  p.push_back({-5, 5, 5});
+  const std::string in = dir + "/loose.off";
+  {
+    std::ofstream o(in);
+    o << off_text(p, f);
+  }
+  const std::string glb = dir + "/loose.glb";
+  const auto r =
+      cmgeom_test::run_cli("--quiet lod " + quoted(in) + " -o " + quoted(glb) + " --ratios 1,0.5 --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  const nlohmann::json g = glb_json(glb);
+  ASSERT_FALSE(g.is_null());
+  ASSERT_EQ(report["levels"].size(), 2u);
+  EXPECT_EQ(report["levels"][0]["vertices"].get<std::size_t>(), sphere_vertices);
+  for (std::size_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE("level " + std::to_string(k));
+    std::size_t stored = 0;
+    for (const auto& prim : g["meshes"][g["nodes"][k]["mesh"].get<std::size_t>()]["primitives"])
+      stored += g["accessors"][prim["attributes"]["POSITION"].get<std::size_t>()]["count"].get<std::size_t>();
+    EXPECT_EQ(report["levels"][k]["vertices"].get<std::size_t>(), stored);
+  }
+}
+
 // A level of the chain is the mesh `cmgeom simplify` gives for its face count, final fit included
 // (taken during the one run, fitted on its own); with --fit-rounds 0 on both, the collapses' mesh;
 // with --memory-points 1000 on both (of the sphere's 10,242 vertices), the mesh of that memory.

@@ -275,7 +275,11 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
         else
           e["max_error"] = lo.max_errors[i];
         e["faces"] = l.mesh.mesh().number_of_faces();
-        e["vertices"] = l.mesh.mesh().number_of_vertices();
+        // (the vertices in a face: those the GLB stores; an input read with vertices in no face keeps them)
+        const auto& lm = l.mesh.mesh();
+        e["vertices"] =
+            std::size_t(std::count_if(lm.vertices().begin(), lm.vertices().end(),
+                                      [&](CMGeom::Surface_mesh::Vertex_index v) { return !lm.is_isolated(v); }));
         e["is_input"] = l.is_input;
         if (l.hausdorff >= 0) {
           e["hausdorff"] = l.hausdorff;
