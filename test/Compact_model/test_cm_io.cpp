@@ -95,6 +95,25 @@ std::uint32_t le32(const std::string& b, std::size_t at) {
   return v;
 }
 
+// `body` (a CM file without its checksum) with its checksum appended: a corruption that only
+// the content checks can catch.
+std::string with_checksum(std::string body) {
+  const std::uint64_t h =
+      CMGeom::CM::internal::fnv1a64(reinterpret_cast<const unsigned char*>(body.data()), body.size());
+  for (int i = 0; i < 8; ++i) body.push_back(char((h >> (8 * i)) & 0xffu));
+  return body;
+}
+
+// parse_cm() refuses `bytes` with an IO_error whose message contains `what`.
+void expect_refused(const std::string& bytes, const std::string& what) {
+  try {
+    parse_cm(bytes, "bad.cm");
+    ADD_FAILURE() << "no error, expected: " << what;
+  } catch (const CMGeom::IO_error& e) {
+    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+  }
+}
+
 TEST(CompactModelFile, Version2IsSmallerAndVersion1StillReads) {
   const Compact_model& m = sphere_model();
   // a built model: one (list, normal) pair per sector, numbered vertex by vertex
@@ -162,15 +181,7 @@ TEST(CompactModelFile, Version2IsSmallerAndVersion1StillReads) {
   // number out of range, checksum fixed, is a clear error
   std::string bad = fb2.substr(0, fb2.size() - 8);
   bad[bad.size() - 256] = char(255);
-  const std::uint64_t h = CMGeom::CM::internal::fnv1a64(reinterpret_cast<const unsigned char*>(bad.data()), bad.size());
-  for (int i = 0; i < 8; ++i) bad.push_back(char((h >> (8 * i)) & 0xffu));
-  try {
-    parse_cm(bad, "bad.cm");
-    ADD_FAILURE() << "no error for a sector number out of range";
-  } catch (const CMGeom::IO_error& e) {
-    EXPECT_NE(std::string(e.what()).find("face 0 corner 0: sector 255 of a vertex with 255"), std::string::npos)
-        << e.what();
-  }
+  expect_refused(with_checksum(bad), "face 0 corner 0: sector 255 of a vertex with 255");
 }
 
 // The reconstruction level a model was chosen for (Compact_model::reconstruction_level): one byte
@@ -217,14 +228,7 @@ TEST(CompactModelFile, ReconstructionLevelSurvivesEveryVersion) {
   bad_level.reconstruction_level = 7;
   std::string b = cm_bytes(bad_level).substr(0, plain.size() + 1 - 8);
   b.back() = char(13);
-  const std::uint64_t h = CMGeom::CM::internal::fnv1a64(reinterpret_cast<const unsigned char*>(b.data()), b.size());
-  for (int i = 0; i < 8; ++i) b.push_back(char((h >> (8 * i)) & 0xffu));
-  try {
-    parse_cm(b, "bad.cm");
-    ADD_FAILURE() << "no error for a reconstruction level of 13";
-  } catch (const CMGeom::IO_error& e) {
-    EXPECT_NE(std::string(e.what()).find("reconstruction level 13 above 12"), std::string::npos) << e.what();
-  }
+  expect_refused(with_checksum(b), "reconstruction level 13 above 12");
 }
 
 TEST(CompactModelFile, CorruptOrTruncatedFilesGiveOneLineErrors) {
