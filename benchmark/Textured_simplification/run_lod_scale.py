@@ -123,7 +123,8 @@ def main():
              "Wall seconds of the whole command (reading the OBJ, writing the GLB, or OBJ + MTL + PNG for the "
              "smallest level alone) and peak resident memory (GNU time), \"min / median\"; ratios of the medians; "
              "*parts*: the parts the chain's collapses down to its first level ran in (`lod --json`; 0: on the "
-             "whole, as the shared texture's collapse history needs)." % info["per-level"]["faces_in"])
+             "whole; a shared texture's chain goes on as one run on the whole after them, its collapse history "
+             "started on the mesh they leave)." % info["per-level"]["faces_in"])
     L.append("")
     L.append("| run | parts (runs in parts) | wall (s) | / smallest level alone | peak memory (MB) |")
     L.append("|---|---:|---:|---:|---:|")

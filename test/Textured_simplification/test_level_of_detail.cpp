@@ -362,11 +362,6 @@ TEST(LevelOfDetail, PerLevelAtlasChainOfAnInputCutIntoPartsBakesEachLevel) {
   const TS::Level_of_detail_result w = TS::simplify_to_levels(input, whole);
   EXPECT_EQ(w.parts, 0u);
   for (std::size_t i = 1; i < w.levels.size(); ++i) EXPECT_GT(w.levels[i].atlas.texels_painted, 0u) << "level " << i;
-  // one shared texture: the history, on the whole
-  TS::Level_of_detail_options shared = o;
-  shared.shared_texture = true;
-  shared.target_faces = {45000, 11250, 2250};
-  EXPECT_EQ(TS::simplify_to_levels(input, shared).parts, 0u);
 }
 
 // Given the input (an rvalue), the chain moves it into the level that is the input, where the
@@ -586,6 +581,57 @@ double colour_error_against_input(const CMGeom::Textured_mesh& level, const CMGe
     area_sum += area;
   }
   return area_sum > 0 ? sum / area_sum : 0;
+}
+
+// A shared-texture chain of an input large enough to be cut runs its first collapses in parts too:
+// the history starts once they are put back together (each input point on the nearest face) and
+// follows the one run from there. Its levels are the untextured chain's (the same collapses), all
+// address one atlas, and they show the input's colours as well as the same chain run on the whole
+// does; the same on one core.
+TEST(LevelOfDetail, SharedTextureChainOfAnInputCutIntoPartsStartsItsHistoryAfterThem) {
+  const CMGeom::Textured_mesh input = cmgeom_test::two_chart_grid(150, 256);  // 45000 faces
+  TS::Level_of_detail_options o = four_part_chain({45000, 11250, 2250, 450});
+  o.shared_texture = true;
+  const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
+  ASSERT_EQ(r.levels.size(), 4u);
+  EXPECT_EQ(r.parts, 4u);
+  CMGeom::Textured_mesh plain = input;
+  plain.materials()[0].diffuse_image = CMGeom::Image();
+  TS::Level_of_detail_options po = o;
+  po.shared_texture = false;
+  const TS::Level_of_detail_result u = TS::simplify_to_levels(plain, po);
+  ASSERT_EQ(u.parts, r.parts);
+  expect_same_level_points(r, u);
+  TS::Level_of_detail_options whole = o;
+  whole.parts_min_faces = 0;
+  const TS::Level_of_detail_result w = TS::simplify_to_levels(input, whole);
+  EXPECT_EQ(w.parts, 0u);
+  const CMGeom::Image& atlas = r.levels.back().mesh.materials().at(0).diffuse_image;
+  ASSERT_FALSE(atlas.empty());
+  for (std::size_t i = 0; i < r.levels.size(); ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    const CMGeom::Textured_mesh& level = r.levels[i].mesh;
+    ASSERT_EQ(level.materials().size(), 1u);
+    EXPECT_TRUE(level.materials()[0].diffuse_image == atlas);
+    for (auto h : level.mesh().halfedges())
+      if (!level.mesh().is_border(h)) {
+        const Point_2 t = level.uv(h);
+        ASSERT_TRUE(t.x() > -0.01 && t.x() < 1.01 && t.y() > -0.01 && t.y() < 1.01) << "UV " << t << " off the atlas";
+      }
+    // the input's colours, measured without the history, against the chain on the whole
+    const double in_parts = colour_error_against_input(level, input);
+    const double on_whole = colour_error_against_input(w.levels[i].mesh, input);
+    std::cout << "level " << i << ": colour error " << in_parts << " (in parts), " << on_whole << " (on the whole)\n";
+    EXPECT_LE(in_parts, 1.25 * on_whole);
+  }
+  EXPECT_LT(mean_colour_difference(r.levels[0].mesh, input), 0.02);
+  EXPECT_LT(r.shared_texture_hidden, 0.05);
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    const TS::Level_of_detail_result serial = TS::simplify_to_levels(input, o);
+    expect_same_level_points(serial, r);
+    EXPECT_TRUE(serial.levels.back().mesh.materials()[0].diffuse_image == atlas);
+  }
 }
 
 TEST(LevelOfDetail, SharedTextureLevelsAddressOneAtlasThatShowsTheOriginal) {

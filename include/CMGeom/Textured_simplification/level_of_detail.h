@@ -8,12 +8,12 @@
 // ends with (`memory.fit`), made on the copy alone, on another core while the run goes on from the
 // unfitted mesh (Surface_memory::fitted_positions_later()), so a level is vertex for vertex the mesh
 // simplify_mesh() returns for that target (on the whole, and where only the first level ran in
-// parts; a level after a run cut again goes on from the levels before it). A large input
-// (untextured, or textured with an atlas per level) is cut into parts simplified on all cores
-// down to the first collapsed level, as
+// parts; a level after a run cut again goes on from the levels before it). A large input is cut
+// into parts simplified on all cores down to the first collapsed level, as
 // simplify_mesh() cuts it (`parts_min_faces`), and so is every level large enough on the way
 // down to the next (`later_parts_min_faces`: the quadrics and the memory's points carried into
-// the parts); the rest runs on the whole. Levels
+// the parts; not a shared texture's chain, which runs on as one run once its first parts are put
+// back together); the rest runs on the whole. Levels
 // may also be asked by error bound (`max_errors`: each level's Hausdorff distance to the input
 // guaranteed within its bound by Hausdorff_bound, one run per bound). Texture: an atlas per level (default), painted
 // from the input followed down the collapses onto that level and baked where no input face lands (a chain any of whose
@@ -23,7 +23,9 @@
 // that atlas through the collapse history (Collapse_history): each of its vertices and faces is followed down the
 // collapses to the coarse face its part of the surface became, then placed on the nearest face
 // around it; so parts that fold onto one place of the coarsest level (a label over a bottle) keep
-// apart. The parts of the input that this projection squashes (steep against the coarse face they
+// apart. (A shared texture's chain whose first run begins in parts starts the history once they
+// are put back together, each input point on the nearest face of that mesh, still close to the
+// input: Collapse_history::add_input_nearest(); from there the history is exact.) The parts of the input that this projection squashes (steep against the coarse face they
 // became) or hides, those that read colours other than their own from the atlas, and those under
 // a finer level's face that reads colours other than a bake's from it
 // (`overflow_colour_tolerance`), get charts of their own in a strip added under the
@@ -146,9 +148,11 @@ struct Level_of_detail_options {
   /// without the collapse history (which follows one whole mesh): on DamagedHelmet subdivided
   /// three times (989k faces) the chain of levels 1, 0.25, 0.05, 0.01 took 18.3 s on the whole and
   /// 9.2 s in parts, `simplify` to 1 % alone 5.4-5.8 s (doc/Textured_simplification/README.md,
-  /// "Levels of detail from one run"). A shared-texture chain (which
-  /// needs the history), the error-bound mode and an input whose faces use several materials
-  /// (which the parts would not keep) run on the whole.
+  /// "Levels of detail from one run"). A shared-texture chain, which needs the history down to its
+  /// coarsest level, runs its first collapses in parts when they would be cut (the history then
+  /// starts on the mesh they leave, each input point on the nearest face) and the rest as one run
+  /// on the whole: on that mesh 20.3-22.9 s -> 16.0-16.8 s. The error-bound mode and an input whose
+  /// faces use several materials (which the parts would not keep) run on the whole.
   std::size_t parts_min_faces = Mesh_simplification_options().parts_min_faces;
   /// Faces of a part at least (simplify_mesh()'s `part_faces`).
   std::size_t part_faces = Mesh_simplification_options().part_faces;
@@ -723,8 +727,16 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
       // to the next) does without it, as simplify_textured_mesh() does for an input it cuts: its
       // collapses run as an untextured chain's (in parts on all cores where they would), and each
       // level's atlas is baked from the input by closest point.
-      const bool follow = textured && (options.shared_texture ||
-                                       !internal::Chain_collapses::cuts_into_parts(chain_options, faces_in, collapsed));
+      // A shared texture follows every level down to the coarsest, so its chain runs as one run;
+      // when that run would begin in parts (an input large enough, cut down to its first level),
+      // the parts run without the history and the history starts once they are put back together,
+      // each input point on the nearest face (Collapse_history::add_input_nearest()).
+      const bool history_after_parts =
+          textured && options.shared_texture &&
+          internal::Chain_collapses::cuts_into_parts(chain_options, faces_in, {collapsed.front()});
+      const bool follow =
+          textured && !history_after_parts &&
+          (options.shared_texture || !internal::Chain_collapses::cuts_into_parts(chain_options, faces_in, collapsed));
       // a copy with the input's element order (copy_without_uvs(): the chain's levels are then
       // those of simplify_mesh() run on the input to each level's target); without the history,
       // the chain's first run takes the input itself, and copies nothing of it when it begins in parts
@@ -748,7 +760,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
       std::list<Run_state> runs;
       for (std::size_t first = 0; first < collapsed.size();) {
         std::size_t last = first;  // the run's last level
-        if (!history)
+        if (!history && !history_after_parts)
           while (last + 1 < collapsed.size() && chain.part_levels(collapsed[last], collapsed[last + 1]) == 0) ++last;
         else
           last = collapsed.size() - 1;
@@ -771,8 +783,13 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
               return internal::Snapshot_visitor<Visitor>{&state, visitor, history ? &*history : nullptr, fitter};
             },
             history ? 0 : collapsed[first], &progress,
-            [&runs] {
+            [&] {
               for (Run_state& earlier : runs) earlier.launch_deferred_fits();
+              if (history_after_parts) {  // (the parts put back together into `work`)
+                history.emplace(work);
+                history->follow_levels(true);
+                input_points = history->add_input_nearest(input.mesh(), work);
+              }
             });
         if (first == 0) std::tie(res.parts, res.faces_after_parts) = std::tie(parts, faces_after_parts);
         res.runs_in_parts += parts > 0;

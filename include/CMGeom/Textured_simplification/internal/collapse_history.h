@@ -15,6 +15,7 @@
 #include <CMGeom/Error.h>
 #include <CMGeom/Mesh_IO/Textured_mesh.h>
 #include <CMGeom/Mesh_IO/charts.h>
+#include <CMGeom/Metrics/approximation_error.h>
 #include <CMGeom/Textured_simplification/Surface_memory.h>
 #include <CMGeom/Textured_simplification/rebuild_atlas.h>
 #include <CMGeom/internal/huge_pages.h>
@@ -23,6 +24,7 @@
 
 #include <boost/range/irange.hpp>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -34,6 +36,7 @@
 #include <iterator>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <tuple>
 #include <unordered_map>
 #include <utility>
@@ -179,6 +182,65 @@ public:
     for (Vertex v : work.vertices()) v2v.emplace_back(v, v);
     for (Face f : work.faces()) f2f.emplace_back(f, f);
     add_points(work, v2v, f2f, work.number_of_vertices(), work.number_of_faces(), s);
+    return s;
+  }
+
+  /// The points of `input`'s vertices and faces, numbered as add_input(input) numbers them, for a
+  /// history started on `work`, a simplification of `input` made without one (the input cut into
+  /// parts, simplified and put back together: level_of_detail.h): each point starts on the face of
+  /// `work` nearest to it (the points of a vertex in no face: none), where add_input() knows its
+  /// face; the history follows it exactly from there on. `work` must be garbage-free.
+  /// O((V + F) log F') for `input`'s V vertices and F faces and `work`'s F' faces, on all cores.
+  Level_snapshot add_input_nearest(const Mesh& input, const Mesh& work) {
+    if (work.has_garbage()) throw std::invalid_argument("Collapse_history::add_input_nearest: garbage in `work`");
+    Metrics::internal::Flat_mesh flat;
+    flat.points.reserve(work.number_of_vertices());
+    for (Vertex v : work.vertices()) {
+      const Point_3& p = work.point(v);
+      flat.points.push_back({p.x(), p.y(), p.z()});
+    }
+    std::vector<Face> face_of;  // (the tree's triangle k is face face_of[k])
+    face_of.reserve(work.number_of_faces());
+    for (Face f : work.faces()) {
+      const auto h = work.halfedge(f);
+      flat.triangles.push_back(
+          {std::uint32_t(work.source(h)), std::uint32_t(work.target(h)), std::uint32_t(work.target(work.next(h)))});
+      face_of.push_back(f);
+    }
+    const Metrics::internal::Triangle_tree tree(flat);
+    // the points, in add_input()'s order: the vertices in a face, then the faces' centroids
+    std::vector<V3> queries;
+    Level_snapshot s;
+    s.vertex_point.assign(input.number_of_vertices(), nil);
+    s.face_point.assign(input.number_of_faces(), nil);
+    std::vector<std::pair<std::uint32_t*, std::size_t>> slot;  // (where each point's number goes)
+    for (Vertex v : input.vertices()) {
+      if (input.is_isolated(v)) continue;  // (no surface to follow)
+      queries.push_back(vec(input.point(v)));
+      slot.emplace_back(&s.vertex_point[std::size_t(v)], queries.size() - 1);
+    }
+    for (Face f : input.faces()) {
+      V3 c(0, 0, 0);
+      for (Vertex v : CGAL::vertices_around_face(input.halfedge(f), input)) c = c + vec(input.point(v));
+      queries.push_back((1. / 3.) * c);
+      slot.emplace_back(&s.face_point[std::size_t(f)], queries.size() - 1);
+    }
+    std::vector<std::uint32_t> nearest(queries.size());
+    using KP = Metrics::internal::Triangle_tree::K::Point_3;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        // (consecutive points are mostly close: each search starts from the last one's)
+                        std::pair<KP, std::size_t> last{KP(), 0};
+                        bool first = true;
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          const KP q(queries[i].x, queries[i].y, queries[i].z);
+                          last = first ? tree.closest_point_and_triangle(q)
+                                       : tree.closest_point_and_triangle(q, last.first, last.second);
+                          first = false;
+                          nearest[i] = std::uint32_t(last.second);
+                        }
+                      });
+    for (const auto& [out, i] : slot) *out = memory_.add_point(face_of[nearest[i]], queries[i]);
     return s;
   }
 
