@@ -148,6 +148,22 @@ TS::Level_of_detail_options four_part_chain(std::vector<std::size_t> targets) {
   return o;
 }
 
+// The chain of `input` under `o` with the parts switched off (parts_min_faces 0): every run on the
+// whole, none of them cut.
+TS::Level_of_detail_result chain_on_the_whole(const CMGeom::Textured_mesh& input, TS::Level_of_detail_options o) {
+  o.parts_min_faces = 0;
+  TS::Level_of_detail_result w = TS::simplify_to_levels(input, o);
+  EXPECT_EQ(w.parts, 0u);
+  EXPECT_EQ(w.runs_in_parts, 0u);
+  return w;
+}
+
+// `input` without its image: the same surface, whose chain is an untextured one.
+CMGeom::Textured_mesh without_image(CMGeom::Textured_mesh input) {
+  input.materials()[0].diffuse_image = CMGeom::Image();
+  return input;
+}
+
 // A large untextured input: the collapses down to the first level run in parts (as simplify_mesh()
 // cuts the input for that target), and the first level is the mesh simplify_mesh() returns for it;
 // the coarser levels follow on the whole, valid and within their targets; the chain is the same on
@@ -184,10 +200,7 @@ TEST(LevelOfDetail, FirstLevelInPartsIsTheRunToItAlone) {
     expect_same_level_points(serial, r);
   }
   // without parts: the first level is the run on the whole to it
-  TS::Level_of_detail_options whole = o;
-  whole.parts_min_faces = 0;
-  const TS::Level_of_detail_result w = TS::simplify_to_levels(input, whole);
-  EXPECT_EQ(w.parts, 0u);
+  const TS::Level_of_detail_result w = chain_on_the_whole(input, o);
   Mesh alone = input.mesh();
   so.parts_min_faces = 0;
   TS::simplify_mesh(alone, o.target_faces[1], so);
@@ -227,10 +240,7 @@ TEST(LevelOfDetail, LevelsLargeEnoughRunInPartsAgain) {
   // (the second run's parts add to the first's)
   EXPECT_GT(progress.removed_in_parts(), 48000 - r.faces_after_parts);
   EXPECT_LT(progress.removed_in_parts(), progress.removed());
-  TS::Level_of_detail_options whole = o;
-  whole.parts_min_faces = 0;
-  const TS::Level_of_detail_result w = TS::simplify_to_levels(input, whole);
-  EXPECT_EQ(w.runs_in_parts, 0u);
+  const TS::Level_of_detail_result w = chain_on_the_whole(input, o);
   expect_levels_valid_within_targets(r, o.target_faces);
   for (std::size_t i = 1; i < r.levels.size(); ++i) {
     SCOPED_TRACE("level " + std::to_string(i));
@@ -290,8 +300,8 @@ TEST(LevelOfDetail, LaterLevelsAreCutWithTheirOwnPartSizes) {
 // rebuild_atlas() bakes from the input for that mesh, painted by no collapse history (which follows
 // one whole mesh), as simplify_textured_mesh() bakes the atlas of an input it cuts. The same on one
 // core. So does a chain whose first level is above half the input (its first run on the whole) and
-// whose next run is cut. Without parts the chain paints its atlases from the history; a
-// shared-texture chain, which needs the history, runs on the whole.
+// whose next run is cut. Without parts the chain paints its atlases from the history (a
+// shared-texture chain of such an input: SharedTextureChainOfAnInputCutIntoPartsStartsItsHistoryAfterThem).
 TEST(LevelOfDetail, PerLevelAtlasChainOfAnInputCutIntoPartsBakesEachLevel) {
   const CMGeom::Textured_mesh input = cmgeom_test::two_chart_grid(150, 256);  // 45000 faces
   const TS::Level_of_detail_options o = four_part_chain({45000, 11250, 2250, 450});
@@ -300,8 +310,7 @@ TEST(LevelOfDetail, PerLevelAtlasChainOfAnInputCutIntoPartsBakesEachLevel) {
   EXPECT_EQ(r.parts, 4u);
   EXPECT_GE(r.runs_in_parts, 1u);
   // the same collapses as the untextured chain of the same surface
-  CMGeom::Textured_mesh plain = input;
-  plain.materials()[0].diffuse_image = CMGeom::Image();
+  const CMGeom::Textured_mesh plain = without_image(input);
   const TS::Level_of_detail_result u = TS::simplify_to_levels(plain, o);
   ASSERT_EQ(u.parts, r.parts);
   expect_same_level_points(r, u);
@@ -357,10 +366,7 @@ TEST(LevelOfDetail, PerLevelAtlasChainOfAnInputCutIntoPartsBakesEachLevel) {
     }
   }
   // without parts, the history paints the atlases
-  TS::Level_of_detail_options whole = o;
-  whole.parts_min_faces = 0;
-  const TS::Level_of_detail_result w = TS::simplify_to_levels(input, whole);
-  EXPECT_EQ(w.parts, 0u);
+  const TS::Level_of_detail_result w = chain_on_the_whole(input, o);
   for (std::size_t i = 1; i < w.levels.size(); ++i) EXPECT_GT(w.levels[i].atlas.texels_painted, 0u) << "level " << i;
 }
 
@@ -595,17 +601,13 @@ TEST(LevelOfDetail, SharedTextureChainOfAnInputCutIntoPartsStartsItsHistoryAfter
   const TS::Level_of_detail_result r = TS::simplify_to_levels(input, o);
   ASSERT_EQ(r.levels.size(), 4u);
   EXPECT_EQ(r.parts, 4u);
-  CMGeom::Textured_mesh plain = input;
-  plain.materials()[0].diffuse_image = CMGeom::Image();
+  const CMGeom::Textured_mesh plain = without_image(input);
   TS::Level_of_detail_options po = o;
   po.shared_texture = false;
   const TS::Level_of_detail_result u = TS::simplify_to_levels(plain, po);
   ASSERT_EQ(u.parts, r.parts);
   expect_same_level_points(r, u);
-  TS::Level_of_detail_options whole = o;
-  whole.parts_min_faces = 0;
-  const TS::Level_of_detail_result w = TS::simplify_to_levels(input, whole);
-  EXPECT_EQ(w.parts, 0u);
+  const TS::Level_of_detail_result w = chain_on_the_whole(input, o);
   const CMGeom::Image& atlas = r.levels.back().mesh.materials().at(0).diffuse_image;
   ASSERT_FALSE(atlas.empty());
   for (std::size_t i = 0; i < r.levels.size(); ++i) {

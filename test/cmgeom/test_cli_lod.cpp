@@ -264,11 +264,7 @@ TEST(cmgeom_cli, LodReportsTheVerticesItsLevelsStore) {
   const std::size_t sphere_vertices = p.size();
   p.push_back({5, 5, 5});  // two vertices in no face
   p.push_back({-5, 5, 5});
-  const std::string in = dir + "/loose.off";
-  {
-    std::ofstream o(in);
-    o << off_text(p, f);
-  }
+  const std::string in = cmgeom_test::write_text(dir, "loose.off", off_text(p, f));
   const std::string glb = dir + "/loose.glb";
   const auto r =
       cmgeom_test::run_cli("--quiet lod " + quoted(in) + " -o " + quoted(glb) + " --ratios 1,0.5 --json", dir);

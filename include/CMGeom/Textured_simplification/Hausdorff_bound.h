@@ -77,10 +77,7 @@ public:
                                   std::to_string(max_error));
     if (options.max_depth < 0 || options.max_depth > 16)
       throw std::invalid_argument("Hausdorff_bound: max_depth must be in [0, 16]");
-    // the tests compare squared distances computed in double precision against a threshold a
-    // millionth below E, so that round-off cannot carry an accepted distance over E
-    e_test_ = e_ * (1.0 - 1e-6);
-    e2_ = e_test_ * e_test_;
+    set_bound(max_error);
     std::size_t nf = 0;
     for (face_descriptor f : faces(tm)) nf = (std::max)(nf, std::size_t(f) + 1);
     head_.assign(nf, nil);
@@ -116,9 +113,7 @@ public:
     if (!(max_error >= e_) || !std::isfinite(max_error))
       throw std::invalid_argument("Hausdorff_bound: raise_max_error needs a finite bound >= the current one, got " +
                                   std::to_string(max_error));
-    e_ = max_error;
-    e_test_ = e_ * (1.0 - 1e-6);
-    e2_ = e_test_ * e_test_;
+    set_bound(max_error);
   }
   /// The largest distance any accepted test found (<= E): a bound on the Hausdorff distance
   /// between the current mesh and the input.
@@ -416,6 +411,15 @@ private:
       best = (std::min)(best, dx * dx + dy * dy);
     }
     return h * h + (inside ? 0. : best);
+  }
+
+  /// E and its test thresholds: the tests compare squared distances computed in double precision
+  /// against a threshold a millionth below E, so that round-off cannot carry an accepted distance
+  /// over E.
+  void set_bound(double e) {
+    e_ = e;
+    e_test_ = e_ * (1.0 - 1e-6);
+    e2_ = e_test_ * e_test_;
   }
 
   /// Forgets the last test's plan and faces.

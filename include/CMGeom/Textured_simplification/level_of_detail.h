@@ -25,9 +25,9 @@
 // around it; so parts that fold onto one place of the coarsest level (a label over a bottle) keep
 // apart. (A shared texture's chain whose first run begins in parts starts the history once they
 // are put back together, each input point on the nearest face of that mesh, still close to the
-// input: Collapse_history::add_input_nearest(); from there the history is exact.) The parts of the input that this projection squashes (steep against the coarse face they
-// became) or hides, those that read colours other than their own from the atlas, and those under
-// a finer level's face that reads colours other than a bake's from it
+// input: Collapse_history::add_input_nearest(); from there the history is exact.) The parts of the input that this
+// projection squashes (steep against the coarse face they became) or hides, those that read colours other than their
+// own from the atlas, and those under a finer level's face that reads colours other than a bake's from it
 // (`overflow_colour_tolerance`), get charts of their own in a strip added under the
 // atlas, which the finer levels' faces standing for them address (`overflow_charts`,
 // internal/atlas_layers.h). Each level's
@@ -650,11 +650,13 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
   std::optional<internal::Collapse_history> history;
   internal::Level_snapshot input_points;
   std::vector<std::pair<double, double>> measured;  // (hausdorff, rms) of the collapsed levels
-  // the history follows `work`, a copy of the input, from before its first collapse
-  auto follow_history = [&](Surface_mesh& work) {
+  // the history follows `work` from its next collapse on: a copy of the input, from before its
+  // first collapse (`is_input`), or the mesh a shared texture's first parts left (the input's
+  // points put on its nearest faces)
+  auto follow_history = [&](Surface_mesh& work, bool is_input) {
     history.emplace(work);
     history->follow_levels(options.shared_texture);
-    input_points = history->add_input(work);
+    input_points = is_input ? history->add_input(work) : history->add_input_nearest(input.mesh(), work);
   };
   const auto t_collapse = Clock::now();
   if (by_error) {
@@ -664,7 +666,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
     // ways, is guaranteed at most the bound. No fit (the bound holds for the collapsed positions)
     // and no pruning (a bound does not cover what a pruned component removes), as there.
     Surface_mesh work = internal::copy_without_uvs(input.mesh());
-    if (textured) follow_history(work);
+    if (textured) follow_history(work, true);
     const Metrics::Error_reference reference(input.mesh(), eo);
     const double diagonal = internal::bbox_diagonal(work);
     Level_of_detail_options bound_options = chain_options;
@@ -743,7 +745,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
       Surface_mesh work;
       if (follow) {
         work = internal::copy_without_uvs(input.mesh());
-        follow_history(work);
+        follow_history(work, true);
       }
       // (with the history: simplify_mesh()'s run to the smallest target, whole, one run: the
       // history needs the whole mesh at every collapse; without: the collapses down to a level
@@ -785,11 +787,7 @@ Level_of_detail_result simplify_to_levels(const Textured_mesh& input, Textured_m
             history ? 0 : collapsed[first], &progress,
             [&] {
               for (Run_state& earlier : runs) earlier.launch_deferred_fits();
-              if (history_after_parts) {  // (the parts put back together into `work`)
-                history.emplace(work);
-                history->follow_levels(true);
-                input_points = history->add_input_nearest(input.mesh(), work);
-              }
+              if (history_after_parts) follow_history(work, false);  // (the parts put back together)
             });
         if (first == 0) std::tie(res.parts, res.faces_after_parts) = std::tie(parts, faces_after_parts);
         res.runs_in_parts += parts > 0;

@@ -193,21 +193,8 @@ public:
   /// O((V + F) log F') for `input`'s V vertices and F faces and `work`'s F' faces, on all cores.
   Level_snapshot add_input_nearest(const Mesh& input, const Mesh& work) {
     if (work.has_garbage()) throw std::invalid_argument("Collapse_history::add_input_nearest: garbage in `work`");
-    Metrics::internal::Flat_mesh flat;
-    flat.points.reserve(work.number_of_vertices());
-    for (Vertex v : work.vertices()) {
-      const Point_3& p = work.point(v);
-      flat.points.push_back({p.x(), p.y(), p.z()});
-    }
-    std::vector<Face> face_of;  // (the tree's triangle k is face face_of[k])
-    face_of.reserve(work.number_of_faces());
-    for (Face f : work.faces()) {
-      const auto h = work.halfedge(f);
-      flat.triangles.push_back(
-          {std::uint32_t(work.source(h)), std::uint32_t(work.target(h)), std::uint32_t(work.target(work.next(h)))});
-      face_of.push_back(f);
-    }
-    const Metrics::internal::Triangle_tree tree(flat);
+    const Metrics::internal::Triangle_tree tree(Metrics::internal::make_flat_mesh(work, work.points(), "chain mesh"));
+    const std::vector<Face> face_of(work.faces().begin(), work.faces().end());  // (the tree's triangle k)
     // the points, in add_input()'s order: the vertices in a face, then the faces' centroids
     std::vector<V3> queries;
     Level_snapshot s;
@@ -220,9 +207,7 @@ public:
       slot.emplace_back(&s.vertex_point[std::size_t(v)], queries.size() - 1);
     }
     for (Face f : input.faces()) {
-      V3 c(0, 0, 0);
-      for (Vertex v : CGAL::vertices_around_face(input.halfedge(f), input)) c = c + vec(input.point(v));
-      queries.push_back((1. / 3.) * c);
+      queries.push_back(centroid(input, f));
       slot.emplace_back(&s.face_point[std::size_t(f)], queries.size() - 1);
     }
     std::vector<std::uint32_t> nearest(queries.size());
@@ -294,6 +279,11 @@ private:
 
   bool follow_levels_ = true;
   static V3 vec(const Point_3& p) { return V3(p.x(), p.y(), p.z()); }
+  static V3 centroid(const Mesh& m, Face f) {
+    V3 c(0, 0, 0);
+    for (Vertex v : CGAL::vertices_around_face(m.halfedge(f), m)) c = c + vec(m.point(v));
+    return (1. / 3.) * c;
+  }
 
   void add_points(const Mesh& work, const std::vector<std::pair<Vertex, Vertex>>& v2v,
                   const std::vector<std::pair<Face, Face>>& f2f, std::size_t nv, std::size_t nf, Level_snapshot& s) {
@@ -305,11 +295,7 @@ private:
           s.vertex_point[std::size_t(to)] = memory_.add_point(work.face(h), vec(work.point(from)));
           break;
         }
-    for (const auto& [from, to] : f2f) {
-      V3 c(0, 0, 0);
-      for (Vertex v : CGAL::vertices_around_face(work.halfedge(from), work)) c = c + vec(work.point(v));
-      s.face_point[std::size_t(to)] = memory_.add_point(from, (1. / 3.) * c);
-    }
+    for (const auto& [from, to] : f2f) s.face_point[std::size_t(to)] = memory_.add_point(from, centroid(work, from));
   }
 
   Surface_memory<Mesh, VPM> memory_;
