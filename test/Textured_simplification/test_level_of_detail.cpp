@@ -299,9 +299,8 @@ TEST(LevelOfDetail, LaterLevelsAreCutWithTheirOwnPartSizes) {
 // untextured chain's (in parts, level for level the same meshes), and each level's atlas is the one
 // rebuild_atlas() bakes from the input for that mesh, painted by no collapse history (which follows
 // one whole mesh), as simplify_textured_mesh() bakes the atlas of an input it cuts. The same on one
-// core. So does a chain whose first level is above half the input (its first run on the whole) and
-// whose next run is cut. Without parts the chain paints its atlases from the history (a
-// shared-texture chain of such an input: SharedTextureChainOfAnInputCutIntoPartsStartsItsHistoryAfterThem).
+// core. (A chain cut only after its first level: PerLevelAtlasChainCutAfterItsFirstLevelBakesToo; a
+// shared-texture chain of such an input: SharedTextureChainOfAnInputCutIntoPartsStartsItsHistoryAfterThem.)
 TEST(LevelOfDetail, PerLevelAtlasChainOfAnInputCutIntoPartsBakesEachLevel) {
   const CMGeom::Textured_mesh input = cmgeom_test::two_chart_grid(150, 256);  // 45000 faces
   const TS::Level_of_detail_options o = four_part_chain({45000, 11250, 2250, 450});
@@ -347,8 +346,15 @@ TEST(LevelOfDetail, PerLevelAtlasChainOfAnInputCutIntoPartsBakesEachLevel) {
       EXPECT_TRUE(serial.levels[i].mesh.materials()[0].diffuse_image == r.levels[i].mesh.materials()[0].diffuse_image)
           << "level " << i;
   }
-  // a first level above half the input runs on the whole, and the next is cut (a level cut again
-  // on the way down): the chain still does without the history, as an untextured chain's collapses
+}
+
+// A per-level-atlas chain whose first level is above half the input (its first run on the whole)
+// and whose next run is cut (a level cut again on the way down) does without the history too, as
+// an untextured chain's collapses, and bakes every level; without parts the history paints them.
+TEST(LevelOfDetail, PerLevelAtlasChainCutAfterItsFirstLevelBakesToo) {
+  const CMGeom::Textured_mesh input = cmgeom_test::two_chart_grid(150, 256);  // 45000 faces
+  const TS::Level_of_detail_options o = four_part_chain({45000, 11250, 2250, 450});
+  const CMGeom::Textured_mesh plain = without_image(input);
   {
     TS::Level_of_detail_options later = o;
     later.target_faces = {45000, 27000, 11250, 2250};
