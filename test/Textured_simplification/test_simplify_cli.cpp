@@ -1,6 +1,7 @@
 // Tests of `cmgeom simplify`: the JSON report and errors.
 #include "textured_simplification_test_util.h"
 
+#include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Metrics/approximation_error.h>
 
 // ------------------------------------------------------------------------- command line
@@ -207,7 +208,8 @@ TEST(TexturedSimplificationCli, GeometryOnlyNoteNamesTextureCoordinatesTheFacesU
 
 // `cmgeom simplify --max-error E`: the report says what stopped it and the bound kept, and the
 // output's Hausdorff distance to the input, measured by dense sampling here, is within E; a bound
-// that is not > 0, or one with --keep-charts, is refused with no output written.
+// that is not > 0 is refused with no output written. With --keep-charts the bound holds too, the
+// charts are kept, and the end is said to come from both.
 TEST(TexturedSimplificationCli, MaxErrorReportAndBound) {
   const std::string exe = CMGEOM_CMGEOM_EXE;
   if (!fs::exists(exe)) GTEST_SKIP() << "cmgeom not built: " << exe;
@@ -251,6 +253,28 @@ TEST(TexturedSimplificationCli, MaxErrorReportAndBound) {
   std::ifstream e(terr);
   const std::string said((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
   EXPECT_EQ(said.find("for a target of"), std::string::npos) << said;
+  // the input's charts kept under the bound
+  const std::string kout = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_fuze_kept_bounded.obj";
+  const auto [kcode, kjson] = run("{ '" + exe + "' simplify '" + textured + "' -o '" + kout +
+                                  "' --keep-charts --max-error 0.01 --faces 10 --json 2>'" + terr + "'; }");
+  ASSERT_EQ(kcode, 0) << kjson;
+  const auto kj = nlohmann::json::parse(kjson);
+  EXPECT_EQ(kj["charts"].get<std::string>(), "kept");
+  EXPECT_EQ(kj["charts_out"], kj["charts_in"]);
+  EXPECT_EQ(kj["stopped_by"].get<std::string>(), "max_error");
+  EXPECT_GT(kj["error_bound"].get<double>(), 0.);
+  EXPECT_LE(kj["error_bound"].get<double>(), 0.01);
+  EXPECT_LT(kj["faces_out"].get<std::size_t>(), kj["faces_in"].get<std::size_t>() / 2);
+  std::ifstream ke(terr);
+  const std::string ksaid((std::istreambuf_iterator<char>(ke)), std::istreambuf_iterator<char>());
+  EXPECT_NE(ksaid.find("keeps both the input's charts and --max-error"), std::string::npos) << ksaid;
+  Mesh fuze, kept;
+  CMGeom::IO::read_mesh(textured, fuze);
+  CMGeom::IO::read_mesh(kout, kept);
+  EXPECT_EQ(kept.number_of_faces(), kj["faces_out"].get<std::size_t>());
+  CMGeom::Metrics::Error_options keo;
+  keo.samples = 20 * fuze.number_of_faces();
+  EXPECT_LE(CMGeom::Metrics::approximation_error(fuze, kept, keo).hausdorff, 0.01);
 }
 
 TEST(TexturedSimplificationCli, StopAboveTargetNamesTheComponentsAndPrune) {

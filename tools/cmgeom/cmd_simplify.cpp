@@ -77,7 +77,8 @@ CMGEOM_CLI_COMMAND(simplify,
       "--max-error", o->max_error,
       "Guaranteed bound on the Hausdorff distance between output and input (both ways), as a fraction of the "
       "input's bounding-box diagonal, e.g. 0.005: collapses that could exceed it are refused. Alone: simplify as "
-      "far as the bound allows; with --faces or --ratio, whichever comes first. Not with --keep-charts");
+      "far as the bound allows; with --faces or --ratio, whichever comes first. With --keep-charts the run "
+      "also ends where no collapse keeps the charts");
   app.add_option("--policy", o->policy,
                  "Cost: plain (Garland-Heckbert, the default: lowest measured error) or weighted (thesis §3.4.2)")
       ->check(CLI::IsMember({"weighted", "plain"}));
@@ -203,10 +204,6 @@ CMGEOM_CLI_COMMAND(simplify,
       if (o->engine != "cmgeom") throw CMGeom::Invalid_input("textured simplification runs on --engine cmgeom only");
       if (max_cost->count())
         throw CMGeom::Invalid_input("--max-cost simplifies geometry only: pass --no-texture (or --faces / --ratio)");
-      if (max_error->count() && o->keep_charts)
-        throw CMGeom::Invalid_input(
-            "--max-error is not supported with --keep-charts (the chart constraints have no error bound); drop "
-            "--keep-charts");
       if (o->prune && o->keep_charts)
         throw CMGeom::Invalid_input("--prune is not supported with --keep-charts; drop --keep-charts");
       if (o->flips && o->keep_charts)
@@ -255,8 +252,10 @@ CMGEOM_CLI_COMMAND(simplify,
             << "cmgeom simplify: stopped at " << r.faces_out << " faces for a target of " << target << " ("
             << (r.stopped_by == TS::Stop_reason::chart_limit
                     ? "chart limit: no collapse left that keeps the input's charts; drop --keep-charts to go further"
-                : r.stopped_by == TS::Stop_reason::max_error ? "no collapse left within --max-error"
-                                                             : cmgeom_cli::no_collapse_reason(tm.mesh(), !o->prune))
+                : r.stopped_by == TS::Stop_reason::max_error
+                    ? (o->keep_charts ? "no collapse left that keeps both the input's charts and --max-error"
+                                      : "no collapse left within --max-error")
+                    : cmgeom_cli::no_collapse_reason(tm.mesh(), !o->prune))
             << ")\n";
       if (o->json) {
         nlohmann::ordered_json j;
