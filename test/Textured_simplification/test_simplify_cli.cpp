@@ -1,6 +1,8 @@
 // Tests of `cmgeom simplify`: the JSON report and errors.
 #include "textured_simplification_test_util.h"
 
+#include "cmgeom_test_support.h"
+
 #include <CMGeom/Mesh_IO/mesh_io.h>
 #include <CMGeom/Metrics/approximation_error.h>
 
@@ -242,32 +244,28 @@ TEST(TexturedSimplificationCli, MaxErrorReportAndBound) {
   // missed (the command used to say "stopped at N faces for a target of 1")
   const std::string textured = data_dir() + "/textured/fuze/fuze.obj";
   ASSERT_TRUE(fs::exists(textured)) << textured;
-  const std::string tout = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_fuze_bounded.obj";
-  const std::string terr = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_fuze_bounded_err.txt";
-  const auto [tcode, tjson] =
-      run("{ '" + exe + "' simplify '" + textured + "' -o '" + tout + "' --max-error 0.01 --json 2>'" + terr + "'; }");
-  ASSERT_EQ(tcode, 0) << tjson;
-  const auto tj = nlohmann::json::parse(tjson);
+  // (stdout and stderr apart: cmgeom_test::run_cli)
+  const std::string dir = cmgeom_test::scratch_dir();
+  const auto t =
+      cmgeom_test::run_cli("simplify '" + textured + "' -o '" + dir + "/fuze.obj' --max-error 0.01 --json", dir);
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  const auto tj = nlohmann::json::parse(t.out);
   EXPECT_EQ(tj["stopped_by"].get<std::string>(), "max_error");
   EXPECT_LE(tj["error_bound"].get<double>(), 0.01);
-  std::ifstream e(terr);
-  const std::string said((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(said.find("for a target of"), std::string::npos) << said;
+  EXPECT_EQ(t.err.find("for a target of"), std::string::npos) << t.err;
   // the input's charts kept under the bound
-  const std::string kout = std::string(CMGEOM_TEST_TMP_DIR) + "/ts_cli_fuze_kept_bounded.obj";
-  const auto [kcode, kjson] = run("{ '" + exe + "' simplify '" + textured + "' -o '" + kout +
-                                  "' --keep-charts --max-error 0.01 --faces 10 --json 2>'" + terr + "'; }");
-  ASSERT_EQ(kcode, 0) << kjson;
-  const auto kj = nlohmann::json::parse(kjson);
+  const std::string kout = dir + "/fuze_kept.obj";
+  const auto k = cmgeom_test::run_cli(
+      "simplify '" + textured + "' -o '" + kout + "' --keep-charts --max-error 0.01 --faces 10 --json", dir);
+  ASSERT_EQ(k.exit_code, 0) << k.err;
+  const auto kj = nlohmann::json::parse(k.out);
   EXPECT_EQ(kj["charts"].get<std::string>(), "kept");
   EXPECT_EQ(kj["charts_out"], kj["charts_in"]);
   EXPECT_EQ(kj["stopped_by"].get<std::string>(), "max_error");
   EXPECT_GT(kj["error_bound"].get<double>(), 0.);
   EXPECT_LE(kj["error_bound"].get<double>(), 0.01);
   EXPECT_LT(kj["faces_out"].get<std::size_t>(), kj["faces_in"].get<std::size_t>() / 2);
-  std::ifstream ke(terr);
-  const std::string ksaid((std::istreambuf_iterator<char>(ke)), std::istreambuf_iterator<char>());
-  EXPECT_NE(ksaid.find("keeps both the input's charts and --max-error"), std::string::npos) << ksaid;
+  EXPECT_NE(k.err.find("keeps both the input's charts and --max-error"), std::string::npos) << k.err;
   Mesh fuze, kept;
   CMGeom::IO::read_mesh(textured, fuze);
   CMGeom::IO::read_mesh(kout, kept);
