@@ -61,6 +61,7 @@ endfunction()
 add_library(CMGeom_Mesh_IO STATIC
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/obj_io.cpp
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/off_ply_io.cpp
+  ${PROJECT_SOURCE_DIR}/src/Mesh_IO/stl_io.cpp
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/gltf_io.cpp
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/gltf_write.cpp
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/polygon_soup.cpp

@@ -39,6 +39,8 @@ std::string gunzip_file(const std::string& path);
 void read_obj(const std::string& path, Polygon_soup& soup, std::size_t chunk_bytes = obj_chunk_bytes);
 void read_off(const std::string& path, Polygon_soup& soup);
 void read_ply(const std::string& path, Polygon_soup& soup);
+/// ASCII or binary STL (stl_io.cpp): equal corners merged into vertices, facet normals not read.
+void read_stl(const std::string& path, Polygon_soup& soup);
 void read_gltf(const std::string& path, Polygon_soup& soup);
 
 // Called once per material texture that the MTL should reference; returns the file name (relative
@@ -64,6 +66,8 @@ Encoded_image encode_texture_file(const Material& m, bool diffuse);
 std::string image_mime_type(const std::vector<unsigned char>& bytes);
 void write_off(const std::string& path, const Textured_mesh& tm, Atomic_output& out);
 void write_ply(const std::string& path, const Textured_mesh& tm, Atomic_output& out);
+/// Binary STL: 32-bit float corners, unit facet normals (zero for a degenerate face); triangles only.
+void write_stl(const std::string& path, const Textured_mesh& tm, Atomic_output& out);
 
 // Shortest decimal text that reads back to the same double.
 void append_double(std::string& s, double x);

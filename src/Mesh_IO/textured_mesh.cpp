@@ -34,8 +34,9 @@ Polygon_soup read_polygon_soup(const std::string& path) {
   std::string ext = extension(path);
   if (ext == ".gz") {  // bunny.obj.gz: the readers decompress it (internal::is_gzipped_path)
     ext = extension(path.substr(0, path.size() - 3));
-    if (ext != ".obj" && ext != ".off" && ext != ".ply")
-      throw IO_error(path, "unsupported compressed file type '" + ext + ".gz' (expected .obj.gz, .off.gz or .ply.gz)");
+    if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
+      throw IO_error(path, "unsupported compressed file type '" + ext +
+                               ".gz' (expected .obj.gz, .off.gz, .ply.gz or .stl.gz)");
   }
   if (ext == ".obj")
     internal::read_obj(path, soup);
@@ -43,11 +44,13 @@ Polygon_soup read_polygon_soup(const std::string& path) {
     internal::read_off(path, soup);
   else if (ext == ".ply")
     internal::read_ply(path, soup);
+  else if (ext == ".stl")
+    internal::read_stl(path, soup);
   else if (ext == ".gltf" || ext == ".glb")
     internal::read_gltf(path, soup);
   else
     throw IO_error(path, "unsupported file type '" + ext +
-                             "' (expected .obj, .off, .ply, .gltf or .glb, the first three also gzipped: .obj.gz)");
+                             "' (expected .obj, .off, .ply, .stl, .gltf or .glb, the first four also gzipped: .obj.gz)");
   return soup;
 }
 
@@ -534,8 +537,10 @@ void write_mesh(const std::string& path, const Textured_mesh& mesh) {
     internal::write_off(path, mesh, out);
   } else if (ext == ".ply") {
     internal::write_ply(path, mesh, out);
+  } else if (ext == ".stl") {
+    internal::write_stl(path, mesh, out);
   } else {
-    throw IO_error(path, "unsupported output type '" + ext + "' (expected .obj, .off, .ply, .gltf or .glb)");
+    throw IO_error(path, "unsupported output type '" + ext + "' (expected .obj, .off, .ply, .stl, .gltf or .glb)");
   }
   out.commit();
 }

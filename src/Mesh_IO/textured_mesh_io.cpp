@@ -153,8 +153,12 @@ void write_textured_mesh(const std::string& path, const Textured_mesh& mesh, Ato
     internal::write_ply(path, mesh, out);
     return;
   }
+  if (ext == ".stl") {
+    internal::write_stl(path, mesh, out);
+    return;
+  }
   if (ext != ".obj")
-    throw IO_error(path, "unsupported output type '" + ext + "' (expected .obj, .off, .ply, .gltf or .glb)");
+    throw IO_error(path, "unsupported output type '" + ext + "' (expected .obj, .off, .ply, .stl, .gltf or .glb)");
   const std::string stem = fs::path(path).stem().string();
   const fs::path dir = fs::path(path).parent_path();
   internal::write_obj(

@@ -1,4 +1,4 @@
-// Fuzz target for every mesh reader (OBJ, MTL, OFF, PLY, glTF, GLB).
+// Fuzz target for every mesh reader (OBJ, MTL, OFF, PLY, STL, glTF, GLB).
 //
 // The first input byte selects the format, the rest is the file content. Each input goes through
 // read_polygon_soup -> analyze_soup -> build_textured_mesh and build_surface_mesh, with and without
@@ -32,8 +32,8 @@ namespace {
 
 // ".mtl": the input is a material library, read through a fixed OBJ that names it (mtllib,
 // usemtl of several names, texture coordinates), so the MTL parser is fuzzed as the OBJ reader uses it.
-const char* const formats[] = {".obj", ".off", ".ply", ".gltf", ".glb", ".mtl"};
-constexpr int n_formats = 6;
+const char* const formats[] = {".obj", ".off", ".ply", ".gltf", ".glb", ".mtl", ".stl"};
+constexpr int n_formats = 7;
 constexpr int mtl_format = 5;
 
 const char* const mtl_host_obj =

@@ -7,7 +7,7 @@ TEST(Mesh_IO_atomic, FailedWritesLeaveNothingAndKeepOldFiles) {
   Textured_mesh tm;
   IO::read_mesh(path, tm);
   EXPECT_THROW(IO::write_mesh((fs::path(dir) / "no_such_dir" / "x.obj").string(), tm), IO_error);
-  EXPECT_THROW(IO::write_mesh((fs::path(dir) / "x.stl").string(), tm), IO_error);
+  EXPECT_THROW(IO::write_mesh((fs::path(dir) / "x.3mf").string(), tm), IO_error);
   // A texture that vanished makes the whole OBJ write fail: neither .obj nor .mtl appears,
   // and an existing output keeps its old content.
   const std::string existing = write_text(dir, "out.obj", "old content\n");

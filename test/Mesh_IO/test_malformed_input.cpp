@@ -117,7 +117,7 @@ std::vector<Bad_case> bad_cases() {
   }
   v.push_back({"garbage.gltf", "{ this is not json", "", 0});
   v.push_back({"empty.glb", "", "empty file", 0});
-  v.push_back({"mesh.stl", "solid x\nendsolid x\n", "unsupported file type", 0});
+  v.push_back({"mesh.3mf", "PK\x03\x04", "unsupported file type", 0});
   return v;
 }
 

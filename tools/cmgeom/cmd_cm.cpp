@@ -110,7 +110,7 @@ CMGEOM_CLI_COMMAND(
   };
   auto b = std::make_shared<Build_args>();
   CLI::App* build = app.add_subcommand("build", "Build the Compact Model of a triangle mesh (thesis §4.3–4.4)");
-  build->add_option("input", b->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
+  build->add_option("input", b->input, "Input mesh (.obj, .off, .ply, .stl, .gltf, .glb)")->required();
   build->add_option("-o,--output", b->output, "Output CM file")->required();
   auto* faces = build->add_option("--faces", b->faces, "Faces of the base (simplified) mesh");
   auto* ratio = build->add_option("--ratio", b->ratio, "Base faces as a fraction of the input faces, in (0, 1]");
@@ -201,7 +201,7 @@ CMGEOM_CLI_COMMAND(
   auto r = std::make_shared<Rec_args>();
   CLI::App* rec = app.add_subcommand("reconstruct", "Reconstruct a mesh from a CM file (thesis §4.5)");
   rec->add_option("input", r->input, "CM file")->required();
-  rec->add_option("-o,--output", r->output, "Output mesh (.obj, .off, .ply)")->required();
+  rec->add_option("-o,--output", r->output, "Output mesh (.obj, .off, .ply, .stl)")->required();
   auto* level = rec->add_option(
       "--level", r->level,
       "Regular subdivision level (default: the level the file was built for by cm build --max-error or --bytes, "
@@ -239,7 +239,7 @@ CMGEOM_CLI_COMMAND(
       def->add_option("--affine", d->affine, "Affine map instead of a cage: a11,a12,a13,b1,a21,...,b3 (12 numbers)");
   d_cages->excludes(d_affine);
   d_affine->excludes(d_cages);
-  def->add_option("-o,--output", d->output, "Output mesh (.obj, .off, .ply)")->required();
+  def->add_option("-o,--output", d->output, "Output mesh (.obj, .off, .ply, .stl)")->required();
   auto* d_level = def->add_option(
       "--level", d->level,
       "Regular subdivision level (default: the level the file was built for by cm build --max-error or --bytes, "

@@ -32,7 +32,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     bool as_json = false, piecewise = false, allow_degenerate = false, repair = false;
   };
   auto a = std::make_shared<Args>();
-  app.add_option("mesh", a->input, "Mesh to deform (.obj, .off, .ply, .gltf, .glb)")->required();
+  app.add_option("mesh", a->input, "Mesh to deform (.obj, .off, .ply, .stl, .gltf, .glb)")->required();
   cmgeom_cli::add_cage_source_options(app, a->cages, cmgeom_cli::Cage_grid_options::any_coordinates);
   app.add_option("-o,--output", a->output, "Deformed mesh (same vertex order as the input)");
   app.add_option("--write-cages", a->write_cages, "Write the cage system (inline cages) to this JSON file");

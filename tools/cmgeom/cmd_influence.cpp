@@ -28,7 +28,7 @@ CMGEOM_CLI_COMMAND(influence, "Influence map d_i of a *Cages system on a mesh (P
     bool as_json = false;
   };
   auto a = std::make_shared<Args>();
-  app.add_option("mesh", a->mesh, "Mesh (.obj, .off, .ply, .gltf, .glb)")->required();
+  app.add_option("mesh", a->mesh, "Mesh (.obj, .off, .ply, .stl, .gltf, .glb)")->required();
   cmgeom_cli::add_cage_source_options(app, a->cages, cmgeom_cli::Cage_grid_options::mean_value);
   app.add_option("-o,--output", a->output, "Output PNG");
   app.add_option("--values", a->values, "Write d_i per vertex (one per line, input vertex order)");

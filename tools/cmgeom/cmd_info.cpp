@@ -14,7 +14,7 @@
 CMGEOM_CLI_COMMAND(info, "Print vertices, faces, charts, topology and materials of a mesh file") {
   auto input = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
-  app.add_option("mesh", *input, "Mesh file (.obj, .off, .ply, .gltf, .glb)")->required();
+  app.add_option("mesh", *input, "Mesh file (.obj, .off, .ply, .stl, .gltf, .glb)")->required();
   app.add_flag("--json", *json, "Print a JSON object instead of text");
   return [input, json]() -> int {
     const CMGeom::Polygon_soup soup = cmgeom_cli::read_polygon_soup_with_progress(*input);

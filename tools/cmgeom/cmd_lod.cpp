@@ -65,7 +65,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     CMGeom::IO::Gltf_options gltf;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("input", o->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
+  app.add_option("input", o->input, "Input mesh (.obj, .off, .ply, .stl, .gltf, .glb)")->required();
   app.add_option("-o,--output", o->output, "Output scene (.glb or .gltf)")->required();
   auto* ratios =
       app.add_option("--ratios", o->ratios,

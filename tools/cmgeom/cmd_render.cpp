@@ -99,7 +99,7 @@ CMGEOM_CLI_COMMAND(render, "Render a mesh to a PNG picture (shaded, textured, wi
     bool flat = false, no_texture = false, wireframe = false, charts = false, ortho = false;
   };
   auto a = std::make_shared<Args>();
-  app.add_option("mesh", a->mesh, "Mesh file (.obj, .off, .ply, .gltf, .glb)")->required();
+  app.add_option("mesh", a->mesh, "Mesh file (.obj, .off, .ply, .stl, .gltf, .glb)")->required();
   app.add_option("-o,--output", a->output, "Output PNG")->required();
   app.add_option("--view", a->view, "az,el in degrees or front|back|left|right|top|bottom|iso (default iso)");
   app.add_option("--views", a->views, "Several views separated by ';' (grid with captions), e.g. 'front;left;top'");

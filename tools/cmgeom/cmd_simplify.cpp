@@ -62,8 +62,8 @@ CMGEOM_CLI_COMMAND(simplify,
     CMGeom::IO::Gltf_options gltf;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("input", o->input, "Input mesh (.obj, .off, .ply, .gltf, .glb)")->required();
-  app.add_option("-o,--output", o->output, "Output mesh (.obj, .off, .ply, .gltf, .glb)")->required();
+  app.add_option("input", o->input, "Input mesh (.obj, .off, .ply, .stl, .gltf, .glb)")->required();
+  app.add_option("-o,--output", o->output, "Output mesh (.obj, .off, .ply, .stl, .gltf, .glb)")->required();
   cmgeom_cli::add_gltf_options(app, o->gltf);
   auto* faces = app.add_option("--faces", o->faces, "Target number of faces");
   auto* ratio = app.add_option("--ratio", o->ratio, "Target fraction of the input faces, in (0, 1]");

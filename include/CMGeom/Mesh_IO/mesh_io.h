@@ -2,7 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
 // Readers and writers of textured meshes (target CMGeom::Mesh_IO; no image library needed),
-// the format chosen by the file's extension (case-insensitive): OBJ + MTL, OFF, PLY (geometry
+// the format chosen by the file's extension (case-insensitive): OBJ + MTL, OFF, PLY, STL (geometry
 // only) and glTF 2.0 / GLB. Every error is an IO_error whose message is one line
 // "<file>[:<line>]: <what is wrong>". Writers are atomic: every file is written to a temporary and
 // renamed into place only when all of them are complete, so a failure never leaves a partial output.
@@ -59,7 +59,8 @@ void build_surface_mesh(const Polygon_soup& soup, Surface_mesh& out, const Read_
 void read_mesh(const std::string& path, Surface_mesh& out, const Read_options& options = Read_options());
 
 /// Writes .obj (with .mtl when there are materials; texture files referenced by the
-/// materials are copied beside it), .off, .ply (binary little-endian), .gltf (with a .bin and
+/// materials are copied beside it), .off, .ply (binary little-endian), .stl (binary, float
+/// coordinates), .gltf (with a .bin and
 /// the texture files beside it) or .glb (one file, textures embedded), atomically.
 /// Coordinates are printed in the shortest form that reads back to the same double (OBJ, OFF);
 /// glTF stores 32-bit floats. Textures are written from their files or embedded bytes (a PNG
