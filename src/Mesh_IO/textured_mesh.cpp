@@ -244,7 +244,8 @@ Surface_mesh build_mesh(const Polygon_soup& soup, const Read_options& options, b
     uv_seen |= face_has_uv;
     if (!face_has_uv && first_without_uv == Polygon_soup::no_index) first_without_uv = f;
     if (repeated && !options.drop_repeated_vertex_faces)
-      throw IO_error(soup.face_location(f), "face repeats a vertex (degenerate face)");
+      throw IO_error(soup.face_location(f), "face repeats a vertex (degenerate face); the option "
+                                            "drop_repeated_vertex_faces (--drop-repeated) drops such faces");
     if ((repeated || n != 3) && identity) {  // triangle i is no longer face i from here on
       tri_face.resize(tris.size());
       std::iota(tri_face.begin(), tri_face.end(), std::size_t(0));

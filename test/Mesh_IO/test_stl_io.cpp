@@ -272,6 +272,26 @@ TEST(Mesh_IO_stl, ToolConvertsToStlAndSimplifiesFromIt) {
   IO::read_mesh(dir + "/small.stl", small);
   EXPECT_LE(small.mesh().number_of_faces(), 100u);
   EXPECT_TRUE(CGAL::is_closed(small.mesh()));
+  // a sliver whose corners merge into two (as CAD exports hold): refused, naming the option that drops it
+  std::string sliver = file_bytes(dir + "/sphere.stl");
+  const std::uint32_t faces = 2 * 24 + 2 * 14 * 24 + 1;
+  std::memcpy(&sliver[80], &faces, 4);
+  const std::string record = sliver.substr(84, 50);  // the first triangle, its second corner made its first
+  sliver += record.substr(0, 24) + record.substr(12, 12) + record.substr(36, 14);
+  const std::string sliver_path = write_text(dir, "sliver.stl", sliver);
+  const auto refused = cmgeom_test::run_cli("simplify '" + sliver_path + "' -o '" + dir + "/s.stl' --faces 100", dir);
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.err.find(sliver_path + " (face 720): face repeats a vertex"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("--drop-repeated"), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(dir + "/s.stl"));
+  const auto dropped =
+      cmgeom_test::run_cli("simplify '" + sliver_path + "' -o '" + dir + "/s.stl' --faces 100 --drop-repeated", dir);
+  ASSERT_EQ(dropped.exit_code, 0) << dropped.err;
+  Textured_mesh s;
+  IO::read_mesh(dir + "/s.stl", s);
+  EXPECT_LE(s.mesh().number_of_faces(), 100u);
+  EXPECT_TRUE(CGAL::is_closed(s.mesh()));
+
   // a textured input loses its texture in STL: the tool says so
   const std::string textured =
       write_text(dir, "textured.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n");

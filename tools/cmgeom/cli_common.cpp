@@ -170,6 +170,11 @@ void add_allow_degenerate_option(CLI::App& app, bool& allow_degenerate_faces) {
   app.add_flag("--allow-degenerate", allow_degenerate_faces, "Keep zero-area faces instead of refusing the file");
 }
 
+void add_drop_repeated_option(CLI::App& app, bool& drop_repeated_vertex_faces) {
+  app.add_flag("--drop-repeated", drop_repeated_vertex_faces,
+               "Drop faces that repeat a vertex (a, a, b) instead of refusing the file");
+}
+
 void add_repair_option(CLI::App& app, bool& repair) {
   app.add_flag("--repair", repair,
                "Split non-manifold edges, duplicate non-manifold vertices and fix the orientation while reading "

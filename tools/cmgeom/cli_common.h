@@ -66,6 +66,11 @@ void add_gltf_options(CLI::App& app, CMGeom::IO::Gltf_options& options);
 // of zero-area faces names) to a command that reads a mesh.
 void add_allow_degenerate_option(CLI::App& app, bool& allow_degenerate_faces);
 
+// Adds --drop-repeated (Read_options::drop_repeated_vertex_faces, the option the reader's refusal
+// of a face that repeats a vertex names: STL files from CAD tools often hold such slivers once
+// their equal corners are merged) to a command that reads a mesh.
+void add_drop_repeated_option(CLI::App& app, bool& drop_repeated_vertex_faces);
+
 // Adds --repair (Read_options::repair, the option the reader's refusal of non-manifold or
 // inconsistently oriented input names) to a command that reads a mesh and does not repair by
 // default: those that keep the input's elements as they are (convert, deform: the output's

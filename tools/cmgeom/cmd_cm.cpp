@@ -100,7 +100,7 @@ CMGEOM_CLI_COMMAND(
     double ratio = 0, sharp_angle = 40, error_bound = 0;
     int error_rounds = 2, error_level = 2;
     bool cubic = false, joint_fit = false, json = false, no_texture = false, no_repair = false, compact = false,
-         allow_degenerate = false, no_input_creases = false, optimal_placement = false;
+         allow_degenerate = false, drop_repeated = false, no_input_creases = false, optimal_placement = false;
     std::string fit = "auto";
     int select_level = 3;
     int texture_size = 0, normal_bits = 12, max_level = 3, level_errors = -1;
@@ -167,6 +167,7 @@ CMGEOM_CLI_COMMAND(
   build->add_option("--texture", b->texture, "Diffuse texture for an input whose file names none (e.g. spot.obj)");
   cmgeom_cli::add_repair_by_default_options(*build, b->no_repair);
   cmgeom_cli::add_allow_degenerate_option(*build, b->allow_degenerate);
+  cmgeom_cli::add_drop_repeated_option(*build, b->drop_repeated);
   build->add_option("--texture-size", b->texture_size,
                     "Textured input: texels per UV unit of the base's new atlas (default: the input texture's size)");
   build->add_flag("--compact", b->compact,
@@ -459,6 +460,7 @@ CMGEOM_CLI_COMMAND(
       CMGeom::IO::Read_options read_options;
       read_options.repair = !b->no_repair;  // (repaired by default, as simplify and lod do)
       read_options.allow_degenerate_faces = b->allow_degenerate;
+      read_options.drop_repeated_vertex_faces = b->drop_repeated;
       std::vector<std::string> warnings;
       read_options.warnings = &warnings;
       cmgeom_cli::read_mesh_with_progress(b->input, tm, read_options);

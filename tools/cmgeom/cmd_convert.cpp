@@ -14,7 +14,7 @@ CMGEOM_CLI_COMMAND(convert, "Convert a mesh between OBJ(+MTL+textures), OFF, PLY
   cmgeom_cli::add_gltf_options(app, *gltf);
   cmgeom_cli::add_repair_option(app, opts->repair);
   cmgeom_cli::add_allow_degenerate_option(app, opts->allow_degenerate_faces);
-  app.add_flag("--drop-repeated", opts->drop_repeated_vertex_faces, "Drop faces that repeat a vertex");
+  cmgeom_cli::add_drop_repeated_option(app, opts->drop_repeated_vertex_faces);
   app.add_flag("--remove-unreferenced", opts->remove_unreferenced_vertices, "Drop vertices no face uses");
   return [=]() -> int {
     CMGeom::Textured_mesh tm;

@@ -29,7 +29,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
   struct Args {
     cmgeom_cli::Cage_source cages;
     std::string input, output, write_cages, weights = "double", storage = "dense";
-    bool as_json = false, piecewise = false, allow_degenerate = false, repair = false;
+    bool as_json = false, piecewise = false, allow_degenerate = false, drop_repeated = false, repair = false;
   };
   auto a = std::make_shared<Args>();
   app.add_option("mesh", a->input, "Mesh to deform (.obj, .off, .ply, .stl, .gltf, .glb)")->required();
@@ -46,6 +46,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
   app.add_flag("--json", a->as_json, "Print timings and counts as JSON");
   cmgeom_cli::add_repair_option(app, a->repair);
   cmgeom_cli::add_allow_degenerate_option(app, a->allow_degenerate);
+  cmgeom_cli::add_drop_repeated_option(app, a->drop_repeated);
   return [a]() -> int {
     a->cages.require();
     if (a->output.empty() && a->write_cages.empty()) throw CMGeom::Invalid_input("give -o <output> (or --write-cages)");
@@ -54,6 +55,7 @@ CMGEOM_CLI_COMMAND(deform, "Deform a mesh with a cage or a *Cages system (mean v
     CMGeom::Textured_mesh tm;
     CMGeom::IO::Read_options read_options;
     read_options.allow_degenerate_faces = a->allow_degenerate;
+    read_options.drop_repeated_vertex_faces = a->drop_repeated;
     read_options.repair = a->repair;
     std::vector<std::string> warnings;
     read_options.warnings = &warnings;

@@ -56,7 +56,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   struct Options {
     std::string input, output, ratios, faces, max_errors, policy = "plain", texture, obj_prefix;
     bool shared_texture = false, no_overflow_charts = false, no_texture = false, no_error = false, json = false,
-         no_repair = false, allow_degenerate = false, prune = false;
+         no_repair = false, allow_degenerate = false, drop_repeated = false, prune = false;
     int fit_rounds = 3;
     double fit_min_points = TS::Surface_fit_options().min_points_per_face;
     std::size_t memory_points = 0;
@@ -112,6 +112,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
   app.add_option("--obj-prefix", o->obj_prefix, "Also write every level as PREFIX_<k>.obj (+ MTL + PNG)");
   cmgeom_cli::add_repair_by_default_options(app, o->no_repair);
   cmgeom_cli::add_allow_degenerate_option(app, o->allow_degenerate);
+  cmgeom_cli::add_drop_repeated_option(app, o->drop_repeated);
   app.add_flag("--prune", o->prune,
                "Remove whole connected components (small parts, debris) when that costs less than the next "
                "collapse, never below the smallest level; gives their faces to the rest");
@@ -129,6 +130,7 @@ CMGEOM_CLI_COMMAND(lod, "Write a level-of-detail chain (glTF/GLB, one node per l
     CMGeom::IO::Read_options ro;
     ro.repair = !o->no_repair;
     ro.allow_degenerate_faces = o->allow_degenerate;
+    ro.drop_repeated_vertex_faces = o->drop_repeated;
     std::vector<std::string> warnings;
     ro.warnings = &warnings;
     const double read_start = cmgeom_cli::now_seconds();

@@ -56,8 +56,8 @@ CMGEOM_CLI_COMMAND(simplify,
     int texture_size = 0, fit_rounds = 3;
     double fit_min_points = TS::Surface_fit_options().min_points_per_face;
     std::size_t memory_points = 0;
-    bool flips = false, json = false, no_repair = false, allow_degenerate = false, no_texture = false,
-         freeze_seams = false, memoryless = false, prune = false;
+    bool flips = false, json = false, no_repair = false, allow_degenerate = false, drop_repeated = false,
+         no_texture = false, freeze_seams = false, memoryless = false, prune = false;
     bool keep_charts = false, bake_lookups = false;
     CMGeom::IO::Gltf_options gltf;
   };
@@ -96,6 +96,7 @@ CMGEOM_CLI_COMMAND(simplify,
   app.add_flag("--json", o->json, "Print a JSON report on stdout");
   cmgeom_cli::add_repair_by_default_options(app, o->no_repair);
   cmgeom_cli::add_allow_degenerate_option(app, o->allow_degenerate);
+  cmgeom_cli::add_drop_repeated_option(app, o->drop_repeated);
   auto* backend = app.add_option("--texture-backend", o->texture_backend,
                                  "Index-texture resampling backend (textured input): cpu (reference) or osmesa")
                       ->check(CLI::IsMember({"cpu", "osmesa"}));
@@ -153,6 +154,7 @@ CMGEOM_CLI_COMMAND(simplify,
     CMGeom::IO::Read_options ro;
     ro.repair = !o->no_repair;
     ro.allow_degenerate_faces = o->allow_degenerate;
+    ro.drop_repeated_vertex_faces = o->drop_repeated;
     std::vector<std::string> warnings;
     const double read_start = cmgeom_cli::now_seconds();
     bool file_uvs = false, geometry_only = false;
