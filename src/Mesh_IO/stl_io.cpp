@@ -172,7 +172,9 @@ void read_ascii_stl(std::string_view data, const std::string& path, Polygon_soup
     if (!equal_no_case(w, "facet")) throw IO_error(path, line, "expected 'facet' or 'endsolid', found " + quoted(w));
     const std::size_t facet_line = line;
     expect("normal", "after 'facet'");
-    for (int k = 0; k < 3; ++k) coordinate("facet normal component");  // (not used: see the file comment)
+    // the normal's three words, not read (see the file comment; old writers print a NaN as "-1.#IND00")
+    for (int k = 0; k < 3; ++k)
+      if (!words.next(w, line)) throw IO_error(path, "truncated: expected the facet normal's components");
     expect("outer", "after the facet normal");
     expect("loop", "after 'outer'");
     std::size_t corners = 0;
@@ -249,7 +251,11 @@ void read_stl(const std::string& path, Polygon_soup& soup) {
     std::memcpy(&triangles, data.data() + binary_header_bytes, 4);
     const std::size_t sized = binary_header_bytes + 4 + binary_triangle_bytes * std::size_t(triangles);
     // (binary files may begin with "solid" too: their size and their bytes tell them apart)
-    binary = data.size() == sized && !text;
+    // (some exporters pad a binary file past its last triangle: the bytes after it are left, with a warning)
+    binary = data.size() >= sized && !text;
+    if (binary && data.size() > sized)
+      soup.warnings.push_back(path + ": " + std::to_string(data.size() - sized) + " bytes after the " +
+                              std::to_string(triangles) + " triangles the binary header declares, not read");
     if (!binary && !text)
       throw IO_error(path,
                      "neither an ASCII STL file (text beginning with 'solid') nor a binary one (its header "

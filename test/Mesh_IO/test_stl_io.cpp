@@ -13,13 +13,15 @@
 namespace {
 
 // The tetrahedron (0,0,0), (1,0,0), (0,1,0), (0,0,1) with outward faces, as ASCII STL: keywords in
-// mixed case, a solid name with spaces, numbers with '+', exponents and a "-0" for a 0 of another facet.
+// mixed case, a solid name with spaces, numbers with '+', exponents and a "-0" for a 0 of another facet, and
+// a NaN normal as old Windows writers print it.
 const char* const ascii_tetra =
     "solid my part, 2 mm\n"
     "facet normal 0 0 -1\n  outer loop\n    vertex 0 0 0\n    vertex 0 1 0\n    vertex 1 0 0\n  endloop\nendfacet\n"
     "FACET NORMAL 0 -1 0\n  OUTER LOOP\n    VERTEX 0 -0 0\n    VERTEX 1e0 0 0\n    VERTEX 0 0 +1\n  ENDLOOP\nENDFACET\n"
     "facet normal -1 0 0\n outer loop\n vertex 0 0 0\n vertex 0 0 1\n vertex 0 1.0 0\n endloop\n endfacet\n"
-    "facet normal 0 0 0\n outer loop\n vertex 1 0 0\n vertex 0 1 0\n vertex 0 0 10e-1\n endloop\n endfacet\n"
+    "facet normal -1.#IND00 -1.#IND00 -1.#IND00\n outer loop\n vertex 1 0 0\n vertex 0 1 0\n vertex 0 0 10e-1\n"
+    " endloop\n endfacet\n"
     "endsolid my part, 2 mm\n";
 
 // Signed volume of a closed triangle mesh (positive when its faces point outwards).
@@ -174,6 +176,12 @@ TEST(Mesh_IO_stl, BinaryFilesAreToldFromAsciiByTheirSize) {
     IO::read_mesh(path, tm);
     EXPECT_NEAR(signed_volume(tm.mesh()), 1.0 / 6, 1e-7) << header;
   }
+  // bytes after the declared triangles (padding some exporters add): read, with a warning
+  const std::string padded = write_text(dir, "padded.stl", binary_stl("x", tris, 4) + std::string(7, '\0'));
+  const Polygon_soup p = IO::read_polygon_soup(padded);
+  EXPECT_EQ(p.number_of_faces(), 4u);
+  ASSERT_EQ(p.warnings.size(), 1u);
+  EXPECT_NE(p.warnings[0].find("7 bytes after the 4 triangles"), std::string::npos) << p.warnings[0];
   // gzipped
   const std::string plain = write_text(dir, "t.stl", binary_stl("x", tris, 4));
   ASSERT_EQ(std::system(("gzip -c '" + plain + "' > '" + dir + "/t.stl.gz'").c_str()), 0);
@@ -198,6 +206,7 @@ TEST(Mesh_IO_stl, BadFilesAreRefusedWithTheirPlace) {
       {head + "vertex 0 0 0\nvertex 1 0 0\n", "bad.stl: truncated: facet without 'endloop'"},
       {"solid s\nfacet normal 0 0 1\nouter loops\n", ":3: expected 'loop' after 'outer', found 'loops'"},
       {"solid s\nfacet 0 0 1\n", ":2: expected 'normal' after 'facet', found '0'"},
+      {"solid s\nfacet normal 0 0\n", "bad.stl: truncated: expected the facet normal's components"},
       {"solid s\nvertex 0 0 0\n", ":2: expected 'facet' or 'endsolid', found 'vertex'"},
       {head + "vertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\ngarbage\n",
        ":10: expected 'solid' or the end of the file, found 'garbage'"},
