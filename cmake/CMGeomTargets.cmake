@@ -68,7 +68,8 @@ add_library(CMGeom_Mesh_IO STATIC
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/textured_mesh.cpp
   ${PROJECT_SOURCE_DIR}/src/Mesh_IO/atomic_file.cpp)
 add_library(CMGeom::Mesh_IO ALIAS CMGeom_Mesh_IO)
-target_link_libraries(CMGeom_Mesh_IO PUBLIC CMGeom::CMGeom PRIVATE ZLIB::ZLIB)  # (zlib: .obj.gz and the like)
+# (zlib: .obj.gz and the like; Draco: glTF primitives compressed with KHR_draco_mesh_compression)
+target_link_libraries(CMGeom_Mesh_IO PUBLIC CMGeom::CMGeom PRIVATE ZLIB::ZLIB draco::draco)
 target_include_directories(CMGeom_Mesh_IO PRIVATE ${PROJECT_SOURCE_DIR}/src)
 set_target_properties(CMGeom_Mesh_IO PROPERTIES EXPORT_NAME Mesh_IO)
 cmgeom_use_pch(CMGeom_Mesh_IO)

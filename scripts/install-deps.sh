@@ -7,7 +7,7 @@ packages=(
   libosmesa6-dev libopenimageio-dev libpng-dev libjpeg-dev libzstd-dev
   libcli11-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libmeshoptimizer-dev libopenmesh-dev draco time python3
+  libmeshoptimizer-dev libopenmesh-dev draco libdraco-dev time python3
 )
 missing=()
 for p in "${packages[@]}"; do

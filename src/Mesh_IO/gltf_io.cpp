@@ -1,5 +1,8 @@
 // glTF 2.0 / GLB reader on tinygltf. Images are not decoded here (Mesh_IO has no image
-// library): external images keep their path, embedded ones their encoded bytes.
+// library): external images keep their path, embedded ones their encoded bytes. Primitives
+// compressed with KHR_draco_mesh_compression are decoded by Google's Draco library (Debian's
+// libdraco-dev); a file that requires another extension that changes how its data is read
+// (EXT_meshopt_compression, ...) is refused by name.
 #define TINYGLTF_IMPLEMENTATION
 #define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_STB_IMAGE_WRITE
@@ -9,12 +12,18 @@
 #include "io_internal.h"
 
 #include <CMGeom/Error.h>
+
+#include <draco/compression/decode.h>
+#include <nlohmann/json.hpp>
 #include <CMGeom/Mesh_IO/mesh_io.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <memory>
+#include <optional>
+#include <string_view>
 
 namespace CMGeom {
 namespace IO {
@@ -103,6 +112,115 @@ Mat4 node_matrix(const tinygltf::Node& n) {
     s[10] = n.scale[2];
   }
   return multiply(t, multiply(r, s));
+}
+
+// A primitive compressed with KHR_draco_mesh_compression keeps an "indices" accessor without a
+// buffer view (the triangles are in the compressed data), which tinygltf 2.7 refuses ("invalid
+// bufferView"). The glTF JSON with those primitives' "indices" dropped (the decoder gives their
+// triangles), or nothing when no primitive needs it or the text is not a JSON object (tinygltf
+// then reports what is wrong).
+std::optional<std::string> json_without_draco_indices(std::string_view text) {
+  if (text.find("KHR_draco_mesh_compression") == std::string_view::npos) return std::nullopt;
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(text.begin(), text.end(), nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return std::nullopt;
+  bool changed = false;
+  const auto meshes = j.find("meshes");
+  if (meshes == j.end() || !meshes->is_array()) return std::nullopt;
+  for (auto& mesh : *meshes) {
+    if (!mesh.is_object()) continue;
+    const auto primitives = mesh.find("primitives");
+    if (primitives == mesh.end() || !primitives->is_array()) continue;
+    for (auto& primitive : *primitives) {
+      if (!primitive.is_object()) continue;
+      const auto ext = primitive.find("extensions");
+      if (ext == primitive.end() || !ext->is_object() || !ext->contains("KHR_draco_mesh_compression")) continue;
+      changed = primitive.erase("indices") > 0 || changed;
+    }
+  }
+  if (!changed) return std::nullopt;
+  return j.dump();
+}
+
+std::uint32_t glb_word(const std::string_view bytes, std::size_t at) {
+  std::uint32_t w;
+  std::memcpy(&w, bytes.data() + at, 4);  // (GLB is little-endian, as x86-64 and aarch64)
+  return w;
+}
+
+// The GLB container `bytes` with its JSON chunk replaced by `json` (padded with spaces to four
+// bytes), or nothing when the container is not one tinygltf would read (it then says why).
+std::optional<std::string> glb_with_json(std::string_view bytes, const std::string& json) {
+  if (bytes.size() < 20 || bytes.substr(0, 4) != "glTF" || glb_word(bytes, 4) != 2) return std::nullopt;
+  const std::size_t total = glb_word(bytes, 8), json_length = glb_word(bytes, 12);
+  if (total > bytes.size() || glb_word(bytes, 16) != 0x4E4F534Au || json_length > total - 20) return std::nullopt;
+  std::string padded = json;
+  padded.resize((padded.size() + 3) / 4 * 4, ' ');
+  const std::string_view rest = bytes.substr(20 + json_length, total - 20 - json_length);  // (the BIN chunk)
+  const std::uint32_t head[5] = {0x46546C67u, 2u, std::uint32_t(20 + padded.size() + rest.size()),
+                                 std::uint32_t(padded.size()), 0x4E4F534Au};
+  std::string out(reinterpret_cast<const char*>(head), sizeof head);
+  out += padded;
+  out.append(rest.data(), rest.size());
+  return out;
+}
+
+// A primitive's triangles and attributes decoded from its KHR_draco_mesh_compression buffer view:
+// positions (3 per point), texture coordinates (2 per point, empty without TEXCOORD_0) and the
+// triangles' point indices (3 per face), as the accessors would give them uncompressed.
+struct Draco_primitive {
+  std::vector<double> positions, uvs;
+  std::vector<std::size_t> indices;
+};
+
+Draco_primitive decode_draco_primitive(const tinygltf::Model& model, const tinygltf::Value& ext, bool with_uv,
+                                       const std::string& path) {
+  const char* what = "KHR_draco_mesh_compression";
+  const tinygltf::Value& view = ext.Get("bufferView");
+  const tinygltf::Value& attributes = ext.Get("attributes");
+  if (!view.IsNumber() || !attributes.IsObject())
+    throw IO_error(path, std::string(what) + ": needs a bufferView and attributes");
+  const int bv_index = view.GetNumberAsInt();
+  if (bv_index < 0 || std::size_t(bv_index) >= model.bufferViews.size())
+    throw IO_error(path, std::string(what) + ": buffer view index out of range");
+  const tinygltf::BufferView& bv = model.bufferViews[std::size_t(bv_index)];
+  if (bv.buffer < 0 || std::size_t(bv.buffer) >= model.buffers.size())
+    throw IO_error(path, std::string(what) + ": buffer index out of range");
+  const auto& data = model.buffers[std::size_t(bv.buffer)].data;
+  if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+    throw IO_error(path, std::string(what) + ": buffer view reaches past the end of its buffer");
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(data.data() + bv.byteOffset), bv.byteLength);
+  draco::Decoder decoder;
+  auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+  if (!decoded.ok()) throw IO_error(path, std::string(what) + ": " + decoded.status().error_msg_string());
+  const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+  // the attribute the extension maps `name` to, with `components` values a point
+  auto attribute = [&](const char* name, int components) {
+    const tinygltf::Value& id = attributes.Get(name);
+    if (!id.IsNumber()) throw IO_error(path, std::string(what) + ": no " + name + " attribute");
+    const draco::PointAttribute* a = mesh->GetAttributeByUniqueId(std::uint32_t(id.GetNumberAsInt()));
+    if (!a || a->num_components() != components)
+      throw IO_error(path, std::string(what) + ": " + name + " is not a " + std::to_string(components) +
+                               "-component attribute of the compressed mesh");
+    std::vector<double> out(std::size_t(mesh->num_points()) * std::size_t(components));
+    float v[3];
+    for (draco::PointIndex i(0); i < mesh->num_points(); ++i) {
+      if (!a->ConvertValue<float>(a->mapped_index(i), std::int8_t(components), v))
+        throw IO_error(path, std::string(what) + ": " + name + " values cannot be read");
+      for (int c = 0; c < components; ++c) {
+        if (!std::isfinite(v[c])) throw IO_error(path, std::string(what) + ": " + name + ": non-finite value");
+        out[std::size_t(i.value()) * std::size_t(components) + std::size_t(c)] = v[c];
+      }
+    }
+    return out;
+  };
+  Draco_primitive p;
+  p.positions = attribute("POSITION", 3);
+  if (with_uv) p.uvs = attribute("TEXCOORD_0", 2);
+  p.indices.reserve(3 * std::size_t(mesh->num_faces()));
+  for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) p.indices.push_back(std::size_t(mesh->face(f)[k].value()));
+  return p;
 }
 
 struct Accessor_reader {
@@ -202,8 +320,32 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
   const bool binary = extension(path) == ".glb";
   bool ok = false;
   try {
-    ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    // a file with Draco-compressed primitives is read from memory, their "indices" dropped
+    // (json_without_draco_indices()); any other as it is
+    std::optional<std::string> rewritten;
+    {
+      const File_bytes bytes(path);
+      const std::string_view all = bytes.view();
+      if (binary) {
+        const std::size_t json_length = all.size() >= 20 ? glb_word(all, 12) : 0;
+        if (json_length <= all.size() - (std::min)(all.size(), std::size_t(20)))
+          if (const auto json =
+                  json_without_draco_indices(all.substr((std::min)(all.size(), std::size_t(20)), json_length)))
+            rewritten = glb_with_json(all, *json);
+      } else {
+        rewritten = json_without_draco_indices(all);
+      }
+    }
+    const std::string base_dir = fs::path(path).parent_path().string();
+    if (rewritten && binary)
+      ok = loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(rewritten->data()),
+                                       static_cast<unsigned int>(rewritten->size()), base_dir);
+    else if (rewritten)
+      ok = loader.LoadASCIIFromString(&model, &err, &warn, rewritten->data(),
+                                      static_cast<unsigned int>(rewritten->size()), base_dir);
+    else
+      ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                  : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   } catch (const std::exception& e) {
     throw IO_error(path, std::string("malformed glTF: ") + e.what());
   }
@@ -213,6 +355,14 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
       if (c == '\n') c = ' ';
     throw IO_error(path, msg);
   }
+  // extensions a reader must know to read the file right (glTF 2.0 §3.12): those that change how
+  // geometry is stored, except Draco's, are refused by name; the others (texture transforms,
+  // material models, ...) leave the geometry and the base colour as read here
+  for (const std::string& e : model.extensionsRequired)
+    if (e == "EXT_meshopt_compression" || e == "KHR_meshopt_compression" || e == "EXT_mesh_gpu_instancing")
+      throw IO_error(path, "requires the glTF extension " + e +
+                               ", which CMGeom does not read (decompress the file first, e.g. with gltfpack -noq or "
+                               "gltf-transform)");
   const Accessor_reader reader{model, path};
   const fs::path dir = fs::path(path).parent_path();
 
@@ -258,16 +408,23 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
       soup.warnings.push_back(path + ": a point/line primitive was skipped");
       return;
     }
-    const std::vector<double> pos = reader.read(pos_it->second, 3, "POSITION");
+    auto uv_it = prim.attributes.find("TEXCOORD_0");
+    const bool with_uv = uv_it != prim.attributes.end();
+    (with_uv ? any_uv : any_no_uv) = true;
+    const auto draco_it = prim.extensions.find("KHR_draco_mesh_compression");
+    std::optional<Draco_primitive> compressed;
+    if (draco_it != prim.extensions.end()) {
+      if (prim.mode != TINYGLTF_MODE_TRIANGLES)
+        throw IO_error(path, "KHR_draco_mesh_compression: only triangle lists can be compressed");
+      compressed = decode_draco_primitive(model, draco_it->second, with_uv, path);
+    }
+    const std::vector<double> pos =
+        compressed ? std::move(compressed->positions) : reader.read(pos_it->second, 3, "POSITION");
     const std::size_t nv = pos.size() / 3;
     std::vector<double> uv;
-    auto uv_it = prim.attributes.find("TEXCOORD_0");
-    if (uv_it != prim.attributes.end()) {
-      uv = reader.read(uv_it->second, 2, "TEXCOORD_0");
+    if (with_uv) {
+      uv = compressed ? std::move(compressed->uvs) : reader.read(uv_it->second, 2, "TEXCOORD_0");
       if (uv.size() / 2 != nv) throw IO_error(path, "TEXCOORD_0 and POSITION counts differ");
-      any_uv = true;
-    } else {
-      any_no_uv = true;
     }
     std::vector<std::uint32_t> local(nv), local_uv(nv, Polygon_soup::no_index);
     for (std::size_t i = 0; i < nv; ++i) {
@@ -285,7 +442,13 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
       }
     }
     std::vector<std::size_t> idx;
-    if (prim.indices >= 0) {
+    if (compressed) {
+      for (std::size_t d : compressed->indices)
+        if (d >= nv)
+          throw IO_error(path, "KHR_draco_mesh_compression: index " + std::to_string(d) + " out of range (" +
+                                   std::to_string(nv) + " vertices)");
+      idx = std::move(compressed->indices);
+    } else if (prim.indices >= 0) {
       for (double d : reader.read(prim.indices, 1, "indices")) {
         if (d < 0 || d >= double(nv))
           throw IO_error(
