@@ -69,6 +69,10 @@ void write_ply(const std::string& path, const Textured_mesh& tm, Atomic_output& 
 /// Binary STL: 32-bit float corners, unit facet normals (zero for a degenerate face); triangles only.
 void write_stl(const std::string& path, const Textured_mesh& tm, Atomic_output& out);
 
+// Writes `bytes` to `tmp` (a file of an Atomic_output, which stands for `path`); IO_error naming
+// `path` when it cannot be opened or written (off_ply_io.cpp).
+void write_bytes(const std::string& tmp, const std::string& path, std::string_view bytes);
+
 // Shortest decimal text that reads back to the same double.
 void append_double(std::string& s, double x);
 

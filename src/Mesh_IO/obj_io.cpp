@@ -754,11 +754,7 @@ void write_obj(const std::string& path, const Textured_mesh& tm, Atomic_output& 
     }
     s += '\n';
   }
-  const std::string tmp = out.add(path);
-  std::ofstream os(tmp, std::ios::binary);
-  os.write(s.data(), std::streamsize(s.size()));
-  os.flush();
-  if (!os) throw IO_error(path, "write failed (disk full?)");
+  write_bytes(out.add(path), path, s);
 }
 
 }  // namespace internal

@@ -560,16 +560,13 @@ void read_ply(const std::string& path, Polygon_soup& soup) {
 
 // ------------------------------------------------------------------------------- writers
 
-namespace {
-template <class F>
-void write_through(const std::string& tmp, const std::string& path, F&& body) {
+void write_bytes(const std::string& tmp, const std::string& path, std::string_view bytes) {
   std::ofstream os(tmp, std::ios::binary);
   if (!os) throw IO_error(path, std::string("cannot write: ") + std::strerror(errno));
-  body(os);
+  os.write(bytes.data(), std::streamsize(bytes.size()));
   os.flush();
   if (!os) throw IO_error(path, "write failed (disk full?)");
 }
-}  // namespace
 
 void write_off(const std::string& path, const Textured_mesh& tm, Atomic_output& out) {
   const Surface_mesh& m = tm.mesh();
@@ -591,7 +588,7 @@ void write_off(const std::string& path, const Textured_mesh& tm, Atomic_output& 
     for (auto v : m.vertices_around_face(m.halfedge(f))) s += " " + std::to_string(vid[std::size_t(v)]);
     s += '\n';
   }
-  write_through(out.add(path), path, [&](std::ostream& os) { os << s; });
+  write_bytes(out.add(path), path, s);
 }
 
 void write_ply(const std::string& path, const Textured_mesh& tm, Atomic_output& out) {
@@ -619,7 +616,7 @@ void write_ply(const std::string& path, const Textured_mesh& tm, Atomic_output& 
       put(&i, 4);
     }
   }
-  write_through(out.add(path), path, [&](std::ostream& os) { os.write(s.data(), std::streamsize(s.size())); });
+  write_bytes(out.add(path), path, s);
 }
 
 }  // namespace internal

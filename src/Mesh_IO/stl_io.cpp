@@ -19,7 +19,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -305,11 +304,7 @@ void write_stl(const std::string& path, const Textured_mesh& tm, Atomic_output& 
     s.append(reinterpret_cast<const char*>(record), sizeof record);
     s.append(2, '\0');  // (attribute byte count)
   }
-  std::ofstream os(out.add(path), std::ios::binary);
-  if (!os) throw IO_error(path, std::string("cannot write: ") + std::strerror(errno));
-  os.write(s.data(), std::streamsize(s.size()));
-  os.flush();
-  if (!os) throw IO_error(path, "write failed (disk full?)");
+  write_bytes(out.add(path), path, s);
 }
 
 }  // namespace internal

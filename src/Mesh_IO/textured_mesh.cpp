@@ -35,8 +35,8 @@ Polygon_soup read_polygon_soup(const std::string& path) {
   if (ext == ".gz") {  // bunny.obj.gz: the readers decompress it (internal::is_gzipped_path)
     ext = extension(path.substr(0, path.size() - 3));
     if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
-      throw IO_error(path, "unsupported compressed file type '" + ext +
-                               ".gz' (expected .obj.gz, .off.gz, .ply.gz or .stl.gz)");
+      throw IO_error(
+          path, "unsupported compressed file type '" + ext + ".gz' (expected .obj.gz, .off.gz, .ply.gz or .stl.gz)");
   }
   if (ext == ".obj")
     internal::read_obj(path, soup);
@@ -49,8 +49,9 @@ Polygon_soup read_polygon_soup(const std::string& path) {
   else if (ext == ".gltf" || ext == ".glb")
     internal::read_gltf(path, soup);
   else
-    throw IO_error(path, "unsupported file type '" + ext +
-                             "' (expected .obj, .off, .ply, .stl, .gltf or .glb, the first four also gzipped: .obj.gz)");
+    throw IO_error(path,
+                   "unsupported file type '" + ext +
+                       "' (expected .obj, .off, .ply, .stl, .gltf or .glb, the first four also gzipped: .obj.gz)");
   return soup;
 }
 
@@ -244,8 +245,9 @@ Surface_mesh build_mesh(const Polygon_soup& soup, const Read_options& options, b
     uv_seen |= face_has_uv;
     if (!face_has_uv && first_without_uv == Polygon_soup::no_index) first_without_uv = f;
     if (repeated && !options.drop_repeated_vertex_faces)
-      throw IO_error(soup.face_location(f), "face repeats a vertex (degenerate face); the option "
-                                            "drop_repeated_vertex_faces (--drop-repeated) drops such faces");
+      throw IO_error(soup.face_location(f),
+                     "face repeats a vertex (degenerate face); the option "
+                     "drop_repeated_vertex_faces (--drop-repeated) drops such faces");
     if ((repeated || n != 3) && identity) {  // triangle i is no longer face i from here on
       tri_face.resize(tris.size());
       std::iota(tri_face.begin(), tri_face.end(), std::size_t(0));

@@ -277,10 +277,14 @@ TEST(Mesh_IO_stl, ToolConvertsToStlAndSimplifiesFromIt) {
   const auto simp =
       cmgeom_test::run_cli("simplify '" + dir + "/sphere.stl' -o '" + dir + "/small.stl' --faces 100", dir);
   ASSERT_EQ(simp.exit_code, 0) << simp.err;
-  Textured_mesh small;
-  IO::read_mesh(dir + "/small.stl", small);
-  EXPECT_LE(small.mesh().number_of_faces(), 100u);
-  EXPECT_TRUE(CGAL::is_closed(small.mesh()));
+  // (a simplified sphere: at most 100 faces, still closed)
+  auto expect_small_and_closed = [](const std::string& path) {
+    Textured_mesh small;
+    IO::read_mesh(path, small);
+    EXPECT_LE(small.mesh().number_of_faces(), 100u) << path;
+    EXPECT_TRUE(CGAL::is_closed(small.mesh())) << path;
+  };
+  expect_small_and_closed(dir + "/small.stl");
   // a sliver whose corners merge into two (as CAD exports hold): refused, naming the option that drops it
   std::string sliver = file_bytes(dir + "/sphere.stl");
   const std::uint32_t faces = 2 * 24 + 2 * 14 * 24 + 1;
@@ -296,10 +300,7 @@ TEST(Mesh_IO_stl, ToolConvertsToStlAndSimplifiesFromIt) {
   const auto dropped =
       cmgeom_test::run_cli("simplify '" + sliver_path + "' -o '" + dir + "/s.stl' --faces 100 --drop-repeated", dir);
   ASSERT_EQ(dropped.exit_code, 0) << dropped.err;
-  Textured_mesh s;
-  IO::read_mesh(dir + "/s.stl", s);
-  EXPECT_LE(s.mesh().number_of_faces(), 100u);
-  EXPECT_TRUE(CGAL::is_closed(s.mesh()));
+  expect_small_and_closed(dir + "/s.stl");
 
   // a textured input loses its texture in STL: the tool says so
   const std::string textured =
