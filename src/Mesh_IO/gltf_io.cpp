@@ -12,10 +12,10 @@
 #include "io_internal.h"
 
 #include <CMGeom/Error.h>
+#include <CMGeom/Mesh_IO/mesh_io.h>
 
 #include <draco/compression/decode.h>
 #include <nlohmann/json.hpp>
-#include <CMGeom/Mesh_IO/mesh_io.h>
 
 #include <cmath>
 #include <cstring>
@@ -147,12 +147,19 @@ std::uint32_t glb_word(const std::string_view bytes, std::size_t at) {
   return w;
 }
 
-// The GLB container `bytes` with its JSON chunk replaced by `json` (padded with spaces to four
-// bytes), or nothing when the container is not one tinygltf would read (it then says why).
-std::optional<std::string> glb_with_json(std::string_view bytes, const std::string& json) {
+// The JSON chunk of the GLB container `bytes`, or nothing when the container is not one tinygltf
+// would read (it then says why).
+std::optional<std::string_view> glb_json_chunk(std::string_view bytes) {
   if (bytes.size() < 20 || bytes.substr(0, 4) != "glTF" || glb_word(bytes, 4) != 2) return std::nullopt;
   const std::size_t total = glb_word(bytes, 8), json_length = glb_word(bytes, 12);
   if (total > bytes.size() || glb_word(bytes, 16) != 0x4E4F534Au || json_length > total - 20) return std::nullopt;
+  return bytes.substr(20, json_length);
+}
+
+// The GLB container `bytes` (glb_json_chunk() gave its JSON chunk) with that chunk replaced by
+// `json`, padded with spaces to four bytes.
+std::string glb_with_json(std::string_view bytes, const std::string& json) {
+  const std::size_t total = glb_word(bytes, 8), json_length = glb_word(bytes, 12);
   std::string padded = json;
   padded.resize((padded.size() + 3) / 4 * 4, ' ');
   const std::string_view rest = bytes.substr(20 + json_length, total - 20 - json_length);  // (the BIN chunk)
@@ -219,7 +226,13 @@ Draco_primitive decode_draco_primitive(const tinygltf::Model& model, const tinyg
   if (with_uv) p.uvs = attribute("TEXCOORD_0", 2);
   p.indices.reserve(3 * std::size_t(mesh->num_faces()));
   for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f)
-    for (int k = 0; k < 3; ++k) p.indices.push_back(std::size_t(mesh->face(f)[k].value()));
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t d = mesh->face(f)[k].value();
+      if (d >= mesh->num_points())
+        throw IO_error(path, std::string(what) + ": index " + std::to_string(d) + " out of range (" +
+                                 std::to_string(mesh->num_points()) + " vertices)");
+      p.indices.push_back(d);
+    }
   return p;
 }
 
@@ -320,32 +333,22 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
   const bool binary = extension(path) == ".glb";
   bool ok = false;
   try {
-    // a file with Draco-compressed primitives is read from memory, their "indices" dropped
-    // (json_without_draco_indices()); any other as it is
+    // the file is read once; one with Draco-compressed primitives is given to tinygltf with their
+    // "indices" dropped (json_without_draco_indices()), any other as it is
+    const File_bytes bytes(path);
+    const std::string_view all = bytes.view();
     std::optional<std::string> rewritten;
-    {
-      const File_bytes bytes(path);
-      const std::string_view all = bytes.view();
-      if (binary) {
-        const std::size_t json_length = all.size() >= 20 ? glb_word(all, 12) : 0;
-        if (json_length <= all.size() - (std::min)(all.size(), std::size_t(20)))
-          if (const auto json =
-                  json_without_draco_indices(all.substr((std::min)(all.size(), std::size_t(20)), json_length)))
-            rewritten = glb_with_json(all, *json);
-      } else {
-        rewritten = json_without_draco_indices(all);
-      }
+    if (!binary) {
+      rewritten = json_without_draco_indices(all);
+    } else if (const auto chunk = glb_json_chunk(all)) {
+      if (const auto json = json_without_draco_indices(*chunk)) rewritten = glb_with_json(all, *json);
     }
+    const std::string_view text = rewritten ? std::string_view(*rewritten) : all;
     const std::string base_dir = fs::path(path).parent_path().string();
-    if (rewritten && binary)
-      ok = loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(rewritten->data()),
-                                       static_cast<unsigned int>(rewritten->size()), base_dir);
-    else if (rewritten)
-      ok = loader.LoadASCIIFromString(&model, &err, &warn, rewritten->data(),
-                                      static_cast<unsigned int>(rewritten->size()), base_dir);
-    else
-      ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                  : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(text.data()),
+                                              static_cast<unsigned int>(text.size()), base_dir)
+                : loader.LoadASCIIFromString(&model, &err, &warn, text.data(), static_cast<unsigned int>(text.size()),
+                                             base_dir);
   } catch (const std::exception& e) {
     throw IO_error(path, std::string("malformed glTF: ") + e.what());
   }
@@ -443,11 +446,7 @@ void read_gltf(const std::string& path, Polygon_soup& soup) {
     }
     std::vector<std::size_t> idx;
     if (compressed) {
-      for (std::size_t d : compressed->indices)
-        if (d >= nv)
-          throw IO_error(path, "KHR_draco_mesh_compression: index " + std::to_string(d) + " out of range (" +
-                                   std::to_string(nv) + " vertices)");
-      idx = std::move(compressed->indices);
+      idx = std::move(compressed->indices);  // (checked by the decoder against its points, nv of them)
     } else if (prim.indices >= 0) {
       for (double d : reader.read(prim.indices, 1, "indices")) {
         if (d < 0 || d >= double(nv))

@@ -7,6 +7,7 @@
 #include <CMGeom/Mesh_IO/Polygon_soup.h>
 #include <CMGeom/Mesh_IO/Textured_mesh.h>
 
+#include <charconv>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -72,6 +73,15 @@ void write_stl(const std::string& path, const Textured_mesh& tm, Atomic_output& 
 // Writes `bytes` to `tmp` (a file of an Atomic_output, which stands for `path`); IO_error naming
 // `path` when it cannot be opened or written (off_ply_io.cpp).
 void write_bytes(const std::string& tmp, const std::string& path, std::string_view bytes);
+
+// A whole token as a number (std::from_chars, so a double reads back bit-exactly); a leading '+',
+// which from_chars rejects and writers emit, is skipped. False for an empty token or trailing text.
+template <class T>
+bool parse_number(std::string_view t, T& out) {
+  if (!t.empty() && t[0] == '+') t.remove_prefix(1);
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), out);
+  return r.ec == std::errc() && r.ptr == t.data() + t.size();
+}
 
 // Shortest decimal text that reads back to the same double.
 void append_double(std::string& s, double x);

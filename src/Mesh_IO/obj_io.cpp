@@ -154,24 +154,6 @@ struct Line {
   }
 };
 
-bool parse_double(std::string_view tok, double& out) {
-  if (tok.empty()) return false;
-  const char* b = tok.data();
-  const char* e = b + tok.size();
-  if (*b == '+') ++b;  // from_chars rejects a leading '+', OBJ writers emit it
-  auto r = std::from_chars(b, e, out);
-  return r.ec == std::errc() && r.ptr == e;
-}
-
-bool parse_int(std::string_view tok, long long& out) {
-  if (tok.empty()) return false;
-  const char* b = tok.data();
-  const char* e = b + tok.size();
-  if (*b == '+') ++b;
-  auto r = std::from_chars(b, e, out);
-  return r.ec == std::errc() && r.ptr == e;
-}
-
 std::string fix_slashes(std::string s) {
   for (char& c : s)
     if (c == '\\') c = '/';
@@ -194,7 +176,7 @@ bool is_ignored_statement(std::string_view key) {
 std::string parse_vertex(Line& l, std::array<double, 3>& x) {
   for (int i = 0; i < 3; ++i) {
     std::string_view t = l.token();
-    if (!parse_double(t, x[std::size_t(i)])) return "vertex needs three numbers, got '" + std::string(t) + "'";
+    if (!parse_number(t, x[std::size_t(i)])) return "vertex needs three numbers, got '" + std::string(t) + "'";
     if (!std::isfinite(x[std::size_t(i)])) return "vertex coordinate is not finite (" + std::string(t) + ")";
   }
   return std::string();
@@ -208,7 +190,7 @@ std::string parse_texcoord(Line& l, std::array<double, 2>& t) {
       t[1] = 0.0;
       break;
     }
-    if (!parse_double(s, t[std::size_t(i)])) return "texture coordinate needs numbers, got '" + std::string(s) + "'";
+    if (!parse_number(s, t[std::size_t(i)])) return "texture coordinate needs numbers, got '" + std::string(s) + "'";
     if (!std::isfinite(t[std::size_t(i)])) return "texture coordinate is not finite (" + std::string(s) + ")";
   }
   return std::string();
@@ -219,7 +201,7 @@ std::string parse_normal(Line& l) {
   for (int i = 0; i < 3; ++i) {
     double d;
     std::string_view s = l.token();
-    if (!parse_double(s, d)) return "normal needs three numbers, got '" + std::string(s) + "'";
+    if (!parse_number(s, d)) return "normal needs three numbers, got '" + std::string(s) + "'";
   }
   return std::string();
 }
@@ -246,15 +228,17 @@ std::string parse_face(Line& l, std::size_t positions, std::size_t uvs, std::siz
     std::string_view c = l.token();
     const std::size_t s1 = c.find('/');
     long long vi, ti = 0, ni = 0;
-    if (!parse_int(c.substr(0, s1), vi)) return "bad face corner '" + std::string(c) + "'";
+    if (!parse_number(c.substr(0, s1), vi)) return "bad face corner '" + std::string(c) + "'";
     if (s1 != std::string_view::npos) {
       std::string_view rest = c.substr(s1 + 1);
       const std::size_t s2 = rest.find('/');
       std::string_view tpart = rest.substr(0, s2);
-      if (!tpart.empty() && !parse_int(tpart, ti)) return "bad texture index in face corner '" + std::string(c) + "'";
+      if (!tpart.empty() && !parse_number(tpart, ti))
+        return "bad texture index in face corner '" + std::string(c) + "'";
       if (s2 != std::string_view::npos) {
         std::string_view npart = rest.substr(s2 + 1);
-        if (!npart.empty() && !parse_int(npart, ni)) return "bad normal index in face corner '" + std::string(c) + "'";
+        if (!npart.empty() && !parse_number(npart, ni))
+          return "bad normal index in face corner '" + std::string(c) + "'";
       }
     }
     cv.push_back(resolve(vi, positions, "vertex"));
@@ -389,7 +373,7 @@ std::string texture_file_name(Line& l) {
       const char* s2 = l.p;
       std::string_view a = l.token();
       double d;
-      if (!(parse_double(a, d) || a == "on" || a == "off" || (i == 0 && it->first == "-imfchan") ||
+      if (!(parse_number(a, d) || a == "on" || a == "off" || (i == 0 && it->first == "-imfchan") ||
             (i == 0 && it->first == "-type"))) {
         l.p = s2;
         break;
@@ -427,7 +411,7 @@ void read_mtl(const std::string& mtl_path, Polygon_soup& soup, std::unordered_ma
       for (int i = 0; i < 3; ++i) {
         double v;
         std::string_view t = l.token();
-        if (!parse_double(t, v) || !std::isfinite(v))
+        if (!parse_number(t, v) || !std::isfinite(v))
           throw IO_error(mtl_path, line_no, "Kd needs three finite numbers");
         m.diffuse_color[std::size_t(i)] = v;
       }

@@ -64,13 +64,6 @@ private:
   const std::string& path_;
 };
 
-template <class T>
-bool number(std::string_view t, T& out) {
-  if (!t.empty() && t[0] == '+') t.remove_prefix(1);
-  auto r = std::from_chars(t.data(), t.data() + t.size(), out);
-  return r.ec == std::errc() && r.ptr == t.data() + t.size();
-}
-
 }  // namespace
 
 void read_off(const std::string& path, Polygon_soup& soup) {
@@ -97,7 +90,7 @@ void read_off(const std::string& path, Polygon_soup& soup) {
   }
   if (!counts_here && !lines.next(tok, line)) throw IO_error(path, "truncated: missing vertex/face counts");
   long long nv = -1, nf = -1;
-  if (tok.size() < 2 || !number(tok[0], nv) || !number(tok[1], nf) || nv < 0 || nf < 0)
+  if (tok.size() < 2 || !parse_number(tok[0], nv) || !parse_number(tok[1], nf) || nv < 0 || nf < 0)
     throw IO_error(path, line, "expected '<#vertices> <#faces> [<#edges>]'");
   // A declared count larger than the file could hold is corrupt (and must not allocate).
   if (std::size_t(nv) + std::size_t(nf) > data.size())
@@ -117,14 +110,14 @@ void read_off(const std::string& path, Polygon_soup& soup) {
     std::array<double, 3> x;
     if (tok.size() < 3) throw IO_error(path, line, "vertex needs three coordinates");
     for (int k = 0; k < 3; ++k) {
-      if (!number(tok[std::size_t(k)], x[std::size_t(k)]))
+      if (!parse_number(tok[std::size_t(k)], x[std::size_t(k)]))
         throw IO_error(path, line, "bad vertex coordinate '" + std::string(tok[std::size_t(k)]) + "'");
       if (!std::isfinite(x[std::size_t(k)])) throw IO_error(path, line, "vertex coordinate is not finite");
     }
     soup.positions.push_back(x);
     if (has_uv) {
       std::array<double, 2> t;
-      if (tok.size() < 5 || !number(tok[3], t[0]) || !number(tok[4], t[1]) || !std::isfinite(t[0]) ||
+      if (tok.size() < 5 || !parse_number(tok[3], t[0]) || !parse_number(tok[4], t[1]) || !std::isfinite(t[0]) ||
           !std::isfinite(t[1]))
         throw IO_error(path, line, "STOFF vertex needs two finite texture coordinates");
       soup.uvs.push_back(t);
@@ -134,12 +127,12 @@ void read_off(const std::string& path, Polygon_soup& soup) {
     if (!lines.next(tok, line))
       throw IO_error(path, "truncated: " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
     long long n;
-    if (!number(tok[0], n) || n < 3 || std::size_t(n) + 1 > tok.size())
+    if (!parse_number(tok[0], n) || n < 3 || std::size_t(n) + 1 > tok.size())
       throw IO_error(path, line, "face needs a corner count >= 3 followed by that many indices");
     const std::size_t first = soup.corner_vertex.size();
     for (long long k = 0; k < n; ++k) {
       long long idx;
-      if (!number(tok[std::size_t(k + 1)], idx))
+      if (!parse_number(tok[std::size_t(k + 1)], idx))
         throw IO_error(path, line, "bad vertex index '" + std::string(tok[std::size_t(k + 1)]) + "'");
       if (idx < 0 || idx >= nv)
         throw IO_error(path, line,
@@ -252,7 +245,7 @@ Ply_header read_ply_header(std::string_view data, const std::string& path) {
                                                       : Ply_header::Format::binary_big_endian;
     } else if (tok[0] == "element") {
       unsigned long long n;
-      if (tok.size() != 3 || !number(tok[2], n)) throw IO_error(path, line_no, "bad PLY element line");
+      if (tok.size() != 3 || !parse_number(tok[2], n)) throw IO_error(path, line_no, "bad PLY element line");
       Ply_element& el = hdr.elements.emplace_back();
       el.name = std::string(tok[1]);
       el.count = n;
@@ -332,9 +325,9 @@ public:
       std::string_view tok(b, std::size_t(p_ - b));
       if (ply_integral(t)) {
         long long i;
-        if (!number(tok, i)) bad(tok);
+        if (!parse_number(tok, i)) bad(tok);
         v = double(i);
-      } else if (!number(tok, v)) {
+      } else if (!parse_number(tok, v)) {
         bad(tok);
       }
       return true;

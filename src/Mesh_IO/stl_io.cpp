@@ -129,12 +129,6 @@ private:
   const std::string& path_;
 };
 
-bool stl_number(std::string_view t, double& out) {
-  if (!t.empty() && t[0] == '+') t.remove_prefix(1);
-  const auto r = std::from_chars(t.data(), t.data() + t.size(), out);
-  return r.ec == std::errc() && r.ptr == t.data() + t.size();
-}
-
 std::string quoted(std::string_view w) { return "'" + std::string(w.substr(0, 40)) + "'"; }
 
 void read_ascii_stl(std::string_view data, const std::string& path, Polygon_soup& soup) {
@@ -151,7 +145,7 @@ void read_ascii_stl(std::string_view data, const std::string& path, Polygon_soup
   auto coordinate = [&](const char* what) {
     double x;
     if (!words.next(w, line)) throw IO_error(path, std::string("truncated: expected ") + what);
-    if (!stl_number(w, x)) throw IO_error(path, line, std::string("bad ") + what + " " + quoted(w));
+    if (!parse_number(w, x)) throw IO_error(path, line, std::string("bad ") + what + " " + quoted(w));
     return x;
   };
   bool in_solid = false, any_solid = false;
