@@ -12,8 +12,10 @@
 // a depth limit. The input's flat regions are also grouped into convex planar patches, so that a new
 // face across many small flat triangles is tested against their union at once, and a new face is
 // first tested whole against the input's faces projected onto its plane (covered_by_projection()),
-// which most often spares the cuts. A collapse at a vertex the border passes more than once (a
-// pinch, which Euler::collapse_edge does not handle as a 2-manifold vertex) is refused.
+// which most often spares the cuts; before that, against the faces it replaces, each carrying a
+// bound on its own distance to the input (covered_by_old_faces()), which spares the input's faces.
+// A collapse at a vertex the border passes more than once (a pinch, which Euler::collapse_edge does
+// not handle as a 2-manifold vertex) is refused.
 // Conservative: an allowed change is always within E, a refused one may have been.
 // Complexity: O(F) set-up; a test O(k m + g), k pieces near the edge, m parts a new face is cut in,
 // g input faces gathered for the projections.
@@ -102,6 +104,7 @@ public:
     }
     live_pieces_ = pieces_.size();
     seen_.assign(nf, 0);
+    face_bound_.assign(nf, 0.);
   }
 
   /// E, in the mesh's units.
@@ -130,6 +133,12 @@ public:
   /// cut after failing it are tried that way too, and not counted).
   std::size_t projected() const { return projected_; }
   std::size_t projection_tests() const { return projection_tests_; }
+  /// A bound on the distance from any point of face `f` of the mesh to the input (0 for a face
+  /// of the input; then what the test that made or last changed the face found).
+  double face_bound(face_descriptor f) const { return face_bound_[std::size_t(f)]; }
+  /// Number of new faces the second test found within E through the faces they replace
+  /// (covered_by_old_faces()), without looking at the input.
+  std::size_t covered_by_old_faces() const { return covered_by_old_; }
 
   /// Calls `fn(face, a, b, c)` for every piece, `face` the current face it is attached to and
   /// a, b, c its corners (CM::internal::Vec3).
@@ -216,6 +225,14 @@ private:
   struct Input_face {
     V3 corner[3];
     std::uint32_t across[3] = {nil, nil, nil};
+  };
+  /// A face a change replaces, as it is before the change: its corners (corner k the source of
+  /// side k), the index in olds_ of the changed face across each side (-1: none, a side of the
+  /// changed region's border), and its bound (face_bound_).
+  struct Old_face {
+    V3 corner[3];
+    int across[3];
+    double bound;
   };
   /// A convex planar polygon that is the union of adjacent input faces, each within tau of its
   /// plane (origin o, orthonormal u, v, normal n); corners_[begin, end) are its corners in (u, v),
@@ -446,6 +463,19 @@ private:
 
   /// The faces across the outer edges of the changed faces: unchanged, they may take pieces too.
   void add_ring(const TriangleMesh& tm) {
+    old_tris_.clear();
+    for (face_descriptor f : olds_) {
+      Old_face o;
+      halfedge_descriptor g = halfedge(f, tm);
+      for (int k = 0; k < 3; ++k, g = next(g, tm)) {
+        o.corner[k] = point(source(g, tm));
+        const halfedge_descriptor og = opposite(g, tm);
+        const auto at = is_border(og, tm) ? olds_.end() : std::find(olds_.begin(), olds_.end(), face(og, tm));
+        o.across[k] = at == olds_.end() ? -1 : int(at - olds_.begin());
+      }
+      o.bound = face_bound_[std::size_t(f)];
+      old_tris_.push_back(o);
+    }
     ring_begin_ = homes_.size();
     for (face_descriptor f : olds_)
       for (halfedge_descriptor g : CGAL::halfedges_around_face(halfedge(f, tm), tm)) {
@@ -487,9 +517,20 @@ private:
     // 2. every point of every new face lies within E of a piece
     parts_.clear();
     near_.clear();
-    for (const Tri& t : news_) {
+    new_bound_.assign(news_.size(), -1.);
+    for (std::size_t j = 0; j < news_.size(); ++j) {
+      const Tri& t = news_[j];
+      // first against the faces it replaces, then against the input's faces
+      double b = 0.;
+      if (covered_by_old_faces(t, b) && b <= e_test_) {
+        ++covered_by_old_;
+        new_bound_[j] = b;
+        worst = (std::max)(worst, b * b);
+        continue;
+      }
       double h2 = 0.;
       if (covered_by_projection(t, h2)) {
+        new_bound_[j] = std::sqrt(h2);
         worst = (std::max)(worst, h2);
         continue;
       }
@@ -505,6 +546,96 @@ private:
     if (!covered(worst)) return false;
     pending_worst_ = worst;
     return true;
+  }
+
+  /// The second test for a new face `t`, first against the faces the change replaces (old_tris_)
+  /// instead of the input's faces under it. Every face keeps a bound on the distance from its
+  /// points to the input (face_bound_: 0 for the input's own faces, then what the test that made
+  /// the face found). The old faces that face t's way once projected onto its plane are "good";
+  /// when their projections cover t (no side of their union's border meeting t shrunk by the
+  /// margin, and t's centroid, or a point halfway from it to a corner, inside one of them: the
+  /// argument of covered_by_projection(), with the old faces for the input's), every point of t
+  /// lies within `reach` (the good faces' largest height over the plane, plus the margin's share)
+  /// of a point of a good old face, and so within reach plus that face's bound of the input. `b`
+  /// receives reach plus the largest bound of the good faces. O(old faces), where
+  /// covered_by_projection() gathers every input face under t; the bounds add up collapse after
+  /// collapse, and a face whose sum passes E goes to the input's faces, which give it a fresh one.
+  bool covered_by_old_faces(const Tri& t, double& b) const {
+    using CM::internal::cross;
+    using CM::internal::dot;
+    using P2 = std::array<double, 2>;
+    const V3 ab = t.b - t.a, ac = t.c - t.a;
+    const V3 nn = cross(ab, ac);
+    const double area2 = CM::internal::length(nn), lab = CM::internal::length(ab);
+    if (!(area2 > 0.) || !(lab > 0.) || !std::isfinite(area2)) return false;
+    const V3 n = (1. / area2) * nn, u = (1. / lab) * ab, v = cross(n, u);
+    const P2 A{0., 0.}, B{lab, 0.}, C{dot(ac, u), dot(ac, v)};
+    const double perimeter = lab + CM::internal::length(ac) + CM::internal::length(t.c - t.b);
+    const double margin = 1e-9 * perimeter;
+    const std::array<P2, 3> tri{A, B, C};
+    const std::array<double, 3> lengths{lab, std::sqrt(squared_distance_2(B, C)), std::sqrt(squared_distance_2(C, A))};
+    const P2 m{(A[0] + B[0] + C[0]) / 3., (A[1] + B[1] + C[1]) / 3.};
+    for (std::size_t k = 0; k < 3; ++k)
+      if (!(orient(tri[k], tri[(k + 1) % 3], m) > 2. * margin * lengths[k])) return false;
+    // the old faces facing t's way once projected ("good"); R, the union of their projections,
+    // is bounded by their sides with no good face across
+    double hmax = 0., bmax = 0.;
+    bool point_inside = false;
+    std::array<P2, 3> q;
+    proj_old_.resize(old_tris_.size());
+    good_old_.assign(old_tris_.size(), 0);
+    for (std::size_t i = 0; i < old_tris_.size(); ++i) {
+      const Old_face& o = old_tris_[i];
+      std::array<P2, 3>& p = proj_old_[i];
+      double h = 0.;
+      for (int k = 0; k < 3; ++k) {
+        const V3 d = o.corner[k] - t.a;
+        p[std::size_t(k)] = P2{dot(d, u), dot(d, v)};
+        h = (std::max)(h, std::abs(dot(d, n)));
+      }
+      const double sides2 =
+          squared_distance_2(p[0], p[1]) + squared_distance_2(p[1], p[2]) + squared_distance_2(p[2], p[0]);
+      if (!(orient(p[0], p[1], p[2]) > 1e-12 * sides2)) continue;
+      good_old_[i] = 1;
+      hmax = (std::max)(hmax, h);
+      bmax = (std::max)(bmax, o.bound);
+    }
+    for (std::size_t i = 0; i < old_tris_.size(); ++i) {
+      if (!good_old_[i]) continue;
+      const std::array<P2, 3>& p = proj_old_[i];
+      for (int k = 0; k < 3; ++k) {
+        const int across = old_tris_[i].across[k];
+        if ((across < 0 || !good_old_[std::size_t(across)]) &&
+            segment_meets_triangle(p[std::size_t(k)], p[std::size_t((k + 1) % 3)], tri, lengths, margin))
+          return false;
+      }
+      // a point of t' inside one of them: the centroid, or a point halfway from it to a corner
+      // (both inside t' by the test above; on a regular grid the centroid often lies on an old side)
+      for (std::size_t c = 0; c < 4 && !point_inside; ++c) {
+        const P2 x = c == 0 ? m : P2{0.5 * (m[0] + tri[c - 1][0]), 0.5 * (m[1] + tri[c - 1][1])};
+        bool inside = true;
+        for (int k = 0; k < 3 && inside; ++k) {
+          const P2& p0 = p[std::size_t(k)];
+          const P2& p1 = p[std::size_t((k + 1) % 3)];
+          const double o2 = orient(p0, p1, x);
+          inside = o2 > 0. && o2 * o2 > margin * margin * squared_distance_2(p0, p1);
+        }
+        point_inside = inside;
+      }
+    }
+    if (!point_inside) return false;
+    double sine = 1.;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const P2& o = tri[k];
+      const P2& p = tri[(k + 1) % 3];
+      const P2& r = tri[(k + 2) % 3];
+      const double c =
+          ((p[0] - o[0]) * (r[0] - o[0]) + (p[1] - o[1]) * (r[1] - o[1])) / (lengths[k] * lengths[(k + 2) % 3]);
+      sine = (std::min)(sine, std::sqrt((std::max)(0., 0.5 * (1. - c))));
+    }
+    if (!(sine > 0.)) return false;
+    b = hmax + margin / sine + bmax;
+    return std::isfinite(b);
   }
 
   /// The second test for a whole new face `t`, at once: whether the input's faces, projected
@@ -866,6 +997,9 @@ private:
       head = r;
     }
     bound_ = (std::max)(bound_, std::sqrt(pending_worst_));
+    // (a new face tested by parts gets the test's worst: every distance the test found is at most that)
+    for (std::size_t j = 0; j < news_.size(); ++j)
+      face_bound_[std::size_t(homes_[j])] = new_bound_[j] >= 0. ? new_bound_[j] : std::sqrt(pending_worst_);
   }
 
   VertexPointMap vpm_;
@@ -883,6 +1017,11 @@ private:
   std::vector<face_descriptor> homes_;  // faces that may take pieces: news_'s, then the ring's
   std::vector<Tri> ring_;
   std::size_t ring_begin_ = 0;
+  std::vector<Old_face> old_tris_;  // olds_' triangles as they are before the change
+  mutable std::vector<std::array<std::array<double, 2>, 3>> proj_old_;  // (covered_by_old_faces())
+  mutable std::vector<char> good_old_;
+  std::vector<double> face_bound_;  // per face: every point of it lies within this of the input
+  std::vector<double> new_bound_;   // per new triangle of the test: its bound (-1: the test's worst)
   std::vector<std::uint32_t> cand_;
   std::vector<Part> parts_, next_parts_;  // the new-face test's parts, level by level
   std::vector<Input_face> input_;         // the input's faces, by face index
@@ -890,7 +1029,7 @@ private:
   std::uint32_t stamp_ = 0;
   std::vector<std::uint32_t> faces_;                        // the projection test's input faces
   std::vector<std::array<std::array<double, 2>, 3>> proj_;  // and their corners in t's plane
-  std::size_t projected_ = 0, projection_tests_ = 0;
+  std::size_t projected_ = 0, projection_tests_ = 0, covered_by_old_ = 0;
   std::vector<Nearby> near_, next_near_;  // their lists of nearby pieces
   std::vector<Near> mids_;
   std::vector<Placed> placed_;
