@@ -548,6 +548,75 @@ private:
     return true;
   }
 
+  /// Triangle t seen in its own plane, what both projection tests set up: unit normal n and
+  /// in-plane axes u (along t's first side) and v; t's corners there (a at the origin, b on the u
+  /// axis, c above it), its sides' lengths, the margin (a billionth of its perimeter) by which t'
+  /// is t shrunk, and its centroid. `valid` is false for a t without area.
+  struct Plane_view {
+    using P2 = std::array<double, 2>;
+    bool valid = false;
+    V3 origin, n, u, v;
+    std::array<P2, 3> tri;
+    std::array<double, 3> lengths;
+    double margin = 0.;
+    P2 m;
+
+    explicit Plane_view(const Tri& t) : origin(t.a) {
+      using CM::internal::cross;
+      using CM::internal::dot;
+      const V3 ab = t.b - t.a, ac = t.c - t.a;
+      const V3 nn = cross(ab, ac);
+      const double area2 = CM::internal::length(nn), lab = CM::internal::length(ab);
+      if (!(area2 > 0.) || !(lab > 0.) || !std::isfinite(area2)) return;
+      n = (1. / area2) * nn;
+      u = (1. / lab) * ab;
+      v = cross(n, u);
+      const P2 A{0., 0.}, B{lab, 0.}, C{dot(ac, u), dot(ac, v)};
+      margin = 1e-9 * (lab + CM::internal::length(ac) + CM::internal::length(t.c - t.b));
+      tri = {A, B, C};
+      lengths = {lab, std::sqrt(squared_distance_2(B, C)), std::sqrt(squared_distance_2(C, A))};
+      m = P2{(A[0] + B[0] + C[0]) / 3., (A[1] + B[1] + C[1]) / 3.};
+      valid = true;
+    }
+    /// `p` in the plane's coordinates; `height` receives the larger of itself and |p's height|.
+    P2 project(const V3& p, double& height) const {
+      using CM::internal::dot;
+      const V3 d = p - origin;
+      height = (std::max)(height, std::abs(dot(d, n)));
+      return P2{dot(d, u), dot(d, v)};
+    }
+    /// Whether the centroid lies inside t' by the margin.
+    bool centroid_inside() const {
+      for (std::size_t k = 0; k < 3; ++k)
+        if (!(orient(tri[k], tri[(k + 1) % 3], m) > 2. * margin * lengths[k])) return false;
+      return true;
+    }
+    /// The distance within which every point of t lies of t': margin / sin(a / 2), a t's smallest
+    /// angle (infinite for a t with an angle of 0).
+    double shrink_reach() const {
+      double sine = 1.;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const P2& o = tri[k];
+        const P2& p = tri[(k + 1) % 3];
+        const P2& r = tri[(k + 2) % 3];
+        const double c =
+            ((p[0] - o[0]) * (r[0] - o[0]) + (p[1] - o[1]) * (r[1] - o[1])) / (lengths[k] * lengths[(k + 2) % 3]);
+        sine = (std::min)(sine, std::sqrt((std::max)(0., 0.5 * (1. - c))));
+      }
+      return sine > 0. ? margin / sine : std::numeric_limits<double>::infinity();
+    }
+    /// Whether projected triangle `p` holds `x` beyond the margin.
+    bool holds(const std::array<P2, 3>& p, const P2& x) const {
+      for (int k = 0; k < 3; ++k) {
+        const P2& p0 = p[std::size_t(k)];
+        const P2& p1 = p[std::size_t((k + 1) % 3)];
+        const double o = orient(p0, p1, x);
+        if (!(o > 0. && o * o > margin * margin * squared_distance_2(p0, p1))) return false;
+      }
+      return true;
+    }
+  };
+
   /// The second test for a new face `t`, first against the faces the change replaces (old_tris_)
   /// instead of the input's faces under it. Every face keeps a bound on the distance from its
   /// points to the input (face_bound_: 0 for the input's own faces, then what the test that made
@@ -561,22 +630,9 @@ private:
   /// covered_by_projection() gathers every input face under t; the bounds add up collapse after
   /// collapse, and a face whose sum passes E goes to the input's faces, which give it a fresh one.
   bool covered_by_old_faces(const Tri& t, double& b) const {
-    using CM::internal::cross;
-    using CM::internal::dot;
     using P2 = std::array<double, 2>;
-    const V3 ab = t.b - t.a, ac = t.c - t.a;
-    const V3 nn = cross(ab, ac);
-    const double area2 = CM::internal::length(nn), lab = CM::internal::length(ab);
-    if (!(area2 > 0.) || !(lab > 0.) || !std::isfinite(area2)) return false;
-    const V3 n = (1. / area2) * nn, u = (1. / lab) * ab, v = cross(n, u);
-    const P2 A{0., 0.}, B{lab, 0.}, C{dot(ac, u), dot(ac, v)};
-    const double perimeter = lab + CM::internal::length(ac) + CM::internal::length(t.c - t.b);
-    const double margin = 1e-9 * perimeter;
-    const std::array<P2, 3> tri{A, B, C};
-    const std::array<double, 3> lengths{lab, std::sqrt(squared_distance_2(B, C)), std::sqrt(squared_distance_2(C, A))};
-    const P2 m{(A[0] + B[0] + C[0]) / 3., (A[1] + B[1] + C[1]) / 3.};
-    for (std::size_t k = 0; k < 3; ++k)
-      if (!(orient(tri[k], tri[(k + 1) % 3], m) > 2. * margin * lengths[k])) return false;
+    const Plane_view pv(t);
+    if (!pv.valid || !pv.centroid_inside()) return false;
     // the old faces facing t's way once projected ("good"); R, the union of their projections,
     // is bounded by their sides with no good face across
     double hmax = 0., bmax = 0.;
@@ -588,11 +644,7 @@ private:
       const Old_face& o = old_tris_[i];
       std::array<P2, 3>& p = proj_old_[i];
       double h = 0.;
-      for (int k = 0; k < 3; ++k) {
-        const V3 d = o.corner[k] - t.a;
-        p[std::size_t(k)] = P2{dot(d, u), dot(d, v)};
-        h = (std::max)(h, std::abs(dot(d, n)));
-      }
+      for (int k = 0; k < 3; ++k) p[std::size_t(k)] = pv.project(o.corner[k], h);
       const double sides2 =
           squared_distance_2(p[0], p[1]) + squared_distance_2(p[1], p[2]) + squared_distance_2(p[2], p[0]);
       if (!(orient(p[0], p[1], p[2]) > 1e-12 * sides2)) continue;
@@ -606,35 +658,19 @@ private:
       for (int k = 0; k < 3; ++k) {
         const int across = old_tris_[i].across[k];
         if ((across < 0 || !good_old_[std::size_t(across)]) &&
-            segment_meets_triangle(p[std::size_t(k)], p[std::size_t((k + 1) % 3)], tri, lengths, margin))
+            segment_meets_triangle(p[std::size_t(k)], p[std::size_t((k + 1) % 3)], pv.tri, pv.lengths, pv.margin))
           return false;
       }
       // a point of t' inside one of them: the centroid, or a point halfway from it to a corner
       // (both inside t' by the test above; on a regular grid the centroid often lies on an old side)
       for (std::size_t c = 0; c < 4 && !point_inside; ++c) {
-        const P2 x = c == 0 ? m : P2{0.5 * (m[0] + tri[c - 1][0]), 0.5 * (m[1] + tri[c - 1][1])};
-        bool inside = true;
-        for (int k = 0; k < 3 && inside; ++k) {
-          const P2& p0 = p[std::size_t(k)];
-          const P2& p1 = p[std::size_t((k + 1) % 3)];
-          const double o2 = orient(p0, p1, x);
-          inside = o2 > 0. && o2 * o2 > margin * margin * squared_distance_2(p0, p1);
-        }
-        point_inside = inside;
+        const P2& m = pv.m;
+        const P2 x = c == 0 ? m : P2{0.5 * (m[0] + pv.tri[c - 1][0]), 0.5 * (m[1] + pv.tri[c - 1][1])};
+        point_inside = pv.holds(p, x);
       }
     }
     if (!point_inside) return false;
-    double sine = 1.;
-    for (std::size_t k = 0; k < 3; ++k) {
-      const P2& o = tri[k];
-      const P2& p = tri[(k + 1) % 3];
-      const P2& r = tri[(k + 2) % 3];
-      const double c =
-          ((p[0] - o[0]) * (r[0] - o[0]) + (p[1] - o[1]) * (r[1] - o[1])) / (lengths[k] * lengths[(k + 2) % 3]);
-      sine = (std::min)(sine, std::sqrt((std::max)(0., 0.5 * (1. - c))));
-    }
-    if (!(sine > 0.)) return false;
-    b = hmax + margin / sine + bmax;
+    b = hmax + pv.shrink_reach() + bmax;
     return std::isfinite(b);
   }
 
@@ -661,18 +697,13 @@ private:
     using CM::internal::cross;
     using CM::internal::dot;
     using P2 = std::array<double, 2>;
-    const V3 ab = t.b - t.a, ac = t.c - t.a;
-    const V3 nn = cross(ab, ac);
-    const double area2 = CM::internal::length(nn), lab = CM::internal::length(ab);
-    if (!(area2 > 0.) || !(lab > 0.) || !std::isfinite(area2)) return false;
-    if (!part) ++projection_tests_;  // (new faces whole only)
-    const V3 n = (1. / area2) * nn, u = (1. / lab) * ab, v = cross(n, u);
-    // t in its plane: A = (0, 0), B = (|ab|, 0), C above the x axis
-    const P2 A{0., 0.}, B{lab, 0.}, C{dot(ac, u), dot(ac, v)};
-    const double perimeter = lab + CM::internal::length(ac) + CM::internal::length(t.c - t.b);
-    const double margin = 1e-9 * perimeter;
-    const std::array<P2, 3> tri{A, B, C};
-    const std::array<double, 3> lengths{lab, std::sqrt(squared_distance_2(B, C)), std::sqrt(squared_distance_2(C, A))};
+    const Plane_view pv(t);
+    if (!pv.valid) return false;
+    if (!part) ++projection_tests_;         // (new faces whole only)
+    const std::array<P2, 3>& tri = pv.tri;  // t in its plane: (0, 0), (|ab|, 0), the third above
+    const std::array<double, 3>& lengths = pv.lengths;
+    const double margin = pv.margin, lab = tri[1][0];
+    const P2& C = tri[2];
     const double box_lo[2] = {(std::min)(0., C[0]) - margin, -margin},
                  box_hi[2] = {(std::max)(lab, C[0]) + margin, C[1] + margin};
     // marks of this test (above every mark of an earlier one): evaluated and not good; good, its
@@ -688,11 +719,7 @@ private:
     auto evaluate = [&](std::uint32_t f) {
       const Input_face& in = input_[f];
       double hmax = 0.;
-      for (int k = 0; k < 3; ++k) {
-        const V3 d = in.corner[k] - t.a;
-        q[std::size_t(k)] = P2{dot(d, u), dot(d, v)};
-        hmax = (std::max)(hmax, std::abs(dot(d, n)));
-      }
+      for (int k = 0; k < 3; ++k) q[std::size_t(k)] = pv.project(in.corner[k], hmax);
       // (facing t's way by more than the round-off of the projection)
       const double sides2 =
           squared_distance_2(q[0], q[1]) + squared_distance_2(q[1], q[2]) + squared_distance_2(q[2], q[0]);
@@ -731,31 +758,13 @@ private:
           return false;
       }
     }
-    // (2) the centroid inside t', and inside a good face's projection by the margin
-    const P2 m{(A[0] + B[0] + C[0]) / 3., (A[1] + B[1] + C[1]) / 3.};
-    for (std::size_t k = 0; k < 3; ++k)
-      if (!(orient(tri[k], tri[(k + 1) % 3], m) > 2. * margin * lengths[k])) return false;
-    // every point of t lies within margin / sin(a / 2) of t', a its smallest angle
-    double sine = 1.;
-    for (std::size_t k = 0; k < 3; ++k) {
-      const P2& o = tri[k];
-      const P2& p = tri[(k + 1) % 3];
-      const P2& r = tri[(k + 2) % 3];
-      const double c =
-          ((p[0] - o[0]) * (r[0] - o[0]) + (p[1] - o[1]) * (r[1] - o[1])) / (lengths[k] * lengths[(k + 2) % 3]);
-      sine = (std::min)(sine, std::sqrt((std::max)(0., 0.5 * (1. - c))));
-    }
-    const double reach = std::sqrt(worst) + margin / sine;
-    if (!(sine > 0.) || !(reach <= e_test_)) return false;
+    // (2) the centroid inside t', and inside a good face's projection by the margin; every point
+    // of t lies within margin / sin(a / 2) of t', a its smallest angle
+    if (!pv.centroid_inside()) return false;
+    const double reach = std::sqrt(worst) + pv.shrink_reach();
+    if (!(reach <= e_test_)) return false;
     for (const auto& p : proj_) {
-      bool inside = true;
-      for (int k = 0; k < 3 && inside; ++k) {  // (beyond the margin: o > margin |p0 p1|)
-        const P2& p0 = p[std::size_t(k)];
-        const P2& p1 = p[std::size_t((k + 1) % 3)];
-        const double o = orient(p0, p1, m);
-        inside = o > 0. && o * o > margin * margin * squared_distance_2(p0, p1);
-      }
-      if (inside) {
+      if (pv.holds(p, pv.m)) {
         h2 = reach * reach;
         if (!part) ++projected_;
         return true;
