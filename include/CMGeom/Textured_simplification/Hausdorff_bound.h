@@ -462,30 +462,28 @@ private:
   }
 
   /// The faces across the outer edges of the changed faces: unchanged, they may take pieces too.
+  /// Also the changed faces as they are before the change (old_tris_), in the same walk.
   void add_ring(const TriangleMesh& tm) {
     old_tris_.clear();
+    ring_begin_ = homes_.size();
     for (face_descriptor f : olds_) {
       Old_face o;
       halfedge_descriptor g = halfedge(f, tm);
       for (int k = 0; k < 3; ++k, g = next(g, tm)) {
         o.corner[k] = point(source(g, tm));
+        o.across[k] = -1;
         const halfedge_descriptor og = opposite(g, tm);
-        const auto at = is_border(og, tm) ? olds_.end() : std::find(olds_.begin(), olds_.end(), face(og, tm));
-        o.across[k] = at == olds_.end() ? -1 : int(at - olds_.begin());
+        if (is_border(og, tm)) continue;
+        const face_descriptor r = face(og, tm);
+        const auto at = std::find(olds_.begin(), olds_.end(), r);
+        if (at != olds_.end())
+          o.across[k] = int(at - olds_.begin());
+        else if (std::find(homes_.begin() + std::ptrdiff_t(ring_begin_), homes_.end(), r) == homes_.end())
+          homes_.push_back(r);
       }
       o.bound = face_bound_[std::size_t(f)];
       old_tris_.push_back(o);
     }
-    ring_begin_ = homes_.size();
-    for (face_descriptor f : olds_)
-      for (halfedge_descriptor g : CGAL::halfedges_around_face(halfedge(f, tm), tm)) {
-        const halfedge_descriptor og = opposite(g, tm);
-        if (is_border(og, tm)) continue;
-        const face_descriptor r = face(og, tm);
-        if (std::find(olds_.begin(), olds_.end(), r) != olds_.end()) continue;
-        if (std::find(homes_.begin() + std::ptrdiff_t(ring_begin_), homes_.end(), r) != homes_.end()) continue;
-        homes_.push_back(r);
-      }
     ring_.clear();
     for (std::size_t k = ring_begin_; k < homes_.size(); ++k) {
       const halfedge_descriptor g = halfedge(homes_[k], tm);
@@ -629,7 +627,7 @@ private:
   /// receives reach plus the largest bound of the good faces. O(old faces), where
   /// covered_by_projection() gathers every input face under t; the bounds add up collapse after
   /// collapse, and a face whose sum passes E goes to the input's faces, which give it a fresh one.
-  bool covered_by_old_faces(const Tri& t, double& b) const {
+  bool covered_by_old_faces(const Tri& t, double& b) {
     using P2 = std::array<double, 2>;
     const Plane_view pv(t);
     if (!pv.valid || !pv.centroid_inside()) return false;
@@ -637,7 +635,6 @@ private:
     // is bounded by their sides with no good face across
     double hmax = 0., bmax = 0.;
     bool point_inside = false;
-    std::array<P2, 3> q;
     proj_old_.resize(old_tris_.size());
     good_old_.assign(old_tris_.size(), 0);
     for (std::size_t i = 0; i < old_tris_.size(); ++i) {
@@ -694,8 +691,6 @@ private:
   /// parts. `h2` receives the square of the bound found. With `part` (a part of a new face cut by
   /// covered(), t its triangle), the gathering starts from the pieces of its list.
   bool covered_by_projection(const Tri& t, double& h2, const Part* part = nullptr) {
-    using CM::internal::cross;
-    using CM::internal::dot;
     using P2 = std::array<double, 2>;
     const Plane_view pv(t);
     if (!pv.valid) return false;
@@ -1026,9 +1021,9 @@ private:
   std::vector<face_descriptor> homes_;  // faces that may take pieces: news_'s, then the ring's
   std::vector<Tri> ring_;
   std::size_t ring_begin_ = 0;
-  std::vector<Old_face> old_tris_;  // olds_' triangles as they are before the change
-  mutable std::vector<std::array<std::array<double, 2>, 3>> proj_old_;  // (covered_by_old_faces())
-  mutable std::vector<char> good_old_;
+  std::vector<Old_face> old_tris_;                              // olds_' triangles as they are before the change
+  std::vector<std::array<std::array<double, 2>, 3>> proj_old_;  // their corners in a new face's plane
+  std::vector<char> good_old_;      // and whether each faces its way (covered_by_old_faces())
   std::vector<double> face_bound_;  // per face: every point of it lies within this of the input
   std::vector<double> new_bound_;   // per new triangle of the test: its bound (-1: the test's worst)
   std::vector<std::uint32_t> cand_;
