@@ -566,4 +566,20 @@ TEST(HausdorffBound, KeptChartsWithABoundStayWithinIt) {
   o.max_error = -0.01;
   EXPECT_THROW(TS::simplify_textured_mesh(tm, o), std::invalid_argument);
   EXPECT_EQ(tm.mesh().number_of_faces(), input.mesh().number_of_faces());
+  // the bound's own options reach it, on both paths: a depth limit out of range is refused before
+  // the mesh changes, and a bound that may not cut (depth 0) still holds
+  for (bool keep : {true, false}) {
+    SCOPED_TRACE(keep ? "charts kept" : "new atlas");
+    o.keep_charts = keep;
+    o.max_error = 0.01;
+    o.error_bound.max_depth = 17;
+    EXPECT_THROW(TS::simplify_textured_mesh(tm, o), std::invalid_argument);
+    EXPECT_EQ(tm.mesh().number_of_faces(), input.mesh().number_of_faces());
+    o.error_bound.max_depth = 0;
+    CMGeom::Textured_mesh out = input;
+    const TS::Textured_simplification_result r = TS::simplify_textured_mesh(out, o);
+    EXPECT_LT(r.faces_out, r.faces_in);
+    EXPECT_LE(r.error_bound, 0.01);
+    EXPECT_LE(hb_measure(input.mesh(), out.mesh()).hausdorff, 0.01);
+  }
 }

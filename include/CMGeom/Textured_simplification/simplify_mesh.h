@@ -704,6 +704,27 @@ double bbox_diagonal(const Mesh& mesh) {
                    CGAL::square(b.zmax() - b.zmin()));
 }
 
+/// The checks of the error-bound options that simplify_mesh() and simplify_textured_mesh() share
+/// (`who` names the caller in the messages): std::invalid_argument for a `max_error` that is not
+/// finite and > 0, or a depth limit out of [0, 16].
+inline void check_max_error(const std::optional<double>& max_error, const Hausdorff_bound_options& bound,
+                            const std::string& who) {
+  if (max_error && !(*max_error > 0.0 && std::isfinite(*max_error)))
+    throw std::invalid_argument(who + ": max_error must be finite and > 0, got " + std::to_string(*max_error));
+  if (bound.max_depth < 0 || bound.max_depth > 16)
+    throw std::invalid_argument(who + ": error_bound.max_depth must be in [0, 16]");
+}
+
+/// The length `max_error` is a fraction of: the diagonal of `mesh`'s bounding box (0 without a
+/// `max_error`). Throws Invalid_input for a mesh with faces whose vertices all lie at one point.
+template <class Mesh>
+double max_error_diagonal(const Mesh& mesh, const std::optional<double>& max_error, const std::string& who) {
+  const double diagonal = max_error ? bbox_diagonal(mesh) : 0.;
+  if (max_error && !(diagonal > 0.) && mesh.number_of_faces() > 0)
+    throw Invalid_input(who + ": max_error on a mesh whose vertices all lie at one point");
+  return diagonal;
+}
+
 /// The first two vertices (in vertex order) joined by two edges, or none. A valid
 /// CGAL::Surface_mesh may hold such a pair (e.g. after quads are split along diagonals that meet an
 /// existing edge).
@@ -810,13 +831,9 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
   if (options.max_cost && !(*options.max_cost >= 0.0 && std::isfinite(*options.max_cost)))
     throw std::invalid_argument("simplify_mesh: max_cost must be finite and >= 0, got " +
                                 std::to_string(*options.max_cost));
-  if (options.max_error && !(*options.max_error > 0.0 && std::isfinite(*options.max_error)))
-    throw std::invalid_argument("simplify_mesh: max_error must be finite and > 0, got " +
-                                std::to_string(*options.max_error));
+  internal::check_max_error(options.max_error, options.error_bound, "simplify_mesh");
   check_fit_options(options.memory.fit);
   checked_vertex_gap_weight(options.memory.vertex_gap_weight);
-  if (options.error_bound.max_depth < 0 || options.error_bound.max_depth > 16)
-    throw std::invalid_argument("simplify_mesh: error_bound.max_depth must be in [0, 16]");
   if (!(options.parts_stop_factor >= 1.0)) throw std::invalid_argument("simplify_mesh: parts_stop_factor must be >= 1");
   if (!(options.parts_tail_per_cut_vertex >= 0.0))
     throw std::invalid_argument("simplify_mesh: parts_tail_per_cut_vertex must be >= 0");
@@ -832,9 +849,7 @@ Mesh_simplification_result simplify_mesh(CGAL::Surface_mesh<Point>& mesh, const 
     throw std::invalid_argument("simplify_mesh: CGAL's engine has no memoryful cost and no flips");
   if (!CGAL::is_triangle_mesh(mesh)) throw Invalid_input("simplify_mesh: not a triangle mesh");
   if (cgal) internal::check_for_cgal_engine(mesh);
-  const double diagonal = options.max_error ? internal::bbox_diagonal(mesh) : 0.;
-  if (options.max_error && !(diagonal > 0.) && mesh.number_of_faces() > 0)
-    throw Invalid_input("simplify_mesh: max_error on a mesh whose vertices all lie at one point");
+  const double diagonal = internal::max_error_diagonal(mesh, options.max_error, "simplify_mesh");
   const auto t0 = Clock::now();
   Mesh_simplification_result res;
   res.faces_in = mesh.number_of_faces();

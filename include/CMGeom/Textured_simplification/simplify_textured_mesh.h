@@ -55,6 +55,8 @@ struct Textured_simplification_options {
   /// allowed, chart_limit otherwise): near the chart limit the collapses the charts still allow
   /// are often far from the surface (Duck: Hausdorff 6.6 % at the limit, 712 faces; manual).
   std::optional<double> max_error;
+  /// The bound's limits (cuts, work per test), as simplify_mesh()'s `error_bound`.
+  Hausdorff_bound_options error_bound;
   /// true: the thesis' method (§3.5): collapses never change the input's charts, the index
   /// texture is rewritten at every collapse; the simplification stops where no collapse keeps
   /// the charts (Stop_reason::chart_limit), which can be far above the target on models with
@@ -196,6 +198,7 @@ Textured_simplification_result rebuild_path(Textured_mesh& tm, const Textured_si
   so.endpoint_placement = options.endpoint_placement;
   if (options.target_faces > 0 || !options.max_error) so.target_faces = options.target_faces;
   so.max_error = options.max_error;
+  so.error_bound = options.error_bound;
   so.prune_components = options.prune_components;
   so.before_changing_input = [&take] { take.wait(); };
   const bool paint = collapses && options.paint_from_history && !mesh.has_garbage() &&
@@ -269,9 +272,7 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm,
     throw Invalid_input(
         "simplify_textured_mesh: edge flips need a new atlas (keep_charts = false): a flip across a "
         "chart would need UV rules the chart constraints do not have");
-  if (options.max_error && !(*options.max_error > 0.0 && std::isfinite(*options.max_error)))
-    throw std::invalid_argument("simplify_textured_mesh: max_error must be finite and > 0, got " +
-                                std::to_string(*options.max_error));
+  internal::check_max_error(options.max_error, options.error_bound, "simplify_textured_mesh");
   if (options.prune_components && (options.max_error || options.target_faces == 0))
     throw Invalid_input(
         "simplify_textured_mesh: prune_components needs a face target and cannot be combined with max_error");
@@ -352,9 +353,7 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm,
   }
   // the error bound: tested at the placement the chart constraints give (a half-edge collapse onto
   // a chart boundary keeps that vertex where it is), after them
-  const double diagonal = options.max_error ? internal::bbox_diagonal(mesh) : 0.;
-  if (options.max_error && !(diagonal > 0.) && mesh.number_of_faces() > 0)
-    throw Invalid_input("simplify_textured_mesh: max_error on a mesh whose vertices all lie at one point");
+  const double diagonal = internal::max_error_diagonal(mesh, options.max_error, "simplify_textured_mesh");
   using Bound = Hausdorff_bound<Mesh, VPM>;
   std::optional<Bound> bound;
   const auto t0 = std::chrono::steady_clock::now();
@@ -364,7 +363,8 @@ Textured_simplification_result simplify_textured_mesh_impl(Textured_mesh& tm,
     Area_weighted_quadric_policies<Mesh> policy(mesh, options.quadric);
     Face_count_stop_predicate<Mesh> stop(mesh, options.target_faces);
     Chart_constraint_visitor<CC, Resampler, Visitor> vis(cc, resampler ? &*resampler : nullptr, visitor);
-    if (options.max_error) bound.emplace(mesh, get(CGAL::vertex_point, mesh), *options.max_error * diagonal);
+    if (options.max_error)
+      bound.emplace(mesh, get(CGAL::vertex_point, mesh), *options.max_error * diagonal, options.error_bound);
     Bound* b = bound ? &*bound : nullptr;
     internal::collapse_with_placement(policy, options.endpoint_placement, [&](const auto& placement) {
       edge_collapse(
