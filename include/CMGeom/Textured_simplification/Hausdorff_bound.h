@@ -55,6 +55,13 @@ struct Hausdorff_bound_options {
   std::size_t max_work = std::size_t(1) << 18;
 };
 
+/// Throws std::invalid_argument when `options` are out of range (max_depth outside [0, 16]);
+/// `max_depth_name` names that option in the message (e.g. "Hausdorff_bound: max_depth").
+inline void check_bound_options(const Hausdorff_bound_options& options, const std::string& max_depth_name) {
+  if (options.max_depth < 0 || options.max_depth > 16)
+    throw std::invalid_argument(max_depth_name + " must be in [0, 16]");
+}
+
 /// The bound's state on a mesh being simplified (see the file comment).
 /// \tparam TriangleMesh `CGAL::Surface_mesh` (face indices must stay valid while faces are
 ///   removed, as they do until `collect_garbage()`)
@@ -77,8 +84,7 @@ public:
     if (!(max_error > 0.0) || !std::isfinite(max_error))
       throw std::invalid_argument("Hausdorff_bound: max_error must be finite and > 0, got " +
                                   std::to_string(max_error));
-    if (options.max_depth < 0 || options.max_depth > 16)
-      throw std::invalid_argument("Hausdorff_bound: max_depth must be in [0, 16]");
+    check_bound_options(options, "Hausdorff_bound: max_depth");
     set_bound(max_error);
     std::size_t nf = 0;
     for (face_descriptor f : faces(tm)) nf = (std::max)(nf, std::size_t(f) + 1);
@@ -583,6 +589,13 @@ private:
       height = (std::max)(height, std::abs(dot(d, n)));
       return P2{dot(d, u), dot(d, v)};
     }
+    /// Whether projected triangle `q` faces t's way (counterclockwise in the plane) by more than
+    /// the projection's round-off.
+    static bool faces_its_way(const std::array<P2, 3>& q) {
+      const double sides2 =
+          squared_distance_2(q[0], q[1]) + squared_distance_2(q[1], q[2]) + squared_distance_2(q[2], q[0]);
+      return orient(q[0], q[1], q[2]) > 1e-12 * sides2;
+    }
     /// Whether the centroid lies inside t' by the margin.
     bool centroid_inside() const {
       for (std::size_t k = 0; k < 3; ++k)
@@ -642,9 +655,7 @@ private:
       std::array<P2, 3>& p = proj_old_[i];
       double h = 0.;
       for (int k = 0; k < 3; ++k) p[std::size_t(k)] = pv.project(o.corner[k], h);
-      const double sides2 =
-          squared_distance_2(p[0], p[1]) + squared_distance_2(p[1], p[2]) + squared_distance_2(p[2], p[0]);
-      if (!(orient(p[0], p[1], p[2]) > 1e-12 * sides2)) continue;
+      if (!Plane_view::faces_its_way(p)) continue;
       good_old_[i] = 1;
       hmax = (std::max)(hmax, h);
       bmax = (std::max)(bmax, o.bound);
@@ -715,10 +726,7 @@ private:
       const Input_face& in = input_[f];
       double hmax = 0.;
       for (int k = 0; k < 3; ++k) q[std::size_t(k)] = pv.project(in.corner[k], hmax);
-      // (facing t's way by more than the round-off of the projection)
-      const double sides2 =
-          squared_distance_2(q[0], q[1]) + squared_distance_2(q[1], q[2]) + squared_distance_2(q[2], q[0]);
-      if (!(hmax <= e_test_) || !(orient(q[0], q[1], q[2]) > 1e-12 * sides2)) return seen_[f] = bad;
+      if (!(hmax <= e_test_) || !Plane_view::faces_its_way(q)) return seen_[f] = bad;
       for (int a = 0; a < 2; ++a) {
         const double lo = (std::min)({q[0][std::size_t(a)], q[1][std::size_t(a)], q[2][std::size_t(a)]});
         const double hi = (std::max)({q[0][std::size_t(a)], q[1][std::size_t(a)], q[2][std::size_t(a)]});

@@ -711,8 +711,7 @@ inline void check_max_error(const std::optional<double>& max_error, const Hausdo
                             const std::string& who) {
   if (max_error && !(*max_error > 0.0 && std::isfinite(*max_error)))
     throw std::invalid_argument(who + ": max_error must be finite and > 0, got " + std::to_string(*max_error));
-  if (bound.max_depth < 0 || bound.max_depth > 16)
-    throw std::invalid_argument(who + ": error_bound.max_depth must be in [0, 16]");
+  check_bound_options(bound, who + ": error_bound.max_depth");
 }
 
 /// The length `max_error` is a fraction of: the diagonal of `mesh`'s bounding box (0 without a
