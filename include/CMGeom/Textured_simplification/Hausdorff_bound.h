@@ -14,6 +14,8 @@
 // first tested whole against the input's faces projected onto its plane (covered_by_projection()),
 // which most often spares the cuts; before that, against the faces it replaces, each carrying a
 // bound on its own distance to the input (covered_by_old_faces()), which spares the input's faces.
+// An input face cut in parts becomes one piece again when a change moves all its parts to one face
+// (commit()): its points are theirs, so it lies within E of that face too.
 // A collapse at a vertex the border passes more than once (a pinch, which Euler::collapse_edge does
 // not handle as a 2-manifold vertex) is refused.
 // Conservative: an allowed change is always within E, a refused one may have been.
@@ -109,6 +111,8 @@ public:
       pieces_.push_back(p);
     }
     live_pieces_ = pieces_.size();
+    fragments_.assign(nf, 1);
+    merge_.assign(nf, Merge());
     seen_.assign(nf, 0);
     face_bound_.assign(nf, 0.);
   }
@@ -129,6 +133,9 @@ public:
   double bound() const { return bound_; }
   /// Number of pieces of the input (the input's faces, and the pieces of those that were cut).
   std::size_t number_of_pieces() const { return live_pieces_; }
+  /// How many times an input face cut in parts became one piece again (all its parts moved to
+  /// one face by the same change).
+  std::size_t made_whole() const { return made_whole_; }
   /// Number of collapses and flips refused because they would have broken the bound.
   std::size_t refused() const { return refused_; }
   /// Number of flat patches: convex planar polygons, each the union of two or more adjacent
@@ -981,12 +988,56 @@ private:
   }
 
   /// Applies the last accepted test: the pieces of olds_ move to their homes (cut ones replaced).
+  /// An input face whose pieces all moved, and all to one home, becomes one piece again (its
+  /// triangle as the constructor made it): every point of it lies in one of those pieces, each
+  /// within E of that home, so it is within E of it too (its corners are corners of the pieces,
+  /// and the distance to a triangle is convex). Without this an input face cut once stays in
+  /// parts for the rest of the run, and every later change that moves it moves each part.
   void commit() {
     plan_.valid = false;
     for (face_descriptor f : olds_) head_[std::size_t(f)] = nil;
+    // the input faces whose pieces all go to one home
+    touched_.clear();
+    for (const Placed& p : placed_) {
+      const std::uint32_t o = pieces_[p.piece].origin;
+      Merge& m = merge_[o];
+      if (m.entries == 0) {
+        touched_.push_back(o);
+        m.home = p.home;
+      }
+      m.mixed = m.mixed || p.home != m.home;
+      ++m.entries;
+      if (p.piece != m.last) {  // (the parts of one moving piece are consecutive in placed_)
+        ++m.moving;
+        m.last = p.piece;
+      }
+    }
+    for (const std::uint32_t o : touched_) {
+      Merge& m = merge_[o];
+      m.whole = !m.mixed && m.entries > 1 && m.moving == fragments_[o];
+      m.last = nil;
+    }
     // a cut piece's record is reused for its first part; the other parts get free records
     std::uint32_t last_cut = nil;
     for (const Placed& p : placed_) {
+      const std::uint32_t o = pieces_[p.piece].origin;
+      Merge& m = merge_[o];
+      if (m.whole) {
+        if (m.kept == nil) {  // the input face whole, in the first moving piece's record
+          m.kept = p.piece;
+          ++made_whole_;
+          const Input_face& in = input_[o];
+          pieces_[p.piece].t = make_tri(in.corner[0], in.corner[1], in.corner[2]);
+          std::uint32_t& head = head_[std::size_t(homes_[p.home])];
+          pieces_[p.piece].next = head;
+          head = p.piece;
+        } else if (p.piece != m.kept && p.piece != m.last) {  // (each other moving piece's record once)
+          m.last = p.piece;
+          free_.push_back(p.piece);
+          --live_pieces_;
+        }
+        continue;
+      }
       std::uint32_t r = p.piece;
       if (!p.whole) {
         if (last_cut == p.piece) {
@@ -998,6 +1049,7 @@ private:
             pieces_.emplace_back();
           }
           ++live_pieces_;
+          ++fragments_[o];
         }
         last_cut = p.piece;
         pieces_[r].t = p.t;
@@ -1007,6 +1059,10 @@ private:
       std::uint32_t& head = head_[std::size_t(homes_[p.home])];
       pieces_[r].next = head;
       head = r;
+    }
+    for (const std::uint32_t o : touched_) {
+      if (merge_[o].whole) fragments_[o] = 1;
+      merge_[o] = Merge();
     }
     bound_ = (std::max)(bound_, std::sqrt(pending_worst_));
     // (a new face tested by parts gets the test's worst: every distance the test found is at most that)
@@ -1022,7 +1078,16 @@ private:
   std::vector<std::array<double, 2>> corners_;  // the patches' corners
   std::vector<std::uint32_t> head_;             // per face: its first piece, or nil
   std::vector<std::uint32_t> free_;             // records of no piece
-  std::size_t live_pieces_ = 0, refused_ = 0, work_ = 0;
+  std::vector<std::uint32_t> fragments_;        // per input face: its pieces (1, or the parts it is cut in)
+  /// commit()'s count, per input face, of the entries of placed_ that come from it
+  struct Merge {
+    std::uint32_t home = nil, entries = 0, moving = 0;  // its one home, its parts, its moving pieces
+    std::uint32_t last = nil, kept = nil;               // (the moving piece last counted or freed; the record kept)
+    bool mixed = false, whole = false;                  // parts in several homes; made whole again
+  };
+  std::vector<Merge> merge_;
+  std::vector<std::uint32_t> touched_;  // the input faces with entries in placed_
+  std::size_t live_pieces_ = 0, refused_ = 0, work_ = 0, made_whole_ = 0;
   // the test in progress
   std::vector<face_descriptor> olds_;   // the changed faces, the removed ones first
   std::vector<Tri> news_;               // the new triangles (news_[k] is homes_[k]'s new shape)
