@@ -103,7 +103,7 @@ public:
         in.across[k] = is_border(o, tm) ? nil : std::uint32_t(std::size_t(face(o, tm)));
       }
       Piece p;
-      p.t = make_tri(in.corner[0], in.corner[1], in.corner[2]);
+      p.t = input_tri(in);
       p.patch = face_patch[std::size_t(f)];
       p.origin = std::uint32_t(std::size_t(f));
       p.next = head_[std::size_t(f)];
@@ -271,6 +271,8 @@ private:
     const CM::internal::Centroid_sphere sphere = CM::internal::centroid_sphere(a, b, c);
     return Tri{a, b, c, sphere.centre, sphere.radius};
   }
+  /// An input face's triangle, as its piece starts (and as commit() makes it whole again).
+  static Tri input_tri(const Input_face& in) { return make_tri(in.corner[0], in.corner[1], in.corner[2]); }
   static double dist2(const V3& q, const Tri& t) {
     return CM::internal::squared_length(q - CM::internal::closest_on_triangle(q, t.a, t.b, t.c));
   }
@@ -1022,24 +1024,20 @@ private:
     for (const Placed& p : placed_) {
       const std::uint32_t o = pieces_[p.piece].origin;
       Merge& m = merge_[o];
-      if (m.whole) {
-        if (m.kept == nil) {  // the input face whole, in the first moving piece's record
-          m.kept = p.piece;
-          ++made_whole_;
-          const Input_face& in = input_[o];
-          pieces_[p.piece].t = make_tri(in.corner[0], in.corner[1], in.corner[2]);
-          std::uint32_t& head = head_[std::size_t(homes_[p.home])];
-          pieces_[p.piece].next = head;
-          head = p.piece;
-        } else if (p.piece != m.kept && p.piece != m.last) {  // (each other moving piece's record once)
-          m.last = p.piece;
-          free_.push_back(p.piece);
-          --live_pieces_;
-        }
-        continue;
-      }
       std::uint32_t r = p.piece;
-      if (!p.whole) {
+      if (m.whole) {
+        if (m.kept != nil) {
+          if (p.piece != m.kept && p.piece != m.last) {  // (each other moving piece's record once)
+            m.last = p.piece;
+            free_.push_back(p.piece);
+            --live_pieces_;
+          }
+          continue;
+        }
+        m.kept = p.piece;  // the input face whole, in the first moving piece's record
+        ++made_whole_;
+        pieces_[r].t = input_tri(input_[o]);
+      } else if (!p.whole) {
         if (last_cut == p.piece) {
           if (!free_.empty()) {
             r = free_.back();
