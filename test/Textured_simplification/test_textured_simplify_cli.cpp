@@ -36,6 +36,11 @@ TEST(TexturedSimplification, CommandLineWritesObjMtlPng) {
   const auto j = nlohmann::json::parse(text);
   for (const char* key : {"faces_in", "faces_out", "charts_in", "charts_out", "seconds", "stopped_by"})
     ASSERT_TRUE(j.contains(key)) << key;
+  // the times of the three stages, as the geometry path and `lod` report them
+  for (const char* key : {"seconds_read", "seconds", "seconds_write"}) {
+    ASSERT_TRUE(j.contains(key)) << key;
+    EXPECT_GE(j[key].get<double>(), 0.0) << key;
+  }
   EXPECT_EQ(j["charts_in"], j["charts_out"]);
   EXPECT_EQ(j["charts"], "kept");
   EXPECT_EQ(j["faces_in"].get<int>(), 9999);

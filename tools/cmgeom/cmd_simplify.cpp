@@ -248,7 +248,9 @@ CMGEOM_CLI_COMMAND(simplify,
 #endif
       const double seconds = cmgeom_cli::now_seconds() - t0;
       state.done(r.faces_in, r.faces_out);
+      const double write_start = cmgeom_cli::now_seconds();
       CMGeom::IO::write_textured_mesh(o->output, tm, o->gltf);
+      const double seconds_write = cmgeom_cli::now_seconds() - write_start;
       if (r.stopped_by != TS::Stop_reason::target && has_target)  // (a bound alone ends where it stops)
         std::cerr
             << "cmgeom simplify: stopped at " << r.faces_out << " faces for a target of " << target << " ("
@@ -302,6 +304,8 @@ CMGEOM_CLI_COMMAND(simplify,
         j["seconds"] = seconds;
         j["seconds_collapse"] = r.seconds_collapse;
         j["seconds_texture"] = r.seconds_texture;
+        j["seconds_read"] = seconds_read;
+        j["seconds_write"] = seconds_write;
         cmgeom_cli::print_json(j);
       } else {
         std::cout << o->input << ": " << r.faces_in << " -> " << r.faces_out << " faces, " << r.charts_in << " -> "
