@@ -13,7 +13,9 @@
 # (run_lod_scale.py: the chains of that 989k-face textured mesh), RESULTS-paint.md (run_paint.py:
 # the new atlas painted from the input or looked up texel by texel) and RESULTS-max-error.md
 # (run_max_error_bench.sh: the guaranteed error bound's face counts against the peers' at equal
-# measured error; RESULTS-max-error-large.md the same on the 2M-face ogre-sub2) and
+# measured error; RESULTS-max-error-large.md the same on the 2M-face ogre-sub2),
+# RESULTS-max-error-sweep.md (run_max_error_sweep.sh: --max-error on every model of the shared data,
+# each output's Hausdorff distance measured independently against its bound) and
 # RESULTS-fit-by-ratio.md (run_fit_by_ratio.sh: the final fit against none by the share of faces kept,
 # what its points-per-face threshold is chosen from). Each script writes its whole
 # file (machine, threads and peer versions from common/describe_run.sh); none is edited by hand.
@@ -46,5 +48,7 @@ else
   python3 "$here/run_paint.py" --build "$build" --out "$here/RESULTS-paint.md" --describe "$(describe_run)"
   bash "$here/run_max_error_bench.sh" "$build"
   bash "$here/run_max_error_bench.sh" "$build" --large
+  bash "$here/run_max_error_sweep.sh" "$build" ||
+    echo "run_max_error_sweep.sh: a measured distance above its bound, or a failed run: see RESULTS-max-error-sweep.md" >&2
   bash "$here/run_fit_by_ratio.sh" "$build"
 fi
