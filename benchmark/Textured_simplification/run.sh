@@ -15,7 +15,9 @@
 # (run_max_error_bench.sh: the guaranteed error bound's face counts against the peers' at equal
 # measured error; RESULTS-max-error-large.md the same on the 2M-face ogre-sub2),
 # RESULTS-max-error-sweep.md (run_max_error_sweep.sh: --max-error on every model of the shared data,
-# each output's Hausdorff distance measured independently against its bound) and
+# each output's Hausdorff distance measured independently against its bound),
+# RESULTS-topology-sweep.md (run_topology_sweep.py: the topology cmgeom simplify keeps on every model
+# of the shared data at 10, 5 and 1 %) and
 # RESULTS-fit-by-ratio.md (run_fit_by_ratio.sh: the final fit against none by the share of faces kept,
 # what its points-per-face threshold is chosen from). Each script writes its whole
 # file (machine, threads and peer versions from common/describe_run.sh); none is edited by hand.
@@ -50,5 +52,7 @@ else
   bash "$here/run_max_error_bench.sh" "$build" --large
   bash "$here/run_max_error_sweep.sh" "$build" ||
     echo "run_max_error_sweep.sh: a measured distance above its bound, or a failed run: see RESULTS-max-error-sweep.md" >&2
+  python3 "$here/run_topology_sweep.py" --build "$build" ||
+    echo "run_topology_sweep.py: an output whose topology changed, or a failed run: see RESULTS-topology-sweep.md" >&2
   bash "$here/run_fit_by_ratio.sh" "$build"
 fi
