@@ -2,11 +2,12 @@
 # Copyright (c) 2026 CMGeom contributors.
 # SPDX-License-Identifier: GPL-3.0-or-later
 #
-# The guarantee of `cmgeom simplify --max-error E` on every model of the shared data, checked by an
-# independent measurement: for each mesh of shared/data/classic and each textured model of
+# The guarantee of `cmgeom simplify --max-error E` (and of `cmgeom lod --max-errors`, whose levels
+# the same bound makes) on every model of the shared data, checked by an independent measurement: for each mesh of shared/data/classic and each textured model of
 # shared/data/textured (its OBJ; spot with its texture named by --texture), and each bound E, the
 # command's output is measured against the input by `cmgeom error` (Metro-style: dense area samples
-# of both surfaces and every vertex, both ways) and the measured Hausdorff distance is set against E.
+# of both surfaces and every vertex, both ways) and the measured Hausdorff distance is set against E;
+# then one chain per model, `cmgeom lod --max-errors 0,E...`, each level measured the same way.
 # Inputs the reader refuses as they are are run with the option its message names
 # (--allow-degenerate for the ogre's zero-area faces). Writes
 # benchmark/Textured_simplification/RESULTS-max-error-sweep.md whole (or --out FILE; machine and
@@ -48,7 +49,8 @@ for m in "$data"/classic/*; do
   case "$(basename "$m")" in ogre.obj.gz) options+=("--allow-degenerate") ;; *) options+=("") ;; esac
 done
 for d in "$data"/textured/*/; do
-  obj=$(ls "$d"*.obj 2>/dev/null | head -1)
+  [[ -d "$d" ]] || continue
+  obj=$(ls "$d"*.obj 2>/dev/null | head -1 || true)
   [[ -n "$obj" ]] || continue
   models+=("$obj")
   if [[ "$(basename "$obj")" == spot.obj && -f "$d/spot_texture.png" ]]; then
@@ -67,6 +69,22 @@ runs=0
 over=0
 failed=0
 worst=0
+# measure_row INPUT OUTPUT E FACES TABLE: the output's Hausdorff distance to the input (cmgeom error)
+# against E, as a row of TABLE; counts what exceeds E (over), the largest share of E (worst) and a
+# failed measurement (failed)
+measure_row() {
+  local measured ratio is_over
+  if ! measured=$("$cmgeom" --quiet error "$1" "$2" --json 2> "$work/err" |
+    python3 -c 'import json,sys; print(json.load(sys.stdin)["hausdorff"])'); then
+    failed=$((failed + 1))
+    echo "| $(basename "$1") | $3 | $4 | measure failed: $(tail -1 "$work/err" | tr '|' '/') | |" >> "$5"
+    return
+  fi
+  read -r ratio is_over < <(python3 -c "r = $measured / $3; print('%.4f' % r, int(r > 1))")
+  over=$((over + is_over))
+  worst=$(python3 -c "print(max($worst, $ratio))")
+  printf '| %s | %s | %s | %.6g | %s |\n' "$(basename "$1")" "$3" "$4" "$measured" "$ratio" >> "$5"
+}
 IFS=, read -r -a bound_list <<< "$bounds"
 for i in "${!models[@]}"; do
   m="${models[$i]}"
@@ -82,17 +100,38 @@ for i in "${!models[@]}"; do
       continue
     fi
     faces=$(python3 -c 'import json,sys; print(json.loads(sys.stdin.read())["faces_out"])' <<< "$report")
-    # shellcheck disable=SC2086
-    measured=$("$cmgeom" --quiet error "$m" "$work/out.obj" --json 2> "$work/err" |
-      python3 -c 'import json,sys; print(json.load(sys.stdin)["hausdorff"])') || {
-      failed=$((failed + 1))
-      echo "| $name | $e | $faces | measure failed | |" >> "$table"
-      continue
-    }
-    read -r ratio is_over < <(python3 -c "r = $measured / $e; print('%.4f' % r, int(r > 1))")
-    over=$((over + is_over))
-    worst=$(python3 -c "print(max($worst, $ratio))")
-    printf '| %s | %s | %s | %.6g | %s |\n' "$name" "$e" "$faces" "$measured" "$ratio" >> "$table"
+    measure_row "$m" "$work/out.obj" "$e" "$faces" "$table"
+  done
+done
+
+# the chains by error bound: `cmgeom lod IN --max-errors 0,E...` (the bounds increasing), each level
+# written as OBJ (--obj-prefix) and measured as the simplified meshes are
+chain_bounds=$(printf '%s\n' "${bound_list[@]}" | sort -g | paste -sd, -)
+chain_table="$work/chain.md"
+{
+  echo "| model | level bound E | faces | measured Hausdorff | measured / E |"
+  echo "|---|---:|---:|---:|---:|"
+} > "$chain_table"
+chain_levels=0
+IFS=, read -r -a chain_list <<< "$chain_bounds"
+for i in "${!models[@]}"; do
+  m="${models[$i]}"
+  name=$(basename "$m")
+  echo "  $name, lod --max-errors 0,$chain_bounds" >&2
+  rm -f "$work"/L_*
+  # shellcheck disable=SC2086
+  if ! report=$("$cmgeom" --quiet lod "$m" ${options[$i]} -o "$work/chain.glb" --max-errors "0,$chain_bounds" \
+    --obj-prefix "$work/L" --json 2> "$work/err"); then
+    failed=$((failed + 1))
+    echo "| $name | | failed: $(tail -1 "$work/err" | tr '|' '/') | | |" >> "$chain_table"
+    continue
+  fi
+  for k in "${!chain_list[@]}"; do
+    e="${chain_list[$k]}"
+    level=$((k + 1))
+    chain_levels=$((chain_levels + 1))
+    faces=$(python3 -c 'import json,sys; print(json.loads(sys.stdin.read())["levels"]['"$level"']["faces"])' <<< "$report")
+    measure_row "$m" "$work/L_$level.obj" "$e" "$faces" "$chain_table"
   done
 done
 
@@ -109,7 +148,13 @@ result="$work/result.md"
   echo
   cat "$table"
   echo
-  echo "- $runs runs; measured Hausdorff above E: $over; failed runs: $failed; largest measured / E: $worst."
+  echo "The chains by error bound of the same models: \`cmgeom lod IN -o OUT.glb --max-errors 0,$chain_bounds" \
+    "--obj-prefix L\` (one run per model, each level going on from the last), each level's OBJ measured the same way."
+  echo
+  cat "$chain_table"
+  echo
+  echo "- $runs runs of simplify and $chain_levels levels of chains; measured Hausdorff above E: $over; failed runs:" \
+    "$failed; largest measured / E: $worst."
 } > "$result"
 cp "$result" "$out"
 echo "wrote $out" >&2
